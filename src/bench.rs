@@ -1,0 +1,73 @@
+//! The in-program timer behind `armsim bench`: time `N` calls of one algorithm cycling
+//! over 256 random states inside the limits, after a warm-up, and report the median
+//! nanoseconds per call over several rounds (the machines are shared and noisy; criterion
+//! benches under `benches/` are the reference figures).
+
+use crate::data::Data;
+use crate::kinematics;
+use crate::model::Model;
+use rand::rngs::SmallRng;
+use rand::SeedableRng;
+use std::hint::black_box;
+use std::time::Instant;
+
+/// Algorithms `armsim bench` can time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Algo {
+    /// Forward kinematics: every body placement and every link frame.
+    Fk,
+    /// Forward kinematics plus every joint's world Jacobian column.
+    Jacobians,
+}
+
+impl Algo {
+    /// CLI spelling.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Algo::Fk => "fk",
+            Algo::Jacobians => "jacobians",
+        }
+    }
+}
+
+/// Number of random states cycled over.
+pub const STATES: usize = 256;
+/// Number of timing rounds whose median is reported.
+pub const ROUNDS: usize = 11;
+
+/// `STATES` random configurations, flattened (`STATES × nv`), from a fixed seed.
+pub fn random_states(model: &Model, seed: u64) -> Vec<f64> {
+    let mut rng = SmallRng::seed_from_u64(seed);
+    (0..STATES).flat_map(|_| model.random_q(&mut rng)).collect()
+}
+
+/// Median nanoseconds per call of `algo` over [`ROUNDS`] rounds of `iters / ROUNDS` calls.
+pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
+    let mut data = Data::new(model);
+    let nv = model.nv;
+    let qs = random_states(model, 0x5eed);
+    let run = |data: &mut Data, n: usize| {
+        for k in 0..n {
+            let q = &qs[(k % STATES) * nv..(k % STATES + 1) * nv];
+            match algo {
+                Algo::Fk => {
+                    kinematics::forward_kinematics(model, data, black_box(q));
+                    kinematics::update_frames(model, data);
+                }
+                Algo::Jacobians => kinematics::compute_joint_jacobians(model, data, black_box(q)),
+            }
+            black_box(&mut *data);
+        }
+    };
+    let per_round = (iters / ROUNDS).max(1);
+    run(&mut data, per_round.min(100_000));
+    let mut times: Vec<f64> = (0..ROUNDS)
+        .map(|_| {
+            let t = Instant::now();
+            run(&mut data, per_round);
+            t.elapsed().as_nanos() as f64 / per_round as f64
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[ROUNDS / 2]
+}

@@ -1,0 +1,16 @@
+//! Kinematics: forward kinematics (placements, velocities, accelerations), geometric
+//! Jacobians and their time derivatives in three expressions, and the dexterity measures.
+
+mod fk;
+mod jacobian;
+mod manipulability;
+
+pub use fk::{
+    forward_kinematics, forward_kinematics_acc, forward_kinematics_vel, frame_acceleration,
+    frame_classical_acceleration, frame_placement, frame_velocity, joint_transform, update_frames,
+};
+pub use jacobian::{
+    compute_joint_jacobians, compute_joint_jacobians_time_variation, frame_jacobian,
+    frame_jacobian_time_variation, Expressed,
+};
+pub use manipulability::{condition_number, manipulability};

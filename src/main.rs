@@ -1,0 +1,428 @@
+//! `armsim` command-line tool: a thin layer over the library. Every command exits
+//! non-zero with a message naming the file, the element and the problem on bad input,
+//! and never panics on user input.
+
+use armsim::bench::{self, Algo};
+use armsim::data::Data;
+use armsim::kinematics::{self, Expressed};
+use armsim::model::{chain, Model};
+use armsim::spatial::matrix_to_rpy;
+use clap::{Parser, Subcommand, ValueEnum};
+use nalgebra::DMatrix;
+use serde_json::{json, Value};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "armsim",
+    version,
+    about = "Robot manipulator kinematics and dynamics"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(clap::Args)]
+struct ModelArgs {
+    /// Model file: URDF (.urdf) or DH table (.toml).
+    model: PathBuf,
+    /// Treat model warnings (e.g. an inertia breaking the triangle inequality) as errors.
+    #[arg(long)]
+    strict: bool,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Name, DOF, links and joints in the joint order every other command uses.
+    Info {
+        #[command(flatten)]
+        m: ModelArgs,
+    },
+    /// World placement of every link frame at configuration q.
+    Fk {
+        #[command(flatten)]
+        m: ModelArgs,
+        /// Joint values, comma separated, in `armsim info` order (rad or m).
+        #[arg(long, allow_hyphen_values = true)]
+        q: String,
+    },
+    /// Geometric Jacobian of a link frame (rows: linear x y z, angular x y z).
+    Jacobian {
+        #[command(flatten)]
+        m: ModelArgs,
+        /// Joint values, comma separated.
+        #[arg(long, allow_hyphen_values = true)]
+        q: String,
+        /// Link whose frame's Jacobian is wanted.
+        #[arg(long)]
+        frame: String,
+        /// world: world axes, world origin; local: frame axes and origin;
+        /// world-aligned: world axes, frame origin.
+        #[arg(long, value_enum, default_value = "world")]
+        expressed: ExpressedArg,
+        /// Joint velocities: also print the Jacobian's time derivative.
+        #[arg(long, allow_hyphen_values = true)]
+        qd: Option<String>,
+    },
+    /// Time one algorithm (median ns per call over random states inside the limits).
+    Bench {
+        #[command(flatten)]
+        m: ModelArgs,
+        /// Algorithm to time.
+        #[arg(long, value_enum)]
+        algo: AlgoArg,
+        /// Number of timed calls.
+        #[arg(long, default_value_t = 220_000)]
+        iters: usize,
+    },
+    /// Write the generated N-joint benchmark chain as URDF.
+    Chain {
+        /// Number of joints.
+        n: usize,
+        /// Output file (default: standard output).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ExpressedArg {
+    World,
+    Local,
+    WorldAligned,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum AlgoArg {
+    Fk,
+    Jacobians,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn load(m: &ModelArgs) -> Result<Model, String> {
+    let (model, warnings) = Model::load_checked(&m.model, m.strict).map_err(|e| e.to_string())?;
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(model)
+}
+
+/// Parses `v1,v2,…` into exactly `model.nv` finite numbers.
+fn parse_values(model: &Model, what: &str, s: &str) -> Result<Vec<f64>, String> {
+    let vals: Vec<f64> = if s.trim().is_empty() {
+        Vec::new()
+    } else {
+        s.split(',')
+            .map(|t| {
+                let t = t.trim();
+                match t.parse::<f64>() {
+                    Ok(x) if x.is_finite() => Ok(x),
+                    Ok(_) => Err(format!("--{what}: '{t}' is not a finite number")),
+                    Err(_) => Err(format!("--{what}: '{t}' is not a number")),
+                }
+            })
+            .collect::<Result<_, _>>()?
+    };
+    if vals.len() != model.nv {
+        return Err(format!(
+            "--{what}: expected {} values (joints {}), got {}",
+            model.nv,
+            model.dof_names().join(", "),
+            vals.len()
+        ));
+    }
+    Ok(vals)
+}
+
+fn link_id(model: &Model, name: &str) -> Result<usize, String> {
+    model.link_id(name).ok_or_else(|| {
+        let names: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
+        format!(
+            "{}: link '{name}' does not exist (links: {})",
+            model.source,
+            names.join(", ")
+        )
+    })
+}
+
+fn print_json(v: &Value) {
+    println!("{}", serde_json::to_string_pretty(v).unwrap_or_default());
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.cmd {
+        Cmd::Info { m } => info(&load(&m)?, m.json),
+        Cmd::Fk { m, q } => fk(&load(&m)?, &q, m.json),
+        Cmd::Jacobian {
+            m,
+            q,
+            frame,
+            expressed,
+            qd,
+        } => jacobian(&load(&m)?, &q, &frame, expressed, qd.as_deref(), m.json),
+        Cmd::Bench { m, algo, iters } => bench_cmd(&load(&m)?, algo, iters, m.json),
+        Cmd::Chain { n, out } => {
+            if n == 0 || n > 1_000_000 {
+                return Err(format!("chain: N must be between 1 and 1000000, got {n}"));
+            }
+            let text = chain::chain_urdf(n);
+            match out {
+                None => {
+                    print!("{text}");
+                    Ok(())
+                }
+                Some(p) => armsim::io::write_atomic(&p, text.as_bytes())
+                    .map_err(|e| format!("{}: cannot write: {e}", p.display())),
+            }
+        }
+    }
+}
+
+fn limit(x: f64) -> Value {
+    if x.is_finite() {
+        json!(x)
+    } else {
+        Value::Null
+    }
+}
+
+fn info(model: &Model, as_json: bool) -> Result<(), String> {
+    let movable: Vec<_> = model
+        .joints
+        .iter()
+        .filter(|j| j.jtype.is_movable())
+        .collect();
+    if as_json {
+        let joints: Vec<Value> = movable
+            .iter()
+            .map(|j| {
+                let mut o = json!({
+                    "name": j.name,
+                    "type": j.jtype.as_str(),
+                    "parent": model.links[j.parent_link].name,
+                    "child": model.links[j.child_link].name,
+                    "lower": limit(j.limits.lower),
+                    "upper": limit(j.limits.upper),
+                    "velocity": limit(j.limits.velocity),
+                    "effort": limit(j.limits.effort),
+                });
+                if let Some((master, mult, off)) = j.mimic {
+                    o["mimic"] = json!({
+                        "joint": model.joints[master].name,
+                        "multiplier": mult,
+                        "offset": off,
+                    });
+                }
+                o
+            })
+            .collect();
+        let fixed: Vec<Value> = model
+            .joints
+            .iter()
+            .filter(|j| !j.jtype.is_movable())
+            .map(|j| {
+                json!({
+                    "name": j.name,
+                    "parent": model.links[j.parent_link].name,
+                    "child": model.links[j.child_link].name,
+                })
+            })
+            .collect();
+        print_json(&json!({
+            "name": model.name,
+            "source": model.source,
+            "dof": model.nv,
+            "coordinates": model.dof_names(),
+            "links": model.links.iter().map(|l| l.name.as_str()).collect::<Vec<_>>(),
+            "joints": joints,
+            "fixed_joints": fixed,
+        }));
+        return Ok(());
+    }
+    println!("model   {} ({})", model.name, model.source);
+    println!("dof     {}", model.nv);
+    println!("links   {}", model.links.len());
+    println!(
+        "{:<4} {:<24} {:<10} {:<20} {:<20} {:>10} {:>10} {:>9} {:>9}",
+        "#", "joint", "type", "parent", "child", "lower", "upper", "velocity", "effort"
+    );
+    for j in &movable {
+        let idx = j.dof.map(|d| d.to_string()).unwrap_or_else(|| "-".into());
+        print!(
+            "{:<4} {:<24} {:<10} {:<20} {:<20} {:>10.4} {:>10.4} {:>9.3} {:>9.2}",
+            idx,
+            j.name,
+            j.jtype.as_str(),
+            model.links[j.parent_link].name,
+            model.links[j.child_link].name,
+            j.limits.lower,
+            j.limits.upper,
+            j.limits.velocity,
+            j.limits.effort
+        );
+        if let Some((master, mult, off)) = j.mimic {
+            print!("  mimic {} × {mult} + {off}", model.joints[master].name);
+        }
+        println!();
+    }
+    let nfixed = model.joints.len() - movable.len();
+    if nfixed > 0 {
+        println!("({nfixed} fixed joints folded away; their links stay queryable frames)");
+    }
+    Ok(())
+}
+
+fn fk(model: &Model, q: &str, as_json: bool) -> Result<(), String> {
+    let q = parse_values(model, "q", q)?;
+    if !model.within_limits(&q, 1e-12) {
+        eprintln!("warning: q is outside the joint limits");
+    }
+    let mut data = Data::new(model);
+    kinematics::forward_kinematics(model, &mut data, &q);
+    kinematics::update_frames(model, &mut data);
+    if as_json {
+        let mut frames = serde_json::Map::new();
+        for (l, link) in model.links.iter().enumerate() {
+            let t = &data.o_m_f[l];
+            frames.insert(
+                link.name.clone(),
+                json!({"translation": [t.trans.x, t.trans.y, t.trans.z], "rotation": t.rotation_rows()}),
+            );
+        }
+        print_json(&json!({"joints": model.dof_names(), "frames": frames}));
+        return Ok(());
+    }
+    println!(
+        "{:<24} {:>12} {:>12} {:>12} {:>10} {:>10} {:>10}",
+        "link", "x (m)", "y (m)", "z (m)", "roll", "pitch", "yaw"
+    );
+    for (l, link) in model.links.iter().enumerate() {
+        let t = &data.o_m_f[l];
+        let rpy = matrix_to_rpy(&t.rot);
+        println!(
+            "{:<24} {:>12.6} {:>12.6} {:>12.6} {:>10.5} {:>10.5} {:>10.5}",
+            link.name, t.trans.x, t.trans.y, t.trans.z, rpy[0], rpy[1], rpy[2]
+        );
+    }
+    Ok(())
+}
+
+fn rows(j: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    (0..j.nrows())
+        .map(|r| (0..j.ncols()).map(|c| j[(r, c)]).collect())
+        .collect()
+}
+
+fn jacobian(
+    model: &Model,
+    q: &str,
+    frame: &str,
+    expressed: ExpressedArg,
+    qd: Option<&str>,
+    as_json: bool,
+) -> Result<(), String> {
+    let q = parse_values(model, "q", q)?;
+    let qd = qd.map(|s| parse_values(model, "qd", s)).transpose()?;
+    let link = link_id(model, frame)?;
+    let expressed = match expressed {
+        ExpressedArg::World => Expressed::World,
+        ExpressedArg::Local => Expressed::Local,
+        ExpressedArg::WorldAligned => Expressed::WorldAligned,
+    };
+    let mut data = Data::new(model);
+    let mut j = DMatrix::zeros(6, model.nv);
+    let mut dj = DMatrix::zeros(6, model.nv);
+    match &qd {
+        Some(qd) => {
+            kinematics::compute_joint_jacobians_time_variation(model, &mut data, &q, qd);
+            kinematics::frame_jacobian_time_variation(model, &data, link, expressed, &mut dj);
+        }
+        None => kinematics::compute_joint_jacobians(model, &mut data, &q),
+    }
+    kinematics::frame_jacobian(model, &data, link, expressed, &mut j);
+    let translational = j.rows(0, 3).into_owned();
+    let manip = kinematics::manipulability(&j);
+    let cond = kinematics::condition_number(&translational);
+    if as_json {
+        let mut o = json!({
+            "joints": model.dof_names(),
+            "frame": frame,
+            "expressed": expressed.as_str(),
+            "jacobian": rows(&j),
+            "manipulability": manip,
+            "condition_number_translational": limit(cond),
+        });
+        if qd.is_some() {
+            o["jacobian_dot"] = json!(rows(&dj));
+        }
+        print_json(&o);
+        return Ok(());
+    }
+    println!(
+        "Jacobian of '{frame}' ({}), rows vx vy vz wx wy wz; columns {}",
+        expressed.as_str(),
+        model.dof_names().join(" ")
+    );
+    let print = |m: &DMatrix<f64>| {
+        for (r, label) in ["vx", "vy", "vz", "wx", "wy", "wz"].iter().enumerate() {
+            print!("{label:>3}");
+            for c in 0..m.ncols() {
+                print!(" {:>11.6}", m[(r, c)]);
+            }
+            println!();
+        }
+    };
+    print(&j);
+    if qd.is_some() {
+        println!("time derivative:");
+        print(&dj);
+    }
+    println!("manipulability {manip:.6e}, translational condition number {cond:.6e}");
+    Ok(())
+}
+
+fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Result<(), String> {
+    if iters == 0 {
+        return Err("--iters must be positive".into());
+    }
+    let algo = match algo {
+        AlgoArg::Fk => Algo::Fk,
+        AlgoArg::Jacobians => Algo::Jacobians,
+    };
+    let ns = bench::ns_per_call(model, algo, iters);
+    if as_json {
+        print_json(&json!({
+            "model": model.name,
+            "algo": algo.as_str(),
+            "dof": model.nv,
+            "ns_per_call": ns,
+            "iters": iters,
+        }));
+    } else {
+        println!(
+            "{} {} (dof {}): {:.1} ns per call (median of {} rounds, {} calls)",
+            model.name,
+            algo.as_str(),
+            model.nv,
+            ns,
+            bench::ROUNDS,
+            iters
+        );
+    }
+    Ok(())
+}

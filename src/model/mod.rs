@@ -1,0 +1,690 @@
+//! The immutable [`Model`] of a mechanism: a kinematic tree of links and joints, compiled
+//! from a [`ModelSpec`] (URDF, DH table or generated chain) into flat arrays for the hot
+//! paths.
+//!
+//! Compilation (see [`Model::build`]):
+//! - the tree is walked depth-first (children in file order, iteratively, so deep chains
+//!   cannot overflow the stack); that order is **the joint order** every command uses;
+//! - every movable joint becomes a *body* whose frame is the joint frame rotated so that
+//!   the joint axis is its local `z`: every revolute joint is then `Rz(q)` and every
+//!   prismatic joint `Tz(q)` (no per-axis special cases in the hot loops);
+//! - fixed joints are folded away: their links become frames rigidly attached to a body
+//!   (or to the world), still queryable by name, and their inertias are merged into the
+//!   body they ride on;
+//! - mimic joints (`q = multiplier * q_master + offset`) are bodies without a coordinate
+//!   of their own: they read the master's coordinate.
+
+pub mod chain;
+pub mod dh;
+mod error;
+mod sampling;
+mod spec;
+pub mod urdf;
+
+pub use error::{ModelError, ModelWarning};
+pub use spec::{Geometry, JointSpec, JointType, Limits, LinkSpec, MimicSpec, ModelSpec, Shape};
+
+use crate::spatial::{rotation_z_to, Inertia, Se3, Vec3};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Marker for "no parent body" (attached to the world).
+pub const WORLD: usize = usize::MAX;
+
+/// How a body moves relative to its parent: along or about its local z axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyKind {
+    /// Rotation `Rz(q)`.
+    Revolute,
+    /// Translation `Tz(q)`.
+    Prismatic,
+}
+
+/// A joint as the user sees it (all joints, fixed ones included), in tree order.
+#[derive(Clone, Debug)]
+pub struct Joint {
+    /// Joint name.
+    pub name: String,
+    /// Joint type.
+    pub jtype: JointType,
+    /// Parent link index.
+    pub parent_link: usize,
+    /// Child link index.
+    pub child_link: usize,
+    /// Parent link frame → joint frame at q = 0.
+    pub origin: Se3,
+    /// Unit axis in the joint frame.
+    pub axis: Vec3,
+    /// Limits.
+    pub limits: Limits,
+    /// Master joint index, multiplier and offset, for mimic joints.
+    pub mimic: Option<(usize, f64, f64)>,
+    /// Body index for movable joints.
+    pub body: Option<usize>,
+    /// Coordinate index for independent movable joints (mimic joints have none).
+    pub dof: Option<usize>,
+    /// Viscous damping (N m s/rad) from the file.
+    pub damping: f64,
+    /// Coulomb friction (N m) from the file.
+    pub friction: f64,
+    /// Rotor inertia (kg m²).
+    pub motor_inertia: f64,
+    /// Gear ratio.
+    pub gear_ratio: f64,
+}
+
+/// A link: a named frame rigidly attached to a body (or to the world).
+#[derive(Clone, Debug)]
+pub struct Link {
+    /// Link name.
+    pub name: String,
+    /// The joint whose child this link is (None for the root).
+    pub parent_joint: Option<usize>,
+    /// The body carrying this link's frame, or [`WORLD`].
+    pub body: usize,
+    /// Body frame → link frame (world → link frame when `body == WORLD`).
+    pub offset: Se3,
+    /// Inertia in the link frame, as read.
+    pub inertial: Inertia,
+    /// Visual geometry in the link frame.
+    pub visuals: Vec<Geometry>,
+    /// Collision geometry in the link frame.
+    pub collisions: Vec<Geometry>,
+}
+
+/// The immutable model. Hot-path arrays are indexed by body (one per movable joint,
+/// parents before children).
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Robot name.
+    pub name: String,
+    /// File it was loaded from.
+    pub source: String,
+    /// Links in tree (depth-first) order; the root first.
+    pub links: Vec<Link>,
+    /// Joints in tree order (fixed ones included).
+    pub joints: Vec<Joint>,
+    /// Number of independent coordinates (q, v and tau have this length).
+    pub nv: usize,
+    /// The joint index of each coordinate, in order.
+    pub dof_joints: Vec<usize>,
+    /// Body parent (or [`WORLD`]); `parent[i] < i`.
+    pub parent: Vec<usize>,
+    /// Parent body frame → this body's frame at q = 0.
+    pub placement: Vec<Se3>,
+    /// Motion type of each body.
+    pub kind: Vec<BodyKind>,
+    /// The coordinate that drives each body.
+    pub q_index: Vec<usize>,
+    /// Mimic multiplier of each body (1 for independent joints).
+    pub q_mult: Vec<f64>,
+    /// Mimic offset of each body (0 for independent joints).
+    pub q_offset: Vec<f64>,
+    /// Whether any body is a mimic joint.
+    pub has_mimic: bool,
+    /// Inertia of each body in its body frame (links on fixed joints merged in).
+    pub inertia: Vec<Inertia>,
+    /// The joint index of each body.
+    pub body_joint: Vec<usize>,
+    /// Lower position limit per coordinate.
+    pub lower: Vec<f64>,
+    /// Upper position limit per coordinate.
+    pub upper: Vec<f64>,
+    /// Velocity limit per coordinate.
+    pub velocity_limit: Vec<f64>,
+    /// Effort limit per coordinate.
+    pub effort_limit: Vec<f64>,
+    /// Gravity the file asks for (default `(0, 0, -9.81)`).
+    pub gravity: Vec3,
+    /// URDF text of the model, when it came from one.
+    pub urdf_text: Option<String>,
+    link_index: HashMap<String, usize>,
+    joint_index: HashMap<String, usize>,
+}
+
+/// Relative tolerance for the inertia checks.
+const INERTIA_TOL: f64 = 1e-9;
+
+impl Model {
+    /// Loads a model file, choosing the loader by extension (`.urdf`/`.xml` or `.toml`).
+    /// Returns the model and the warnings.
+    pub fn load(path: impl AsRef<Path>) -> Result<(Model, Vec<ModelWarning>), ModelError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| ModelError::new(&file, None, "file", format!("cannot read: {e}")))?;
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        let spec = match ext.as_str() {
+            "urdf" | "xml" => urdf::parse(&text, &file)?,
+            "toml" => dh::parse(&text, &file)?,
+            _ => {
+                return Err(ModelError::new(
+                    &file,
+                    None,
+                    "file",
+                    "unknown model format: expected a .urdf or a .toml (DH table) file",
+                ))
+            }
+        };
+        Model::build(spec)
+    }
+
+    /// Loads and fails on warnings too when `strict`.
+    pub fn load_checked(
+        path: impl AsRef<Path>,
+        strict: bool,
+    ) -> Result<(Model, Vec<ModelWarning>), ModelError> {
+        let (m, w) = Model::load(path)?;
+        if strict {
+            if let Some(first) = w.into_iter().next() {
+                return Err(first);
+            }
+            return Ok((m, Vec::new()));
+        }
+        Ok((m, w))
+    }
+
+    /// Number of bodies (movable joints, mimic ones included).
+    pub fn nbodies(&self) -> usize {
+        self.parent.len()
+    }
+
+    /// Link index by name.
+    pub fn link_id(&self, name: &str) -> Option<usize> {
+        self.link_index.get(name).copied()
+    }
+
+    /// Joint index by name.
+    pub fn joint_id(&self, name: &str) -> Option<usize> {
+        self.joint_index.get(name).copied()
+    }
+
+    /// Names of the coordinates, in order.
+    pub fn dof_names(&self) -> Vec<String> {
+        self.dof_joints
+            .iter()
+            .map(|&j| self.joints[j].name.clone())
+            .collect()
+    }
+
+    /// The joint driving coordinate `k`.
+    pub fn dof_joint(&self, k: usize) -> &Joint {
+        &self.joints[self.dof_joints[k]]
+    }
+
+    /// Whether coordinate `k` is an unbounded angle (continuous joint).
+    pub fn is_continuous(&self, k: usize) -> bool {
+        self.dof_joint(k).jtype == JointType::Continuous
+    }
+
+    /// Validates a spec and compiles it (see the module docs).
+    pub fn build(spec: ModelSpec) -> Result<(Model, Vec<ModelWarning>), ModelError> {
+        Builder::new(&spec).build()
+    }
+}
+
+struct Builder<'a> {
+    spec: &'a ModelSpec,
+    warnings: Vec<ModelWarning>,
+}
+
+impl<'a> Builder<'a> {
+    fn new(spec: &'a ModelSpec) -> Self {
+        Self {
+            spec,
+            warnings: Vec::new(),
+        }
+    }
+
+    fn err_joint(&self, j: &JointSpec, msg: impl Into<String>) -> ModelError {
+        ModelError::new(
+            &self.spec.source,
+            j.line,
+            format!("joint '{}'", j.name),
+            msg,
+        )
+    }
+
+    fn err_link(&self, l: &LinkSpec, msg: impl Into<String>) -> ModelError {
+        ModelError::new(&self.spec.source, l.line, format!("link '{}'", l.name), msg)
+    }
+
+    fn check_finite_se3(&self, t: &Se3) -> bool {
+        t.rot.iter().all(|x| x.is_finite()) && t.trans.iter().all(|x| x.is_finite())
+    }
+
+    fn check_link(&mut self, l: &LinkSpec) -> Result<(), ModelError> {
+        let i = &l.inertial;
+        let finite = i.mass.is_finite()
+            && i.com.iter().all(|x| x.is_finite())
+            && i.inertia_com.iter().all(|x| x.is_finite());
+        if !finite {
+            return Err(self.err_link(l, "inertial: non-finite number"));
+        }
+        if i.mass < 0.0 {
+            return Err(self.err_link(l, format!("inertial: negative mass {}", i.mass)));
+        }
+        let sym = (i.inertia_com - i.inertia_com.transpose()).norm();
+        let scale = i.inertia_com.norm().max(f64::MIN_POSITIVE);
+        if sym > 1e-12 * scale {
+            return Err(self.err_link(l, "inertial: inertia tensor is not symmetric"));
+        }
+        let eig = i.inertia_com.symmetric_eigenvalues();
+        let tol = INERTIA_TOL * scale;
+        if eig.iter().any(|&e| e < -tol) {
+            return Err(self.err_link(
+                l,
+                format!(
+                    "inertial: inertia tensor is not positive semi-definite (principal moments {:.6e}, {:.6e}, {:.6e})",
+                    eig[0], eig[1], eig[2]
+                ),
+            ));
+        }
+        let (a, b, c) = (eig[0], eig[1], eig[2]);
+        if a + b < c - tol || a + c < b - tol || b + c < a - tol {
+            self.warnings.push(self.err_link(
+                l,
+                format!(
+                    "inertial: principal moments {a:.6e}, {b:.6e}, {c:.6e} break the triangle inequality (not a physical rigid body)"
+                ),
+            ));
+        }
+        for g in l.visuals.iter().chain(l.collisions.iter()) {
+            if !self.check_finite_se3(&g.origin) {
+                return Err(self.err_link(l, "geometry origin: non-finite number"));
+            }
+        }
+        Ok(())
+    }
+
+    fn check_joint(&self, j: &JointSpec) -> Result<(), ModelError> {
+        if !self.check_finite_se3(&j.origin) || !self.check_finite_se3(&j.child_offset) {
+            return Err(self.err_joint(j, "origin: non-finite number"));
+        }
+        if j.jtype.is_movable() {
+            if !j.axis.iter().all(|x| x.is_finite()) {
+                return Err(self.err_joint(j, "axis: non-finite number"));
+            }
+            if j.axis.norm() < 1e-9 {
+                return Err(self.err_joint(j, "axis: zero vector"));
+            }
+        }
+        let lim = &j.limits;
+        for (name, v) in [
+            ("lower", lim.lower),
+            ("upper", lim.upper),
+            ("velocity", lim.velocity),
+            ("effort", lim.effort),
+        ] {
+            if v.is_nan() {
+                return Err(self.err_joint(j, format!("limit: {name} is not a number")));
+            }
+        }
+        if lim.lower > lim.upper {
+            return Err(self.err_joint(
+                j,
+                format!(
+                    "limit: lower limit {} is greater than upper limit {}",
+                    lim.lower, lim.upper
+                ),
+            ));
+        }
+        if lim.velocity < 0.0 || lim.effort < 0.0 {
+            return Err(self.err_joint(j, "limit: negative velocity or effort limit"));
+        }
+        for (name, v) in [
+            ("damping", j.damping),
+            ("friction", j.friction),
+            ("motor_inertia", j.motor_inertia),
+            ("gear_ratio", j.gear_ratio),
+        ] {
+            if !v.is_finite() {
+                return Err(self.err_joint(j, format!("{name}: non-finite number")));
+            }
+        }
+        if j.motor_inertia < 0.0 || j.damping < 0.0 || j.friction < 0.0 {
+            return Err(self.err_joint(j, "negative damping, friction or motor inertia"));
+        }
+        if j.gear_ratio == 0.0 {
+            return Err(self.err_joint(j, "gear_ratio: must not be zero"));
+        }
+        if let Some(m) = &j.mimic {
+            if !m.multiplier.is_finite() || !m.offset.is_finite() {
+                return Err(self.err_joint(j, "mimic: non-finite multiplier or offset"));
+            }
+        }
+        Ok(())
+    }
+
+    fn build(mut self) -> Result<(Model, Vec<ModelWarning>), ModelError> {
+        let spec = self.spec;
+        let file = &spec.source;
+        if spec.links.is_empty() {
+            return Err(ModelError::new(
+                file,
+                None,
+                "robot",
+                "the model has no links",
+            ));
+        }
+        if !self.check_finite_se3(&spec.root_offset) {
+            return Err(ModelError::new(file, None, "base", "non-finite number"));
+        }
+        // Names.
+        let mut link_ix: HashMap<&str, usize> = HashMap::with_capacity(spec.links.len());
+        for (i, l) in spec.links.iter().enumerate() {
+            if l.name.is_empty() {
+                return Err(self.err_link(l, "empty link name"));
+            }
+            if link_ix.insert(l.name.as_str(), i).is_some() {
+                return Err(self.err_link(l, "duplicate link name"));
+            }
+            self.check_link(l)?;
+        }
+        let mut joint_ix: HashMap<&str, usize> = HashMap::with_capacity(spec.joints.len());
+        for (i, j) in spec.joints.iter().enumerate() {
+            if j.name.is_empty() {
+                return Err(self.err_joint(j, "empty joint name"));
+            }
+            if joint_ix.insert(j.name.as_str(), i).is_some() {
+                return Err(self.err_joint(j, "duplicate joint name"));
+            }
+            self.check_joint(j)?;
+        }
+        // Tree structure.
+        let nl = spec.links.len();
+        let mut parent_joint: Vec<Option<usize>> = vec![None; nl];
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); nl];
+        for (ji, j) in spec.joints.iter().enumerate() {
+            let p = *link_ix.get(j.parent.as_str()).ok_or_else(|| {
+                self.err_joint(j, format!("parent link '{}' does not exist", j.parent))
+            })?;
+            let c = *link_ix.get(j.child.as_str()).ok_or_else(|| {
+                self.err_joint(j, format!("child link '{}' does not exist", j.child))
+            })?;
+            if p == c {
+                return Err(self.err_joint(j, format!("link '{}' is its own parent", j.parent)));
+            }
+            if let Some(prev) = parent_joint[c] {
+                return Err(self.err_joint(
+                    j,
+                    format!(
+                        "link '{}' has two parents: it is already the child of joint '{}'",
+                        j.child, spec.joints[prev].name
+                    ),
+                ));
+            }
+            parent_joint[c] = Some(ji);
+            children[p].push(ji);
+        }
+        let roots: Vec<usize> = (0..nl).filter(|&i| parent_joint[i].is_none()).collect();
+        if roots.len() > 1 {
+            let names: Vec<String> = roots
+                .iter()
+                .take(5)
+                .map(|&i| format!("'{}'", spec.links[i].name))
+                .collect();
+            return Err(ModelError::new(
+                file,
+                spec.links[roots[1]].line,
+                format!("link '{}'", spec.links[roots[1]].name),
+                format!(
+                    "more than one root link ({} roots: {}{}); every link but one needs a parent joint",
+                    roots.len(),
+                    names.join(", "),
+                    if roots.len() > 5 { ", …" } else { "" }
+                ),
+            ));
+        }
+        let Some(&root) = roots.first() else {
+            // Every link has a parent: there is a cycle.
+            let j = &spec.joints[parent_joint[0].unwrap_or(0)];
+            return Err(self.err_joint(j, "the joints form a cycle: no root link"));
+        };
+
+        // Iterative depth-first walk, children in file order.
+        let mut order_joints: Vec<usize> = Vec::with_capacity(spec.joints.len());
+        let mut order_links: Vec<usize> = Vec::with_capacity(nl);
+        let mut stack: Vec<usize> = vec![root];
+        while let Some(l) = stack.pop() {
+            order_links.push(l);
+            if let Some(j) = parent_joint[l] {
+                order_joints.push(j);
+            }
+            for &cj in children[l].iter().rev() {
+                let c = link_ix[spec.joints[cj].child.as_str()];
+                stack.push(c);
+            }
+        }
+        if order_links.len() != nl {
+            // Links not reachable from the root sit on a cycle.
+            let mut seen = vec![false; nl];
+            for &l in &order_links {
+                seen[l] = true;
+            }
+            let l = (0..nl).find(|&i| !seen[i]).unwrap_or(0);
+            let j = &spec.joints[parent_joint[l].unwrap_or(0)];
+            return Err(self.err_joint(
+                j,
+                format!(
+                    "the joints form a cycle through link '{}' (not reachable from root '{}')",
+                    spec.links[l].name, spec.links[root].name
+                ),
+            ));
+        }
+
+        // Mimic resolution: master must exist, be movable, and chains must not cycle.
+        let mut mimic_resolved: Vec<Option<(usize, f64, f64)>> = vec![None; spec.joints.len()];
+        for (ji, j) in spec.joints.iter().enumerate() {
+            let Some(m) = &j.mimic else { continue };
+            if !j.jtype.is_movable() {
+                return Err(self.err_joint(j, "mimic: a fixed joint cannot mimic"));
+            }
+            let (mut mult, mut off) = (m.multiplier, m.offset);
+            let mut cur = *joint_ix.get(m.joint.as_str()).ok_or_else(|| {
+                self.err_joint(
+                    j,
+                    format!("mimic: master joint '{}' does not exist", m.joint),
+                )
+            })?;
+            let mut steps = 0usize;
+            loop {
+                if cur == ji || steps > spec.joints.len() {
+                    return Err(self.err_joint(j, "mimic: the mimic relations form a cycle"));
+                }
+                let mj = &spec.joints[cur];
+                if !mj.jtype.is_movable() {
+                    return Err(
+                        self.err_joint(j, format!("mimic: master joint '{}' is fixed", mj.name))
+                    );
+                }
+                match &mj.mimic {
+                    None => break,
+                    Some(mm) => {
+                        // q = mult (mm.mult q' + mm.off) + off
+                        off += mult * mm.offset;
+                        mult *= mm.multiplier;
+                        cur = *joint_ix.get(mm.joint.as_str()).ok_or_else(|| {
+                            self.err_joint(
+                                mj,
+                                format!("mimic: master joint '{}' does not exist", mm.joint),
+                            )
+                        })?;
+                        steps += 1;
+                    }
+                }
+            }
+            mimic_resolved[ji] = Some((cur, mult, off));
+        }
+
+        // Re-index: links and joints in tree order.
+        let mut new_link = vec![0usize; nl];
+        for (k, &l) in order_links.iter().enumerate() {
+            new_link[l] = k;
+        }
+        let mut new_joint = vec![0usize; spec.joints.len()];
+        for (k, &j) in order_joints.iter().enumerate() {
+            new_joint[j] = k;
+        }
+
+        // Coordinates: independent movable joints in tree order.
+        let mut dof_of_spec_joint: Vec<Option<usize>> = vec![None; spec.joints.len()];
+        let mut dof_joints = Vec::new();
+        for &j in &order_joints {
+            let js = &spec.joints[j];
+            if js.jtype.is_movable() && js.mimic.is_none() {
+                dof_of_spec_joint[j] = Some(dof_joints.len());
+                dof_joints.push(new_joint[j]);
+            }
+        }
+        let nv = dof_joints.len();
+
+        // Walk again, compiling bodies and link frames.
+        let mut links: Vec<Link> = Vec::with_capacity(nl);
+        let mut joints: Vec<Joint> = Vec::with_capacity(spec.joints.len());
+        let mut m = Model {
+            name: spec.name.clone(),
+            source: spec.source.clone(),
+            links: Vec::new(),
+            joints: Vec::new(),
+            nv,
+            dof_joints,
+            parent: Vec::new(),
+            placement: Vec::new(),
+            kind: Vec::new(),
+            q_index: Vec::new(),
+            q_mult: Vec::new(),
+            q_offset: Vec::new(),
+            has_mimic: false,
+            inertia: Vec::new(),
+            body_joint: Vec::new(),
+            lower: vec![0.0; nv],
+            upper: vec![0.0; nv],
+            velocity_limit: vec![0.0; nv],
+            effort_limit: vec![0.0; nv],
+            gravity: spec.gravity.unwrap_or(Vec3::new(0.0, 0.0, -9.81)),
+            urdf_text: spec.urdf_text.clone(),
+            link_index: HashMap::new(),
+            joint_index: HashMap::new(),
+        };
+        for &l in &order_links {
+            let ls = &spec.links[l];
+            let (body, offset, pj) = match parent_joint[l] {
+                None => (WORLD, spec.root_offset, None),
+                Some(j) => {
+                    let js = &spec.joints[j];
+                    let parent = &links[new_link[link_ix[js.parent.as_str()]]];
+                    let (pb, poff) = (parent.body, parent.offset);
+                    if js.jtype.is_movable() {
+                        let axis = js.axis.normalize();
+                        let ra = rotation_z_to(&axis);
+                        let b = m.parent.len();
+                        m.parent.push(pb);
+                        m.placement
+                            .push(poff.mul(&js.origin).mul(&Se3::from_rotation(ra)));
+                        m.kind.push(if js.jtype == JointType::Prismatic {
+                            BodyKind::Prismatic
+                        } else {
+                            BodyKind::Revolute
+                        });
+                        let (qi, mult, off) = match mimic_resolved[j] {
+                            None => (dof_of_spec_joint[j].expect("independent joint"), 1.0, 0.0),
+                            Some((master, mult, off)) => {
+                                m.has_mimic = true;
+                                (
+                                    dof_of_spec_joint[master].expect("resolved master"),
+                                    mult,
+                                    off,
+                                )
+                            }
+                        };
+                        m.q_index.push(qi);
+                        m.q_mult.push(mult);
+                        m.q_offset.push(off);
+                        m.inertia.push(Inertia::zero());
+                        m.body_joint.push(new_joint[j]);
+                        let off_child = Se3::from_rotation(ra.transpose()).mul(&js.child_offset);
+                        (b, off_child, Some(new_joint[j]))
+                    } else {
+                        (
+                            pb,
+                            poff.mul(&js.origin).mul(&js.child_offset),
+                            Some(new_joint[j]),
+                        )
+                    }
+                }
+            };
+            if body != WORLD && !ls.inertial.is_zero() {
+                let merged = m.inertia[body].combined(&ls.inertial.transformed(&offset));
+                m.inertia[body] = merged;
+            }
+            links.push(Link {
+                name: ls.name.clone(),
+                parent_joint: pj,
+                body,
+                offset,
+                inertial: ls.inertial,
+                visuals: ls.visuals.clone(),
+                collisions: ls.collisions.clone(),
+            });
+        }
+        for &j in &order_joints {
+            let js = &spec.joints[j];
+            let child_link = new_link[link_ix[js.child.as_str()]];
+            let body = if js.jtype.is_movable() {
+                Some(links[child_link].body)
+            } else {
+                None
+            };
+            let mut limits = js.limits;
+            if js.jtype == JointType::Continuous {
+                limits.lower = f64::NEG_INFINITY;
+                limits.upper = f64::INFINITY;
+            }
+            joints.push(Joint {
+                name: js.name.clone(),
+                jtype: js.jtype,
+                parent_link: new_link[link_ix[js.parent.as_str()]],
+                child_link,
+                origin: js.origin,
+                axis: if js.jtype.is_movable() {
+                    js.axis.normalize()
+                } else {
+                    js.axis
+                },
+                limits,
+                mimic: mimic_resolved[j].map(|(mj, a, b)| (new_joint[mj], a, b)),
+                body,
+                dof: dof_of_spec_joint[j],
+                damping: js.damping,
+                friction: js.friction,
+                motor_inertia: js.motor_inertia,
+                gear_ratio: js.gear_ratio,
+            });
+        }
+        for k in 0..nv {
+            let lim = joints[m.dof_joints[k]].limits;
+            m.lower[k] = lim.lower;
+            m.upper[k] = lim.upper;
+            m.velocity_limit[k] = lim.velocity;
+            m.effort_limit[k] = lim.effort;
+        }
+        m.link_index = links
+            .iter()
+            .enumerate()
+            .map(|(i, l)| (l.name.clone(), i))
+            .collect();
+        m.joint_index = joints
+            .iter()
+            .enumerate()
+            .map(|(i, j)| (j.name.clone(), i))
+            .collect();
+        m.links = links;
+        m.joints = joints;
+        Ok((m, self.warnings))
+    }
+}

@@ -1,0 +1,50 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use armsim::model::Model;
+use armsim::spatial::{Mat3, Se3, Vec3};
+use std::path::PathBuf;
+
+/// Every model file in `robots/`, sorted.
+pub fn robot_files() -> Vec<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("robots");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("robots/ exists")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            matches!(
+                p.extension().and_then(|e| e.to_str()),
+                Some("urdf") | Some("toml")
+            )
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// Loads a file under the crate root, panicking with the loader's message.
+pub fn load(rel: &str) -> Model {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel);
+    match Model::load(&p) {
+        Ok((m, _)) => m,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// Angular velocity from a rotation derivative: `[ω]× = Ṙ Rᵀ`.
+pub fn omega(r_dot: &Mat3, r: &Mat3) -> Vec3 {
+    let w = r_dot * r.transpose();
+    Vec3::new(
+        0.5 * (w[(2, 1)] - w[(1, 2)]),
+        0.5 * (w[(0, 2)] - w[(2, 0)]),
+        0.5 * (w[(1, 0)] - w[(0, 1)]),
+    )
+}
+
+/// Largest absolute difference between two poses (rotation entries and translation).
+pub fn pose_diff(a: &Se3, b: &Se3) -> f64 {
+    (a.rot - b.rot)
+        .abs()
+        .max()
+        .max((a.trans - b.trans).abs().max())
+}
