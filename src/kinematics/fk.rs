@@ -6,8 +6,8 @@
 //! - `v_i = liMi⁻¹ · v_parent + S_i q̇_i`;
 //! - `a_i = liMi⁻¹ · a_parent + S_i q̈_i + v_i ×ₘ S_i q̇_i`,
 //!
-//! with `S_i = (0, e_z)` for revolute and `(e_z, 0)` for prismatic bodies (every joint axis
-//! is the body's local z, see [`crate::model`]). Velocities and accelerations are spatial
+//! with `S_i = (0, e_k)` for revolute and `(e_k, 0)` for prismatic bodies, `e_k` the body's
+//! joint axis (x, y or z of the body frame, see [`crate::model`]). Velocities and accelerations are spatial
 //! quantities expressed in the body frame; `a` is Featherstone's spatial acceleration, not
 //! the classical acceleration of a point (see [`frame_classical_acceleration`]).
 
@@ -16,39 +16,43 @@ use crate::data::Data;
 use crate::model::{BodyKind, Model, WORLD};
 use crate::spatial::{Mat3, Motion, Se3, Vec3};
 
-/// `placement · Rz(q)` or `placement · Tz(q)`, without a general matrix product.
+/// `R · R_k(q)`: columns `i, j` (the two axes other than `k`, in cyclic order) rotate,
+/// column `k` stays.
+#[inline(always)]
+fn rotate_columns<const I: usize, const J: usize>(r: &Mat3, s: f64, c: f64) -> Mat3 {
+    let mut out = *r;
+    for row in 0..3 {
+        let a = r[(row, I)];
+        let b = r[(row, J)];
+        out[(row, I)] = c * a + s * b;
+        out[(row, J)] = c * b - s * a;
+    }
+    out
+}
+
+/// `placement · J(q)` for the body's joint motion `J` (`Rx/Ry/Rz(q)` or `Tx/Ty/Tz(q)`),
+/// without a general matrix product.
 #[inline(always)]
 pub fn joint_transform(placement: &Se3, kind: BodyKind, q: f64) -> Se3 {
-    match kind {
-        BodyKind::Revolute => {
-            let (s, c) = crate::fastmath::sin_cos(q);
-            let r = &placement.rot;
-            // Columns of R·Rz(q): (c r0 + s r1, −s r0 + c r1, r2).
-            let rot = Mat3::new(
-                c * r[(0, 0)] + s * r[(0, 1)],
-                c * r[(0, 1)] - s * r[(0, 0)],
-                r[(0, 2)],
-                c * r[(1, 0)] + s * r[(1, 1)],
-                c * r[(1, 1)] - s * r[(1, 0)],
-                r[(1, 2)],
-                c * r[(2, 0)] + s * r[(2, 1)],
-                c * r[(2, 1)] - s * r[(2, 0)],
-                r[(2, 2)],
-            );
-            Se3 {
-                rot,
-                trans: placement.trans,
-            }
+    let r = &placement.rot;
+    let rot = |f: fn(&Mat3, f64, f64) -> Mat3| {
+        let (s, c) = crate::fastmath::sin_cos(q);
+        Se3 {
+            rot: f(r, s, c),
+            trans: placement.trans,
         }
-        BodyKind::Prismatic => Se3 {
-            rot: placement.rot,
-            trans: placement.trans
-                + Vec3::new(
-                    placement.rot[(0, 2)],
-                    placement.rot[(1, 2)],
-                    placement.rot[(2, 2)],
-                ) * q,
-        },
+    };
+    let slide = |k: usize| Se3 {
+        rot: *r,
+        trans: placement.trans + Vec3::new(r[(0, k)], r[(1, k)], r[(2, k)]) * q,
+    };
+    match kind {
+        BodyKind::RevoluteX => rot(rotate_columns::<1, 2>),
+        BodyKind::RevoluteY => rot(rotate_columns::<2, 0>),
+        BodyKind::RevoluteZ => rot(rotate_columns::<0, 1>),
+        BodyKind::PrismaticX => slide(0),
+        BodyKind::PrismaticY => slide(1),
+        BodyKind::PrismaticZ => slide(2),
     }
 }
 
@@ -67,9 +71,12 @@ pub(crate) fn body_rate(model: &Model, qd: &[f64], i: usize) -> f64 {
 /// The joint motion `S_i · rate` in the body frame.
 #[inline(always)]
 pub(crate) fn joint_motion(kind: BodyKind, rate: f64) -> Motion {
-    match kind {
-        BodyKind::Revolute => Motion::new(Vec3::zeros(), Vec3::new(0.0, 0.0, rate)),
-        BodyKind::Prismatic => Motion::new(Vec3::new(0.0, 0.0, rate), Vec3::zeros()),
+    let mut e = Vec3::zeros();
+    e[kind.axis_index()] = rate;
+    if kind.is_revolute() {
+        Motion::new(Vec3::zeros(), e)
+    } else {
+        Motion::new(e, Vec3::zeros())
     }
 }
 
@@ -129,9 +136,11 @@ pub fn forward_kinematics_acc(model: &Model, data: &mut Data, q: &[f64], qd: &[f
 
 /// Updates `o_m_f` (every link frame) from the current `o_m_i`.
 pub fn update_frames(model: &Model, data: &mut Data) {
-    for (l, link) in model.links.iter().enumerate() {
-        data.o_m_f[l] = if link.body == WORLD {
+    for (out, link) in data.o_m_f.iter_mut().zip(&model.links) {
+        *out = if link.body == WORLD {
             link.offset
+        } else if link.offset_is_identity {
+            data.o_m_i[link.body]
         } else {
             data.o_m_i[link.body].mul(&link.offset)
         };

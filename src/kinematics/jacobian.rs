@@ -12,7 +12,7 @@
 //!   "classical" Jacobian `[ṗ; ω] = J q̇` used for task-space control and IK.
 //!
 //! Columns: the world motion subspace of body `i` is `S_i^w = Ad(oMi) S_i`; for a
-//! revolute joint `(p_i × z_i, z_i)`, for a prismatic one `(z_i, 0)`. Its derivative is
+//! revolute joint `(p_i × a_i, a_i)`, for a prismatic one `(a_i, 0)`, `a_i` its world axis. Its derivative is
 //! `Ṡ_i^w = v_i^w ×ₘ S_i^w` (the world velocity of body `i`, RBDA eq. 2.36 with
 //! Ad a Lie-algebra homomorphism). The other expressions follow from
 //! `J_L = Ad(oMf)⁻¹ J_W`, `J̇_L = Ad(oMf)⁻¹ J̇_W − v_f ×ₘ J_L`, and
@@ -49,10 +49,11 @@ impl Expressed {
 
 #[inline(always)]
 fn world_subspace(kind: BodyKind, o_m_i: &Se3) -> Motion {
-    let z = o_m_i.rot.column(2).into_owned();
-    match kind {
-        BodyKind::Revolute => Motion::new(o_m_i.trans.cross(&z), z),
-        BodyKind::Prismatic => Motion::new(z, z * 0.0),
+    let z = o_m_i.rot.column(kind.axis_index()).into_owned();
+    if kind.is_revolute() {
+        Motion::new(o_m_i.trans.cross(&z), z)
+    } else {
+        Motion::new(z, z * 0.0)
     }
 }
 

@@ -139,7 +139,15 @@ pub fn parse(text: &str, file: &str) -> Result<ModelSpec, ModelError> {
         let element = line
             .map(|l| layout.element_at_line(l))
             .unwrap_or_else(|| "file".to_string());
-        ModelError::new(file, line, element, e.message().trim().to_string())
+        // toml's messages can span lines ("invalid table header\nexpected ..."): keep the
+        // one-line `FILE:LINE: ELEMENT: MESSAGE` form.
+        let message: Vec<&str> = e
+            .message()
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .collect();
+        ModelError::new(file, line, element, message.join(": "))
     })?;
     build(dh, file, &layout)
 }
@@ -332,6 +340,25 @@ fn build(dh: DhFile, file: &str, layout: &Layout) -> Result<ModelSpec, ModelErro
                 el,
                 "'continuous': a continuous joint has no position limits",
             ));
+        }
+        if let (Some(l), Some(u)) = (lower, upper) {
+            if l > u {
+                // Name the keys and values as written (degrees when given in degrees).
+                let show = |k: &str, rad: f64, deg: Option<f64>| match deg {
+                    Some(d) => format!("'{k}_deg' = {d}"),
+                    None => format!("'{k}' = {rad}"),
+                };
+                return Err(ModelError::new(
+                    file,
+                    line,
+                    el,
+                    format!(
+                        "lower limit {} is greater than upper limit {}",
+                        show("lower", l, row.lower_deg),
+                        show("upper", u, row.upper_deg)
+                    ),
+                ));
+            }
         }
         let (lower, upper) = match (lower, upper, continuous) {
             (_, _, true) => (f64::NEG_INFINITY, f64::INFINITY),

@@ -5,9 +5,10 @@
 //! Compilation (see [`Model::build`]):
 //! - the tree is walked depth-first (children in file order, iteratively, so deep chains
 //!   cannot overflow the stack); that order is **the joint order** every command uses;
-//! - every movable joint becomes a *body* whose frame is the joint frame rotated so that
-//!   the joint axis is its local `z`: every revolute joint is then `Rz(q)` and every
-//!   prismatic joint `Tz(q)` (no per-axis special cases in the hot loops);
+//! - every movable joint becomes a *body*; a joint about ±x, ±y or ±z keeps its URDF
+//!   frame (the sign folds into the coordinate's multiplier), any other axis gets a body
+//!   frame rotated so that the axis is its local z: every body then moves by `Rx/Ry/Rz(q)`
+//!   or `Tx/Ty/Tz(q)`;
 //! - fixed joints are folded away: their links become frames rigidly attached to a body
 //!   (or to the world), still queryable by name, and their inertias are merged into the
 //!   body they ride on;
@@ -24,20 +25,71 @@ pub mod urdf;
 pub use error::{ModelError, ModelWarning};
 pub use spec::{Geometry, JointSpec, JointType, Limits, LinkSpec, MimicSpec, ModelSpec, Shape};
 
-use crate::spatial::{rotation_z_to, Inertia, Se3, Vec3};
+use crate::spatial::{rotation_z_to, Inertia, Mat3, Se3, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
 
 /// Marker for "no parent body" (attached to the world).
 pub const WORLD: usize = usize::MAX;
 
-/// How a body moves relative to its parent: along or about its local z axis.
+/// How a body moves relative to its parent: about or along one axis of its own frame.
+/// Axis-aligned joints (±x, ±y, ±z) keep the URDF frame, a negative direction folding into
+/// the coordinate's sign; any other axis gets a body frame whose z is the axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BodyKind {
+    /// Rotation `Rx(q)`.
+    RevoluteX,
+    /// Rotation `Ry(q)`.
+    RevoluteY,
     /// Rotation `Rz(q)`.
-    Revolute,
+    RevoluteZ,
+    /// Translation `Tx(q)`.
+    PrismaticX,
+    /// Translation `Ty(q)`.
+    PrismaticY,
     /// Translation `Tz(q)`.
-    Prismatic,
+    PrismaticZ,
+}
+
+impl BodyKind {
+    /// The kind for a revolute (`true`) or prismatic joint about/along axis `k` (0, 1, 2).
+    pub fn new(revolute: bool, k: usize) -> Self {
+        match (revolute, k) {
+            (true, 0) => BodyKind::RevoluteX,
+            (true, 1) => BodyKind::RevoluteY,
+            (true, _) => BodyKind::RevoluteZ,
+            (false, 0) => BodyKind::PrismaticX,
+            (false, 1) => BodyKind::PrismaticY,
+            (false, _) => BodyKind::PrismaticZ,
+        }
+    }
+
+    /// Index of the joint axis in the body frame.
+    #[inline(always)]
+    pub fn axis_index(&self) -> usize {
+        match self {
+            BodyKind::RevoluteX | BodyKind::PrismaticX => 0,
+            BodyKind::RevoluteY | BodyKind::PrismaticY => 1,
+            BodyKind::RevoluteZ | BodyKind::PrismaticZ => 2,
+        }
+    }
+
+    /// Whether the joint rotates.
+    #[inline(always)]
+    pub fn is_revolute(&self) -> bool {
+        matches!(
+            self,
+            BodyKind::RevoluteX | BodyKind::RevoluteY | BodyKind::RevoluteZ
+        )
+    }
+}
+
+/// For a unit axis exactly equal to ±e_k, `(k, ±1)`.
+fn aligned_axis(a: &Vec3) -> Option<(usize, f64)> {
+    (0..3).find_map(|k| {
+        let others_zero = (0..3).filter(|&i| i != k).all(|i| a[i] == 0.0);
+        (others_zero && a[k].abs() == 1.0).then(|| (k, a[k]))
+    })
 }
 
 /// A joint as the user sees it (all joints, fixed ones included), in tree order.
@@ -84,6 +136,8 @@ pub struct Link {
     pub body: usize,
     /// Body frame → link frame (world → link frame when `body == WORLD`).
     pub offset: Se3,
+    /// Whether `offset` is exactly the identity (the link frame is the body frame).
+    pub offset_is_identity: bool,
     /// Inertia in the link frame, as read.
     pub inertial: Inertia,
     /// Visual geometry in the link frame.
@@ -153,6 +207,9 @@ impl Model {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path)
             .map_err(|e| ModelError::new(&file, None, "file", format!("cannot read: {e}")))?;
+        if text.trim().is_empty() {
+            return Err(ModelError::new(&file, None, "file", "the file is empty"));
+        }
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
@@ -581,16 +638,16 @@ impl<'a> Builder<'a> {
                     let (pb, poff) = (parent.body, parent.offset);
                     if js.jtype.is_movable() {
                         let axis = js.axis.normalize();
-                        let ra = rotation_z_to(&axis);
+                        let (k, sign, ra) = match aligned_axis(&axis) {
+                            Some((k, sign)) => (k, sign, Mat3::identity()),
+                            None => (2, 1.0, rotation_z_to(&axis)),
+                        };
                         let b = m.parent.len();
                         m.parent.push(pb);
                         m.placement
                             .push(poff.mul(&js.origin).mul(&Se3::from_rotation(ra)));
-                        m.kind.push(if js.jtype == JointType::Prismatic {
-                            BodyKind::Prismatic
-                        } else {
-                            BodyKind::Revolute
-                        });
+                        m.kind
+                            .push(BodyKind::new(js.jtype != JointType::Prismatic, k));
                         let (qi, mult, off) = match mimic_resolved[j] {
                             None => (dof_of_spec_joint[j].expect("independent joint"), 1.0, 0.0),
                             Some((master, mult, off)) => {
@@ -602,9 +659,10 @@ impl<'a> Builder<'a> {
                                 )
                             }
                         };
+                        // Body coordinate = sign · (mult · q + off) along +e_k.
                         m.q_index.push(qi);
-                        m.q_mult.push(mult);
-                        m.q_offset.push(off);
+                        m.q_mult.push(sign * mult);
+                        m.q_offset.push(sign * off);
                         m.inertia.push(Inertia::zero());
                         m.body_joint.push(new_joint[j]);
                         let off_child = Se3::from_rotation(ra.transpose()).mul(&js.child_offset);
@@ -626,6 +684,7 @@ impl<'a> Builder<'a> {
                 name: ls.name.clone(),
                 parent_joint: pj,
                 body,
+                offset_is_identity: offset == Se3::identity(),
                 offset,
                 inertial: ls.inertial,
                 visuals: ls.visuals.clone(),

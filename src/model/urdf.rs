@@ -22,34 +22,140 @@ pub fn parse(text: &str, file: &str) -> Result<ModelSpec, ModelError> {
 /// Deepest element nesting accepted.
 const MAX_DEPTH: usize = 32;
 
-/// Source lines of links and joints by name, from the validation pass.
-struct Lines {
-    links: HashMap<String, usize>,
-    joints: HashMap<String, usize>,
+/// Nesting at which the lexical pre-scan gives up, before roxmltree (whose parser
+/// recurses once per level: ~100 000 levels overflow the main thread's stack). Far above
+/// [`MAX_DEPTH`], so well-formed files are judged by the exact check after parsing.
+const PRESCAN_DEPTH: usize = 256;
+
+/// Byte offset of the start tag that opens nesting level `PRESCAN_DEPTH + 1`, if any.
+/// A lexical scan: comments, CDATA, processing instructions and `<!…>` declarations are
+/// skipped, quoted attribute values may hold `>`. Malformed text is left to roxmltree.
+fn too_deep(text: &str) -> Option<usize> {
+    let b = text.as_bytes();
+    let find = |from: usize, pat: &[u8]| -> usize {
+        b[from.min(b.len())..]
+            .windows(pat.len())
+            .position(|w| w == pat)
+            .map_or(b.len(), |p| from + p + pat.len())
+    };
+    let mut depth = 0usize;
+    let mut i = 0;
+    while let Some(p) = b[i..].iter().position(|&c| c == b'<') {
+        let start = i + p;
+        let rest = &b[start..];
+        i = if rest.starts_with(b"<!--") {
+            find(start + 4, b"-->")
+        } else if rest.starts_with(b"<![CDATA[") {
+            find(start + 9, b"]]>")
+        } else if rest.starts_with(b"<?") {
+            find(start + 2, b"?>")
+        } else if rest.starts_with(b"<!") {
+            // <!DOCTYPE …> with an optional [internal subset].
+            let gt = find(start, b">");
+            match b[start..gt].iter().position(|&c| c == b'[') {
+                Some(_) => find(start, b"]").max(gt).min(b.len()),
+                None => gt,
+            }
+        } else if rest.starts_with(b"</") {
+            depth = depth.saturating_sub(1);
+            find(start, b">")
+        } else {
+            let mut j = start + 1;
+            let mut quote = None;
+            while j < b.len() {
+                match (quote, b[j]) {
+                    (None, b'"' | b'\'') => quote = Some(b[j]),
+                    (Some(q), c) if c == q => quote = None,
+                    (None, b'>') => break,
+                    _ => {}
+                }
+                j += 1;
+            }
+            if j < b.len() && b[j - 1] != b'/' {
+                depth += 1;
+                if depth > PRESCAN_DEPTH {
+                    return Some(start);
+                }
+            }
+            j + 1
+        };
+        if i >= b.len() {
+            break;
+        }
+    }
+    None
 }
 
-fn line_of(doc: &roxmltree::Document<'_>, node: roxmltree::Node<'_, '_>) -> usize {
-    doc.text_pos_at(node.range().start).row as usize
+/// Source lines of links and joints by name, from the validation pass: one entry per
+/// occurrence, in file order (so a duplicate is reported at its own line).
+struct Lines {
+    links: HashMap<String, Vec<usize>>,
+    joints: HashMap<String, Vec<usize>>,
+}
+
+/// Byte offsets of line starts, so a node's line is a binary search (roxmltree's
+/// `text_pos_at` scans from the start of the text: quadratic over a large file).
+struct LineIndex(Vec<usize>);
+
+impl LineIndex {
+    fn new(text: &str) -> Self {
+        let mut v = vec![0];
+        v.extend(
+            text.bytes()
+                .enumerate()
+                .filter(|&(_, b)| b == b'\n')
+                .map(|(i, _)| i + 1),
+        );
+        Self(v)
+    }
+
+    fn line(&self, pos: usize) -> usize {
+        self.0.partition_point(|&s| s <= pos)
+    }
+}
+
+fn line_of(lx: &LineIndex, node: roxmltree::Node<'_, '_>) -> usize {
+    lx.line(node.range().start)
 }
 
 /// Checks the elements armsim uses; returns where each link and joint is.
 fn validate(text: &str, file: &str) -> Result<Lines, ModelError> {
+    if let Some(pos) = too_deep(text) {
+        return Err(ModelError::new(
+            file,
+            Some(LineIndex::new(text).line(pos)),
+            "XML",
+            format!("elements nested deeper than {MAX_DEPTH} levels"),
+        ));
+    }
     let opts = roxmltree::ParsingOptions {
         allow_dtd: true,
         ..Default::default()
     };
     let doc = roxmltree::Document::parse_with_options(text, opts).map_err(|e| {
-        let p = e.pos();
-        ModelError::new(file, Some(p.row as usize), "XML", e.to_string())
+        use roxmltree::Error as E;
+        // Some errors carry no position (roxmltree says 1:1): an early end of the file is
+        // at its last line; the others have no line.
+        let line = match e {
+            E::UnexpectedEndOfStream | E::UnclosedRootNode => Some(text.lines().count().max(1)),
+            E::NoRootNode
+            | E::DtdDetected
+            | E::NodesLimitReached
+            | E::AttributesLimitReached
+            | E::NamespacesLimitReached => None,
+            _ => Some(e.pos().row as usize),
+        };
+        ModelError::new(file, line, "XML", e.to_string())
     })?;
     // urdf-rs walks the document recursively: refuse absurd nesting (a URDF needs ~6).
+    let lx = LineIndex::new(text);
     if let Some(deep) = doc
         .descendants()
         .find(|n| n.ancestors().nth(MAX_DEPTH).is_some())
     {
         return Err(ModelError::new(
             file,
-            Some(line_of(&doc, deep)),
+            Some(line_of(&lx, deep)),
             "XML",
             format!("elements nested deeper than {MAX_DEPTH} levels"),
         ));
@@ -58,7 +164,7 @@ fn validate(text: &str, file: &str) -> Result<Lines, ModelError> {
     if root.tag_name().name() != "robot" {
         return Err(ModelError::new(
             file,
-            Some(line_of(&doc, root)),
+            Some(line_of(&lx, root)),
             format!("<{}>", root.tag_name().name()),
             "the root element must be <robot>",
         ));
@@ -68,8 +174,21 @@ fn validate(text: &str, file: &str) -> Result<Lines, ModelError> {
         joints: HashMap::new(),
     };
     for node in root.children().filter(|n| n.is_element()) {
-        let line = line_of(&doc, node);
+        let line = line_of(&lx, node);
         let tag = node.tag_name().name();
+        if tag == "material" {
+            let element = match node.attribute("name") {
+                Some(name) => format!("material '{name}'"),
+                None => "<material>".to_string(),
+            };
+            let ctx = Ctx {
+                file,
+                lx: &lx,
+                element: &element,
+            };
+            validate_material(&ctx, node)?;
+            continue;
+        }
         if tag != "link" && tag != "joint" {
             continue;
         }
@@ -84,29 +203,29 @@ fn validate(text: &str, file: &str) -> Result<Lines, ModelError> {
         let element = format!("{tag} '{name}'");
         let ctx = Ctx {
             file,
-            doc: &doc,
+            lx: &lx,
             element: &element,
         };
         if tag == "link" {
-            lines.links.entry(name.to_string()).or_insert(line);
+            lines.links.entry(name.to_string()).or_default().push(line);
             validate_link(&ctx, node)?;
         } else {
-            lines.joints.entry(name.to_string()).or_insert(line);
+            lines.joints.entry(name.to_string()).or_default().push(line);
             validate_joint(&ctx, node)?;
         }
     }
     Ok(lines)
 }
 
-struct Ctx<'a, 'd, 'i> {
+struct Ctx<'a> {
     file: &'a str,
-    doc: &'d roxmltree::Document<'i>,
+    lx: &'a LineIndex,
     element: &'a str,
 }
 
-impl Ctx<'_, '_, '_> {
+impl Ctx<'_> {
     fn err(&self, node: roxmltree::Node<'_, '_>, msg: impl Into<String>) -> ModelError {
-        ModelError::new(self.file, Some(line_of(self.doc, node)), self.element, msg)
+        ModelError::new(self.file, Some(line_of(self.lx, node)), self.element, msg)
     }
 
     /// Checks that attribute `attr` of `node`, if present, holds `n` finite numbers.
@@ -171,7 +290,7 @@ fn children<'a, 'i>(
         .filter(move |n| n.is_element() && n.tag_name().name() == tag)
 }
 
-fn validate_link(ctx: &Ctx<'_, '_, '_>, node: roxmltree::Node<'_, '_>) -> Result<(), ModelError> {
+fn validate_link(ctx: &Ctx<'_>, node: roxmltree::Node<'_, '_>) -> Result<(), ModelError> {
     for inertial in children(node, "inertial") {
         ctx.origin(inertial)?;
         let mass: Vec<_> = children(inertial, "mass").collect();
@@ -192,7 +311,21 @@ fn validate_link(ctx: &Ctx<'_, '_, '_>, node: roxmltree::Node<'_, '_>) -> Result
     for tag in ["visual", "collision"] {
         for g in children(node, tag) {
             ctx.origin(g)?;
+            if children(g, "geometry").next().is_none() {
+                return Err(ctx.err(g, format!("<{tag}>: missing <geometry>")));
+            }
+            if tag == "visual" {
+                for m in children(g, "material") {
+                    validate_material(ctx, m)?;
+                }
+            }
             for geom in children(g, "geometry") {
+                if geom.children().filter(|n| n.is_element()).count() != 1 {
+                    return Err(ctx.err(
+                        geom,
+                        "<geometry>: expected exactly one shape (<box>, <cylinder>, <sphere>, <capsule> or <mesh>)",
+                    ));
+                }
                 for shape in geom.children().filter(|n| n.is_element()) {
                     match shape.tag_name().name() {
                         "box" => ctx.numbers(shape, "size", 3, true)?,
@@ -216,7 +349,19 @@ fn validate_link(ctx: &Ctx<'_, '_, '_>, node: roxmltree::Node<'_, '_>) -> Result
     Ok(())
 }
 
-fn validate_joint(ctx: &Ctx<'_, '_, '_>, node: roxmltree::Node<'_, '_>) -> Result<(), ModelError> {
+/// A `<material>` (top level or in a `<visual>`): a name, and an optional
+/// `<color rgba="r g b a">`.
+fn validate_material(ctx: &Ctx<'_>, node: roxmltree::Node<'_, '_>) -> Result<(), ModelError> {
+    if node.attribute("name").is_none() {
+        return Err(ctx.err(node, "<material>: missing 'name' attribute"));
+    }
+    for c in children(node, "color") {
+        ctx.numbers(c, "rgba", 4, true)?;
+    }
+    Ok(())
+}
+
+fn validate_joint(ctx: &Ctx<'_>, node: roxmltree::Node<'_, '_>) -> Result<(), ModelError> {
     let Some(jtype) = node.attribute("type") else {
         return Err(ctx.err(node, "missing 'type' attribute"));
     };
@@ -264,8 +409,14 @@ fn validate_joint(ctx: &Ctx<'_, '_, '_>, node: roxmltree::Node<'_, '_>) -> Resul
         for a in ["lower", "upper"] {
             ctx.numbers(l, a, 1, false)?;
         }
+        // The URDF spec (and urdf-rs) require both whenever a <limit> is written.
         for a in ["effort", "velocity"] {
-            ctx.numbers(l, a, 1, jtype != "fixed" && jtype != "continuous")?;
+            ctx.numbers(l, a, 1, true)?;
+            if let Some(v) = l.attribute(a).and_then(|v| v.trim().parse::<f64>().ok()) {
+                if v < 0.0 {
+                    return Err(ctx.err(l, format!("<limit {a}=\"{v}\">: must not be negative")));
+                }
+            }
         }
     }
     for m in children(node, "mimic") {
@@ -306,6 +457,8 @@ fn geometry(g: &urdf_rs::Geometry) -> Shape {
 }
 
 fn convert(robot: urdf_rs::Robot, file: &str, text: &str, lines: &Lines) -> ModelSpec {
+    let mut link_seen: HashMap<&str, usize> = HashMap::new();
+    let mut joint_seen: HashMap<&str, usize> = HashMap::new();
     let materials: HashMap<&str, [f64; 4]> = robot
         .materials
         .iter()
@@ -348,7 +501,7 @@ fn convert(robot: urdf_rs::Robot, file: &str, text: &str, lines: &Lines) -> Mode
                         rgba: None,
                     })
                     .collect(),
-                line: lines.links.get(&l.name).copied(),
+                line: occurrence_line(&lines.links, &mut link_seen, &l.name),
             }
         })
         .collect();
@@ -392,7 +545,7 @@ fn convert(robot: urdf_rs::Robot, file: &str, text: &str, lines: &Lines) -> Mode
                 js.damping = d.damping;
                 js.friction = d.friction;
             }
-            js.line = lines.joints.get(&j.name).copied();
+            js.line = occurrence_line(&lines.joints, &mut joint_seen, &j.name);
             js
         })
         .collect();
@@ -405,6 +558,21 @@ fn convert(robot: urdf_rs::Robot, file: &str, text: &str, lines: &Lines) -> Mode
         urdf_text: Some(text.to_string()),
         gravity: None,
     }
+}
+
+/// The line of the next occurrence of `name` (links and joints come in file order).
+fn occurrence_line<'n>(
+    lines: &HashMap<String, Vec<usize>>,
+    seen: &mut HashMap<&'n str, usize>,
+    name: &'n str,
+) -> Option<usize> {
+    let k = seen.entry(name).or_insert(0);
+    let line = lines
+        .get(name)
+        .and_then(|v| v.get(*k).or(v.last()))
+        .copied();
+    *k += 1;
+    line
 }
 
 /// URDF writes 0 for "not given" on velocity/effort of continuous joints; treat 0 and

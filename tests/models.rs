@@ -1,0 +1,224 @@
+//! Model loading and forward kinematics against independent references: the UR5 URDF
+//! against its DH table, the Panda URDF against its modified-DH table, the spherical
+//! R-R-P arm against its closed forms, a tree against hand-derived frames, mimic joints.
+
+mod common;
+
+use armsim::data::Data;
+use armsim::kinematics::{self, Expressed};
+use armsim::model::{JointType, Model};
+use armsim::spatial::Vec3;
+use common::{load, pose_diff};
+use nalgebra::DMatrix;
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+
+fn tool_pose(model: &Model, data: &mut Data, q: &[f64], link: &str) -> armsim::spatial::Se3 {
+    kinematics::forward_kinematics(model, data, q);
+    kinematics::frame_placement(model, data, model.link_id(link).expect(link))
+}
+
+/// Two models of one arm give the same tool pose on `n` random configurations.
+fn same_tool(a: &Model, la: &str, b: &Model, lb: &str, n: usize, tol: f64) {
+    assert_eq!(a.nv, b.nv);
+    let (mut da, mut db) = (Data::new(a), Data::new(b));
+    let mut rng = SmallRng::seed_from_u64(1);
+    let mut worst = 0.0f64;
+    for _ in 0..n {
+        let q = a.random_q(&mut rng);
+        let d = pose_diff(
+            &tool_pose(a, &mut da, &q, la),
+            &tool_pose(b, &mut db, &q, lb),
+        );
+        worst = worst.max(d);
+    }
+    assert!(
+        worst <= tol,
+        "{} '{la}' vs {} '{lb}': worst difference {worst:e}",
+        a.source,
+        b.source
+    );
+}
+
+#[test]
+fn ur5_urdf_and_dh_table_give_the_same_tool_pose() {
+    let urdf = load("robots/ur5.urdf");
+    let dh = load("robots/ur5_dh.toml");
+    assert_eq!(urdf.dof_names(), dh.dof_names());
+    same_tool(&urdf, "tool0", &dh, "tool", 1000, 1e-12);
+}
+
+#[test]
+fn panda_urdf_and_modified_dh_table_give_the_same_flange_pose() {
+    let urdf = load("robots/panda.urdf");
+    let dh = load("robots/panda_mdh.toml");
+    // The URDF carries the gripper (one independent finger coordinate); compare the arm.
+    assert_eq!(urdf.nv, 8);
+    assert_eq!(dh.nv, 7);
+    let (mut du, mut dd) = (Data::new(&urdf), Data::new(&dh));
+    let mut rng = SmallRng::seed_from_u64(2);
+    let mut worst = 0.0f64;
+    for _ in 0..1000 {
+        let q7 = dh.random_q(&mut rng);
+        let mut q8 = q7.clone();
+        q8.push(0.02);
+        let d = pose_diff(
+            &tool_pose(&urdf, &mut du, &q8, "panda_link8"),
+            &tool_pose(&dh, &mut dd, &q7, "tool"),
+        );
+        worst = worst.max(d);
+    }
+    assert!(worst <= 1e-12, "worst difference {worst:e}");
+}
+
+#[test]
+fn spherical_rrp_matches_closed_form_fk_and_inverse() {
+    let m = load("robots/textbook_spherical_rrp.toml");
+    assert_eq!(m.nv, 3);
+    assert_eq!(m.dof_joint(2).jtype, JointType::Prismatic);
+    let mut data = Data::new(&m);
+    let mut rng = SmallRng::seed_from_u64(3);
+    for _ in 0..1000 {
+        let q = m.random_q(&mut rng);
+        let (g1, b2, r) = (q[0], q[1], q[2]);
+        let p = tool_pose(&m, &mut data, &q, "tool").trans;
+        let expect = Vec3::new(
+            r * g1.cos() * b2.cos(),
+            r * g1.sin() * b2.cos(),
+            r * b2.sin(),
+        );
+        assert!((p - expect).norm() < 1e-12, "q {q:?}: {p:?} vs {expect:?}");
+        // Closed-form inverse, unique inside these limits (|g1| < pi, |b2| < pi/2, r > 0).
+        let inv = [
+            p.y.atan2(p.x),
+            p.z.atan2((p.x * p.x + p.y * p.y).sqrt()),
+            p.norm(),
+        ];
+        for k in 0..3 {
+            assert!((inv[k] - q[k]).abs() < 1e-12, "inverse {inv:?} vs q {q:?}");
+        }
+    }
+}
+
+#[test]
+fn tree_gives_correct_frames_on_both_branches() {
+    let m = load("tests/data/dual_arm.urdf");
+    assert_eq!(
+        m.dof_names(),
+        [
+            "left_shoulder",
+            "left_elbow",
+            "right_shoulder",
+            "right_elbow"
+        ]
+    );
+    let mut data = Data::new(&m);
+    let mut rng = SmallRng::seed_from_u64(4);
+    let tip = |side: f64, a: f64, b: f64| {
+        Vec3::new(
+            0.3 * a.cos() + 0.25 * (a + b).cos(),
+            0.2 * side,
+            1.0 + 0.3 * a.sin() + 0.25 * (a + b).sin(),
+        )
+    };
+    for _ in 0..200 {
+        let q: Vec<f64> = (0..4).map(|_| rng.random_range(-3.0..3.0)).collect();
+        let l = tool_pose(&m, &mut data, &q, "left_tool").trans;
+        let r = tool_pose(&m, &mut data, &q, "right_tool").trans;
+        assert!((l - tip(1.0, q[0], q[1])).norm() < 1e-14);
+        assert!((r - tip(-1.0, q[2], q[3])).norm() < 1e-14);
+        // A branch's Jacobian has zero columns for the other branch.
+        let mut j = DMatrix::zeros(6, 4);
+        kinematics::compute_joint_jacobians(&m, &mut data, &q);
+        kinematics::frame_jacobian(
+            &m,
+            &data,
+            m.link_id("left_tool").unwrap(),
+            Expressed::World,
+            &mut j,
+        );
+        assert_eq!(j.columns(2, 2).abs().max(), 0.0);
+        assert!(j.columns(0, 2).abs().max() > 0.1);
+    }
+}
+
+#[test]
+fn mimic_joints_follow_their_master_and_are_not_coordinates() {
+    let m = load("tests/data/mimic_gripper.urdf");
+    // shoulder, elbow, finger_left_joint; finger_right and knuckle are mimic joints.
+    assert_eq!(m.dof_names(), ["shoulder", "elbow", "finger_left_joint"]);
+    assert_eq!(m.nbodies(), 5);
+    let mut data = Data::new(&m);
+    let q = [0.3, -0.7, 0.015];
+    kinematics::forward_kinematics(&m, &mut data, &q);
+    let palm = kinematics::frame_placement(&m, &data, m.link_id("palm").unwrap());
+    let right = kinematics::frame_placement(&m, &data, m.link_id("finger_right").unwrap());
+    let knuckle = kinematics::frame_placement(&m, &data, m.link_id("knuckle").unwrap());
+    // finger_right: q = -1 * 0.015 + 0.01 along palm y, from (0, -0.02, 0.05).
+    let local = palm.inv_mul(&right).trans;
+    assert!(
+        (local - Vec3::new(0.0, -0.02 - 0.005, 0.05)).norm() < 1e-15,
+        "{local:?}"
+    );
+    // knuckle mimics finger_right with multiplier 10: angle 10 * (-0.005) = -0.05 about x.
+    let rel = right.inv_mul(&knuckle);
+    let angle = rel.rot[(2, 1)].atan2(rel.rot[(1, 1)]);
+    assert!((angle + 0.05).abs() < 1e-15, "{angle}");
+    let (mj, mult, off) = m.joints[m.joint_id("knuckle_joint").unwrap()]
+        .mimic
+        .unwrap();
+    assert_eq!(m.joints[mj].name, "finger_left_joint");
+    assert!((mult + 10.0).abs() < 1e-15 && (off - 0.1).abs() < 1e-15);
+}
+
+#[test]
+fn fixed_joints_are_folded_but_their_links_stay_queryable() {
+    let m = load("robots/ur5.urdf");
+    let movable = m.joints.iter().filter(|j| j.jtype.is_movable()).count();
+    assert_eq!(m.nbodies(), movable);
+    assert!(m.joints.len() > movable, "the UR5 URDF has fixed joints");
+    for l in &m.links {
+        assert!(m.link_id(&l.name).is_some());
+    }
+}
+
+#[test]
+fn standard_and_modified_dh_describe_the_same_planar_arm() {
+    let std_text = "convention = \"standard\"\n[[joint]]\ntype = \"R\"\na = 0.4\ncontinuous = true\n[[joint]]\ntype = \"R\"\na = 0.3\ncontinuous = true\n";
+    let mod_text = "convention = \"modified\"\n[[joint]]\ntype = \"R\"\ncontinuous = true\n[[joint]]\ntype = \"R\"\na = 0.4\ncontinuous = true\n[tool]\nxyz = [0.3, 0.0, 0.0]\n";
+    let s = Model::build(armsim::model::dh::parse(std_text, "std.toml").unwrap())
+        .unwrap()
+        .0;
+    let m = Model::build(armsim::model::dh::parse(mod_text, "mod.toml").unwrap())
+        .unwrap()
+        .0;
+    same_tool(&s, "tool", &m, "tool", 200, 1e-15);
+    let mut d = Data::new(&s);
+    let p = tool_pose(&s, &mut d, &[0.5, -1.2], "tool").trans;
+    let expect = Vec3::new(
+        0.4 * 0.5f64.cos() + 0.3 * (-0.7f64).cos(),
+        0.4 * 0.5f64.sin() + 0.3 * (-0.7f64).sin(),
+        0.0,
+    );
+    assert!((p - expect).norm() < 1e-15);
+}
+
+#[test]
+fn twenty_thousand_link_chain_loads_without_recursion() {
+    // Built from the spec directly; the URDF route is exercised by tests/broken_models.rs.
+    let spec = armsim::model::chain::chain_spec(20_000);
+    let handle = std::thread::Builder::new()
+        .stack_size(256 * 1024)
+        .spawn(move || {
+            let (m, _) = Model::build(spec).unwrap();
+            let mut data = Data::new(&m);
+            let q = vec![0.0; m.nv];
+            kinematics::forward_kinematics(&m, &mut data, &q);
+            kinematics::frame_placement(&m, &data, m.link_id("link20000").unwrap())
+                .trans
+                .z
+        })
+        .unwrap();
+    let z = handle.join().unwrap();
+    assert!((z - 0.1 * 19_999.0).abs() < 1e-9, "{z}");
+}
