@@ -314,9 +314,16 @@ fn fk(model: &Model, q: &str, as_json: bool) -> Result<(), String> {
     for (l, link) in model.links.iter().enumerate() {
         let t = &data.o_m_f[l];
         let rpy = matrix_to_rpy(&t.rot);
+        // `+ 0.0` turns -0.0 into 0.0 for display.
         println!(
             "{:<24} {:>12.6} {:>12.6} {:>12.6} {:>10.5} {:>10.5} {:>10.5}",
-            link.name, t.trans.x, t.trans.y, t.trans.z, rpy[0], rpy[1], rpy[2]
+            link.name,
+            t.trans.x + 0.0,
+            t.trans.y + 0.0,
+            t.trans.z + 0.0,
+            rpy[0] + 0.0,
+            rpy[1] + 0.0,
+            rpy[2] + 0.0
         );
     }
     Ok(())
