@@ -2,8 +2,8 @@
 //! all buffers are sized once by [`Data::new`] so that no algorithm allocates per call.
 
 use crate::model::Model;
-use crate::spatial::{Force, Motion, Se3};
-use nalgebra::DMatrix;
+use crate::spatial::{Force, InertiaO, Motion, Se3};
+use nalgebra::{DMatrix, Matrix6, Vector6};
 
 /// Per-model buffers. Body-indexed vectors have one entry per movable joint.
 #[derive(Clone, Debug)]
@@ -29,6 +29,30 @@ pub struct Data {
     pub f: Vec<Force>,
     /// 6 × nv scratch Jacobian for frame queries.
     pub jac: DMatrix<f64>,
+    /// Joint torques (RNEA output), nv.
+    pub tau: Vec<f64>,
+    /// Joint accelerations (forward dynamics output), nv.
+    pub qdd: Vec<f64>,
+    /// Mass matrix (CRBA output), nv × nv.
+    pub mass: DMatrix<f64>,
+    /// Cholesky factor of the mass matrix.
+    pub chol: DMatrix<f64>,
+    /// Composite inertias (CRBA).
+    pub ic: Vec<InertiaO>,
+    /// Articulated inertias (ABA).
+    pub ia: Vec<Matrix6<f64>>,
+    /// Articulated bias forces (ABA).
+    pub pa: Vec<Vector6<f64>>,
+    /// `U_i = I^A_i S_i` (ABA).
+    pub u_col: Vec<Vector6<f64>>,
+    /// `D_i⁻¹` (ABA).
+    pub d_inv: Vec<f64>,
+    /// `u_i` (ABA).
+    pub u: Vec<f64>,
+    /// Velocity-product accelerations `c_i` (ABA).
+    pub c: Vec<Motion>,
+    /// Always zero, nv long (for `q̈ = 0` calls).
+    pub scratch_nv: Vec<f64>,
 }
 
 impl Data {
@@ -46,6 +70,18 @@ impl Data {
             v_world: vec![Motion::zero(); nb],
             f: vec![Force::zero(); nb],
             jac: DMatrix::zeros(6, model.nv),
+            tau: vec![0.0; model.nv],
+            qdd: vec![0.0; model.nv],
+            mass: DMatrix::zeros(model.nv, model.nv),
+            chol: DMatrix::zeros(model.nv, model.nv),
+            ic: vec![InertiaO::zero(); nb],
+            ia: vec![Matrix6::zeros(); nb],
+            pa: vec![Vector6::zeros(); nb],
+            u_col: vec![Vector6::zeros(); nb],
+            d_inv: vec![0.0; nb],
+            u: vec![0.0; nb],
+            c: vec![Motion::zero(); nb],
+            scratch_nv: vec![0.0; model.nv],
         }
     }
 }

@@ -15,6 +15,7 @@
 
 pub mod bench;
 pub mod data;
+pub mod dynamics;
 pub mod fastmath;
 pub mod io;
 pub mod kinematics;

