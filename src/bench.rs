@@ -4,6 +4,7 @@
 //! benches under `benches/` are the reference figures).
 
 use crate::data::Data;
+use crate::dynamics;
 use crate::kinematics;
 use crate::model::Model;
 use rand::rngs::SmallRng;
@@ -18,6 +19,12 @@ pub enum Algo {
     Fk,
     /// Forward kinematics plus every joint's world Jacobian column.
     Jacobians,
+    /// Inverse dynamics (RNEA) at random q, q̇, q̈.
+    Rnea,
+    /// The full mass matrix (CRBA).
+    Crba,
+    /// Forward dynamics (ABA) at random q, q̇, τ.
+    Aba,
 }
 
 impl Algo {
@@ -26,6 +33,9 @@ impl Algo {
         match self {
             Algo::Fk => "fk",
             Algo::Jacobians => "jacobians",
+            Algo::Rnea => "rnea",
+            Algo::Crba => "crba",
+            Algo::Aba => "aba",
         }
     }
 }
@@ -41,20 +51,42 @@ pub fn random_states(model: &Model, seed: u64) -> Vec<f64> {
     (0..STATES).flat_map(|_| model.random_q(&mut rng)).collect()
 }
 
+/// `STATES × n` values uniform in [−1, 1] (velocities, accelerations, torques).
+pub fn random_unit_states(n: usize, seed: u64) -> Vec<f64> {
+    use rand::Rng;
+    let mut rng = SmallRng::seed_from_u64(seed);
+    (0..STATES * n)
+        .map(|_| rng.random_range(-1.0..1.0))
+        .collect()
+}
+
 /// Median nanoseconds per call of `algo` over [`ROUNDS`] rounds of `iters / ROUNDS` calls.
 pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
     let mut data = Data::new(model);
     let nv = model.nv;
     let qs = random_states(model, 0x5eed);
+    let vs = random_unit_states(model.nv, 0x5eee);
+    let ws = random_unit_states(model.nv, 0x5eef);
+    let g = model.gravity;
     let run = |data: &mut Data, n: usize| {
         for k in 0..n {
-            let q = &qs[(k % STATES) * nv..(k % STATES + 1) * nv];
+            let s = (k % STATES) * nv..(k % STATES + 1) * nv;
+            let q = black_box(&qs[s.clone()]);
             match algo {
                 Algo::Fk => {
-                    kinematics::forward_kinematics(model, data, black_box(q));
+                    kinematics::forward_kinematics(model, data, q);
                     kinematics::update_frames(model, data);
                 }
-                Algo::Jacobians => kinematics::compute_joint_jacobians(model, data, black_box(q)),
+                Algo::Jacobians => kinematics::compute_joint_jacobians(model, data, q),
+                Algo::Rnea => {
+                    dynamics::rnea(model, data, q, &vs[s.clone()], &ws[s], &g, None);
+                }
+                Algo::Crba => {
+                    dynamics::crba(model, data, q);
+                }
+                Algo::Aba => {
+                    dynamics::aba(model, data, q, &vs[s.clone()], &ws[s], &g, None);
+                }
             }
             black_box(&mut *data);
         }

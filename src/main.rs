@@ -5,7 +5,7 @@
 use armsim::bench::{self, Algo};
 use armsim::data::Data;
 use armsim::kinematics::{self, Expressed};
-use armsim::model::{chain, Model};
+use armsim::model::{chain, LoadOptions, Model};
 use armsim::spatial::matrix_to_rpy;
 use clap::{Parser, Subcommand, ValueEnum};
 use nalgebra::DMatrix;
@@ -34,6 +34,9 @@ struct ModelArgs {
     /// Print JSON instead of text.
     #[arg(long)]
     json: bool,
+    /// Treat mimic joints as independent coordinates (Pinocchio's default).
+    #[arg(long)]
+    ignore_mimic: bool,
 }
 
 #[derive(Subcommand)]
@@ -101,6 +104,9 @@ enum ExpressedArg {
 enum AlgoArg {
     Fk,
     Jacobians,
+    Rnea,
+    Crba,
+    Aba,
 }
 
 fn main() -> ExitCode {
@@ -115,7 +121,11 @@ fn main() -> ExitCode {
 }
 
 fn load(m: &ModelArgs) -> Result<Model, String> {
-    let (model, warnings) = Model::load_checked(&m.model, m.strict).map_err(|e| e.to_string())?;
+    let opts = LoadOptions {
+        strict: m.strict,
+        ignore_mimic: m.ignore_mimic,
+    };
+    let (model, warnings) = Model::load_with(&m.model, &opts).map_err(|e| e.to_string())?;
     for w in warnings {
         eprintln!("warning: {w}");
     }
@@ -410,6 +420,17 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
     let algo = match algo {
         AlgoArg::Fk => Algo::Fk,
         AlgoArg::Jacobians => Algo::Jacobians,
+        AlgoArg::Rnea => Algo::Rnea,
+        AlgoArg::Crba => Algo::Crba,
+        AlgoArg::Aba => {
+            if model.has_mimic {
+                return Err(format!(
+                    "{}: ABA needs one coordinate per joint but the model has mimic joints; use --ignore-mimic",
+                    model.source
+                ));
+            }
+            Algo::Aba
+        }
     };
     let ns = bench::ns_per_call(model, algo, iters);
     if as_json {

@@ -457,19 +457,29 @@ impl InertiaO {
     }
 
     /// The same body expressed in frame `a`, given `aMb` and `self` in `b`:
-    /// `h' = R h + m p`, `I' = R I Rᵀ − ([Rh]×[p]× + [p]×[Rh]×) − m [p]×²`.
+    /// `h' = R h + m p`, `I' = R I Rᵀ − ([Rh]×[p]× + [p]×[Rh]×) − m [p]×²`, evaluated with
+    /// `[a]×[b]× = b aᵀ − (a·b) 1` and the symmetry of `I`.
     #[inline]
     pub fn transformed(&self, a_m_b: &Se3) -> InertiaO {
-        let rh = a_m_b.rot * self.h;
+        let r = &a_m_b.rot;
         let p = a_m_b.trans;
-        let px = skew(&p);
-        let rhx = skew(&rh);
+        let a = r * self.h;
+        let t = r * self.i_o;
+        let diag = 2.0 * a.dot(&p) + self.m * p.norm_squared();
+        let mut out = Mat3::zeros();
+        for i in 0..3 {
+            for j in i..3 {
+                let rir = t[(i, 0)] * r[(j, 0)] + t[(i, 1)] * r[(j, 1)] + t[(i, 2)] * r[(j, 2)];
+                let v = rir - (a[i] * p[j] + p[i] * a[j]) - self.m * p[i] * p[j];
+                out[(i, j)] = v;
+                out[(j, i)] = v;
+            }
+            out[(i, i)] += diag;
+        }
         InertiaO {
             m: self.m,
-            h: rh + p * self.m,
-            i_o: a_m_b.rot * self.i_o * a_m_b.rot.transpose()
-                - (rhx * px + px * rhx)
-                - px * px * self.m,
+            h: a + p * self.m,
+            i_o: out,
         }
     }
 

@@ -14,7 +14,7 @@
 use crate::data::Data;
 use crate::kinematics::{body_q, body_rate, joint_motion, joint_transform};
 use crate::model::{Model, WORLD};
-use crate::spatial::{skew, Force, Mat3, Motion, Se3, Vec3};
+use crate::spatial::{skew, Force, InertiaO, Mat3, Motion, Se3, Vec3};
 use nalgebra::{Matrix6, Vector6};
 
 #[inline(always)]
@@ -68,6 +68,21 @@ pub fn aba<'a>(
     gravity: &Vec3,
     f_ext: Option<&[Force]>,
 ) -> &'a [f64] {
+    aba_impl(model, data, q, qd, tau, Some(gravity), f_ext, None)
+}
+
+/// [`aba`] with gravity optional and an optional payload inertia on one body.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn aba_impl<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    qd: &[f64],
+    tau: &[f64],
+    gravity: Option<&Vec3>,
+    f_ext: Option<&[Force]>,
+    payload: Option<(usize, &InertiaO)>,
+) -> &'a [f64] {
     let nv = model.nv;
     assert!(
         q.len() == nv && qd.len() == nv && tau.len() == nv,
@@ -91,6 +106,13 @@ pub fn aba<'a>(
         };
         let inertia = &model.inertia_o[i];
         let mut pa = v.cross_force(&inertia.mul_motion(&v));
+        data.ia[i] = model.inertia6[i];
+        if let Some((pb, ip)) = payload {
+            if pb == i {
+                pa = pa.add(&v.cross_force(&ip.mul_motion(&v)));
+                data.ia[i] += ip.to_matrix();
+            }
+        }
         if let Some(fe) = f_ext {
             pa.f -= fe[i].f;
             pa.n -= fe[i].n;
@@ -98,7 +120,6 @@ pub fn aba<'a>(
         data.li_m_i[i] = li;
         data.v[i] = v;
         data.c[i] = c;
-        data.ia[i] = model.inertia6[i];
         data.pa[i] = fvec(&pa);
     }
     for i in (0..nb).rev() {
@@ -122,12 +143,18 @@ pub fn aba<'a>(
             data.pa[parent] += fp;
         }
     }
-    let a0 = Motion::new(-gravity, Vec3::zeros());
+    let a0 = gravity.map(|g| Motion::new(-g, Vec3::zeros()));
     for i in 0..nb {
         let li = data.li_m_i[i];
         let parent = model.parent[i];
-        let base = if parent == WORLD { a0 } else { data.a[parent] };
-        let a1 = li.act_inv_motion(&base).add(&data.c[i]);
+        let a1 = if parent == WORLD {
+            match &a0 {
+                Some(a0) => li.act_inv_motion(a0),
+                None => Motion::zero(),
+            }
+        } else {
+            li.act_inv_motion(&data.a[parent]).add(&data.c[i])
+        };
         let th_dd = data.d_inv[i] * (data.u[i] - data.u_col[i].dot(&mvec(&a1)));
         let kind = model.kind[i];
         data.a[i] = a1.add(&joint_motion(kind, th_dd));

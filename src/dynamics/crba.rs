@@ -30,11 +30,24 @@ fn inertia_times_axis(i: &InertiaO, kind: crate::model::BodyKind) -> Force {
 
 /// Mass matrix into `data.mass` (full, symmetric), also returned.
 pub fn crba<'a>(model: &Model, data: &'a mut Data, q: &[f64]) -> &'a DMatrix<f64> {
+    crba_impl(model, data, q, None)
+}
+
+/// [`crba`] with an optional extra inertia (payload, body coordinates) on one body.
+pub(crate) fn crba_impl<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    payload: Option<(usize, &InertiaO)>,
+) -> &'a DMatrix<f64> {
     assert_eq!(q.len(), model.nv);
     let nb = model.nbodies();
     for i in 0..nb {
         data.li_m_i[i] = joint_transform(&model.placement[i], model.kind[i], body_q(model, q, i));
         data.ic[i] = model.inertia_o[i];
+    }
+    if let Some((pb, ip)) = payload {
+        data.ic[pb] = data.ic[pb].add(ip);
     }
     data.mass.fill(0.0);
     for i in (0..nb).rev() {

@@ -12,7 +12,7 @@
 use crate::data::Data;
 use crate::kinematics::{body_q, body_rate, joint_motion, joint_transform};
 use crate::model::{Model, WORLD};
-use crate::spatial::{Force, Motion, Vec3};
+use crate::spatial::{Force, InertiaO, Motion, Vec3};
 
 /// `S_iᵀ f` for a body whose joint moves about/along axis `kind`.
 #[inline(always)]
@@ -36,12 +36,28 @@ pub fn rnea<'a>(
     gravity: &Vec3,
     f_ext: Option<&[Force]>,
 ) -> &'a [f64] {
+    rnea_impl(model, data, q, qd, qdd, Some(gravity), f_ext, None)
+}
+
+/// [`rnea`] with gravity optional (`None`: the gravity code does not run) and an optional
+/// extra inertia (a payload, in body coordinates) on one body.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn rnea_impl<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    gravity: Option<&Vec3>,
+    f_ext: Option<&[Force]>,
+    payload: Option<(usize, &InertiaO)>,
+) -> &'a [f64] {
     let nv = model.nv;
     assert!(
         q.len() == nv && qd.len() == nv && qdd.len() == nv,
         "q, qd, qdd need nv values"
     );
-    let a0 = Motion::new(-gravity, Vec3::zeros());
+    let a0 = gravity.map(|g| Motion::new(-g, Vec3::zeros()));
     for i in 0..model.nbodies() {
         let kind = model.kind[i];
         let li = joint_transform(&model.placement[i], kind, body_q(model, q, i));
@@ -49,7 +65,10 @@ pub fn rnea<'a>(
         let aj = joint_motion(kind, body_rate(model, qdd, i));
         let parent = model.parent[i];
         let (v, a) = if parent == WORLD {
-            (vj, li.act_inv_motion(&a0).add(&aj))
+            match &a0 {
+                Some(a0) => (vj, li.act_inv_motion(a0).add(&aj)),
+                None => (vj, aj),
+            }
         } else {
             let v = li.act_inv_motion(&data.v[parent]).add(&vj);
             let a = li
@@ -65,6 +84,13 @@ pub fn rnea<'a>(
         if let Some(fe) = f_ext {
             f.f -= fe[i].f;
             f.n -= fe[i].n;
+        }
+        if let Some((pb, ip)) = payload {
+            if pb == i {
+                f = f
+                    .add(&ip.mul_motion(&a))
+                    .add(&v.cross_force(&ip.mul_motion(&v)));
+            }
         }
         data.li_m_i[i] = li;
         data.v[i] = v;

@@ -29,6 +29,15 @@ use crate::spatial::{rotation_z_to, Inertia, InertiaO, Mat3, Se3, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
 
+/// How to load a model file.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LoadOptions {
+    /// Turn warnings into errors.
+    pub strict: bool,
+    /// Treat mimic joints as independent coordinates.
+    pub ignore_mimic: bool,
+}
+
 /// Marker for "no parent body" (attached to the world).
 pub const WORLD: usize = usize::MAX;
 
@@ -207,7 +216,25 @@ impl Model {
     /// Loads a model file, choosing the loader by extension (`.urdf`/`.xml` or `.toml`).
     /// Returns the model and the warnings.
     pub fn load(path: impl AsRef<Path>) -> Result<(Model, Vec<ModelWarning>), ModelError> {
-        let path = path.as_ref();
+        Self::load_with(path, &LoadOptions::default())
+    }
+
+    /// [`Model::load_with`] with only `strict` set.
+    pub fn load_checked(
+        path: impl AsRef<Path>,
+        strict: bool,
+    ) -> Result<(Model, Vec<ModelWarning>), ModelError> {
+        Self::load_with(
+            path,
+            &LoadOptions {
+                strict,
+                ignore_mimic: false,
+            },
+        )
+    }
+
+    /// Reads a model file into a [`ModelSpec`] without validating the tree.
+    pub fn read_spec(path: &Path) -> Result<ModelSpec, ModelError> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path)
             .map_err(|e| ModelError::new(&file, None, "file", format!("cannot read: {e}")))?;
@@ -219,28 +246,33 @@ impl Model {
             .and_then(|e| e.to_str())
             .unwrap_or("")
             .to_ascii_lowercase();
-        let spec = match ext.as_str() {
-            "urdf" | "xml" => urdf::parse(&text, &file)?,
-            "toml" => dh::parse(&text, &file)?,
-            _ => {
-                return Err(ModelError::new(
-                    &file,
-                    None,
-                    "file",
-                    "unknown model format: expected a .urdf or a .toml (DH table) file",
-                ))
-            }
-        };
-        Model::build(spec)
+        match ext.as_str() {
+            "urdf" | "xml" => urdf::parse(&text, &file),
+            "toml" => dh::parse(&text, &file),
+            _ => Err(ModelError::new(
+                &file,
+                None,
+                "file",
+                "unknown model format: expected a .urdf or a .toml (DH table) file",
+            )),
+        }
     }
 
-    /// Loads and fails on warnings too when `strict`.
-    pub fn load_checked(
+    /// Loads with options: `strict` fails on warnings; `ignore_mimic` makes every mimic
+    /// joint an independent coordinate (as Pinocchio's default URDF parser does).
+    pub fn load_with(
         path: impl AsRef<Path>,
-        strict: bool,
+        opts: &LoadOptions,
     ) -> Result<(Model, Vec<ModelWarning>), ModelError> {
-        let (m, w) = Model::load(path)?;
-        if strict {
+        let path = path.as_ref();
+        let mut spec = Self::read_spec(path)?;
+        if opts.ignore_mimic {
+            for j in &mut spec.joints {
+                j.mimic = None;
+            }
+        }
+        let (m, w) = Model::build(spec)?;
+        if opts.strict {
             if let Some(first) = w.into_iter().next() {
                 return Err(first);
             }

@@ -95,7 +95,7 @@ struct Lines {
 
 /// Byte offsets of line starts, so a node's line is a binary search (roxmltree's
 /// `text_pos_at` scans from the start of the text: quadratic over a large file).
-struct LineIndex(Vec<usize>, String);
+struct LineIndex(Vec<usize>);
 
 impl LineIndex {
     fn new(text: &str) -> Self {
@@ -106,17 +106,11 @@ impl LineIndex {
                 .filter(|&(_, b)| b == b'\n')
                 .map(|(i, _)| i + 1),
         );
-        Self(v, text.to_string())
+        Self(v)
     }
 
     fn line(&self, pos: usize) -> usize {
-        let _ = &self.0;
-        std::hint::black_box(
-            1 + self.1.as_bytes()[..pos]
-                .iter()
-                .filter(|&&b| b == b'\n')
-                .count(),
-        )
+        self.0.partition_point(|&s| s <= pos)
     }
 }
 

@@ -1,0 +1,89 @@
+//! Criterion benchmarks: RNEA, CRBA and ABA on UR5, Panda (9 DOF, fingers as independent
+//! joints as in Pinocchio), iiwa and generated 50-, 100- and 200-joint chains, cycling over
+//! 256 random states. Run: `cargo bench --bench dynamics`.
+
+use armsim::bench::{random_states, random_unit_states, STATES};
+use armsim::data::Data;
+use armsim::dynamics;
+use armsim::model::{chain, LoadOptions, Model};
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+
+fn models() -> Vec<Model> {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let opts = LoadOptions {
+        strict: false,
+        ignore_mimic: true,
+    };
+    let mut v: Vec<Model> = ["ur5.urdf", "panda.urdf", "iiwa14.urdf"]
+        .iter()
+        .map(|f| {
+            Model::load_with(format!("{root}/robots/{f}"), &opts)
+                .expect("robot loads")
+                .0
+        })
+        .collect();
+    for n in [50, 100, 200] {
+        v.push(Model::build(chain::chain_spec(n)).unwrap().0);
+    }
+    v
+}
+
+fn dynamics_benches(c: &mut Criterion) {
+    for model in models() {
+        let nv = model.nv;
+        let qs = random_states(&model, 0x5eed);
+        let vs = random_unit_states(nv, 0x5eee);
+        let ws = random_unit_states(nv, 0x5eef);
+        let g = model.gravity;
+        let mut data = Data::new(&model);
+        let mut g_ = c.benchmark_group(model.name.clone());
+        let mut k = 0usize;
+        let mut next = move || {
+            k = (k + 1) % STATES;
+            k * nv..(k + 1) * nv
+        };
+        g_.bench_function("rnea", |b| {
+            b.iter(|| {
+                let s = next();
+                dynamics::rnea(
+                    &model,
+                    &mut data,
+                    black_box(&qs[s.clone()]),
+                    &vs[s.clone()],
+                    &ws[s],
+                    &g,
+                    None,
+                );
+            })
+        });
+        g_.bench_function("crba", |b| {
+            b.iter(|| {
+                let s = next();
+                dynamics::crba(&model, &mut data, black_box(&qs[s]));
+            })
+        });
+        g_.bench_function("aba", |b| {
+            b.iter(|| {
+                let s = next();
+                dynamics::aba(
+                    &model,
+                    &mut data,
+                    black_box(&qs[s.clone()]),
+                    &vs[s.clone()],
+                    &ws[s],
+                    &g,
+                    None,
+                );
+            })
+        });
+        g_.finish();
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(40).warm_up_time(std::time::Duration::from_millis(400)).measurement_time(std::time::Duration::from_secs(2));
+    targets = dynamics_benches
+}
+criterion_main!(benches);
