@@ -6,6 +6,8 @@ mod aba;
 mod crba;
 mod energy;
 mod forward;
+mod lagrange_energy;
+mod lagrange_trace;
 mod rnea;
 
 pub use aba::aba;
@@ -15,4 +17,9 @@ pub use forward::{
     cholesky_in_place, cholesky_solve_in_place, forward_dynamics, forward_dynamics_crba,
     SingularMassMatrix,
 };
+pub use lagrange_energy::{
+    coriolis_matrix, gravity_torque_energy, lagrange_energy, mass_matrix_derivatives,
+    mass_matrix_energy,
+};
+pub use lagrange_trace::{lagrange_trace, mass_matrix_trace};
 pub use rnea::{bias, gravity_torque, rnea};

@@ -30,21 +30,20 @@ fn rotate_columns<const I: usize, const J: usize>(r: &Mat3, s: f64, c: f64) -> M
     out
 }
 
-/// `placement · J(q)` for the body's joint motion `J` (`Rx/Ry/Rz(q)` or `Tx/Ty/Tz(q)`),
-/// without a general matrix product.
+/// `(rot, trans) · J(q)` for the body's joint motion `J` (`Rx/Ry/Rz(q)` or
+/// `Tx/Ty/Tz(q)`), without a general matrix product.
 #[inline(always)]
-pub fn joint_transform(placement: &Se3, kind: BodyKind, q: f64) -> Se3 {
-    let r = &placement.rot;
+fn apply_joint(r: Mat3, trans: Vec3, kind: BodyKind, q: f64) -> Se3 {
     let rot = |f: fn(&Mat3, f64, f64) -> Mat3| {
         let (s, c) = crate::fastmath::sin_cos(q);
         Se3 {
-            rot: f(r, s, c),
-            trans: placement.trans,
+            rot: f(&r, s, c),
+            trans,
         }
     };
     let slide = |k: usize| Se3 {
-        rot: *r,
-        trans: placement.trans + Vec3::new(r[(0, k)], r[(1, k)], r[(2, k)]) * q,
+        rot: r,
+        trans: trans + Vec3::new(r[(0, k)], r[(1, k)], r[(2, k)]) * q,
     };
     match kind {
         BodyKind::RevoluteX => rot(rotate_columns::<1, 2>),
@@ -54,6 +53,30 @@ pub fn joint_transform(placement: &Se3, kind: BodyKind, q: f64) -> Se3 {
         BodyKind::PrismaticY => slide(1),
         BodyKind::PrismaticZ => slide(2),
     }
+}
+
+/// `placement · J(q)`: the joint placement relative to the parent body, `liMi`.
+#[inline(always)]
+pub fn joint_transform(placement: &Se3, kind: BodyKind, q: f64) -> Se3 {
+    apply_joint(placement.rot, placement.trans, kind, q)
+}
+
+/// `oM_parent · placement_i · J_i(q)`, using the signed-permutation form of the placement
+/// rotation when there is one (a column shuffle instead of a 3×3 product).
+#[inline(always)]
+fn compose_body(model: &Model, i: usize, op: &Se3, q: f64) -> Se3 {
+    let pl = &model.placement[i];
+    let base = match &model.placement_perm[i] {
+        Some(p) => {
+            let col = |c: usize| {
+                let (row, sign) = p[c];
+                Vec3::new(op.rot[(0, row)], op.rot[(1, row)], op.rot[(2, row)]) * sign
+            };
+            Mat3::from_columns(&[col(0), col(1), col(2)])
+        }
+        None => op.rot * pl.rot,
+    };
+    apply_joint(base, op.rot * pl.trans + op.trans, model.kind[i], q)
 }
 
 /// Value of body `i`'s joint coordinate (mimic joints read their master).
@@ -80,7 +103,7 @@ pub(crate) fn joint_motion(kind: BodyKind, rate: f64) -> Motion {
     }
 }
 
-/// Updates `li_m_i` and `o_m_i` for configuration `q` (length `nv`).
+/// Updates the body placements `o_m_i` for configuration `q` (length `nv`).
 pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
     assert_eq!(
         q.len(),
@@ -89,31 +112,32 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
         q.len(),
         model.nv
     );
-    let nb = model.nbodies();
-    for i in 0..nb {
-        let li = joint_transform(&model.placement[i], model.kind[i], body_q(model, q, i));
+    for i in 0..model.nbodies() {
+        let qi = body_q(model, q, i);
         let parent = model.parent[i];
         data.o_m_i[i] = if parent == WORLD {
-            li
+            joint_transform(&model.placement[i], model.kind[i], qi)
         } else {
-            data.o_m_i[parent].mul(&li)
+            let op = data.o_m_i[parent];
+            compose_body(model, i, &op, qi)
         };
-        data.li_m_i[i] = li;
     }
 }
 
-/// Placements and body velocities `v` for `(q, qd)`.
+/// Placements, joint placements `li_m_i` and body velocities `v` for `(q, qd)`.
 pub fn forward_kinematics_vel(model: &Model, data: &mut Data, q: &[f64], qd: &[f64]) {
     assert_eq!(qd.len(), model.nv);
     forward_kinematics(model, data, q);
     for i in 0..model.nbodies() {
+        let li = joint_transform(&model.placement[i], model.kind[i], body_q(model, q, i));
         let vj = joint_motion(model.kind[i], body_rate(model, qd, i));
         let parent = model.parent[i];
         data.v[i] = if parent == WORLD {
             vj
         } else {
-            data.li_m_i[i].act_inv_motion(&data.v[parent]).add(&vj)
+            li.act_inv_motion(&data.v[parent]).add(&vj)
         };
+        data.li_m_i[i] = li;
     }
 }
 

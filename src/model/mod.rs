@@ -93,6 +93,29 @@ impl BodyKind {
     }
 }
 
+/// If `r` is within 1e-14 of a signed permutation matrix, makes it exact and returns
+/// each column's `(row, sign)`. The tolerance is far below any physical meaning: it only
+/// removes the `cos(π/2) = 6e-17` left by `rpy` and DH angles of ±90°.
+fn snap_signed_permutation(r: &mut Mat3) -> Option<[(usize, f64); 3]> {
+    const TOL: f64 = 1e-14;
+    let mut out = [(0usize, 0.0f64); 3];
+    let mut used = [false; 3];
+    for c in 0..3 {
+        let row = (0..3).find(|&i| (r[(i, c)].abs() - 1.0).abs() < TOL)?;
+        if used[row] || (0..3).any(|i| i != row && r[(i, c)].abs() > TOL) {
+            return None;
+        }
+        used[row] = true;
+        out[c] = (row, r[(row, c)].signum());
+    }
+    for c in 0..3 {
+        for i in 0..3 {
+            r[(i, c)] = if i == out[c].0 { out[c].1 } else { 0.0 };
+        }
+    }
+    Some(out)
+}
+
 /// For a unit axis exactly equal to ±e_k, `(k, ±1)`.
 fn aligned_axis(a: &Vec3) -> Option<(usize, f64)> {
     (0..3).find_map(|k| {
@@ -175,6 +198,10 @@ pub struct Model {
     pub parent: Vec<usize>,
     /// Parent body frame → this body's frame at q = 0.
     pub placement: Vec<Se3>,
+    /// For placements whose rotation is a signed permutation (URDF `rpy` in multiples of
+    /// π/2, DH twists of ±90°): column `c` of the rotation is `sign · e_row`, as
+    /// `(row, sign)`. Products with it are column shuffles (see `kinematics::fk`).
+    pub placement_perm: Vec<Option<[(usize, f64); 3]>>,
     /// Motion type of each body.
     pub kind: Vec<BodyKind>,
     /// The coordinate that drives each body.
@@ -648,6 +675,7 @@ impl<'a> Builder<'a> {
             dof_joints,
             parent: Vec::new(),
             placement: Vec::new(),
+            placement_perm: Vec::new(),
             kind: Vec::new(),
             q_index: Vec::new(),
             q_mult: Vec::new(),
@@ -682,8 +710,10 @@ impl<'a> Builder<'a> {
                         };
                         let b = m.parent.len();
                         m.parent.push(pb);
-                        m.placement
-                            .push(poff.mul(&js.origin).mul(&Se3::from_rotation(ra)));
+                        let mut pl = poff.mul(&js.origin).mul(&Se3::from_rotation(ra));
+                        let perm = snap_signed_permutation(&mut pl.rot);
+                        m.placement.push(pl);
+                        m.placement_perm.push(perm);
                         m.kind
                             .push(BodyKind::new(js.jtype != JointType::Prismatic, k));
                         let (qi, mult, off) = match mimic_resolved[j] {
