@@ -53,6 +53,16 @@ pub struct Data {
     pub c: Vec<Motion>,
     /// Always zero, nv long (for `q̈ = 0` calls).
     pub scratch_nv: Vec<f64>,
+    /// Scratch, nv long.
+    pub scratch_nv2: Vec<f64>,
+    /// Scratch for net torques, nv long.
+    pub scratch_tau: Vec<f64>,
+    /// Scratch for spring torques, nv long.
+    pub scratch_spring: Vec<f64>,
+    /// External wrenches per body, in body frames.
+    pub f_ext: Vec<Force>,
+    /// How often each effect's code ran.
+    pub effect_runs: crate::dynamics::EffectRuns,
 }
 
 impl Data {
@@ -82,6 +92,11 @@ impl Data {
             u: vec![0.0; nb],
             c: vec![Motion::zero(); nb],
             scratch_nv: vec![0.0; model.nv],
+            scratch_nv2: vec![0.0; model.nv],
+            scratch_tau: vec![0.0; model.nv],
+            scratch_spring: vec![0.0; model.nv],
+            f_ext: vec![Force::zero(); nb],
+            effect_runs: Default::default(),
         }
     }
 }

@@ -68,10 +68,11 @@ pub fn aba<'a>(
     gravity: &Vec3,
     f_ext: Option<&[Force]>,
 ) -> &'a [f64] {
-    aba_impl(model, data, q, qd, tau, Some(gravity), f_ext, None)
+    aba_impl(model, data, q, qd, tau, Some(gravity), f_ext, None, None)
 }
 
-/// [`aba`] with gravity optional and an optional payload inertia on one body.
+/// [`aba`] with gravity optional, an optional payload inertia on one body and optional
+/// rotor armature `I_m N²` per coordinate (added to `D_i`, RBDA §7.3 with rotor inertia).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn aba_impl<'a>(
     model: &Model,
@@ -82,6 +83,7 @@ pub(crate) fn aba_impl<'a>(
     gravity: Option<&Vec3>,
     f_ext: Option<&[Force]>,
     payload: Option<(usize, &InertiaO)>,
+    armature: Option<&[f64]>,
 ) -> &'a [f64] {
     let nv = model.nv;
     assert!(
@@ -126,7 +128,11 @@ pub(crate) fn aba_impl<'a>(
         let kind = model.kind[i];
         let s = kind.axis_index() + if kind.is_revolute() { 3 } else { 0 };
         let u_col: Vector6<f64> = data.ia[i].column(s).into_owned();
-        let d_inv = 1.0 / u_col[s];
+        let d = match armature {
+            Some(arm) => u_col[s] + arm[model.q_index[i]],
+            None => u_col[s],
+        };
+        let d_inv = 1.0 / d;
         // Body coordinate θ = m q + o: its generalised force is τ / m.
         let u = tau[model.q_index[i]] / model.q_mult[i] - data.pa[i][s];
         data.u_col[i] = u_col;

@@ -4,6 +4,7 @@
 
 mod aba;
 mod crba;
+mod effects;
 mod energy;
 mod forward;
 mod lagrange_energy;
@@ -12,6 +13,10 @@ mod rnea;
 
 pub use aba::aba;
 pub use crba::crba;
+pub use effects::{
+    elastic_forward_dynamics, forward_dynamics_with, inverse_dynamics, mass_matrix, EffectRuns,
+    Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor,
+};
 pub use energy::{kinetic_energy, potential_energy};
 pub use forward::{
     cholesky_in_place, cholesky_solve_in_place, forward_dynamics, forward_dynamics_crba,

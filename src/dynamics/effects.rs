@@ -1,0 +1,564 @@
+//! Switchable physical effects: gravity, joint friction, rotor inertia and gearing, joint
+//! elasticity, payload and external wrenches. An [`Effects`] value names what a
+//! computation includes; an effect that is `None` (or an empty wrench list) is not
+//! computed at all, not multiplied by zero. `Data::effect_runs` counts how often each
+//! effect's code ran, so tests can prove a left-out effect never executes.
+//!
+//! Models:
+//! - **Friction** (per coordinate): `τ_f(q̇) = b q̇ + [F_c + (F_s − F_c) e^{−(q̇/v_s)²}] tanh(q̇/ε)`:
+//!   viscous, Coulomb and Stribeck stiction, regularised by `tanh` with a small `ε`. The
+//!   regularisation keeps the torque continuous and smooth through `q̇ = 0` (bounded slope
+//!   `F_s/ε`): no sign-function chattering for the integrators, no event detection, and
+//!   zero friction at rest so a static torque check is not biased. The price is a creep
+//!   velocity of order `ε` under loads below stiction; `ε = 1e-3` rad/s by default.
+//! - **Rotor and gear** (per coordinate): reflected rotor inertia (armature) `I_m N²` on the
+//!   mass-matrix diagonal (the rotors' gyroscopic coupling is neglected, as in the usual
+//!   armature model); motor torque `τ_m = τ/(N η)` when the motor drives (`τ q̇ ≥ 0`) and
+//!   `τ η / N` when it is back-driven.
+//! - **Elasticity** (Spong's reduced flexible-joint model, the two-mass torsional chain in
+//!   each joint): link side `M(q) q̈ + h(q, q̇) = τ_s`, motor side `B θ̈ + τ_s = τ_m`, with
+//!   `τ_s = K (θ − q) + D (θ̇ − q̇)`. The motor angles `θ` are extra states.
+//! - **Payload**: a rigid body fixed to a link, added to that body's inertia.
+//! - **External wrenches**: force and moment at a link's origin, in world axes.
+
+use super::aba::aba_impl;
+use super::crba::crba_impl;
+use super::forward::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
+use super::rnea::rnea_impl;
+use crate::data::Data;
+use crate::kinematics::forward_kinematics;
+use crate::model::{Model, WORLD};
+use crate::spatial::{Force, Inertia, InertiaO, Vec3};
+use nalgebra::DMatrix;
+
+/// Viscous + Coulomb + Stribeck friction per coordinate (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Friction {
+    /// Viscous coefficient `b` (N m s/rad).
+    pub viscous: Vec<f64>,
+    /// Coulomb level `F_c` (N m).
+    pub coulomb: Vec<f64>,
+    /// Breakaway (stiction) level `F_s ≥ F_c` (N m).
+    pub stiction: Vec<f64>,
+    /// Stribeck velocity `v_s` (rad/s).
+    pub stribeck_velocity: Vec<f64>,
+    /// Regularisation velocity `ε` (rad/s).
+    pub smoothing: f64,
+}
+
+impl Friction {
+    /// From the model file (`<dynamics damping friction>`): viscous = damping, Coulomb =
+    /// stiction = friction, `v_s = 0.1`, `ε = 1e-3`.
+    pub fn from_model(model: &Model) -> Self {
+        let pick = |f: fn(&crate::model::Joint) -> f64| -> Vec<f64> {
+            (0..model.nv).map(|k| f(model.dof_joint(k))).collect()
+        };
+        Friction {
+            viscous: pick(|j| j.damping),
+            coulomb: pick(|j| j.friction),
+            stiction: pick(|j| j.friction),
+            stribeck_velocity: vec![0.1; model.nv],
+            smoothing: 1e-3,
+        }
+    }
+
+    /// Friction torque on coordinate `k` at rate `v`.
+    #[inline]
+    pub fn torque(&self, k: usize, v: f64) -> f64 {
+        let (fc, fs, vs) = (self.coulomb[k], self.stiction[k], self.stribeck_velocity[k]);
+        let r = v / vs;
+        self.viscous[k] * v + (fc + (fs - fc) * (-r * r).exp()) * (v / self.smoothing).tanh()
+    }
+}
+
+/// Rotor inertia, gear ratio and gear efficiency per coordinate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rotor {
+    /// Rotor inertia `I_m` on the motor side (kg m²).
+    pub inertia: Vec<f64>,
+    /// Gear ratio `N` (motor turns per joint turn).
+    pub gear_ratio: Vec<f64>,
+    /// Gear efficiency `η` in (0, 1].
+    pub efficiency: Vec<f64>,
+}
+
+impl Rotor {
+    /// From the model file (`motor_inertia`, `gear_ratio`), with efficiency `eta`.
+    pub fn from_model(model: &Model, eta: f64) -> Self {
+        Rotor {
+            inertia: (0..model.nv)
+                .map(|k| model.dof_joint(k).motor_inertia)
+                .collect(),
+            gear_ratio: (0..model.nv)
+                .map(|k| model.dof_joint(k).gear_ratio)
+                .collect(),
+            efficiency: vec![eta; model.nv],
+        }
+    }
+
+    /// Reflected inertia `I_m N²` of coordinate `k`.
+    #[inline]
+    pub fn armature(&self, k: usize) -> f64 {
+        self.inertia[k] * self.gear_ratio[k] * self.gear_ratio[k]
+    }
+
+    /// Motor torque for joint torque `tau` at joint rate `qd`.
+    pub fn motor_torque(&self, k: usize, tau: f64, qd: f64) -> f64 {
+        let (n, eta) = (self.gear_ratio[k], self.efficiency[k]);
+        if tau * qd >= 0.0 {
+            tau / (n * eta)
+        } else {
+            tau * eta / n
+        }
+    }
+}
+
+/// Joint elasticity: spring `K`, damper `D` and motor-side inertia `B` per coordinate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Elasticity {
+    /// Joint stiffness `K` (N m/rad).
+    pub stiffness: Vec<f64>,
+    /// Joint damping `D` (N m s/rad).
+    pub damping: Vec<f64>,
+    /// Motor-side inertia `B` reflected to the joint, `I_m N²` (kg m²), > 0.
+    pub motor_inertia: Vec<f64>,
+}
+
+/// A rigid payload fixed to a link.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Payload {
+    /// The link carrying it.
+    pub link: usize,
+    /// Its inertia in the link frame.
+    pub inertia: Inertia,
+    body: usize,
+    inertia_body: InertiaO,
+}
+
+impl Payload {
+    /// A payload on link `link` with inertia given in the link frame.
+    pub fn new(model: &Model, link: usize, inertia: Inertia) -> Result<Self, String> {
+        let l = model
+            .links
+            .get(link)
+            .ok_or_else(|| format!("payload: link index {link} does not exist"))?;
+        if l.body == WORLD {
+            return Err(format!(
+                "payload: link '{}' is fixed to the world; a payload there loads no joint",
+                l.name
+            ));
+        }
+        if !(inertia.mass >= 0.0) || !inertia.mass.is_finite() {
+            return Err(format!(
+                "payload: mass {} is not a non-negative number",
+                inertia.mass
+            ));
+        }
+        Ok(Payload {
+            link,
+            inertia,
+            body: l.body,
+            inertia_body: InertiaO::from_inertia(&inertia.transformed(&l.offset)),
+        })
+    }
+
+    fn on_body(&self) -> (usize, &InertiaO) {
+        (self.body, &self.inertia_body)
+    }
+}
+
+/// A wrench applied to a link: force and moment at the link origin, in world axes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExternalWrench {
+    /// The link it acts on.
+    pub link: usize,
+    /// Force (N), world axes.
+    pub force: Vec3,
+    /// Moment about the link origin (N m), world axes.
+    pub moment: Vec3,
+}
+
+/// What a dynamics computation includes. `Effects::default()` is the bare rigid model
+/// without gravity.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Effects {
+    /// Gravity vector (world), or none.
+    pub gravity: Option<Vec3>,
+    /// Joint friction.
+    pub friction: Option<Friction>,
+    /// Rotor inertia and gearing.
+    pub rotor: Option<Rotor>,
+    /// Joint elasticity (motor angles become states).
+    pub elasticity: Option<Elasticity>,
+    /// Payload.
+    pub payload: Option<Payload>,
+    /// External wrenches (none when empty).
+    pub external: Vec<ExternalWrench>,
+}
+
+/// How many times each effect's code ran (for tests and audits).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EffectRuns {
+    /// Gravity.
+    pub gravity: u64,
+    /// Friction.
+    pub friction: u64,
+    /// Rotor inertia / gearing.
+    pub rotor: u64,
+    /// Elasticity.
+    pub elasticity: u64,
+    /// Payload.
+    pub payload: u64,
+    /// External wrenches.
+    pub external: u64,
+}
+
+impl Effects {
+    /// Gravity only.
+    pub fn gravity(g: Vec3) -> Self {
+        Effects {
+            gravity: Some(g),
+            ..Default::default()
+        }
+    }
+
+    /// The names of the effects included, in a fixed order.
+    pub fn names(&self) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        if self.gravity.is_some() {
+            v.push("gravity");
+        }
+        if self.friction.is_some() {
+            v.push("friction");
+        }
+        if self.rotor.is_some() {
+            v.push("rotor_inertia");
+        }
+        if self.elasticity.is_some() {
+            v.push("joint_elasticity");
+        }
+        if self.payload.is_some() {
+            v.push("payload");
+        }
+        if !self.external.is_empty() {
+            v.push("external_wrench");
+        }
+        v
+    }
+
+    /// Checks per-coordinate vectors against the model.
+    pub fn validate(&self, model: &Model) -> Result<(), String> {
+        let n = model.nv;
+        let len = |name: &str, l: usize| {
+            if l == n {
+                Ok(())
+            } else {
+                Err(format!("{name}: {l} values for {n} coordinates"))
+            }
+        };
+        if let Some(g) = &self.gravity {
+            if !g.iter().all(|x| x.is_finite()) {
+                return Err("gravity: non-finite component".into());
+            }
+        }
+        if let Some(f) = &self.friction {
+            len("friction.viscous", f.viscous.len())?;
+            len("friction.coulomb", f.coulomb.len())?;
+            len("friction.stiction", f.stiction.len())?;
+            len("friction.stribeck_velocity", f.stribeck_velocity.len())?;
+            if !(f.smoothing > 0.0) || f.stribeck_velocity.iter().any(|v| !(*v > 0.0)) {
+                return Err("friction: smoothing and Stribeck velocities must be positive".into());
+            }
+        }
+        if let Some(r) = &self.rotor {
+            len("rotor.inertia", r.inertia.len())?;
+            len("rotor.gear_ratio", r.gear_ratio.len())?;
+            len("rotor.efficiency", r.efficiency.len())?;
+            if r.efficiency.iter().any(|e| !(*e > 0.0 && *e <= 1.0)) {
+                return Err("rotor.efficiency: must be in (0, 1]".into());
+            }
+        }
+        if let Some(e) = &self.elasticity {
+            len("elasticity.stiffness", e.stiffness.len())?;
+            len("elasticity.damping", e.damping.len())?;
+            len("elasticity.motor_inertia", e.motor_inertia.len())?;
+            if e.stiffness.iter().any(|k| !(*k > 0.0))
+                || e.motor_inertia.iter().any(|b| !(*b > 0.0))
+            {
+                return Err("elasticity: stiffness and motor inertia must be positive".into());
+            }
+        }
+        for w in &self.external {
+            if w.link >= model.links.len() {
+                return Err(format!(
+                    "external wrench: link index {} does not exist",
+                    w.link
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Fills `data.f_ext` (body frames) from the wrenches; needs `data.o_m_i` current.
+fn gather_wrenches(model: &Model, data: &mut Data, wrenches: &[ExternalWrench]) {
+    for f in data.f_ext.iter_mut() {
+        *f = Force::zero();
+    }
+    for w in wrenches {
+        let link = &model.links[w.link];
+        if link.body == WORLD {
+            continue;
+        }
+        let o_m_b = data.o_m_i[link.body];
+        let p = o_m_b.act_point(&link.offset.trans);
+        // Moment about the world origin, then into body coordinates.
+        let at_origin = Force::new(w.force, w.moment + p.cross(&w.force));
+        let fb = o_m_b.act_inv_force(&at_origin);
+        data.f_ext[link.body] = data.f_ext[link.body].add(&fb);
+    }
+}
+
+/// Inverse dynamics with `effects`: the joint torques (link side) into `data.tau`.
+/// With elasticity, `τ` is the spring torque the joints transmit; the motor torque is
+/// `τ + B θ̈` (see [`elastic_forward_dynamics`] for the simulation side).
+pub fn inverse_dynamics<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    effects: &Effects,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+) -> &'a [f64] {
+    let f_ext = if effects.external.is_empty() {
+        None
+    } else {
+        data.effect_runs.external += 1;
+        forward_kinematics(model, data, q);
+        gather_wrenches(model, data, &effects.external);
+        Some(std::mem::take(&mut data.f_ext))
+    };
+    if effects.gravity.is_some() {
+        data.effect_runs.gravity += 1;
+    }
+    let payload = effects.payload.as_ref().map(|p| {
+        data.effect_runs.payload += 1;
+        p.on_body()
+    });
+    rnea_impl(
+        model,
+        data,
+        q,
+        qd,
+        qdd,
+        effects.gravity.as_ref(),
+        f_ext.as_deref(),
+        payload,
+    );
+    if let Some(f) = f_ext {
+        data.f_ext = f;
+    }
+    if let Some(fr) = &effects.friction {
+        data.effect_runs.friction += 1;
+        for k in 0..model.nv {
+            data.tau[k] += fr.torque(k, qd[k]);
+        }
+    }
+    if let Some(r) = &effects.rotor {
+        data.effect_runs.rotor += 1;
+        for k in 0..model.nv {
+            data.tau[k] += r.armature(k) * qdd[k];
+        }
+    }
+    &data.tau
+}
+
+/// Mass matrix with the payload and the rotor armature when they are included.
+pub fn mass_matrix<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    effects: &Effects,
+    q: &[f64],
+) -> &'a DMatrix<f64> {
+    let payload = effects.payload.as_ref().map(|p| {
+        data.effect_runs.payload += 1;
+        p.on_body()
+    });
+    crba_impl(model, data, q, payload);
+    if let Some(r) = &effects.rotor {
+        data.effect_runs.rotor += 1;
+        for k in 0..model.nv {
+            data.mass[(k, k)] += r.armature(k);
+        }
+    }
+    &data.mass
+}
+
+/// Forward dynamics with `effects` (rigid joints): `q̈` into `data.qdd`. ABA when every
+/// body has its own coordinate, otherwise the projected mass matrix and Cholesky.
+pub fn forward_dynamics_with<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    effects: &Effects,
+    q: &[f64],
+    qd: &[f64],
+    tau: &[f64],
+) -> Result<&'a [f64], SingularMassMatrix> {
+    let parts = Parts {
+        gravity: effects.gravity.as_ref(),
+        friction: effects.friction.as_ref(),
+        rotor: effects.rotor.as_ref(),
+        payload: effects.payload.as_ref(),
+        external: &effects.external,
+    };
+    forward_core(model, data, &parts, q, qd, tau)
+}
+
+/// The effects forward dynamics acts on, borrowed (so callers can leave some out without
+/// cloning).
+struct Parts<'e> {
+    gravity: Option<&'e Vec3>,
+    friction: Option<&'e Friction>,
+    rotor: Option<&'e Rotor>,
+    payload: Option<&'e Payload>,
+    external: &'e [ExternalWrench],
+}
+
+fn forward_core<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    e: &Parts<'_>,
+    q: &[f64],
+    qd: &[f64],
+    tau: &[f64],
+) -> Result<&'a [f64], SingularMassMatrix> {
+    // Net applied torque after friction.
+    let mut net = std::mem::take(&mut data.scratch_tau);
+    net.copy_from_slice(tau);
+    if let Some(fr) = e.friction {
+        data.effect_runs.friction += 1;
+        for k in 0..model.nv {
+            net[k] -= fr.torque(k, qd[k]);
+        }
+    }
+    let f_ext = if e.external.is_empty() {
+        None
+    } else {
+        data.effect_runs.external += 1;
+        forward_kinematics(model, data, q);
+        gather_wrenches(model, data, e.external);
+        Some(std::mem::take(&mut data.f_ext))
+    };
+    if e.gravity.is_some() {
+        data.effect_runs.gravity += 1;
+    }
+    let payload = e.payload.map(|p| {
+        data.effect_runs.payload += 1;
+        p.on_body()
+    });
+    let armature = e.rotor.map(|r| {
+        data.effect_runs.rotor += 1;
+        let mut a = std::mem::take(&mut data.scratch_nv2);
+        for (k, x) in a.iter_mut().enumerate() {
+            *x = r.armature(k);
+        }
+        a
+    });
+    let result = if !model.has_mimic {
+        aba_impl(
+            model,
+            data,
+            q,
+            qd,
+            &net,
+            e.gravity,
+            f_ext.as_deref(),
+            payload,
+            armature.as_deref(),
+        );
+        if data.qdd.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            let pivot = data.qdd.iter().position(|x| !x.is_finite()).unwrap_or(0);
+            Err(SingularMassMatrix { pivot, value: 0.0 })
+        }
+    } else {
+        let zero = std::mem::take(&mut data.scratch_nv);
+        rnea_impl(
+            model,
+            data,
+            q,
+            qd,
+            &zero,
+            e.gravity,
+            f_ext.as_deref(),
+            payload,
+        );
+        data.scratch_nv = zero;
+        for k in 0..model.nv {
+            data.qdd[k] = net[k] - data.tau[k];
+        }
+        crba_impl(model, data, q, payload);
+        if let Some(a) = &armature {
+            for k in 0..model.nv {
+                data.mass[(k, k)] += a[k];
+            }
+        }
+        data.chol.copy_from(&data.mass);
+        cholesky_in_place(&mut data.chol)
+            .map(|()| cholesky_solve_in_place(&data.chol, &mut data.qdd))
+    };
+    if let Some(a) = armature {
+        data.scratch_nv2 = a;
+    }
+    if let Some(f) = f_ext {
+        data.f_ext = f;
+    }
+    data.scratch_tau = net;
+    result.map(|()| &data.qdd[..])
+}
+
+/// Flexible-joint forward dynamics (Spong's model, see the module docs). Link
+/// accelerations go to `data.qdd`, motor accelerations to `thetadd`. Friction, when
+/// included, acts on the motor side; `effects.rotor` is ignored here (the motor inertia is
+/// `effects.elasticity.motor_inertia`). Panics if `effects.elasticity` is `None`.
+#[allow(clippy::too_many_arguments)]
+pub fn elastic_forward_dynamics<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    effects: &Effects,
+    q: &[f64],
+    qd: &[f64],
+    theta: &[f64],
+    thetad: &[f64],
+    tau_m: &[f64],
+    thetadd: &mut [f64],
+) -> Result<&'a [f64], SingularMassMatrix> {
+    let el = effects
+        .elasticity
+        .as_ref()
+        .expect("elastic_forward_dynamics needs effects.elasticity");
+    data.effect_runs.elasticity += 1;
+    let mut spring = std::mem::take(&mut data.scratch_spring);
+    for k in 0..model.nv {
+        spring[k] = el.stiffness[k] * (theta[k] - q[k]) + el.damping[k] * (thetad[k] - qd[k]);
+        let fric = effects
+            .friction
+            .as_ref()
+            .map_or(0.0, |f| f.torque(k, thetad[k]));
+        thetadd[k] = (tau_m[k] - spring[k] - fric) / el.motor_inertia[k];
+    }
+    if effects.friction.is_some() {
+        data.effect_runs.friction += 1;
+    }
+    let link_side = Parts {
+        gravity: effects.gravity.as_ref(),
+        friction: None,
+        rotor: None,
+        payload: effects.payload.as_ref(),
+        external: &effects.external,
+    };
+    let r = forward_core(model, data, &link_side, q, qd, &spring).map(|_| ());
+    data.scratch_spring = spring;
+    r.map(|()| &data.qdd[..])
+}
