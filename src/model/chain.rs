@@ -28,6 +28,7 @@ fn z_offset(i: usize) -> f64 {
 }
 
 /// The chain as a [`ModelSpec`] (no XML round trip).
+#[allow(clippy::approx_constant)] // ±3.14159 is the chain's spec (as written in its URDF), not π
 pub fn chain_spec(n: usize) -> ModelSpec {
     let mut links = Vec::with_capacity(n + 1);
     let mut joints = Vec::with_capacity(n);
