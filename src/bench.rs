@@ -25,6 +25,8 @@ pub enum Algo {
     Crba,
     /// Forward dynamics (ABA) at random q, q̇, τ.
     Aba,
+    /// The textbook's trace-form Lagrange inverse dynamics (O(n⁴) reference).
+    Lagrange,
 }
 
 impl Algo {
@@ -36,6 +38,7 @@ impl Algo {
             Algo::Rnea => "rnea",
             Algo::Crba => "crba",
             Algo::Aba => "aba",
+            Algo::Lagrange => "lagrange",
         }
     }
 }
@@ -86,6 +89,16 @@ pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
                 }
                 Algo::Aba => {
                     dynamics::aba(model, data, q, &vs[s.clone()], &ws[s], &g, None);
+                }
+                Algo::Lagrange => {
+                    black_box(dynamics::lagrange_trace(
+                        model,
+                        data,
+                        q,
+                        &vs[s.clone()],
+                        &ws[s],
+                        &g,
+                    ));
                 }
             }
             black_box(&mut *data);

@@ -4,9 +4,10 @@
 
 use armsim::bench::{self, Algo};
 use armsim::data::Data;
+use armsim::dynamics::{self, Effects, Friction, Payload, Rotor};
 use armsim::kinematics::{self, Expressed};
 use armsim::model::{chain, LoadOptions, Model};
-use armsim::spatial::matrix_to_rpy;
+use armsim::spatial::{matrix_to_rpy, Inertia, Mat3, Vec3};
 use clap::{Parser, Subcommand, ValueEnum};
 use nalgebra::DMatrix;
 use serde_json::{json, Value};
@@ -72,6 +73,43 @@ enum Cmd {
         #[arg(long, allow_hyphen_values = true)]
         qd: Option<String>,
     },
+    /// Joint torques, mass matrix, bias, gravity torques and energies at (q, v, a); with
+    /// --tau also the forward-dynamics accelerations.
+    Dynamics {
+        #[command(flatten)]
+        m: ModelArgs,
+        /// Joint positions, comma separated.
+        #[arg(long, allow_hyphen_values = true)]
+        q: String,
+        /// Joint velocities (default zeros).
+        #[arg(long, allow_hyphen_values = true)]
+        v: Option<String>,
+        /// Joint accelerations (default zeros).
+        #[arg(long, allow_hyphen_values = true)]
+        a: Option<String>,
+        /// Joint torques: also compute q̈ by forward dynamics.
+        #[arg(long, allow_hyphen_values = true)]
+        tau: Option<String>,
+        /// Gravity vector x,y,z (default: the model's, (0, 0, -9.81)).
+        #[arg(long, allow_hyphen_values = true)]
+        gravity: Option<String>,
+        /// Include joint friction from the model file (<dynamics damping friction>).
+        #[arg(long)]
+        friction: bool,
+        /// Include rotor inertia and gearing from the model file (motor_inertia, gear_ratio).
+        #[arg(long)]
+        rotor: bool,
+        /// Gear efficiency for --rotor, in (0, 1].
+        #[arg(long, default_value_t = 1.0)]
+        efficiency: f64,
+        /// Payload: LINK,MASS[,cx,cy,cz] (point mass at the COM in the link frame).
+        #[arg(long, allow_hyphen_values = true)]
+        payload: Option<String>,
+        /// Formulation for tau: rnea (default), lagrange-trace or lagrange-energy (slow
+        /// references; rigid model with gravity only).
+        #[arg(long, value_enum, default_value = "rnea")]
+        method: MethodArg,
+    },
     /// Time one algorithm (median ns per call over random states inside the limits).
     Bench {
         #[command(flatten)]
@@ -100,6 +138,13 @@ enum ExpressedArg {
     WorldAligned,
 }
 
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum MethodArg {
+    Rnea,
+    LagrangeTrace,
+    LagrangeEnergy,
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum AlgoArg {
     Fk,
@@ -107,6 +152,7 @@ enum AlgoArg {
     Rnea,
     Crba,
     Aba,
+    Lagrange,
 }
 
 fn main() -> ExitCode {
@@ -185,6 +231,33 @@ fn run(cli: Cli) -> Result<(), String> {
             expressed,
             qd,
         } => jacobian(&load(&m)?, &q, &frame, expressed, qd.as_deref(), m.json),
+        Cmd::Dynamics {
+            m,
+            q,
+            v,
+            a,
+            tau,
+            gravity,
+            friction,
+            rotor,
+            efficiency,
+            payload,
+            method,
+        } => {
+            let model = load(&m)?;
+            let opts = DynOpts {
+                v,
+                a,
+                tau,
+                gravity,
+                friction,
+                rotor,
+                efficiency,
+                payload,
+                method,
+            };
+            dynamics_cmd(&model, &q, &opts, m.json)
+        }
         Cmd::Bench { m, algo, iters } => bench_cmd(&load(&m)?, algo, iters, m.json),
         Cmd::Chain { n, out } => {
             if n == 0 || n > 1_000_000 {
@@ -422,6 +495,7 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
         AlgoArg::Jacobians => Algo::Jacobians,
         AlgoArg::Rnea => Algo::Rnea,
         AlgoArg::Crba => Algo::Crba,
+        AlgoArg::Lagrange => Algo::Lagrange,
         AlgoArg::Aba => {
             if model.has_mimic {
                 return Err(format!(
@@ -450,6 +524,192 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
             ns,
             bench::ROUNDS,
             iters
+        );
+    }
+    Ok(())
+}
+
+struct DynOpts {
+    v: Option<String>,
+    a: Option<String>,
+    tau: Option<String>,
+    gravity: Option<String>,
+    friction: bool,
+    rotor: bool,
+    efficiency: f64,
+    payload: Option<String>,
+    method: MethodArg,
+}
+
+fn parse_triple(what: &str, s: &str) -> Result<Vec3, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--{what}: expected x,y,z numbers, got '{s}'"))?;
+    if v.len() != 3 || !v.iter().all(|x| x.is_finite()) {
+        return Err(format!(
+            "--{what}: expected three finite numbers x,y,z, got '{s}'"
+        ));
+    }
+    Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+fn parse_payload(model: &Model, s: &str) -> Result<Payload, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 2 && parts.len() != 5 {
+        return Err(format!(
+            "--payload: expected LINK,MASS[,cx,cy,cz], got '{s}'"
+        ));
+    }
+    let link = link_id(model, parts[0])?;
+    let nums: Vec<f64> = parts[1..]
+        .iter()
+        .map(|t| t.parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--payload: '{s}' has a value that is not a number"))?;
+    if !nums.iter().all(|x| x.is_finite()) || nums[0] < 0.0 {
+        return Err(format!(
+            "--payload: mass and centre of mass must be finite, mass ≥ 0 ('{s}')"
+        ));
+    }
+    let com = if nums.len() == 4 {
+        Vec3::new(nums[1], nums[2], nums[3])
+    } else {
+        Vec3::zeros()
+    };
+    Payload::new(model, link, Inertia::new(nums[0], com, Mat3::zeros()))
+}
+
+fn dynamics_cmd(model: &Model, q: &str, o: &DynOpts, as_json: bool) -> Result<(), String> {
+    let q = parse_values(model, "q", q)?;
+    let zeros = vec![0.0; model.nv];
+    let v =
+        o.v.as_deref()
+            .map(|s| parse_values(model, "v", s))
+            .transpose()?
+            .unwrap_or_else(|| zeros.clone());
+    let a =
+        o.a.as_deref()
+            .map(|s| parse_values(model, "a", s))
+            .transpose()?
+            .unwrap_or_else(|| zeros.clone());
+    let tau_in = o
+        .tau
+        .as_deref()
+        .map(|s| parse_values(model, "tau", s))
+        .transpose()?;
+    let g = match &o.gravity {
+        Some(s) => parse_triple("gravity", s)?,
+        None => model.gravity,
+    };
+    let mut effects = Effects::gravity(g);
+    if o.friction {
+        effects.friction = Some(Friction::from_model(model));
+    }
+    if o.rotor {
+        if !(o.efficiency > 0.0 && o.efficiency <= 1.0) {
+            return Err(format!("--efficiency: {} is not in (0, 1]", o.efficiency));
+        }
+        effects.rotor = Some(Rotor::from_model(model, o.efficiency));
+    }
+    if let Some(p) = &o.payload {
+        effects.payload = Some(parse_payload(model, p)?);
+    }
+    effects.validate(model)?;
+    if o.method != MethodArg::Rnea && effects.names() != ["gravity"] {
+        return Err("--method lagrange-*: the Lagrange references cover the rigid model with gravity only; drop --friction/--rotor/--payload".into());
+    }
+    let mut data = Data::new(model);
+    let tau = match o.method {
+        MethodArg::Rnea => {
+            dynamics::inverse_dynamics(model, &mut data, &effects, &q, &v, &a).to_vec()
+        }
+        MethodArg::LagrangeTrace => dynamics::lagrange_trace(model, &mut data, &q, &v, &a, &g),
+        MethodArg::LagrangeEnergy => dynamics::lagrange_energy(model, &mut data, &q, &v, &a, &g),
+    };
+    let bias = dynamics::inverse_dynamics(model, &mut data, &effects, &q, &v, &zeros).to_vec();
+    let static_effects = Effects {
+        friction: None,
+        ..effects.clone()
+    };
+    let gravity_tau =
+        dynamics::inverse_dynamics(model, &mut data, &static_effects, &q, &zeros, &zeros).to_vec();
+    let mass = dynamics::mass_matrix(model, &mut data, &effects, &q).clone();
+    let ke = 0.5
+        * (0..model.nv)
+            .map(|i| {
+                (0..model.nv)
+                    .map(|j| v[i] * mass[(i, j)] * v[j])
+                    .sum::<f64>()
+            })
+            .sum::<f64>();
+    let mut pe = dynamics::potential_energy(model, &mut data, &q, &g);
+    if let Some(p) = &effects.payload {
+        kinematics::forward_kinematics(model, &mut data, &q);
+        let c = kinematics::frame_placement(model, &data, p.link).act_point(&p.inertia.com);
+        pe -= p.inertia.mass * g.dot(&c);
+    }
+    let qdd = match &tau_in {
+        None => None,
+        Some(t) => Some(
+            dynamics::forward_dynamics_with(model, &mut data, &effects, &q, &v, t)
+                .map_err(|e| format!("{}: forward dynamics: {e}", model.source))?
+                .to_vec(),
+        ),
+    };
+    let method = match o.method {
+        MethodArg::Rnea => "rnea",
+        MethodArg::LagrangeTrace => "lagrange-trace",
+        MethodArg::LagrangeEnergy => "lagrange-energy",
+    };
+    if as_json {
+        let mut out = json!({
+            "joints": model.dof_names(),
+            "effects": effects.names(),
+            "method": method,
+            "gravity_vector": [g.x, g.y, g.z],
+            "tau": tau,
+            "mass_matrix": rows(&mass),
+            "bias": bias,
+            "gravity": gravity_tau,
+            "kinetic_energy": ke,
+            "potential_energy": pe,
+        });
+        if let Some(qdd) = &qdd {
+            out["qdd"] = json!(qdd);
+        }
+        print_json(&out);
+        return Ok(());
+    }
+    println!("effects: {} (tau by {method})", effects.names().join(", "));
+    println!(
+        "{:<24} {:>14} {:>14} {:>14}{}",
+        "joint",
+        "tau",
+        "bias",
+        "gravity",
+        if qdd.is_some() { "            qdd" } else { "" }
+    );
+    for (k, name) in model.dof_names().iter().enumerate() {
+        print!(
+            "{:<24} {:>14.6} {:>14.6} {:>14.6}",
+            name, tau[k], bias[k], gravity_tau[k]
+        );
+        if let Some(qdd) = &qdd {
+            print!(" {:>14.6}", qdd[k]);
+        }
+        println!();
+    }
+    println!("kinetic energy {ke:.6} J, potential energy {pe:.6} J");
+    println!("mass matrix:");
+    for r in 0..model.nv {
+        println!(
+            "  {}",
+            (0..model.nv)
+                .map(|c| format!("{:>11.6}", mass[(r, c)]))
+                .collect::<Vec<_>>()
+                .join(" ")
         );
     }
     Ok(())

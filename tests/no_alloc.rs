@@ -1,10 +1,13 @@
 //! The hot paths allocate nothing per call: a counting global allocator watches FK,
-//! frame updates, joint Jacobians, frame Jacobians and their time derivatives.
+//! frame updates, joint Jacobians, frame Jacobians and their time derivatives, RNEA,
+//! CRBA, ABA, Cholesky forward dynamics and the effect-aware dynamics.
 
 mod common;
 
 use armsim::data::Data;
+use armsim::dynamics;
 use armsim::kinematics::{self, Expressed};
+use armsim::spatial::{Inertia, Mat3, Vec3};
 use nalgebra::DMatrix;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -1,6 +1,9 @@
 //! Rigid-body dynamics: Newton–Euler (RNEA), the mass matrix (CRBA), forward dynamics
-//! (ABA, and CRBA + Cholesky), energies. Each algorithm is one file citing the equations
-//! it implements; all write into [`crate::data::Data`] and allocate nothing per call.
+//! (ABA, and CRBA + Cholesky), energies, the switchable effects, and the two Lagrange
+//! formulations (the textbook's trace form and the energy/Christoffel form) with the
+//! Coriolis matrix. Each algorithm is one file citing the equations it implements. The
+//! recursive algorithms and the effects write into [`crate::data::Data`] and allocate
+//! nothing per call; the Lagrange forms are slow O(n⁴)/O(n³) references and allocate.
 
 mod aba;
 mod crba;
