@@ -66,11 +66,24 @@ pub fn joint_transform(placement: &Se3, kind: BodyKind, q: f64) -> Se3 {
 #[inline(always)]
 fn compose_body(model: &Model, i: usize, op: &Se3, q: f64) -> Se3 {
     let pl = &model.placement[i];
+    if model.placement_identity[i] {
+        return apply_joint(op.rot, op.rot * pl.trans + op.trans, model.kind[i], q);
+    }
     let base = match &model.placement_perm[i] {
         Some(p) => {
+            // Select among register values (a runtime column index would force the pose
+            // through memory and stall on store forwarding).
+            let c0 = Vec3::new(op.rot[(0, 0)], op.rot[(1, 0)], op.rot[(2, 0)]);
+            let c1 = Vec3::new(op.rot[(0, 1)], op.rot[(1, 1)], op.rot[(2, 1)]);
+            let c2 = Vec3::new(op.rot[(0, 2)], op.rot[(1, 2)], op.rot[(2, 2)]);
             let col = |c: usize| {
                 let (row, sign) = p[c];
-                Vec3::new(op.rot[(0, row)], op.rot[(1, row)], op.rot[(2, row)]) * sign
+                let v = match row {
+                    0 => c0,
+                    1 => c1,
+                    _ => c2,
+                };
+                v * sign
             };
             Mat3::from_columns(&[col(0), col(1), col(2)])
         }
@@ -112,15 +125,22 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
         q.len(),
         model.nv
     );
+    // The previous body's pose stays in registers: in a chain the parent is the body just
+    // computed, and reloading it from `o_m_i` would stall on store forwarding.
+    let mut prev = Se3::identity();
     for i in 0..model.nbodies() {
         let qi = body_q(model, q, i);
         let parent = model.parent[i];
-        data.o_m_i[i] = if parent == WORLD {
+        let cur = if parent == WORLD {
             joint_transform(&model.placement[i], model.kind[i], qi)
+        } else if parent + 1 == i {
+            compose_body(model, i, &prev, qi)
         } else {
             let op = data.o_m_i[parent];
             compose_body(model, i, &op, qi)
         };
+        data.o_m_i[i] = cur;
+        prev = cur;
     }
 }
 

@@ -116,6 +116,52 @@ fn snap_signed_permutation(r: &mut Mat3) -> Option<[(usize, f64); 3]> {
     Some(out)
 }
 
+/// Pushes signed-permutation placement rotations up the tree, so that in chains the body
+/// frames line up and most placements are pure translations.
+///
+/// For a body `i` whose placement rotation is a signed permutation `P`, the parent's body
+/// frame is redefined as `F_p' = F_p P`. Then `R_k(θ) P = P R_{k'}(sθ)` with
+/// `Pᵀ e_k = s e_{k'}`: the parent's joint turns about axis `k'` with its coordinate sign
+/// `s`, its own placement becomes `placement_p · P` (itself pushed further up in turn),
+/// every child placement and link offset on the parent is premultiplied by `Pᵀ`, and its
+/// inertia is re-expressed. Body frames are internal: link frames, Jacobians and dynamics
+/// are unchanged. Bodies are visited children first; a parent absorbs one child's `P`.
+fn push_permutations_up(m: &mut Model, links: &mut [Link]) {
+    let nb = m.parent.len();
+    let mut absorbed = vec![false; nb];
+    for i in (0..nb).rev() {
+        let p = m.parent[i];
+        if p == WORLD || absorbed[p] || m.placement_perm[i].is_none() {
+            continue;
+        }
+        let perm = m.placement[i].rot;
+        if perm == Mat3::identity() {
+            continue;
+        }
+        absorbed[p] = true;
+        let pt = Se3::from_rotation(perm.transpose());
+        let kind = m.kind[p];
+        let axis = perm.transpose().column(kind.axis_index()).into_owned();
+        let (k2, sign) = aligned_axis(&axis).expect("a signed permutation maps axes to axes");
+        m.kind[p] = BodyKind::new(kind.is_revolute(), k2);
+        m.q_mult[p] *= sign;
+        m.q_offset[p] *= sign;
+        m.placement[p].rot *= perm;
+        m.placement_perm[p] = snap_signed_permutation(&mut m.placement[p].rot);
+        for c in p + 1..nb {
+            if m.parent[c] == p {
+                m.placement[c] = pt.mul(&m.placement[c]);
+                m.placement_perm[c] = snap_signed_permutation(&mut m.placement[c].rot);
+            }
+        }
+        for l in links.iter_mut().filter(|l| l.body == p) {
+            l.offset = pt.mul(&l.offset);
+            l.offset_is_identity = l.offset == Se3::identity();
+        }
+        m.inertia[p] = m.inertia[p].transformed(&pt);
+    }
+}
+
 /// For a unit axis exactly equal to ±e_k, `(k, ±1)`.
 fn aligned_axis(a: &Vec3) -> Option<(usize, f64)> {
     (0..3).find_map(|k| {
@@ -202,6 +248,9 @@ pub struct Model {
     /// π/2, DH twists of ±90°): column `c` of the rotation is `sign · e_row`, as
     /// `(row, sign)`. Products with it are column shuffles (see `kinematics::fk`).
     pub placement_perm: Vec<Option<[(usize, f64); 3]>>,
+    /// Whether each placement rotation is exactly the identity (after the permutations
+    /// have been pushed up the tree).
+    pub placement_identity: Vec<bool>,
     /// Motion type of each body.
     pub kind: Vec<BodyKind>,
     /// The coordinate that drives each body.
@@ -676,6 +725,7 @@ impl<'a> Builder<'a> {
             parent: Vec::new(),
             placement: Vec::new(),
             placement_perm: Vec::new(),
+            placement_identity: Vec::new(),
             kind: Vec::new(),
             q_index: Vec::new(),
             q_mult: Vec::new(),
@@ -800,6 +850,8 @@ impl<'a> Builder<'a> {
             m.velocity_limit[k] = lim.velocity;
             m.effort_limit[k] = lim.effort;
         }
+        push_permutations_up(&mut m, &mut links);
+        m.placement_identity = m.placement.iter().map(|p| p.rot == Mat3::identity()).collect();
         m.inertia_o = m.inertia.iter().map(InertiaO::from_inertia).collect();
         m.inertia6 = m.inertia_o.iter().map(InertiaO::to_matrix).collect();
         m.link_index = links
