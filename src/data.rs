@@ -39,6 +39,8 @@ pub struct Data {
     pub chol: DMatrix<f64>,
     /// Composite inertias (CRBA).
     pub ic: Vec<InertiaO>,
+    /// Structured joint transforms (CRBA).
+    pub(crate) axis_x: Vec<crate::dynamics::AxisX>,
     /// Articulated inertias (ABA).
     pub ia: Vec<Matrix6<f64>>,
     /// Articulated bias forces (ABA).
@@ -85,6 +87,7 @@ impl Data {
             mass: DMatrix::zeros(model.nv, model.nv),
             chol: DMatrix::zeros(model.nv, model.nv),
             ic: vec![InertiaO::zero(); nb],
+            axis_x: vec![Default::default(); nb],
             ia: vec![Matrix6::zeros(); nb],
             pa: vec![Vector6::zeros(); nb],
             u_col: vec![Vector6::zeros(); nb],

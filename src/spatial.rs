@@ -22,6 +22,37 @@ pub fn skew(v: &Vec3) -> Mat3 {
     Mat3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
+/// Component `k` (0, 1, 2) of `v`, selected without indexing memory (a runtime index
+/// would force `v` through the stack and stall on store forwarding in hot loops).
+#[inline(always)]
+pub fn component(v: &Vec3, k: usize) -> f64 {
+    match k {
+        0 => v.x,
+        1 => v.y,
+        _ => v.z,
+    }
+}
+
+/// Column `k` of `m`, selected without indexing memory.
+#[inline(always)]
+pub fn column(m: &Mat3, k: usize) -> Vec3 {
+    match k {
+        0 => Vec3::new(m[(0, 0)], m[(1, 0)], m[(2, 0)]),
+        1 => Vec3::new(m[(0, 1)], m[(1, 1)], m[(2, 1)]),
+        _ => Vec3::new(m[(0, 2)], m[(1, 2)], m[(2, 2)]),
+    }
+}
+
+/// The unit vector `e_k` times `x`.
+#[inline(always)]
+pub fn unit(k: usize, x: f64) -> Vec3 {
+    match k {
+        0 => Vec3::new(x, 0.0, 0.0),
+        1 => Vec3::new(0.0, x, 0.0),
+        _ => Vec3::new(0.0, 0.0, x),
+    }
+}
+
 /// Rotation about x by `a` radians.
 pub fn rot_x(a: f64) -> Mat3 {
     let (s, c) = a.sin_cos();
@@ -465,21 +496,21 @@ impl InertiaO {
         let p = a_m_b.trans;
         let a = r * self.h;
         let t = r * self.i_o;
-        let diag = 2.0 * a.dot(&p) + self.m * p.norm_squared();
-        let mut out = Mat3::zeros();
-        for i in 0..3 {
-            for j in i..3 {
-                let rir = t[(i, 0)] * r[(j, 0)] + t[(i, 1)] * r[(j, 1)] + t[(i, 2)] * r[(j, 2)];
-                let v = rir - (a[i] * p[j] + p[i] * a[j]) - self.m * p[i] * p[j];
-                out[(i, j)] = v;
-                out[(j, i)] = v;
-            }
-            out[(i, i)] += diag;
-        }
+        let m = self.m;
+        let diag = 2.0 * a.dot(&p) + m * p.norm_squared();
+        // Entry (i, j) of R I Rᵀ − (a pᵀ + p aᵀ) − m p pᵀ, built from scalars (element
+        // writes into a matrix read back as vectors stall on store forwarding).
+        let e = |i: usize, j: usize| {
+            t[(i, 0)] * r[(j, 0)] + t[(i, 1)] * r[(j, 1)] + t[(i, 2)] * r[(j, 2)]
+                - (a[i] * p[j] + p[i] * a[j])
+                - m * p[i] * p[j]
+        };
+        let (xx, yy, zz) = (e(0, 0) + diag, e(1, 1) + diag, e(2, 2) + diag);
+        let (xy, xz, yz) = (e(0, 1), e(0, 2), e(1, 2));
         InertiaO {
-            m: self.m,
-            h: a + p * self.m,
-            i_o: out,
+            m,
+            h: a + p * m,
+            i_o: Mat3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz),
         }
     }
 

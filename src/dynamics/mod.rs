@@ -16,6 +16,7 @@ mod rnea;
 
 pub use aba::aba;
 pub use crba::crba;
+pub(crate) use crba::AxisX;
 pub use effects::{
     elastic_forward_dynamics, forward_dynamics_with, inverse_dynamics, mass_matrix, EffectRuns,
     Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor,

@@ -11,17 +11,19 @@
 
 use crate::data::Data;
 use crate::kinematics::{body_q, body_rate, joint_motion, joint_transform};
-use crate::model::{Model, WORLD};
+use crate::model::{BodyKind, Model, WORLD};
 use crate::spatial::{Force, InertiaO, Motion, Vec3};
 
 /// `S_iᵀ f` for a body whose joint moves about/along axis `kind`.
 #[inline(always)]
-pub(crate) fn project(kind: crate::model::BodyKind, f: &Force) -> f64 {
-    let k = kind.axis_index();
-    if kind.is_revolute() {
-        f.n[k]
-    } else {
-        f.f[k]
+pub(crate) fn project(kind: BodyKind, f: &Force) -> f64 {
+    match kind {
+        BodyKind::RevoluteX => f.n.x,
+        BodyKind::RevoluteY => f.n.y,
+        BodyKind::RevoluteZ => f.n.z,
+        BodyKind::PrismaticX => f.f.x,
+        BodyKind::PrismaticY => f.f.y,
+        BodyKind::PrismaticZ => f.f.z,
     }
 }
 

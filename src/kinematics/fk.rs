@@ -14,7 +14,7 @@
 use super::jacobian::Expressed;
 use crate::data::Data;
 use crate::model::{BodyKind, Model, WORLD};
-use crate::spatial::{Mat3, Motion, Se3, Vec3};
+use crate::spatial::{column, unit, Mat3, Motion, Se3, Vec3};
 
 /// `R · R_k(q)`: columns `i, j` (the two axes other than `k`, in cyclic order) rotate,
 /// column `k` stays.
@@ -43,7 +43,7 @@ fn apply_joint(r: Mat3, trans: Vec3, kind: BodyKind, q: f64) -> Se3 {
     };
     let slide = |k: usize| Se3 {
         rot: r,
-        trans: trans + Vec3::new(r[(0, k)], r[(1, k)], r[(2, k)]) * q,
+        trans: trans + column(&r, k) * q,
     };
     match kind {
         BodyKind::RevoluteX => rot(rotate_columns::<1, 2>),
@@ -107,8 +107,7 @@ pub(crate) fn body_rate(model: &Model, qd: &[f64], i: usize) -> f64 {
 /// The joint motion `S_i · rate` in the body frame.
 #[inline(always)]
 pub(crate) fn joint_motion(kind: BodyKind, rate: f64) -> Motion {
-    let mut e = Vec3::zeros();
-    e[kind.axis_index()] = rate;
+    let e = unit(kind.axis_index(), rate);
     if kind.is_revolute() {
         Motion::new(Vec3::zeros(), e)
     } else {

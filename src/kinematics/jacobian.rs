@@ -22,7 +22,7 @@
 use super::fk::{body_rate, forward_kinematics};
 use crate::data::Data;
 use crate::model::{BodyKind, Model, WORLD};
-use crate::spatial::{Motion, Se3};
+use crate::spatial::{column, Motion, Se3};
 use nalgebra::DMatrix;
 
 /// Which expression a Jacobian or velocity is given in (see the module docs).
@@ -49,7 +49,7 @@ impl Expressed {
 
 #[inline(always)]
 fn world_subspace(kind: BodyKind, o_m_i: &Se3) -> Motion {
-    let z = o_m_i.rot.column(kind.axis_index()).into_owned();
+    let z = column(&o_m_i.rot, kind.axis_index());
     if kind.is_revolute() {
         Motion::new(o_m_i.trans.cross(&z), z)
     } else {

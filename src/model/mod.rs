@@ -116,10 +116,11 @@ fn snap_signed_permutation(r: &mut Mat3) -> Option<[(usize, f64); 3]> {
     Some(out)
 }
 
-/// Pushes signed-permutation placement rotations up the tree, so that in chains the body
-/// frames line up and most placements are pure translations.
+/// Pushes placement rotations up the tree, so that in chains the body frames line up and
+/// most placements are pure translations.
 ///
-/// For a body `i` whose placement rotation is a signed permutation `P`, the parent's body
+/// For a body `i` whose placement rotation `P` maps the parent's joint axis onto a body
+/// axis (a signed permutation, or any rotation about that axis), the parent's body
 /// frame is redefined as `F_p' = F_p P`. Then `R_k(θ) P = P R_{k'}(sθ)` with
 /// `Pᵀ e_k = s e_{k'}`: the parent's joint turns about axis `k'` with its coordinate sign
 /// `s`, its own placement becomes `placement_p · P` (itself pushed further up in turn),
@@ -131,18 +132,22 @@ fn push_permutations_up(m: &mut Model, links: &mut [Link]) {
     let mut absorbed = vec![false; nb];
     for i in (0..nb).rev() {
         let p = m.parent[i];
-        if p == WORLD || absorbed[p] || m.placement_perm[i].is_none() {
+        if p == WORLD || absorbed[p] {
             continue;
         }
         let perm = m.placement[i].rot;
         if perm == Mat3::identity() {
             continue;
         }
-        absorbed[p] = true;
-        let pt = Se3::from_rotation(perm.transpose());
+        // Any P that maps the parent's joint axis onto a body axis commutes through the
+        // parent's joint: signed permutations, and rotations about that axis.
         let kind = m.kind[p];
         let axis = perm.transpose().column(kind.axis_index()).into_owned();
-        let (k2, sign) = aligned_axis(&axis).expect("a signed permutation maps axes to axes");
+        let Some((k2, sign)) = aligned_axis(&axis) else {
+            continue;
+        };
+        absorbed[p] = true;
+        let pt = Se3::from_rotation(perm.transpose());
         m.kind[p] = BodyKind::new(kind.is_revolute(), k2);
         m.q_mult[p] *= sign;
         m.q_offset[p] *= sign;
@@ -851,7 +856,11 @@ impl<'a> Builder<'a> {
             m.effort_limit[k] = lim.effort;
         }
         push_permutations_up(&mut m, &mut links);
-        m.placement_identity = m.placement.iter().map(|p| p.rot == Mat3::identity()).collect();
+        m.placement_identity = m
+            .placement
+            .iter()
+            .map(|p| p.rot == Mat3::identity())
+            .collect();
         m.inertia_o = m.inertia.iter().map(InertiaO::from_inertia).collect();
         m.inertia6 = m.inertia_o.iter().map(InertiaO::to_matrix).collect();
         m.link_index = links
