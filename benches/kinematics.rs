@@ -5,7 +5,7 @@
 use armsim::bench::{random_states, STATES};
 use armsim::data::Data;
 use armsim::kinematics;
-use armsim::model::{chain, Model};
+use armsim::model::{chain, LoadOptions, Model};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 

@@ -14,7 +14,7 @@
 
 use super::rnea::project;
 use crate::data::Data;
-use crate::kinematics::{body_q, joint_transform};
+use crate::kinematics::{body_q, compute_joint_jacobians, joint_transform};
 use crate::model::{BodyKind, Model, WORLD};
 use crate::spatial::{column, unit, Force, InertiaO, Vec3};
 use nalgebra::DMatrix;
@@ -153,6 +153,9 @@ fn inertia_times_axis(y: &InertiaO, kind: BodyKind) -> Force {
     }
 }
 
+/// Mean body depth above which the ancestor walk runs in world coordinates.
+pub const WORLD_WALK_DEPTH: f64 = 8.0;
+
 /// Mass matrix into `data.mass` (full, symmetric), also returned.
 pub fn crba<'a>(model: &Model, data: &'a mut Data, q: &[f64]) -> &'a DMatrix<f64> {
     crba_impl(model, data, q, None)
@@ -179,6 +182,10 @@ pub(crate) fn crba_impl<'a>(
     if let Some((pb, ip)) = payload {
         data.ic[pb] = data.ic[pb].add(ip);
     }
+    let world_walk = model.mean_depth > WORLD_WALK_DEPTH;
+    if world_walk {
+        compute_joint_jacobians(model, data, q);
+    }
     let n = model.nv;
     let m = data.mass.as_mut_slice();
     m.iter_mut().for_each(|x| *x = 0.0);
@@ -189,8 +196,22 @@ pub(crate) fn crba_impl<'a>(
         let mut f = inertia_times_axis(&data.ic[i], kind);
         // Column ki, rows of the ancestors (the lower/upper halves are mirrored below).
         m[ki * n + ki] += mi * mi * project(kind, &f);
+        if world_walk {
+            let fw = data.o_m_i[i].act_force(&f);
+            let mut j = model.parent[i];
+            while j != WORLD {
+                let kj = model.q_index[j];
+                let val = mi * model.q_mult[j] * fw.dot_motion(&data.s_world[j]);
+                if kj == ki {
+                    m[ki * n + ki] += 2.0 * val;
+                } else {
+                    m[ki * n + kj] += val;
+                }
+                j = model.parent[j];
+            }
+        }
         let mut j = i;
-        while model.parent[j] != WORLD {
+        while !world_walk && model.parent[j] != WORLD {
             f = if model.placement_identity[j] {
                 data.axis_x[j].act_force(&f)
             } else {

@@ -266,6 +266,8 @@ pub struct Model {
     pub q_offset: Vec<f64>,
     /// Whether any body is a mimic joint.
     pub has_mimic: bool,
+    /// Mean number of ancestors per body (1 for a single joint, ~n/2 for a chain).
+    pub mean_depth: f64,
     /// Inertia of each body in its body frame (links on fixed joints merged in).
     pub inertia: Vec<Inertia>,
     /// The same inertias in origin form (for the recursive dynamics).
@@ -736,6 +738,7 @@ impl<'a> Builder<'a> {
             q_mult: Vec::new(),
             q_offset: Vec::new(),
             has_mimic: false,
+            mean_depth: 0.0,
             inertia: Vec::new(),
             inertia_o: Vec::new(),
             inertia6: Vec::new(),
@@ -856,6 +859,15 @@ impl<'a> Builder<'a> {
             m.effort_limit[k] = lim.effort;
         }
         push_permutations_up(&mut m, &mut links);
+        let mut depth = vec![0usize; m.parent.len()];
+        for i in 0..m.parent.len() {
+            depth[i] = if m.parent[i] == WORLD {
+                1
+            } else {
+                depth[m.parent[i]] + 1
+            };
+        }
+        m.mean_depth = depth.iter().sum::<usize>() as f64 / depth.len().max(1) as f64;
         m.placement_identity = m
             .placement
             .iter()
