@@ -88,9 +88,42 @@ fn dynamics_benches(c: &mut Criterion) {
     }
 }
 
+/// The trace-form Lagrange reference (O(n⁴)): few samples, it is slow by design.
+fn lagrange_benches(c: &mut Criterion) {
+    for model in models() {
+        let nv = model.nv;
+        let qs = random_states(&model, 0x5eed);
+        let vs = random_unit_states(nv, 0x5eee);
+        let ws = random_unit_states(nv, 0x5eef);
+        let g = model.gravity;
+        let mut data = Data::new(&model);
+        let mut grp = c.benchmark_group(model.name.clone());
+        grp.sample_size(10);
+        grp.bench_function("lagrange_trace", |b| {
+            b.iter(|| {
+                black_box(dynamics::lagrange_trace(
+                    &model,
+                    &mut data,
+                    black_box(&qs[..nv]),
+                    &vs[..nv],
+                    &ws[..nv],
+                    &g,
+                ));
+            })
+        });
+        grp.finish();
+    }
+}
+
+criterion_group! {
+    name = lagrange;
+    config = Criterion::default().warm_up_time(std::time::Duration::from_millis(100)).measurement_time(std::time::Duration::from_millis(500));
+    targets = lagrange_benches
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(40).warm_up_time(std::time::Duration::from_millis(400)).measurement_time(std::time::Duration::from_secs(2));
     targets = dynamics_benches
 }
-criterion_main!(benches);
+criterion_main!(benches, lagrange);

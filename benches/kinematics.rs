@@ -11,14 +11,23 @@ use std::hint::black_box;
 
 fn models() -> Vec<Model> {
     let root = env!("CARGO_MANIFEST_DIR");
+    // Panda as Pinocchio loads it by default (fingers independent, 9 DOF), and with its
+    // mimic finger (8 DOF) as `panda_mimic`.
+    let opts = LoadOptions {
+        strict: false,
+        ignore_mimic: true,
+    };
     let mut v: Vec<Model> = ["ur5.urdf", "panda.urdf", "iiwa14.urdf"]
         .iter()
         .map(|f| {
-            Model::load(format!("{root}/robots/{f}"))
+            Model::load_with(format!("{root}/robots/{f}"), &opts)
                 .expect("robot loads")
                 .0
         })
         .collect();
+    let mut mimic = Model::load(format!("{root}/robots/panda.urdf")).unwrap().0;
+    mimic.name = "panda_mimic".into();
+    v.push(mimic);
     v.push(Model::build(chain::chain_spec(100)).unwrap().0);
     v
 }
@@ -28,7 +37,7 @@ fn kinematics_benches(c: &mut Criterion) {
         let nv = model.nv;
         let qs = random_states(&model, 0x5eed);
         let mut data = Data::new(&model);
-        let mut g = c.benchmark_group(format!("{}", model.name));
+        let mut g = c.benchmark_group(model.name.clone());
         let mut k = 0usize;
         let mut next = move || {
             k = (k + 1) % STATES;

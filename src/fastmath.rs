@@ -5,6 +5,9 @@
 //! (≤ 1–2 ulp), with the quadrant chosen by selects rather than branches so random joint
 //! angles cost no branch mispredictions. Arguments beyond 1e5 rad fall back to libm.
 
+// The constants are quoted digit for digit from fdlibm and Cephes.
+#![allow(clippy::excessive_precision)]
+
 const FRAC_2_PI: f64 = std::f64::consts::FRAC_2_PI;
 // fdlibm: pi/2 = PIO2_1 + PIO2_2 + PIO2_3 (33 + 33 + 53 bits).
 const PIO2_1: f64 = 1.570_796_326_734_125_614_17e+00;

@@ -94,12 +94,12 @@ fn run(file: &str, golden: &str, ignore_mimic: bool) -> usize {
             let p = vecf(&pose["translation"]);
             for i in 0..3 {
                 check(&name, &format!("{link} p[{i}]"), t.trans[i], p[i], 1.0);
-                for j in 0..3 {
+                for (j, rij) in r[i].iter().enumerate() {
                     check(
                         &name,
                         &format!("{link} R[{i},{j}]"),
                         t.rot[(i, j)],
-                        r[i][j],
+                        *rij,
                         1.0,
                     );
                 }

@@ -60,8 +60,8 @@ fn panda_urdf_and_modified_dh_table_give_the_same_flange_pose() {
     let mut worst = 0.0f64;
     for _ in 0..1000 {
         let q7 = dh.random_q(&mut rng);
-        let mut q8 = q7.clone();
-        q8.push(0.02);
+        // The eighth coordinate is the (mimic) finger: 2 cm open.
+        let q8: Vec<f64> = q7.iter().copied().chain([0.02]).collect();
         let d = pose_diff(
             &tool_pose(&urdf, &mut du, &q8, "panda_link8"),
             &tool_pose(&dh, &mut dd, &q7, "tool"),

@@ -148,7 +148,7 @@ impl Payload {
                 l.name
             ));
         }
-        if !(inertia.mass >= 0.0) || !inertia.mass.is_finite() {
+        if inertia.mass.is_nan() || inertia.mass < 0.0 || !inertia.mass.is_finite() {
             return Err(format!(
                 "payload: mass {} is not a non-negative number",
                 inertia.mass
@@ -266,7 +266,7 @@ impl Effects {
             len("friction.coulomb", f.coulomb.len())?;
             len("friction.stiction", f.stiction.len())?;
             len("friction.stribeck_velocity", f.stribeck_velocity.len())?;
-            if !(f.smoothing > 0.0) || f.stribeck_velocity.iter().any(|v| !(*v > 0.0)) {
+            if !positive(&f.smoothing) || !f.stribeck_velocity.iter().all(positive) {
                 return Err("friction: smoothing and Stribeck velocities must be positive".into());
             }
         }
@@ -274,7 +274,7 @@ impl Effects {
             len("rotor.inertia", r.inertia.len())?;
             len("rotor.gear_ratio", r.gear_ratio.len())?;
             len("rotor.efficiency", r.efficiency.len())?;
-            if r.efficiency.iter().any(|e| !(*e > 0.0 && *e <= 1.0)) {
+            if !r.efficiency.iter().all(|e| positive(e) && *e <= 1.0) {
                 return Err("rotor.efficiency: must be in (0, 1]".into());
             }
         }
@@ -282,9 +282,7 @@ impl Effects {
             len("elasticity.stiffness", e.stiffness.len())?;
             len("elasticity.damping", e.damping.len())?;
             len("elasticity.motor_inertia", e.motor_inertia.len())?;
-            if e.stiffness.iter().any(|k| !(*k > 0.0))
-                || e.motor_inertia.iter().any(|b| !(*b > 0.0))
-            {
+            if !e.stiffness.iter().all(positive) || !e.motor_inertia.iter().all(positive) {
                 return Err("elasticity: stiffness and motor inertia must be positive".into());
             }
         }
@@ -298,6 +296,11 @@ impl Effects {
         }
         Ok(())
     }
+}
+
+/// `x > 0` (false for NaN).
+fn positive(x: &f64) -> bool {
+    *x > 0.0
 }
 
 /// Fills `data.f_ext` (body frames) from the wrenches; needs `data.o_m_i` current.
@@ -360,14 +363,14 @@ pub fn inverse_dynamics<'a>(
     }
     if let Some(fr) = &effects.friction {
         data.effect_runs.friction += 1;
-        for k in 0..model.nv {
-            data.tau[k] += fr.torque(k, qd[k]);
+        for (k, (t, v)) in data.tau.iter_mut().zip(qd).enumerate() {
+            *t += fr.torque(k, *v);
         }
     }
     if let Some(r) = &effects.rotor {
         data.effect_runs.rotor += 1;
-        for k in 0..model.nv {
-            data.tau[k] += r.armature(k) * qdd[k];
+        for (k, (t, a)) in data.tau.iter_mut().zip(qdd).enumerate() {
+            *t += r.armature(k) * a;
         }
     }
     &data.tau
@@ -495,13 +498,13 @@ fn forward_core<'a>(
             payload,
         );
         data.scratch_nv = zero;
-        for k in 0..model.nv {
-            data.qdd[k] = net[k] - data.tau[k];
+        for ((out, n), t) in data.qdd.iter_mut().zip(&net).zip(&data.tau) {
+            *out = n - t;
         }
         crba_impl(model, data, q, payload);
         if let Some(a) = &armature {
-            for k in 0..model.nv {
-                data.mass[(k, k)] += a[k];
+            for (k, ak) in a.iter().enumerate() {
+                data.mass[(k, k)] += ak;
             }
         }
         data.chol.copy_from(&data.mass);

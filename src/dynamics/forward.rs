@@ -27,7 +27,7 @@ pub fn cholesky_in_place(a: &mut DMatrix<f64>) -> Result<(), SingularMassMatrix>
         for k in 0..j {
             d -= a[(j, k)] * a[(j, k)];
         }
-        if !(d > 0.0) || !d.is_finite() {
+        if d.is_nan() || d <= 0.0 || !d.is_finite() {
             return Err(SingularMassMatrix { pivot: j, value: d });
         }
         let l = d.sqrt();
@@ -72,8 +72,8 @@ pub fn forward_dynamics_crba<'a>(
     gravity: &Vec3,
 ) -> Result<&'a [f64], SingularMassMatrix> {
     bias(model, data, q, qd, gravity);
-    for k in 0..model.nv {
-        data.qdd[k] = tau[k] - data.tau[k];
+    for ((out, t), h) in data.qdd.iter_mut().zip(tau).zip(&data.tau) {
+        *out = t - h;
     }
     crba(model, data, q);
     data.chol.copy_from(&data.mass);
