@@ -65,6 +65,8 @@ pub struct Data {
     pub f_ext: Vec<Force>,
     /// How often each effect's code ran.
     pub effect_runs: crate::dynamics::EffectRuns,
+    /// The effects the last effect-aware dynamics call included.
+    pub effects_used: crate::dynamics::EffectSet,
 }
 
 impl Data {
@@ -100,6 +102,7 @@ impl Data {
             scratch_spring: vec![0.0; model.nv],
             f_ext: vec![Force::zero(); nb],
             effect_runs: Default::default(),
+            effects_used: Default::default(),
         }
     }
 }

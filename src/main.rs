@@ -14,6 +14,47 @@ use serde_json::{json, Value};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+// Standard output is collected and written once at the end, so that a closed pipe
+// (`armsim info big.urdf | head`) ends the program quietly instead of panicking in
+// `println!`. These shadow the std macros for this file.
+thread_local! {
+    static OUT: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
+}
+
+macro_rules! println {
+    () => {
+        OUT.with(|o| o.borrow_mut().push('\n'))
+    };
+    ($($t:tt)*) => {
+        OUT.with(|o| {
+            use std::fmt::Write as _;
+            let _ = writeln!(o.borrow_mut(), $($t)*);
+        })
+    };
+}
+
+macro_rules! print {
+    ($($t:tt)*) => {
+        OUT.with(|o| {
+            use std::fmt::Write as _;
+            let _ = write!(o.borrow_mut(), $($t)*);
+        })
+    };
+}
+
+/// Writes the collected output; a closed pipe is not an error.
+fn flush_stdout() -> Result<(), String> {
+    use std::io::Write as _;
+    let text = OUT.with(|o| std::mem::take(&mut *o.borrow_mut()));
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write output: {e}"))
+        }
+        _ => Ok(()),
+    }
+}
+
 #[derive(Parser)]
 #[command(
     name = "armsim",
@@ -157,7 +198,7 @@ enum AlgoArg {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match run(cli) {
+    match run(cli).and_then(|()| flush_stdout()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -85,6 +85,12 @@ fn left_out_effects_never_run_and_included_ones_do() {
         (1, 1, 1, 1, 1, 0)
     );
     assert_eq!(
+        d.effects_used,
+        e.set(),
+        "the result records what it included"
+    );
+    assert!(d.effects_used.contains("payload") && !d.effects_used.contains("joint_elasticity"));
+    assert_eq!(
         e.names(),
         [
             "gravity",

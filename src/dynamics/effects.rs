@@ -196,6 +196,38 @@ pub struct Effects {
     pub external: Vec<ExternalWrench>,
 }
 
+/// The set of effects a computation included (what [`Effects`] named), recorded in
+/// `Data::effects_used` by every effect-aware call.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EffectSet(u8);
+
+impl EffectSet {
+    const NAMES: [&'static str; 6] = [
+        "gravity",
+        "friction",
+        "rotor_inertia",
+        "joint_elasticity",
+        "payload",
+        "external_wrench",
+    ];
+
+    /// Whether the named effect is in the set.
+    pub fn contains(&self, name: &str) -> bool {
+        Self::NAMES
+            .iter()
+            .position(|n| *n == name)
+            .is_some_and(|i| self.0 & (1 << i) != 0)
+    }
+
+    /// The names in the set, in a fixed order.
+    pub fn names(&self) -> Vec<&'static str> {
+        (0..Self::NAMES.len())
+            .filter(|i| self.0 & (1 << i) != 0)
+            .map(|i| Self::NAMES[i])
+            .collect()
+    }
+}
+
 /// How many times each effect's code ran (for tests and audits).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct EffectRuns {
@@ -222,28 +254,26 @@ impl Effects {
         }
     }
 
+    /// The set of effects included.
+    pub fn set(&self) -> EffectSet {
+        let bits = [
+            self.gravity.is_some(),
+            self.friction.is_some(),
+            self.rotor.is_some(),
+            self.elasticity.is_some(),
+            self.payload.is_some(),
+            !self.external.is_empty(),
+        ];
+        EffectSet(
+            bits.iter()
+                .enumerate()
+                .fold(0u8, |acc, (i, &b)| acc | ((b as u8) << i)),
+        )
+    }
+
     /// The names of the effects included, in a fixed order.
     pub fn names(&self) -> Vec<&'static str> {
-        let mut v = Vec::new();
-        if self.gravity.is_some() {
-            v.push("gravity");
-        }
-        if self.friction.is_some() {
-            v.push("friction");
-        }
-        if self.rotor.is_some() {
-            v.push("rotor_inertia");
-        }
-        if self.elasticity.is_some() {
-            v.push("joint_elasticity");
-        }
-        if self.payload.is_some() {
-            v.push("payload");
-        }
-        if !self.external.is_empty() {
-            v.push("external_wrench");
-        }
-        v
+        self.set().names()
     }
 
     /// Checks per-coordinate vectors against the model.
@@ -333,6 +363,7 @@ pub fn inverse_dynamics<'a>(
     qd: &[f64],
     qdd: &[f64],
 ) -> &'a [f64] {
+    data.effects_used = effects.set();
     let f_ext = if effects.external.is_empty() {
         None
     } else {
@@ -383,6 +414,7 @@ pub fn mass_matrix<'a>(
     effects: &Effects,
     q: &[f64],
 ) -> &'a DMatrix<f64> {
+    data.effects_used = effects.set();
     let payload = effects.payload.as_ref().map(|p| {
         data.effect_runs.payload += 1;
         p.on_body()
@@ -407,6 +439,7 @@ pub fn forward_dynamics_with<'a>(
     qd: &[f64],
     tau: &[f64],
 ) -> Result<&'a [f64], SingularMassMatrix> {
+    data.effects_used = effects.set();
     let parts = Parts {
         gravity: effects.gravity.as_ref(),
         friction: effects.friction.as_ref(),
@@ -562,6 +595,7 @@ pub fn elastic_forward_dynamics<'a>(
         external: &effects.external,
     };
     let r = forward_core(model, data, &link_side, q, qd, &spring).map(|_| ());
+    data.effects_used = effects.set();
     data.scratch_spring = spring;
     r.map(|()| &data.qdd[..])
 }

@@ -19,7 +19,7 @@ pub use crba::crba;
 pub(crate) use crba::AxisX;
 pub use effects::{
     elastic_forward_dynamics, forward_dynamics_with, inverse_dynamics, mass_matrix, EffectRuns,
-    Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor,
+    EffectSet, Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor,
 };
 pub use energy::{kinetic_energy, potential_energy};
 pub use forward::{

@@ -1,0 +1,393 @@
+//! The CLI's JSON contracts (other tools script against them), its text output, and its
+//! behaviour on bad or extreme input: non-zero exit with a message, never a panic.
+
+use serde_json::Value;
+use std::process::{Command, Output};
+
+fn armsim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_armsim"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(args)
+        .output()
+        .expect("run armsim")
+}
+
+fn json(args: &[&str]) -> Value {
+    let o = armsim(args);
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{args:?}: not JSON: {e}"))
+}
+
+fn fails_with(args: &[&str], needle: &str) {
+    let o = armsim(args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{args:?} succeeded");
+    assert!(
+        err.contains(needle),
+        "{args:?}: stderr lacks '{needle}': {err}"
+    );
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+}
+
+const UR5_Q: &str = "0.1,-1.2,1.3,-0.4,0.5,0.6";
+
+#[test]
+fn info_json_lists_joints_in_coordinate_order_with_limits_and_mimic() {
+    let v = json(&["info", "robots/panda.urdf", "--json"]);
+    assert_eq!(v["name"], "panda");
+    assert_eq!(v["dof"], 8);
+    let joints = v["joints"].as_array().unwrap();
+    let coords: Vec<&str> = v["coordinates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_str().unwrap())
+        .collect();
+    assert_eq!(coords.len(), 8);
+    for key in [
+        "name", "type", "parent", "child", "lower", "upper", "velocity", "effort",
+    ] {
+        assert!(
+            joints.iter().all(|j| j.get(key).is_some()),
+            "joint without '{key}'"
+        );
+    }
+    let j1 = &joints[0];
+    assert_eq!(
+        (j1["name"].as_str(), j1["type"].as_str()),
+        (Some("panda_joint1"), Some("revolute"))
+    );
+    assert!((j1["upper"].as_f64().unwrap() - 2.8973).abs() < 1e-9);
+    let f2 = joints
+        .iter()
+        .find(|j| j["name"] == "panda_finger_joint2")
+        .unwrap();
+    assert_eq!(f2["mimic"]["joint"], "panda_finger_joint1");
+    assert_eq!(f2["mimic"]["multiplier"], 1.0);
+    // Movable non-mimic joints, in the listed order, are the coordinates.
+    let indep: Vec<&str> = joints
+        .iter()
+        .filter(|j| j.get("mimic").is_none())
+        .map(|j| j["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(indep, coords);
+    // --ignore-mimic makes the finger a coordinate (Pinocchio's default).
+    assert_eq!(
+        json(&["info", "robots/panda.urdf", "--json", "--ignore-mimic"])["dof"],
+        9
+    );
+}
+
+#[test]
+fn fk_json_gives_world_translation_and_row_major_rotation() {
+    let v = json(&["fk", "robots/ur5.urdf", "--q", UR5_Q, "--json"]);
+    assert_eq!(v["joints"].as_array().unwrap().len(), 6);
+    assert_eq!(v["joints"][0], "shoulder_pan_joint");
+    let tool = &v["frames"]["tool0"];
+    let t: Vec<f64> = tool["translation"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let r: Vec<Vec<f64>> = tool["rotation"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| {
+            row.as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        })
+        .collect();
+    // Against the library.
+    let (m, _) =
+        armsim::model::Model::load(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/ur5.urdf"))
+            .unwrap();
+    let mut d = armsim::data::Data::new(&m);
+    let q: Vec<f64> = UR5_Q.split(',').map(|x| x.parse().unwrap()).collect();
+    armsim::kinematics::forward_kinematics(&m, &mut d, &q);
+    let p = armsim::kinematics::frame_placement(&m, &d, m.link_id("tool0").unwrap());
+    for i in 0..3 {
+        assert!((t[i] - p.trans[i]).abs() < 1e-15);
+        for j in 0..3 {
+            assert!(
+                (r[i][j] - p.rot[(i, j)]).abs() < 1e-15,
+                "row-major rotation"
+            );
+        }
+    }
+    // Negative numbers parse, text output is the default.
+    let o = armsim(&["fk", "robots/ur5.urdf", "--q", "-0.1,-1,-1,-1,-1,-1"]);
+    assert!(o.status.success() && String::from_utf8_lossy(&o.stdout).contains("tool0"));
+}
+
+#[test]
+fn jacobian_json_has_six_rows_per_expression_and_a_derivative_with_qd() {
+    for ex in ["world", "local", "world-aligned"] {
+        let v = json(&[
+            "jacobian",
+            "robots/ur5.urdf",
+            "--q",
+            UR5_Q,
+            "--frame",
+            "tool0",
+            "--expressed",
+            ex,
+            "--json",
+        ]);
+        assert_eq!(v["expressed"], ex);
+        assert_eq!(v["frame"], "tool0");
+        assert_eq!(v["joints"].as_array().unwrap().len(), 6);
+        let j = v["jacobian"].as_array().unwrap();
+        assert_eq!(j.len(), 6);
+        assert!(j.iter().all(|row| row.as_array().unwrap().len() == 6));
+    }
+    let v = json(&[
+        "jacobian",
+        "robots/ur5.urdf",
+        "--q",
+        UR5_Q,
+        "--frame",
+        "tool0",
+        "--qd",
+        "1,0,0,0,0,0",
+        "--json",
+    ]);
+    assert_eq!(v["jacobian_dot"].as_array().unwrap().len(), 6);
+    assert!(v["manipulability"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn bench_json_reports_ns_per_call_for_every_algorithm() {
+    for algo in ["fk", "jacobians", "rnea", "crba", "aba", "lagrange"] {
+        let v = json(&[
+            "bench",
+            "robots/ur5.urdf",
+            "--algo",
+            algo,
+            "--iters",
+            "2200",
+            "--json",
+        ]);
+        assert_eq!(v["algo"], algo);
+        assert_eq!(v["model"], "ur5");
+        assert_eq!(v["dof"], 6);
+        let ns = v["ns_per_call"].as_f64().unwrap();
+        assert!(ns > 1.0 && ns < 1e7, "{algo}: {ns}");
+    }
+    fails_with(
+        &["bench", "robots/panda.urdf", "--algo", "aba"],
+        "--ignore-mimic",
+    );
+}
+
+#[test]
+fn dynamics_json_contract_and_forward_dynamics() {
+    let v = json(&[
+        "dynamics",
+        "robots/ur5.urdf",
+        "--q",
+        UR5_Q,
+        "--v",
+        "0.1,0.2,0.3,0.4,0.5,0.6",
+        "--a",
+        "1,1,1,1,1,1",
+        "--tau",
+        "10,20,5,1,1,1",
+        "--json",
+    ]);
+    for key in [
+        "joints",
+        "tau",
+        "mass_matrix",
+        "bias",
+        "gravity",
+        "kinetic_energy",
+        "potential_energy",
+        "qdd",
+        "effects",
+    ] {
+        assert!(v.get(key).is_some(), "missing '{key}'");
+    }
+    assert_eq!(v["effects"], serde_json::json!(["gravity"]));
+    assert_eq!(v["mass_matrix"].as_array().unwrap().len(), 6);
+    // Library cross-check of tau.
+    let (m, _) =
+        armsim::model::Model::load(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/ur5.urdf"))
+            .unwrap();
+    let mut d = armsim::data::Data::new(&m);
+    let q: Vec<f64> = UR5_Q.split(',').map(|x| x.parse().unwrap()).collect();
+    let tau = armsim::dynamics::rnea(
+        &m,
+        &mut d,
+        &q,
+        &[0.1, 0.2, 0.3, 0.4, 0.5, 0.6],
+        &[1.0; 6],
+        &armsim::spatial::Vec3::new(0.0, 0.0, -9.81),
+        None,
+    )
+    .to_vec();
+    for k in 0..6 {
+        assert!((v["tau"][k].as_f64().unwrap() - tau[k]).abs() < 1e-12);
+    }
+    // The Lagrange references give the same torques.
+    for method in ["lagrange-trace", "lagrange-energy"] {
+        let w = json(&[
+            "dynamics",
+            "robots/ur5.urdf",
+            "--q",
+            UR5_Q,
+            "--v",
+            "0.1,0.2,0.3,0.4,0.5,0.6",
+            "--a",
+            "1,1,1,1,1,1",
+            "--method",
+            method,
+            "--json",
+        ]);
+        for k in 0..6 {
+            assert!((w["tau"][k].as_f64().unwrap() - tau[k]).abs() < 1e-9 * tau[k].abs().max(1.0));
+        }
+    }
+    // Effects are named in the output.
+    let w = json(&[
+        "dynamics",
+        "robots/puma560.toml",
+        "--q",
+        "0,0,0,0,0,0",
+        "--rotor",
+        "--friction",
+        "--payload",
+        "link6,2.0",
+        "--json",
+    ]);
+    assert_eq!(
+        w["effects"],
+        serde_json::json!(["gravity", "friction", "rotor_inertia", "payload"])
+    );
+}
+
+#[test]
+fn dynamics_stays_finite_on_extreme_inputs() {
+    for (q, v) in [
+        ("1e6,-1e6,1e6,-1e6,1e6,-1e6", "0,0,0,0,0,0"),
+        ("-1e6,1e6,3.2e5,0,-7e5,1e6", "1e3,-1e3,1e3,-1e3,1e3,-1e3"),
+    ] {
+        let out = json(&[
+            "dynamics",
+            "robots/ur5.urdf",
+            "--q",
+            q,
+            "--v",
+            v,
+            "--a",
+            v,
+            "--tau",
+            "1,1,1,1,1,1",
+            "--json",
+        ]);
+        for key in ["tau", "bias", "gravity", "qdd"] {
+            let vals = out[key].as_array().unwrap();
+            assert!(
+                vals.iter().all(|x| x.as_f64().is_some_and(f64::is_finite)),
+                "{key} not finite: {vals:?}"
+            );
+        }
+        assert!(out["kinetic_energy"].as_f64().unwrap().is_finite());
+    }
+}
+
+#[test]
+fn bad_input_exits_non_zero_with_a_message() {
+    fails_with(
+        &["fk", "robots/ur5.urdf", "--q", "1,2"],
+        "expected 6 values",
+    );
+    fails_with(
+        &["fk", "robots/ur5.urdf", "--q", "1,2,3,4,5,nan"],
+        "not a finite number",
+    );
+    fails_with(
+        &["fk", "robots/ur5.urdf", "--q", "1,2,3,4,5,x"],
+        "'x' is not a number",
+    );
+    fails_with(
+        &[
+            "jacobian",
+            "robots/ur5.urdf",
+            "--q",
+            UR5_Q,
+            "--frame",
+            "nope",
+        ],
+        "link 'nope' does not exist",
+    );
+    fails_with(
+        &[
+            "dynamics",
+            "robots/scara.toml",
+            "--q",
+            "0,0,0.1,0",
+            "--tau",
+            "1,1,1,1",
+        ],
+        "forward dynamics",
+    );
+    fails_with(
+        &[
+            "dynamics",
+            "robots/ur5.urdf",
+            "--q",
+            UR5_Q,
+            "--gravity",
+            "0,0",
+        ],
+        "--gravity",
+    );
+    fails_with(
+        &[
+            "dynamics",
+            "robots/ur5.urdf",
+            "--q",
+            UR5_Q,
+            "--payload",
+            "tool0,-1",
+        ],
+        "--payload",
+    );
+    fails_with(
+        &["info", "robots/does_not_exist.urdf"],
+        "robots/does_not_exist.urdf",
+    );
+    fails_with(&["info", "README.md"], "unknown model format");
+    fails_with(&["chain", "0"], "chain");
+}
+
+#[test]
+fn a_closed_output_pipe_is_not_a_panic() {
+    // `armsim info big.urdf | head -1`: the reader goes away before the output is written.
+    let dir = std::env::temp_dir().join(format!("armsim-pipe-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("chain.urdf");
+    let o = armsim(&["chain", "3000", "--out", file.to_str().unwrap()]);
+    assert!(o.status.success());
+    let mut child = Command::new(env!("CARGO_BIN_EXE_armsim"))
+        .args(["info", file.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(out.status.success(), "exit {:?}: {err}", out.status);
+    std::fs::remove_dir_all(&dir).ok();
+}
