@@ -116,11 +116,8 @@ fn fk_json_gives_world_translation_and_row_major_rotation() {
     let p = armsim::kinematics::frame_placement(&m, &d, m.link_id("tool0").unwrap());
     for i in 0..3 {
         assert!((t[i] - p.trans[i]).abs() < 1e-15);
-        for j in 0..3 {
-            assert!(
-                (r[i][j] - p.rot[(i, j)]).abs() < 1e-15,
-                "row-major rotation"
-            );
+        for (j, rij) in r[i].iter().enumerate() {
+            assert!((rij - p.rot[(i, j)]).abs() < 1e-15, "row-major rotation");
         }
     }
     // Negative numbers parse, text output is the default.
