@@ -15,9 +15,12 @@
 
 pub mod bench;
 pub mod data;
+pub mod drivetrain;
 pub mod dynamics;
 pub mod fastmath;
 pub mod io;
 pub mod kinematics;
+pub mod mechanism;
 pub mod model;
+pub mod scenario;
 pub mod spatial;

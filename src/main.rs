@@ -151,6 +151,17 @@ enum Cmd {
         #[arg(long, value_enum, default_value = "rnea")]
         method: MethodArg,
     },
+    /// Run a scenario file end to end and print its summary (or JSON).
+    Run {
+        /// Scenario file (TOML).
+        scenario: PathBuf,
+        /// Directory for output files.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Time one algorithm (median ns per call over random states inside the limits).
     Bench {
         #[command(flatten)]
@@ -298,6 +309,23 @@ fn run(cli: Cli) -> Result<(), String> {
                 method,
             };
             dynamics_cmd(&model, &q, &opts, m.json)
+        }
+        Cmd::Run {
+            scenario,
+            out,
+            json,
+        } => {
+            if let Some(dir) = &out {
+                std::fs::create_dir_all(dir)
+                    .map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
+            }
+            let report = armsim::scenario::run_file(&scenario).map_err(|e| e.to_string())?;
+            if json {
+                print_json(&report.json);
+            } else {
+                print!("{}", report.text);
+            }
+            Ok(())
         }
         Cmd::Bench { m, algo, iters } => bench_cmd(&load(&m)?, algo, iters, m.json),
         Cmd::Chain { n, out } => {

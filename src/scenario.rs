@@ -1,0 +1,140 @@
+//! Scenario files (TOML) and `armsim run`: the top-level `kind` key picks the runner.
+//!
+//! - `kind = "linkage"`: a closed-chain planar mechanism ([`crate::mechanism`]);
+//! - `kind = "torsional"`: a torsional drivetrain chain ([`crate::drivetrain`]);
+//! - `kind = "arm"` (the default): an arm scenario (planned motion, torque check,
+//!   collisions, simulation) — not in this release.
+//!
+//! Every runner returns a [`Report`] (the JSON document and a human summary) or a
+//! [`ScenarioError`] naming the file, the line and the key.
+
+use std::fmt;
+use std::path::Path;
+
+/// An error in a scenario file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub struct ScenarioError {
+    /// The scenario file.
+    pub file: String,
+    /// 1-based line, where known.
+    pub line: Option<usize>,
+    /// The key or table, e.g. `links.AB`, `[excitation]`.
+    pub key: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl ScenarioError {
+    /// Builds an error.
+    pub fn new(
+        file: impl Into<String>,
+        line: Option<usize>,
+        key: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        Self {
+            file: file.into(),
+            line,
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+
+    /// From a `toml` deserialisation error of `text` (line from its span).
+    pub fn from_toml(file: &str, text: &str, e: &toml::de::Error) -> Self {
+        let line = e.span().map(|s| line_at(text, s.start));
+        let key = line
+            .and_then(|l| text.lines().nth(l - 1))
+            .and_then(|l| l.split('=').next())
+            .map(|k| k.trim().to_string())
+            .filter(|k| !k.is_empty())
+            .unwrap_or_else(|| "file".into());
+        let message = e
+            .message()
+            .lines()
+            .map(str::trim)
+            .collect::<Vec<_>>()
+            .join(" ");
+        Self::new(file, line, key, message)
+    }
+}
+
+impl fmt::Display for ScenarioError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(l) => write!(f, "{}:{}: {}: {}", self.file, l, self.key, self.message),
+            None => write!(f, "{}: {}: {}", self.file, self.key, self.message),
+        }
+    }
+}
+
+/// 1-based line of byte offset `pos` in `text`.
+pub fn line_at(text: &str, pos: usize) -> usize {
+    text.as_bytes()[..pos.min(text.len())]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+        + 1
+}
+
+/// 1-based line where top-level or dotted `key` is first assigned (`key =`), if any.
+pub fn line_of_key(text: &str, key: &str) -> Option<usize> {
+    text.lines()
+        .position(|l| {
+            l.trim_start()
+                .strip_prefix(key)
+                .is_some_and(|rest| rest.trim_start().starts_with('='))
+        })
+        .map(|i| i + 1)
+}
+
+/// What a scenario run produced.
+#[derive(Debug, Clone)]
+pub struct Report {
+    /// The JSON document `armsim run --json` prints.
+    pub json: serde_json::Value,
+    /// The human-readable summary.
+    pub text: String,
+}
+
+/// Reads a scenario file and runs it.
+pub fn run_file(path: &Path) -> Result<Report, ScenarioError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| ScenarioError::new(&file, None, "file", format!("cannot read: {e}")))?;
+    if text.trim().is_empty() {
+        return Err(ScenarioError::new(&file, None, "file", "the file is empty"));
+    }
+    let table: toml::Table =
+        toml::from_str(&text).map_err(|e| ScenarioError::from_toml(&file, &text, &e))?;
+    let kind = match table.get("kind") {
+        None => "arm",
+        Some(toml::Value::String(s)) => s.as_str(),
+        Some(_) => {
+            return Err(ScenarioError::new(
+                &file,
+                line_of_key(&text, "kind"),
+                "kind",
+                "expected a string: \"arm\", \"linkage\" or \"torsional\"",
+            ))
+        }
+    };
+    match kind {
+        "linkage" => crate::mechanism::scenario::run(path, &text),
+        "torsional" => crate::drivetrain::scenario::run(path, &text),
+        "arm" => Err(ScenarioError::new(
+            &file,
+            line_of_key(&text, "kind"),
+            "kind",
+            "arm scenarios (trajectories, torque checks, collisions) are not in this release",
+        )),
+        other => Err(ScenarioError::new(
+            &file,
+            line_of_key(&text, "kind"),
+            "kind",
+            format!(
+                "unknown scenario kind '{other}' (expected \"arm\", \"linkage\" or \"torsional\")"
+            ),
+        )),
+    }
+}
