@@ -7,7 +7,7 @@ use armsim::data::Data;
 use armsim::dynamics::{self, Effects, Friction, Payload, Rotor};
 use armsim::kinematics::{self, Expressed};
 use armsim::model::{chain, LoadOptions, Model};
-use armsim::spatial::{matrix_to_rpy, Inertia, Mat3, Vec3};
+use armsim::spatial::{matrix_to_rpy, Inertia, Mat3, Se3, Vec3};
 use clap::{Parser, Subcommand, ValueEnum};
 use nalgebra::DMatrix;
 use serde_json::{json, Value};
@@ -150,6 +150,38 @@ enum Cmd {
         /// references; rigid model with gravity only).
         #[arg(long, value_enum, default_value = "rnea")]
         method: MethodArg,
+    },
+    /// Inverse kinematics of a link frame for one target pose or a CSV file of targets.
+    Ik {
+        #[command(flatten)]
+        m: ModelArgs,
+        /// The link whose frame should reach the target.
+        #[arg(long)]
+        link: String,
+        /// Target x,y,z,qw,qx,qy,qz (world frame; quaternion w first).
+        #[arg(long, allow_hyphen_values = true)]
+        target: Option<String>,
+        /// CSV file of targets, rows x,y,z,qw,qx,qy,qz (an optional header row).
+        #[arg(long)]
+        targets: Option<PathBuf>,
+        /// Position only (the quaternion, if given, is ignored).
+        #[arg(long)]
+        position_only: bool,
+        /// Tolerance for position (m) and rotation (rad).
+        #[arg(long, default_value_t = 1e-6)]
+        tol: f64,
+        /// Start configuration (default: the middle of the limits).
+        #[arg(long, allow_hyphen_values = true)]
+        seed_q: Option<String>,
+        /// Random restarts allowed per target.
+        #[arg(long, default_value_t = 200)]
+        restarts: usize,
+        /// Time budget per target (ms).
+        #[arg(long, default_value_t = 50.0)]
+        budget_ms: f64,
+        /// Let iterates leave the joint limits.
+        #[arg(long)]
+        no_limits: bool,
     },
     /// Run a scenario file end to end and print its summary (or JSON).
     Run {
@@ -309,6 +341,32 @@ fn run(cli: Cli) -> Result<(), String> {
                 method,
             };
             dynamics_cmd(&model, &q, &opts, m.json)
+        }
+        Cmd::Ik {
+            m,
+            link,
+            target,
+            targets,
+            position_only,
+            tol,
+            seed_q,
+            restarts,
+            budget_ms,
+            no_limits,
+        } => {
+            let model = load(&m)?;
+            let opts = IkCli {
+                link,
+                target,
+                targets,
+                position_only,
+                tol,
+                seed_q,
+                restarts,
+                budget_ms,
+                no_limits,
+            };
+            ik_cmd(&model, &opts, m.json)
         }
         Cmd::Run {
             scenario,
@@ -780,6 +838,135 @@ fn dynamics_cmd(model: &Model, q: &str, o: &DynOpts, as_json: bool) -> Result<()
                 .collect::<Vec<_>>()
                 .join(" ")
         );
+    }
+    Ok(())
+}
+
+struct IkCli {
+    link: String,
+    target: Option<String>,
+    targets: Option<PathBuf>,
+    position_only: bool,
+    tol: f64,
+    seed_q: Option<String>,
+    restarts: usize,
+    budget_ms: f64,
+    no_limits: bool,
+}
+
+/// A pose from `x,y,z,qw,qx,qy,qz` (or `x,y,z` when only the position matters).
+fn parse_pose(s: &str, position_only: bool, what: &str) -> Result<Se3, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("{what}: '{s}' has a value that is not a number"))?;
+    if !v.iter().all(|x| x.is_finite()) {
+        return Err(format!("{what}: '{s}' has a non-finite value"));
+    }
+    let p = match v.len() {
+        3 if position_only => return Ok(Se3::from_translation(Vec3::new(v[0], v[1], v[2]))),
+        7 => Vec3::new(v[0], v[1], v[2]),
+        n => {
+            return Err(format!(
+                "{what}: expected 7 values x,y,z,qw,qx,qy,qz{}, got {n}",
+                if position_only { " (or x,y,z)" } else { "" }
+            ))
+        }
+    };
+    let quat = nalgebra::Quaternion::new(v[3], v[4], v[5], v[6]);
+    if quat.norm() < 1e-9 {
+        return Err(format!("{what}: the quaternion is zero"));
+    }
+    let r = nalgebra::UnitQuaternion::from_quaternion(quat).to_rotation_matrix();
+    Ok(Se3::new(*r.matrix(), p))
+}
+
+fn ik_cmd(model: &Model, o: &IkCli, as_json: bool) -> Result<(), String> {
+    use armsim::kinematics::ik::{solve_batch, IkOptions};
+    let link = link_id(model, &o.link)?;
+    if !(o.tol > 0.0 && o.tol.is_finite()) {
+        return Err(format!("--tol: {} is not a positive number", o.tol));
+    }
+    if !(o.budget_ms > 0.0 && o.budget_ms.is_finite()) {
+        return Err(format!(
+            "--budget-ms: {} is not a positive number",
+            o.budget_ms
+        ));
+    }
+    let seed = o
+        .seed_q
+        .as_deref()
+        .map(|s| parse_values(model, "seed-q", s))
+        .transpose()?;
+    let targets: Vec<Se3> = match (&o.target, &o.targets) {
+        (Some(t), None) => vec![parse_pose(t, o.position_only, "--target")?],
+        (None, Some(file)) => {
+            let text = std::fs::read_to_string(file)
+                .map_err(|e| format!("{}: cannot read: {e}", file.display()))?;
+            let mut out = Vec::new();
+            for (i, line) in text.lines().enumerate() {
+                let l = line.trim();
+                if l.is_empty() || l.starts_with('#') {
+                    continue;
+                }
+                if out.is_empty() && l.chars().next().is_some_and(|c| c.is_ascii_alphabetic()) {
+                    continue; // header row
+                }
+                let what = format!("{}:{}", file.display(), i + 1);
+                out.push(parse_pose(l, o.position_only, &what)?);
+            }
+            if out.is_empty() {
+                return Err(format!("{}: no targets", file.display()));
+            }
+            out
+        }
+        (Some(_), Some(_)) => return Err("give either --target or --targets, not both".into()),
+        (None, None) => {
+            return Err("give a --target x,y,z,qw,qx,qy,qz or a --targets FILE.csv".into())
+        }
+    };
+    let opts = IkOptions {
+        position_only: o.position_only,
+        tol_position: o.tol,
+        tol_rotation: o.tol,
+        max_restarts: o.restarts,
+        time_budget: std::time::Duration::from_secs_f64(o.budget_ms * 1e-3),
+        respect_limits: !o.no_limits,
+        ..Default::default()
+    };
+    let results = solve_batch(model, link, &targets, seed.as_deref(), &opts);
+    if as_json {
+        let rows: Vec<Value> = results
+            .iter()
+            .map(|r| {
+                json!({
+                    "q": r.q,
+                    "status": r.status.as_str(),
+                    "position_error": limit(r.position_error),
+                    "rotation_error": limit(r.rotation_error),
+                    "iterations": r.iterations,
+                    "restarts": r.restarts,
+                    "time_us": r.time_us,
+                })
+            })
+            .collect();
+        print_json(&json!({"joints": model.dof_names(), "link": o.link, "results": rows}));
+        return Ok(());
+    }
+    println!("joints: {}", model.dof_names().join(" "));
+    for (i, r) in results.iter().enumerate() {
+        println!(
+            "target {i}: {} after {} iterations, {} restarts, {:.1} µs; position error {:.3e} m, rotation error {:.3e} rad",
+            r.status.as_str(),
+            r.iterations,
+            r.restarts,
+            r.time_us,
+            r.position_error,
+            r.rotation_error
+        );
+        let q: Vec<String> = r.q.iter().map(|x| format!("{x:.9}")).collect();
+        println!("  q = {}", q.join(", "));
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! Jacobians and their time derivatives in three expressions, and the dexterity measures.
 
 mod fk;
+pub mod ik;
 mod jacobian;
 mod manipulability;
 

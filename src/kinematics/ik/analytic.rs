@@ -1,0 +1,1 @@
+//! Analytic inverse kinematics (being written).
