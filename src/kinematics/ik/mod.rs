@@ -4,5 +4,6 @@
 pub mod analytic;
 pub mod benchmark;
 pub mod numeric;
+pub mod qp;
 
 pub use numeric::{rotation_log, solve_batch, IkOptions, IkResult, IkSolver, IkStatus};
