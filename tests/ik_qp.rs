@@ -11,12 +11,19 @@ use armsim::model::Model;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 
+/// A start and a target 0.3 rad away, both in the inner 80 % of every joint range (QP IK
+/// is a local method: a start pinned against a limit can sit in a bound-constrained local
+/// minimum, which is the restarting LM solver's job).
 fn local_target(m: &Model, link: usize, rng: &mut SmallRng) -> (Vec<f64>, armsim::spatial::Se3) {
-    let q0 = m.random_q(rng);
+    let inner = |k: usize, x: f64| {
+        let (l, u) = m.sampling_bounds(k);
+        x.clamp(l + 0.1 * (u - l), u - 0.1 * (u - l))
+    };
+    let q0: Vec<f64> = m.random_q(rng).iter().enumerate().map(|(k, x)| inner(k, *x)).collect();
     let q1: Vec<f64> = q0
         .iter()
         .enumerate()
-        .map(|(k, x)| (x + rng.random_range(-0.3..0.3)).clamp(m.lower[k], m.upper[k]))
+        .map(|(k, x)| inner(k, x + rng.random_range(-0.3..0.3)))
         .collect();
     let mut d = Data::new(m);
     forward_kinematics(m, &mut d, &q1);

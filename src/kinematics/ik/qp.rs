@@ -128,8 +128,15 @@ fn solve_qp(p: &DMatrix<f64>, q: &[f64], eq: Option<(&DMatrix<f64>, &[f64])>, lo
         cones.push(ZeroConeT(neq));
     }
     cones.push(NonnegativeConeT(2 * n));
+    // Tight tolerances: IK needs Δq accurate far below the default 1e-8 to converge to
+    // 1e-9 and beyond when a bound is active.
     let settings = DefaultSettings {
         verbose: false,
+        tol_gap_abs: 1e-12,
+        tol_gap_rel: 1e-12,
+        tol_feas: 1e-12,
+        tol_ktratio: 1e-10,
+        max_iter: 100,
         ..Default::default()
     };
     let mut solver = DefaultSolver::new(&csc(p, true), q, &csc(&a, false), &b, &cones, settings).ok()?;
