@@ -13,7 +13,9 @@
 //!    (Liégeois' joint-range criterion's gradient, range-scaled: "stay away from limits").
 //!
 //! Iterating the step is a position IK that never leaves the limits; one step is the
-//! velocity command of a resolved-rate controller. The QP solver allocates: this is a
+//! velocity command of a resolved-rate controller. [`qp_ik`] pursues the secondary goal
+//! (its pull capped at 0.1 rad per step) during the first half of its step budget, then
+//! polishes the task alone. The QP solver allocates: this is a
 //! slower, more general method than [`super::numeric`] (see BENCHMARKS.md).
 
 use super::numeric::{rotation_log, IkResult, IkStatus};
@@ -215,6 +217,14 @@ pub fn qp_step(model: &Model, data: &mut Data, link: usize, target: &Se3, q: &[f
             .collect(),
         Secondary::None => unreachable!(),
     };
+    // Cap the null-space pull: its second-order effect on the task grows with its square.
+    let norm = target_dq.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let cap = 0.1;
+    let target_dq: Vec<f64> = if norm > cap {
+        target_dq.iter().map(|x| x * cap / norm).collect()
+    } else {
+        target_dq
+    };
     let task = &j * DVector::from_column_slice(&dq1);
     let p2 = DMatrix::identity(n, n);
     let lin2: Vec<f64> = target_dq.iter().map(|x| -x).collect();
@@ -240,9 +250,17 @@ pub fn qp_ik(model: &Model, link: usize, target: &Se3, q0: &[f64], opts: &QpIkOp
     let mut steps = 0;
     let (mut ep, mut er) = errors(&q, &mut data);
     let mut stalled = false;
+    // The secondary goal is pursued during the first half of the budget; then the task is
+    // polished alone (a null-space pull on a curved self-motion manifold can otherwise
+    // hold the task error at the size of the pull's second-order effect).
+    let polish = QpIkOptions {
+        secondary: Secondary::None,
+        ..opts.clone()
+    };
     while steps < opts.max_steps && !(ep <= opts.tol_position && er <= opts.tol_rotation) {
         steps += 1;
-        let Some(dq) = qp_step(model, &mut data, link, target, &q, opts) else {
+        let o = if steps <= opts.max_steps / 2 { opts } else { &polish };
+        let Some(dq) = qp_step(model, &mut data, link, target, &q, o) else {
             stalled = true;
             break;
         };
