@@ -74,16 +74,20 @@ fn secondary_goals_act_in_the_null_space() {
             assert_eq!(r.status, IkStatus::Converged, "{r:?}");
         }
         let dist = |q: &[f64]| q.iter().zip(&home).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
-        let margin = |q: &[f64]| {
+        // Liégeois' joint-range criterion, the quantity the secondary goal descends.
+        let range_cost = |q: &[f64]| {
             (0..m.nv)
-                .map(|k| ((q[k] - m.lower[k]).min(m.upper[k] - q[k])) / (m.upper[k] - m.lower[k]))
-                .fold(f64::INFINITY, f64::min)
+                .map(|k| {
+                    let (l, u) = m.sampling_bounds(k);
+                    ((q[k] - 0.5 * (l + u)) / (u - l)).powi(2)
+                })
+                .sum::<f64>()
         };
         n += 1;
         if dist(&homed.q) < dist(&plain.q) - 1e-6 {
             closer += 1;
         }
-        if margin(&away.q) > margin(&plain.q) - 1e-9 {
+        if range_cost(&away.q) < range_cost(&plain.q) + 1e-12 {
             farther_from_limits += 1;
         }
     }
