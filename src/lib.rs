@@ -23,4 +23,5 @@ pub mod kinematics;
 pub mod mechanism;
 pub mod model;
 pub mod scenario;
+pub mod sim;
 pub mod spatial;

@@ -1,0 +1,685 @@
+//! Simulation: integrate the forward dynamics with exactly the selected effects under a
+//! controller tracking a reference, audit the energy when nothing dissipates, and report
+//! the real-time factor.
+//!
+//! - The state is `x = [q, q̇]`, or `x = [q, q̇, θ, θ̇]` with elastic joints (motor angles θ
+//!   are states, [`crate::dynamics::elastic_forward_dynamics`]).
+//! - Integrators ([`Integrator`]): semi-implicit (symplectic) Euler, classic RK4, and the
+//!   linearly implicit (Rosenbrock–)Euler `(I − h J) Δx = h f(x)` with `J = ∂f/∂x` by
+//!   finite differences, which stays stable on stiff joint springs where the explicit
+//!   methods blow up. A diverging state stops the run with [`SimError::Diverged`], which
+//!   names the step, the stiffest mode it can estimate, and the fix.
+//! - Controllers ([`Controller`]): computed torque `τ = ID(q, q̇, q̈_d + K_d ė + K_p e)`
+//!   (with the scene's effects, so the model is exact), PD with gravity compensation
+//!   `τ = K_p e + K_d ė + g(q)`, or none. With elastic joints the controller acts on the
+//!   motor side: `τ_m = ID(q_d, q̇_d, q̈_d) + B q̈_d + K_p (q_d − θ) + K_d (q̇_d − θ̇)` for
+//!   computed torque (feed-forward plus motor PD), `K_p (q_d − θ) + K_d (q̇_d − θ̇) + g(q_d)`
+//!   for PD (gravity compensated at the desired configuration, Tomei's controller).
+//! - Energy audit: with no friction, no joint damping and no external wrench,
+//!   `E(t) − E(0) = ∫ τ·q̇ dt` (actuator work; motor side with elastic joints); the report
+//!   gives the largest violation relative to the energy scale.
+//!
+//! Nothing allocates per step: every buffer lives in [`Simulator`].
+
+use crate::data::Data;
+use crate::dynamics::{self, Effects, SingularMassMatrix};
+use crate::model::Model;
+use nalgebra::DMatrix;
+use std::time::Instant;
+
+/// Time integration method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// Semi-implicit (symplectic) Euler: `q̇ₙ₊₁ = q̇ₙ + h q̈ₙ`, `qₙ₊₁ = qₙ + h q̇ₙ₊₁`.
+    SemiImplicitEuler,
+    /// Classic fourth-order Runge–Kutta.
+    Rk4,
+    /// Linearly implicit Euler (one Newton step of backward Euler per step).
+    Implicit,
+}
+
+impl Integrator {
+    /// Name used in files and reports.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Integrator::SemiImplicitEuler => "semi_implicit_euler",
+            Integrator::Rk4 => "rk4",
+            Integrator::Implicit => "implicit",
+        }
+    }
+}
+
+/// Joint-space controller.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Controller {
+    /// Zero torque (free motion).
+    None,
+    /// Computed torque with gains per joint.
+    ComputedTorque {
+        /// Position gains (1/s²).
+        kp: Vec<f64>,
+        /// Velocity gains (1/s).
+        kd: Vec<f64>,
+    },
+    /// PD plus gravity compensation with gains per joint.
+    PdGravity {
+        /// Position gains (N m/rad).
+        kp: Vec<f64>,
+        /// Velocity gains (N m s/rad).
+        kd: Vec<f64>,
+    },
+}
+
+/// A reference the controller tracks: `(q_d, q̇_d, q̈_d)` at time `t`.
+pub trait Reference {
+    /// Writes the reference at `t` (held at the end after the duration).
+    fn sample(&self, t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]);
+}
+
+/// A constant configuration as reference.
+pub struct Hold(pub Vec<f64>);
+
+impl Reference for Hold {
+    fn sample(&self, _t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
+        q.copy_from_slice(&self.0);
+        qd.fill(0.0);
+        qdd.fill(0.0);
+    }
+}
+
+/// Why a simulation stopped early.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    /// The state became non-finite or exploded.
+    #[error("the simulation diverged at t = {t:.6} s with the {integrator} integrator at step {dt:e} s{hint}")]
+    Diverged {
+        /// Time of divergence.
+        t: f64,
+        /// Integrator name.
+        integrator: &'static str,
+        /// Step.
+        dt: f64,
+        /// Advice (stiffness estimate and the fix).
+        hint: String,
+    },
+    /// The mass matrix was singular.
+    #[error("forward dynamics failed at t = {t:.6} s: {source}")]
+    Dynamics {
+        /// Time.
+        t: f64,
+        /// Cause.
+        source: SingularMassMatrix,
+    },
+    /// Bad settings.
+    #[error("{0}")]
+    Config(String),
+}
+
+/// One recorded sample.
+#[derive(Clone, Debug)]
+pub struct Sample<'a> {
+    /// Time.
+    pub t: f64,
+    /// Joint positions.
+    pub q: &'a [f64],
+    /// Joint velocities.
+    pub qd: &'a [f64],
+    /// Applied joint (or motor) torques.
+    pub tau: &'a [f64],
+    /// Reference positions.
+    pub q_ref: &'a [f64],
+}
+
+/// The summary of a run.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SimReport {
+    /// Integrator used.
+    pub integrator: &'static str,
+    /// Step (s).
+    pub dt: f64,
+    /// Steps taken.
+    pub steps: usize,
+    /// Simulated time (s).
+    pub sim_time_s: f64,
+    /// Wall-clock time (s).
+    pub wall_time_s: f64,
+    /// Simulated time / wall-clock time.
+    pub real_time_factor: f64,
+    /// Largest |q − q_d| per joint over the run (rad or m).
+    pub max_tracking_error: Vec<f64>,
+    /// Energy audit, when nothing dissipates.
+    pub energy: Option<EnergyAudit>,
+    /// Final joint positions.
+    pub final_q: Vec<f64>,
+}
+
+/// Energy balance `E(t) − E(0) − W(t)` over the run.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct EnergyAudit {
+    /// Largest |E − E₀ − W| (J).
+    pub max_drift_j: f64,
+    /// The same relative to the energy scale max(|E|, |W|, 1 J).
+    pub max_relative_drift: f64,
+}
+
+/// Settings of a run.
+#[derive(Clone, Debug)]
+pub struct SimConfig {
+    /// Step (s).
+    pub dt: f64,
+    /// Duration (s).
+    pub duration: f64,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Controller.
+    pub controller: Controller,
+    /// Call the sample callback every this many steps.
+    pub record_every: usize,
+}
+
+/// Preallocated simulation state for one model and effect set.
+pub struct Simulator<'m> {
+    model: &'m Model,
+    effects: Effects,
+    /// The effects without the joint springs (feed-forward with elastic joints).
+    rigid_fx: Effects,
+    /// Gravity and payload only (gravity compensation).
+    static_fx: Effects,
+    data: Data,
+    elastic: bool,
+    n: usize,
+    x: Vec<f64>,
+    k: [Vec<f64>; 4],
+    xt: Vec<f64>,
+    tau: Vec<f64>,
+    qr: Vec<f64>,
+    qdr: Vec<f64>,
+    qddr: Vec<f64>,
+    acc: Vec<f64>,
+    thdd: Vec<f64>,
+    jac: DMatrix<f64>,
+    fx: Vec<f64>,
+    fp: Vec<f64>,
+}
+
+impl<'m> Simulator<'m> {
+    /// A simulator for `model` with exactly `effects`.
+    pub fn new(model: &'m Model, effects: Effects) -> Result<Self, SimError> {
+        effects.validate(model).map_err(SimError::Config)?;
+        let n = model.nv;
+        let elastic = effects.elasticity.is_some();
+        let dim = if elastic { 4 * n } else { 2 * n };
+        let v = |len: usize| vec![0.0; len];
+        let rigid_fx = Effects {
+            elasticity: None,
+            ..effects.clone()
+        };
+        let static_fx = Effects {
+            gravity: effects.gravity,
+            payload: effects.payload.clone(),
+            ..Default::default()
+        };
+        Ok(Self {
+            model,
+            effects,
+            rigid_fx,
+            static_fx,
+            data: Data::new(model),
+            elastic,
+            n,
+            x: v(dim),
+            k: [v(dim), v(dim), v(dim), v(dim)],
+            xt: v(dim),
+            tau: v(n),
+            qr: v(n),
+            qdr: v(n),
+            qddr: v(n),
+            acc: v(n),
+            thdd: v(n),
+            jac: DMatrix::zeros(dim, dim),
+            fx: v(dim),
+            fp: v(dim),
+        })
+    }
+
+    /// Controller output at `(t, x)` into `self.tau` (joint torques, or motor torques with
+    /// elastic joints).
+    fn control(&mut self, t: f64, x: &[f64], reference: &dyn Reference, ctrl: &Controller) {
+        let n = self.n;
+        let (q, qd) = (&x[..n], &x[n..2 * n]);
+        reference.sample(t, &mut self.qr, &mut self.qdr, &mut self.qddr);
+        match ctrl {
+            Controller::None => self.tau.fill(0.0),
+            Controller::ComputedTorque { kp, kd } => {
+                if self.elastic {
+                    let (th, thd) = (&x[2 * n..3 * n], &x[3 * n..]);
+                    let ff = dynamics::inverse_dynamics(
+                        self.model,
+                        &mut self.data,
+                        &self.rigid_fx,
+                        &self.qr,
+                        &self.qdr,
+                        &self.qddr,
+                    );
+                    let b = &self
+                        .effects
+                        .elasticity
+                        .as_ref()
+                        .expect("elastic")
+                        .motor_inertia;
+                    for i in 0..n {
+                        self.tau[i] = ff[i]
+                            + b[i] * self.qddr[i]
+                            + kp[i] * b[i] * (self.qr[i] - th[i])
+                            + kd[i] * b[i] * (self.qdr[i] - thd[i]);
+                    }
+                } else {
+                    for i in 0..n {
+                        self.acc[i] = self.qddr[i]
+                            + kd[i] * (self.qdr[i] - qd[i])
+                            + kp[i] * (self.qr[i] - q[i]);
+                    }
+                    let tau = dynamics::inverse_dynamics(
+                        self.model,
+                        &mut self.data,
+                        &self.effects,
+                        q,
+                        qd,
+                        &self.acc,
+                    );
+                    self.tau.copy_from_slice(tau);
+                }
+            }
+            Controller::PdGravity { kp, kd } => {
+                let static_fx = &self.static_fx;
+                self.acc.fill(0.0);
+                if self.elastic {
+                    let (th, thd) = (&x[2 * n..3 * n], &x[3 * n..]);
+                    let g = dynamics::inverse_dynamics(
+                        self.model,
+                        &mut self.data,
+                        static_fx,
+                        &self.qr,
+                        &self.acc,
+                        &self.acc,
+                    );
+                    for i in 0..n {
+                        self.tau[i] =
+                            kp[i] * (self.qr[i] - th[i]) + kd[i] * (self.qdr[i] - thd[i]) + g[i];
+                    }
+                } else {
+                    let g = dynamics::inverse_dynamics(
+                        self.model,
+                        &mut self.data,
+                        static_fx,
+                        q,
+                        &self.acc,
+                        &self.acc,
+                    );
+                    for i in 0..n {
+                        self.tau[i] =
+                            kp[i] * (self.qr[i] - q[i]) + kd[i] * (self.qdr[i] - qd[i]) + g[i];
+                    }
+                }
+            }
+        }
+    }
+
+    /// How often each effect's code ran so far (a left-out effect stays at zero).
+    pub fn effect_runs(&self) -> crate::dynamics::EffectRuns {
+        self.data.effect_runs
+    }
+
+    /// `ẋ = f(t, x)` into `out`.
+    fn rhs(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        out: &mut [f64],
+        reference: &dyn Reference,
+        ctrl: &Controller,
+    ) -> Result<(), SimError> {
+        let n = self.n;
+        self.control(t, x, reference, ctrl);
+        let (q, qd) = (&x[..n], &x[n..2 * n]);
+        out[..n].copy_from_slice(qd);
+        if self.elastic {
+            let (th, thd) = (&x[2 * n..3 * n], &x[3 * n..]);
+            let qdd = dynamics::elastic_forward_dynamics(
+                self.model,
+                &mut self.data,
+                &self.effects,
+                q,
+                qd,
+                th,
+                thd,
+                &self.tau,
+                &mut self.thdd,
+            )
+            .map_err(|source| SimError::Dynamics { t, source })?;
+            out[n..2 * n].copy_from_slice(qdd);
+            out[2 * n..3 * n].copy_from_slice(thd);
+            out[3 * n..].copy_from_slice(&self.thdd);
+        } else {
+            let qdd = dynamics::forward_dynamics_with(
+                self.model,
+                &mut self.data,
+                &self.effects,
+                q,
+                qd,
+                &self.tau,
+            )
+            .map_err(|source| SimError::Dynamics { t, source })?;
+            out[n..].copy_from_slice(qdd);
+        }
+        Ok(())
+    }
+
+    /// Energy `T + V` (+ spring and motor energy with elastic joints).
+    fn energy(&mut self, x: &[f64]) -> f64 {
+        let n = self.n;
+        let (q, qd) = (&x[..n], &x[n..2 * n]);
+        let mut e = dynamics::kinetic_energy(self.model, &mut self.data, q, qd);
+        if let Some(g) = &self.effects.gravity {
+            e += dynamics::potential_energy(self.model, &mut self.data, q, g);
+        }
+        if let Some(el) = &self.effects.elasticity {
+            for i in 0..n {
+                let d = x[2 * n + i] - q[i];
+                e += 0.5 * el.stiffness[i] * d * d
+                    + 0.5 * el.motor_inertia[i] * x[3 * n + i] * x[3 * n + i];
+            }
+        }
+        e
+    }
+
+    fn conservative(&self) -> bool {
+        let e = &self.effects;
+        e.friction.is_none()
+            && e.external.is_empty()
+            && e.rotor.is_none()
+            && e.payload.is_none()
+            && e.elasticity
+                .as_ref()
+                .is_none_or(|el| el.damping.iter().all(|d| *d == 0.0))
+    }
+
+    /// An estimate of the fastest natural frequency (rad/s), from the joint springs.
+    fn stiffest_mode(&mut self, q: &[f64]) -> Option<f64> {
+        let el = self.effects.elasticity.as_ref()?;
+        let m = dynamics::crba(self.model, &mut self.data, q);
+        (0..self.n)
+            .map(|i| {
+                (el.stiffness[i] * (1.0 / el.motor_inertia[i] + 1.0 / m[(i, i)].max(1e-12))).sqrt()
+            })
+            .reduce(f64::max)
+    }
+
+    /// Runs from `(q0, q̇ = 0)` (motor angles at rest on the link angles plus the static
+    /// spring deflection under gravity, with elastic joints).
+    pub fn run(
+        &mut self,
+        q0: &[f64],
+        cfg: &SimConfig,
+        reference: &dyn Reference,
+        mut on_sample: impl FnMut(&Sample<'_>),
+    ) -> Result<SimReport, SimError> {
+        let n = self.n;
+        if q0.len() != n {
+            return Err(SimError::Config(format!(
+                "initial state: {} values for {n} joints",
+                q0.len()
+            )));
+        }
+        if !(cfg.dt > 0.0 && cfg.dt.is_finite())
+            || !(cfg.duration >= 0.0 && cfg.duration.is_finite())
+        {
+            return Err(SimError::Config(
+                "simulation: step and duration must be positive and finite".into(),
+            ));
+        }
+        let gains_ok = |v: &Vec<f64>| v.len() == n && v.iter().all(|x| x.is_finite());
+        match &cfg.controller {
+            Controller::ComputedTorque { kp, kd } | Controller::PdGravity { kp, kd }
+                if !(gains_ok(kp) && gains_ok(kd)) =>
+            {
+                return Err(SimError::Config(format!(
+                    "controller: gains need {n} finite values"
+                )));
+            }
+            _ => {}
+        }
+        self.x.fill(0.0);
+        self.x[..n].copy_from_slice(q0);
+        if self.elastic {
+            // Start in static equilibrium: θ = q + K⁻¹ g(q).
+            self.acc.fill(0.0);
+            let g = dynamics::inverse_dynamics(
+                self.model,
+                &mut self.data,
+                &self.static_fx,
+                q0,
+                &self.acc,
+                &self.acc,
+            )
+            .to_vec();
+            let k = self
+                .effects
+                .elasticity
+                .as_ref()
+                .expect("elastic")
+                .stiffness
+                .clone();
+            for i in 0..n {
+                self.x[2 * n + i] = q0[i] + g[i] / k[i];
+            }
+        }
+        let steps = (cfg.duration / cfg.dt).round() as usize;
+        let audit = self.conservative();
+        let e0 = if audit {
+            self.energy(&self.x.clone())
+        } else {
+            0.0
+        };
+        let (mut work, mut max_drift, mut scale) = (0.0f64, 0.0f64, e0.abs().max(1.0));
+        let mut max_err = vec![0.0f64; n];
+        let start = Instant::now();
+        let h = cfg.dt;
+        let record_every = cfg.record_every.max(1);
+        // Power at the start of the step (actuator side).
+        let mut x = std::mem::take(&mut self.x);
+        self.control(0.0, &x, reference, &cfg.controller);
+        on_sample(&Sample {
+            t: 0.0,
+            q: &x[..n],
+            qd: &x[n..2 * n],
+            tau: &self.tau,
+            q_ref: &self.qr,
+        });
+        let power = |s: &Self, x: &[f64]| {
+            let rate = if s.elastic { &x[3 * n..] } else { &x[n..2 * n] };
+            s.tau.iter().zip(rate).map(|(a, b)| a * b).sum::<f64>()
+        };
+        let mut p_prev = power(self, &x);
+        for step in 0..steps {
+            let t = step as f64 * h;
+            self.step(t, h, &mut x, reference, &cfg.controller, cfg.integrator)?;
+            let t1 = t + h;
+            let big = x.iter().any(|v| !v.is_finite() || v.abs() > 1e8);
+            if big {
+                let hint = match self.stiffest_mode(&x[..n].iter().map(|v| if v.is_finite() { *v } else { 0.0 }).collect::<Vec<_>>()) {
+                    Some(w) if cfg.integrator != Integrator::Implicit => format!(
+                        ": the joint springs make the scene stiff (fastest mode ≈ {w:.1} rad/s, h·ω = {:.2}); use integrator = \"implicit\" or a step below {:.2e} s",
+                        w * h,
+                        2.0 / w
+                    ),
+                    _ => ": reduce the step".to_string(),
+                };
+                self.x = x;
+                return Err(SimError::Diverged {
+                    t: t1,
+                    integrator: cfg.integrator.as_str(),
+                    dt: h,
+                    hint,
+                });
+            }
+            self.control(t1, &x, reference, &cfg.controller);
+            for i in 0..n {
+                max_err[i] = max_err[i].max((x[i] - self.qr[i]).abs());
+            }
+            if audit {
+                let p = power(self, &x);
+                work += 0.5 * h * (p_prev + p);
+                p_prev = p;
+                let e = self.energy(&x);
+                scale = scale.max(e.abs()).max(work.abs());
+                max_drift = max_drift.max((e - e0 - work).abs());
+            }
+            if (step + 1) % record_every == 0 || step + 1 == steps {
+                on_sample(&Sample {
+                    t: t1,
+                    q: &x[..n],
+                    qd: &x[n..2 * n],
+                    tau: &self.tau,
+                    q_ref: &self.qr,
+                });
+            }
+        }
+        let wall = start.elapsed().as_secs_f64();
+        let final_q = x[..n].to_vec();
+        self.x = x;
+        Ok(SimReport {
+            integrator: cfg.integrator.as_str(),
+            dt: h,
+            steps,
+            sim_time_s: steps as f64 * h,
+            wall_time_s: wall,
+            real_time_factor: if wall > 0.0 {
+                steps as f64 * h / wall
+            } else {
+                f64::INFINITY
+            },
+            max_tracking_error: max_err,
+            energy: audit.then_some(EnergyAudit {
+                max_drift_j: max_drift,
+                max_relative_drift: max_drift / scale,
+            }),
+            final_q,
+        })
+    }
+
+    fn step(
+        &mut self,
+        t: f64,
+        h: f64,
+        x: &mut [f64],
+        reference: &dyn Reference,
+        ctrl: &Controller,
+        method: Integrator,
+    ) -> Result<(), SimError> {
+        let dim = x.len();
+        let n = self.n;
+        let mut k0 = std::mem::take(&mut self.k[0]);
+        match method {
+            Integrator::SemiImplicitEuler => {
+                self.rhs(t, x, &mut k0, reference, ctrl)?;
+                // Velocities first, then positions with the new velocities.
+                let blocks = if self.elastic { 2 } else { 1 };
+                for b in 0..blocks {
+                    let (p, v) = (2 * b * n, (2 * b + 1) * n);
+                    for i in 0..n {
+                        x[v + i] += h * k0[v + i];
+                        x[p + i] += h * x[v + i];
+                    }
+                }
+            }
+            Integrator::Rk4 => {
+                let [_, k1, k2, k3] = &mut self.k;
+                let (mut k1, mut k2, mut k3) =
+                    (std::mem::take(k1), std::mem::take(k2), std::mem::take(k3));
+                let mut xt = std::mem::take(&mut self.xt);
+                self.rhs(t, x, &mut k0, reference, ctrl)?;
+                for i in 0..dim {
+                    xt[i] = x[i] + 0.5 * h * k0[i];
+                }
+                self.rhs(t + 0.5 * h, &xt, &mut k1, reference, ctrl)?;
+                for i in 0..dim {
+                    xt[i] = x[i] + 0.5 * h * k1[i];
+                }
+                self.rhs(t + 0.5 * h, &xt, &mut k2, reference, ctrl)?;
+                for i in 0..dim {
+                    xt[i] = x[i] + h * k2[i];
+                }
+                self.rhs(t + h, &xt, &mut k3, reference, ctrl)?;
+                for i in 0..dim {
+                    x[i] += h / 6.0 * (k0[i] + 2.0 * k1[i] + 2.0 * k2[i] + k3[i]);
+                }
+                self.xt = xt;
+                self.k[1] = k1;
+                self.k[2] = k2;
+                self.k[3] = k3;
+            }
+            Integrator::Implicit => {
+                // (I − h J) Δx = h f(x), J by forward differences of the closed loop.
+                let mut fx = std::mem::take(&mut self.fx);
+                let mut fp = std::mem::take(&mut self.fp);
+                let mut xt = std::mem::take(&mut self.xt);
+                self.rhs(t + h, x, &mut fx, reference, ctrl)?;
+                xt.copy_from_slice(x);
+                for j in 0..dim {
+                    let eps = 1e-7 * x[j].abs().max(1.0);
+                    xt[j] = x[j] + eps;
+                    self.rhs(t + h, &xt, &mut fp, reference, ctrl)?;
+                    xt[j] = x[j];
+                    for i in 0..dim {
+                        self.jac[(i, j)] = -h * (fp[i] - fx[i]) / eps;
+                    }
+                    self.jac[(j, j)] += 1.0;
+                }
+                for i in 0..dim {
+                    k0[i] = h * fx[i];
+                }
+                // Gaussian elimination with partial pivoting, in place.
+                let a = &mut self.jac;
+                for c in 0..dim {
+                    let p = (c..dim)
+                        .max_by(|&r1, &r2| a[(r1, c)].abs().total_cmp(&a[(r2, c)].abs()))
+                        .unwrap_or(c);
+                    if p != c {
+                        a.swap_rows(p, c);
+                        k0.swap(p, c);
+                    }
+                    let d = a[(c, c)];
+                    if d == 0.0 {
+                        continue;
+                    }
+                    for r in c + 1..dim {
+                        let f = a[(r, c)] / d;
+                        if f != 0.0 {
+                            for cc in c..dim {
+                                a[(r, cc)] -= f * a[(c, cc)];
+                            }
+                            k0[r] -= f * k0[c];
+                        }
+                    }
+                }
+                for c in (0..dim).rev() {
+                    let mut s = k0[c];
+                    for cc in c + 1..dim {
+                        s -= a[(c, cc)] * k0[cc];
+                    }
+                    k0[c] = s / a[(c, c)];
+                }
+                for i in 0..dim {
+                    x[i] += k0[i];
+                }
+                self.fx = fx;
+                self.fp = fp;
+                self.xt = xt;
+            }
+        }
+        self.k[0] = k0;
+        Ok(())
+    }
+}
