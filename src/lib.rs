@@ -25,3 +25,4 @@ pub mod model;
 pub mod scenario;
 pub mod sim;
 pub mod spatial;
+pub mod workspace;

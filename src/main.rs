@@ -182,6 +182,40 @@ enum Cmd {
         /// Let iterates leave the joint limits.
         #[arg(long)]
         no_limits: bool,
+        /// Closed-form IK (UR family, spherical-wrist 6R, textbook R-R-P, planar 2R): every
+        /// branch inside the limits; `q` is the branch nearest the start configuration.
+        #[arg(long)]
+        analytic: bool,
+    },
+    /// Reachable workspace of a link: voxel volume (or area for planar arms) with its
+    /// standard error and voxel-size bias, boundary, manipulability, dexterity.
+    Workspace {
+        #[command(flatten)]
+        m: ModelArgs,
+        /// The link whose origin is sampled (default: the deepest link).
+        #[arg(long)]
+        link: Option<String>,
+        /// Number of joint-space samples (split into replicates).
+        #[arg(long, default_value_t = 1 << 22)]
+        samples: u64,
+        /// Voxel edge (m).
+        #[arg(long, default_value_t = 0.02)]
+        voxel: f64,
+        /// Sampling: random or sobol (scrambled).
+        #[arg(long, default_value = "sobol")]
+        method: String,
+        /// Independent replicates for the standard error.
+        #[arg(long, default_value_t = 8)]
+        replicates: usize,
+        /// Seed.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Also manipulability, condition number and dexterity per voxel.
+        #[arg(long)]
+        extras: bool,
+        /// Write the sampled tool points as CSV (atomically).
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// Run a scenario file end to end and print its summary (or JSON).
     Run {
@@ -342,6 +376,22 @@ fn run(cli: Cli) -> Result<(), String> {
             };
             dynamics_cmd(&model, &q, &opts, m.json)
         }
+        Cmd::Workspace {
+            m,
+            link,
+            samples,
+            voxel,
+            method,
+            replicates,
+            seed,
+            extras,
+            out,
+        } => {
+            let model = load(&m)?;
+            workspace_cmd(
+                &model, link, samples, voxel, &method, replicates, seed, extras, out, m.json,
+            )
+        }
         Cmd::Ik {
             m,
             link,
@@ -353,9 +403,11 @@ fn run(cli: Cli) -> Result<(), String> {
             restarts,
             budget_ms,
             no_limits,
+            analytic,
         } => {
             let model = load(&m)?;
             let opts = IkCli {
+                analytic,
                 link,
                 target,
                 targets,
@@ -843,6 +895,7 @@ fn dynamics_cmd(model: &Model, q: &str, o: &DynOpts, as_json: bool) -> Result<()
 }
 
 struct IkCli {
+    analytic: bool,
     link: String,
     target: Option<String>,
     targets: Option<PathBuf>,
@@ -935,6 +988,9 @@ fn ik_cmd(model: &Model, o: &IkCli, as_json: bool) -> Result<(), String> {
         respect_limits: !o.no_limits,
         ..Default::default()
     };
+    if o.analytic {
+        return ik_analytic_cmd(model, link, &targets, seed.as_deref(), o, as_json);
+    }
     let results = solve_batch(model, link, &targets, seed.as_deref(), &opts);
     if as_json {
         let rows: Vec<Value> = results
@@ -967,6 +1023,187 @@ fn ik_cmd(model: &Model, o: &IkCli, as_json: bool) -> Result<(), String> {
         );
         let q: Vec<String> = r.q.iter().map(|x| format!("{x:.9}")).collect();
         println!("  q = {}", q.join(", "));
+    }
+    Ok(())
+}
+
+/// `armsim ik --analytic`: every closed-form branch inside the limits per target.
+fn ik_analytic_cmd(
+    model: &Model,
+    link: usize,
+    targets: &[Se3],
+    seed: Option<&[f64]>,
+    o: &IkCli,
+    as_json: bool,
+) -> Result<(), String> {
+    use armsim::kinematics::ik::analytic::{AnalyticOptions, AnalyticSolver};
+    let solver = AnalyticSolver::new(model, link).map_err(|e| format!("{}: {e}", model.source))?;
+    let start_q = seed.map(<[f64]>::to_vec).unwrap_or_else(|| model.neutral());
+    let aopts = AnalyticOptions {
+        respect_limits: !o.no_limits,
+        ..Default::default()
+    };
+    let mut rows = Vec::new();
+    for t in targets {
+        let t0 = std::time::Instant::now();
+        let sols = solver.solve(t, &aopts);
+        let time_us = t0.elapsed().as_secs_f64() * 1e6;
+        let row = match sols {
+            Ok(sols) if !sols.is_empty() => {
+                let dist = |q: &[f64]| {
+                    q.iter()
+                        .zip(&start_q)
+                        .map(|(a, b)| (a - b).powi(2))
+                        .sum::<f64>()
+                };
+                let best = sols
+                    .iter()
+                    .min_by(|a, b| dist(&a.q).total_cmp(&dist(&b.q)))
+                    .expect("non-empty");
+                let mut data = Data::new(model);
+                kinematics::forward_kinematics(model, &mut data, &best.q);
+                let p = kinematics::frame_placement(model, &data, link);
+                let pe = (p.trans - t.trans).norm();
+                let re = armsim::kinematics::ik::rotation_log(&(t.rot * p.rot.transpose())).norm();
+                json!({
+                    "q": best.q,
+                    "status": "converged",
+                    "position_error": pe,
+                    "rotation_error": if o.position_only { 0.0 } else { re },
+                    "iterations": 0,
+                    "time_us": time_us,
+                    "solutions": sols.iter().map(|s| json!({"q": s.q, "branch": s.branch, "singular": s.singular})).collect::<Vec<_>>(),
+                })
+            }
+            Ok(_) => {
+                json!({"q": start_q, "status": "unreachable", "position_error": null, "rotation_error": null, "iterations": 0, "time_us": time_us, "solutions": [], "reason": "no solution"})
+            }
+            Err(e) => {
+                json!({"q": start_q, "status": "unreachable", "position_error": null, "rotation_error": null, "iterations": 0, "time_us": time_us, "solutions": [], "reason": e.to_string()})
+            }
+        };
+        rows.push(row);
+    }
+    if as_json {
+        print_json(&json!({"joints": model.dof_names(), "link": o.link, "results": rows}));
+        return Ok(());
+    }
+    println!("joints: {}", model.dof_names().join(" "));
+    for (i, r) in rows.iter().enumerate() {
+        let sols = r["solutions"].as_array().map(Vec::len).unwrap_or(0);
+        println!(
+            "target {i}: {} ({sols} branch(es) inside the limits, {:.2} µs)",
+            r["status"].as_str().unwrap_or(""),
+            r["time_us"].as_f64().unwrap_or(0.0)
+        );
+        for s in r["solutions"].as_array().into_iter().flatten() {
+            let q: Vec<String> = s["q"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .map(|x| format!("{:.9}", x.as_f64().unwrap_or(f64::NAN)))
+                .collect();
+            println!(
+                "  {:<36} {}{}",
+                s["branch"].as_str().unwrap_or(""),
+                q.join(", "),
+                if s["singular"].as_bool() == Some(true) {
+                    "  (singular)"
+                } else {
+                    ""
+                }
+            );
+        }
+        if let Some(reason) = r.get("reason") {
+            println!("  {}", reason.as_str().unwrap_or(""));
+        }
+    }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn workspace_cmd(
+    model: &Model,
+    link: Option<String>,
+    samples: u64,
+    voxel: f64,
+    method: &str,
+    replicates: usize,
+    seed: u64,
+    extras: bool,
+    out: Option<PathBuf>,
+    as_json: bool,
+) -> Result<(), String> {
+    use armsim::workspace::{sample_workspace, Sampling, WorkspaceOptions};
+    if let Some(l) = &link {
+        link_id(model, l)?;
+    }
+    if !(voxel > 0.0 && voxel.is_finite()) {
+        return Err(format!("--voxel: {voxel} is not a positive length"));
+    }
+    if samples == 0 || replicates < 2 {
+        return Err(
+            "--samples must be positive and --replicates at least 2 (for the standard error)"
+                .into(),
+        );
+    }
+    let sampling: Sampling = method.parse().map_err(|e| format!("--method: {e}"))?;
+    let opts = WorkspaceOptions {
+        samples,
+        replicates,
+        sampling,
+        seed,
+        voxel,
+        tool: link,
+        extras,
+        keep_points: if out.is_some() { 200_000 } else { 0 },
+        quiet: as_json,
+        ..Default::default()
+    };
+    let r = sample_workspace(model, &opts).map_err(|e| format!("{}: {e}", model.source))?;
+    let mut written = Vec::new();
+    if let Some(p) = &out {
+        r.write_points_csv(p)
+            .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
+        written.push(p.display().to_string());
+    }
+    if as_json {
+        let mut v = serde_json::to_value(&r).map_err(|e| e.to_string())?;
+        v["outputs"] = json!(written);
+        print_json(&v);
+        return Ok(());
+    }
+    let (what, unit) = if r.planar {
+        ("area", "m²")
+    } else {
+        ("volume", "m³")
+    };
+    println!(
+        "{} workspace of '{}' ({} samples in {} replicates, {:?} sampling, voxel {} m, {:.2} s)",
+        r.robot, r.tool, r.samples, r.replicates, r.sampling, r.voxel, r.time_s
+    );
+    println!(
+        "{what}: {:.6} {unit} ± {:.6} (standard error)",
+        r.measure(),
+        r.measure_stderr()
+    );
+    println!(
+        "voxel-size bias ≈ {:.6} {unit}; corrected {:.6} ± {:.6}",
+        r.bias.bias, r.bias.corrected, r.bias.corrected_stderr
+    );
+    println!(
+        "boundary voxels {}, occupied {}",
+        r.boundary_voxels, r.occupied_voxels
+    );
+    println!(
+        "bounding box [{:.4}, {:.4}, {:.4}] – [{:.4}, {:.4}, {:.4}]",
+        r.bbox[0][0], r.bbox[0][1], r.bbox[0][2], r.bbox[1][0], r.bbox[1][1], r.bbox[1][2]
+    );
+    for w in &r.warnings {
+        println!("warning: {w}");
+    }
+    for p in written {
+        println!("wrote {p}");
     }
     Ok(())
 }

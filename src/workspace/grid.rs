@@ -1,0 +1,469 @@
+//! The dense occupancy grid: tool points → voxels (3-D) or pixels (planar), stored as a
+//! bitset over a box that is known to contain every reachable point, and the word-wise
+//! scans over it (occupied cells, exposed faces, boundary cells, isolated holes, the
+//! grid coarsened to twice the cell size).
+//!
+//! Cell `(i, j, k)` (global indices) covers `[i h − s_x, (i + 1) h − s_x) × …` in grid
+//! coordinates — world x, y, z, or for a planar workspace the in-plane coordinates
+//! `((p − o)·u, (p − o)·v)` — with `s` the grid's shift: zero for the common grid that
+//! pools all samples, uniform in `[0, 2h)` per replicate for the estimates (so that the
+//! lattice position is random and its effect averages out and enters the standard
+//! error). The corner index is even in every axis, so that cell `(i, j, k)` of the `2h`
+//! grid ([`Grid::coarse`]) is exactly the union of cells `(2i + a, 2j + b, 2k + c)`.
+//!
+//! Layout: rows along x padded to a multiple of 64 cells (one row is `wpr` whole words),
+//! then y, then z. Padding and the two-cell margin around the bound are always empty.
+
+use crate::spatial::Vec3;
+
+/// Largest grid, in cells (one bit each: 256 MiB per grid).
+pub const MAX_CELLS: u64 = 1 << 31;
+
+/// The plane of a planar workspace: origin `o` (the point of the plane closest to the
+/// world origin), in-plane axes `u`, `v` and normal `n`, orthonormal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PlaneFrame {
+    pub o: Vec3,
+    pub u: Vec3,
+    pub v: Vec3,
+    pub n: Vec3,
+}
+
+/// Geometry of a dense grid.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Grid {
+    /// `Some` for a planar (pixel) grid.
+    pub plane: Option<PlaneFrame>,
+    /// Cell edge (m).
+    pub h: f64,
+    inv_h: f64,
+    /// Global index of local cell (0, 0, 0); even.
+    pub i0: [i64; 3],
+    i0f: [f64; 3],
+    /// Shift `s` of the cells (see the module docs).
+    pub shift: [f64; 3],
+    /// Cells per axis (x padded to a multiple of 64; z is 1 for a planar grid).
+    pub n: [usize; 3],
+    /// 64-bit words per x row.
+    pub wpr: usize,
+}
+
+/// Counts over one occupancy bitset.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Scan {
+    /// Occupied cells.
+    pub occupied: u64,
+    /// Faces (3-D) or edges (planar) between an occupied and an empty cell.
+    pub exposed: u64,
+    /// Occupied cells with at least one empty face neighbour (6 in 3-D, 4 in a plane).
+    pub boundary: u64,
+    /// Empty cells whose face neighbours are all occupied.
+    pub holes: u64,
+}
+
+impl Grid {
+    /// A grid of cell `h` shifted by `shift` (each component in `[0, 2h)`; the third one
+    /// is ignored for a planar grid) containing the ball of `radius` around `center`
+    /// (world coordinates), with a two-cell margin; for a planar grid only the ball's disc
+    /// in the plane. `Err` with the cell count when it would exceed [`MAX_CELLS`].
+    pub fn new(
+        h: f64,
+        center: &Vec3,
+        radius: f64,
+        plane: Option<PlaneFrame>,
+        shift: [f64; 3],
+    ) -> Result<Grid, u64> {
+        let c = match &plane {
+            None => *center,
+            Some(pl) => Vec3::new((center - pl.o).dot(&pl.u), (center - pl.o).dot(&pl.v), 0.0),
+        };
+        let axes = if plane.is_some() { 2 } else { 3 };
+        let margin = 2.0 * h + 1e-9 * (1.0 + radius);
+        let mut i0 = [0i64; 3];
+        let mut n = [1usize; 3];
+        let mut shift = shift;
+        for k in 0..axes {
+            let lo = ((c[k] + shift[k] - radius - margin) / h).floor() as i64;
+            let hi = ((c[k] + shift[k] + radius + margin) / h).floor() as i64;
+            let lo = lo - lo.rem_euclid(2);
+            let mut len = (hi - lo + 1) as usize;
+            len += len % 2;
+            i0[k] = lo;
+            n[k] = len;
+        }
+        if plane.is_some() {
+            shift[2] = 0.0;
+        }
+        n[0] = n[0].div_ceil(64) * 64;
+        let cells = n[0] as u64 * n[1] as u64 * n[2] as u64;
+        if cells > MAX_CELLS {
+            return Err(cells);
+        }
+        Ok(Grid {
+            plane,
+            h,
+            inv_h: 1.0 / h,
+            i0,
+            i0f: [i0[0] as f64, i0[1] as f64, i0[2] as f64],
+            shift,
+            n,
+            wpr: n[0] / 64,
+        })
+    }
+
+    /// The grid of cells `2h` covering the same box (same shift).
+    pub fn coarse(&self) -> Grid {
+        let planar = self.plane.is_some();
+        let nx = (self.n[0] / 2).div_ceil(64) * 64;
+        let n = [nx, self.n[1] / 2, if planar { 1 } else { self.n[2] / 2 }];
+        let i0 = [
+            self.i0[0] / 2,
+            self.i0[1] / 2,
+            if planar { 0 } else { self.i0[2] / 2 },
+        ];
+        Grid {
+            plane: self.plane,
+            h: 2.0 * self.h,
+            inv_h: 0.5 * self.inv_h,
+            i0,
+            i0f: [i0[0] as f64, i0[1] as f64, i0[2] as f64],
+            shift: self.shift,
+            n,
+            wpr: nx / 64,
+        }
+    }
+
+    /// 2 for a planar grid, 3 otherwise.
+    pub fn dims(&self) -> i32 {
+        if self.plane.is_some() {
+            2
+        } else {
+            3
+        }
+    }
+
+    /// Measure of one cell: `h³` or `h²`.
+    pub fn cell_measure(&self) -> f64 {
+        self.h.powi(self.dims())
+    }
+
+    /// Words of a bitset over this grid.
+    pub fn words(&self) -> usize {
+        self.wpr * self.n[1] * self.n[2]
+    }
+
+    /// An empty bitset.
+    pub fn empty(&self) -> Vec<u64> {
+        vec![0; self.words()]
+    }
+
+    /// Grid coordinates of a world point, and for a planar grid its signed distance to
+    /// the plane (0 otherwise).
+    #[inline(always)]
+    pub fn coords(&self, p: &Vec3) -> ([f64; 3], f64) {
+        match &self.plane {
+            None => ([p.x, p.y, p.z], 0.0),
+            Some(pl) => {
+                let d = p - pl.o;
+                ([d.dot(&pl.u), d.dot(&pl.v), 0.0], d.dot(&pl.n))
+            }
+        }
+    }
+
+    /// Local `(ix, iy, iz)` of the cell containing grid coordinates `c`, `None` outside
+    /// the grid.
+    #[inline(always)]
+    pub fn locate_local(&self, c: &[f64; 3]) -> Option<[usize; 3]> {
+        let fx = (c[0] + self.shift[0]) * self.inv_h - self.i0f[0];
+        let fy = (c[1] + self.shift[1]) * self.inv_h - self.i0f[1];
+        let fz = if self.plane.is_some() {
+            0.0
+        } else {
+            (c[2] + self.shift[2]) * self.inv_h - self.i0f[2]
+        };
+        // `as usize` truncates towards zero: it is the floor for non-negative values.
+        if fx >= 0.0
+            && fy >= 0.0
+            && fz >= 0.0
+            && fx < self.n[0] as f64
+            && fy < self.n[1] as f64
+            && fz < self.n[2] as f64
+        {
+            Some([fx as usize, fy as usize, fz as usize])
+        } else {
+            None
+        }
+    }
+
+    /// Bit index of local cell `l`.
+    #[inline(always)]
+    pub fn index(&self, l: [usize; 3]) -> usize {
+        (((l[2] * self.n[1] + l[1]) * self.wpr) << 6) + l[0]
+    }
+
+    /// Bit index of the cell containing grid coordinates `c`, `None` outside the grid.
+    #[inline(always)]
+    pub fn locate(&self, c: &[f64; 3]) -> Option<usize> {
+        self.locate_local(c).map(|l| self.index(l))
+    }
+
+    /// Local `(ix, iy, iz)` of bit index `i`.
+    pub fn local(&self, i: usize) -> [usize; 3] {
+        let ix = i & 63;
+        let word = i >> 6;
+        let row = word / self.wpr;
+        [
+            (word % self.wpr) * 64 + ix,
+            row % self.n[1],
+            row / self.n[1],
+        ]
+    }
+
+    /// Global cell index of bit index `i`.
+    pub fn global(&self, i: usize) -> [i64; 3] {
+        let l = self.local(i);
+        [
+            self.i0[0] + l[0] as i64,
+            self.i0[1] + l[1] as i64,
+            self.i0[2] + l[2] as i64,
+        ]
+    }
+
+    /// World position of the centre of the cell with bit index `i` (for a planar grid,
+    /// the centre of the pixel in the plane).
+    pub fn center(&self, i: usize) -> Vec3 {
+        let g = self.global(i);
+        let c = |k: usize| (g[k] as f64 + 0.5) * self.h - self.shift[k];
+        match &self.plane {
+            None => Vec3::new(c(0), c(1), c(2)),
+            Some(pl) => pl.o + pl.u * c(0) + pl.v * c(1),
+        }
+    }
+
+    /// Whether bit `i` is set.
+    #[inline(always)]
+    pub fn test(bits: &[u64], i: usize) -> bool {
+        bits[i >> 6] >> (i & 63) & 1 == 1
+    }
+
+    /// Sets bit `i`; returns whether it was clear.
+    #[inline(always)]
+    pub fn set(bits: &mut [u64], i: usize) -> bool {
+        let w = &mut bits[i >> 6];
+        let m = 1u64 << (i & 63);
+        let was_clear = *w & m == 0;
+        *w |= m;
+        was_clear
+    }
+
+    /// Calls `f(word_index, w, [x+, x−, y+, y−, z+, z−])` for every word, where bit `b` of
+    /// each neighbour word is the occupancy of the face neighbour of bit `b` of `w`
+    /// (empty outside the grid; for a planar grid the z neighbours read as occupied so
+    /// that they never make a cell boundary).
+    fn for_each_word(&self, bits: &[u64], mut f: impl FnMut(usize, u64, [u64; 6])) {
+        let [_, ny, nz] = self.n;
+        let wpr = self.wpr;
+        let planar = self.plane.is_some();
+        let plane_words = ny * wpr;
+        for iz in 0..nz {
+            for iy in 0..ny {
+                let row = (iz * ny + iy) * wpr;
+                for k in 0..wpr {
+                    let i = row + k;
+                    let w = bits[i];
+                    let next = if k + 1 < wpr { bits[i + 1] } else { 0 };
+                    let prev = if k > 0 { bits[i - 1] } else { 0 };
+                    let xp = (w >> 1) | (next << 63);
+                    let xm = (w << 1) | (prev >> 63);
+                    let yp = if iy + 1 < ny { bits[i + wpr] } else { 0 };
+                    let ym = if iy > 0 { bits[i - wpr] } else { 0 };
+                    let (zp, zm) = if planar {
+                        (!0, !0)
+                    } else {
+                        (
+                            if iz + 1 < nz {
+                                bits[i + plane_words]
+                            } else {
+                                0
+                            },
+                            if iz > 0 { bits[i - plane_words] } else { 0 },
+                        )
+                    };
+                    f(i, w, [xp, xm, yp, ym, zp, zm]);
+                }
+            }
+        }
+    }
+
+    /// Occupied cells, exposed faces, boundary cells and isolated holes.
+    pub fn scan(&self, bits: &[u64]) -> Scan {
+        let planar = self.plane.is_some();
+        let wpr = self.wpr;
+        let ny = self.n[1];
+        let mut s = Scan::default();
+        self.for_each_word(bits, |i, w, nb| {
+            let [xp, xm, yp, ym, zp, zm] = nb;
+            s.occupied += w.count_ones() as u64;
+            // Each face between neighbours counted once, from its lower cell; the faces on
+            // the low sides of the grid from the first cell of each line.
+            let mut e = (w ^ xp).count_ones() + (w ^ yp).count_ones();
+            if i % wpr == 0 {
+                e += (w & 1) as u32;
+            }
+            if (i / wpr) % ny == 0 {
+                e += w.count_ones();
+            }
+            if !planar {
+                e += (w ^ zp).count_ones();
+                if i < ny * wpr {
+                    e += w.count_ones();
+                }
+            }
+            s.exposed += e as u64;
+            let all = xp & xm & yp & ym & zp & zm;
+            s.boundary += (w & !all).count_ones() as u64;
+            s.holes += (!w & all).count_ones() as u64;
+        });
+        s
+    }
+
+    /// The boundary cells (occupied with an empty face neighbour) as a bitset.
+    pub fn boundary_bits(&self, bits: &[u64]) -> Vec<u64> {
+        let mut out = self.empty();
+        self.for_each_word(bits, |i, w, nb| {
+            out[i] = w & !nb.iter().fold(!0u64, |a, &b| a & b);
+        });
+        out
+    }
+}
+
+/// Bit indices of the set bits, in order.
+pub(crate) fn set_bits(bits: &[u64]) -> impl Iterator<Item = usize> + '_ {
+    bits.iter().enumerate().flat_map(|(wi, &w)| {
+        let mut w = w;
+        std::iter::from_fn(move || {
+            if w == 0 {
+                None
+            } else {
+                let b = w.trailing_zeros() as usize;
+                w &= w - 1;
+                Some((wi << 6) + b)
+            }
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid3(plane: Option<PlaneFrame>) -> Grid {
+        Grid::new(1.0, &Vec3::zeros(), 4.0, plane, [0.0; 3]).expect("small")
+    }
+
+    fn fill(g: &Grid, cells: &[[i64; 3]]) -> Vec<u64> {
+        let mut bits = g.empty();
+        for c in cells {
+            let p = [c[0] as f64 + 0.5, c[1] as f64 + 0.5, c[2] as f64 + 0.5];
+            let i = g.locate(&p).expect("inside");
+            assert_eq!(
+                g.global(i),
+                if g.plane.is_some() {
+                    [c[0], c[1], 0]
+                } else {
+                    *c
+                }
+            );
+            Grid::set(&mut bits, i);
+        }
+        bits
+    }
+
+    #[test]
+    fn single_voxel_and_hollow_cube() {
+        let g = grid3(None);
+        let one = g.scan(&fill(&g, &[[0, 0, 0]]));
+        assert_eq!(
+            one,
+            Scan {
+                occupied: 1,
+                exposed: 6,
+                boundary: 1,
+                holes: 0
+            }
+        );
+        // 3 × 3 × 3 block without its centre: 26 voxels, 54 outer faces and 6 around
+        // the cavity, every voxel on the boundary, one hole.
+        let mut cells = Vec::new();
+        for x in -1..=1 {
+            for y in -1..=1 {
+                for z in -1..=1 {
+                    if (x, y, z) != (0, 0, 0) {
+                        cells.push([x, y, z]);
+                    }
+                }
+            }
+        }
+        let s = g.scan(&fill(&g, &cells));
+        assert_eq!(
+            s,
+            Scan {
+                occupied: 26,
+                exposed: 60,
+                boundary: 26,
+                holes: 1
+            }
+        );
+        // Across the 64-bit word boundary of a row: x = 63 − i0 and its neighbour.
+        let big = Grid::new(1.0, &Vec3::new(60.0, 0.0, 0.0), 70.0, None, [0.0; 3]).expect("grid");
+        let x = 63 + big.i0[0];
+        let s = big.scan(&fill(&big, &[[x, 0, 0], [x + 1, 0, 0]]));
+        assert_eq!((s.occupied, s.exposed, s.boundary), (2, 10, 2));
+    }
+
+    #[test]
+    fn planar_pixels_and_coarse_grid() {
+        let pl = PlaneFrame {
+            o: Vec3::zeros(),
+            u: Vec3::x(),
+            v: Vec3::z(),
+            n: Vec3::y(),
+        };
+        let g = grid3(Some(pl));
+        assert_eq!(g.dims(), 2);
+        assert_eq!(g.cell_measure(), 1.0);
+        // A 3 × 3 square of pixels: perimeter 12 edges, 8 boundary pixels.
+        let mut cells = Vec::new();
+        for x in 0..3 {
+            for y in 0..3 {
+                cells.push([x, y, 0]);
+            }
+        }
+        let bits = fill(&g, &cells);
+        let s = g.scan(&bits);
+        assert_eq!(
+            s,
+            Scan {
+                occupied: 9,
+                exposed: 12,
+                boundary: 8,
+                holes: 0
+            }
+        );
+        assert_eq!(set_bits(&g.boundary_bits(&bits)).count(), 8);
+        // On cells of 2: pixels 0..3 cover coarse cells 0 and 1 in each axis.
+        let c = g.coarse();
+        let mut coarse = c.empty();
+        for i in set_bits(&bits) {
+            let [x, y, z] = g.local(i);
+            Grid::set(&mut coarse, c.index([x / 2, y / 2, z / 2]));
+        }
+        assert_eq!(set_bits(&coarse).count(), 4);
+        // A shifted grid moves the cells: with s = 0.25, x = 0.8 is in cell 1.
+        let sh = Grid::new(1.0, &Vec3::zeros(), 4.0, Some(pl), [0.25, 0.0, 0.7]).expect("grid");
+        assert_eq!(sh.shift, [0.25, 0.0, 0.0]);
+        let i = sh.locate(&[0.8, 0.1, 0.0]).expect("inside");
+        assert_eq!(sh.global(i), [1, 0, 0]);
+        assert!((sh.center(i) - Vec3::new(1.25, 0.0, 0.5)).norm() < 1e-15);
+    }
+}
