@@ -388,3 +388,167 @@ fn a_closed_output_pipe_is_not_a_panic() {
     assert!(out.status.success(), "exit {:?}: {err}", out.status);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn ik_json_contract_numeric_and_analytic() {
+    // A reachable UR5 target: FK of a known configuration.
+    let fk = json(&["fk", "robots/ur5.urdf", "--q", UR5_Q, "--json"]);
+    let t = &fk["frames"]["tool0"];
+    let p: Vec<f64> = t["translation"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let r: Vec<Vec<f64>> = t["rotation"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| {
+            row.as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        })
+        .collect();
+    let m = nalgebra::Matrix3::from_fn(|i, j| r[i][j]);
+    let q = nalgebra::UnitQuaternion::from_matrix(&m);
+    let target = format!("{},{},{},{},{},{},{}", p[0], p[1], p[2], q.w, q.i, q.j, q.k);
+    for extra in [&[][..], &["--analytic"][..]] {
+        let mut args = vec![
+            "ik",
+            "robots/ur5.urdf",
+            "--link",
+            "tool0",
+            "--target",
+            target.as_str(),
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let v = json(&args);
+        assert_eq!(v["joints"].as_array().unwrap().len(), 6);
+        let res = &v["results"][0];
+        for key in [
+            "q",
+            "status",
+            "position_error",
+            "rotation_error",
+            "iterations",
+            "time_us",
+        ] {
+            assert!(res.get(key).is_some(), "{extra:?}: missing '{key}'");
+        }
+        assert_eq!(res["status"], "converged");
+        assert!(res["position_error"].as_f64().unwrap() < 1e-6);
+        if extra.is_empty() {
+            continue;
+        }
+        let sols = res["solutions"].as_array().unwrap();
+        assert!(
+            sols.len() >= 2 && sols.len() <= 8 && sols.len() % 2 == 0,
+            "{} branches",
+            sols.len()
+        );
+        // The generating configuration is among the branches.
+        let q0: Vec<f64> = UR5_Q.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!(sols.iter().any(
+            |s| s["q"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .zip(&q0)
+                .all(|(a, b)| (a.as_f64().unwrap() - b).abs() < 1e-8)
+        ));
+    }
+    // A CSV of targets: one result per row, in order; a header row is skipped.
+    let dir = std::env::temp_dir().join(format!("armsim-ik-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("targets.csv");
+    std::fs::write(
+        &csv,
+        format!("x,y,z,qw,qx,qy,qz\n{target}\n3,0,0,1,0,0,0\n"),
+    )
+    .unwrap();
+    let v = json(&[
+        "ik",
+        "robots/ur5.urdf",
+        "--link",
+        "tool0",
+        "--targets",
+        csv.to_str().unwrap(),
+        "--json",
+    ]);
+    let res = v["results"].as_array().unwrap();
+    assert_eq!(res.len(), 2);
+    assert_eq!(res[0]["status"], "converged");
+    assert_eq!(res[1]["status"], "unreachable");
+    std::fs::remove_dir_all(&dir).ok();
+    fails_with(
+        &[
+            "ik",
+            "robots/ur5.urdf",
+            "--link",
+            "tool0",
+            "--target",
+            "1,2,3",
+        ],
+        "expected 7 values",
+    );
+    fails_with(
+        &[
+            "ik",
+            "robots/ur5.urdf",
+            "--link",
+            "tool0",
+            "--target",
+            "1,2,3,0,0,0,0",
+        ],
+        "quaternion is zero",
+    );
+    fails_with(
+        &[
+            "ik",
+            "robots/iiwa14.urdf",
+            "--link",
+            "iiwa_link_ee",
+            "--target",
+            "0.5,0,0.5,1,0,0,0",
+            "--analytic",
+        ],
+        "does not support",
+    );
+}
+
+#[test]
+fn workspace_json_contract() {
+    let v = json(&[
+        "workspace",
+        "robots/planar_2r.toml",
+        "--samples",
+        "200000",
+        "--json",
+    ]);
+    for key in [
+        "samples",
+        "volume_m3",
+        "volume_stderr",
+        "voxel",
+        "bbox",
+        "time_s",
+        "area_m2",
+        "joint_names",
+    ] {
+        assert!(v.get(key).is_some(), "missing '{key}'");
+    }
+    // Uniform rods of 0.5 m: a disc of radius 1 m; raw voxel estimates overshoot by the
+    // documented voxel bias, the corrected estimate is within a few standard errors.
+    let area = v["area_m2"].as_f64().unwrap();
+    assert!((area - std::f64::consts::PI).abs() < 0.15, "{area}");
+    assert_eq!(v["voxel"], 0.02);
+    fails_with(&["workspace", "robots/ur5.urdf", "--voxel", "0"], "--voxel");
+    fails_with(
+        &["workspace", "robots/ur5.urdf", "--method", "grid"],
+        "--method",
+    );
+}
