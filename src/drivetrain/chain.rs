@@ -115,7 +115,11 @@ impl TorsionalChain {
     }
 
     /// The same chain with damping (`absolute`: one per disk, `relative`: one per shaft).
-    pub fn with_damping(mut self, absolute: Vec<f64>, relative: Vec<f64>) -> Result<Self, ChainError> {
+    pub fn with_damping(
+        mut self,
+        absolute: Vec<f64>,
+        relative: Vec<f64>,
+    ) -> Result<Self, ChainError> {
         self.absolute_damping = absolute;
         self.relative_damping = relative;
         self.validate()?;

@@ -1,14 +1,873 @@
-//! `kind = "torsional"` scenarios.
+//! `kind = "torsional"` scenarios: a torsional chain with optional engine excitation,
+//! speed sweep, time-domain check and damping identification (format in
+//! `docs/drivetrain.md`). The run reports the undamped modes (checked by Holzer and by
+//! the LR iteration), the damped modes, the forced response per order over the speed
+//! range, the critical-speed table, the time-domain check and the identification.
+//!
+//! Every error names the file, the line and the key (`chain.inertia[3]`, `engine.cylinders[0]`,
+//! `identification.measurements[2].between`): values are read with their spans.
 
-use crate::scenario::{Report, ScenarioError};
+use super::chain::{ChainError, TorsionalChain};
+use super::damped::damped_modes;
+use super::forced::{critical_speeds, order_response, sweep, Excitation};
+use super::holzer::holzer_frequencies;
+use super::identify::{identify_damping, DampingParameter, Measurement};
+use super::lr::lr_eigenvalues;
+use super::modes::{undamped_modes, CPM_PER_RAD_S};
+use super::time::steady_state_by_integration;
+use super::GearedChain;
+use crate::scenario::{line_at, Report, ScenarioError};
+use serde::Deserialize;
+use serde_json::{json, Value};
+use std::fmt::Write;
+use std::ops::Range;
 use std::path::Path;
+use toml::Spanned;
+
+type SVec<T> = Spanned<Vec<Spanned<T>>>;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ScenarioFile {
+    #[allow(dead_code)]
+    kind: String,
+    name: Option<String>,
+    #[allow(dead_code)]
+    description: Option<String>,
+    chain: ChainSection,
+    engine: Option<Spanned<EngineSection>>,
+    excitation: Option<Spanned<ExcitationSection>>,
+    sweep: Option<Spanned<SweepSection>>,
+    time_check: Option<Spanned<TimeCheckSection>>,
+    identification: Option<Spanned<IdentSection>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ChainSection {
+    names: SVec<String>,
+    inertia: SVec<f64>,
+    stiffness: SVec<f64>,
+    absolute_damping: Option<SVec<f64>>,
+    relative_damping: Option<SVec<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EngineSection {
+    cylinders: SVec<String>,
+    firing_angles_deg: SVec<f64>,
+    rated_speed_rpm: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ExcitationSection {
+    orders: SVec<f64>,
+    amplitude: SVec<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SweepSection {
+    speed_range_rpm: Spanned<[f64; 2]>,
+    points: Spanned<usize>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TimeCheckSection {
+    order: Spanned<f64>,
+    speed_rpm: Spanned<f64>,
+    periods: Spanned<usize>,
+    steps_per_period: Spanned<usize>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct IdentSection {
+    parameters: Vec<Spanned<ParamSection>>,
+    measurements: Vec<Spanned<MeasSection>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ParamSection {
+    name: String,
+    #[serde(default)]
+    absolute: Vec<Spanned<String>>,
+    #[serde(default)]
+    relative: Vec<Spanned<[String; 2]>>,
+    initial: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeasSection {
+    order: Spanned<f64>,
+    speed_rpm: Spanned<f64>,
+    between: Spanned<[String; 2]>,
+    torque: Spanned<f64>,
+}
+
+/// Error builder bound to one file.
+struct Ctx<'a> {
+    file: String,
+    text: &'a str,
+}
+
+impl Ctx<'_> {
+    fn at(
+        &self,
+        span: Range<usize>,
+        key: impl Into<String>,
+        msg: impl Into<String>,
+    ) -> ScenarioError {
+        ScenarioError::new(&self.file, Some(line_at(self.text, span.start)), key, msg)
+    }
+
+    /// Line of a `[section]` header.
+    fn section(&self, name: &str, msg: impl Into<String>) -> ScenarioError {
+        let header = format!("[{name}]");
+        let line = self
+            .text
+            .lines()
+            .position(|l| l.trim_start().starts_with(&header))
+            .map(|i| i + 1);
+        ScenarioError::new(&self.file, line, name, msg)
+    }
+}
+
+fn vals<T: Clone>(v: &SVec<T>) -> Vec<T> {
+    v.get_ref().iter().map(|s| s.get_ref().clone()).collect()
+}
+
+fn finite(x: f64) -> bool {
+    x.is_finite()
+}
 
 /// Runs a torsional-chain scenario.
-pub fn run(path: &Path, _text: &str) -> Result<Report, ScenarioError> {
-    Err(ScenarioError::new(
-        path.display().to_string(),
-        None,
-        "kind",
-        "torsional scenarios are not implemented yet",
-    ))
+pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
+    let file = path.display().to_string();
+    let ctx = Ctx { file, text };
+    let sc: ScenarioFile =
+        toml::from_str(text).map_err(|e| ScenarioError::from_toml(&ctx.file, text, &e))?;
+
+    // ---- Chain.
+    let ch = &sc.chain;
+    let n = ch.inertia.get_ref().len();
+    let zeros_or = |v: &Option<SVec<f64>>, len: usize| v.as_ref().map_or(vec![0.0; len], vals);
+    let chain = TorsionalChain {
+        names: vals(&ch.names),
+        inertia: vals(&ch.inertia),
+        stiffness: vals(&ch.stiffness),
+        absolute_damping: zeros_or(&ch.absolute_damping, n),
+        relative_damping: zeros_or(&ch.relative_damping, n.saturating_sub(1)),
+    };
+    chain.validate().map_err(|e| {
+        let arr: Option<&SVec<f64>> = match e.field.as_str() {
+            "inertia" => Some(&ch.inertia),
+            "stiffness" => Some(&ch.stiffness),
+            "absolute_damping" => ch.absolute_damping.as_ref(),
+            "relative_damping" => ch.relative_damping.as_ref(),
+            _ => None,
+        };
+        let span = match (arr, e.index) {
+            (Some(a), Some(i)) => a.get_ref()[i].span(),
+            (Some(a), None) => a.span(),
+            (None, Some(i)) if e.field == "names" => ch.names.get_ref()[i].span(),
+            _ => ch.names.span(),
+        };
+        let key = match e.index {
+            Some(i) => format!("chain.{}[{i}]", e.field),
+            None => format!("chain.{}", e.field),
+        };
+        ctx.at(span, key, e.message)
+    })?;
+    let disk = |name: &Spanned<String>, key: String| -> Result<usize, ScenarioError> {
+        chain
+            .names
+            .iter()
+            .position(|x| x == name.get_ref())
+            .ok_or_else(|| {
+                ctx.at(
+                    name.span(),
+                    key,
+                    format!("'{}' is not a disk of the chain", name.get_ref()),
+                )
+            })
+    };
+    let shaft = |pair: &Spanned<[String; 2]>, key: String| -> Result<usize, ScenarioError> {
+        let [a, b] = pair.get_ref();
+        let ia = chain.names.iter().position(|x| x == a);
+        let ib = chain.names.iter().position(|x| x == b);
+        match (ia, ib) {
+            (Some(i), Some(j)) if j == i + 1 => Ok(i),
+            (Some(i), Some(j)) if i == j + 1 => Ok(j),
+            _ => Err(ctx.at(
+                pair.span(),
+                key,
+                format!(
+                    "'{a}' and '{b}' are not adjacent disks of the chain (no shaft between them)"
+                ),
+            )),
+        }
+    };
+
+    // ---- Engine and excitation.
+    let mut rated = None;
+    let mut cylinders = Vec::new();
+    let mut angles = Vec::new();
+    if let Some(eng) = &sc.engine {
+        let e = eng.get_ref();
+        for (i, c) in e.cylinders.get_ref().iter().enumerate() {
+            cylinders.push(disk(c, format!("engine.cylinders[{i}]"))?);
+        }
+        angles = vals(&e.firing_angles_deg);
+        if angles.len() != cylinders.len() {
+            return Err(ctx.at(
+                e.firing_angles_deg.span(),
+                "engine.firing_angles_deg",
+                format!(
+                    "{} firing angles for {} cylinders",
+                    angles.len(),
+                    cylinders.len()
+                ),
+            ));
+        }
+        if let Some((i, s)) = e
+            .firing_angles_deg
+            .get_ref()
+            .iter()
+            .enumerate()
+            .find(|(_, s)| !finite(*s.get_ref()))
+        {
+            return Err(ctx.at(
+                s.span(),
+                format!("engine.firing_angles_deg[{i}]"),
+                "not a finite number",
+            ));
+        }
+        if let Some(r) = &e.rated_speed_rpm {
+            if !(r.get_ref().is_finite() && *r.get_ref() > 0.0) {
+                return Err(ctx.at(
+                    r.span(),
+                    "engine.rated_speed_rpm",
+                    "must be a positive speed",
+                ));
+            }
+            rated = Some(*r.get_ref());
+        }
+    }
+    let exc = match &sc.excitation {
+        None => None,
+        Some(x) => {
+            if sc.engine.is_none() {
+                return Err(ctx.section(
+                    "excitation",
+                    "an excitation needs an [engine] table (cylinders and firing angles)",
+                ));
+            }
+            let xs = x.get_ref();
+            let exc = Excitation {
+                cylinders: cylinders.clone(),
+                firing_angles_deg: angles.clone(),
+                orders: vals(&xs.orders),
+                amplitudes: vals(&xs.amplitude),
+            };
+            exc.validate(n).map_err(|e: ChainError| {
+                let (arr, field) = match e.field.as_str() {
+                    "orders" => (&xs.orders, "orders"),
+                    _ => (&xs.amplitude, "amplitude"),
+                };
+                match e.index {
+                    Some(i) => ctx.at(
+                        arr.get_ref()[i].span(),
+                        format!("excitation.{field}[{i}]"),
+                        e.message,
+                    ),
+                    None => ctx.at(arr.span(), format!("excitation.{field}"), e.message),
+                }
+            })?;
+            Some(exc)
+        }
+    };
+
+    // ---- Sweep settings.
+    let speeds: Option<Vec<f64>> = match &sc.sweep {
+        None => None,
+        Some(s) => {
+            let sw = s.get_ref();
+            if exc.is_none() {
+                return Err(ctx.section("sweep", "a sweep needs an [excitation] table"));
+            }
+            let [lo, hi] = *sw.speed_range_rpm.get_ref();
+            if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
+                return Err(ctx.at(
+                    sw.speed_range_rpm.span(),
+                    "sweep.speed_range_rpm",
+                    format!("expected [low, high] with 0 < low < high, got [{lo}, {hi}]"),
+                ));
+            }
+            let p = *sw.points.get_ref();
+            if !(2..=100_000).contains(&p) {
+                return Err(ctx.at(
+                    sw.points.span(),
+                    "sweep.points",
+                    format!("expected 2 … 100000 points, got {p}"),
+                ));
+            }
+            Some(
+                (0..p)
+                    .map(|i| lo + (hi - lo) * i as f64 / (p - 1) as f64)
+                    .collect(),
+            )
+        }
+    };
+
+    // ---- Time check settings.
+    let time_check = match &sc.time_check {
+        None => None,
+        Some(t) => {
+            let tc = t.get_ref();
+            let Some(ex) = &exc else {
+                return Err(ctx.section("time_check", "a time check needs an [excitation] table"));
+            };
+            let order = *tc.order.get_ref();
+            let Some(oi) = ex.orders.iter().position(|&o| o == order) else {
+                return Err(ctx.at(
+                    tc.order.span(),
+                    "time_check.order",
+                    format!("order {order} is not in excitation.orders"),
+                ));
+            };
+            let sp = *tc.speed_rpm.get_ref();
+            if !(sp.is_finite() && sp > 0.0) {
+                return Err(ctx.at(
+                    tc.speed_rpm.span(),
+                    "time_check.speed_rpm",
+                    "must be a positive speed",
+                ));
+            }
+            let periods = *tc.periods.get_ref();
+            if !(2..=1_000_000).contains(&periods) {
+                return Err(ctx.at(
+                    tc.periods.span(),
+                    "time_check.periods",
+                    "expected 2 … 1000000",
+                ));
+            }
+            let spp = *tc.steps_per_period.get_ref();
+            if !(8..=1_000_000).contains(&spp) {
+                return Err(ctx.at(
+                    tc.steps_per_period.span(),
+                    "time_check.steps_per_period",
+                    "expected 8 … 1000000",
+                ));
+            }
+            // RK4 is stable for |λ h| ≲ 2.8; refuse steps that would blow up.
+            let top = undamped_modes(&chain).last().map_or(0.0, |m| m.omega);
+            let h = 60.0 / (order * sp) / spp as f64;
+            if top * h > 2.5 {
+                return Err(ctx.at(
+                    tc.steps_per_period.span(),
+                    "time_check.steps_per_period",
+                    format!(
+                        "step {h:.3e} s is too long for the highest mode ({:.1} rad/s): RK4 needs ω h < 2.8; use at least {} steps per period",
+                        top,
+                        (top * 60.0 / (order * sp) / 2.5).ceil() as usize
+                    ),
+                ));
+            }
+            Some((oi, sp, periods, spp))
+        }
+    };
+
+    // ---- Identification settings.
+    let ident = match &sc.identification {
+        None => None,
+        Some(idn) => {
+            let id = idn.get_ref();
+            let Some(ex) = &exc else {
+                return Err(ctx.section(
+                    "identification",
+                    "identification needs an [excitation] table",
+                ));
+            };
+            if id.parameters.is_empty() {
+                return Err(ctx.at(
+                    idn.span(),
+                    "identification.parameters",
+                    "no parameters to fit",
+                ));
+            }
+            let mut base = chain.clone();
+            let mut params = Vec::new();
+            let mut initial = Vec::new();
+            for (pi, p) in id.parameters.iter().enumerate() {
+                let ps = p.get_ref();
+                let mut dp = DampingParameter {
+                    name: ps.name.clone(),
+                    absolute: Vec::new(),
+                    relative: Vec::new(),
+                };
+                for (i, d) in ps.absolute.iter().enumerate() {
+                    let k = disk(d, format!("identification.parameters[{pi}].absolute[{i}]"))?;
+                    base.absolute_damping[k] = 0.0;
+                    dp.absolute.push((k, 1.0));
+                }
+                for (i, s) in ps.relative.iter().enumerate() {
+                    let k = shaft(s, format!("identification.parameters[{pi}].relative[{i}]"))?;
+                    base.relative_damping[k] = 0.0;
+                    dp.relative.push((k, 1.0));
+                }
+                if dp.absolute.is_empty() && dp.relative.is_empty() {
+                    return Err(ctx.at(
+                        p.span(),
+                        format!("identification.parameters[{pi}]"),
+                        "names no damper (give `absolute` disks or `relative` disk pairs)",
+                    ));
+                }
+                let init = *ps.initial.get_ref();
+                if !(init.is_finite() && init > 0.0) {
+                    return Err(ctx.at(
+                        ps.initial.span(),
+                        format!("identification.parameters[{pi}].initial"),
+                        "must be a positive number",
+                    ));
+                }
+                initial.push(init);
+                params.push(dp);
+            }
+            let mut data = Vec::new();
+            for (mi, m) in id.measurements.iter().enumerate() {
+                let ms = m.get_ref();
+                let order = *ms.order.get_ref();
+                if !ex.orders.contains(&order) {
+                    return Err(ctx.at(
+                        ms.order.span(),
+                        format!("identification.measurements[{mi}].order"),
+                        format!("order {order} is not in excitation.orders"),
+                    ));
+                }
+                let sp = *ms.speed_rpm.get_ref();
+                if !(sp.is_finite() && sp > 0.0) {
+                    return Err(ctx.at(
+                        ms.speed_rpm.span(),
+                        format!("identification.measurements[{mi}].speed_rpm"),
+                        "must be a positive speed",
+                    ));
+                }
+                let tq = *ms.torque.get_ref();
+                if !(tq.is_finite() && tq > 0.0) {
+                    return Err(ctx.at(
+                        ms.torque.span(),
+                        format!("identification.measurements[{mi}].torque"),
+                        "must be a positive torque amplitude",
+                    ));
+                }
+                let s = shaft(
+                    &ms.between,
+                    format!("identification.measurements[{mi}].between"),
+                )?;
+                data.push(Measurement {
+                    order,
+                    speed_rpm: sp,
+                    shaft: s,
+                    torque: tq,
+                });
+            }
+            if data.len() <= params.len() {
+                return Err(ctx.at(
+                    idn.span(),
+                    "identification.measurements",
+                    format!(
+                        "{} measurements for {} parameters: need more",
+                        data.len(),
+                        params.len()
+                    ),
+                ));
+            }
+            // Nominal values: what the [chain] table says for those dampers.
+            let nominal: Vec<f64> = params
+                .iter()
+                .map(|p| {
+                    p.absolute
+                        .first()
+                        .map(|&(k, _)| chain.absolute_damping[k])
+                        .or_else(|| p.relative.first().map(|&(k, _)| chain.relative_damping[k]))
+                        .unwrap_or(0.0)
+                })
+                .collect();
+            Some((base, params, data, initial, nominal, idn.span()))
+        }
+    };
+
+    // ---- Compute.
+    let name = sc.name.clone().unwrap_or_else(|| ctx.file.clone());
+    let masses = chain.names.clone();
+    let shafts = chain.shaft_names();
+    let modes = undamped_modes(&chain);
+    // Holzer's field matrices divide by c: only for chains without zero-stiffness shafts.
+    let holzer: Option<Vec<f64>> = chain
+        .stiffness
+        .iter()
+        .all(|c| *c > 0.0)
+        .then(|| holzer_frequencies(&GearedChain::from(chain.clone())));
+    let lr = lr_eigenvalues(&chain, 1_000_000).ok();
+    let damped = damped_modes(&chain);
+    let mut text = String::new();
+    let _ = writeln!(text, "{name}");
+    let _ = writeln!(text, "{n} disks, {} shafts\n", n - 1);
+    let _ = writeln!(
+        text,
+        "{:>3}  {:<22} {:>12} {:>14} {:>12} {:>12}",
+        "#", "disk", "J (kg m²)", "c next (N m/rad)", "a (N m s)", "b next"
+    );
+    for (k, mass) in masses.iter().enumerate() {
+        let _ = writeln!(
+            text,
+            "{:>3}  {:<22} {:>12.1} {:>14} {:>12.0} {:>12}",
+            k + 1,
+            mass,
+            chain.inertia[k],
+            chain
+                .stiffness
+                .get(k)
+                .map_or("–".into(), |c| format!("{c:.4e}")),
+            chain.absolute_damping[k],
+            chain
+                .relative_damping
+                .get(k)
+                .map_or("–".into(), |b| format!("{b:.0}")),
+        );
+    }
+
+    // Modes.
+    let holzer_cpm: Option<Vec<f64>> = holzer
+        .as_ref()
+        .map(|h| h.iter().map(|w| w * CPM_PER_RAD_S).collect());
+    let lr_cpm: Option<Vec<f64>> = lr.as_ref().map(|v| {
+        v.iter()
+            .map(|p2| p2.max(0.0).sqrt() * CPM_PER_RAD_S)
+            .collect()
+    });
+    let _ = writeln!(
+        text,
+        "\nUndamped natural frequencies (K x = p² J x; Holzer and LR as checks)"
+    );
+    let _ = writeln!(
+        text,
+        "{:>4} {:>12} {:>12} {:>12} {:>12}",
+        "mode", "cycles/min", "rad/s", "Holzer cpm", "LR cpm"
+    );
+    for (r, m) in modes.iter().enumerate() {
+        let _ = writeln!(
+            text,
+            "{:>4} {:>12.2} {:>12.4} {:>12} {:>12}",
+            r,
+            m.frequency_cpm(),
+            m.omega,
+            holzer_cpm
+                .as_ref()
+                .map_or("–".into(), |v| format!("{:.2}", v[r])),
+            lr_cpm
+                .as_ref()
+                .map_or("–".into(), |v| format!("{:.2}", v[r]))
+        );
+    }
+    let _ = writeln!(text, "\nMode shapes (max |x| = 1), first modes:");
+    let show = modes.len().min(5);
+    let _ = write!(text, "{:<22}", "disk");
+    for m in modes.iter().take(show) {
+        let _ = write!(text, " {:>10}", format!("{:.1} cpm", m.frequency_cpm()));
+    }
+    let _ = writeln!(text);
+    for (k, mass) in masses.iter().enumerate() {
+        let _ = write!(text, "{:<22}", mass);
+        for m in modes.iter().take(show) {
+            let _ = write!(text, " {:>10.4}", m.shape[k]);
+        }
+        let _ = writeln!(text);
+    }
+    let modes_json: Vec<Value> = modes
+        .iter()
+        .enumerate()
+        .map(|(r, m)| {
+            json!({
+                "index": r,
+                "frequency_cpm": m.frequency_cpm(),
+                "frequency_rad_s": m.omega,
+                "rigid_body": m.is_rigid_body(),
+                "shape": m.shape,
+            })
+        })
+        .collect();
+
+    // Damped modes.
+    let _ = writeln!(
+        text,
+        "\nDamped modes ((λ² J + λ B + K) x = 0, state-space form)"
+    );
+    let _ = writeln!(
+        text,
+        "{:>4} {:>12} {:>12} {:>12} {:>10} {:>14}",
+        "mode", "Re λ (1/s)", "Im λ (1/s)", "Im λ cpm", "ζ", "phase spread°"
+    );
+    for (r, d) in damped.oscillatory.iter().enumerate() {
+        let ph = d.phase_deg();
+        // Spread of phases about 0/180 (a real mode has none).
+        let spread = ph
+            .iter()
+            .zip(&d.shape)
+            .filter(|(_, z)| z.norm() > 1e-3)
+            .map(|(p, _)| {
+                let q = p.rem_euclid(180.0);
+                q.min(180.0 - q)
+            })
+            .fold(0.0_f64, f64::max);
+        let _ = writeln!(
+            text,
+            "{:>4} {:>12.4} {:>12.4} {:>12.2} {:>10.5} {:>14.2}",
+            r + 1,
+            d.eigenvalue.re,
+            d.eigenvalue.im,
+            d.damped_frequency_cpm(),
+            d.damping_ratio(),
+            spread
+        );
+    }
+    if !damped.real_eigenvalues.is_empty() {
+        let _ = writeln!(
+            text,
+            "real eigenvalues (rigid-body / overdamped): {}",
+            damped
+                .real_eigenvalues
+                .iter()
+                .map(|v| format!("{v:.4}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    let damped_json: Vec<Value> = damped
+        .oscillatory
+        .iter()
+        .map(|d| {
+            json!({
+                "eigenvalue": [d.eigenvalue.re, d.eigenvalue.im],
+                "damped_frequency_cpm": d.damped_frequency_cpm(),
+                "natural_frequency_cpm": d.natural_frequency_cpm(),
+                "damping_ratio": d.damping_ratio(),
+                "shape": d.shape.iter().map(|z| [z.re, z.im]).collect::<Vec<_>>(),
+                "phase_deg": d.phase_deg(),
+                "residual": d.residual,
+            })
+        })
+        .collect();
+
+    let mut json = json!({
+        "scenario": name,
+        "kind": "torsional",
+        "masses": masses,
+        "shafts": shafts,
+        "modes": modes_json,
+        "frequency_checks": {
+            "holzer_cpm": holzer_cpm,
+            "lr_cpm": lr_cpm,
+        },
+        "damped_modes": damped_json,
+        "real_eigenvalues": damped.real_eigenvalues,
+    });
+
+    // Forced response, critical speeds.
+    if let Some(ex) = &exc {
+        let crit = critical_speeds(&modes, ex);
+        let range = speeds.as_ref().map(|s| (s[0], s[s.len() - 1]));
+        let in_range = |v: f64| range.is_none_or(|(lo, hi)| v >= lo && v <= hi);
+        let _ = writeln!(
+            text,
+            "\nCritical speeds in the speed range (relative excitation = |Σ x e^(ikα)| / Σ|x| over the cylinders)"
+        );
+        let _ = writeln!(
+            text,
+            "{:>6} {:>5} {:>12} {:>10} {:>10} {:>10}",
+            "order", "mode", "f (cpm)", "n (rpm)", "|Σ|", "relative"
+        );
+        for c in crit.iter().filter(|c| in_range(c.speed_rpm)) {
+            let _ = writeln!(
+                text,
+                "{:>6} {:>5} {:>12.2} {:>10.2} {:>10.4} {:>10.4}{}",
+                c.order,
+                c.mode,
+                c.frequency_cpm,
+                c.speed_rpm,
+                c.phase_sum,
+                c.relative,
+                if ex.cylinders.len() > 1 && c.relative > 0.99 {
+                    "  major (in phase)"
+                } else {
+                    ""
+                }
+            );
+        }
+        json["critical_speeds"] = Value::Array(
+            crit.iter()
+                .map(|c| {
+                    json!({
+                        "order": c.order,
+                        "mode": c.mode,
+                        "frequency_cpm": c.frequency_cpm,
+                        "speed_rpm": c.speed_rpm,
+                        "phase_sum": c.phase_sum,
+                        "relative_excitation": c.relative,
+                        "in_speed_range": in_range(c.speed_rpm),
+                    })
+                })
+                .collect(),
+        );
+        let mut forced = Vec::new();
+        let sweeps = speeds.as_ref().map(|s| sweep(&chain, ex, s));
+        let _ = writeln!(
+            text,
+            "\nForced response per order (amplitudes per cylinder)"
+        );
+        let _ = writeln!(
+            text,
+            "{:>6} {:>11} {:>26} {:>10} {:>14}{}",
+            "order",
+            "A (N m)",
+            "peak shaft",
+            "at rpm",
+            "peak T (N m)",
+            if rated.is_some() {
+                "   max T at rated (N m)"
+            } else {
+                ""
+            }
+        );
+        for (i, &order) in ex.orders.iter().enumerate() {
+            let mut o = json!({ "order": order, "amplitude_Nm": ex.amplitudes[i] });
+            let mut line = format!("{:>6} {:>11.4e}", order, ex.amplitudes[i]);
+            if let Some(sw) = sweeps.as_ref().map(|s| &s[i]) {
+                o["speeds_rpm"] = json!(sw.speeds_rpm);
+                o["shaft_torque_Nm"] = json!(sw.shaft_torque);
+            }
+            if let Some((sw, (si, sh, tq))) = sweeps
+                .as_ref()
+                .and_then(|s| s[i].peak().map(|p| (&s[i], p)))
+            {
+                let at_peak = order_response(&chain, ex, i, sw.speeds_rpm[si]);
+                o["peak"] = json!({
+                    "speed_rpm": sw.speeds_rpm[si],
+                    "shaft": shafts[sh],
+                    "torque_Nm": tq,
+                    "mass_amplitude_rad": at_peak.as_ref().map(|r| r.amplitudes()),
+                    "shaft_torque_Nm": at_peak.as_ref().map(|r| r.shaft_torques(&chain)),
+                });
+                let _ = write!(
+                    line,
+                    " {:>26} {:>10.2} {:>14.4e}",
+                    shafts[sh], sw.speeds_rpm[si], tq
+                );
+            }
+            if let Some(rpm) = rated {
+                if let Some(r) = order_response(&chain, ex, i, rpm) {
+                    let t = r.shaft_torques(&chain);
+                    let tmax = t.iter().fold(0.0_f64, |m, v| m.max(*v));
+                    o["at_rated"] = json!({
+                        "speed_rpm": rpm,
+                        "mass_amplitude_rad": r.amplitudes(),
+                        "shaft_torque_Nm": t,
+                    });
+                    let _ = write!(line, "   {tmax:>14.4e}");
+                }
+            }
+            let _ = writeln!(text, "{line}");
+            forced.push(o);
+        }
+        json["forced"] = Value::Array(forced);
+        if let Some(rpm) = rated {
+            json["rated_speed_rpm"] = json!(rpm);
+        }
+    }
+
+    // Time-domain check.
+    if let (Some((oi, sp, periods, spp)), Some(ex)) = (time_check, &exc) {
+        let order = ex.orders[oi];
+        let (ms, mc) = ex.torque_vectors(n, oi);
+        let harmonic = order_response(&chain, ex, oi, sp);
+        let nu = order * sp * super::forced::RAD_S_PER_RPM;
+        let td = steady_state_by_integration(&chain, nu, &ms, &mc, periods, spp);
+        if let Some(h) = harmonic {
+            let scale = h.amplitudes().iter().fold(0.0_f64, |m, v| m.max(*v));
+            let diff = h
+                .sin
+                .iter()
+                .zip(&td.sin)
+                .chain(h.cos.iter().zip(&td.cos))
+                .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+            let rel = diff / scale;
+            let _ = writeln!(
+                text,
+                "\nTime-domain check: order {order} at {sp} rpm, RK4 from rest over {periods} periods × {spp} steps ({:.2} s): \
+                 last-period Fourier coefficients differ from the harmonic solution by {rel:.2e} (relative to the largest amplitude)",
+                periods as f64 * 60.0 / (order * sp)
+            );
+            json["time_check"] = json!({
+                "order": order,
+                "speed_rpm": sp,
+                "periods": periods,
+                "steps_per_period": spp,
+                "simulated_s": periods as f64 * 60.0 / (order * sp),
+                "max_relative_difference": rel,
+                "harmonic_amplitude_rad": h.amplitudes(),
+                "time_domain_amplitude_rad": td.amplitudes(),
+            });
+        }
+    }
+
+    // Identification.
+    if let (Some((base, params, data, initial, nominal, span)), Some(ex)) = (ident, &exc) {
+        let est = identify_damping(&base, ex, &params, &data, &initial)
+            .map_err(|e| ctx.at(span.clone(), "identification", e.to_string()))?;
+        let _ = writeln!(
+            text,
+            "\nDamping identification ({} measured shaft-torque amplitudes, Levenberg–Marquardt, {} iterations, residual σ = {:.3} %)",
+            data.len(),
+            est.iterations,
+            100.0 * est.sigma
+        );
+        let _ = writeln!(
+            text,
+            "{:<24} {:>14} {:>14} {:>14} {:>10}",
+            "parameter", "estimate", "std error", "in [chain]", "(est−chain)/se"
+        );
+        let mut pj = Vec::new();
+        for (j, p) in params.iter().enumerate() {
+            let z = (est.values[j] - nominal[j]) / est.std_errors[j];
+            let _ = writeln!(
+                text,
+                "{:<24} {:>14.1} {:>14.1} {:>14.1} {:>10.2}",
+                p.name, est.values[j], est.std_errors[j], nominal[j], z
+            );
+            pj.push(json!({
+                "name": p.name,
+                "estimate": est.values[j],
+                "std_error": est.std_errors[j],
+                "initial": initial[j],
+                "chain_value": nominal[j],
+            }));
+        }
+        json["identification"] = json!({
+            "parameters": pj,
+            "measurements": data.len(),
+            "iterations": est.iterations,
+            "residual_sigma": est.sigma,
+            "covariance": (0..params.len())
+                .map(|i| (0..params.len()).map(|j| est.covariance[(i, j)]).collect::<Vec<_>>())
+                .collect::<Vec<_>>(),
+        });
+    }
+
+    Ok(Report { json, text })
 }
