@@ -9,16 +9,27 @@ use armsim::kinematics::ik::IkOptions;
 use armsim::model::Model;
 
 fn main() {
-    let n: usize = std::env::var("ARMSIM_IK_TARGETS").ok().and_then(|s| s.parse().ok()).unwrap_or(10_000);
+    let n: usize = std::env::var("ARMSIM_IK_TARGETS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(10_000);
     let root = env!("CARGO_MANIFEST_DIR");
     println!("| robot | link | tolerance | targets | success % | median µs | p99 µs | mean µs | mean iterations |");
     println!("|---|---|---:|---:|---:|---:|---:|---:|---:|");
-    for (file, link) in [("ur5.urdf", "tool0"), ("panda.urdf", "panda_link8"), ("iiwa14.urdf", "iiwa_link_ee")] {
+    for (file, link) in [
+        ("ur5.urdf", "tool0"),
+        ("panda.urdf", "panda_link8"),
+        ("iiwa14.urdf", "iiwa_link_ee"),
+    ] {
         let (m, _) = Model::load(format!("{root}/robots/{file}")).expect("robot loads");
         let l = m.link_id(link).unwrap();
         let targets = random_targets(&m, l, n, 2026);
         for tol in [1e-6, 1e-3, 1e-9, 1e-12] {
-            let opts = IkOptions { tol_position: tol, tol_rotation: tol, ..Default::default() };
+            let opts = IkOptions {
+                tol_position: tol,
+                tol_rotation: tol,
+                ..Default::default()
+            };
             let s = benchmark(&m, l, &targets, &opts);
             println!(
                 "| {} | {link} | {tol:.0e} | {} | {:.2} | {:.1} | {:.1} | {:.1} | {:.1} |",

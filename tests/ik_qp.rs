@@ -19,7 +19,12 @@ fn local_target(m: &Model, link: usize, rng: &mut SmallRng) -> (Vec<f64>, armsim
         let (l, u) = m.sampling_bounds(k);
         x.clamp(l + 0.1 * (u - l), u - 0.1 * (u - l))
     };
-    let q0: Vec<f64> = m.random_q(rng).iter().enumerate().map(|(k, x)| inner(k, *x)).collect();
+    let q0: Vec<f64> = m
+        .random_q(rng)
+        .iter()
+        .enumerate()
+        .map(|(k, x)| inner(k, *x))
+        .collect();
     let q1: Vec<f64> = q0
         .iter()
         .enumerate()
@@ -32,7 +37,10 @@ fn local_target(m: &Model, link: usize, rng: &mut SmallRng) -> (Vec<f64>, armsim
 
 #[test]
 fn qp_ik_converges_and_every_step_respects_position_and_velocity_limits() {
-    for (file, link) in [("robots/ur5.urdf", "tool0"), ("robots/iiwa14.urdf", "iiwa_link_ee")] {
+    for (file, link) in [
+        ("robots/ur5.urdf", "tool0"),
+        ("robots/iiwa14.urdf", "iiwa_link_ee"),
+    ] {
         let m = common::load(file);
         let link = m.link_id(link).unwrap();
         let mut rng = SmallRng::seed_from_u64(41);
@@ -49,7 +57,11 @@ fn qp_ik_converges_and_every_step_respects_position_and_velocity_limits() {
                 let dq = qp_step(&m, &mut d, link, &target, &q, &opts).unwrap();
                 for k in 0..m.nv {
                     let vmax = m.velocity_limit[k] * opts.dt;
-                    assert!(dq[k].abs() <= vmax * (1.0 + 1e-6) + 1e-9, "joint {k}: {} > {vmax}", dq[k]);
+                    assert!(
+                        dq[k].abs() <= vmax * (1.0 + 1e-6) + 1e-9,
+                        "joint {k}: {} > {vmax}",
+                        dq[k]
+                    );
                     q[k] += dq[k];
                     assert!(q[k] >= m.lower[k] - 1e-7 && q[k] <= m.upper[k] + 1e-7);
                 }
@@ -68,12 +80,38 @@ fn secondary_goals_act_in_the_null_space() {
     for _ in 0..10 {
         let (q0, target) = local_target(&m, link, &mut rng);
         let plain = qp_ik(&m, link, &target, &q0, &QpIkOptions::default());
-        let homed = qp_ik(&m, link, &target, &q0, &QpIkOptions { secondary: Secondary::Home(home.clone()), max_steps: 400, ..Default::default() });
-        let away = qp_ik(&m, link, &target, &q0, &QpIkOptions { secondary: Secondary::AwayFromLimits, max_steps: 400, ..Default::default() });
+        let homed = qp_ik(
+            &m,
+            link,
+            &target,
+            &q0,
+            &QpIkOptions {
+                secondary: Secondary::Home(home.clone()),
+                max_steps: 400,
+                ..Default::default()
+            },
+        );
+        let away = qp_ik(
+            &m,
+            link,
+            &target,
+            &q0,
+            &QpIkOptions {
+                secondary: Secondary::AwayFromLimits,
+                max_steps: 400,
+                ..Default::default()
+            },
+        );
         for r in [&plain, &homed, &away] {
             assert_eq!(r.status, IkStatus::Converged, "{r:?}");
         }
-        let dist = |q: &[f64]| q.iter().zip(&home).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+        let dist = |q: &[f64]| {
+            q.iter()
+                .zip(&home)
+                .map(|(a, b)| (a - b).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
         // Liégeois' joint-range criterion, the quantity the secondary goal descends.
         let range_cost = |q: &[f64]| {
             (0..m.nv)
@@ -93,5 +131,8 @@ fn secondary_goals_act_in_the_null_space() {
     }
     // The secondary goal pulls the redundant DOF without disturbing the task.
     assert!(closer >= n * 8 / 10, "home goal closer in {closer}/{n}");
-    assert!(farther_from_limits >= n * 8 / 10, "away from limits in {farther_from_limits}/{n}");
+    assert!(
+        farther_from_limits >= n * 8 / 10,
+        "away from limits in {farther_from_limits}/{n}"
+    );
 }

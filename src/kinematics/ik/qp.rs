@@ -108,7 +108,13 @@ fn csc(m: &DMatrix<f64>, triu: bool) -> CscMatrix<f64> {
 }
 
 /// `min ½ xᵀ P x + qᵀ x` s.t. `A_eq x = b_eq`, `lo ≤ x ≤ hi`. `None` if not solved.
-fn solve_qp(p: &DMatrix<f64>, q: &[f64], eq: Option<(&DMatrix<f64>, &[f64])>, lo: &[f64], hi: &[f64]) -> Option<Vec<f64>> {
+fn solve_qp(
+    p: &DMatrix<f64>,
+    q: &[f64],
+    eq: Option<(&DMatrix<f64>, &[f64])>,
+    lo: &[f64],
+    hi: &[f64],
+) -> Option<Vec<f64>> {
     let n = q.len();
     let neq = eq.map_or(0, |(a, _)| a.nrows());
     let mut a = DMatrix::zeros(neq + 2 * n, n);
@@ -141,7 +147,8 @@ fn solve_qp(p: &DMatrix<f64>, q: &[f64], eq: Option<(&DMatrix<f64>, &[f64])>, lo
         max_iter: 100,
         ..Default::default()
     };
-    let mut solver = DefaultSolver::new(&csc(p, true), q, &csc(&a, false), &b, &cones, settings).ok()?;
+    let mut solver =
+        DefaultSolver::new(&csc(p, true), q, &csc(&a, false), &b, &cones, settings).ok()?;
     solver.solve();
     match solver.solution.status {
         SolverStatus::Solved | SolverStatus::AlmostSolved => Some(solver.solution.x.clone()),
@@ -151,7 +158,14 @@ fn solve_qp(p: &DMatrix<f64>, q: &[f64], eq: Option<(&DMatrix<f64>, &[f64])>, lo
 
 /// One QP step at `q` towards `target`; returns `Δq` (inside the limits), or `None` when
 /// the QP could not be solved.
-pub fn qp_step(model: &Model, data: &mut Data, link: usize, target: &Se3, q: &[f64], opts: &QpIkOptions) -> Option<Vec<f64>> {
+pub fn qp_step(
+    model: &Model,
+    data: &mut Data,
+    link: usize,
+    target: &Se3,
+    q: &[f64],
+    opts: &QpIkOptions,
+) -> Option<Vec<f64>> {
     let n = model.nv;
     let rows = if opts.position_only { 3 } else { 6 };
     crate::kinematics::forward_kinematics(model, data, q);
@@ -207,7 +221,9 @@ pub fn qp_step(model: &Model, data: &mut Data, link: usize, target: &Se3, q: &[f
         return Some(dq1);
     }
     let target_dq: Vec<f64> = match &opts.secondary {
-        Secondary::Home(home) => (0..n).map(|k| opts.secondary_gain * (home[k] - q[k])).collect(),
+        Secondary::Home(home) => (0..n)
+            .map(|k| opts.secondary_gain * (home[k] - q[k]))
+            .collect(),
         Secondary::AwayFromLimits => (0..n)
             .map(|k| {
                 let (l, u) = model.sampling_bounds(k);
@@ -244,7 +260,11 @@ pub fn qp_ik(model: &Model, link: usize, target: &Se3, q0: &[f64], opts: &QpIkOp
         crate::kinematics::forward_kinematics(model, data, q);
         let cur = frame_placement(model, data, link);
         let ep = (target.trans - cur.trans).norm();
-        let er = if opts.position_only { 0.0 } else { rotation_log(&(target.rot * cur.rot.transpose())).norm() };
+        let er = if opts.position_only {
+            0.0
+        } else {
+            rotation_log(&(target.rot * cur.rot.transpose())).norm()
+        };
         (ep, er)
     };
     let mut steps = 0;
@@ -259,7 +279,11 @@ pub fn qp_ik(model: &Model, link: usize, target: &Se3, q0: &[f64], opts: &QpIkOp
     };
     while steps < opts.max_steps && !(ep <= opts.tol_position && er <= opts.tol_rotation) {
         steps += 1;
-        let o = if steps <= opts.max_steps / 2 { opts } else { &polish };
+        let o = if steps <= opts.max_steps / 2 {
+            opts
+        } else {
+            &polish
+        };
         let Some(dq) = qp_step(model, &mut data, link, target, &q, o) else {
             stalled = true;
             break;
