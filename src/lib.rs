@@ -25,4 +25,5 @@ pub mod model;
 pub mod scenario;
 pub mod sim;
 pub mod spatial;
+pub mod trajectory;
 pub mod workspace;
