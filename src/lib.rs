@@ -14,6 +14,7 @@
 //! ```
 
 pub mod bench;
+pub mod collision;
 pub mod data;
 pub mod drivetrain;
 pub mod dynamics;

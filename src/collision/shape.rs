@@ -1,0 +1,646 @@
+//! Collision shapes (parry3d-f64 shapes built from [`crate::model::Shape`]) and the
+//! pairwise queries: intersection, signed distance and witness points.
+//!
+//! parry 0.31 works in glam types (`glamx::DPose3`, `DVec3`, `DQuat`); [`to_pose`] and
+//! [`to_vec3`] convert at this boundary, so nothing outside this module sees them.
+//!
+//! Conventions: URDF cylinders and capsules are along z (parry's cylinder is along y: it
+//! is turned by +90° about x); box sizes are full side lengths; a mesh is scaled per axis
+//! (a negative scale product reverses the triangle winding) and becomes either a triangle
+//! mesh or, with the convex-hull option, its convex hull.
+//!
+//! **Signed distance.** Positive: the separation; negative: minus the penetration depth
+//! (the shortest translation that separates the shapes).
+//! - Two spheres/capsules: closed form (segment–segment distance minus the radii), exact
+//!   both ways.
+//! - A capsule and a box, cylinder or convex hull: the capsule's segment against the shape
+//!   (GJK; EPA when they overlap), minus the radius, exact both ways, and much faster than
+//!   GJK on the rounded shape, which converges slowly near contact.
+//! - Other pairs: parry's `distance` when apart (spheres against anything by point
+//!   projection; GJK otherwise, to a relative 1.5e-7); when overlapping, GJK+EPA for convex
+//!   pairs (exact for polytopes) with buffers kept in [`Scratch`], and parry's `contact`
+//!   for spheres (exact) and triangle meshes (the deepest *triangle* contact: crossing
+//!   surfaces report a depth near 0; use convex hulls when depths matter).
+//! - A triangle mesh is a surface, so a shape wholly inside a *closed* mesh touches no
+//!   triangle: that case is caught by a containment test (a point of the inner shape
+//!   against the mesh's pseudo-normals) and reported as minus the distance to the
+//!   enclosing surface, a lower bound of the depth. Open meshes are surfaces only.
+
+use super::mesh::MeshData;
+use crate::model::Shape;
+use crate::spatial::{Mat3, Se3, Vec3};
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::{Matrix, Pose, Rotation, Vector};
+use parry3d_f64::query::epa::EPA;
+use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
+use parry3d_f64::query::{self, ClosestPoints};
+use parry3d_f64::shape::{Segment, SharedShape, SupportMap, TriMesh, TriMeshFlags};
+
+/// Se3 (nalgebra) → parry pose (glam).
+#[inline]
+pub fn to_pose(m: &Se3) -> Pose {
+    let r = &m.rot;
+    let mat = Matrix::from_cols(
+        Vector::new(r[(0, 0)], r[(1, 0)], r[(2, 0)]),
+        Vector::new(r[(0, 1)], r[(1, 1)], r[(2, 1)]),
+        Vector::new(r[(0, 2)], r[(1, 2)], r[(2, 2)]),
+    );
+    Pose::from_parts(
+        Vector::new(m.trans.x, m.trans.y, m.trans.z),
+        Rotation::from_mat3(&mat).normalize(),
+    )
+}
+
+/// parry (glam) vector → nalgebra vector.
+#[inline]
+pub fn to_vec3(v: Vector) -> Vec3 {
+    Vec3::new(v.x, v.y, v.z)
+}
+
+/// What a [`CollisionShape`] was built as.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapeKind {
+    /// Box.
+    Box,
+    /// Sphere.
+    Sphere,
+    /// Cylinder (along z).
+    Cylinder,
+    /// Capsule (along z).
+    Capsule,
+    /// Triangle mesh (a surface; `closed` says whether it encloses a volume).
+    TriMesh {
+        /// Every edge shared by exactly two consistently oriented triangles.
+        closed: bool,
+    },
+    /// Convex hull of a mesh.
+    ConvexHull,
+}
+
+/// A shape in its own frame, with the fixed rotation that maps URDF conventions onto
+/// parry's (cylinders) folded into [`CollisionShape::frame`].
+#[derive(Clone)]
+pub struct CollisionShape {
+    /// The parry shape.
+    pub(crate) shape: SharedShape,
+    /// Geometry frame → parry shape frame (identity except for cylinders).
+    pub frame: Se3,
+    /// What it was built as.
+    pub kind: ShapeKind,
+    /// A point of the shape in the parry shape frame (for containment tests).
+    pub(crate) inner_point: Vector,
+    /// Spheres and capsules as a segment swept by a radius (closed-form queries).
+    swept: Option<Swept>,
+}
+
+/// A segment `a`–`b` (parry shape frame) swept by radius `r`: a sphere (`a == b`) or a
+/// capsule. Distances between two of them are closed-form (segment–segment distance
+/// minus the radii), exact for penetration too: a translation changes the segment
+/// distance at most by its length, and moving along the closest-point direction (or
+/// across both axes when they cross) achieves it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Swept {
+    a: Vector,
+    b: Vector,
+    r: f64,
+}
+
+impl std::fmt::Debug for CollisionShape {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CollisionShape")
+            .field("kind", &self.kind)
+            .field("frame", &self.frame)
+            .finish()
+    }
+}
+
+fn positive(x: f64, what: &str) -> Result<f64, String> {
+    if x.is_finite() && x > 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("{what} must be finite and positive, got {x}"))
+    }
+}
+
+impl CollisionShape {
+    /// A primitive (box, sphere, cylinder, capsule); meshes go through
+    /// [`CollisionShape::from_mesh`].
+    pub fn primitive(shape: &Shape) -> Result<CollisionShape, String> {
+        let simple = |shape, kind| CollisionShape {
+            shape,
+            frame: Se3::identity(),
+            kind,
+            inner_point: Vector::ZERO,
+            swept: None,
+        };
+        Ok(match shape {
+            Shape::Box { size } => {
+                for (k, s) in size.iter().enumerate() {
+                    positive(*s, &format!("box size[{k}]"))?;
+                }
+                simple(
+                    SharedShape::cuboid(size[0] / 2.0, size[1] / 2.0, size[2] / 2.0),
+                    ShapeKind::Box,
+                )
+            }
+            Shape::Sphere { radius } => {
+                let r = positive(*radius, "sphere radius")?;
+                CollisionShape {
+                    swept: Some(Swept {
+                        a: Vector::ZERO,
+                        b: Vector::ZERO,
+                        r,
+                    }),
+                    ..simple(SharedShape::ball(r), ShapeKind::Sphere)
+                }
+            }
+            Shape::Capsule { radius, length } => {
+                let r = positive(*radius, "capsule radius")?;
+                if !(length.is_finite() && *length >= 0.0) {
+                    return Err(format!(
+                        "capsule length must be finite and >= 0, got {length}"
+                    ));
+                }
+                let h = length / 2.0;
+                CollisionShape {
+                    swept: Some(Swept {
+                        a: Vector::new(0.0, 0.0, -h),
+                        b: Vector::new(0.0, 0.0, h),
+                        r,
+                    }),
+                    ..simple(SharedShape::capsule_z(h, r), ShapeKind::Capsule)
+                }
+            }
+            Shape::Cylinder { radius, length } => {
+                let r = positive(*radius, "cylinder radius")?;
+                let l = positive(*length, "cylinder length")?;
+                // parry's cylinder is along y: Rx(+90°) takes y onto z.
+                let rx = Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
+                CollisionShape {
+                    shape: SharedShape::cylinder(l / 2.0, r),
+                    frame: Se3::from_rotation(rx),
+                    kind: ShapeKind::Cylinder,
+                    inner_point: Vector::ZERO,
+                    swept: None,
+                }
+            }
+            Shape::Mesh { .. } => return Err("a mesh needs its file loaded".to_string()),
+        })
+    }
+
+    /// A mesh, scaled per axis, as a triangle mesh or (`convex_hull`) its convex hull.
+    /// A flat mesh has no hull: it is kept as a triangle mesh and the second value says so.
+    pub fn from_mesh(
+        mesh: &MeshData,
+        scale: [f64; 3],
+        convex_hull: bool,
+    ) -> Result<(CollisionShape, Option<String>), String> {
+        if scale.iter().any(|s| !s.is_finite() || *s == 0.0) {
+            return Err(format!(
+                "mesh scale must be finite and non-zero, got {scale:?}"
+            ));
+        }
+        let vertices: Vec<Vector> = mesh
+            .vertices
+            .iter()
+            .map(|p| Vector::new(p[0] * scale[0], p[1] * scale[1], p[2] * scale[2]))
+            .collect();
+        let inner_point = vertices.first().copied().unwrap_or(Vector::ZERO);
+        let mut note = None;
+        if convex_hull {
+            if let Some(shape) = SharedShape::convex_hull(&vertices) {
+                return Ok((
+                    CollisionShape {
+                        shape,
+                        frame: Se3::identity(),
+                        kind: ShapeKind::ConvexHull,
+                        inner_point,
+                        swept: None,
+                    },
+                    None,
+                ));
+            }
+            note = Some("the mesh is flat (no convex hull): kept as a triangle mesh".to_string());
+        }
+        let mut m = mesh.clone();
+        if scale[0] * scale[1] * scale[2] < 0.0 {
+            m.flip();
+        }
+        let closed = m.is_closed();
+        let mut flags = TriMeshFlags::empty();
+        if closed {
+            if m.signed_volume6() < 0.0 {
+                m.flip();
+            }
+            // Pseudo-normals make point containment well defined.
+            flags |= TriMeshFlags::ORIENTED;
+        }
+        let tri = TriMesh::with_flags(vertices, m.triangles, flags)
+            .map_err(|e| format!("invalid triangle mesh: {e:?}"))?;
+        Ok((
+            CollisionShape {
+                shape: SharedShape::new(tri),
+                frame: Se3::identity(),
+                kind: ShapeKind::TriMesh { closed },
+                inner_point,
+                swept: None,
+            },
+            note,
+        ))
+    }
+
+    /// World bounding box at `pose`.
+    #[inline]
+    pub(crate) fn aabb(&self, pose: &Pose) -> Aabb {
+        self.shape.compute_aabb(pose)
+    }
+
+    fn closed_mesh(&self) -> bool {
+        matches!(self.kind, ShapeKind::TriMesh { closed: true })
+    }
+}
+
+/// Smallest distance between two boxes (0 when they overlap): a lower bound of the
+/// distance between anything they contain.
+#[inline]
+pub fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
+    let d = (a.mins - b.maxs).max(b.mins - a.maxs).max(Vector::ZERO);
+    d.length()
+}
+
+#[inline]
+fn aabb_contains(outer: &Aabb, inner: &Aabb) -> bool {
+    outer.mins.cmple(inner.mins).all() && inner.maxs.cmple(outer.maxs).all()
+}
+
+/// Whether one shape lies wholly inside the other, a closed triangle mesh (which the
+/// triangle-wise queries cannot see). Call only when the surfaces do not intersect.
+fn contained(
+    a: &CollisionShape,
+    pa: &Pose,
+    aabb_a: &Aabb,
+    b: &CollisionShape,
+    pb: &Pose,
+    aabb_b: &Aabb,
+) -> bool {
+    (a.closed_mesh()
+        && aabb_contains(aabb_a, aabb_b)
+        && a.shape.contains_point(pa, *pb * b.inner_point))
+        || (b.closed_mesh()
+            && aabb_contains(aabb_b, aabb_a)
+            && b.shape.contains_point(pb, *pa * a.inner_point))
+}
+
+/// One side of a pair query: the shape, its world pose and its world box.
+#[derive(Clone, Copy)]
+pub struct Placed<'a> {
+    /// The shape.
+    pub shape: &'a CollisionShape,
+    /// World pose of the parry shape frame.
+    pub pose: &'a Pose,
+    /// World bounding box.
+    pub aabb: &'a Aabb,
+}
+
+/// Reusable GJK/EPA workspace, so that penetration depths of convex pairs allocate
+/// nothing once warm (parry's `contact` builds a fresh EPA polytope on every call).
+#[derive(Default)]
+pub struct Scratch {
+    simplex: VoronoiSimplex,
+    epa: EPA,
+}
+
+impl Clone for Scratch {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl std::fmt::Debug for Scratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Scratch")
+    }
+}
+
+/// Closest points of segments `p1`–`q1` and `p2`–`q2` (Ericson, *Real-Time Collision
+/// Detection*, §5.1.9), parallel and degenerate segments included.
+fn closest_segments(p1: Vector, q1: Vector, p2: Vector, q2: Vector) -> (Vector, Vector) {
+    let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
+    let (a, e, f) = (d1.dot(d1), d2.dot(d2), d2.dot(r));
+    let tiny = 1e-300;
+    let (s, t) = if a <= tiny && e <= tiny {
+        (0.0, 0.0)
+    } else if a <= tiny {
+        (0.0, (f / e).clamp(0.0, 1.0))
+    } else {
+        let c = d1.dot(r);
+        if e <= tiny {
+            ((-c / a).clamp(0.0, 1.0), 0.0)
+        } else {
+            let b = d1.dot(d2);
+            let denom = a * e - b * b;
+            // Parallel segments: any s works, t (and then s) are clamped below.
+            let s = if denom > 1e-14 * a * e {
+                ((b * f - c * e) / denom).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let t = (b * s + f) / e;
+            if t < 0.0 {
+                ((-c / a).clamp(0.0, 1.0), 0.0)
+            } else if t > 1.0 {
+                (((b - c) / a).clamp(0.0, 1.0), 1.0)
+            } else {
+                (s, t)
+            }
+        }
+    };
+    (p1 + d1 * s, p2 + d2 * t)
+}
+
+/// Signed distance and surface witness points of two swept spheres, if both are.
+#[inline]
+fn swept_pair(a: Placed, b: Placed) -> Option<(f64, Vector, Vector)> {
+    let (sa, sb) = (a.shape.swept?, b.shape.swept?);
+    let (c1, c2) = closest_segments(
+        *a.pose * sa.a,
+        *a.pose * sa.b,
+        *b.pose * sb.a,
+        *b.pose * sb.b,
+    );
+    let v = c2 - c1;
+    let len = v.length();
+    let n = if len > 1e-12 {
+        v / len
+    } else {
+        // Crossing axes: separate across both (or across either when parallel).
+        let (d1, d2) = (
+            *a.pose * sa.b - *a.pose * sa.a,
+            *b.pose * sb.b - *b.pose * sb.a,
+        );
+        let cross = d1.cross(d2);
+        cross
+            .try_normalize()
+            .or_else(|| d1.any_orthonormal_vector().try_normalize())
+            .or_else(|| d2.any_orthonormal_vector().try_normalize())
+            .unwrap_or(Vector::X)
+    };
+    Some((len - sa.r - sb.r, c1 + n * sa.r, c2 - n * sb.r))
+}
+
+/// Outcome of the closed-form and segment-core paths.
+enum Fast {
+    /// Neither applies: use parry's general queries.
+    Skip,
+    /// The signed distance exceeds the bound.
+    Far,
+    /// Signed distance (≤ bound) and world points on `a` and `b`.
+    Hit(f64, Vector, Vector),
+}
+
+/// A capsule against a convex shape that is neither a sphere nor a capsule: its segment
+/// against the shape (GJK, and EPA when they overlap), minus the radius. Exact: the
+/// distance of the segment sweeps off at rate one along the witness normal, and the depth
+/// of the origin in `CSO ⊕ ball(r)` is the depth in the CSO plus `r`. Much faster than
+/// GJK on the rounded support map, which converges slowly near contact. Without `depth`,
+/// an overlapping segment answers `-r` (enough for a yes/no test).
+fn capsule_convex(
+    cap: Placed,
+    sw: Swept,
+    other: Placed,
+    g2: &dyn SupportMap,
+    bound: f64,
+    depth: bool,
+    scratch: &mut Scratch,
+) -> Fast {
+    let seg = Segment::new(sw.a, sw.b);
+    let pos12 = cap.pose.inv_mul(other.pose);
+    let max_dist = if bound.is_finite() {
+        bound + sw.r
+    } else {
+        f64::MAX
+    };
+    let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
+    scratch
+        .simplex
+        .reset(CsoPoint::from_shapes(&pos12, &seg, g2, dir));
+    // Points in the capsule's frame: p1 on the segment, p2 on the other shape.
+    let (d, p1, p2, n) =
+        match gjk::closest_points(&pos12, &seg, g2, max_dist, true, &mut scratch.simplex) {
+            GJKResult::ClosestPoints(p1, p2, n) => {
+                let v = p2 - p1;
+                let len = v.length();
+                (len, p1, p2, if len > 0.0 { v / len } else { n })
+            }
+            GJKResult::NoIntersection(_) => return Fast::Far,
+            GJKResult::Intersection if !depth => {
+                let p = cap.pose.translation;
+                return Fast::Hit(-sw.r, p, p);
+            }
+            GJKResult::Intersection => {
+                match scratch
+                    .epa
+                    .closest_points(&pos12, &seg, g2, &scratch.simplex)
+                {
+                    Some((p1, p2, n)) => ((p2 - p1).dot(n).min(0.0), p1, p2, n),
+                    None => return Fast::Skip,
+                }
+            }
+            GJKResult::Proximity(_) => return Fast::Skip,
+        };
+    let sd = d - sw.r;
+    if sd > bound {
+        return Fast::Far;
+    }
+    Fast::Hit(sd, *cap.pose * (p1 + n * sw.r), *cap.pose * p2)
+}
+
+/// Closed forms (two spheres/capsules) and the capsule segment path, when they apply.
+/// `Hit` when the signed distance is ≤ `bound`.
+fn fast_pair(a: Placed, b: Placed, bound: f64, depth: bool, scratch: &mut Scratch) -> Fast {
+    if let Some((d, p, q)) = swept_pair(a, b) {
+        return if d <= bound {
+            Fast::Hit(d, p, q)
+        } else {
+            Fast::Far
+        };
+    }
+    let capsule = |x: &Placed| {
+        if x.shape.kind == ShapeKind::Capsule {
+            x.shape.swept
+        } else {
+            None
+        }
+    };
+    if let (Some(sw), Some(g2)) = (capsule(&a), b.shape.shape.as_support_map()) {
+        if b.shape.kind != ShapeKind::Sphere {
+            return capsule_convex(a, sw, b, g2, bound, depth, scratch);
+        }
+    }
+    if let (Some(sw), Some(g1)) = (capsule(&b), a.shape.shape.as_support_map()) {
+        if a.shape.kind != ShapeKind::Sphere {
+            return match capsule_convex(b, sw, a, g1, bound, depth, scratch) {
+                Fast::Hit(d, p, q) => Fast::Hit(d, q, p),
+                other => other,
+            };
+        }
+    }
+    Fast::Skip
+}
+
+/// Whether the two shapes overlap or touch, the boxes assumed to overlap already.
+pub fn intersects(a: Placed, b: Placed) -> bool {
+    // Without depths no EPA runs: a scratch on the stack allocates nothing.
+    match fast_pair(a, b, 0.0, false, &mut Scratch::default()) {
+        Fast::Hit(..) => return true,
+        Fast::Far => return false,
+        Fast::Skip => {}
+    }
+    let hit = match query::intersection_test(a.pose, &*a.shape.shape, b.pose, &*b.shape.shape) {
+        Ok(r) => r.intersecting,
+        Err(_) => unsigned_distance(a, b) <= 0.0,
+    };
+    hit || contained(a.shape, a.pose, a.aabb, b.shape, b.pose, b.aabb)
+}
+
+/// Whether the signed distance is at most `margin` (> 0).
+pub fn within(a: Placed, b: Placed, margin: f64) -> bool {
+    match fast_pair(a, b, margin, false, &mut Scratch::default()) {
+        Fast::Hit(..) => return true,
+        Fast::Far => return false,
+        Fast::Skip => {}
+    }
+    unsigned_distance(a, b) <= margin || contained(a.shape, a.pose, a.aabb, b.shape, b.pose, b.aabb)
+}
+
+/// Unsigned distance (0 when overlapping; surface distance for triangle meshes).
+pub fn unsigned_distance(a: Placed, b: Placed) -> f64 {
+    query::distance(a.pose, &*a.shape.shape, b.pose, &*b.shape.shape)
+        .map(|r| r.distance)
+        .unwrap_or_else(|_| {
+            panic!(
+                "parry cannot measure the distance between a {:?} and a {:?}",
+                a.shape.kind, b.shape.kind
+            )
+        })
+}
+
+/// Depth of overlapping shapes as a negative distance, with world contact points.
+fn penetration(a: Placed, b: Placed, scratch: &mut Scratch) -> (f64, Vector, Vector) {
+    let ball = a.shape.kind == ShapeKind::Sphere || b.shape.kind == ShapeKind::Sphere;
+    if let (false, Some(g1), Some(g2)) = (
+        ball,
+        a.shape.shape.as_support_map(),
+        b.shape.shape.as_support_map(),
+    ) {
+        // GJK then EPA, as parry's contact_support_map_support_map, with reused buffers.
+        let pos12 = a.pose.inv_mul(b.pose);
+        let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
+        scratch
+            .simplex
+            .reset(CsoPoint::from_shapes(&pos12, g1, g2, dir));
+        let res = gjk::closest_points(&pos12, g1, g2, 0.0, true, &mut scratch.simplex);
+        let pts = match res {
+            GJKResult::Intersection => scratch.epa.closest_points(&pos12, g1, g2, &scratch.simplex),
+            GJKResult::ClosestPoints(p1, p2, n) => Some((p1, p2, n)),
+            _ => None,
+        };
+        if let Some((p1, p2, n)) = pts {
+            // Both points in a's frame.
+            let dist = (p2 - p1).dot(n);
+            return (dist.min(0.0), *a.pose * p1, *a.pose * p2);
+        }
+    }
+    match query::contact(a.pose, &*a.shape.shape, b.pose, &*b.shape.shape, 0.0) {
+        Ok(Some(c)) => (c.dist.min(0.0), c.point1, c.point2),
+        _ => {
+            let p = *a.pose * a.shape.inner_point;
+            (0.0, p, p)
+        }
+    }
+}
+
+/// Signed distance and world witness points, by parry's general queries.
+fn general(a: Placed, b: Placed, scratch: &mut Scratch, points: bool) -> (f64, Vector, Vector) {
+    let d = unsigned_distance(a, b);
+    if d > 0.0 {
+        let inside = contained(a.shape, a.pose, a.aabb, b.shape, b.pose, b.aabb);
+        let sd = if inside { -d } else { d };
+        if points {
+            if let Ok(ClosestPoints::WithinMargin(p, q)) = query::closest_points(
+                a.pose,
+                &*a.shape.shape,
+                b.pose,
+                &*b.shape.shape,
+                d * (1.0 + 1e-9) + 1e-12,
+            ) {
+                return (sd, p, q);
+            }
+        }
+        let p = *a.pose * a.shape.inner_point;
+        return (sd, p, p);
+    }
+    penetration(a, b, scratch)
+}
+
+/// Signed distance (see the module docs): positive separation, negative penetration.
+pub fn signed_distance(a: Placed, b: Placed, scratch: &mut Scratch) -> f64 {
+    match fast_pair(a, b, f64::INFINITY, true, scratch) {
+        Fast::Hit(d, _, _) => d,
+        _ => general(a, b, scratch, false).0,
+    }
+}
+
+/// The signed distance if it is below `bound`, else `None`: GJK stops as soon as a
+/// separating plane proves the distance at least `bound`, which prunes most pairs of a
+/// minimum-distance search cheaply.
+pub fn signed_distance_below(
+    a: Placed,
+    b: Placed,
+    bound: f64,
+    scratch: &mut Scratch,
+) -> Option<f64> {
+    match fast_pair(a, b, bound, true, scratch) {
+        Fast::Hit(d, _, _) => return (d < bound).then_some(d),
+        Fast::Far => return None,
+        Fast::Skip => {}
+    }
+    // A closed mesh may contain the other shape: the surface distance does not bound.
+    if !bound.is_finite() || a.shape.closed_mesh() || b.shape.closed_mesh() {
+        let d = signed_distance(a, b, scratch);
+        return (d < bound).then_some(d);
+    }
+    let (ga, gb) = (&*a.shape.shape, &*b.shape.shape);
+    if bound <= 0.0 {
+        // Only overlapping pairs can beat a penetration.
+        let hit = query::intersection_test(a.pose, ga, b.pose, gb)
+            .map(|r| r.intersecting)
+            .unwrap_or(true);
+        if !hit {
+            return None;
+        }
+        let d = signed_distance(a, b, scratch);
+        return (d < bound).then_some(d);
+    }
+    match query::closest_points(a.pose, ga, b.pose, gb, bound) {
+        Ok(ClosestPoints::Disjoint) => None,
+        Ok(ClosestPoints::WithinMargin(p, q)) => {
+            let d = (q - p).length();
+            (d < bound).then_some(d)
+        }
+        _ => {
+            let d = signed_distance(a, b, scratch);
+            (d < bound).then_some(d)
+        }
+    }
+}
+
+/// Signed distance and world witness points (closest points when separated, the
+/// deepest contact points when overlapping).
+pub fn distance_and_points(a: Placed, b: Placed, scratch: &mut Scratch) -> (f64, Vec3, Vec3) {
+    let (d, p, q) = match fast_pair(a, b, f64::INFINITY, true, scratch) {
+        Fast::Hit(d, p, q) => (d, p, q),
+        _ => general(a, b, scratch, true),
+    };
+    (d, to_vec3(p), to_vec3(q))
+}
