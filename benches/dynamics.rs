@@ -5,31 +5,12 @@
 use armsim::bench::{random_states, random_unit_states, STATES};
 use armsim::data::Data;
 use armsim::dynamics;
-use armsim::model::{chain, LoadOptions, Model};
+use armsim::model::Model;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 
 fn models() -> Vec<Model> {
-    let root = env!("CARGO_MANIFEST_DIR");
-    let opts = LoadOptions {
-        strict: false,
-        ignore_mimic: true,
-    };
-    let mut v: Vec<Model> = ["ur5.urdf", "panda.urdf", "iiwa14.urdf"]
-        .iter()
-        .map(|f| {
-            Model::load_with(format!("{root}/robots/{f}"), &opts)
-                .expect("robot loads")
-                .0
-        })
-        .collect();
-    let mut mimic = Model::load(format!("{root}/robots/panda.urdf")).unwrap().0;
-    mimic.name = "panda_mimic".into();
-    v.push(mimic);
-    for n in [50, 100, 200] {
-        v.push(Model::build(chain::chain_spec(n)).unwrap().0);
-    }
-    v
+    armsim::bench::benchmark_models(&[50, 100, 200])
 }
 
 fn dynamics_benches(c: &mut Criterion) {

@@ -5,31 +5,12 @@
 use armsim::bench::{random_states, STATES};
 use armsim::data::Data;
 use armsim::kinematics;
-use armsim::model::{chain, LoadOptions, Model};
+use armsim::model::Model;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 
 fn models() -> Vec<Model> {
-    let root = env!("CARGO_MANIFEST_DIR");
-    // Panda as Pinocchio loads it by default (fingers independent, 9 DOF), and with its
-    // mimic finger (8 DOF) as `panda_mimic`.
-    let opts = LoadOptions {
-        strict: false,
-        ignore_mimic: true,
-    };
-    let mut v: Vec<Model> = ["ur5.urdf", "panda.urdf", "iiwa14.urdf"]
-        .iter()
-        .map(|f| {
-            Model::load_with(format!("{root}/robots/{f}"), &opts)
-                .expect("robot loads")
-                .0
-        })
-        .collect();
-    let mut mimic = Model::load(format!("{root}/robots/panda.urdf")).unwrap().0;
-    mimic.name = "panda_mimic".into();
-    v.push(mimic);
-    v.push(Model::build(chain::chain_spec(100)).unwrap().0);
-    v
+    armsim::bench::benchmark_models(&[100])
 }
 
 fn kinematics_benches(c: &mut Criterion) {

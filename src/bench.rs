@@ -116,3 +116,36 @@ pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
     times.sort_by(f64::total_cmp);
     times[ROUNDS / 2]
 }
+
+/// The models the criterion benches time, loaded like Pinocchio loads them: UR5, Panda
+/// (fingers as independent joints, 9 DOF), iiwa 14, the Panda with its mimic finger as
+/// `panda_mimic` (8 DOF), and generated chains of the given lengths.
+pub fn benchmark_models(chains: &[usize]) -> Vec<Model> {
+    use crate::model::{chain, LoadOptions};
+    let root = env!("CARGO_MANIFEST_DIR");
+    let opts = LoadOptions {
+        strict: false,
+        ignore_mimic: true,
+    };
+    let mut v: Vec<Model> = ["ur5.urdf", "panda.urdf", "iiwa14.urdf"]
+        .iter()
+        .map(|f| {
+            Model::load_with(format!("{root}/robots/{f}"), &opts)
+                .expect("bundled robot loads")
+                .0
+        })
+        .collect();
+    let mut mimic = Model::load(format!("{root}/robots/panda.urdf"))
+        .expect("bundled robot loads")
+        .0;
+    mimic.name = "panda_mimic".into();
+    v.push(mimic);
+    for &n in chains {
+        v.push(
+            Model::build(chain::chain_spec(n))
+                .expect("generated chain")
+                .0,
+        );
+    }
+    v
+}

@@ -8,28 +8,10 @@ use armsim::dynamics;
 use armsim::model::Model;
 use armsim::spatial::Vec3;
 use rand::rngs::SmallRng;
-use rand::{Rng, SeedableRng};
-
-fn rand_vec(rng: &mut SmallRng, n: usize, s: f64) -> Vec<f64> {
-    (0..n).map(|_| rng.random_range(-s..s)).collect()
-}
+use rand::SeedableRng;
 
 fn models() -> Vec<(String, Model)> {
-    let mut v: Vec<(String, Model)> = common::robot_files()
-        .into_iter()
-        .map(|f| (f.display().to_string(), Model::load(&f).unwrap().0))
-        .collect();
-    v.push((
-        "mimic_gripper".into(),
-        common::load("tests/data/mimic_gripper.urdf"),
-    ));
-    v.push((
-        "chain_50".into(),
-        Model::build(armsim::model::chain::chain_spec(50))
-            .unwrap()
-            .0,
-    ));
-    v
+    common::test_models(50)
 }
 
 /// `‖a − b‖∞ ≤ tol · max(1, ‖b‖∞)`.
@@ -54,8 +36,8 @@ fn rnea_equals_mass_matrix_times_acceleration_plus_bias() {
         let mut rng = SmallRng::seed_from_u64(11);
         for _ in 0..20 {
             let q = m.random_q(&mut rng);
-            let qd = rand_vec(&mut rng, m.nv, 2.0);
-            let qdd = rand_vec(&mut rng, m.nv, 5.0);
+            let qd = common::rand_vec(&mut rng, m.nv, 2.0);
+            let qdd = common::rand_vec(&mut rng, m.nv, 5.0);
             let tau = dynamics::rnea(&m, &mut d, &q, &qd, &qdd, &g, None).to_vec();
             let h = dynamics::bias(&m, &mut d, &q, &qd, &g).to_vec();
             let mass = dynamics::crba(&m, &mut d, &q).clone();
@@ -107,8 +89,8 @@ fn aba_inverts_rnea_and_agrees_with_crba_cholesky() {
         let mut rng = SmallRng::seed_from_u64(13);
         for _ in 0..20 {
             let q = m.random_q(&mut rng);
-            let qd = rand_vec(&mut rng, m.nv, 2.0);
-            let qdd = rand_vec(&mut rng, m.nv, 5.0);
+            let qd = common::rand_vec(&mut rng, m.nv, 2.0);
+            let qdd = common::rand_vec(&mut rng, m.nv, 5.0);
             let tau = dynamics::rnea(&m, &mut d, &q, &qd, &qdd, &g, None).to_vec();
             let Ok(chol) =
                 dynamics::forward_dynamics_crba(&m, &mut d, &q, &qd, &tau, &g).map(|x| x.to_vec())
@@ -137,9 +119,9 @@ fn planar_2r_matches_the_textbook_closed_form() {
     let mut rng = SmallRng::seed_from_u64(14);
     let grav = Vec3::new(0.0, 0.0, -g);
     for _ in 0..100 {
-        let q = rand_vec(&mut rng, 2, 3.1);
-        let qd = rand_vec(&mut rng, 2, 3.0);
-        let qdd = rand_vec(&mut rng, 2, 5.0);
+        let q = common::rand_vec(&mut rng, 2, 3.1);
+        let qd = common::rand_vec(&mut rng, 2, 3.0);
+        let qdd = common::rand_vec(&mut rng, 2, 5.0);
         let (c2, s2) = (q[1].cos(), q[1].sin());
         let m11 = m1 * l * l / 3.0 + m2 * l * l * (4.0 / 3.0 + c2);
         let m12 = m2 * l * l * (1.0 / 3.0 + c2 / 2.0);
@@ -176,8 +158,8 @@ fn energy_rate_equals_power_and_potential_matches_gravity_torque() {
         let mut d = Data::new(&m);
         let mut rng = SmallRng::seed_from_u64(15);
         let q = m.random_q(&mut rng);
-        let qd = rand_vec(&mut rng, m.nv, 1.0);
-        let qdd = rand_vec(&mut rng, m.nv, 1.0);
+        let qd = common::rand_vec(&mut rng, m.nv, 1.0);
+        let qdd = common::rand_vec(&mut rng, m.nv, 1.0);
         let h = 1e-6;
         let at = |s: f64, d: &mut Data| {
             let qs: Vec<f64> = (0..m.nv)

@@ -11,28 +11,10 @@ use armsim::model::Model;
 use armsim::spatial::Vec3;
 use nalgebra::DMatrix;
 use rand::rngs::SmallRng;
-use rand::{Rng, SeedableRng};
-
-fn rand_vec(rng: &mut SmallRng, n: usize, s: f64) -> Vec<f64> {
-    (0..n).map(|_| rng.random_range(-s..s)).collect()
-}
+use rand::SeedableRng;
 
 fn models() -> Vec<(String, Model)> {
-    let mut v: Vec<(String, Model)> = common::robot_files()
-        .into_iter()
-        .map(|f| (f.display().to_string(), Model::load(&f).unwrap().0))
-        .collect();
-    v.push((
-        "mimic_gripper".into(),
-        common::load("tests/data/mimic_gripper.urdf"),
-    ));
-    v.push((
-        "chain_12".into(),
-        Model::build(armsim::model::chain::chain_spec(12))
-            .unwrap()
-            .0,
-    ));
-    v
+    common::test_models(12)
 }
 
 /// `‖a − b‖∞ ≤ tol · max(1, ‖b‖∞)`.
@@ -66,8 +48,8 @@ fn trace_form_and_energy_form_equal_rnea() {
         let mut rng = SmallRng::seed_from_u64(21);
         for _ in 0..5 {
             let q = m.random_q(&mut rng);
-            let qd = rand_vec(&mut rng, m.nv, 2.0);
-            let qdd = rand_vec(&mut rng, m.nv, 5.0);
+            let qd = common::rand_vec(&mut rng, m.nv, 2.0);
+            let qdd = common::rand_vec(&mut rng, m.nv, 5.0);
             let tau = dynamics::rnea(&m, &mut d, &q, &qd, &qdd, &g, None).to_vec();
             let trace = dynamics::lagrange_trace(&m, &mut d, &q, &qd, &qdd, &g);
             close(&trace, &tau, 1e-9).unwrap_or_else(|e| panic!("{name} trace vs RNEA: {e}"));
@@ -101,7 +83,7 @@ fn mass_matrix_derivative_minus_twice_coriolis_is_skew_symmetric() {
         let mut rng = SmallRng::seed_from_u64(23);
         for _ in 0..5 {
             let q = m.random_q(&mut rng);
-            let qd = rand_vec(&mut rng, m.nv, 2.0);
+            let qd = common::rand_vec(&mut rng, m.nv, 2.0);
             let dm = dynamics::mass_matrix_derivatives(&m, &mut d, &q);
             let mut m_dot = DMatrix::zeros(m.nv, m.nv);
             for (k, dmk) in dm.iter().enumerate() {
@@ -150,7 +132,7 @@ fn coriolis_times_velocity_plus_gravity_equals_rnea_bias() {
         let mut rng = SmallRng::seed_from_u64(25);
         for _ in 0..5 {
             let q = m.random_q(&mut rng);
-            let qd = rand_vec(&mut rng, m.nv, 2.0);
+            let qd = common::rand_vec(&mut rng, m.nv, 2.0);
             let bias = dynamics::bias(&m, &mut d, &q, &qd, &GRAVITY).to_vec();
             let c = dynamics::coriolis_matrix(&m, &mut d, &q, &qd);
             let g = dynamics::gravity_torque_energy(&m, &mut d, &q, &GRAVITY);
@@ -172,9 +154,9 @@ fn planar_2r_trace_form_matches_the_textbook_closed_form() {
     let mut d = Data::new(&m);
     let mut rng = SmallRng::seed_from_u64(26);
     for _ in 0..20 {
-        let q = rand_vec(&mut rng, 2, 3.1);
-        let qd = rand_vec(&mut rng, 2, 3.0);
-        let qdd = rand_vec(&mut rng, 2, 5.0);
+        let q = common::rand_vec(&mut rng, 2, 3.1);
+        let qd = common::rand_vec(&mut rng, 2, 3.0);
+        let qdd = common::rand_vec(&mut rng, 2, 5.0);
         let (c2, s2) = (q[1].cos(), q[1].sin());
         let m11 = m1 * l * l / 3.0 + m2 * l * l * (4.0 / 3.0 + c2);
         let m12 = m2 * l * l * (1.0 / 3.0 + c2 / 2.0);

@@ -123,19 +123,11 @@ impl Layout {
     }
 }
 
-fn line_at(text: &str, pos: usize) -> usize {
-    text.as_bytes()[..pos.min(text.len())]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
-        + 1
-}
-
 /// Parses a DH table read from `file`.
 pub fn parse(text: &str, file: &str) -> Result<ModelSpec, ModelError> {
     let layout = Layout::scan(text);
     let dh: DhFile = toml::from_str(text).map_err(|e| {
-        let line = e.span().map(|s| line_at(text, s.start));
+        let line = e.span().map(|s| crate::scenario::line_at(text, s.start));
         let element = line
             .map(|l| layout.element_at_line(l))
             .unwrap_or_else(|| "file".to_string());

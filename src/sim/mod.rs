@@ -432,9 +432,8 @@ impl<'m> Simulator<'m> {
                 q0.len()
             )));
         }
-        if !(cfg.dt > 0.0 && cfg.dt.is_finite())
-            || !(cfg.duration >= 0.0 && cfg.duration.is_finite())
-        {
+        let positive_finite = |x: f64| x > 0.0 && x.is_finite();
+        if !positive_finite(cfg.dt) || !(positive_finite(cfg.duration) || cfg.duration == 0.0) {
             return Err(SimError::Config(
                 "simulation: step and duration must be positive and finite".into(),
             ));

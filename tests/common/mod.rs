@@ -48,3 +48,28 @@ pub fn pose_diff(a: &Se3, b: &Se3) -> f64 {
         .max()
         .max((a.trans - b.trans).abs().max())
 }
+
+/// `n` values uniform in `(-s, s)`.
+pub fn rand_vec(rng: &mut rand::rngs::SmallRng, n: usize, s: f64) -> Vec<f64> {
+    use rand::Rng;
+    (0..n).map(|_| rng.random_range(-s..s)).collect()
+}
+
+/// Every robot in `robots/`, the mimic gripper and a generated `chain_len`-joint chain.
+pub fn test_models(chain_len: usize) -> Vec<(String, Model)> {
+    let mut v: Vec<(String, Model)> = robot_files()
+        .into_iter()
+        .map(|f| (f.display().to_string(), Model::load(&f).unwrap().0))
+        .collect();
+    v.push((
+        "mimic_gripper".into(),
+        load("tests/data/mimic_gripper.urdf"),
+    ));
+    v.push((
+        format!("chain_{chain_len}"),
+        Model::build(armsim::model::chain::chain_spec(chain_len))
+            .unwrap()
+            .0,
+    ));
+    v
+}

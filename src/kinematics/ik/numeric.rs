@@ -235,6 +235,8 @@ impl IkSolver {
     /// Whether `best_q` is a stationary point of the weighted residual (restricted to the
     /// joints not pressed against a limit): `‖Jᵀ W e‖ ≤ 1e-4 ‖J‖ ‖e‖`. Then no local move
     /// reduces the error and, with the restarts behind it, the target is out of reach.
+    // Index loops over the Jacobian's rows and columns read like `Jᵀ W e`.
+    #[allow(clippy::needless_range_loop)]
     fn stationary(&mut self, model: &Model, link: usize, target: &Se3, opts: &IkOptions) -> bool {
         let q = std::mem::take(&mut self.best_q);
         let (_, _, _, e) = self.cost(model, link, target, &q, opts);
@@ -273,6 +275,8 @@ impl IkSolver {
 
     /// Solves for `link` reaching `target`, starting from `seed_q` (or the middle of the
     /// limits) and then from random configurations.
+    // Index loops over the Jacobian's rows and columns read like `Jᵀ W J` and `Jᵀ W e`.
+    #[allow(clippy::needless_range_loop)]
     pub fn solve(
         &mut self,
         model: &Model,
