@@ -121,6 +121,15 @@ impl DhRow {
     }
 }
 
+/// Forward kinematics of a 6-row table: `base · A_1(q_1) ⋯ A_6(q_6) · tool`.
+pub fn table_fk(base: &Se3, rows: &[DhRow; 6], tool: &Se3, q: &[f64; 6]) -> Se3 {
+    let mut t = *base;
+    for (row, &qi) in rows.iter().zip(q) {
+        t = t.mul(&row.transform(qi));
+    }
+    t.mul(tool)
+}
+
 /// A serial chain as a standard DH table: `world_M_link(q) = base · A_1(q_1) ⋯ A_n(q_n) · tool`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DhChain {

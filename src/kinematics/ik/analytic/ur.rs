@@ -150,11 +150,7 @@ impl UrParams {
 
     /// World placement of the target link at `q` (the table's own forward kinematics).
     pub fn fk(&self, q: &[f64; 6]) -> Se3 {
-        let mut t = self.base;
-        for (row, &qi) in self.rows.iter().zip(q) {
-            t = t.mul(&row.transform(qi));
-        }
-        t.mul(&self.tool)
+        super::dh::table_fk(&self.base, &self.rows, &self.tool, q)
     }
 }
 

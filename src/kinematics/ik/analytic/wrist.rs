@@ -194,11 +194,7 @@ impl WristParams {
 
     /// World placement of the target link at `q`.
     pub fn fk(&self, q: &[f64; 6]) -> Se3 {
-        let mut t = self.base;
-        for (row, &qi) in self.rows.iter().zip(q) {
-            t = t.mul(&row.transform(qi));
-        }
-        t.mul(&self.tool)
+        super::dh::table_fk(&self.base, &self.rows, &self.tool, q)
     }
 }
 
