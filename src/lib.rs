@@ -23,6 +23,7 @@ pub mod io;
 pub mod kinematics;
 pub mod mechanism;
 pub mod model;
+pub mod recording;
 pub mod scenario;
 pub mod sim;
 pub mod spatial;
