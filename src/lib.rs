@@ -13,6 +13,7 @@
 //! assert!((tip.trans.z - 0.2).abs() < 1e-12);
 //! ```
 
+pub mod arm;
 pub mod bench;
 pub mod collision;
 pub mod data;

@@ -3,7 +3,7 @@
 //! - `kind = "linkage"`: a closed-chain planar mechanism ([`crate::mechanism`]);
 //! - `kind = "torsional"`: a torsional drivetrain chain ([`crate::drivetrain`]);
 //! - `kind = "arm"` (the default): an arm scenario (planned motion, torque check,
-//!   collisions, simulation) — not in this release.
+//!   collisions, simulation; [`crate::arm`]).
 //!
 //! Every runner returns a [`Report`] (the JSON document and a human summary) or a
 //! [`ScenarioError`] naming the file, the line and the key.
@@ -97,8 +97,13 @@ pub struct Report {
     pub text: String,
 }
 
-/// Reads a scenario file and runs it.
+/// Reads a scenario file and runs it (arm scenarios write their files to `out/<name>`).
 pub fn run_file(path: &Path) -> Result<Report, ScenarioError> {
+    run_file_with(path, &crate::arm::RunOptions::default())
+}
+
+/// Reads a scenario file and runs it with `opts` (output directory, interrupt).
+pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Report, ScenarioError> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path)
         .map_err(|e| ScenarioError::new(&file, None, "file", format!("cannot read: {e}")))?;
@@ -122,12 +127,7 @@ pub fn run_file(path: &Path) -> Result<Report, ScenarioError> {
     match kind {
         "linkage" => crate::mechanism::scenario::run(path, &text),
         "torsional" => crate::drivetrain::scenario::run(path, &text),
-        "arm" => Err(ScenarioError::new(
-            &file,
-            line_of_key(&text, "kind"),
-            "kind",
-            "arm scenarios (trajectories, torque checks, collisions) are not in this release",
-        )),
+        "arm" => crate::arm::run(path, &text, opts).map(|o| o.report),
         other => Err(ScenarioError::new(
             &file,
             line_of_key(&text, "kind"),

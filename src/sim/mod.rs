@@ -77,6 +77,40 @@ pub trait Reference {
     fn sample(&self, t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]);
 }
 
+/// Called before every step of [`Simulator::run_with_hook`]: sees the state, may set
+/// wrenches that act on the plant only (contact forces: the controller does not know
+/// them), and stops the run by returning `false` (an interrupt).
+pub trait StepHook {
+    /// `t`, `q`, `q̇` before the step; `plant_wrenches` holds the previous step's wrenches.
+    fn before_step(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        plant_wrenches: &mut Vec<crate::dynamics::ExternalWrench>,
+    ) -> bool;
+
+    /// Whether the hook's wrenches keep the energy balance (no: it skips the audit).
+    fn conservative(&self) -> bool {
+        true
+    }
+}
+
+/// The hook that does nothing.
+pub struct NoHook;
+
+impl StepHook for NoHook {
+    fn before_step(
+        &mut self,
+        _t: f64,
+        _q: &[f64],
+        _qd: &[f64],
+        _w: &mut Vec<crate::dynamics::ExternalWrench>,
+    ) -> bool {
+        true
+    }
+}
+
 /// A constant configuration as reference.
 pub struct Hold(pub Vec<f64>);
 
@@ -152,6 +186,8 @@ pub struct SimReport {
     pub energy: Option<EnergyAudit>,
     /// Final joint positions.
     pub final_q: Vec<f64>,
+    /// The hook stopped the run before its duration (an interrupt).
+    pub interrupted: bool,
 }
 
 /// Energy balance `E(t) − E(0) − W(t)` over the run.
@@ -201,6 +237,8 @@ pub struct Simulator<'m> {
     jac: DMatrix<f64>,
     fx: Vec<f64>,
     fp: Vec<f64>,
+    /// Wrenches on the plant only (set by a [`StepHook`]).
+    plant: Vec<crate::dynamics::ExternalWrench>,
 }
 
 impl<'m> Simulator<'m> {
@@ -240,6 +278,7 @@ impl<'m> Simulator<'m> {
             jac: DMatrix::zeros(dim, dim),
             fx: v(dim),
             fp: v(dim),
+            plant: Vec::new(),
         })
     }
 
@@ -344,6 +383,24 @@ impl<'m> Simulator<'m> {
         self.control(t, x, reference, ctrl);
         let (q, qd) = (&x[..n], &x[n..2 * n]);
         out[..n].copy_from_slice(qd);
+        // Plant-only wrenches join the effects for the forward dynamics (capacity is kept,
+        // so this allocates only the first time).
+        let own = self.effects.external.len();
+        self.effects.external.extend_from_slice(&self.plant);
+        let r = self.plant_rhs(t, q, qd, x, out);
+        self.effects.external.truncate(own);
+        r
+    }
+
+    fn plant_rhs(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        x: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), SimError> {
+        let n = self.n;
         if self.elastic {
             let (th, thd) = (&x[2 * n..3 * n], &x[3 * n..]);
             let qdd = dynamics::elastic_forward_dynamics(
@@ -423,9 +480,22 @@ impl<'m> Simulator<'m> {
         q0: &[f64],
         cfg: &SimConfig,
         reference: &dyn Reference,
+        on_sample: impl FnMut(&Sample<'_>),
+    ) -> Result<SimReport, SimError> {
+        self.run_with_hook(q0, cfg, reference, &mut NoHook, on_sample)
+    }
+
+    /// [`Simulator::run`] with a [`StepHook`] called before every step.
+    pub fn run_with_hook(
+        &mut self,
+        q0: &[f64],
+        cfg: &SimConfig,
+        reference: &dyn Reference,
+        hook: &mut dyn StepHook,
         mut on_sample: impl FnMut(&Sample<'_>),
     ) -> Result<SimReport, SimError> {
         let n = self.n;
+        self.plant.clear();
         if q0.len() != n {
             return Err(SimError::Config(format!(
                 "initial state: {} values for {n} joints",
@@ -475,7 +545,7 @@ impl<'m> Simulator<'m> {
             }
         }
         let steps = (cfg.duration / cfg.dt).round() as usize;
-        let audit = self.conservative();
+        let audit = self.conservative() && hook.conservative();
         let e0 = if audit {
             self.energy(&self.x.clone())
         } else {
@@ -501,8 +571,15 @@ impl<'m> Simulator<'m> {
             s.tau.iter().zip(rate).map(|(a, b)| a * b).sum::<f64>()
         };
         let mut p_prev = power(self, &x);
+        let mut taken = steps;
+        let mut interrupted = false;
         for step in 0..steps {
             let t = step as f64 * h;
+            if !hook.before_step(t, &x[..n], &x[n..2 * n], &mut self.plant) {
+                taken = step;
+                interrupted = true;
+                break;
+            }
             self.step(t, h, &mut x, reference, &cfg.controller, cfg.integrator)?;
             let t1 = t + h;
             let big = x.iter().any(|v| !v.is_finite() || v.abs() > 1e8);
@@ -536,6 +613,7 @@ impl<'m> Simulator<'m> {
                 max_drift = max_drift.max((e - e0 - work).abs());
             }
             if (step + 1) % record_every == 0 || step + 1 == steps {
+                // (the last step is always recorded)
                 on_sample(&Sample {
                     t: t1,
                     q: &x[..n],
@@ -551,11 +629,11 @@ impl<'m> Simulator<'m> {
         Ok(SimReport {
             integrator: cfg.integrator.as_str(),
             dt: h,
-            steps,
-            sim_time_s: steps as f64 * h,
+            steps: taken,
+            sim_time_s: taken as f64 * h,
             wall_time_s: wall,
             real_time_factor: if wall > 0.0 {
-                steps as f64 * h / wall
+                taken as f64 * h / wall
             } else {
                 f64::INFINITY
             },
@@ -565,6 +643,7 @@ impl<'m> Simulator<'m> {
                 max_relative_drift: max_drift / scale,
             }),
             final_q,
+            interrupted,
         })
     }
 

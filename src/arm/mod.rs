@@ -1,0 +1,37 @@
+//! Arm scenarios (`kind = "arm"`, the default): one TOML file names a model, the effects
+//! the scene calls for, obstacles, a task and how to time it, and the simulation; `armsim
+//! run` plans the motion, checks the joint torques it needs against the limits, checks
+//! collisions along it, simulates it with exactly the named effects and writes the
+//! outputs. `scenarios/README.md` documents the format.
+//!
+//! - [`schema`]: the file's serde structures (unknown keys refused);
+//! - [`scene`]: validation into a [`scene::Scene`] (errors name the file, line and key);
+//! - [`plan`]: the task as one timed trajectory;
+//! - [`contact`]: the rapier3d contact scene, built only for the `contact` effect;
+//! - [`run`]: the end-to-end run and its report;
+//! - [`plots`]: the simulation plot.
+
+pub mod contact;
+pub mod plan;
+pub mod plots;
+pub mod run;
+pub mod scene;
+pub mod schema;
+
+pub use run::{run_scene, Outcome, RunOptions, SimSample};
+
+use crate::scenario::ScenarioError;
+use std::path::Path;
+
+/// Parses and validates an arm scenario without running it.
+pub fn load(path: &Path, text: &str) -> Result<scene::Scene, ScenarioError> {
+    let file = path.display().to_string();
+    let parsed: schema::ArmFile =
+        toml::from_str(text).map_err(|e| ScenarioError::from_toml(&file, text, &e))?;
+    scene::build(path, text, &parsed)
+}
+
+/// Parses, validates and runs an arm scenario.
+pub fn run(path: &Path, text: &str, opts: &RunOptions) -> Result<Outcome, ScenarioError> {
+    run_scene(load(path, text)?, opts)
+}

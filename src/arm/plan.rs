@@ -1,0 +1,310 @@
+//! Planning an arm scenario's task: the [`Step`]s become joint waypoints (tool poses
+//! through IK, seeded from the previous configuration so the arm stays on its branch),
+//! straight tool lines ([`cartesian_line`]) and dwells, timed by the chosen profile and
+//! joined into one [`Sequence`].
+//!
+//! - Consecutive joint-space steps form one group through its waypoints, timed as a whole
+//!   (trapezoidal and quintic stop at each waypoint; the minimum-jerk spline passes
+//!   through them); time-optimal timing runs TOPP on each straight joint segment, with
+//!   the scene's torque limits and effects.
+//! - A straight line keeps its tool-speed timing, or is re-timed by TOPP along its IK
+//!   path when the timing is time-optimal.
+
+use super::scene::{Scene, Step, Timing};
+use crate::kinematics::ik::{IkOptions, IkSolver, IkStatus};
+use crate::model::Model;
+use crate::scenario::ScenarioError;
+use crate::trajectory::{
+    cartesian_line, topp, CartesianOptions, LinearPath, MinJerk, Quintic, ToppOptions, Trajectory,
+    Trapezoidal,
+};
+use std::time::Duration;
+
+/// A motion made of pieces played one after the other.
+pub struct Sequence {
+    n: usize,
+    /// Start time of each piece (and the end time last).
+    knots: Vec<f64>,
+    pieces: Vec<Box<dyn Trajectory + Send + Sync>>,
+}
+
+impl Sequence {
+    /// Start times of the pieces, then the end.
+    pub fn knots(&self) -> &[f64] {
+        &self.knots
+    }
+}
+
+impl Trajectory for Sequence {
+    fn dof(&self) -> usize {
+        self.n
+    }
+
+    fn duration(&self) -> f64 {
+        *self.knots.last().unwrap_or(&0.0)
+    }
+
+    fn sample(&self, t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
+        let k = self
+            .knots
+            .partition_point(|&x| x <= t)
+            .saturating_sub(1)
+            .min(self.pieces.len() - 1);
+        self.pieces[k].sample(t - self.knots[k], q, qd, qdd);
+    }
+}
+
+/// Holds a configuration for a time.
+struct Dwell {
+    q: Vec<f64>,
+    duration: f64,
+}
+
+impl Trajectory for Dwell {
+    fn dof(&self) -> usize {
+        self.q.len()
+    }
+    fn duration(&self) -> f64 {
+        self.duration
+    }
+    fn sample(&self, _t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
+        q.copy_from_slice(&self.q);
+        qd.fill(0.0);
+        qdd.fill(0.0);
+    }
+}
+
+/// One planned piece, for the report.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PieceInfo {
+    /// `joint`, `line` or `dwell`.
+    pub kind: &'static str,
+    /// Where it comes from in the file.
+    pub from: String,
+    pub start_s: f64,
+    pub duration_s: f64,
+    /// Joint values at its end, by joint name.
+    pub end_q: serde_json::Map<String, serde_json::Value>,
+}
+
+/// The planned motion.
+pub struct Plan {
+    pub trajectory: Sequence,
+    pub pieces: Vec<PieceInfo>,
+    /// The configurations the task passes through (start, each step end).
+    pub waypoints: Vec<Vec<f64>>,
+    pub ik_solves: usize,
+    pub planning_time_s: f64,
+}
+
+fn named(model: &Model, q: &[f64]) -> serde_json::Map<String, serde_json::Value> {
+    model
+        .dof_names()
+        .into_iter()
+        .zip(q)
+        .map(|(n, v)| (n, serde_json::json!(v)))
+        .collect()
+}
+
+enum Group {
+    Joint(Vec<Vec<f64>>, Vec<String>),
+    Line(crate::trajectory::CartesianMove, String),
+    Dwell(Vec<f64>, f64, String),
+}
+
+/// Plans the scene's task from `scene.q0`.
+pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
+    let start = std::time::Instant::now();
+    let model = &scene.model;
+    let err = |key: &str, line: Option<usize>, msg: String| {
+        ScenarioError::new(&scene.file, line, key, msg)
+    };
+    let mut ik = IkSolver::new(model);
+    let ik_opts = IkOptions {
+        tol_position: 1e-7,
+        tol_rotation: 1e-7,
+        max_restarts: 20,
+        time_budget: Duration::from_millis(500),
+        respect_limits: true,
+        ..Default::default()
+    };
+    let mut groups: Vec<Group> = Vec::new();
+    let mut q = scene.q0.clone();
+    let mut waypoints = vec![q.clone()];
+    let mut ik_solves = 0;
+    let mut pending: Vec<Vec<f64>> = vec![q.clone()];
+    let mut pending_keys: Vec<String> = Vec::new();
+    let flush = |groups: &mut Vec<Group>,
+                 pending: &mut Vec<Vec<f64>>,
+                 keys: &mut Vec<String>,
+                 q: &[f64]| {
+        if pending.len() > 1 {
+            groups.push(Group::Joint(std::mem::take(pending), std::mem::take(keys)));
+        }
+        *pending = vec![q.to_vec()];
+        keys.clear();
+    };
+    for ts in &scene.steps {
+        match &ts.step {
+            Step::Joint(target) => {
+                q = target.clone();
+                if pending.last() != Some(&q) {
+                    pending.push(q.clone());
+                    pending_keys.push(ts.key.clone());
+                }
+            }
+            Step::Pose(target) => {
+                ik_solves += 1;
+                let r = ik.solve(model, scene.tool, target, Some(&q), &ik_opts);
+                if r.status != IkStatus::Converged {
+                    return Err(err(
+                        &ts.key,
+                        ts.line,
+                        format!(
+                            "the tool pose is out of reach: IK {} (position error {:.3e} m, rotation error {:.3e} rad)",
+                            r.status.as_str(),
+                            r.position_error,
+                            r.rotation_error
+                        ),
+                    ));
+                }
+                q = r.q;
+                pending.push(q.clone());
+                pending_keys.push(ts.key.clone());
+            }
+            Step::Line(goal) => {
+                flush(&mut groups, &mut pending, &mut pending_keys, &q);
+                let opts = CartesianOptions {
+                    samples: scene.line_samples,
+                    max_linear_speed: scene.tool_speed,
+                    max_linear_acceleration: scene.tool_acceleration,
+                    joint_limits: Some(scene.limits.clone()),
+                    ..Default::default()
+                };
+                let mv = cartesian_line(model, scene.tool, &q, goal, &opts)
+                    .map_err(|e| err(&ts.key, ts.line, format!("straight line: {e}")))?;
+                ik_solves += scene.line_samples;
+                let mut qd = vec![0.0; model.nv];
+                let mut qdd = vec![0.0; model.nv];
+                mv.sample(mv.duration(), &mut q, &mut qd, &mut qdd);
+                groups.push(Group::Line(mv, ts.key.clone()));
+                pending = vec![q.clone()];
+            }
+            Step::Dwell(d) => {
+                flush(&mut groups, &mut pending, &mut pending_keys, &q);
+                groups.push(Group::Dwell(q.clone(), *d, ts.key.clone()));
+            }
+        }
+        if let Some(k) =
+            (0..model.nv).find(|&k| q[k] < scene.lower[k] - 1e-9 || q[k] > scene.upper[k] + 1e-9)
+        {
+            return Err(err(
+                &ts.key,
+                ts.line,
+                format!(
+                    "the step ends with joint {} at {:.6}, outside its limits [{}, {}]",
+                    model.dof_names()[k],
+                    q[k],
+                    scene.lower[k],
+                    scene.upper[k]
+                ),
+            ));
+        }
+        waypoints.push(q.clone());
+    }
+    flush(&mut groups, &mut pending, &mut pending_keys, &q);
+    if groups.is_empty() {
+        return Err(err(
+            "task",
+            None,
+            "the task does not move the arm (every step ends where the arm already is)".into(),
+        ));
+    }
+
+    // Timing.
+    let topp_opts = ToppOptions {
+        segments: scene.topp_segments,
+        ..Default::default()
+    };
+    let mut pieces: Vec<Box<dyn Trajectory + Send + Sync>> = Vec::new();
+    let mut infos = Vec::new();
+    let mut knots = vec![0.0];
+    let mut push = |p: Box<dyn Trajectory + Send + Sync>, kind: &'static str, from: String| {
+        let t0 = *knots.last().expect("non-empty");
+        let d = p.duration();
+        let mut qe = vec![0.0; model.nv];
+        let (mut a, mut b) = (vec![0.0; model.nv], vec![0.0; model.nv]);
+        p.sample(d, &mut qe, &mut a, &mut b);
+        infos.push(PieceInfo {
+            kind,
+            from,
+            start_s: t0,
+            duration_s: d,
+            end_q: named(model, &qe),
+        });
+        knots.push(t0 + d);
+        pieces.push(p);
+    };
+    let lim = &scene.limits;
+    for g in groups {
+        match g {
+            Group::Joint(wps, keys) => {
+                let from = keys.join(", ");
+                let e = |x: crate::trajectory::TrajectoryError| {
+                    err(
+                        keys.first().map_or("task", |s| s.as_str()),
+                        None,
+                        format!("joint motion: {x}"),
+                    )
+                };
+                match scene.timing {
+                    Timing::Trapezoidal => push(
+                        Box::new(Trapezoidal::new(&wps, lim).map_err(e)?),
+                        "joint",
+                        from,
+                    ),
+                    Timing::Quintic => {
+                        push(Box::new(Quintic::new(&wps, lim).map_err(e)?), "joint", from)
+                    }
+                    Timing::MinimumJerk => {
+                        push(Box::new(MinJerk::new(&wps, lim).map_err(e)?), "joint", from)
+                    }
+                    Timing::TimeOptimal => {
+                        for (i, w) in wps.windows(2).enumerate() {
+                            let path = LinearPath::new(w[0].clone(), w[1].clone()).map_err(e)?;
+                            let t =
+                                topp(model, path, lim, &scene.effects, &topp_opts).map_err(e)?;
+                            push(
+                                Box::new(t),
+                                "joint",
+                                keys.get(i).cloned().unwrap_or_default(),
+                            );
+                        }
+                    }
+                }
+            }
+            Group::Line(mv, key) => {
+                if scene.timing == Timing::TimeOptimal {
+                    let path = mv.path().clone();
+                    let t = topp(model, path, lim, &scene.effects, &topp_opts)
+                        .map_err(|x| err(&key, None, format!("straight line: {x}")))?;
+                    push(Box::new(t), "line", key);
+                } else {
+                    push(Box::new(mv), "line", key);
+                }
+            }
+            Group::Dwell(q, d, key) => push(Box::new(Dwell { q, duration: d }), "dwell", key),
+        }
+    }
+    Ok(Plan {
+        trajectory: Sequence {
+            n: model.nv,
+            knots,
+            pieces,
+        },
+        pieces: infos,
+        waypoints,
+        ik_solves,
+        planning_time_s: start.elapsed().as_secs_f64(),
+    })
+}
