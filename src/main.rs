@@ -227,6 +227,9 @@ enum Cmd {
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
+        /// Exit with status 2 when the verdict is not ok (limits exceeded or a collision).
+        #[arg(long)]
+        check: bool,
     },
     /// Time one algorithm (median ns per call over random states inside the limits).
     Bench {
@@ -424,16 +427,26 @@ fn run(cli: Cli) -> Result<(), String> {
             scenario,
             out,
             json,
+            check,
         } => {
             if let Some(dir) = &out {
                 std::fs::create_dir_all(dir)
                     .map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
             }
-            let report = armsim::scenario::run_file(&scenario).map_err(|e| e.to_string())?;
+            let opts = armsim::arm::RunOptions {
+                out_dir: out,
+                ..Default::default()
+            };
+            let report =
+                armsim::scenario::run_file_with(&scenario, &opts).map_err(|e| e.to_string())?;
             if json {
                 print_json(&report.json);
             } else {
                 print!("{}", report.text);
+            }
+            if check && report.json.get("ok").and_then(|v| v.as_bool()) == Some(false) {
+                let _ = flush_stdout();
+                std::process::exit(2);
             }
             Ok(())
         }

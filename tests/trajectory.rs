@@ -1291,3 +1291,30 @@ fn torque_check_streams_and_caps_the_plot() {
     assert_eq!(info.info().height, 220 * 24 + 40);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Every profile holds its end points at rest: sampled before the start or after the end,
+/// the velocity and acceleration are exactly zero (a held trapezoid used to report its
+/// last deceleration forever, which a computed-torque controller tracked as a 1.5 cm
+/// steady-state error).
+#[test]
+fn profiles_hold_their_end_points_at_rest() {
+    let w = planar_waypoints();
+    let lim = planar_limits();
+    let n = w[0].len();
+    let profiles: Vec<Box<dyn Trajectory>> = vec![
+        Box::new(Trapezoidal::new(&w, &lim).unwrap()),
+        Box::new(Quintic::new(&w, &lim).unwrap()),
+        Box::new(MinJerk::new(&w, &lim).unwrap()),
+    ];
+    for p in &profiles {
+        let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for (t, end) in [(-1.0, &w[0]), (p.duration() + 0.5, w.last().unwrap())] {
+            p.sample(t, &mut q, &mut qd, &mut qdd);
+            for j in 0..n {
+                assert!((q[j] - end[j]).abs() < 1e-12, "q at {t}: {q:?} vs {end:?}");
+                assert!(qd[j].abs() < 1e-12, "qd at {t}: {qd:?}");
+                assert!(qdd[j].abs() < 1e-9, "qdd at {t}: {qdd:?}");
+            }
+        }
+    }
+}

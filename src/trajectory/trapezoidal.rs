@@ -115,6 +115,14 @@ impl Trajectory for Trapezoidal {
 
     fn sample(&self, t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
         let n = self.n;
+        if t < 0.0 || t > self.duration() {
+            // Held at an end point: at rest (the last phase's deceleration would otherwise
+            // be reported forever, and a controller would track a phantom acceleration).
+            self.sample(t.clamp(0.0, self.duration()), q, qd, qdd);
+            qd.fill(0.0);
+            qdd.fill(0.0);
+            return;
+        }
         let (k, tau) = locate(&self.knots, t);
         let big_t = self.knots[k + 1] - self.knots[k];
         let p0 = &self.points[k * n..(k + 1) * n];
