@@ -1305,10 +1305,23 @@ fn profiles_hold_their_end_points_at_rest() {
         Box::new(Trapezoidal::new(&w, &lim).unwrap()),
         Box::new(Quintic::new(&w, &lim).unwrap()),
         Box::new(MinJerk::new(&w, &lim).unwrap()),
+        Box::new(
+            topp(
+                &planar(),
+                LinearPath::new(w[0].clone(), w[1].clone()).unwrap(),
+                &lim,
+                &Effects::default(),
+                &ToppOptions::default(),
+            )
+            .unwrap(),
+        ),
     ];
     for p in &profiles {
         let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        for (t, end) in [(-1.0, &w[0]), (p.duration() + 0.5, w.last().unwrap())] {
+        let mut last = vec![0.0; n];
+        let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+        p.sample(p.duration(), &mut last, &mut a, &mut b);
+        for (t, end) in [(-1.0, &w[0]), (p.duration() + 0.5, &last)] {
             p.sample(t, &mut q, &mut qd, &mut qdd);
             for j in 0..n {
                 assert!((q[j] - end[j]).abs() < 1e-12, "q at {t}: {q:?} vs {end:?}");

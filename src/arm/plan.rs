@@ -126,6 +126,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
         max_restarts: 20,
         time_budget: Duration::from_millis(500),
         respect_limits: true,
+        position_only: scene.position_only,
         ..Default::default()
     };
     let mut groups: Vec<Group> = Vec::new();
@@ -174,13 +175,14 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
             }
             Step::Line(goal) => {
                 flush(&mut groups, &mut pending, &mut pending_keys, &q);
-                let opts = CartesianOptions {
+                let mut opts = CartesianOptions {
                     samples: scene.line_samples,
                     max_linear_speed: scene.tool_speed,
                     max_linear_acceleration: scene.tool_acceleration,
                     joint_limits: Some(scene.limits.clone()),
                     ..Default::default()
                 };
+                opts.ik.position_only = scene.position_only;
                 let mv = cartesian_line(model, scene.tool, &q, goal, &opts)
                     .map_err(|e| err(&ts.key, ts.line, format!("straight line: {e}")))?;
                 ik_solves += scene.line_samples;

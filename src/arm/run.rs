@@ -273,7 +273,11 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         let mut tool_err_max: f64 = 0.0;
         let mut tool_err_settle: f64 = 0.0;
         let mut settle_err = vec![0.0f64; n];
+        let mut peak_tau = vec![0.0f64; n];
         for s in &samples {
+            for k in 0..n {
+                peak_tau[k] = peak_tau[k].max(s.tau[k].abs());
+            }
             forward_kinematics(model, &mut data, &s.q);
             let p = frame_placement(model, &data, scene.tool).trans;
             forward_kinematics(model, &mut data, &s.q_ref);
@@ -314,6 +318,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
             "real_time_factor": sim_report.real_time_factor,
             "interrupted": sim_report.interrupted,
             "max_tracking_error": named(&names, &sim_report.max_tracking_error),
+            "peak_applied_torque": named(&names, &peak_tau),
             "max_tool_error_m": tool_err_max,
             "residual_tool_error_m": tool_err_settle,
             "residual_joint_error": named(&names, &settle_err),
@@ -453,6 +458,8 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         "torque_check": torque.json_rows(),
         "torque_check_ok": torque.ok,
         "torque_check_dt": torque.dt,
+        "torque_check_note": scene.contact.is_some().then_some(
+            "the planned torques do not include the contact forces (unknown before simulating): see simulation.peak_applied_torque"),
         "payload_sweep": if sweep_json.is_empty() { Value::Null } else { Value::Array(sweep_json) },
         "collisions": collisions,
         "contact": contact_report.as_ref().map(|c| serde_json::to_value(c).expect("serialise")),

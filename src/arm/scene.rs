@@ -139,6 +139,8 @@ pub struct Scene {
     pub collision_max_step: f64,
     pub steps: Vec<TaskStep>,
     pub task_kind: String,
+    /// IK and lines ignore the tool orientation.
+    pub position_only: bool,
     pub timing: Timing,
     pub topp_segments: usize,
     pub line_samples: usize,
@@ -355,10 +357,11 @@ fn add_skeleton(spec: &mut ModelSpec, radius: f64, base_dir: Option<&Path>) -> V
     added
 }
 
-/// Pairs of skeleton links whose capsules meet by construction: a link and the nearest
-/// ancestor whose bone ends at the link's origin through zero-length bones (e.g. a
-/// shoulder whose two joints share an origin). They touch in every configuration.
-fn skeleton_contacts(spec: &ModelSpec, skeleton: &[String]) -> Vec<[String; 2]> {
+/// Pairs of skeleton links whose capsules overlap by construction: a link `C` and an
+/// ancestor `P` whose bone ends within `2r` of `C`'s origin along the chain (short or
+/// zero-length bones in between, e.g. a shoulder whose two joints share an origin, or a
+/// short wrist link). They touch in every configuration, so they are not tested.
+fn skeleton_contacts(spec: &ModelSpec, skeleton: &[String], radius: f64) -> Vec<[String; 2]> {
     let parent_bone = |child: &str| {
         spec.joints
             .iter()
@@ -367,19 +370,18 @@ fn skeleton_contacts(spec: &ModelSpec, skeleton: &[String]) -> Vec<[String; 2]> 
     };
     let mut out = Vec::new();
     for c in skeleton {
-        let mut x = c.clone();
+        // `acc` bounds the distance from C's origin to x's origin (the end of p's bone).
+        let (mut x, mut acc) = (c.clone(), 0.0);
         let mut guard = 0;
         while let Some((p, len)) = parent_bone(&x) {
             guard += 1;
-            if guard > spec.joints.len() {
+            if guard > spec.joints.len() || acc >= 2.0 * radius {
                 break;
             }
-            if len >= 1e-3 {
-                if &x != c && skeleton.contains(&p) {
-                    out.push([p, c.clone()]);
-                }
-                break;
+            if &x != c && skeleton.contains(&p) {
+                out.push([p.clone(), c.clone()]);
             }
+            acc += len;
             x = p;
         }
     }
@@ -418,7 +420,7 @@ fn load_model(
     let mut touching = Vec::new();
     if let Some(r) = skeleton {
         let added = add_skeleton(&mut spec, r, path.parent());
-        touching = skeleton_contacts(&spec, &added);
+        touching = skeleton_contacts(&spec, &added, r);
         if !added.is_empty() {
             notes.push(format!(
                 "collision: links without usable collision geometry get capsules of radius {r} m along their bones: {}",
@@ -1378,13 +1380,15 @@ pub fn build(path: &Path, text: &str, file: &ArmFile) -> Result<Scene, ScenarioE
                 kd: gains(kd, "simulation.kd", 40.0)?,
             },
             "none" => Controller::None,
-            other => return Err(cx.at(
-                ctrl_name.1,
-                "simulation.controller",
-                format!(
+            other => {
+                return Err(cx.at(
+                    ctrl_name.1,
+                    "simulation.controller",
+                    format!(
                     "unknown controller '{other}' (expected computed_torque, pd_gravity or none)"
                 ),
-            )),
+                ))
+            }
         };
         let dt = get_f(&cx, &ssec.and_then(|s| s.dt.clone()), "simulation.dt", 1e-3)?;
         if dt > 0.1 {
@@ -1493,6 +1497,7 @@ pub fn build(path: &Path, text: &str, file: &ArmFile) -> Result<Scene, ScenarioE
         collision_max_step,
         steps,
         task_kind: kind.to_string(),
+        position_only: tsec.position_only.unwrap_or(n < 6),
         timing,
         topp_segments,
         line_samples,

@@ -246,6 +246,9 @@ pub struct TaskSec {
     /// Joint values in degrees (waypoints and joint steps).
     #[serde(default)]
     pub degrees: bool,
+    /// Tool poses constrain the position only (default: for arms with fewer than six
+    /// joints).
+    pub position_only: Option<bool>,
 }
 
 /// `[trajectory]`.

@@ -12,8 +12,9 @@
 //! - Controllers ([`Controller`]): computed torque `τ = ID(q, q̇, q̈_d + K_d ė + K_p e)`
 //!   (with the scene's effects, so the model is exact), PD with gravity compensation
 //!   `τ = K_p e + K_d ė + g(q)`, or none. With elastic joints the controller acts on the
-//!   motor side: `τ_m = ID(q_d, q̇_d, q̈_d) + B q̈_d + K_p (q_d − θ) + K_d (q̇_d − θ̇)` for
-//!   computed torque (feed-forward plus motor PD), `K_p (q_d − θ) + K_d (q̇_d − θ̇) + g(q_d)`
+//!   motor side: `τ_m = τ_ff + B q̈_d + K_p B (θ_d − θ) + K_d B (q̇_d − θ̇)` with
+//!   `τ_ff = ID(q_d, q̇_d, q̈_d)` and the motor reference `θ_d = q_d + K⁻¹ τ_ff` (so the
+//!   springs carry the link torques without sag) for computed torque, `K_p (q_d − θ) + K_d (q̇_d − θ̇) + g(q_d)`
 //!   for PD (gravity compensated at the desired configuration, Tomei's controller).
 //! - Energy audit: with no friction, no joint damping and no external wrench,
 //!   `E(t) − E(0) = ∫ τ·q̇ dt` (actuator work; motor side with elastic joints); the report
@@ -307,10 +308,14 @@ impl<'m> Simulator<'m> {
                         .as_ref()
                         .expect("elastic")
                         .motor_inertia;
+                    let k = &self.effects.elasticity.as_ref().expect("elastic").stiffness;
+                    // Motor reference θ_d = q_d + K⁻¹ τ_ff: the springs carry the link
+                    // torques without the link sagging by K⁻¹ g(q).
                     for i in 0..n {
+                        let th_d = self.qr[i] + ff[i] / k[i];
                         self.tau[i] = ff[i]
                             + b[i] * self.qddr[i]
-                            + kp[i] * b[i] * (self.qr[i] - th[i])
+                            + kp[i] * b[i] * (th_d - th[i])
                             + kd[i] * b[i] * (self.qdr[i] - thd[i]);
                     }
                 } else {

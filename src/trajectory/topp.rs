@@ -735,6 +735,15 @@ impl<P: Path> Trajectory for ToppTrajectory<P> {
     }
 
     fn sample(&self, t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
+        let end = *self.t.last().unwrap_or(&0.0);
+        if t < 0.0 || t > end {
+            // Held at an end point, at rest (the last interval's deceleration `q' s̈` is
+            // one-sided: it must not persist after the end).
+            self.sample(t.clamp(0.0, end), q, qd, qdd);
+            qd.fill(0.0);
+            qdd.fill(0.0);
+            return;
+        }
         let (i, tau) = super::locate(&self.t, t);
         let sd0 = self.b[i].sqrt();
         let a = self.a[i];
