@@ -40,15 +40,59 @@ impl ScenarioError {
         }
     }
 
-    /// From a `toml` deserialisation error of `text` (line from its span).
+    /// From a `toml` deserialisation error of `text` (line from its span; the key from
+    /// the message (`unknown field`, `missing field`) or the line, prefixed with the
+    /// enclosing `[table]`).
     pub fn from_toml(file: &str, text: &str, e: &toml::de::Error) -> Self {
         let line = e.span().map(|s| line_at(text, s.start));
-        let key = line
-            .and_then(|l| text.lines().nth(l - 1))
-            .and_then(|l| l.split('=').next())
+        let quoted = |what: &str| {
+            let m = e.message();
+            let i = m.find(what)? + what.len();
+            let rest = m[i..].strip_prefix('`')?;
+            Some(rest[..rest.find('`')?].to_string())
+        };
+        let line_text = line.and_then(|l| text.lines().nth(l - 1)).unwrap_or("");
+        let from_line = line_text
+            .split('=')
+            .next()
             .map(|k| k.trim().to_string())
-            .filter(|k| !k.is_empty())
-            .unwrap_or_else(|| "file".into());
+            .filter(|k| !k.is_empty() && !k.starts_with('#') && !k.starts_with('['));
+        let table = line.and_then(|l| {
+            text.lines()
+                .take(l)
+                .collect::<Vec<_>>()
+                .iter()
+                .rev()
+                .find_map(|t| {
+                    let t = t.trim();
+                    let inner = t.strip_prefix("[[").and_then(|x| x.strip_suffix("]]"));
+                    let inner =
+                        inner.or_else(|| t.strip_prefix('[').and_then(|x| x.strip_suffix(']')));
+                    inner.map(|x| x.trim().to_string())
+                })
+        });
+        let key = match quoted("unknown field ")
+            .or_else(|| quoted("missing field "))
+            .or(from_line)
+        {
+            Some(k) => match &table {
+                Some(t)
+                    if line_text.trim_start().starts_with('[') || !k.starts_with(t.as_str()) =>
+                {
+                    if line_text.trim_start().starts_with('[')
+                        && e.message().contains("missing field")
+                    {
+                        format!("{t}.{k}")
+                    } else if line_text.trim_start().starts_with('[') {
+                        t.clone()
+                    } else {
+                        format!("{t}.{k}")
+                    }
+                }
+                _ => k,
+            },
+            None => table.unwrap_or_else(|| "file".into()),
+        };
         let message = e
             .message()
             .lines()
@@ -108,7 +152,12 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
     let text = std::fs::read_to_string(path)
         .map_err(|e| ScenarioError::new(&file, None, "file", format!("cannot read: {e}")))?;
     if text.trim().is_empty() {
-        return Err(ScenarioError::new(&file, None, "file", "the file is empty"));
+        return Err(ScenarioError::new(
+            &file,
+            Some(1),
+            "file",
+            "the file is empty",
+        ));
     }
     let table: toml::Table =
         toml::from_str(&text).map_err(|e| ScenarioError::from_toml(&file, &text, &e))?;

@@ -522,6 +522,13 @@ pub fn build(path: &Path, text: &str, file: &ArmFile) -> Result<Scene, ScenarioE
             "effect 'contact' needs a [contact] table (table, box, pusher)",
         ));
     }
+    if has("contact") && !has("gravity") {
+        return Err(cx.at(
+            file.effects.span(),
+            "effects",
+            "effect 'contact' needs 'gravity' (the box rests on the table under its weight)",
+        ));
+    }
     if has("joint_elasticity") && file.joint_elasticity.is_none() {
         return Err(cx.at(
             file.effects.span(),

@@ -1,0 +1,549 @@
+//! Arm scenarios end to end (`armsim run`), checked against independent references:
+//!
+//! - the torque check against a recomputation by plain RNEA on a model whose tool link
+//!   carries the payload, plus the friction law written out here, at sampled points, and
+//!   its violations flagged at exactly the samples where the recomputation exceeds;
+//! - a left-out effect is never run (effect counters, the contact pipeline never built);
+//! - the time-optimal plan meets every limit and beats the trapezoidal one;
+//! - a planted obstacle is hit by the right link at the analytic time;
+//! - the contact scene's sliding force equals Coulomb's μ m g;
+//! - every bundled scenario runs, and broken ones give `file:line: key: message` errors.
+
+use armsim::arm::{self, RunOptions};
+use armsim::data::Data;
+use armsim::dynamics::rnea;
+use armsim::model::Model;
+use armsim::spatial::{Inertia, Mat3, Vec3};
+use armsim::trajectory::Trajectory;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn no_files() -> RunOptions {
+    RunOptions {
+        write_files: false,
+        ..Default::default()
+    }
+}
+
+/// Runs scenario text as if it were the file `scenarios/<name>.toml`.
+fn run_text(name: &str, text: &str) -> arm::Outcome {
+    let path = root().join("scenarios").join(format!("{name}.toml"));
+    arm::run(&path, text, &no_files()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn bundled(name: &str) -> String {
+    std::fs::read_to_string(root().join("scenarios").join(format!("{name}.toml"))).unwrap()
+}
+
+fn cli(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_armsim"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(args)
+        .output()
+        .expect("run armsim")
+}
+
+/// The UR5 model with the payload merged into `tool0`'s inertia (an independent route to
+/// the payload torques: no `Effects`, no payload code path).
+fn ur5_with_payload(mass: f64, com: [f64; 3]) -> Model {
+    let mut spec = Model::read_spec(&root().join("robots/ur5.urdf")).unwrap();
+    let link = spec.links.iter_mut().find(|l| l.name == "tool0").unwrap();
+    let p = Inertia::new(mass, Vec3::new(com[0], com[1], com[2]), Mat3::zeros());
+    let a = link.inertial;
+    let m = a.mass + p.mass;
+    let c = (a.com * a.mass + p.com * p.mass) / m;
+    let shift = |i: &Inertia| {
+        let d = i.com - c;
+        i.inertia_com + i.mass * (Mat3::identity() * d.dot(&d) - d * d.transpose())
+    };
+    link.inertial = Inertia::new(m, c, shift(&a) + shift(&p));
+    Model::build(spec).unwrap().0
+}
+
+/// Viscous + Coulomb/Stribeck law as documented (`Friction::torque`), written out.
+fn friction(v: f64, b: f64, fc: f64) -> f64 {
+    let (fs, vs, eps) = (fc, 0.1, 1e-3);
+    let r = v / vs;
+    b * v + (fc + (fs - fc) * (-r * r).exp()) * (v / eps).tanh()
+}
+
+#[test]
+fn torque_check_agrees_with_an_independent_rnea_recomputation() {
+    let out = run_text("ur5_pick_and_place", &bundled("ur5_pick_and_place"));
+    let model = ur5_with_payload(1.5, [0.0, 0.0, 0.08]);
+    let mut data = Data::new(&model);
+    let viscous = [2.0, 2.0, 1.5, 0.5, 0.5, 0.5];
+    let coulomb = [3.0, 3.0, 2.0, 1.0, 1.0, 1.0];
+    let g = Vec3::new(0.0, 0.0, -9.81);
+    let traj = &out.plan.trajectory;
+    let rep = &out.torque;
+    let n = 6;
+    let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut worst: f64 = 0.0;
+    let mut checked = 0;
+    for k in (0..rep.t.len()).step_by(37) {
+        traj.sample(rep.t[k], &mut q, &mut qd, &mut qdd);
+        let tau = rnea(&model, &mut data, &q, &qd, &qdd, &g, None).to_vec();
+        for j in 0..n {
+            let expect = tau[j] + friction(qd[j], viscous[j], coulomb[j]);
+            worst = worst.max((expect - rep.torque(k, j)).abs());
+        }
+        checked += 1;
+    }
+    assert!(checked > 300, "{checked} samples");
+    assert!(worst < 1e-9, "largest torque difference {worst:e} N m");
+    // The JSON rows carry the same peaks.
+    let rows = out.report.json["torque_check"].as_array().unwrap();
+    for (r, j) in rows.iter().zip(&rep.joints) {
+        assert_eq!(r["joint"], j.joint.as_str());
+        assert_eq!(r["peak_torque"].as_f64().unwrap(), j.peak_torque);
+        for key in ["rms_torque", "peak_speed", "limit", "margin", "ok"] {
+            assert!(!r[key].is_null(), "{key}");
+        }
+    }
+}
+
+#[test]
+fn violations_are_flagged_exactly_where_the_recomputation_exceeds() {
+    let text = bundled("panda_payload_sweep");
+    let out = run_text("panda_payload_sweep", &text);
+    // The nominal case is the heaviest payload of the sweep (6 kg) and it violates.
+    assert!(!out.torque.ok);
+    let mut spec = Model::read_spec(&root().join("robots/panda.urdf")).unwrap();
+    let tcp = spec
+        .links
+        .iter_mut()
+        .find(|l| l.name == "panda_hand_tcp")
+        .unwrap();
+    assert_eq!(tcp.inertial.mass, 0.0, "the TCP frame is massless");
+    tcp.inertial = Inertia::new(
+        6.0,
+        Vec3::new(0.0, 0.0, 0.05),
+        Mat3::from_diagonal_element(0.004),
+    );
+    let model = Model::build(spec).unwrap().0;
+    let mut data = Data::new(&model);
+    let g = Vec3::new(0.0, 0.0, -9.81);
+    let n = model.nv;
+    let rep = &out.torque;
+    let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut first: Vec<Option<usize>> = vec![None; n];
+    for (k, &t) in rep.t.iter().enumerate() {
+        out.plan.trajectory.sample(t, &mut q, &mut qd, &mut qdd);
+        let tau = rnea(&model, &mut data, &q, &qd, &qdd, &g, None);
+        for j in 0..n {
+            assert!((tau[j] - rep.torque(k, j)).abs() < 1e-9);
+            if first[j].is_none() && tau[j].abs() > model.effort_limit[j] {
+                first[j] = Some(k);
+            }
+        }
+    }
+    let mut violating = 0;
+    for (j, row) in rep.joints.iter().enumerate() {
+        match (first[j], row.first_torque_violation_s) {
+            (None, None) => {}
+            (Some(k), Some(t)) => {
+                violating += 1;
+                assert!(k > 0, "{}", row.joint);
+                assert!(
+                    rep.t[k - 1] < t && t <= rep.t[k],
+                    "{}: flagged at {t}, recomputation crosses in ({}, {}]",
+                    row.joint,
+                    rep.t[k - 1],
+                    rep.t[k]
+                );
+            }
+            (a, b) => panic!("{}: recomputation {a:?}, check {b:?}", row.joint),
+        }
+    }
+    assert!(violating >= 1);
+    // The sweep: every peak torque grows with the payload, and the verdict turns once.
+    let sweep = out.report.json["payload_sweep"].as_array().unwrap();
+    assert_eq!(sweep.len(), 7);
+    let oks: Vec<bool> = sweep.iter().map(|r| r["ok"].as_bool().unwrap()).collect();
+    assert!(oks[0] && !oks[6], "{oks:?}");
+    let turn = oks.iter().position(|o| !o).unwrap();
+    assert!(oks[turn..].iter().all(|o| !o), "{oks:?}");
+    let peak = |r: &serde_json::Value, j: &str| r["peak_torque"][j].as_f64().unwrap();
+    for w in sweep.windows(2) {
+        assert!(peak(&w[1], "panda_joint2") > peak(&w[0], "panda_joint2"));
+    }
+}
+
+#[test]
+fn left_out_effects_are_never_run_and_contact_is_built_only_when_named() {
+    let out = run_text("ur5_pick_and_place", &bundled("ur5_pick_and_place"));
+    let runs = out.effect_runs.unwrap();
+    assert!(runs.gravity > 0 && runs.friction > 0 && runs.payload > 0);
+    assert_eq!((runs.rotor, runs.elasticity, runs.external), (0, 0, 0));
+    assert!(!out.contact_built);
+    assert_eq!(out.report.json["contact_pipeline_built"], false);
+    assert!(out.report.json["contact"].is_null());
+    // The same scene without friction: friction code never runs.
+    let text = bundled("ur5_pick_and_place").replace(
+        "effects = [\"gravity\", \"friction\", \"payload\"]",
+        "effects = [\"gravity\", \"payload\"]",
+    );
+    let out = run_text("ur5_pick_and_place", &text);
+    let runs = out.effect_runs.unwrap();
+    assert_eq!(runs.friction, 0);
+    assert!(out.report.json["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|w| w.as_str().unwrap().contains("[friction] is given")));
+    // Naming contact builds it, and its wrenches reach the plant.
+    let out = run_text("ur5_push_box", &bundled("ur5_push_box"));
+    assert!(out.contact_built);
+    assert!(out.effect_runs.unwrap().external > 0);
+}
+
+#[test]
+fn pushed_box_slides_with_the_coulomb_force() {
+    let out = run_text("ur5_push_box", &bundled("ur5_push_box"));
+    let c = out.contact.unwrap();
+    // mu = 0.4 (table and box), m = 1 kg, g = 9.81.
+    assert!((c.coulomb_force_n - 0.4 * 9.81).abs() < 1e-12);
+    let f = c.sliding_force_n.expect("steady sliding phase");
+    assert!(
+        (f - c.coulomb_force_n).abs() < 0.05 * c.coulomb_force_n,
+        "sliding push {f} N vs mu m g {} N",
+        c.coulomb_force_n
+    );
+    // The pusher (r = 3 cm) goes from x = 0.32 to 0.62; the box face starts at 0.45:
+    // pushed 0.62 + 0.03 - 0.45 = 0.20 m, less what it falls behind while decelerating.
+    assert!(
+        c.box_displacement_m > 0.17 && c.box_displacement_m < 0.205,
+        "{}",
+        c.box_displacement_m
+    );
+    assert!(
+        (c.box_end[2] - 0.05).abs() < 2e-3,
+        "the box stays on the table"
+    );
+    assert!(c.box_end[0] > c.box_start[0], "pushed along +x");
+}
+
+#[test]
+fn time_optimal_plan_meets_the_limits_and_beats_the_trapezoid() {
+    let text = bundled("planar_2r");
+    let topp = run_text("planar_2r", &text);
+    let trap = run_text(
+        "planar_2r",
+        &text.replace("type = \"time_optimal\"", "type = \"trapezoidal\""),
+    );
+    let (vel, eff) = (3.0, [30.0, 10.0]);
+    for (j, row) in topp.torque.joints.iter().enumerate() {
+        assert!(row.peak_speed <= vel * (1.0 + 1e-6), "{}", row.peak_speed);
+        assert!(
+            row.peak_torque <= eff[j] * (1.0 + 1e-6),
+            "{}",
+            row.peak_torque
+        );
+    }
+    let (t1, t2) = (
+        topp.plan.trajectory.duration(),
+        trap.plan.trajectory.duration(),
+    );
+    assert!(t1 < t2, "time-optimal {t1} s vs trapezoidal {t2} s");
+}
+
+#[test]
+fn planted_obstacle_is_hit_by_the_wrist_capsule_at_the_analytic_time() {
+    // The tool (pointing down) moves along x from 0.3 to 0.6 m at z = 0.3. In this URDF
+    // wrist_3_link and tool0 share their origin, so the skeleton capsule ending at the tool
+    // point is wrist_2_link's (radius r = 0.04, rising vertically from it). A sphere of
+    // radius 0.03 at x = 0.5 on the line is first touched when x_tool = 0.5 − 0.07.
+    let text = r#"
+name = "planted"
+effects = []
+[model]
+file = "../robots/ur5.urdf"
+tool = "tool0"
+[initial]
+q = [0.0, -1.5708, 1.5708, -1.5708, -1.5708, 0.0]
+[[obstacles]]
+name = "ball"
+shape = "sphere"
+radius = 0.03
+xyz = [0.5, 0.1, 0.3]
+[collision]
+skeleton_radius = 0.04
+[task]
+type = "sequence"
+steps = [
+  { line = { xyz = [0.3, 0.1, 0.3], rpy = [3.14159265358979, 0.0, -1.5707963267949] } },
+  { line = { xyz = [0.6, 0.1, 0.3], rpy = [3.14159265358979, 0.0, -1.5707963267949] } },
+]
+[trajectory]
+line_samples = 201
+[simulation]
+enabled = false
+"#;
+    let out = run_text("planted", text);
+    let first = &out.report.json["collisions"]["first"];
+    assert_eq!(first["pair"][0], "wrist_2_link", "{first}");
+    assert_eq!(first["pair"][1], "ball");
+    let line = &out.plan.pieces[1];
+    assert_eq!(line.kind, "line");
+    // x_tool(t) = 0.3 + 0.3 σ(u), σ(u) = 10u³ − 15u⁴ + 6u⁵: solve σ(u) = 0.13 / 0.3.
+    let target = 0.13 / 0.3;
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    for _ in 0..100 {
+        let u = 0.5 * (lo + hi);
+        let s = u * u * u * (10.0 + u * (-15.0 + 6.0 * u));
+        if s < target {
+            lo = u;
+        } else {
+            hi = u;
+        }
+    }
+    let t = line.start_s + lo * line.duration_s;
+    let found = first["time"].as_f64().unwrap();
+    assert!((found - t).abs() < 2e-3, "found {found} s, analytic {t} s");
+    assert_eq!(out.report.json["ok"], false);
+}
+
+#[test]
+fn elastic_joints_ring_after_the_motion_and_the_energy_balances() {
+    let out = run_text("iiwa_elastic_joints", &bundled("iiwa_elastic_joints"));
+    let sim = &out.report.json["simulation"];
+    let f = sim["residual_vibration_hz"].as_f64().expect("vibration");
+    assert!(f > 0.5 && f < 50.0, "{f} Hz");
+    assert!(sim["residual_tool_error_m"].as_f64().unwrap() > 1e-4);
+    // No damping, no friction: the energy audit applies and holds.
+    let e = sim["energy_audit"]["max_relative_drift"].as_f64().unwrap();
+    assert!(e < 1e-2, "{e}");
+    // With the motor reference q_d + K⁻¹ τ_ff there is no static sag: the arm ends on
+    // its target within the ringing amplitude (the sag K⁻¹ g would be ~2 cm).
+    assert!(sim["residual_tool_error_m"].as_f64().unwrap() < 1e-2);
+}
+
+#[test]
+fn every_bundled_arm_scenario_runs_and_names_its_joints() {
+    let mut n = 0;
+    for e in std::fs::read_dir(root().join("scenarios")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().and_then(|x| x.to_str()) != Some("toml") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&p).unwrap();
+        if text.lines().any(|l| l.trim_start().starts_with("kind =")) {
+            continue;
+        }
+        let out = arm::run(&p, &text, &no_files()).unwrap_or_else(|e| panic!("{e}"));
+        let j = &out.report.json;
+        let joints = j["model"]["joints"].as_array().unwrap();
+        assert_eq!(joints.len(), out.scene.model.nv);
+        for (row, name) in j["torque_check"].as_array().unwrap().iter().zip(joints) {
+            assert_eq!(&row["joint"], name);
+        }
+        for key in [
+            "scenario",
+            "effects",
+            "torque_check",
+            "collisions",
+            "outputs",
+        ] {
+            assert!(j.get(key).is_some(), "{}: {key}", p.display());
+        }
+        n += 1;
+    }
+    assert!(n >= 5, "{n} arm scenarios");
+}
+
+#[test]
+fn cli_run_writes_outputs_atomically_and_prints_json() {
+    let dir = std::env::temp_dir().join(format!("armsim_run_{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let o = cli(&["run", "scenarios/planar_2r.toml", "--out", d, "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let outputs = j["outputs"].as_array().unwrap();
+    assert!(outputs.len() >= 3);
+    for p in outputs {
+        let p = Path::new(p.as_str().unwrap());
+        assert!(p.starts_with(&dir) && p.exists(), "{}", p.display());
+    }
+    let png = std::fs::read(dir.join("planar_2r_torques.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "temporary files left");
+    // --check exits 2 on a violation; the text names the verdict.
+    let o = cli(&[
+        "run",
+        "scenarios/panda_payload_sweep.toml",
+        "--out",
+        d,
+        "--check",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("LIMITS EXCEEDED"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `(file, line, key, message fragment)` of every broken arm scenario.
+const BROKEN: &[(&str, usize, &str, &str)] = &[
+    (
+        "arm_bad_integrator.toml",
+        12,
+        "simulation.integrator",
+        "unknown integrator 'euler'",
+    ),
+    (
+        "arm_bad_obstacle.toml",
+        7,
+        "obstacles[0] (ball)",
+        "a sphere takes radius",
+    ),
+    (
+        "arm_contact_without_gravity.toml",
+        2,
+        "effects",
+        "needs 'gravity'",
+    ),
+    (
+        "arm_contradictory_limits.toml",
+        8,
+        "limits.lower",
+        "is not below the upper limit",
+    ),
+    (
+        "arm_elastic_without_table.toml",
+        2,
+        "effects",
+        "[joint_elasticity]",
+    ),
+    ("arm_empty.toml", 1, "file", "the file is empty"),
+    (
+        "arm_initial_outside_limits.toml",
+        8,
+        "initial.q",
+        "outside the limits",
+    ),
+    (
+        "arm_limit_above_model.toml",
+        8,
+        "limits.velocity",
+        "exceeds the model's velocity limit",
+    ),
+    ("arm_missing_model.toml", 4, "model.file", "not found"),
+    ("arm_missing_task.toml", 1, "task", "missing field `task`"),
+    (
+        "arm_misspelt_joint.toml",
+        8,
+        "initial.q.shoulder_pan_jiont",
+        "did you mean 'shoulder_pan_joint'",
+    ),
+    (
+        "arm_misspelt_joint_limits.toml",
+        8,
+        "limits.acceleration.elbow",
+        "unknown joint 'elbow'",
+    ),
+    (
+        "arm_negative_payload.toml",
+        8,
+        "payload.mass",
+        "finite and >= 0",
+    ),
+    ("arm_truncated.toml", 6, "task.type", "invalid basic string"),
+    (
+        "arm_unknown_effect.toml",
+        3,
+        "effects",
+        "unknown effect 'wind'",
+    ),
+    (
+        "arm_unknown_key.toml",
+        4,
+        "effect",
+        "unknown field `effect`",
+    ),
+    (
+        "arm_unknown_key_in_table.toml",
+        12,
+        "simulation.integrater",
+        "unknown field `integrater`",
+    ),
+    (
+        "arm_unknown_link.toml",
+        5,
+        "model.tool",
+        "did you mean 'tool0'",
+    ),
+    (
+        "arm_unknown_task_type.toml",
+        8,
+        "task.type",
+        "unknown task type 'wave'",
+    ),
+    (
+        "arm_unreachable_pose.toml",
+        9,
+        "task.pick (approach)",
+        "out of reach",
+    ),
+    (
+        "arm_waypoint_count.toml",
+        10,
+        "task.waypoints[1]",
+        "5 values for 6 joints",
+    ),
+    (
+        "arm_wrong_type.toml",
+        12,
+        "simulation.dt",
+        "invalid type: string \"fast\"",
+    ),
+    (
+        "arm_wrong_type_array.toml",
+        5,
+        "model.base_xyz",
+        "invalid length 2",
+    ),
+];
+
+#[test]
+fn broken_arm_scenarios_give_located_errors_and_no_panic() {
+    let dir = root().join("tests/broken_scenarios");
+    let mut listed: Vec<&str> = BROKEN.iter().map(|b| b.0).collect();
+    listed.sort_unstable();
+    let mut present: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("arm_") && n.ends_with(".toml"))
+        .collect();
+    present.sort();
+    assert_eq!(present, listed, "every arm_*.toml is listed here");
+    let out = std::env::temp_dir().join(format!("armsim_broken_{}", std::process::id()));
+    for &(file, line, key, msg) in BROKEN {
+        let rel = format!("tests/broken_scenarios/{file}");
+        let e = armsim::scenario::run_file_with(&root().join(&rel), &no_files())
+            .err()
+            .unwrap_or_else(|| panic!("{file} ran"));
+        assert_eq!(e.line, Some(line), "{file}: {e}");
+        assert_eq!(e.key, key, "{file}: {e}");
+        assert!(e.message.contains(msg), "{file}: {e}");
+        let o = cli(&["run", &rel, "--out", out.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && o.stdout.is_empty(), "{file}");
+        assert!(
+            err.contains(&format!("{rel}:{line}: {key}: ")),
+            "{file}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{file}: {err}");
+    }
+    // Nothing was written for a scenario that failed to load.
+    assert!(!out.exists() || std::fs::read_dir(&out).unwrap().next().is_none());
+    std::fs::remove_dir_all(&out).ok();
+}
