@@ -201,6 +201,14 @@ pub struct Simulator<'m> {
     jac: DMatrix<f64>,
     fx: Vec<f64>,
     fp: Vec<f64>,
+    q_before: Vec<f64>,
+}
+
+/// `x > 0` rounded down to three significant digits, so that a printed step limit is
+/// never above the limit.
+fn floor_3_digits(x: f64) -> f64 {
+    let scale = 10f64.powi(x.log10().floor() as i32 - 2);
+    (x / scale).floor() * scale
 }
 
 impl<'m> Simulator<'m> {
@@ -240,6 +248,7 @@ impl<'m> Simulator<'m> {
             jac: DMatrix::zeros(dim, dim),
             fx: v(dim),
             fp: v(dim),
+            q_before: v(n),
         })
     }
 
@@ -405,15 +414,41 @@ impl<'m> Simulator<'m> {
                 .is_none_or(|el| el.damping.iter().all(|d| *d == 0.0))
     }
 
-    /// An estimate of the fastest natural frequency (rad/s), from the joint springs.
+    /// The fastest natural frequency (rad/s) of the joint springs: the flexible-joint model
+    /// linearised at rest at `q`, `diag(M(q), B) ẍ + [[K, −K], [−K, K]] x = 0` (gravity's
+    /// stiffness and the velocity terms are small next to springs stiff enough to matter).
+    /// `ω²` is the largest eigenvalue of `A = L_f⁻¹ K_f L_f⁻ᵀ` with
+    /// `L_f = diag(L, B^½)`, `M = L Lᵀ`: `A = [[L⁻¹ K L⁻ᵀ, −L⁻¹ K B^-½], [·ᵀ, K B⁻¹]]`.
+    /// (A per-joint `√(k (1/B + 1/M_ii))` underestimates it: the link side of a spring
+    /// moves with the effective inertia `1/(M⁻¹)_ii ≤ M_ii`.) Runs once, on divergence,
+    /// so it may allocate. Where `M` is not positive definite, `max √(k/B)` (a lower
+    /// bound).
     fn stiffest_mode(&mut self, q: &[f64]) -> Option<f64> {
         let el = self.effects.elasticity.as_ref()?;
-        let m = dynamics::crba(self.model, &mut self.data, q);
-        (0..self.n)
-            .map(|i| {
-                (el.stiffness[i] * (1.0 / el.motor_inertia[i] + 1.0 / m[(i, i)].max(1e-12))).sqrt()
-            })
-            .reduce(f64::max)
+        let n = self.n;
+        let (k, b) = (&el.stiffness, &el.motor_inertia);
+        let motor_only = (0..n).map(|i| (k[i] / b[i]).sqrt()).reduce(f64::max);
+        let m = dynamics::crba(self.model, &mut self.data, q).clone();
+        let Some(linv) = m.cholesky().and_then(|c| c.l().try_inverse()) else {
+            return motor_only;
+        };
+        let mut a = DMatrix::zeros(2 * n, 2 * n);
+        for i in 0..n {
+            for j in 0..n {
+                let a11: f64 = (0..n).map(|c| linv[(i, c)] * k[c] * linv[(j, c)]).sum();
+                a[(i, j)] = a11;
+                let a12 = -linv[(i, j)] * k[j] / b[j].sqrt();
+                a[(i, n + j)] = a12;
+                a[(n + j, i)] = a12;
+            }
+            a[(n + i, n + i)] = k[i] / b[i];
+        }
+        let w2 = a.symmetric_eigenvalues().max();
+        if w2.is_finite() && w2 > 0.0 {
+            Some(w2.sqrt())
+        } else {
+            motor_only
+        }
     }
 
     /// Runs from `(q0, q̇ = 0)` (motor angles at rest on the link angles plus the static
@@ -503,15 +538,34 @@ impl<'m> Simulator<'m> {
         let mut p_prev = power(self, &x);
         for step in 0..steps {
             let t = step as f64 * h;
+            // The configuration before the step, one of the two where the hint below is
+            // evaluated (the state after a diverging step is garbage).
+            self.q_before.copy_from_slice(&x[..n]);
             self.step(t, h, &mut x, reference, &cfg.controller, cfg.integrator)?;
             let t1 = t + h;
             let big = x.iter().any(|v| !v.is_finite() || v.abs() > 1e8);
             if big {
-                let hint = match self.stiffest_mode(&x[..n].iter().map(|v| if v.is_finite() { *v } else { 0.0 }).collect::<Vec<_>>()) {
+                // Linear stability limits on the imaginary axis (undamped springs):
+                // symplectic Euler ω h < 2, classic RK4 ω h < 2√2.
+                let limit = match cfg.integrator {
+                    Integrator::Rk4 => 2.0 * std::f64::consts::SQRT_2,
+                    _ => 2.0,
+                };
+                // The spring modes depend on the configuration through M(q). An unstable
+                // mode grows geometrically, so by the time it is detected the last
+                // configurations already carry it: take the faster of the modes at the start
+                // and before the last step, which keeps the advice on the safe side.
+                let q_before = std::mem::take(&mut self.q_before);
+                let mode = match (self.stiffest_mode(q0), self.stiffest_mode(&q_before)) {
+                    (Some(a), Some(b)) => Some(a.max(b)),
+                    (a, b) => a.or(b),
+                };
+                self.q_before = q_before;
+                let hint = match mode {
                     Some(w) if cfg.integrator != Integrator::Implicit => format!(
-                        ": the joint springs make the scene stiff (fastest mode ≈ {w:.1} rad/s, h·ω = {:.2}); use integrator = \"implicit\" or a step below {:.2e} s",
+                        ": the joint springs make the scene stiff (fastest mode ≈ {w:.1} rad/s, h·ω = {:.2}, stable below {limit:.2}); use integrator = \"implicit\" or a step below {:.2e} s",
                         w * h,
-                        2.0 / w
+                        floor_3_digits(limit / w)
                     ),
                     _ => ": reduce the step".to_string(),
                 };
