@@ -21,7 +21,7 @@ pub use effects::{
     elastic_forward_dynamics, forward_dynamics_with, inverse_dynamics, mass_matrix, EffectRuns,
     EffectSet, Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor,
 };
-pub use energy::{kinetic_energy, potential_energy};
+pub use energy::{kinetic_energy, kinetic_energy_gradient, potential_energy};
 pub use forward::{
     cholesky_in_place, cholesky_solve_in_place, forward_dynamics, forward_dynamics_crba,
     SingularMassMatrix,
