@@ -247,6 +247,21 @@ impl Se3 {
         }
     }
 
+    /// The transform with its rotation projected back onto SO(3) by one Newton–Schulz step
+    /// towards the orthogonal polar factor, `R ← R (3I − RᵀR) / 2`: the orthonormality
+    /// error `E = RᵀR − I` becomes `−(3/4) E² − (1/4) E³`, so an error of 1e-10 drops to
+    /// rounding in one step, and the correction is symmetric (no column is favoured, the
+    /// rotation angle is not biased). A product of many transforms (a twist integrated step
+    /// by step) loses orthonormality like `N eps` otherwise; the kinematics never needs
+    /// this, since it rebuilds every placement from the joint angles.
+    pub fn orthonormalized(&self) -> Se3 {
+        let e = self.rot.transpose() * self.rot;
+        Se3 {
+            rot: self.rot * (Mat3::identity() * 3.0 - e) * 0.5,
+            trans: self.trans,
+        }
+    }
+
     /// Row-major 3×3 rotation as nested arrays (the CLI's JSON shape).
     pub fn rotation_rows(&self) -> [[f64; 3]; 3] {
         let r = &self.rot;

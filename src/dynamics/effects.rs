@@ -162,7 +162,7 @@ impl Payload {
         })
     }
 
-    fn on_body(&self) -> (usize, &InertiaO) {
+    pub(crate) fn on_body(&self) -> (usize, &InertiaO) {
         (self.body, &self.inertia_body)
     }
 }

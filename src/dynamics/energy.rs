@@ -1,10 +1,13 @@
 //! Kinetic and potential energy: `T = ½ Σ v_iᵀ I_i v_i` (body velocities, body inertias)
-//! and `V = −Σ m_i gᵀ c_i` (world centres of mass).
+//! and `V = −Σ m_i gᵀ c_i` (world centres of mass); and the gradient `∂T/∂q` at fixed
+//! `q̇` (the force a symplectic integrator needs for a configuration-dependent mass
+//! matrix).
 
+use super::rnea::project;
 use crate::data::Data;
 use crate::kinematics::{forward_kinematics, forward_kinematics_vel};
-use crate::model::Model;
-use crate::spatial::Vec3;
+use crate::model::{Model, WORLD};
+use crate::spatial::{InertiaO, Vec3};
 
 /// Kinetic energy at `(q, q̇)`; updates placements and velocities in `data`.
 pub fn kinetic_energy(model: &Model, data: &mut Data, q: &[f64], qd: &[f64]) -> f64 {
@@ -28,4 +31,58 @@ pub fn potential_energy(model: &Model, data: &mut Data, q: &[f64], gravity: &Vec
             -b.mass * gravity.dot(&c)
         })
         .sum()
+}
+
+/// `∂T/∂q` at fixed `q̇` into `data.tau` (also returned), in O(n); overwrites the
+/// placements, velocities and `data.f`.
+///
+/// Turning joint `i` by `dε` at fixed rates moves its subtree rigidly along the joint's
+/// screw `S_i`, while the parent's velocity `v_λ` stays: seen from the subtree, only `v_λ`
+/// changes, by `−dε S_i ×ₘ v_λ`, so `∂T/∂θ_i = h_iᵀ (v_λ ×ₘ S_i) = −S_iᵀ (v_i ×_f h_i)`,
+/// with `h_i = Σ I_b v_b` the spatial momentum of the subtree (in frame `i`) and
+/// `v_i = v_λ + S_i θ̇_i` (`S_i ×ₘ S_i = 0`). A body driven through `θ = m q_k + o` (mimic)
+/// adds `m ∂T/∂θ_i` to coordinate `k`. With `C` the Christoffel Coriolis matrix,
+/// `C(q, q̇) q̇ = Ṁ q̇ − ∂T/∂q`.
+pub fn kinetic_energy_gradient<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    qd: &[f64],
+) -> &'a [f64] {
+    kinetic_energy_gradient_impl(model, data, q, qd, None)
+}
+
+/// [`kinetic_energy_gradient`] with an optional extra inertia (a payload, in body
+/// coordinates) on one body.
+pub(crate) fn kinetic_energy_gradient_impl<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    qd: &[f64],
+    payload: Option<(usize, &InertiaO)>,
+) -> &'a [f64] {
+    forward_kinematics_vel(model, data, q, qd);
+    let nb = model.nbodies();
+    for i in 0..nb {
+        let v = &data.v[i];
+        let mut h = model.inertia_o[i].mul_motion(v);
+        if let Some((pb, ip)) = payload {
+            if pb == i {
+                h = h.add(&ip.mul_motion(v));
+            }
+        }
+        data.f[i] = h;
+    }
+    data.tau.fill(0.0);
+    for i in (0..nb).rev() {
+        let h = data.f[i];
+        let dt = -project(model.kind[i], &data.v[i].cross_force(&h));
+        data.tau[model.q_index[i]] += model.q_mult[i] * dt;
+        let parent = model.parent[i];
+        if parent != WORLD {
+            let hp = data.li_m_i[i].act_force(&h);
+            data.f[parent] = data.f[parent].add(&hp);
+        }
+    }
+    &data.tau
 }

@@ -16,12 +16,13 @@ mod rnea;
 
 pub use aba::aba;
 pub use crba::crba;
-pub(crate) use crba::AxisX;
+pub(crate) use crba::{crba_impl, AxisX};
 pub use effects::{
     elastic_forward_dynamics, forward_dynamics_with, inverse_dynamics, mass_matrix, EffectRuns,
     EffectSet, Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor,
 };
-pub use energy::{kinetic_energy, potential_energy};
+pub(crate) use energy::kinetic_energy_gradient_impl;
+pub use energy::{kinetic_energy, kinetic_energy_gradient, potential_energy};
 pub use forward::{
     cholesky_in_place, cholesky_solve_in_place, forward_dynamics, forward_dynamics_crba,
     SingularMassMatrix,
@@ -31,4 +32,5 @@ pub use lagrange_energy::{
     mass_matrix_energy,
 };
 pub use lagrange_trace::{lagrange_trace, mass_matrix_trace};
+pub(crate) use rnea::rnea_impl;
 pub use rnea::{bias, gravity_torque, rnea};

@@ -199,7 +199,7 @@ impl IkSolver {
                 *x = x.clamp(model.lower[k], model.upper[k]);
             }
             if model.is_continuous(k) {
-                // Keep angles of unlimited joints in (−π, π].
+                // Keep angles of unlimited joints in [−π, π).
                 let two_pi = std::f64::consts::TAU;
                 *x -= two_pi * ((*x + std::f64::consts::PI) / two_pi).floor();
             }
