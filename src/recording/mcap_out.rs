@@ -97,7 +97,7 @@ pub struct McapWriter {
 /// `t` seconds as nanoseconds since the epoch; `t` must be finite, `≥ 0` and fit a ROS
 /// time (`< 2^31` s).
 fn nanos(t: f64) -> Option<u64> {
-    if t.is_finite() && t >= 0.0 && t < 2_147_483_648.0 {
+    if (0.0..2_147_483_648.0).contains(&t) {
         Some((t * 1e9).round() as u64)
     } else {
         None

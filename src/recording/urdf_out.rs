@@ -463,7 +463,7 @@ mod tests {
 
     #[test]
     fn numbers_round_trip() {
-        for x in [0.1, -1e-17, 1.5707963267948966, 12345.678, f64::MAX] {
+        for x in [0.1, -1e-17, 1.0 / 3.0, 12345.678, f64::MAX] {
             assert_eq!(num(x).parse::<f64>().unwrap(), x);
         }
     }
