@@ -5,7 +5,7 @@
 //! cargo run --release --example write_sample_mcap -- OUT.mcap [MODEL] [SECONDS]
 //! ```
 //!
-//! MODEL defaults to `robots/ur5.urdf` (a DH table works too: its URDF is generated);
+//! MODEL defaults to the crate's `robots/ur5.urdf` (a DH table works too: its URDF is generated);
 //! SECONDS (default 2) of a sine motion at 100 Hz with gravity torques, a workspace cloud
 //! with manipulability, a torque check and two collision events.
 
@@ -26,11 +26,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         args.first()
             .ok_or("usage: write_sample_mcap OUT.mcap [MODEL] [SECONDS]")?,
     );
-    let model_path = PathBuf::from(args.get(1).map_or("robots/ur5.urdf", String::as_str));
+    let default_model = concat!(env!("CARGO_MANIFEST_DIR"), "/robots/ur5.urdf");
+    let model_path = PathBuf::from(args.get(1).map_or(default_model, String::as_str));
     let seconds: f64 = args.get(2).map_or(Ok(2.0), |s| s.parse())?;
     let (model, _) = Model::load(&model_path)?;
     let spec = Model::read_spec(&model_path)?;
     let n = model.nv;
+    let robot_tf = tf::RobotTf::new(&model, &spec);
     let header = Header {
         name: format!("sample {}", model.name),
         joint_names: model.dof_names(),
@@ -39,7 +41,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .iter()
             .map(|&e| e.is_finite().then_some(e))
             .collect(),
-        static_tf: tf::static_transforms(&model),
+        static_tf: robot_tf.static_transforms(),
         robot_description: Some(urdf_out::robot_description(&model_path, &spec)),
         metadata: vec![("model".into(), model_path.display().to_string())],
     };
@@ -63,7 +65,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for (p, x) in peak.iter_mut().zip(&tau) {
             *p = p.max(x.abs());
         }
-        w.write_frame(&tf::frame_at(&model, &mut data, t, &q, &qd, &tau))?;
+        w.write_frame(&robot_tf.frame_at(&model, &mut data, t, &q, &qd, &tau))?;
     }
     // Workspace: the origin of the last link on the last body, at random configurations.
     let last_body = model.nbodies().saturating_sub(1);

@@ -46,6 +46,7 @@ fn ur5_recording(frames: usize) -> Recording {
     let (model, _) = Model::load(&path).unwrap();
     let spec = Model::read_spec(&path).unwrap();
     let mut data = Data::new(&model);
+    let robot_tf = tf::RobotTf::new(&model, &spec);
     let n = model.nv;
     let header = Header {
         name: "ur5 wave".into(),
@@ -55,7 +56,7 @@ fn ur5_recording(frames: usize) -> Recording {
             .iter()
             .map(|&e| e.is_finite().then_some(e))
             .collect(),
-        static_tf: tf::static_transforms(&model),
+        static_tf: robot_tf.static_transforms(),
         robot_description: Some(urdf_out::robot_description(&path, &spec)),
         metadata: vec![
             ("scenario".into(), "tests/recording.rs".into()),
@@ -69,7 +70,7 @@ fn ur5_recording(frames: usize) -> Recording {
             let q: Vec<f64> = (0..n).map(|i| 0.5 * (w * t + i as f64).sin()).collect();
             let qd: Vec<f64> = (0..n).map(|i| 0.5 * w * (w * t + i as f64).cos()).collect();
             let tau: Vec<f64> = (0..n).map(|i| 10.0 * q[i] - 0.1 * qd[i]).collect();
-            tf::frame_at(&model, &mut data, t, &q, &qd, &tau)
+            robot_tf.frame_at(&model, &mut data, t, &q, &qd, &tau)
         })
         .collect();
     let tool = model.link_id("tool0").unwrap();
@@ -734,7 +735,7 @@ fn dh_robot_description_round_trips_through_a_recording() {
             name: "puma".into(),
             joint_names: model.dof_names(),
             effort_limits: vec![None; model.nv],
-            static_tf: tf::static_transforms(&model),
+            static_tf: tf::RobotTf::new(&model, &spec).static_transforms(),
             robot_description: Some(urdf_text.clone()),
             metadata: vec![],
         },
@@ -755,4 +756,52 @@ fn dh_robot_description_round_trips_through_a_recording() {
     );
     assert_eq!(back.header.effort_limits, rec.header.effort_limits);
     assert_eq!(back.header.static_tf, rec.header.static_tf);
+}
+
+#[test]
+fn recorded_transforms_follow_the_robot_description() {
+    // For every model: the transforms (static and per frame) are exactly the joints of the
+    // robot description, and composing them from the root gives every link's world pose.
+    let mut rng = rand::rngs::SmallRng::seed_from_u64(5);
+    for path in common::robot_files() {
+        let spec = Model::read_spec(&path).unwrap();
+        let (model, _) = Model::load(&path).unwrap();
+        let text = urdf_out::robot_description(&path, &spec);
+        let described = urdf::parse(&text, "description.urdf").unwrap();
+        let robot_tf = tf::RobotTf::new(&model, &spec);
+        let mut data = Data::new(&model);
+        let q: Vec<f64> = (0..model.nv)
+            .map(|k| rng.random_range(model.lower[k].max(-3.0)..=model.upper[k].min(3.0)))
+            .collect();
+        let frame = robot_tf.frame_at(&model, &mut data, 0.0, &q, &[], &[]);
+        let all: Vec<_> = robot_tf
+            .static_transforms()
+            .into_iter()
+            .chain(frame.tf)
+            .collect();
+        let mut edges: Vec<(String, String)> = all
+            .iter()
+            .map(|t| (t.parent.clone(), t.child.clone()))
+            .collect();
+        let mut joints: Vec<(String, String)> = described
+            .joints
+            .iter()
+            .map(|j| (j.parent.clone(), j.child.clone()))
+            .collect();
+        edges.sort();
+        joints.sort();
+        assert_eq!(edges, joints, "{}", path.display());
+        let parent: BTreeMap<&str, &armsim::recording::Transform> =
+            all.iter().map(|t| (t.child.as_str(), t)).collect();
+        for (l, link) in model.links.iter().enumerate() {
+            let mut pose = armsim::spatial::Se3::identity();
+            let mut frame = link.name.as_str();
+            while let Some(t) = parent.get(frame) {
+                pose = tf::to_se3(t).mul(&pose);
+                frame = &t.parent;
+            }
+            let diff = common::pose_diff(&pose, &frame_placement(&model, &data, l));
+            assert!(diff < 1e-12, "{} {}: {diff:e}", path.display(), link.name);
+        }
+    }
 }

@@ -1,19 +1,19 @@
-//! Link transforms of a [`Model`] as recording [`Transform`]s, the way
-//! `robot_state_publisher` splits them: fixed joints (and a non-identity world → root
-//! offset) are static, movable joints change with `q`.
+//! Link transforms of a [`Model`] as recording [`Transform`]s, in the frame tree of the
+//! robot description `urdf_out` gives the model, split the way `robot_state_publisher`
+//! splits them: fixed joints (and a base offset) are static, movable joints change with `q`.
 //!
-//! Owned here: [`static_transforms`], [`joint_transforms`], [`frame_at`] and the
-//! [`Se3`] ↔ [`Transform`] conversions ([`to_transform`], [`to_se3`]).
+//! Owned here: [`RobotTf`] (the tree, built once per model) and the [`Se3`] ↔ [`Transform`]
+//! conversions ([`to_transform`], [`to_se3`]). For a URDF model the tree is the URDF's; for
+//! a DH table it includes the generated URDF's `world` link and `<link>_joint_frame`
+//! links, so that `/tf` and `/robot_description` describe the same tree in viewers.
 
+use super::urdf_out::urdf_layout;
 use super::{Frame, Transform};
 use crate::data::Data;
 use crate::kinematics::{forward_kinematics, frame_placement};
-use crate::model::{Model, WORLD};
+use crate::model::{Model, ModelSpec, WORLD};
 use crate::spatial::{Mat3, Se3, Vec3};
 use nalgebra::{Quaternion, Rotation3, UnitQuaternion};
-
-/// Name of the frame the root link is placed in when the model has a base offset.
-pub const WORLD_FRAME: &str = "world";
 
 /// `parent → child` as a [`Transform`]; the quaternion has `w ≥ 0`.
 pub fn to_transform(parent: &str, child: &str, pose: &Se3) -> Transform {
@@ -36,72 +36,111 @@ pub fn to_se3(t: &Transform) -> Se3 {
     Se3::new(rot, Vec3::from(t.translation))
 }
 
-/// World placement of every link at `q = 0` (fixed offsets do not depend on `q`).
-fn placements_at_zero(model: &Model) -> Vec<Se3> {
-    let mut data = Data::new(model);
-    forward_kinematics(model, &mut data, &vec![0.0; model.nv]);
-    (0..model.links.len())
-        .map(|l| frame_placement(model, &data, l))
-        .collect()
+/// One movable joint's transform: parent link → the joint's child frame.
+#[derive(Clone, Debug)]
+struct Moving {
+    parent_link: usize,
+    child_link: usize,
+    parent: String,
+    child: String,
+    /// Child link → the joint's URDF child frame, for joints with a distal offset.
+    to_frame: Option<Se3>,
 }
 
-/// The transforms that never change: `world → root` when the model places its root link
-/// away from the origin, and `parent → child` of every fixed joint.
-pub fn static_transforms(model: &Model) -> Vec<Transform> {
-    let place = placements_at_zero(model);
-    let mut out = Vec::new();
-    for (l, link) in model.links.iter().enumerate() {
-        if link.parent_joint.is_none() && link.body == WORLD && link.offset != Se3::identity() {
-            out.push(to_transform(WORLD_FRAME, &link.name, &place[l]));
+/// The frame tree of a model's robot description (see the module docs).
+#[derive(Clone, Debug)]
+pub struct RobotTf {
+    moving: Vec<Moving>,
+    statics: Vec<Transform>,
+}
+
+impl RobotTf {
+    /// The tree of `model`, built from `spec` (the spec it was built from, for the names and
+    /// distal offsets of the generated URDF).
+    pub fn new(model: &Model, spec: &ModelSpec) -> Self {
+        let layout = urdf_layout(spec);
+        let mut data = Data::new(model);
+        forward_kinematics(model, &mut data, &vec![0.0; model.nv]);
+        let place = |l: usize| frame_placement(model, &data, l);
+        let name = |l: usize| model.links[l].name.as_str();
+        let mut statics = Vec::new();
+        if let Some(world) = &layout.world {
+            for (l, link) in model.links.iter().enumerate() {
+                if link.parent_joint.is_none() && link.body == WORLD {
+                    statics.push(to_transform(world, name(l), &place(l)));
+                }
+            }
         }
+        let mut moving = Vec::new();
+        for j in &model.joints {
+            let (p, c) = (j.parent_link, j.child_link);
+            if !j.jtype.is_movable() {
+                statics.push(to_transform(name(p), name(c), &place(p).inv_mul(&place(c))));
+                continue;
+            }
+            let offset = layout.joint_frames.get(&j.name).and_then(|mid| {
+                let js = spec.joints.iter().find(|s| s.name == j.name)?;
+                Some((mid.clone(), js.child_offset))
+            });
+            let (child, to_frame) = match offset {
+                Some((mid, off)) => {
+                    statics.push(to_transform(&mid, name(c), &off));
+                    (mid, Some(off.inverse()))
+                }
+                None => (name(c).to_string(), None),
+            };
+            moving.push(Moving {
+                parent_link: p,
+                child_link: c,
+                parent: name(p).to_string(),
+                child,
+                to_frame,
+            });
+        }
+        RobotTf { moving, statics }
     }
-    for j in model.joints.iter().filter(|j| !j.jtype.is_movable()) {
-        let rel = place[j.parent_link].inv_mul(&place[j.child_link]);
-        out.push(to_transform(
-            &model.links[j.parent_link].name,
-            &model.links[j.child_link].name,
-            &rel,
-        ));
+
+    /// The transforms that never change (for `Header::static_tf`).
+    pub fn static_transforms(&self) -> Vec<Transform> {
+        self.statics.clone()
     }
-    out
-}
 
-/// `parent → child` of every movable joint, from the placements in `data` (after
-/// [`forward_kinematics`]), in joint (tree) order.
-pub fn joint_transforms(model: &Model, data: &Data) -> Vec<Transform> {
-    model
-        .joints
-        .iter()
-        .filter(|j| j.jtype.is_movable())
-        .map(|j| {
-            let parent = frame_placement(model, data, j.parent_link);
-            let child = frame_placement(model, data, j.child_link);
-            to_transform(
-                &model.links[j.parent_link].name,
-                &model.links[j.child_link].name,
-                &parent.inv_mul(&child),
-            )
-        })
-        .collect()
-}
+    /// The movable joints' transforms from the placements in `data` (after
+    /// [`forward_kinematics`]), in joint (tree) order.
+    pub fn joint_transforms(&self, model: &Model, data: &Data) -> Vec<Transform> {
+        self.moving
+            .iter()
+            .map(|m| {
+                let parent = frame_placement(model, data, m.parent_link);
+                let child = frame_placement(model, data, m.child_link);
+                let mut rel = parent.inv_mul(&child);
+                if let Some(f) = &m.to_frame {
+                    rel = rel.mul(f);
+                }
+                to_transform(&m.parent, &m.child, &rel)
+            })
+            .collect()
+    }
 
-/// A recording frame at time `t`: runs forward kinematics for `q` into `data` and
-/// collects [`joint_transforms`]. `qd` and `tau` may be empty.
-pub fn frame_at(
-    model: &Model,
-    data: &mut Data,
-    t: f64,
-    q: &[f64],
-    qd: &[f64],
-    tau: &[f64],
-) -> Frame {
-    forward_kinematics(model, data, q);
-    Frame {
-        t,
-        q: q.to_vec(),
-        qd: qd.to_vec(),
-        tau: tau.to_vec(),
-        tf: joint_transforms(model, data),
+    /// A recording frame at time `t`: runs forward kinematics for `q` into `data` and
+    /// collects [`RobotTf::joint_transforms`]. `qd` and `tau` may be empty.
+    pub fn frame_at(
+        &self,
+        model: &Model,
+        data: &mut Data,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        tau: &[f64],
+    ) -> Frame {
+        forward_kinematics(model, data, q);
+        Frame {
+            t,
+            q: q.to_vec(),
+            qd: qd.to_vec(),
+            tau: tau.to_vec(),
+            tf: self.joint_transforms(model, data),
+        }
     }
 }
 

@@ -24,7 +24,7 @@
 
 use crate::model::{Geometry, JointType, ModelSpec, Shape};
 use crate::spatial::{rot_z, rotation_z_to, Mat3, Se3, Vec3};
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -176,28 +176,44 @@ struct UJoint {
     spec: Option<usize>,
 }
 
-/// A URDF for `spec` (see the module docs).
-pub fn generate_urdf(spec: &ModelSpec) -> String {
+/// The frames the generated URDF adds to a spec's links, so that recorded transforms can
+/// follow the same tree (see [`crate::recording::tf::RobotTf`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct UrdfLayout {
+    /// The link above a base offset (`world`), when the spec has a base offset.
+    pub world: Option<String>,
+    /// Joint name → the intermediate link that is the joint's URDF child, for joints with a
+    /// distal offset (the offset then joins it to the spec's child link).
+    pub joint_frames: HashMap<String, String>,
+}
+
+/// The [`UrdfLayout`] of [`generate_urdf`]`(spec)`; empty for specs read from a URDF.
+pub fn urdf_layout(spec: &ModelSpec) -> UrdfLayout {
+    urdf_joints(spec).2
+}
+
+/// The URDF's extra links, its joints, and the layout.
+fn urdf_joints(spec: &ModelSpec) -> (Vec<String>, Vec<UJoint>, UrdfLayout) {
     let mut link_names: HashSet<String> = spec.links.iter().map(|l| l.name.clone()).collect();
     let mut joint_names: HashSet<String> = spec.joints.iter().map(|j| j.name.clone()).collect();
     let mut joints: Vec<UJoint> = Vec::new();
     let mut extra_links: Vec<String> = Vec::new();
+    let mut layout = UrdfLayout::default();
     let children: HashSet<&str> = spec.joints.iter().map(|j| j.child.as_str()).collect();
-    let roots: Vec<&str> = spec
-        .links
-        .iter()
-        .map(|l| l.name.as_str())
-        .filter(|n| !children.contains(n))
-        .collect();
     if spec.root_offset != Se3::identity() {
         let world = unique(&mut link_names, "world");
         extra_links.push(world.clone());
-        for r in &roots {
+        layout.world = Some(world.clone());
+        for r in spec
+            .links
+            .iter()
+            .filter(|l| !children.contains(l.name.as_str()))
+        {
             joints.push(UJoint {
                 name: unique(&mut joint_names, "world_joint"),
                 jtype: JointType::Fixed,
                 parent: world.clone(),
-                child: r.to_string(),
+                child: r.name.clone(),
                 origin: spec.root_offset,
                 axis: Vec3::z(),
                 spec: None,
@@ -218,6 +234,7 @@ pub fn generate_urdf(spec: &ModelSpec) -> String {
         } else {
             let mid = unique(&mut link_names, &format!("{}_joint_frame", j.child));
             extra_links.push(mid.clone());
+            layout.joint_frames.insert(j.name.clone(), mid.clone());
             joints.push(UJoint {
                 name: j.name.clone(),
                 jtype: j.jtype,
@@ -238,12 +255,25 @@ pub fn generate_urdf(spec: &ModelSpec) -> String {
             });
         }
     }
+    (extra_links, joints, layout)
+}
+
+/// A URDF for `spec` (see the module docs).
+pub fn generate_urdf(spec: &ModelSpec) -> String {
+    let (extra_links, joints, _) = urdf_joints(spec);
+    let children: HashSet<&str> = spec.joints.iter().map(|j| j.child.as_str()).collect();
+    let roots: Vec<&str> = spec
+        .links
+        .iter()
+        .map(|l| l.name.as_str())
+        .filter(|n| !children.contains(n))
+        .collect();
 
     // Generated visuals, for models without any.
     let generate = spec.links.iter().all(|l| l.visuals.is_empty());
     let reach: f64 = joints.iter().map(|j| j.origin.trans.norm()).sum();
     let r = (0.025 * reach).clamp(0.005, 0.06);
-    let mut visuals: std::collections::HashMap<String, Vec<(Geometry, &str)>> = Default::default();
+    let mut visuals: HashMap<String, Vec<(Geometry, &str)>> = HashMap::new();
     if generate {
         for j in &joints {
             if let Some(g) = segment(&j.origin.trans, 0.6 * r) {
