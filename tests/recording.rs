@@ -576,6 +576,46 @@ fn malformed_messages_name_file_topic_and_index() {
 }
 
 #[test]
+fn partial_joint_states_cannot_expand_without_bound() {
+    // 100 000 joints, then messages naming one joint each: every one would expand to
+    // 100 000 values. A few are fine; more than the file's size allows are an error.
+    let names: Vec<String> = (0..100_000).map(|k| format!("j{k}")).collect();
+    let file = |partial: usize| {
+        let mut f = Foreign::new(mcap::WriteOptions::new());
+        let js = f.channel(
+            "sensor_msgs/msg/JointState",
+            ros2::JointState::SCHEMA,
+            "/joint_states",
+        );
+        let full = ros2::JointState {
+            name: names.clone(),
+            position: vec![0.0; names.len()],
+            ..Default::default()
+        };
+        f.write(js, 0, &ros2::encode(&full).unwrap());
+        for k in 0..partial {
+            let one = ros2::JointState {
+                header: stamp(k as u64 + 1),
+                name: vec!["j7".into()],
+                position: vec![k as f64],
+                ..Default::default()
+            };
+            f.write(js, k as u64 + 1, &ros2::encode(&one).unwrap());
+        }
+        f.finish()
+    };
+    let rec = read_mcap_bytes(&file(3), Path::new("few.mcap")).unwrap();
+    assert_eq!(rec.frames.len(), 4);
+    assert_eq!(rec.frames[3].q[7], 2.0);
+    assert_eq!(rec.frames[3].q[8], 0.0);
+    let e = read_mcap_bytes(&file(60), Path::new("many.mcap")).unwrap_err();
+    assert!(
+        e.to_string().contains("too many partial joint states"),
+        "{e}"
+    );
+}
+
+#[test]
 fn truncated_and_garbage_files_are_errors() {
     let dir = scratch("truncated");
     let path = dir.join("ok.mcap");

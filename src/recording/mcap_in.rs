@@ -27,7 +27,10 @@
 //! checked against the bytes left before anything is allocated), the `mcap` crate's
 //! streaming reader decompresses chunks with a record-length limit, and any malformed
 //! record or message is an error naming the file and the record or topic and message
-//! index — never a panic.
+//! index — never a panic. Totals are bounded by the file size too, so that a small, highly
+//! compressed file cannot expand into gigabytes: at most max(size / 4, 2^20) messages,
+//! max(64 × size, 64 MiB) of message payload, and max(4 × size, 2^22) joint values filled in
+//! for joints that partial joint-state messages lack.
 
 use super::error::RecordError;
 use super::mcap_out::{
@@ -46,6 +49,29 @@ use std::path::Path;
 const MIN_RECORD_LIMIT: usize = 64 << 20;
 /// Largest limit on one record inside a compressed chunk.
 const MAX_RECORD_LIMIT: usize = 1 << 30;
+/// Smallest limits on the messages, their total payload and the joint values filled in for
+/// joints a message lacks (they grow with the file; see [`Budget`]).
+const MIN_MESSAGES: usize = 1 << 20;
+const MIN_PAYLOAD: usize = 64 << 20;
+const MIN_FILLED: usize = 1 << 22;
+
+/// Limits that keep a small, highly compressed file from expanding into gigabytes of
+/// frames: what a legitimate recording of that size can hold, with a wide margin.
+struct Budget {
+    messages: usize,
+    payload: usize,
+    filled: usize,
+}
+
+impl Budget {
+    fn for_file(len: usize) -> Self {
+        Budget {
+            messages: (len / 4).max(MIN_MESSAGES),
+            payload: len.saturating_mul(64).max(MIN_PAYLOAD),
+            filled: len.saturating_mul(4).max(MIN_FILLED),
+        }
+    }
+}
 
 /// Reads an MCAP file into a [`Recording`] (see the module docs).
 pub fn read_mcap(path: &Path) -> Result<Recording, RecordError> {
@@ -206,6 +232,7 @@ struct Collected {
     torque_check: Option<Vec<TorqueRow>>,
     collisions: Vec<CollisionEvent>,
     metadata: Option<BTreeMap<String, String>>,
+    budget: Option<Budget>,
 }
 
 fn read_inner(bytes: &[u8], file: &Path) -> Result<Recording, RecordError> {
@@ -219,7 +246,10 @@ fn read_inner(bytes: &[u8], file: &Path) -> Result<Recording, RecordError> {
             .with_record_length_limit(limit)
             .with_validate_chunk_crcs(true),
     );
-    let mut c = Collected::default();
+    let mut c = Collected {
+        budget: Some(Budget::for_file(bytes.len())),
+        ..Collected::default()
+    };
     let mut rest = bytes;
     let mut record = 0usize;
     while let Some(event) = reader.next_event() {
@@ -321,6 +351,14 @@ impl Collected {
                 let _sequence = cur.u32().map_err(plain)?;
                 let _log_time = cur.u64().map_err(plain)?;
                 let _publish_time = cur.u64().map_err(plain)?;
+                if let Some(b) = self.budget.as_mut() {
+                    b.messages = b.messages.checked_sub(1).ok_or_else(|| {
+                        plain("more messages than a file of this size can hold".into())
+                    })?;
+                    b.payload = b.payload.checked_sub(cur.buf.len()).ok_or_else(|| {
+                        plain("the messages decompress to more data than a file of this size can hold".into())
+                    })?;
+                }
                 let ch = self.channels.get_mut(&channel_id).ok_or_else(|| {
                     plain(format!(
                         "message on channel {channel_id}, not defined before it"
@@ -465,7 +503,8 @@ impl Collected {
             .map(|(i, n)| (n.as_str(), i))
             .collect();
         let n = joint_names.len();
-        for m in &states {
+        let mut filled_left = self.budget.as_ref().map_or(usize::MAX, |b| b.filled);
+        for (k, m) in states.iter().enumerate() {
             // Validated when read.
             let ns = stamp_nanos(&m.header.stamp).unwrap_or(0);
             let prev = frames.last().map(|(_, f)| f);
@@ -478,6 +517,25 @@ impl Collected {
                     tf: Vec::new(),
                 }
             } else {
+                // Joints the message lacks are filled in: bounded, as that multiplies data.
+                let arrays = [&m.position, &m.velocity, &m.effort]
+                    .iter()
+                    .filter(|v| !v.is_empty())
+                    .count();
+                let present = m
+                    .name
+                    .iter()
+                    .filter(|name| index.contains_key(name.as_str()))
+                    .count();
+                filled_left = filled_left
+                    .checked_sub(n.saturating_sub(present).saturating_mul(arrays))
+                    .ok_or_else(|| {
+                        RecordError::malformed(
+                            file,
+                            format!("topic '{}', message {k}", topic.as_deref().unwrap_or("")),
+                            "too many partial joint states to expand for a file of this size",
+                        )
+                    })?;
                 let pick = |vals: &[f64], prev: Option<&Vec<f64>>| -> Vec<f64> {
                     if vals.is_empty() {
                         return Vec::new();

@@ -512,13 +512,10 @@ impl McapWriter {
 impl Drop for McapWriter {
     /// A writer that was not finished removes its temporary file.
     fn drop(&mut self) {
-        if let Some(w) = self.writer.take() {
-            // The mcap writer finishes itself on drop; the result goes away with the file.
-            drop(w);
-            let _ = std::fs::remove_file(&self.tmp);
-        } else if self.tmp.exists() && !self.path.exists() {
-            let _ = std::fs::remove_file(&self.tmp);
-        }
+        // The mcap writer finishes itself on drop; the result goes away with the file.
+        // After a successful `finish` the temporary file is already renamed away.
+        drop(self.writer.take());
+        let _ = std::fs::remove_file(&self.tmp);
     }
 }
 
