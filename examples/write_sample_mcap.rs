@@ -16,7 +16,7 @@ use armsim::kinematics::{
 };
 use armsim::model::Model;
 use armsim::recording::mcap_out::McapWriter;
-use armsim::recording::{tf, urdf_out, CollisionEvent, Header, PointCloud, TorqueRow};
+use armsim::recording::{CollisionEvent, Header, PointCloud, TorqueRow};
 use rand::{Rng, SeedableRng};
 use std::path::PathBuf;
 
@@ -32,19 +32,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (model, _) = Model::load(&model_path)?;
     let spec = Model::read_spec(&model_path)?;
     let n = model.nv;
-    let robot_tf = tf::RobotTf::new(&model, &spec);
-    let header = Header {
-        name: format!("sample {}", model.name),
-        joint_names: model.dof_names(),
-        effort_limits: model
-            .effort_limit
-            .iter()
-            .map(|&e| e.is_finite().then_some(e))
-            .collect(),
-        static_tf: robot_tf.static_transforms(),
-        robot_description: Some(urdf_out::robot_description(&model_path, &spec)),
-        metadata: vec![("model".into(), model_path.display().to_string())],
-    };
+    let (mut header, robot_tf) =
+        Header::for_model(format!("sample {}", model.name), &model_path, &model, &spec);
+    header.metadata = vec![("model".into(), model_path.display().to_string())];
     let mut w = McapWriter::create(&out, &header)?;
     let mut data = Data::new(&model);
     let mid: Vec<f64> = (0..n)

@@ -46,23 +46,12 @@ fn ur5_recording(frames: usize) -> Recording {
     let (model, _) = Model::load(&path).unwrap();
     let spec = Model::read_spec(&path).unwrap();
     let mut data = Data::new(&model);
-    let robot_tf = tf::RobotTf::new(&model, &spec);
     let n = model.nv;
-    let header = Header {
-        name: "ur5 wave".into(),
-        joint_names: model.dof_names(),
-        effort_limits: model
-            .effort_limit
-            .iter()
-            .map(|&e| e.is_finite().then_some(e))
-            .collect(),
-        static_tf: robot_tf.static_transforms(),
-        robot_description: Some(urdf_out::robot_description(&path, &spec)),
-        metadata: vec![
-            ("scenario".into(), "tests/recording.rs".into()),
-            ("dt".into(), "0.01".into()),
-        ],
-    };
+    let (mut header, robot_tf) = Header::for_model("ur5 wave", &path, &model, &spec);
+    header.metadata = vec![
+        ("scenario".into(), "tests/recording.rs".into()),
+        ("dt".into(), "0.01".into()),
+    ];
     let frames = (0..frames)
         .map(|k| {
             let t = k as f64 * 0.01;

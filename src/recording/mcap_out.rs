@@ -425,6 +425,24 @@ impl McapWriter {
                 }
             })
             .collect();
+        self.write_diagnostics(
+            |s| &mut s.torque_check,
+            TOPIC_TORQUE_CHECK,
+            ns,
+            stamp,
+            status,
+        )
+    }
+
+    /// Writes a DiagnosticArray on a topic opened on first use.
+    fn write_diagnostics(
+        &mut self,
+        slot: fn(&mut Self) -> &mut Option<Chan>,
+        topic: &str,
+        ns: u64,
+        stamp: ros2::Time,
+        status: Vec<ros2::DiagnosticStatus>,
+    ) -> Result<(), RecordError> {
         let msg = ros2::DiagnosticArray {
             header: ros2::Header {
                 stamp,
@@ -432,10 +450,9 @@ impl McapWriter {
             },
             status,
         };
-        let mut ch =
-            self.topic::<ros2::DiagnosticArray>(|s| &mut s.torque_check, TOPIC_TORQUE_CHECK)?;
+        let mut ch = self.topic::<ros2::DiagnosticArray>(slot, topic)?;
         self.write(&mut ch, ns, &msg)?;
-        self.torque_check = Some(ch);
+        *slot(self) = Some(ch);
         Ok(())
     }
 
@@ -467,17 +484,7 @@ impl McapWriter {
                     ],
                 })
                 .collect();
-            let msg = ros2::DiagnosticArray {
-                header: ros2::Header {
-                    stamp,
-                    frame_id: String::new(),
-                },
-                status,
-            };
-            let mut ch =
-                self.topic::<ros2::DiagnosticArray>(|s| &mut s.collisions, TOPIC_COLLISIONS)?;
-            self.write(&mut ch, ns, &msg)?;
-            self.collisions = Some(ch);
+            self.write_diagnostics(|s| &mut s.collisions, TOPIC_COLLISIONS, ns, stamp, status)?;
         }
         Ok(())
     }

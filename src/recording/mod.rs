@@ -11,6 +11,7 @@ pub mod error;
 pub mod interrupt;
 pub mod mcap_in;
 pub mod mcap_out;
+mod model_header;
 pub mod ros2;
 pub mod tf;
 pub mod urdf_out;

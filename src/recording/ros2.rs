@@ -124,6 +124,19 @@ byte level\nstring name\nstring message\nstring hardware_id\ndiagnostic_msgs/Key
     };
 }
 
+/// The dependency sections of `geometry_msgs/TransformStamped`.
+macro_rules! transform_stamped_deps {
+    () => {
+        concat!(
+            section!("std_msgs/Header", defs!(header)),
+            section!("builtin_interfaces/Time", defs!(time)),
+            section!("geometry_msgs/Transform", defs!(transform)),
+            section!("geometry_msgs/Vector3", defs!(vector3)),
+            section!("geometry_msgs/Quaternion", defs!(quaternion)),
+        )
+    };
+}
+
 /// `builtin_interfaces/msg/Time`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub struct Time {
@@ -234,14 +247,7 @@ pub struct TransformStamped {
 
 impl RosMessage for TransformStamped {
     const NAME: &'static str = "geometry_msgs/msg/TransformStamped";
-    const SCHEMA: &'static str = concat!(
-        defs!(transform_stamped),
-        section!("std_msgs/Header", defs!(header)),
-        section!("builtin_interfaces/Time", defs!(time)),
-        section!("geometry_msgs/Transform", defs!(transform)),
-        section!("geometry_msgs/Vector3", defs!(vector3)),
-        section!("geometry_msgs/Quaternion", defs!(quaternion)),
-    );
+    const SCHEMA: &'static str = concat!(defs!(transform_stamped), transform_stamped_deps!());
 }
 
 /// `tf2_msgs/msg/TFMessage` (the type of `/tf` and `/tf_static`).
@@ -256,11 +262,7 @@ impl RosMessage for TfMessage {
     const SCHEMA: &'static str = concat!(
         "geometry_msgs/TransformStamped[] transforms\n",
         section!("geometry_msgs/TransformStamped", defs!(transform_stamped)),
-        section!("std_msgs/Header", defs!(header)),
-        section!("builtin_interfaces/Time", defs!(time)),
-        section!("geometry_msgs/Transform", defs!(transform)),
-        section!("geometry_msgs/Vector3", defs!(vector3)),
-        section!("geometry_msgs/Quaternion", defs!(quaternion)),
+        transform_stamped_deps!(),
     );
 }
 
