@@ -7,6 +7,15 @@
 //! torque-check table and collision events. Writers stream frames one at a time so an
 //! interrupted run still leaves a valid file.
 
+pub mod error;
+pub mod interrupt;
+pub mod mcap_in;
+pub mod mcap_out;
+mod model_header;
+pub mod ros2;
+pub mod tf;
+pub mod urdf_out;
+
 use serde::{Deserialize, Serialize};
 
 /// A rigid transform between two named frames (ROS `geometry_msgs/TransformStamped`
