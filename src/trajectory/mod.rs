@@ -25,7 +25,7 @@
 
 mod cartesian;
 mod min_jerk;
-mod plot;
+pub(crate) mod plot;
 mod quintic;
 mod topp;
 mod torque_check;

@@ -11,7 +11,7 @@ use plotters::prelude::*;
 use plotters::style::FontStyle;
 use std::sync::Once;
 
-/// The bundled font.
+/// The bundled font (also used by the trade-offs report's charts).
 static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSansMono.ttf");
 static REGISTER: Once = Once::new();
 
@@ -54,7 +54,7 @@ fn panel_joints(report: &TorqueReport) -> Vec<usize> {
     idx
 }
 
-fn register_font() {
+pub(crate) fn register_font() {
     REGISTER.call_once(|| {
         // The font is valid (checked by the tests); a failure would only lose the text.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
@@ -88,7 +88,7 @@ pub(crate) fn render(report: &TorqueReport, format: PlotFormat) -> Result<Vec<u8
     }
 }
 
-fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, String> {
+pub(crate) fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, String> {
     let mut out = Vec::new();
     {
         let mut enc = png::Encoder::new(&mut out, w, h);
