@@ -203,7 +203,13 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
             flags,
             flag_label: "diverged".into(),
             y_range: None,
-            legend: Legend::LowerRight,
+            // Errors grow with the step: the lower right is free for energy errors, the
+            // upper left for tracking errors (whose elastic floor fills the bottom).
+            legend: if tracking {
+                Legend::UpperLeft
+            } else {
+                Legend::LowerRight
+            },
             headroom: 0.0,
             layered: true,
         }
@@ -412,6 +418,19 @@ pub fn markdown(r: &Report) -> String {
             super::Mode::Tiny => " (smoke-test sizes: the numbers are coarse)",
         }
     );
+    let load1 = m
+        .load_start
+        .as_deref()
+        .and_then(|l| l.split_whitespace().next()?.parse::<f64>().ok());
+    if let Some(l) = load1.filter(|l| *l > m.cores as f64) {
+        let _ = writeln!(
+            s,
+            "The machine was shared and busy during this run (1-minute load average {l:.1} on {} logical cores): \
+             wall times of long runs (the integrator runs, QP solves) include time spent waiting for a CPU, \
+             while the per-call medians, taken over short rounds, mostly are not.\n",
+            m.cores
+        );
+    }
     let _ = writeln!(s, "| | |\n|---|---|");
     let _ = writeln!(s, "| date | {} |", m.date);
     let _ = writeln!(s, "| armsim | {} |", m.version);
@@ -544,7 +563,7 @@ pub fn ik_reading(r: &Report) -> String {
             .map(|r| r.residual.max)
             .fold(0.0, f64::max);
         out.push(format!(
-            "The analytic solver answers in {} (median, p99 {}), {:.0}× faster than DLS at {}; its answers are accurate to {} and meet {} of the targets at {} and {} at {}.",
+            "The analytic solver answers in {} (median, p99 {}), {:.1}× faster than DLS at {}; its answers are accurate to {} and meet {} of the targets at {} and {} at {}.",
             fmt_ns(a.time_us.median * 1e3),
             fmt_ns(a.time_us.p99 * 1e3),
             nb.time_us.median / a.time_us.median,
@@ -577,7 +596,8 @@ fn integrator_section(s: &mut String, r: &Report) {
          **Tracking error**: computed torque (K_p = 100, K_d = 20) following `q_d = q₀ + 0.3 (1 − cos πt)` rad, \
          `max |q − q_d|` over joints and time; on the rigid arm the controller's model is exact and the reference starts at rest, \
          so this is pure integration error, while on the elastic arm the link also lags the motors through the springs. \
-         **Wall time**: the tracking run (per-step energy audit included). Methods: semi-implicit (symplectic) Euler, \
+         **Wall time**: the tracking run (per-step energy audit included; runs under 0.2 s are repeated and the median of three \
+         kept, longer ones are exposed to whatever else the machine runs). Methods: semi-implicit (symplectic) Euler, \
          classic RK4, linearly implicit Euler (one Newton step of backward Euler, finite-difference Jacobian). \
          **diverged** = the simulator stopped with `SimError::Diverged`.\n",
         st.duration
@@ -858,8 +878,10 @@ fn workspace_section(s: &mut String, r: &Report) {
          the standard error σ over replicates, and the band 3σ + systematic uncertainty (second-order voxel bias plus the growth \
          still expected from more samples; ∞ while coverage has not converged). Each cell is the mean over independent seeds \
          (the band: their median); \"truth in finite band\" = how often the reported interval contained the truth, among the \
-         runs whose band was finite.\n",
-        st.replicates, st.threads
+         runs whose band was finite. Seeds per cell: {}.\n",
+        st.replicates,
+        st.threads,
+        st.rows.first().map_or(0, |r| r.seeds)
     );
     for case in &st.cases {
         let _ = writeln!(
