@@ -107,10 +107,11 @@ struct Axis {
     log: bool,
 }
 
-/// Tick label of the data value `x`: `1e-6` style far from 1, else up to three decimals.
-fn label(x: f64) -> String {
+/// Tick label of the data value `x`: `1e-6` style outside `[lo, 1e4)`, else up to three
+/// decimals.
+fn label(x: f64, lo: f64) -> String {
     let a = x.abs();
-    if a != 0.0 && !(1e-2..1e4).contains(&a) {
+    if a != 0.0 && !(lo..1e4).contains(&a) {
         let s = format!("{x:.0e}");
         // Keep a second digit when the rounding would change the value (2.5e-3).
         if ((s.parse::<f64>().unwrap_or(x) - x) / x).abs() > 1e-6 {
@@ -221,7 +222,12 @@ impl plotters::coord::ranged1d::ValueFormatter<f64> for Axis {
             // Decades below 1 as 1e-k, like the rest of the axis.
             return format!("1e{}", v.round() as i64);
         }
-        label(if self.log { 10f64.powf(*v) } else { *v })
+        // Log axes switch to exponents below 0.1, so that 2e-2 sits next to 1e-2.
+        if self.log {
+            label(10f64.powf(*v), 0.1)
+        } else {
+            label(*v, 1e-2)
+        }
     }
 }
 
