@@ -28,5 +28,6 @@ pub mod recording;
 pub mod scenario;
 pub mod sim;
 pub mod spatial;
+pub mod tradeoffs;
 pub mod trajectory;
 pub mod workspace;

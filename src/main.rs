@@ -242,6 +242,23 @@ enum Cmd {
         #[arg(long, default_value_t = 220_000)]
         iters: usize,
     },
+    /// Measure the trade-offs report: IK tolerance × method, integrator step × method,
+    /// dynamics formulations vs DOF, workspace samples × scheme, cost of each effect.
+    /// Writes DIR/tradeoffs.md, DIR/tradeoffs.json and the plots (DIR/*.png).
+    Tradeoffs {
+        /// Output directory.
+        #[arg(long, default_value = "tradeoffs")]
+        out: PathBuf,
+        /// Reduced sizes (about 3 minutes on 2 cores instead of about 20).
+        #[arg(long)]
+        quick: bool,
+        /// Smoke-test sizes (seconds; coarse numbers). For the tests.
+        #[arg(long, hide = true, conflicts_with = "quick")]
+        tiny: bool,
+        /// No progress lines on standard error.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Write the generated N-joint benchmark chain as URDF.
     Chain {
         /// Number of joints.
@@ -451,6 +468,12 @@ fn run(cli: Cli) -> Result<(), String> {
             Ok(())
         }
         Cmd::Bench { m, algo, iters } => bench_cmd(&load(&m)?, algo, iters, m.json),
+        Cmd::Tradeoffs {
+            out,
+            quick,
+            tiny,
+            quiet,
+        } => tradeoffs_cmd(&out, quick, tiny, quiet),
         Cmd::Chain { n, out } => {
             if n == 0 || n > 1_000_000 {
                 return Err(format!("chain: N must be between 1 and 1000000, got {n}"));
@@ -1217,6 +1240,45 @@ fn workspace_cmd(
     }
     for p in written {
         println!("wrote {p}");
+    }
+    Ok(())
+}
+
+/// `armsim tradeoffs`: runs the studies, writes the report, prints the files written.
+fn tradeoffs_cmd(
+    out: &std::path::Path,
+    quick: bool,
+    tiny: bool,
+    quiet: bool,
+) -> Result<(), String> {
+    use armsim::tradeoffs::{self, Mode, Options};
+    let mode = if tiny {
+        Mode::Tiny
+    } else if quick {
+        Mode::Quick
+    } else {
+        Mode::Full
+    };
+    // Fail on an unwritable directory before spending minutes measuring.
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
+    let opts = Options {
+        progress: !quiet,
+        ..Options::new(mode)
+    };
+    opts.say(format!(
+        "{} mode, writing into {}",
+        mode.as_str(),
+        out.display()
+    ));
+    let report = tradeoffs::run(&opts)?;
+    let written = tradeoffs::report::write(&report, out)?;
+    println!(
+        "trade-offs report ({} mode) measured in {:.1} s",
+        mode.as_str(),
+        report.total_seconds
+    );
+    for p in written {
+        println!("wrote {}", p.display());
     }
     Ok(())
 }
