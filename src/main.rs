@@ -450,8 +450,12 @@ fn run(cli: Cli) -> Result<(), String> {
                 std::fs::create_dir_all(dir)
                     .map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
             }
+            // Ctrl-C stops the simulation; the run still writes its files (a second one
+            // exits at once).
+            armsim::recording::interrupt::install().map_err(|e| e.to_string())?;
             let opts = armsim::arm::RunOptions {
                 out_dir: out,
+                stop: armsim::recording::interrupt::requested,
                 ..Default::default()
             };
             let report =
@@ -460,6 +464,11 @@ fn run(cli: Cli) -> Result<(), String> {
                 print_json(&report.json);
             } else {
                 print!("{}", report.text);
+            }
+            if armsim::recording::interrupt::requested() {
+                let _ = flush_stdout();
+                eprintln!("interrupted: the files hold what was simulated until then");
+                std::process::exit(130);
             }
             if check && report.json.get("ok").and_then(|v| v.as_bool()) == Some(false) {
                 let _ = flush_stdout();

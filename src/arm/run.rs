@@ -11,6 +11,8 @@ use crate::collision::{CollisionData, CollisionModel, Scope, TrajectoryOptions};
 use crate::data::Data;
 use crate::dynamics::{Effects, Payload};
 use crate::kinematics::{forward_kinematics, frame_placement};
+use crate::recording::mcap_out::McapWriter;
+use crate::recording::{CollisionEvent, Header, TorqueRow};
 use crate::scenario::{Report, ScenarioError};
 use crate::sim::{SimConfig, Simulator, StepHook};
 use crate::spatial::Inertia;
@@ -198,6 +200,42 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     };
     timings.insert("collisions_s".into(), json!(t0.elapsed().as_secs_f64()));
 
+    // The output directory and the recording (streamed during the simulation, so an
+    // interrupted run still leaves a valid file).
+    let out_dir = opts
+        .out_dir
+        .clone()
+        .or_else(|| scene.outputs.dir.clone())
+        .unwrap_or_else(|| Path::new("out").join(&scene.name));
+    if opts.write_files {
+        std::fs::create_dir_all(&out_dir).map_err(|e| {
+            fail(
+                "outputs.dir",
+                format!("cannot create {}: {e}", out_dir.display()),
+            )
+        })?;
+    }
+    let mut recorder = if opts.write_files && scene.outputs.mcap {
+        let (mut header, robot_tf) =
+            Header::for_model(&scene.name, &scene.model_path, model, &scene.spec);
+        let b = &scene.base;
+        header.static_tf.insert(
+            0,
+            crate::recording::tf::to_transform("world", &model.links[0].name, b),
+        );
+        header.metadata = vec![
+            ("scenario".into(), scene.file.clone()),
+            ("effects".into(), scene.effect_names.join(",")),
+            ("trajectory".into(), scene.timing.as_str().into()),
+        ];
+        let path = out_dir.join(format!("{}.mcap", scene.name));
+        let w = McapWriter::create(&path, &header)
+            .map_err(|e| fail("outputs", format!("recording: {e}")))?;
+        Some((w, robot_tf, Data::new(model), None::<String>))
+    } else {
+        None
+    };
+
     // 4. Simulation with exactly the named effects.
     let mut samples: Vec<SimSample> = Vec::new();
     let mut sim_json = Value::Null;
@@ -249,6 +287,14 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
             None => &mut interrupt,
         };
         let result = sim.run_with_hook(&scene.q0, &cfg, &reference, hook, |s| {
+            if let Some((w, tf, data, err)) = recorder.as_mut() {
+                if err.is_none() {
+                    let frame = tf.frame_at(model, data, s.t, s.q, s.qd, s.tau);
+                    if let Err(e) = w.write_frame(&frame) {
+                        *err = Some(e.to_string());
+                    }
+                }
+            }
             samples.push(SimSample {
                 t: s.t,
                 q: s.q.to_vec(),
@@ -342,18 +388,55 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
 
     // 5. Output files.
     let mut outputs: Vec<String> = Vec::new();
-    let out_dir = opts
-        .out_dir
-        .clone()
-        .or_else(|| scene.outputs.dir.clone())
-        .unwrap_or_else(|| Path::new("out").join(&scene.name));
+    if let Some((mut w, tf, mut data, err)) = recorder.take() {
+        let t0 = Instant::now();
+        let rec_err = |e: String| fail("outputs", format!("recording: {e}"));
+        if let Some(e) = err {
+            return Err(rec_err(e));
+        }
+        if samples.is_empty() {
+            // No simulation: record the planned motion (torques of the check) at 100 Hz.
+            let every = ((0.01 / torque.dt).round() as usize).max(1);
+            let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            for k in (0..torque.t.len()).step_by(every) {
+                traj.sample(torque.t[k], &mut q, &mut qd, &mut qdd);
+                let tau = &torque.tau[k * n..(k + 1) * n];
+                let frame = tf.frame_at(model, &mut data, torque.t[k], &q, &qd, tau);
+                w.write_frame(&frame).map_err(|e| rec_err(e.to_string()))?;
+            }
+        }
+        let rows: Vec<TorqueRow> = torque
+            .joints
+            .iter()
+            .map(|j| TorqueRow {
+                joint: j.joint.clone(),
+                peak_torque: j.peak_torque,
+                rms_torque: j.rms_torque,
+                peak_speed: j.peak_speed,
+                peak_power: j.peak_power,
+                limit: j.limit.is_finite().then_some(j.limit),
+                velocity_limit: j.velocity_limit.is_finite().then_some(j.velocity_limit),
+                margin: j.limit.is_finite().then_some(j.margin),
+                ok: j.ok,
+                first_violation: j.first_violation_s,
+            })
+            .collect();
+        w.write_torque_check(duration, &rows)
+            .map_err(|e| rec_err(e.to_string()))?;
+        if let Some(f) = collisions.get("first").filter(|f| !f.is_null()) {
+            let ev = CollisionEvent {
+                t: f["time"].as_f64().unwrap_or(0.0),
+                body_a: f["pair"][0].as_str().unwrap_or("").into(),
+                body_b: f["pair"][1].as_str().unwrap_or("").into(),
+            };
+            w.write_collisions(&[ev])
+                .map_err(|e| rec_err(e.to_string()))?;
+        }
+        let p = w.finish().map_err(|e| rec_err(e.to_string()))?;
+        outputs.push(p.display().to_string());
+        timings.insert("recording_s".into(), json!(t0.elapsed().as_secs_f64()));
+    }
     if opts.write_files {
-        std::fs::create_dir_all(&out_dir).map_err(|e| {
-            fail(
-                "outputs.dir",
-                format!("cannot create {}: {e}", out_dir.display()),
-            )
-        })?;
         let t0 = Instant::now();
         let out_err = |e: String| fail("outputs", e);
         if let Some(fmt) = scene.outputs.torque_plot {

@@ -102,6 +102,7 @@ pub struct Outputs {
     pub report: bool,
     pub trajectory_csv: bool,
     pub simulation_csv: bool,
+    pub mcap: bool,
 }
 
 /// A validated scenario.
@@ -1475,6 +1476,7 @@ pub fn build(path: &Path, text: &str, file: &ArmFile) -> Result<Scene, ScenarioE
         report: osec.and_then(|o| o.report).unwrap_or(true),
         trajectory_csv: osec.and_then(|o| o.trajectory_csv).unwrap_or(false),
         simulation_csv: osec.and_then(|o| o.simulation_csv).unwrap_or(false),
+        mcap: osec.and_then(|o| o.mcap).unwrap_or(true),
     };
 
     Ok(Scene {

@@ -302,4 +302,7 @@ pub struct OutputsSec {
     pub trajectory_csv: Option<bool>,
     /// Write `<name>_simulation.csv` (the simulated motion).
     pub simulation_csv: Option<bool>,
+    /// Write `<name>.mcap` (ROS 2 messages: joint states, tf, robot description, torque
+    /// check, collisions); default true.
+    pub mcap: Option<bool>,
 }
