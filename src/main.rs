@@ -1167,6 +1167,45 @@ fn ik_analytic_cmd(
 }
 
 #[allow(clippy::too_many_arguments)]
+/// The sampled workspace as an MCAP recording: the robot (description, static tf, one
+/// frame at the neutral configuration) and the kept tool points as a
+/// `sensor_msgs/PointCloud2` with the manipulability of each point.
+fn write_workspace_mcap(
+    model: &Model,
+    r: &armsim::workspace::WorkspaceResult,
+    path: &std::path::Path,
+) -> Result<(), String> {
+    use armsim::recording::{mcap_out::McapWriter, Header, PointCloud};
+    let src = std::path::Path::new(&model.source);
+    let spec = Model::read_spec(src).map_err(|e| e.to_string())?;
+    let name = format!("{}_workspace", model.name);
+    let (header, tf) = Header::for_model(&name, src, model, &spec);
+    let err = |e: armsim::recording::error::RecordError| e.to_string();
+    let mut w = McapWriter::create(path, &header).map_err(err)?;
+    let mut data = armsim::data::Data::new(model);
+    let q = model.neutral();
+    let frame = tf.frame_at(model, &mut data, 0.0, &q, &[], &[]);
+    w.write_frame(&frame).map_err(err)?;
+    let values: Vec<f32> = r.points.iter().map(|s| s.manipulability as f32).collect();
+    let cloud = PointCloud {
+        t: 0.0,
+        frame: model.links[0].name.clone(),
+        points: r
+            .points
+            .iter()
+            .map(|s| [s.p[0] as f32, s.p[1] as f32, s.p[2] as f32])
+            .collect(),
+        values: if values.iter().all(|v| v.is_finite()) {
+            values
+        } else {
+            Vec::new()
+        },
+    };
+    w.write_cloud(&cloud).map_err(err)?;
+    w.finish().map_err(err)?;
+    Ok(())
+}
+
 fn workspace_cmd(
     model: &Model,
     link: Option<String>,
@@ -1208,8 +1247,12 @@ fn workspace_cmd(
     let r = sample_workspace(model, &opts).map_err(|e| format!("{}: {e}", model.source))?;
     let mut written = Vec::new();
     if let Some(p) = &out {
-        r.write_points_csv(p)
-            .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
+        if p.extension().and_then(|e| e.to_str()) == Some("mcap") {
+            write_workspace_mcap(model, &r, p)?;
+        } else {
+            r.write_points_csv(p)
+                .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
+        }
         written.push(p.display().to_string());
     }
     if as_json {

@@ -625,3 +625,31 @@ fn sigint_in_the_middle_of_a_run_leaves_a_valid_mcap() {
     assert_eq!(leftovers, 0);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn workspace_writes_its_cloud_as_pointcloud2_in_mcap() {
+    let dir = std::env::temp_dir().join(format!("armsim_ws_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("ws.mcap");
+    let o = cli(&[
+        "workspace",
+        "robots/planar_2r.toml",
+        "--samples",
+        "4000",
+        "--out",
+        p.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rec = armsim::recording::mcap_in::read_mcap(&p).unwrap();
+    assert_eq!(rec.clouds.len(), 1);
+    let c = &rec.clouds[0];
+    assert!(c.points.len() >= 1000, "{}", c.points.len());
+    assert_eq!(c.values.len(), c.points.len());
+    // The 2R tip (l1 = l2 = 0.5 m) stays within 1 m of the shoulder.
+    for q in &c.points {
+        let r = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
+        assert!(r <= 1.0 + 1e-5, "{r}");
+    }
+    assert!(rec.header.robot_description.unwrap().contains("<robot"));
+    std::fs::remove_dir_all(&dir).ok();
+}
