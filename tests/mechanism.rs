@@ -1389,7 +1389,7 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
     (
         "linkage_unknown_key.toml",
         9,
-        "lenght",
+        "links.AB.lenght",
         "unknown field `lenght`",
     ),
     (
