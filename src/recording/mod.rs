@@ -7,6 +7,8 @@
 //! torque-check table and collision events. Writers stream frames one at a time so an
 //! interrupted run still leaves a valid file.
 
+pub mod fk_frames;
+
 use serde::{Deserialize, Serialize};
 
 /// A rigid transform between two named frames (ROS `geometry_msgs/TransformStamped`
