@@ -8,6 +8,7 @@
 //! interrupted run still leaves a valid file.
 
 pub mod fk_frames;
+pub mod mcap_in;
 pub mod rerun_out;
 
 use serde::{Deserialize, Serialize};
