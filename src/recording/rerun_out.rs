@@ -176,9 +176,7 @@ pub fn log_recording(
         rec.header.name.clone()
     };
     let (stream, storage) = open(sink, &name, Some(make_blueprint(rec)))?;
-    let mut report = log_to_stream(&stream, rec, spec, mesh_base)?;
-    pre_warnings.append(&mut report.warnings);
-    report.warnings = pre_warnings;
+    let mut report = log_with(&stream, rec, spec, mesh_base, pre_warnings)?;
     report.bytes = finish(&stream, storage, sink)?;
     Ok(report)
 }
@@ -269,29 +267,45 @@ fn finish(
     }
 }
 
-/// Views: the 3-D scene on the left; per-joint torque plots, joint positions and the text
-/// log in tabs on the right.
+/// Views: the 3-D scene on the left; on the right, tabs with the per-joint torque plots,
+/// the joint positions, the text log and the reports (each only when there is data).
 fn make_blueprint(rec: &Recording) -> blueprint::Blueprint {
-    use blueprint::{ContainerLike, Grid, Horizontal, Spatial3DView, Tabs, TimeSeriesView};
+    use blueprint::{
+        ContainerLike, Grid, Horizontal, Spatial3DView, Tabs, TextDocumentView, TextLogView,
+        TimeSeriesView,
+    };
     let scene: ContainerLike = Spatial3DView::new("robot").with_origin("world").into();
-    if rec.frames.is_empty() {
-        return blueprint::Blueprint::new(scene);
+    let mut tabs: Vec<ContainerLike> = Vec::new();
+    let plots = rec.frames.len() >= 2;
+    if plots && rec.frames.iter().any(|f| !f.tau.is_empty()) {
+        let torque: Vec<ContainerLike> = rec
+            .header
+            .joint_names
+            .iter()
+            .map(|j| {
+                TimeSeriesView::new(format!("τ {j}"))
+                    .with_origin(path(&["plots", "torque", j]))
+                    .into()
+            })
+            .collect();
+        tabs.push(Grid::new(torque).with_name("torque").into());
     }
-    let torque: Vec<ContainerLike> = rec
-        .header
-        .joint_names
-        .iter()
-        .map(|j| {
-            TimeSeriesView::new(format!("τ {j}"))
-                .with_origin(path(&["plots", "torque", j]))
-                .into()
-        })
-        .collect();
-    let q: ContainerLike = TimeSeriesView::new("joint positions")
-        .with_origin("plots/q")
-        .into();
-    let right: ContainerLike = Tabs::new([Grid::new(torque).with_name("torque").into(), q]).into();
-    blueprint::Blueprint::new(Horizontal::new([scene, right]).with_column_shares([3.0, 2.0]))
+    if plots && rec.frames.iter().any(|f| !f.q.is_empty()) {
+        tabs.push(
+            TimeSeriesView::new("joint positions")
+                .with_origin("plots/q")
+                .into(),
+        );
+    }
+    tabs.push(TextLogView::new("log").with_origin("log").into());
+    tabs.push(
+        TextDocumentView::new("reports")
+            .with_origin("reports")
+            .into(),
+    );
+    blueprint::Blueprint::new(
+        Horizontal::new([scene, Tabs::new(tabs).into()]).with_column_shares([3.0, 2.0]),
+    )
 }
 
 /// The transform tree of a recording: every frame that is the child of some transform.
@@ -440,8 +454,17 @@ pub fn log_to_stream(
     spec: Option<&ModelSpec>,
     mesh_base: Option<&Path>,
 ) -> Result<RerunReport, RerunError> {
+    log_with(stream, rec, spec, mesh_base, Vec::new())
+}
+
+fn log_with(
+    stream: &RecordingStream,
+    rec: &Recording,
+    spec: Option<&ModelSpec>,
+    mesh_base: Option<&Path>,
+    mut warnings: Vec<String>,
+) -> Result<RerunReport, RerunError> {
     let mut report = RerunReport::default();
-    let mut warnings = Vec::new();
     stream
         .log_static("world", &archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())
         .map_err(sdk)?;
@@ -482,20 +505,48 @@ pub fn log_to_stream(
         None => HashMap::new(),
     };
     log_joint_plots(stream, rec, &frames)?;
-    log_clouds(stream, rec, &tree, &mut report)?;
+    let t0 = times.first().copied().unwrap_or(0.0);
+    let info = log_clouds(stream, rec, &tree, &mut report, &mut warnings)?;
+    log_texts(stream, "log/info", t0, &info, rerun::TextLogLevel::INFO)?;
     log_collisions(stream, &rec.collisions, &tree, &times, &boxes)?;
     log_reports(stream, rec)?;
-
-    for w in &warnings {
-        stream
-            .log_static(
-                "log/warnings",
-                &archetypes::TextLog::new(w.clone()).with_level(rerun::TextLogLevel::WARN),
-            )
-            .map_err(sdk)?;
-    }
+    log_texts(
+        stream,
+        "log/warnings",
+        t0,
+        &warnings,
+        rerun::TextLogLevel::WARN,
+    )?;
     report.warnings = warnings;
     Ok(report)
+}
+
+/// Text log rows at time `t` (temporal, so that every row is kept).
+fn log_texts(
+    stream: &RecordingStream,
+    ent: &str,
+    t: f64,
+    texts: &[String],
+    level: &str,
+) -> Result<(), RerunError> {
+    if texts.is_empty() {
+        return Ok(());
+    }
+    let cols = archetypes::TextLog::update_fields()
+        .with_many_text(texts.iter().cloned())
+        .with_many_level(std::iter::repeat_n(level, texts.len()))
+        .columns_of_unit_batches()
+        .map_err(sdk)?;
+    stream
+        .send_columns(
+            ent,
+            [TimeColumn::new_duration_secs(
+                TIMELINE,
+                vec![t; texts.len()],
+            )],
+            cols,
+        )
+        .map_err(sdk)
 }
 
 fn log_links(
@@ -911,8 +962,20 @@ fn log_geometry(
             boxes.insert(li, b);
         }
     }
+    // One warning per reason (a missing package fails every mesh in it).
+    let mut by_reason: BTreeMap<String, Vec<String>> = BTreeMap::new();
     for (uri, why) in failed {
-        warnings.push(format!("visual mesh '{uri}' not drawn: {why}"));
+        by_reason.entry(why).or_default().push(uri);
+    }
+    for (why, uris) in by_reason {
+        warnings.push(match uris.as_slice() {
+            [one] => format!("visual mesh '{one}' not drawn: {why}"),
+            many => format!(
+                "{} visual meshes not drawn ('{}', …): {why}",
+                many.len(),
+                many[0]
+            ),
+        });
     }
     Ok(boxes)
 }
@@ -946,55 +1009,53 @@ fn log_joint_plots(
             .map_err(sdk)
     };
     let (t0, t1) = (frames[0].t, frames[frames.len() - 1].t);
-    for (k, joint) in rec.header.joint_names.iter().enumerate() {
-        let ent = path(&["plots", "torque", joint]);
+    let style = |ent: &EntityPath, name: String, rgb: [u8; 3]| {
         stream
             .log_static(
                 ent.clone(),
                 &archetypes::SeriesLines::new()
-                    .with_names([format!("τ {joint}")])
-                    .with_colors([rerun::Color::from_rgb(40, 120, 220)]),
+                    .with_names([name])
+                    .with_colors([rerun::Color::from_rgb(rgb[0], rgb[1], rgb[2])]),
             )
-            .map_err(sdk)?;
+            .map_err(sdk)
+    };
+    for (k, joint) in rec.header.joint_names.iter().enumerate() {
         let (t, v) = series(|f| &f.tau, k);
-        send(ent.clone(), t, v)?;
-        if let Some(Some(lim)) = rec.header.effort_limits.get(k) {
-            if lim.is_finite() {
-                for (part, sign) in [("upper_limit", 1.0), ("lower_limit", -1.0)] {
-                    let e = child(&ent, part);
-                    stream
-                        .log_static(
-                            e.clone(),
-                            &archetypes::SeriesLines::new()
-                                .with_names([if sign > 0.0 { "+limit" } else { "-limit" }])
-                                .with_colors([rerun::Color::from_rgb(220, 40, 40)]),
-                        )
-                        .map_err(sdk)?;
+        if !t.is_empty() {
+            let ent = path(&["plots", "torque", joint]);
+            style(&ent, format!("τ {joint}"), [40, 120, 220])?;
+            send(ent.clone(), t, v)?;
+            if let Some(&Some(lim)) = rec.header.effort_limits.get(k) {
+                if lim.is_finite() {
                     let ts = if t1 > t0 { vec![t0, t1] } else { vec![t0] };
-                    let vs = vec![sign * lim; ts.len()];
-                    send(e, ts, vs)?;
+                    for (part, sign) in [("upper_limit", 1.0), ("lower_limit", -1.0)] {
+                        let e = child(&ent, part);
+                        let name = if sign > 0.0 { "+limit" } else { "-limit" };
+                        style(&e, name.to_string(), [220, 40, 40])?;
+                        send(e, ts.clone(), vec![sign * lim; ts.len()])?;
+                    }
                 }
             }
         }
-        let ent = path(&["plots", "q", joint]);
-        stream
-            .log_static(
-                ent.clone(),
-                &archetypes::SeriesLines::new().with_names([joint.clone()]),
-            )
-            .map_err(sdk)?;
         let (t, v) = series(|f| &f.q, k);
-        send(ent, t, v)?;
+        if !t.is_empty() {
+            let ent = path(&["plots", "q", joint]);
+            style(&ent, joint.clone(), [60, 160, 90])?;
+            send(ent, t, v)?;
+        }
     }
     Ok(())
 }
 
+/// Logs the clouds; returns one line per coloured cloud (its value range).
 fn log_clouds(
     stream: &RecordingStream,
     rec: &Recording,
     tree: &Tree,
     report: &mut RerunReport,
-) -> Result<(), RerunError> {
+    warnings: &mut Vec<String>,
+) -> Result<Vec<String>, RerunError> {
+    let mut info = Vec::new();
     for (i, c) in rec.clouds.iter().enumerate() {
         let name = format!("cloud_{i}");
         let ent = match tree.index.get(&c.frame) {
@@ -1017,17 +1078,16 @@ fn log_clouds(
                 })
                 .collect();
             arch = arch.with_colors(colors);
-            stream
-                .log_static(
-                    "log/info",
-                    &archetypes::TextLog::new(format!(
-                        "{}: {} points, value {lo:.6} (dark violet) … {hi:.6} (yellow)",
-                        ent,
-                        c.points.len()
-                    ))
-                    .with_level(rerun::TextLogLevel::INFO),
-                )
-                .map_err(sdk)?;
+            info.push(format!(
+                "{ent}: {} points, value {lo:.6} (dark violet) … {hi:.6} (yellow)",
+                c.points.len()
+            ));
+        } else if !c.values.is_empty() {
+            warnings.push(format!(
+                "{ent}: {} values for {} points (or none finite); drawn uncoloured",
+                c.values.len(),
+                c.points.len()
+            ));
         }
         if c.t.is_finite() && !rec.frames.is_empty() {
             stream.set_duration_secs(TIMELINE, c.t);
@@ -1038,7 +1098,7 @@ fn log_clouds(
         }
         report.points += c.points.len();
     }
-    Ok(())
+    Ok(info)
 }
 
 fn log_collisions(
