@@ -216,6 +216,28 @@ enum Cmd {
         /// Write the sampled tool points as CSV (atomically).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Write a Rerun file (.rrd): the robot at its neutral pose inside the sampled
+        /// tool points, coloured by manipulability.
+        #[arg(long)]
+        rerun: Option<PathBuf>,
+    },
+    /// Show a recording (MCAP) in Rerun: write an .rrd file, or spawn the viewer (the
+    /// `rerun` program on PATH, from `pip install rerun-sdk==0.36.3`).
+    View {
+        /// Recording file (.mcap).
+        recording: PathBuf,
+        /// Write a Rerun file (.rrd) instead of spawning the viewer.
+        #[arg(long, conflicts_with = "spawn")]
+        save: Option<PathBuf>,
+        /// Spawn the Rerun viewer and stream to it (the default without --save).
+        #[arg(long)]
+        spawn: bool,
+        /// Model file for the geometry (default: the URDF stored in the recording).
+        #[arg(long)]
+        model: Option<PathBuf>,
+        /// Directory mesh URIs are resolved from (default: the model file's directory).
+        #[arg(long)]
+        mesh_dir: Option<PathBuf>,
     },
     /// Run a scenario file end to end and print its summary (or JSON).
     Run {
@@ -230,6 +252,12 @@ enum Cmd {
         /// Exit with status 2 when the verdict is not ok (limits exceeded or a collision).
         #[arg(long)]
         check: bool,
+        /// Also log the run to Rerun: save this .rrd file (arm scenarios).
+        #[arg(long, conflicts_with = "spawn")]
+        rerun: Option<PathBuf>,
+        /// Also log the run to a spawned Rerun viewer (arm scenarios).
+        #[arg(long)]
+        spawn: bool,
     },
     /// Time one algorithm (median ns per call over random states inside the limits).
     Bench {
@@ -406,12 +434,21 @@ fn run(cli: Cli) -> Result<(), String> {
             seed,
             extras,
             out,
+            rerun,
         } => {
             let model = load(&m)?;
+            let outputs = WsOutputs { csv: out, rerun };
             workspace_cmd(
-                &model, link, samples, voxel, &method, replicates, seed, extras, out, m.json,
+                &model, link, samples, voxel, &method, replicates, seed, extras, outputs, m.json,
             )
         }
+        Cmd::View {
+            recording,
+            save,
+            spawn: _,
+            model,
+            mesh_dir,
+        } => view_cmd(&recording, save, model.as_deref(), mesh_dir.as_deref()),
         Cmd::Ik {
             m,
             link,
@@ -445,6 +482,8 @@ fn run(cli: Cli) -> Result<(), String> {
             out,
             json,
             check,
+            rerun,
+            spawn,
         } => {
             if let Some(dir) = &out {
                 std::fs::create_dir_all(dir)
@@ -456,6 +495,11 @@ fn run(cli: Cli) -> Result<(), String> {
             let opts = armsim::arm::RunOptions {
                 out_dir: out,
                 stop: armsim::recording::interrupt::requested,
+                rerun: match (rerun, spawn) {
+                    (Some(p), _) => Some(armsim::recording::rerun_out::RerunSink::Save(p)),
+                    (None, true) => Some(armsim::recording::rerun_out::RerunSink::Spawn),
+                    (None, false) => None,
+                },
                 ..Default::default()
             };
             let report =
@@ -1215,10 +1259,14 @@ fn workspace_cmd(
     replicates: usize,
     seed: u64,
     extras: bool,
-    out: Option<PathBuf>,
+    outputs: WsOutputs,
     as_json: bool,
 ) -> Result<(), String> {
     use armsim::workspace::{sample_workspace, Sampling, WorkspaceOptions};
+    let WsOutputs { csv: out, rerun } = outputs;
+    if let Some(p) = &rerun {
+        check_output_dir(p)?;
+    }
     if let Some(l) = &link {
         link_id(model, l)?;
     }
@@ -1240,7 +1288,11 @@ fn workspace_cmd(
         voxel,
         tool: link,
         extras,
-        keep_points: if out.is_some() { 200_000 } else { 0 },
+        keep_points: if out.is_some() || rerun.is_some() {
+            200_000
+        } else {
+            0
+        },
         quiet: as_json,
         ..Default::default()
     };
@@ -1253,6 +1305,10 @@ fn workspace_cmd(
             r.write_points_csv(p)
                 .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
         }
+        written.push(p.display().to_string());
+    }
+    if let Some(p) = &rerun {
+        workspace_rerun(model, &r, p)?;
         written.push(p.display().to_string());
     }
     if as_json {
@@ -1331,6 +1387,110 @@ fn tradeoffs_cmd(
     );
     for p in written {
         println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+/// Output files of `workspace`.
+struct WsOutputs {
+    /// Sampled tool points as CSV.
+    csv: Option<PathBuf>,
+    /// Rerun file.
+    rerun: Option<PathBuf>,
+}
+
+/// Fails early when the directory of an output file does not exist.
+fn check_output_dir(p: &std::path::Path) -> Result<(), String> {
+    let dir = match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    if dir.is_dir() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{}: directory '{}' does not exist",
+            p.display(),
+            dir.display()
+        ))
+    }
+}
+
+/// The robot at its neutral pose and the kept workspace samples (coloured by
+/// manipulability) as an .rrd file.
+fn workspace_rerun(
+    model: &Model,
+    r: &armsim::workspace::WorkspaceResult,
+    path: &std::path::Path,
+) -> Result<(), String> {
+    use armsim::recording::{fk_frames, rerun_out, PointCloud, Recording};
+    let mut header = fk_frames::header_from_model(model, &format!("{} workspace", model.name));
+    header
+        .metadata
+        .push(("workspace_tool".into(), r.tool.clone()));
+    let mut data = Data::new(model);
+    let frame = fk_frames::frame_from_state(model, &mut data, 0.0, &model.neutral(), &[], &[]);
+    let cloud = PointCloud {
+        t: 0.0,
+        frame: "world".into(),
+        points: r.points.iter().map(|s| s.p.map(|x| x as f32)).collect(),
+        values: r.points.iter().map(|s| s.manipulability as f32).collect(),
+    };
+    let rec = Recording {
+        header,
+        frames: vec![frame],
+        clouds: vec![cloud],
+        ..Default::default()
+    };
+    let spec = Model::read_spec(std::path::Path::new(&model.source)).ok();
+    let report = rerun_out::log_recording(
+        &rec,
+        spec.as_ref(),
+        None,
+        &rerun_out::RerunSink::Save(path.to_path_buf()),
+    )
+    .map_err(|e| e.to_string())?;
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(())
+}
+
+/// `armsim view`: an MCAP recording to Rerun.
+fn view_cmd(
+    recording: &std::path::Path,
+    save: Option<PathBuf>,
+    model: Option<&std::path::Path>,
+    mesh_dir: Option<&std::path::Path>,
+) -> Result<(), String> {
+    use armsim::recording::{mcap_in, rerun_out};
+    let rec = mcap_in::read_mcap(recording).map_err(|e| e.to_string())?;
+    let spec = match model {
+        Some(p) => Some(Model::read_spec(p).map_err(|e| e.to_string())?),
+        None => None,
+    };
+    let sink = match save {
+        Some(p) => rerun_out::RerunSink::Save(p),
+        None => rerun_out::RerunSink::Spawn,
+    };
+    let report = rerun_out::log_recording(&rec, spec.as_ref(), mesh_dir, &sink)
+        .map_err(|e| e.to_string())?;
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
+    let what = format!(
+        "{} links, {} frames, {} visuals, {} points, {} collision events",
+        report.links.len(),
+        report.frames,
+        report.visuals,
+        report.points,
+        rec.collisions.len()
+    );
+    match (&sink, report.bytes) {
+        (rerun_out::RerunSink::Save(p), Some(n)) => {
+            println!("wrote {} ({n} bytes): {what}", p.display())
+        }
+        _ => println!("sent to the Rerun viewer: {what}"),
     }
     Ok(())
 }

@@ -446,7 +446,7 @@ fn ik_json_contract_numeric_and_analytic() {
         }
         let sols = res["solutions"].as_array().unwrap();
         assert!(
-            sols.len() >= 2 && sols.len() <= 8 && sols.len() % 2 == 0,
+            sols.len() >= 2 && sols.len() <= 8 && sols.len().is_multiple_of(2),
             "{} branches",
             sols.len()
         );

@@ -1210,8 +1210,18 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "chain.stiffness",
         "2 values, expected 3",
     ),
-    ("torsional_unknown_key.toml", 8, "chain.damping", "unknown field"),
-    ("torsional_wrong_type.toml", 5, "chain.inertia", "invalid type"),
+    (
+        "torsional_unknown_key.toml",
+        8,
+        "chain.damping",
+        "unknown field",
+    ),
+    (
+        "torsional_wrong_type.toml",
+        5,
+        "chain.inertia",
+        "invalid type",
+    ),
     (
         "torsional_unknown_cylinder.toml",
         10,

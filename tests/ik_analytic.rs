@@ -347,7 +347,7 @@ fn ur5_fast_path_with_typed_parameters() {
         let target = fk(&m, &mut data, link, &q);
         let n = ur_ik(&p, &target, &mut out).unwrap();
         assert_eq!(n, out.len(), "±2π limits keep every solution");
-        assert!(n % 2 == 0 && n >= 2);
+        assert!(n.is_multiple_of(2) && n >= 2);
         assert!(out.iter().any(|s| qdist(&m, &s.q, &q) < 1e-8));
         for s in &out {
             worst = worst.max(pose_err(&fk(&m, &mut data, link, &s.q), &target));

@@ -33,6 +33,8 @@ pub struct RunOptions {
     pub write_files: bool,
     /// Polled during the simulation: `true` stops it (SIGINT).
     pub stop: fn() -> bool,
+    /// Also log the run to Rerun (an `.rrd` file or a spawned viewer).
+    pub rerun: Option<crate::recording::rerun_out::RerunSink>,
 }
 
 impl Default for RunOptions {
@@ -41,6 +43,7 @@ impl Default for RunOptions {
             out_dir: None,
             write_files: true,
             stop: || false,
+            rerun: None,
         }
     }
 }
@@ -435,6 +438,48 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         let p = w.finish().map_err(|e| rec_err(e.to_string()))?;
         outputs.push(p.display().to_string());
         timings.insert("recording_s".into(), json!(t0.elapsed().as_secs_f64()));
+    }
+    if let Some(sink) = &opts.rerun {
+        let t0 = Instant::now();
+        let (mut header, tf) =
+            Header::for_model(&scene.name, &scene.model_path, model, &scene.spec);
+        header.static_tf.insert(
+            0,
+            crate::recording::tf::to_transform("world", &model.links[0].name, &scene.base),
+        );
+        let mut data = Data::new(model);
+        let frames = samples
+            .iter()
+            .map(|s| tf.frame_at(model, &mut data, s.t, &s.q, &s.qd, &s.tau))
+            .collect();
+        let collisions = collisions
+            .get("first")
+            .filter(|f| !f.is_null())
+            .map(|f| CollisionEvent {
+                t: f["time"].as_f64().unwrap_or(0.0),
+                body_a: f["pair"][0].as_str().unwrap_or("").into(),
+                body_b: f["pair"][1].as_str().unwrap_or("").into(),
+            })
+            .into_iter()
+            .collect();
+        let rec = crate::recording::Recording {
+            header,
+            frames,
+            collisions,
+            ..Default::default()
+        };
+        let rep = crate::recording::rerun_out::log_recording(
+            &rec,
+            Some(&scene.spec),
+            scene.model_path.parent(),
+            sink,
+        )
+        .map_err(|e| fail("outputs", format!("rerun: {e}")))?;
+        warnings.extend(rep.warnings);
+        if let crate::recording::rerun_out::RerunSink::Save(p) = sink {
+            outputs.push(p.display().to_string());
+        }
+        timings.insert("rerun_s".into(), json!(t0.elapsed().as_secs_f64()));
     }
     if opts.write_files {
         let t0 = Instant::now();

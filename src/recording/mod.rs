@@ -8,10 +8,12 @@
 //! interrupted run still leaves a valid file.
 
 pub mod error;
+pub mod fk_frames;
 pub mod interrupt;
 pub mod mcap_in;
 pub mod mcap_out;
 mod model_header;
+pub mod rerun_out;
 pub mod ros2;
 pub mod tf;
 pub mod urdf_out;

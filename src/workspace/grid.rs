@@ -310,7 +310,7 @@ impl Grid {
             if i % wpr == 0 {
                 e += (w & 1) as u32;
             }
-            if (i / wpr) % ny == 0 {
+            if (i / wpr).is_multiple_of(ny) {
                 e += w.count_ones();
             }
             if !planar {

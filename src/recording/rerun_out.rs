@@ -1,0 +1,1249 @@
+//! Rerun output: logs a [`Recording`] (robot geometry, link motion, tool path, joint plots,
+//! workspace clouds, collisions) to a Rerun `.rrd` file or to a spawned Rerun viewer.
+//!
+//! This module owns the mapping from the recording types to Rerun entities:
+//!
+//! | entity                                   | what                                              |
+//! |------------------------------------------|---------------------------------------------------|
+//! | `world/robot/<link>`                     | `Transform3D`: the link's world pose, per frame    |
+//! | `world/robot/<link>/visual_<k>`          | visual geometry in the link frame (static)         |
+//! | `world/robot/<link>/collision`           | red box on a link at its collision times           |
+//! | `world/robot/skeleton`                   | segments parent origin → child origin, per frame   |
+//! | `world/tool_path`                        | the tool link's origin over time (static strip)    |
+//! | `world/workspace/cloud_<i>`              | point cloud coloured by its value (viridis)        |
+//! | `plots/torque/<joint>`                   | joint torque (or force), per frame                 |
+//! | `plots/torque/<joint>/upper_limit` / `lower_limit` | `±` effort limit (constant line)         |
+//! | `plots/q/<joint>`                        | joint position, per frame                          |
+//! | `log/collisions`, `log/info`             | text log                                           |
+//! | `reports/header`, `reports/torque_check` | markdown documents (static)                        |
+//!
+//! Links are flat children of `world/robot`, each with its *world* pose composed from the
+//! recording's static and per-frame parent → child transforms, so a recording whose tree
+//! is unusual (frames not rooted at `world`, links missing) still draws what it has. The
+//! timeline is `time` (a duration in seconds, from [`Frame::t`]). Bulk data goes through
+//! `send_columns`, one chunk per entity.
+//!
+//! Geometry comes from a [`ModelSpec`] (or the URDF in the recording's header): boxes,
+//! cylinders, capsules, spheres, and meshes read with [`crate::collision::mesh`]
+//! (STL/OBJ/DAE). A visual mesh that cannot be found or read is replaced by the link's
+//! primitive collision geometry where there is one, and reported as a warning.
+//!
+//! Saving encodes in memory and writes the file atomically (temporary file + rename), so a
+//! failed run never leaves a partial `.rrd`. Spawning starts the external `rerun` viewer
+//! (from PyPI `rerun-sdk`, same version as the `rerun` crate) and streams to it.
+
+use super::{CollisionEvent, Frame, PointCloud, Recording, Transform};
+use crate::collision::mesh::{load_mesh, MeshData};
+use crate::collision::resolve::resolve_uri;
+use crate::model::{Geometry, ModelSpec, Shape};
+use crate::spatial::{Mat3, Se3, Vec3};
+use nalgebra::{Quaternion, Rotation3, UnitQuaternion};
+use rerun::{
+    archetypes, blueprint, components::FillMode, EntityPath, EntityPathPart, RecordingStream,
+    RecordingStreamBuilder, TimeColumn,
+};
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+/// Where the log goes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum RerunSink {
+    /// Write an `.rrd` file (atomically).
+    Save(PathBuf),
+    /// Spawn the `rerun` viewer (found on `PATH`) and stream to it.
+    Spawn,
+}
+
+/// Why logging failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RerunError {
+    /// The output file cannot be written.
+    #[error("{}: {msg}", path.display())]
+    Output {
+        /// The `.rrd` path.
+        path: PathBuf,
+        /// What went wrong.
+        msg: String,
+    },
+    /// The viewer could not be started or reached.
+    #[error("rerun viewer: {0}")]
+    Viewer(String),
+    /// The Rerun SDK refused the data.
+    #[error("rerun: {0}")]
+    Sdk(String),
+}
+
+fn sdk(e: impl std::fmt::Display) -> RerunError {
+    RerunError::Sdk(e.to_string())
+}
+
+/// What was logged.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RerunReport {
+    /// Link entities (`world/robot/<link>`), in order.
+    pub links: Vec<String>,
+    /// Links that received a transform per frame.
+    pub moving_links: usize,
+    /// Frames logged.
+    pub frames: usize,
+    /// Visual geometry entities logged.
+    pub visuals: usize,
+    /// Points logged over all clouds.
+    pub points: usize,
+    /// The tool link whose path was drawn.
+    pub tool: Option<String>,
+    /// Problems that did not stop the log (missing meshes, malformed frames, …).
+    pub warnings: Vec<String>,
+    /// Size of the written file (save only).
+    pub bytes: Option<u64>,
+}
+
+/// Application id of the recordings.
+pub const APP_ID: &str = "armsim";
+/// Name of the timeline.
+pub const TIMELINE: &str = "time";
+
+/// `world/robot/<link>`, the link name as one (escaped) path part.
+pub fn link_entity(link: &str) -> EntityPath {
+    path(&["world", "robot", link])
+}
+
+/// An entity path from unescaped parts.
+pub fn path(parts: &[&str]) -> EntityPath {
+    EntityPath::new(parts.iter().map(|p| EntityPathPart::new(*p)).collect())
+}
+
+fn child(base: &EntityPath, part: &str) -> EntityPath {
+    base.join(&EntityPath::new(vec![EntityPathPart::new(part)]))
+}
+
+/// Viridis-like colormap: `x` in `[0, 1]` (clamped; NaN gives grey) to RGB, linear
+/// interpolation between five stops of matplotlib's viridis.
+pub fn colormap(x: f32) -> [u8; 3] {
+    const STOPS: [[f32; 3]; 5] = [
+        [68.0, 1.0, 84.0],
+        [59.0, 82.0, 139.0],
+        [33.0, 145.0, 140.0],
+        [94.0, 201.0, 98.0],
+        [253.0, 231.0, 37.0],
+    ];
+    if x.is_nan() {
+        return [128, 128, 128];
+    }
+    let s = x.clamp(0.0, 1.0) * (STOPS.len() - 1) as f32;
+    let i = (s.floor() as usize).min(STOPS.len() - 2);
+    let f = s - i as f32;
+    let mut out = [0u8; 3];
+    for c in 0..3 {
+        let v = STOPS[i][c] + f * (STOPS[i + 1][c] - STOPS[i][c]);
+        out[c] = v.round().clamp(0.0, 255.0) as u8;
+    }
+    out
+}
+
+/// Logs `rec` to `sink`. Geometry comes from `spec`, else from the URDF in
+/// `rec.header.robot_description`, else only frames and points are drawn. Mesh URIs are
+/// resolved against `mesh_base` (default: the directory of `spec.source` when that is a
+/// file).
+pub fn log_recording(
+    rec: &Recording,
+    spec: Option<&ModelSpec>,
+    mesh_base: Option<&Path>,
+    sink: &RerunSink,
+) -> Result<RerunReport, RerunError> {
+    check_sink(sink)?;
+    let parsed;
+    let mut pre_warnings = Vec::new();
+    let spec = match (spec, &rec.header.robot_description) {
+        (Some(s), _) => Some(s),
+        (None, Some(text)) => match crate::model::urdf::parse(text, "robot_description") {
+            Ok(s) => {
+                parsed = s;
+                Some(&parsed)
+            }
+            Err(e) => {
+                pre_warnings.push(format!(
+                    "robot description not usable, drawing frames only: {e}"
+                ));
+                None
+            }
+        },
+        (None, None) => None,
+    };
+    let name = if rec.header.name.is_empty() {
+        "armsim".to_string()
+    } else {
+        rec.header.name.clone()
+    };
+    let (stream, storage) = open(sink, &name, Some(make_blueprint(rec)))?;
+    let mut report = log_with(&stream, rec, spec, mesh_base, pre_warnings)?;
+    report.bytes = finish(&stream, storage, sink)?;
+    Ok(report)
+}
+
+/// Logs one workspace cloud (points coloured by value, e.g. manipulability) alone.
+pub fn log_workspace(cloud: &PointCloud, sink: &RerunSink) -> Result<RerunReport, RerunError> {
+    let rec = Recording {
+        header: super::Header {
+            name: "workspace".into(),
+            ..Default::default()
+        },
+        clouds: vec![cloud.clone()],
+        ..Default::default()
+    };
+    log_recording(&rec, None, None, sink)
+}
+
+fn check_sink(sink: &RerunSink) -> Result<(), RerunError> {
+    if let RerunSink::Save(p) = sink {
+        let out = |msg: String| RerunError::Output {
+            path: p.clone(),
+            msg,
+        };
+        if p.file_name().is_none() {
+            return Err(out("not a file name".into()));
+        }
+        if p.is_dir() {
+            return Err(out("is a directory".into()));
+        }
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        if !dir.is_dir() {
+            return Err(out(format!("directory '{}' does not exist", dir.display())));
+        }
+    }
+    Ok(())
+}
+
+type Storage = Option<rerun::sink::MemorySinkStorage>;
+
+fn open(
+    sink: &RerunSink,
+    name: &str,
+    bp: Option<blueprint::Blueprint>,
+) -> Result<(RecordingStream, Storage), RerunError> {
+    let mut b = RecordingStreamBuilder::new(APP_ID)
+        .enabled(true)
+        .recording_name(name);
+    if let Some(bp) = bp {
+        b = b.with_blueprint(bp);
+    }
+    match sink {
+        RerunSink::Save(_) => b.memory().map(|(s, st)| (s, Some(st))).map_err(sdk),
+        RerunSink::Spawn => b
+            .spawn()
+            .map(|s| (s, None))
+            .map_err(|e| RerunError::Viewer(format!("{e} (is `rerun` on PATH?)"))),
+    }
+    .inspect(|(s, _)| {
+        // Only the `time` timeline: no log_tick / log_time columns.
+        s.set_log_tick_enabled(false);
+        s.set_log_time_enabled(false);
+    })
+}
+
+fn finish(
+    stream: &RecordingStream,
+    storage: Storage,
+    sink: &RerunSink,
+) -> Result<Option<u64>, RerunError> {
+    match (sink, storage) {
+        (RerunSink::Save(p), Some(st)) => {
+            let bytes = st.drain_as_bytes().map_err(sdk)?;
+            crate::io::write_atomic(p, &bytes).map_err(|e| RerunError::Output {
+                path: p.clone(),
+                msg: format!("cannot write: {e}"),
+            })?;
+            Ok(Some(bytes.len() as u64))
+        }
+        _ => {
+            stream
+                .flush_blocking()
+                .map_err(|e| RerunError::Viewer(e.to_string()))?;
+            Ok(None)
+        }
+    }
+}
+
+/// Views: the 3-D scene on the left; on the right, tabs with the per-joint torque plots,
+/// the joint positions, the text log and the reports (each only when there is data).
+fn make_blueprint(rec: &Recording) -> blueprint::Blueprint {
+    use blueprint::{
+        ContainerLike, Grid, Horizontal, Spatial3DView, Tabs, TextDocumentView, TextLogView,
+        TimeSeriesView,
+    };
+    let scene: ContainerLike = Spatial3DView::new("robot").with_origin("world").into();
+    let mut tabs: Vec<ContainerLike> = Vec::new();
+    let plots = rec.frames.len() >= 2;
+    if plots && rec.frames.iter().any(|f| !f.tau.is_empty()) {
+        let torque: Vec<ContainerLike> = rec
+            .header
+            .joint_names
+            .iter()
+            .map(|j| {
+                TimeSeriesView::new(format!("τ {j}"))
+                    .with_origin(path(&["plots", "torque", j]))
+                    .into()
+            })
+            .collect();
+        tabs.push(Grid::new(torque).with_name("torque").into());
+    }
+    if plots && rec.frames.iter().any(|f| !f.q.is_empty()) {
+        tabs.push(
+            TimeSeriesView::new("joint positions")
+                .with_origin("plots/q")
+                .into(),
+        );
+    }
+    tabs.push(TextLogView::new("log").with_origin("log").into());
+    tabs.push(
+        TextDocumentView::new("reports")
+            .with_origin("reports")
+            .into(),
+    );
+    blueprint::Blueprint::new(
+        Horizontal::new([scene, Tabs::new(tabs).into()]).with_column_shares([3.0, 2.0]),
+    )
+}
+
+/// The transform tree of a recording: every frame that is the child of some transform.
+struct Tree {
+    names: Vec<String>,
+    index: HashMap<String, usize>,
+    /// Static parent → child transform of each link, if any.
+    statics: Vec<Option<(Option<usize>, Se3)>>,
+    /// Whether the link has a transform in some frame.
+    moving: Vec<bool>,
+}
+
+fn se3_of(t: &Transform) -> Option<Se3> {
+    let [x, y, z, w] = t.rotation;
+    let ok = t
+        .translation
+        .iter()
+        .chain(&t.rotation)
+        .all(|v| v.is_finite());
+    let n = (x * x + y * y + z * z + w * w).sqrt();
+    if !ok || n < 1e-9 {
+        return None;
+    }
+    let q = UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z));
+    Some(Se3::new(
+        *q.to_rotation_matrix().matrix(),
+        Vec3::from(t.translation),
+    ))
+}
+
+fn quat_xyzw(r: &Mat3) -> [f32; 4] {
+    let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(*r));
+    [q.i as f32, q.j as f32, q.k as f32, q.w as f32]
+}
+
+fn f32x3(v: &Vec3) -> [f32; 3] {
+    [v.x as f32, v.y as f32, v.z as f32]
+}
+
+impl Tree {
+    fn add(&mut self, name: &str) -> usize {
+        if let Some(&i) = self.index.get(name) {
+            return i;
+        }
+        self.names.push(name.to_string());
+        self.statics.push(None);
+        self.moving.push(false);
+        self.index.insert(name.to_string(), self.names.len() - 1);
+        self.names.len() - 1
+    }
+
+    fn build(rec: &Recording, spec: Option<&ModelSpec>, warnings: &mut Vec<String>) -> Tree {
+        let mut tree = Tree {
+            names: Vec::new(),
+            index: HashMap::new(),
+            statics: Vec::new(),
+            moving: Vec::new(),
+        };
+        let mut bad = 0usize;
+        for t in &rec.header.static_tf {
+            let c = tree.add(&t.child);
+            match se3_of(t) {
+                Some(m) => tree.statics[c] = Some((None, m)),
+                None => bad += 1,
+            }
+        }
+        for f in &rec.frames {
+            for t in &f.tf {
+                let c = tree.add(&t.child);
+                tree.moving[c] = true;
+            }
+        }
+        if let Some(s) = spec {
+            for l in &s.links {
+                tree.add(&l.name);
+            }
+        }
+        // Parents of static transforms, now that every child has an index.
+        for t in &rec.header.static_tf {
+            let p = tree.index.get(&t.parent).copied();
+            if let Some((parent, _)) = tree.statics[tree.index[&t.child]].as_mut() {
+                *parent = p;
+            }
+        }
+        if bad > 0 {
+            warnings.push(format!(
+                "{bad} static transform(s) with a non-finite or zero rotation ignored"
+            ));
+        }
+        tree
+    }
+
+    /// World pose of every link for `frame` (`None`: statics only). Frames not reached
+    /// from a known transform sit at the origin.
+    fn poses(&self, frame: Option<&Frame>, bad: &mut usize) -> (Vec<Se3>, Vec<Option<usize>>) {
+        let n = self.names.len();
+        let mut local: Vec<Option<(Option<usize>, Se3)>> = self.statics.clone();
+        if let Some(f) = frame {
+            for t in &f.tf {
+                let c = self.index[&t.child];
+                match se3_of(t) {
+                    Some(m) => local[c] = Some((self.index.get(&t.parent).copied(), m)),
+                    None => *bad += 1,
+                }
+            }
+        }
+        let parent: Vec<Option<usize>> = local.iter().map(|l| l.and_then(|(p, _)| p)).collect();
+        // 0 unvisited, 1 on the current walk, 2 done.
+        let mut state = vec![0u8; n];
+        let mut world = vec![Se3::identity(); n];
+        let mut walk = Vec::new();
+        for start in 0..n {
+            let mut i = start;
+            // Walk up to a resolved link or a root; a cycle is cut where it closes.
+            loop {
+                if state[i] != 0 {
+                    break;
+                }
+                state[i] = 1;
+                walk.push(i);
+                match parent[i] {
+                    Some(p) if state[p] != 1 => i = p,
+                    _ => break,
+                }
+            }
+            while let Some(j) = walk.pop() {
+                let base = match parent[j] {
+                    Some(p) if state[p] == 2 => world[p],
+                    _ => Se3::identity(),
+                };
+                world[j] = match &local[j] {
+                    Some((_, m)) => base.mul(m),
+                    None => base,
+                };
+                state[j] = 2;
+            }
+        }
+        (world, parent)
+    }
+}
+
+/// Logs `rec` into an existing stream (no blueprint, no flush). See [`log_recording`].
+pub fn log_to_stream(
+    stream: &RecordingStream,
+    rec: &Recording,
+    spec: Option<&ModelSpec>,
+    mesh_base: Option<&Path>,
+) -> Result<RerunReport, RerunError> {
+    log_with(stream, rec, spec, mesh_base, Vec::new())
+}
+
+fn log_with(
+    stream: &RecordingStream,
+    rec: &Recording,
+    spec: Option<&ModelSpec>,
+    mesh_base: Option<&Path>,
+    mut warnings: Vec<String>,
+) -> Result<RerunReport, RerunError> {
+    let mut report = RerunReport::default();
+    stream
+        .log_static("world", &archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())
+        .map_err(sdk)?;
+    let tree = Tree::build(rec, spec, &mut warnings);
+
+    // Frames with a usable time, in the recording's order.
+    let frames: Vec<&Frame> = rec.frames.iter().filter(|f| f.t.is_finite()).collect();
+    if frames.len() < rec.frames.len() {
+        warnings.push(format!(
+            "{} frame(s) with a non-finite time skipped",
+            rec.frames.len() - frames.len()
+        ));
+    }
+    let times: Vec<f64> = frames.iter().map(|f| f.t).collect();
+    report.frames = frames.len();
+
+    // World poses per frame (or once, from the statics, without frames).
+    let mut bad = 0usize;
+    let posed: Vec<(Vec<Se3>, Vec<Option<usize>>)> = if frames.is_empty() {
+        vec![tree.poses(None, &mut bad)]
+    } else {
+        frames
+            .iter()
+            .map(|f| tree.poses(Some(f), &mut bad))
+            .collect()
+    };
+    if bad > 0 {
+        warnings.push(format!(
+            "{bad} frame transform(s) with a non-finite or zero rotation ignored"
+        ));
+    }
+
+    log_links(stream, &tree, &times, &posed, &mut report)?;
+    log_skeleton(stream, &times, &posed)?;
+    report.tool = log_tool_path(stream, &tree, &posed)?;
+    let boxes = match spec {
+        Some(s) => log_geometry(stream, s, &tree, mesh_base, &mut report, &mut warnings)?,
+        None => HashMap::new(),
+    };
+    log_joint_plots(stream, rec, &frames)?;
+    let t0 = times.first().copied().unwrap_or(0.0);
+    let info = log_clouds(stream, rec, &tree, &mut report, &mut warnings)?;
+    log_texts(stream, "log/info", t0, &info, rerun::TextLogLevel::INFO)?;
+    log_collisions(stream, &rec.collisions, &tree, &times, &boxes)?;
+    log_reports(stream, rec)?;
+    log_texts(
+        stream,
+        "log/warnings",
+        t0,
+        &warnings,
+        rerun::TextLogLevel::WARN,
+    )?;
+    report.warnings = warnings;
+    Ok(report)
+}
+
+/// Text log rows at time `t` (temporal, so that every row is kept).
+fn log_texts(
+    stream: &RecordingStream,
+    ent: &str,
+    t: f64,
+    texts: &[String],
+    level: &str,
+) -> Result<(), RerunError> {
+    if texts.is_empty() {
+        return Ok(());
+    }
+    let cols = archetypes::TextLog::update_fields()
+        .with_many_text(texts.iter().cloned())
+        .with_many_level(std::iter::repeat_n(level, texts.len()))
+        .columns_of_unit_batches()
+        .map_err(sdk)?;
+    stream
+        .send_columns(
+            ent,
+            [TimeColumn::new_duration_secs(
+                TIMELINE,
+                vec![t; texts.len()],
+            )],
+            cols,
+        )
+        .map_err(sdk)
+}
+
+fn log_links(
+    stream: &RecordingStream,
+    tree: &Tree,
+    times: &[f64],
+    posed: &[(Vec<Se3>, Vec<Option<usize>>)],
+    report: &mut RerunReport,
+) -> Result<(), RerunError> {
+    for (i, name) in tree.names.iter().enumerate() {
+        let ent = link_entity(name);
+        report.links.push(ent.to_string());
+        stream
+            .log_static(ent.clone(), &archetypes::TransformAxes3D::new(0.05))
+            .map_err(sdk)?;
+        let has_tf = tree.moving[i] || tree.statics[i].is_some();
+        if !has_tf {
+            continue;
+        }
+        if times.is_empty() {
+            let m = &posed[0].0[i];
+            stream
+                .log_static(
+                    ent,
+                    &archetypes::Transform3D::from_translation_rotation(
+                        f32x3(&m.trans),
+                        rerun::Quaternion::from_xyzw(quat_xyzw(&m.rot)),
+                    ),
+                )
+                .map_err(sdk)?;
+            continue;
+        }
+        report.moving_links += 1;
+        let tr: Vec<[f32; 3]> = posed.iter().map(|(w, _)| f32x3(&w[i].trans)).collect();
+        let qs: Vec<rerun::Quaternion> = posed
+            .iter()
+            .map(|(w, _)| rerun::Quaternion::from_xyzw(quat_xyzw(&w[i].rot)))
+            .collect();
+        let cols = archetypes::Transform3D::update_fields()
+            .with_many_translation(tr)
+            .with_many_quaternion(qs)
+            .columns_of_unit_batches()
+            .map_err(sdk)?;
+        stream
+            .send_columns(
+                ent,
+                [TimeColumn::new_duration_secs(
+                    TIMELINE,
+                    times.iter().copied(),
+                )],
+                cols,
+            )
+            .map_err(sdk)?;
+    }
+    Ok(())
+}
+
+fn log_skeleton(
+    stream: &RecordingStream,
+    times: &[f64],
+    posed: &[(Vec<Se3>, Vec<Option<usize>>)],
+) -> Result<(), RerunError> {
+    let strips_of = |(w, parent): &(Vec<Se3>, Vec<Option<usize>>)| -> Vec<[[f32; 3]; 2]> {
+        parent
+            .iter()
+            .enumerate()
+            .filter_map(|(c, p)| {
+                let p = (*p)?;
+                let (a, b) = (w[p].trans, w[c].trans);
+                ((a - b).norm() > 1e-9).then(|| [f32x3(&a), f32x3(&b)])
+            })
+            .collect()
+    };
+    let ent = path(&["world", "robot", "skeleton"]);
+    let style = |s: archetypes::LineStrips3D| {
+        s.with_radii([0.006f32])
+            .with_colors([rerun::Color::from_rgb(230, 160, 40)])
+    };
+    if times.is_empty() {
+        let strips = strips_of(&posed[0]);
+        if !strips.is_empty() {
+            stream
+                .log_static(ent, &style(archetypes::LineStrips3D::new(strips)))
+                .map_err(sdk)?;
+        }
+        return Ok(());
+    }
+    let per: Vec<Vec<[[f32; 3]; 2]>> = posed.iter().map(strips_of).collect();
+    let lengths: Vec<usize> = per.iter().map(Vec::len).collect();
+    if lengths.iter().all(|&l| l == 0) {
+        return Ok(());
+    }
+    stream
+        .log_static(
+            ent.clone(),
+            &archetypes::LineStrips3D::update_fields()
+                .with_radii([0.006f32])
+                .with_colors([rerun::Color::from_rgb(230, 160, 40)]),
+        )
+        .map_err(sdk)?;
+    let cols = archetypes::LineStrips3D::update_fields()
+        .with_strips(per.into_iter().flatten())
+        .columns(lengths)
+        .map_err(sdk)?;
+    stream
+        .send_columns(
+            ent,
+            [TimeColumn::new_duration_secs(
+                TIMELINE,
+                times.iter().copied(),
+            )],
+            cols,
+        )
+        .map_err(sdk)?;
+    Ok(())
+}
+
+/// The deepest link with a transform (the last in order among ties).
+fn tool_link(tree: &Tree, parent: &[Option<usize>]) -> Option<usize> {
+    let n = tree.names.len();
+    let depth = |mut i: usize| {
+        let mut d = 0usize;
+        while let Some(p) = parent[i] {
+            d += 1;
+            i = p;
+            if d > n {
+                break;
+            }
+        }
+        d
+    };
+    let mut best: Option<(usize, usize)> = None;
+    for i in 0..n {
+        if !(tree.moving[i] || tree.statics[i].is_some()) {
+            continue;
+        }
+        let d = depth(i);
+        if best.is_none_or(|(bd, _)| d >= bd) {
+            best = Some((d, i));
+        }
+    }
+    best.map(|(_, i)| i)
+}
+
+fn log_tool_path(
+    stream: &RecordingStream,
+    tree: &Tree,
+    posed: &[(Vec<Se3>, Vec<Option<usize>>)],
+) -> Result<Option<String>, RerunError> {
+    let Some(tool) = tool_link(tree, &posed[0].1) else {
+        return Ok(None);
+    };
+    if posed.len() >= 2 {
+        let pts: Vec<[f32; 3]> = posed.iter().map(|(w, _)| f32x3(&w[tool].trans)).collect();
+        stream
+            .log_static(
+                "world/tool_path",
+                &archetypes::LineStrips3D::new([pts])
+                    .with_radii([0.004f32])
+                    .with_colors([rerun::Color::from_rgb(255, 120, 0)])
+                    .with_labels([format!("{} path", tree.names[tool])]),
+            )
+            .map_err(sdk)?;
+    }
+    Ok(Some(tree.names[tool].clone()))
+}
+
+/// Link-frame bounding box `[min, max]` of what was drawn on a link.
+type Aabb = ([f64; 3], [f64; 3]);
+
+fn grow(b: &mut Option<Aabb>, p: &Vec3) {
+    let (lo, hi) = b.get_or_insert(([p.x, p.y, p.z], [p.x, p.y, p.z]));
+    for k in 0..3 {
+        lo[k] = lo[k].min(p[k]);
+        hi[k] = hi[k].max(p[k]);
+    }
+}
+
+/// Corners of the shape's local bounding box (meshes excluded).
+fn primitive_corners(shape: &Shape) -> Option<[f64; 6]> {
+    Some(match shape {
+        Shape::Box { size } => [
+            -size[0] / 2.0,
+            -size[1] / 2.0,
+            -size[2] / 2.0,
+            size[0] / 2.0,
+            size[1] / 2.0,
+            size[2] / 2.0,
+        ],
+        Shape::Cylinder { radius, length } => [
+            -radius,
+            -radius,
+            -length / 2.0,
+            *radius,
+            *radius,
+            length / 2.0,
+        ],
+        Shape::Capsule { radius, length } => [
+            -radius,
+            -radius,
+            -length / 2.0 - radius,
+            *radius,
+            *radius,
+            length / 2.0 + radius,
+        ],
+        Shape::Sphere { radius } => [-radius, -radius, -radius, *radius, *radius, *radius],
+        Shape::Mesh { .. } => return None,
+    })
+}
+
+fn color_of(g: &Geometry) -> rerun::Color {
+    match g.rgba {
+        Some(c) if c.iter().all(|v| v.is_finite()) => {
+            let u = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+            rerun::Color::from_unmultiplied_rgba(u(c[0]), u(c[1]), u(c[2]), u(c[3]))
+        }
+        _ => rerun::Color::from_rgb(175, 180, 190),
+    }
+}
+
+/// Logs one primitive; `false` when the shape is a mesh or has non-positive sizes.
+fn log_primitive(
+    stream: &RecordingStream,
+    ent: EntityPath,
+    g: &Geometry,
+    color: rerun::Color,
+) -> Result<bool, RerunError> {
+    let c = f32x3(&g.origin.trans);
+    let q = rerun::Quaternion::from_xyzw(quat_xyzw(&g.origin.rot));
+    let pos = |x: f64| x.is_finite() && x > 0.0;
+    match &g.shape {
+        Shape::Box { size } if size.iter().all(|&s| pos(s)) => stream.log_static(
+            ent,
+            &archetypes::Boxes3D::from_centers_and_sizes(
+                [c],
+                [[size[0] as f32, size[1] as f32, size[2] as f32]],
+            )
+            .with_quaternions([q])
+            .with_colors([color])
+            .with_fill_mode(FillMode::Solid),
+        ),
+        Shape::Cylinder { radius, length } if pos(*radius) && pos(*length) => stream.log_static(
+            ent,
+            &archetypes::Cylinders3D::from_lengths_and_radii([*length as f32], [*radius as f32])
+                .with_centers([c])
+                .with_quaternions([q])
+                .with_colors([color])
+                .with_fill_mode(FillMode::Solid),
+        ),
+        Shape::Capsule { radius, length } if pos(*radius) && pos(*length) => {
+            // Rerun's capsule starts at the origin along +z; ours is centred.
+            let base = g.origin.act_point(&Vec3::new(0.0, 0.0, -length / 2.0));
+            stream.log_static(
+                ent,
+                &archetypes::Capsules3D::from_lengths_and_radii([*length as f32], [*radius as f32])
+                    .with_translations([f32x3(&base)])
+                    .with_quaternions([q])
+                    .with_colors([color])
+                    .with_fill_mode(FillMode::Solid),
+            )
+        }
+        Shape::Sphere { radius } if pos(*radius) => stream.log_static(
+            ent,
+            &archetypes::Ellipsoids3D::from_centers_and_radii([c], [*radius as f32])
+                .with_colors([color])
+                .with_fill_mode(FillMode::Solid),
+        ),
+        _ => return Ok(false),
+    }
+    .map_err(sdk)?;
+    Ok(true)
+}
+
+/// Area-weighted vertex normals.
+fn vertex_normals(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<[f32; 3]> {
+    let mut n = vec![Vec3::zeros(); vertices.len()];
+    let v = |i: u32| {
+        let p = vertices[i as usize];
+        Vec3::new(p[0] as f64, p[1] as f64, p[2] as f64)
+    };
+    for t in triangles {
+        let w = (v(t[1]) - v(t[0])).cross(&(v(t[2]) - v(t[0])));
+        for &i in t {
+            n[i as usize] += w;
+        }
+    }
+    n.iter()
+        .map(|x| {
+            let l = x.norm();
+            if l > 0.0 {
+                f32x3(&(x / l))
+            } else {
+                [0.0, 0.0, 1.0]
+            }
+        })
+        .collect()
+}
+
+/// Logs all visual geometry; returns the link-frame bounding box of each drawn link.
+fn log_geometry(
+    stream: &RecordingStream,
+    spec: &ModelSpec,
+    tree: &Tree,
+    mesh_base: Option<&Path>,
+    report: &mut RerunReport,
+    warnings: &mut Vec<String>,
+) -> Result<HashMap<usize, Aabb>, RerunError> {
+    let spec_dir = Path::new(&spec.source)
+        .is_file()
+        .then(|| Path::new(&spec.source).parent())
+        .flatten();
+    let base = mesh_base.or(spec_dir);
+    let mut meshes: HashMap<String, Result<MeshData, String>> = HashMap::new();
+    let mut failed: BTreeMap<String, String> = BTreeMap::new();
+    let mut boxes = HashMap::new();
+    for link in &spec.links {
+        let li = tree.index[&link.name];
+        let ent = link_entity(&link.name);
+        let mut bb: Option<Aabb> = None;
+        let mut k = 0usize;
+        let mut mesh_missing = false;
+        for g in &link.visuals {
+            let color = color_of(g);
+            let vent = child(&ent, &format!("visual_{k}"));
+            if let Shape::Mesh { uri, scale } = &g.shape {
+                let loaded = meshes.entry(uri.clone()).or_insert_with(|| {
+                    resolve_uri(uri, base)
+                        .map_err(|e| e.0)
+                        .and_then(|p| load_mesh(&p).map_err(|e| format!("{}: {e}", p.display())))
+                });
+                let m = match loaded {
+                    Ok(m) if !m.triangles.is_empty() => m,
+                    Ok(_) => {
+                        failed.insert(uri.clone(), "no triangles".into());
+                        mesh_missing = true;
+                        continue;
+                    }
+                    Err(e) => {
+                        failed.insert(uri.clone(), e.clone());
+                        mesh_missing = true;
+                        continue;
+                    }
+                };
+                let pts: Vec<[f32; 3]> = m
+                    .vertices
+                    .iter()
+                    .map(|v| {
+                        let p = g.origin.act_point(&Vec3::new(
+                            v[0] * scale[0],
+                            v[1] * scale[1],
+                            v[2] * scale[2],
+                        ));
+                        grow(&mut bb, &p);
+                        f32x3(&p)
+                    })
+                    .collect();
+                // A mirroring scale flips the winding.
+                let flip = scale[0] * scale[1] * scale[2] < 0.0;
+                let tris: Vec<[u32; 3]> = m
+                    .triangles
+                    .iter()
+                    .map(|t| if flip { [t[0], t[2], t[1]] } else { *t })
+                    .collect();
+                let normals = vertex_normals(&pts, &tris);
+                stream
+                    .log_static(
+                        vent,
+                        &archetypes::Mesh3D::new(pts)
+                            .with_triangle_indices(tris)
+                            .with_vertex_normals(normals)
+                            .with_albedo_factor(color.to_array()),
+                    )
+                    .map_err(sdk)?;
+                k += 1;
+                report.visuals += 1;
+            } else if log_primitive(stream, vent, g, color)? {
+                if let Some(c) = primitive_corners(&g.shape) {
+                    for x in [c[0], c[3]] {
+                        for y in [c[1], c[4]] {
+                            for z in [c[2], c[5]] {
+                                grow(&mut bb, &g.origin.act_point(&Vec3::new(x, y, z)));
+                            }
+                        }
+                    }
+                }
+                k += 1;
+                report.visuals += 1;
+            }
+        }
+        // Missing visual meshes: draw the primitive collision shapes instead.
+        if mesh_missing || link.visuals.is_empty() {
+            for g in &link.collisions {
+                if matches!(g.shape, Shape::Mesh { .. }) {
+                    continue;
+                }
+                let vent = child(&ent, &format!("visual_{k}"));
+                if log_primitive(stream, vent, g, rerun::Color::from_rgb(150, 160, 175))? {
+                    if let Some(c) = primitive_corners(&g.shape) {
+                        for x in [c[0], c[3]] {
+                            for y in [c[1], c[4]] {
+                                for z in [c[2], c[5]] {
+                                    grow(&mut bb, &g.origin.act_point(&Vec3::new(x, y, z)));
+                                }
+                            }
+                        }
+                    }
+                    k += 1;
+                    report.visuals += 1;
+                }
+            }
+        }
+        if let Some(b) = bb {
+            boxes.insert(li, b);
+        }
+    }
+    // One warning per reason (a missing package fails every mesh in it).
+    let mut by_reason: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for (uri, why) in failed {
+        by_reason.entry(why).or_default().push(uri);
+    }
+    for (why, uris) in by_reason {
+        warnings.push(match uris.as_slice() {
+            [one] => format!("visual mesh '{one}' not drawn: {why}"),
+            many => format!(
+                "{} visual meshes not drawn ('{}', …): {why}",
+                many.len(),
+                many[0]
+            ),
+        });
+    }
+    Ok(boxes)
+}
+
+fn log_joint_plots(
+    stream: &RecordingStream,
+    rec: &Recording,
+    frames: &[&Frame],
+) -> Result<(), RerunError> {
+    if frames.is_empty() {
+        return Ok(());
+    }
+    let series = |field: fn(&Frame) -> &Vec<f64>, k: usize| -> (Vec<f64>, Vec<f64>) {
+        frames
+            .iter()
+            .filter_map(|f| field(f).get(k).map(|&v| (f.t, v)))
+            .unzip()
+    };
+    let send = |ent: EntityPath, t: Vec<f64>, v: Vec<f64>| -> Result<(), RerunError> {
+        if t.is_empty() {
+            return Ok(());
+        }
+        stream
+            .send_columns(
+                ent,
+                [TimeColumn::new_duration_secs(TIMELINE, t)],
+                archetypes::Scalars::new(v)
+                    .columns_of_unit_batches()
+                    .map_err(sdk)?,
+            )
+            .map_err(sdk)
+    };
+    let (t0, t1) = (frames[0].t, frames[frames.len() - 1].t);
+    let style = |ent: &EntityPath, name: String, rgb: [u8; 3]| {
+        stream
+            .log_static(
+                ent.clone(),
+                &archetypes::SeriesLines::new()
+                    .with_names([name])
+                    .with_colors([rerun::Color::from_rgb(rgb[0], rgb[1], rgb[2])]),
+            )
+            .map_err(sdk)
+    };
+    for (k, joint) in rec.header.joint_names.iter().enumerate() {
+        let (t, v) = series(|f| &f.tau, k);
+        if !t.is_empty() {
+            let ent = path(&["plots", "torque", joint]);
+            style(&ent, format!("τ {joint}"), [40, 120, 220])?;
+            send(ent.clone(), t, v)?;
+            if let Some(&Some(lim)) = rec.header.effort_limits.get(k) {
+                if lim.is_finite() {
+                    let ts = if t1 > t0 { vec![t0, t1] } else { vec![t0] };
+                    for (part, sign) in [("upper_limit", 1.0), ("lower_limit", -1.0)] {
+                        let e = child(&ent, part);
+                        let name = if sign > 0.0 { "+limit" } else { "-limit" };
+                        style(&e, name.to_string(), [220, 40, 40])?;
+                        send(e, ts.clone(), vec![sign * lim; ts.len()])?;
+                    }
+                }
+            }
+        }
+        let (t, v) = series(|f| &f.q, k);
+        if !t.is_empty() {
+            let ent = path(&["plots", "q", joint]);
+            style(&ent, joint.clone(), [60, 160, 90])?;
+            send(ent, t, v)?;
+        }
+    }
+    Ok(())
+}
+
+/// Logs the clouds; returns one line per coloured cloud (its value range).
+fn log_clouds(
+    stream: &RecordingStream,
+    rec: &Recording,
+    tree: &Tree,
+    report: &mut RerunReport,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<String>, RerunError> {
+    let mut info = Vec::new();
+    for (i, c) in rec.clouds.iter().enumerate() {
+        let name = format!("cloud_{i}");
+        let ent = match tree.index.get(&c.frame) {
+            Some(_) => child(&link_entity(&c.frame), &name),
+            None => path(&["world", "workspace", &name]),
+        };
+        let pts: Vec<[f32; 3]> = c.points.clone();
+        let finite: Vec<f32> = c.values.iter().copied().filter(|v| v.is_finite()).collect();
+        let lo = finite.iter().copied().fold(f32::INFINITY, f32::min);
+        let hi = finite.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+        let mut arch = archetypes::Points3D::new(pts).with_radii([0.004f32]);
+        if c.values.len() == c.points.len() && !finite.is_empty() {
+            let span = if hi > lo { hi - lo } else { 1.0 };
+            let colors: Vec<rerun::Color> = c
+                .values
+                .iter()
+                .map(|v| {
+                    let [r, g, b] = colormap((v - lo) / span);
+                    rerun::Color::from_rgb(r, g, b)
+                })
+                .collect();
+            arch = arch.with_colors(colors);
+            info.push(format!(
+                "{ent}: {} points, value {lo:.6} (dark violet) … {hi:.6} (yellow)",
+                c.points.len()
+            ));
+        } else if !c.values.is_empty() {
+            warnings.push(format!(
+                "{ent}: {} values for {} points (or none finite); drawn uncoloured",
+                c.values.len(),
+                c.points.len()
+            ));
+        }
+        if c.t.is_finite() && !rec.frames.is_empty() {
+            stream.set_duration_secs(TIMELINE, c.t);
+            stream.log(ent, &arch).map_err(sdk)?;
+            stream.reset_time();
+        } else {
+            stream.log_static(ent, &arch).map_err(sdk)?;
+        }
+        report.points += c.points.len();
+    }
+    Ok(info)
+}
+
+fn log_collisions(
+    stream: &RecordingStream,
+    events: &[CollisionEvent],
+    tree: &Tree,
+    times: &[f64],
+    boxes: &HashMap<usize, Aabb>,
+) -> Result<(), RerunError> {
+    // Event times per link, sorted.
+    let mut per_link: BTreeMap<usize, Vec<f64>> = BTreeMap::new();
+    for e in events.iter().filter(|e| e.t.is_finite()) {
+        stream.set_duration_secs(TIMELINE, e.t);
+        stream
+            .log(
+                "log/collisions",
+                &archetypes::TextLog::new(format!("collision: {} ↔ {}", e.body_a, e.body_b))
+                    .with_level(rerun::TextLogLevel::WARN),
+            )
+            .map_err(sdk)?;
+        for b in [&e.body_a, &e.body_b] {
+            if let Some(&i) = tree.index.get(b) {
+                per_link.entry(i).or_default().push(e.t);
+            }
+        }
+    }
+    for (i, mut ts) in per_link {
+        ts.sort_by(f64::total_cmp);
+        ts.dedup();
+        let ent = child(&link_entity(&tree.names[i]), "collision");
+        let (lo, hi) = boxes.get(&i).copied().unwrap_or(([-0.03; 3], [0.03; 3]));
+        let pad = 0.01;
+        let marker = archetypes::Boxes3D::from_mins_and_sizes(
+            [[
+                (lo[0] - pad) as f32,
+                (lo[1] - pad) as f32,
+                (lo[2] - pad) as f32,
+            ]],
+            [[
+                (hi[0] - lo[0] + 2.0 * pad) as f32,
+                (hi[1] - lo[1] + 2.0 * pad) as f32,
+                (hi[2] - lo[2] + 2.0 * pad) as f32,
+            ]],
+        )
+        .with_colors([rerun::Color::from_rgb(255, 0, 0)])
+        .with_radii([0.004f32])
+        .with_fill_mode(FillMode::MajorWireframe);
+        for (k, &t) in ts.iter().enumerate() {
+            stream.set_duration_secs(TIMELINE, t);
+            stream.log(ent.clone(), &marker).map_err(sdk)?;
+            // Clear at the next frame time that is not itself a collision time.
+            let next_event = ts.get(k + 1).copied().unwrap_or(f64::INFINITY);
+            if let Some(&tc) = times.iter().find(|&&x| x > t) {
+                if tc < next_event {
+                    stream.set_duration_secs(TIMELINE, tc);
+                    stream
+                        .log(ent.clone(), &archetypes::Boxes3D::clear_fields())
+                        .map_err(sdk)?;
+                }
+            }
+        }
+    }
+    stream.reset_time();
+    Ok(())
+}
+
+fn log_reports(stream: &RecordingStream, rec: &Recording) -> Result<(), RerunError> {
+    let h = &rec.header;
+    let mut md = format!(
+        "# {}\n\n",
+        if h.name.is_empty() {
+            "recording"
+        } else {
+            &h.name
+        }
+    );
+    md.push_str(&format!(
+        "{} frames, {} joints, {} clouds, {} collision events\n\n",
+        rec.frames.len(),
+        h.joint_names.len(),
+        rec.clouds.len(),
+        rec.collisions.len()
+    ));
+    for (k, v) in &h.metadata {
+        md.push_str(&format!("- **{k}**: {v}\n"));
+    }
+    stream
+        .log_static(
+            "reports/header",
+            &archetypes::TextDocument::from_markdown(md),
+        )
+        .map_err(sdk)?;
+    if !rec.torque_check.is_empty() {
+        let opt = |x: Option<f64>, p: usize| x.map_or("–".to_string(), |v| format!("{v:.p$}"));
+        let mut md = String::from(
+            "| joint | peak τ | rms τ | peak speed | peak power | limit | margin % | ok | first violation (s) |\n\
+             |---|---|---|---|---|---|---|---|---|\n",
+        );
+        for r in &rec.torque_check {
+            md.push_str(&format!(
+                "| {} | {:.3} | {:.3} | {:.3} | {:.3} | {} | {} | {} | {} |\n",
+                r.joint,
+                r.peak_torque,
+                r.rms_torque,
+                r.peak_speed,
+                r.peak_power,
+                opt(r.limit, 3),
+                opt(r.margin, 1),
+                if r.ok { "yes" } else { "**NO**" },
+                opt(r.first_violation, 4)
+            ));
+        }
+        stream
+            .log_static(
+                "reports/torque_check",
+                &archetypes::TextDocument::from_markdown(md),
+            )
+            .map_err(sdk)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colormap_ends_and_middle() {
+        assert_eq!(colormap(0.0), [68, 1, 84]);
+        assert_eq!(colormap(1.0), [253, 231, 37]);
+        assert_eq!(colormap(0.5), [33, 145, 140]);
+        assert_eq!(colormap(-3.0), colormap(0.0));
+        assert_eq!(colormap(7.0), colormap(1.0));
+        assert_eq!(colormap(f32::NAN), [128, 128, 128]);
+        // Halfway between the first two stops.
+        assert_eq!(colormap(0.125), [64, 42, 112]);
+    }
+
+    #[test]
+    fn entity_paths_escape_link_names() {
+        assert_eq!(
+            link_entity("base_link").to_string(),
+            "/world/robot/base_link"
+        );
+        let odd = link_entity("a/b c");
+        assert_eq!(odd.len(), 3);
+    }
+}
