@@ -1250,6 +1250,7 @@ fn write_workspace_mcap(
     Ok(())
 }
 
+#[allow(clippy::too_many_arguments)] // one per CLI option
 fn workspace_cmd(
     model: &Model,
     link: Option<String>,

@@ -108,7 +108,7 @@ fn named(model: &Model, q: &[f64]) -> serde_json::Map<String, serde_json::Value>
 
 enum Group {
     Joint(Vec<Vec<f64>>, Vec<String>),
-    Line(crate::trajectory::CartesianMove, String),
+    Line(Box<crate::trajectory::CartesianMove>, String),
     Dwell(Vec<f64>, f64, String),
 }
 
@@ -189,7 +189,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
                 let mut qd = vec![0.0; model.nv];
                 let mut qdd = vec![0.0; model.nv];
                 mv.sample(mv.duration(), &mut q, &mut qd, &mut qdd);
-                groups.push(Group::Line(mv, ts.key.clone()));
+                groups.push(Group::Line(Box::new(mv), ts.key.clone()));
                 pending = vec![q.clone()];
             }
             Step::Dwell(d) => {
@@ -292,7 +292,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
                         .map_err(|x| err(&key, None, format!("straight line: {x}")))?;
                     push(Box::new(t), "line", key);
                 } else {
-                    push(Box::new(mv), "line", key);
+                    push(mv, "line", key);
                 }
             }
             Group::Dwell(q, d, key) => push(Box::new(Dwell { q, duration: d }), "dwell", key),

@@ -324,8 +324,8 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         let mut settle_err = vec![0.0f64; n];
         let mut peak_tau = vec![0.0f64; n];
         for s in &samples {
-            for k in 0..n {
-                peak_tau[k] = peak_tau[k].max(s.tau[k].abs());
+            for (p, t) in peak_tau.iter_mut().zip(&s.tau) {
+                *p = p.max(t.abs());
             }
             forward_kinematics(model, &mut data, &s.q);
             let p = frame_placement(model, &data, scene.tool).trans;
@@ -335,8 +335,8 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
             tool_err_max = tool_err_max.max(e);
             if s.t > duration {
                 tool_err_settle = tool_err_settle.max(e);
-                for k in 0..n {
-                    settle_err[k] = settle_err[k].max((s.q[k] - s.q_ref[k]).abs());
+                for (e, (q, r)) in settle_err.iter_mut().zip(s.q.iter().zip(&s.q_ref)) {
+                    *e = e.max((q - r).abs());
                 }
             }
         }

@@ -389,23 +389,24 @@ fn skeleton_contacts(spec: &ModelSpec, skeleton: &[String], radius: f64) -> Vec<
     out
 }
 
+/// A loaded model: its path, spec (with skeleton capsules), model, warnings, notes, and
+/// the skeleton pairs that touch by construction.
+type Loaded = (
+    PathBuf,
+    ModelSpec,
+    Model,
+    Vec<String>,
+    Vec<String>,
+    Vec<[String; 2]>,
+);
+
 /// Loads the model named by `[model]`.
 fn load_model(
     cx: &Ctx,
     dir: &Path,
     sec: &Spanned<ModelSec>,
     skeleton: Option<f64>,
-) -> Result<
-    (
-        PathBuf,
-        ModelSpec,
-        Model,
-        Vec<String>,
-        Vec<String>,
-        Vec<[String; 2]>,
-    ),
-    ScenarioError,
-> {
+) -> Result<Loaded, ScenarioError> {
     let m = sec.get_ref();
     let rel = m.file.get_ref();
     let path = dir.join(rel);
@@ -655,17 +656,16 @@ pub fn build(path: &Path, text: &str, file: &ArmFile) -> Result<Scene, ScenarioE
                 f.stiction = f.coulomb.clone();
             }
             if let Some(v) = &s.stiction {
-                for k in 0..n {
-                    if f.stiction[k] < f.coulomb[k] {
-                        return Err(cx.at(
-                            v.span(),
-                            "friction.stiction",
-                            format!(
-                                "joint {}: stiction {} is below the Coulomb level {}",
-                                names[k], f.stiction[k], f.coulomb[k]
-                            ),
-                        ));
-                    }
+                let low = (0..n).find(|&k| f.stiction[k] < f.coulomb[k]);
+                if let Some(k) = low {
+                    return Err(cx.at(
+                        v.span(),
+                        "friction.stiction",
+                        format!(
+                            "joint {}: stiction {} is below the Coulomb level {}",
+                            names[k], f.stiction[k], f.coulomb[k]
+                        ),
+                    ));
                 }
             }
             f.smoothing = get_f(&cx, &s.smoothing, "friction.smoothing", f.smoothing)?;
@@ -1098,21 +1098,21 @@ pub fn build(path: &Path, text: &str, file: &ArmFile) -> Result<Scene, ScenarioE
         let t = c.table.get_ref();
         let b = c.object.get_ref();
         let ok3 = |v: &[f64; 3], pos: bool| v.iter().all(|x| x.is_finite() && (!pos || *x > 0.0));
-        if !ok3(&t.size, true)
-            || !ok3(&t.xyz, false)
-            || !(t.friction >= 0.0 && t.friction.is_finite())
-        {
+        let table_ok =
+            ok3(&t.size, true) && ok3(&t.xyz, false) && t.friction >= 0.0 && t.friction.is_finite();
+        if !table_ok {
             return Err(cx.at(
                 c.table.span(),
                 "contact.table",
                 "size must be positive, xyz finite, friction >= 0",
             ));
         }
-        if !ok3(&b.size, true)
-            || !ok3(&b.xyz, false)
-            || !finite_pos(b.mass)
-            || !(b.friction >= 0.0 && b.friction.is_finite())
-        {
+        let box_ok = ok3(&b.size, true)
+            && ok3(&b.xyz, false)
+            && finite_pos(b.mass)
+            && b.friction >= 0.0
+            && b.friction.is_finite();
+        if !box_ok {
             return Err(cx.at(
                 c.object.span(),
                 "contact.box",

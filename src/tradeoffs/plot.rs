@@ -183,7 +183,7 @@ impl Axis {
         let stride = decades.len().div_ceil(max).max(1);
         decades
             .iter()
-            .filter(|k| (*k - decades[0]) as usize % stride == 0)
+            .filter(|k| ((*k - decades[0]) as usize).is_multiple_of(stride))
             .map(|k| 10f64.powi(*k))
             .collect()
     }
