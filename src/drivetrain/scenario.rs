@@ -146,6 +146,17 @@ fn finite(x: f64) -> bool {
     x.is_finite()
 }
 
+/// Most disks a chain may have: the damped-mode and LR analyses take time growing as
+/// `n⁴` (about 2 s at 200 disks, a minute at 500).
+pub const MAX_DISKS: usize = 200;
+
+/// Bound on a sweep's `points × orders × (2 n)³` (each point and order solves a dense
+/// `2n × 2n` system): about a minute of work.
+pub const MAX_SWEEP_WORK: f64 = 1e11;
+
+/// Most RK4 steps of a time check (`periods × steps_per_period`), as for machine motion.
+pub const MAX_TIME_STEPS: f64 = 1e7;
+
 /// A parsed and validated torsional scenario: what [`report`] computes on.
 #[derive(Clone, Debug)]
 pub struct Scenario {
@@ -219,6 +230,15 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         };
         ctx.at(span, key, e.message)
     })?;
+    if n > MAX_DISKS {
+        return Err(ctx.at(
+            ch.inertia.span(),
+            "chain.inertia",
+            format!(
+                "{n} disks: at most {MAX_DISKS} (the mode analyses take time growing as the fourth power of the number of disks)"
+            ),
+        ));
+    }
     let disk = |name: &Spanned<String>, key: String| -> Result<usize, ScenarioError> {
         chain
             .names
@@ -352,6 +372,18 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
                     format!("expected 2 … 100000 points, got {p}"),
                 ));
             }
+            // Each point and order solves a dense 2n × 2n system.
+            let orders = exc.as_ref().map_or(0, |e| e.orders.len());
+            let work = p as f64 * orders as f64 * (2.0 * n as f64).powi(3);
+            if work > MAX_SWEEP_WORK {
+                return Err(ctx.at(
+                    sw.points.span(),
+                    "sweep.points",
+                    format!(
+                        "{p} points × {orders} orders on {n} disks is too much work (points × orders × (2 × disks)³ = {work:.1e}, at most {MAX_SWEEP_WORK:.0e}): use fewer points or orders"
+                    ),
+                ));
+            }
             Some(
                 (0..p)
                     .map(|i| lo + (hi - lo) * i as f64 / (p - 1) as f64)
@@ -398,6 +430,15 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
                     tc.steps_per_period.span(),
                     "time_check.steps_per_period",
                     "expected 8 … 1000000",
+                ));
+            }
+            if periods as f64 * spp as f64 > MAX_TIME_STEPS {
+                return Err(ctx.at(
+                    tc.periods.span(),
+                    "time_check.periods",
+                    format!(
+                        "{periods} periods × {spp} steps per period: at most {MAX_TIME_STEPS:.0e} RK4 steps in all"
+                    ),
                 ));
             }
             // RK4 is stable for |λ h| ≲ 2.8; refuse steps that would blow up.
