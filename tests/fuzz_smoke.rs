@@ -142,6 +142,55 @@ fn replay_seeds_corpus_and_regressions() {
     }
 }
 
+/// What each committed regression input must now give: (target directory, file, a
+/// substring of the error; `""` for an input that must load).
+const REGRESSIONS: &[(&str, &str, &str)] = &[(
+    "scenario_loader",
+    "sweep_start_far_from_assembly.toml",
+    "more than a million tracking steps",
+)];
+
+#[test]
+fn regressions_give_their_errors() {
+    let dir = root().join("fuzz/regressions");
+    for (target, file, expect) in REGRESSIONS {
+        let path = dir.join(target).join(file);
+        let text =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let err = match *target {
+            "urdf_loader" => armsim::model::Model::spec_from_str(&text, h::URDF_FILE)
+                .and_then(armsim::model::Model::build)
+                .err()
+                .map(|e| e.to_string()),
+            "dh_loader" => armsim::model::Model::spec_from_str(&text, h::DH_FILE)
+                .and_then(armsim::model::Model::build)
+                .err()
+                .map(|e| e.to_string()),
+            _ => armsim::scenario::check(h::SCENARIO_FILE, &text)
+                .err()
+                .map(|e| e.to_string()),
+        };
+        match err {
+            None => assert!(expect.is_empty(), "{file}: loaded, expected '{expect}'"),
+            Some(e) => assert!(
+                !expect.is_empty() && e.contains(expect),
+                "{file}: '{e}', expected '{expect}'"
+            ),
+        }
+    }
+    // Every regression input is listed.
+    for t in &TARGETS {
+        for p in files(&dir.join(t.name), None, usize::MAX) {
+            let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+            assert!(
+                REGRESSIONS.iter().any(|r| r.0 == t.name && r.1 == name),
+                "{}: not listed in REGRESSIONS",
+                p.display()
+            );
+        }
+    }
+}
+
 #[test]
 fn regression_inputs_are_named_for_their_target() {
     // Every file under fuzz/regressions/ sits in a directory named after a target.
