@@ -144,11 +144,18 @@ fn replay_seeds_corpus_and_regressions() {
 
 /// What each committed regression input must now give: (target directory, file, a
 /// substring of the error; `""` for an input that must load).
-const REGRESSIONS: &[(&str, &str, &str)] = &[(
-    "scenario_loader",
-    "sweep_start_far_from_assembly.toml",
-    "more than a million tracking steps",
-)];
+const REGRESSIONS: &[(&str, &str, &str)] = &[
+    (
+        "scenario_loader",
+        "sweep_start_far_from_assembly.toml",
+        "more than a million tracking steps",
+    ),
+    (
+        "scenario_loader",
+        "slow_limit_position_newton.toml",
+        "locked here (limit position)",
+    ),
+];
 
 #[test]
 fn regressions_give_their_errors() {
