@@ -187,3 +187,40 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
         )),
     }
 }
+
+/// Parses and validates scenario text without running the analyses (the fuzz targets'
+/// entry: no filesystem, no long computation); `file` names the text in messages. Same
+/// `kind` dispatch and messages as [`run_file`]. Arm scenarios are validated up to the
+/// planning ([`crate::arm::load`]: model file read relative to `file`, no IK, no run).
+pub fn check(file: &str, text: &str) -> Result<(), ScenarioError> {
+    if text.trim().is_empty() {
+        return Err(ScenarioError::new(
+            file,
+            Some(1),
+            "file",
+            "the file is empty",
+        ));
+    }
+    let table: toml::Table =
+        toml::from_str(text).map_err(|e| ScenarioError::from_toml(file, text, &e))?;
+    let line = line_of_key(text, "kind");
+    let kind_error = |msg: String| ScenarioError::new(file, line, "kind", msg);
+    match table.get("kind") {
+        Some(toml::Value::String(k)) if k == "linkage" => {
+            crate::mechanism::scenario::parse(file, text).map(drop)
+        }
+        Some(toml::Value::String(k)) if k == "torsional" => {
+            crate::drivetrain::scenario::parse(file, text).map(drop)
+        }
+        None => crate::arm::load(Path::new(file), text).map(drop),
+        Some(toml::Value::String(k)) if k == "arm" => {
+            crate::arm::load(Path::new(file), text).map(drop)
+        }
+        Some(toml::Value::String(other)) => Err(kind_error(format!(
+            "unknown scenario kind '{other}' (expected \"arm\", \"linkage\" or \"torsional\")"
+        ))),
+        Some(_) => Err(kind_error(
+            "expected a string: \"arm\", \"linkage\" or \"torsional\"".into(),
+        )),
+    }
+}

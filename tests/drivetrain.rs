@@ -1246,6 +1246,24 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "excitation",
         "needs an [engine]",
     ),
+    (
+        "torsional_too_many_disks.toml",
+        7,
+        "chain.inertia",
+        "201 disks: at most 200",
+    ),
+    (
+        "torsional_sweep_too_much_work.toml",
+        20,
+        "sweep.points",
+        "too much work",
+    ),
+    (
+        "torsional_time_check_too_long.toml",
+        21,
+        "time_check.periods",
+        "at most 1e7 RK4 steps",
+    ),
 ];
 
 #[test]

@@ -146,10 +146,56 @@ fn finite(x: f64) -> bool {
     x.is_finite()
 }
 
-/// Runs a torsional-chain scenario.
+/// Most disks a chain may have: the damped-mode and LR analyses take time growing as
+/// `n⁴` (about 2 s at 200 disks, a minute at 500).
+pub const MAX_DISKS: usize = 200;
+
+/// Bound on a sweep's `points × orders × (2 n)³` (each point and order solves a dense
+/// `2n × 2n` system): about a minute of work.
+pub const MAX_SWEEP_WORK: f64 = 1e11;
+
+/// Most RK4 steps of a time check (`periods × steps_per_period`), as for machine motion.
+pub const MAX_TIME_STEPS: f64 = 1e7;
+
+/// A parsed and validated torsional scenario: what [`report`] computes on.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    file: String,
+    name: String,
+    chain: TorsionalChain,
+    rated: Option<f64>,
+    exc: Option<Excitation>,
+    speeds: Option<Vec<f64>>,
+    /// Order index, speed (rpm), periods, steps per period.
+    time_check: Option<(usize, f64, usize, usize)>,
+    ident: Option<Identification>,
+}
+
+/// The damping identification asked for: the chain without the fitted dampers, the
+/// parameters, the measurements, the initial and the nominal values.
+#[derive(Clone, Debug)]
+struct Identification {
+    base: TorsionalChain,
+    params: Vec<DampingParameter>,
+    data: Vec<Measurement>,
+    initial: Vec<f64>,
+    nominal: Vec<f64>,
+    /// Line of `[identification]`, for a fit that fails.
+    line: usize,
+}
+
+/// Runs a torsional-chain scenario: [`parse`], then [`report`].
 pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
-    let file = path.display().to_string();
-    let ctx = Ctx { file, text };
+    report(&parse(&path.display().to_string(), text)?)
+}
+
+/// Parses and validates `text` (the contents of `file`) without the analyses (the modes
+/// of the chain are computed only to check a time step).
+pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
+    let ctx = Ctx {
+        file: file.to_string(),
+        text,
+    };
     let sc: ScenarioFile =
         toml::from_str(text).map_err(|e| ScenarioError::from_toml(&ctx.file, text, &e))?;
 
@@ -184,6 +230,15 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
         };
         ctx.at(span, key, e.message)
     })?;
+    if n > MAX_DISKS {
+        return Err(ctx.at(
+            ch.inertia.span(),
+            "chain.inertia",
+            format!(
+                "{n} disks: at most {MAX_DISKS} (the mode analyses take time growing as the fourth power of the number of disks)"
+            ),
+        ));
+    }
     let disk = |name: &Spanned<String>, key: String| -> Result<usize, ScenarioError> {
         chain
             .names
@@ -317,6 +372,18 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
                     format!("expected 2 … 100000 points, got {p}"),
                 ));
             }
+            // Each point and order solves a dense 2n × 2n system.
+            let orders = exc.as_ref().map_or(0, |e| e.orders.len());
+            let work = p as f64 * orders as f64 * (2.0 * n as f64).powi(3);
+            if work > MAX_SWEEP_WORK {
+                return Err(ctx.at(
+                    sw.points.span(),
+                    "sweep.points",
+                    format!(
+                        "{p} points × {orders} orders on {n} disks is too much work (points × orders × (2 × disks)³ = {work:.1e}, at most {MAX_SWEEP_WORK:.0e}): use fewer points or orders"
+                    ),
+                ));
+            }
             Some(
                 (0..p)
                     .map(|i| lo + (hi - lo) * i as f64 / (p - 1) as f64)
@@ -363,6 +430,15 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
                     tc.steps_per_period.span(),
                     "time_check.steps_per_period",
                     "expected 8 … 1000000",
+                ));
+            }
+            if periods as f64 * spp as f64 > MAX_TIME_STEPS {
+                return Err(ctx.at(
+                    tc.periods.span(),
+                    "time_check.periods",
+                    format!(
+                        "{periods} periods × {spp} steps per period: at most {MAX_TIME_STEPS:.0e} RK4 steps in all"
+                    ),
                 ));
             }
             // RK4 is stable for |λ h| ≲ 2.8; refuse steps that would blow up.
@@ -499,23 +575,54 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
                         .unwrap_or(0.0)
                 })
                 .collect();
-            Some((base, params, data, initial, nominal, idn.span()))
+            Some(Identification {
+                base,
+                params,
+                data,
+                initial,
+                nominal,
+                line: line_at(text, idn.span().start),
+            })
         }
     };
+    Ok(Scenario {
+        name: sc.name.clone().unwrap_or_else(|| ctx.file.clone()),
+        file: ctx.file,
+        chain,
+        rated,
+        exc,
+        speeds,
+        time_check,
+        ident,
+    })
+}
 
-    // ---- Compute.
-    let name = sc.name.clone().unwrap_or_else(|| ctx.file.clone());
+/// The analyses of a parsed scenario: modes, damped modes, forced response, time-domain
+/// check and identification.
+pub fn report(sc: &Scenario) -> Result<Report, ScenarioError> {
+    let Scenario {
+        file,
+        name,
+        chain,
+        rated,
+        exc,
+        speeds,
+        time_check,
+        ident,
+    } = sc;
+    let (chain, rated, time_check) = (chain, *rated, *time_check);
+    let n = chain.len();
     let masses = chain.names.clone();
     let shafts = chain.shaft_names();
-    let modes = undamped_modes(&chain);
+    let modes = undamped_modes(chain);
     // Holzer's field matrices divide by c: only for chains without zero-stiffness shafts.
     let holzer: Option<Vec<f64>> = chain
         .stiffness
         .iter()
         .all(|c| *c > 0.0)
         .then(|| holzer_frequencies(&GearedChain::from(chain.clone())));
-    let lr = lr_eigenvalues(&chain, 1_000_000).ok();
-    let damped = damped_modes(&chain);
+    let lr = lr_eigenvalues(chain, 1_000_000).ok();
+    let damped = damped_modes(chain);
     let mut text = String::new();
     let _ = writeln!(text, "{name}");
     let _ = writeln!(text, "{n} disks, {} shafts\n", n - 1);
@@ -726,7 +833,7 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
                 .collect(),
         );
         let mut forced = Vec::new();
-        let sweeps = speeds.as_ref().map(|s| sweep(&chain, ex, s));
+        let sweeps = speeds.as_ref().map(|s| sweep(chain, ex, s));
         let _ = writeln!(
             text,
             "\nForced response per order (amplitudes per cylinder)"
@@ -756,13 +863,13 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
                 .as_ref()
                 .and_then(|s| s[i].peak().map(|p| (&s[i], p)))
             {
-                let at_peak = order_response(&chain, ex, i, sw.speeds_rpm[si]);
+                let at_peak = order_response(chain, ex, i, sw.speeds_rpm[si]);
                 o["peak"] = json!({
                     "speed_rpm": sw.speeds_rpm[si],
                     "shaft": shafts[sh],
                     "torque_Nm": tq,
                     "mass_amplitude_rad": at_peak.as_ref().map(|r| r.amplitudes()),
-                    "shaft_torque_Nm": at_peak.as_ref().map(|r| r.shaft_torques(&chain)),
+                    "shaft_torque_Nm": at_peak.as_ref().map(|r| r.shaft_torques(chain)),
                 });
                 let _ = write!(
                     line,
@@ -771,8 +878,8 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
                 );
             }
             if let Some(rpm) = rated {
-                if let Some(r) = order_response(&chain, ex, i, rpm) {
-                    let t = r.shaft_torques(&chain);
+                if let Some(r) = order_response(chain, ex, i, rpm) {
+                    let t = r.shaft_torques(chain);
                     let tmax = t.iter().fold(0.0_f64, |m, v| m.max(*v));
                     o["at_rated"] = json!({
                         "speed_rpm": rpm,
@@ -795,9 +902,9 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
     if let (Some((oi, sp, periods, spp)), Some(ex)) = (time_check, &exc) {
         let order = ex.orders[oi];
         let (ms, mc) = ex.torque_vectors(n, oi);
-        let harmonic = order_response(&chain, ex, oi, sp);
+        let harmonic = order_response(chain, ex, oi, sp);
         let nu = order * sp * super::forced::RAD_S_PER_RPM;
-        let td = steady_state_by_integration(&chain, nu, &ms, &mc, periods, spp);
+        let td = steady_state_by_integration(chain, nu, &ms, &mc, periods, spp);
         if let Some(h) = harmonic {
             let scale = h.amplitudes().iter().fold(0.0_f64, |m, v| m.max(*v));
             let diff = h
@@ -827,9 +934,17 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
     }
 
     // Identification.
-    if let (Some((base, params, data, initial, nominal, span)), Some(ex)) = (ident, &exc) {
-        let est = identify_damping(&base, ex, &params, &data, &initial)
-            .map_err(|e| ctx.at(span.clone(), "identification", e.to_string()))?;
+    if let (Some(id), Some(ex)) = (ident, exc) {
+        let Identification {
+            base,
+            params,
+            data,
+            initial,
+            nominal,
+            line,
+        } = id;
+        let est = identify_damping(base, ex, params, data, initial)
+            .map_err(|e| ScenarioError::new(file, Some(*line), "identification", e.to_string()))?;
         let _ = writeln!(
             text,
             "\nDamping identification ({} measured shaft-torque amplitudes, Levenberg–Marquardt, {} iterations, residual σ = {:.3} %)",

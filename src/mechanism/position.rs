@@ -21,6 +21,13 @@ const MAX_TURN: f64 = 0.25;
 /// Largest translation per Newton iteration, in units of the length scale.
 const MAX_SHIFT: f64 = 0.25;
 
+/// Newton gives up after [`STALL_ITERATIONS`] consecutive iterations that leave `‖Φ‖∞`
+/// above the accepted residual and reduce it by less than `1 − STALL_RATIO` (a linear
+/// convergence to a double root halves it): there is no root nearby.
+const STALL_RATIO: f64 = 0.99;
+/// See [`STALL_RATIO`].
+const STALL_ITERATIONS: usize = 5;
+
 /// Options for [`solve_position`].
 #[derive(Clone, Copy, Debug)]
 pub struct NewtonOptions {
@@ -85,11 +92,14 @@ pub fn solve_position(
     let mut jac = DMatrix::zeros(l.nrows(), l.ncoords());
     residual(l, &q, s, &mut phi);
     let mut norm = phi.amax();
+    let accept = opts.accept * scale.max(1.0);
     let mut it = 0;
+    let mut stalled = 0;
     while it < opts.max_iter {
         if norm <= tol {
             break;
         }
+        let before = norm;
         it += 1;
         jacobian(l, &q, &mut jac);
         let mut step = min_norm_solve(&jac, &(-&phi), None).x;
@@ -126,6 +136,15 @@ pub fn solve_position(
         if !accepted {
             break;
         }
+        // Far from converged and hardly moving: no root nearby (past a limit position).
+        if norm > accept && norm > STALL_RATIO * before {
+            stalled += 1;
+            if stalled >= STALL_ITERATIONS {
+                break;
+            }
+        } else {
+            stalled = 0;
+        }
     }
     // One polishing step once converged (cheap, and takes the residual to rounding).
     if norm <= tol && norm > 0.0 {
@@ -137,7 +156,7 @@ pub fn solve_position(
             norm = trial_phi.amax();
         }
     }
-    if norm <= opts.accept * scale.max(1.0) {
+    if norm <= accept {
         return Ok(PositionSolution {
             q,
             iterations: it,

@@ -825,6 +825,29 @@ fn parse_mechanism(cx: &Ctx, spec: &Spec) -> Result<MechanismScenario, ScenarioE
         };
         let t = super::sweep::Tracker::assemble(&linkage, &assembly, assemble_at, newton)
             .map_err(|e| cx.err(cx.line(&sspan), "sweep", e.to_string()))?;
+        // The tracker moves at most `max_step` at a time: from the assembly to `from`,
+        // then over the sweep (at most `step` between samples).
+        let tracking_steps =
+            (from - assemble_at).abs() / t.max_step + (to - from).abs() / step.min(t.max_step);
+        if tracking_steps.is_nan() || tracking_steps > 1e6 {
+            let at_key = if angle_input {
+                "assemble_at_deg"
+            } else {
+                "assemble_at"
+            };
+            return Err(cx.err(
+                cx.line(&sspan),
+                "sweep",
+                format!(
+                    "more than a million tracking steps from `{at_key}` to the start of the sweep and over it (a tracking step is at most {})",
+                    if angle_input {
+                        format!("{}°", t.max_step.to_degrees())
+                    } else {
+                        format!("{} m", t.max_step)
+                    }
+                ),
+            ));
+        }
         if t.state().singular {
             return Err(cx.err(
                 cx.key_line(&sspan, at_key),

@@ -336,6 +336,15 @@ impl<'a> Tracker<'a> {
                 } else {
                     self.cur.s + h
                 };
+                if s_try == self.cur.s {
+                    // |s| so large that the step is below its floating-point resolution:
+                    // no step can make progress.
+                    return Err(TrackError::Stuck {
+                        at: self.cur.s,
+                        target,
+                        reason: "the input is too large for the tracking step (below its floating-point resolution)".into(),
+                    });
+                }
                 match self.try_step(s_try) {
                     Ok(st) => {
                         self.accept(st);

@@ -321,19 +321,26 @@ impl Model {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path)
             .map_err(|e| ModelError::new(&file, None, "file", format!("cannot read: {e}")))?;
+        Self::spec_from_str(&text, &file)
+    }
+
+    /// Parses model text into a [`ModelSpec`] without touching the filesystem (the
+    /// string form of [`Model::read_spec`], used by the fuzz targets): `file` names the
+    /// text in messages and its extension picks the loader (`.urdf`/`.xml` or `.toml`).
+    pub fn spec_from_str(text: &str, file: &str) -> Result<ModelSpec, ModelError> {
         if text.trim().is_empty() {
-            return Err(ModelError::new(&file, None, "file", "the file is empty"));
+            return Err(ModelError::new(file, None, "file", "the file is empty"));
         }
-        let ext = path
+        let ext = Path::new(file)
             .extension()
             .and_then(|e| e.to_str())
             .unwrap_or("")
             .to_ascii_lowercase();
         match ext.as_str() {
-            "urdf" | "xml" => urdf::parse(&text, &file),
-            "toml" => dh::parse(&text, &file),
+            "urdf" | "xml" => urdf::parse(text, file),
+            "toml" => dh::parse(text, file),
             _ => Err(ModelError::new(
-                &file,
+                file,
                 None,
                 "file",
                 "unknown model format: expected a .urdf or a .toml (DH table) file",
@@ -347,8 +354,23 @@ impl Model {
         path: impl AsRef<Path>,
         opts: &LoadOptions,
     ) -> Result<(Model, Vec<ModelWarning>), ModelError> {
-        let path = path.as_ref();
-        let mut spec = Self::read_spec(path)?;
+        Self::build_with(Self::read_spec(path.as_ref())?, opts)
+    }
+
+    /// [`Model::load_with`] on text instead of a file: `file` names the text in messages
+    /// and its extension picks the loader (see [`Model::spec_from_str`]).
+    pub fn load_str(
+        text: &str,
+        file: &str,
+        opts: &LoadOptions,
+    ) -> Result<(Model, Vec<ModelWarning>), ModelError> {
+        Self::build_with(Self::spec_from_str(text, file)?, opts)
+    }
+
+    fn build_with(
+        mut spec: ModelSpec,
+        opts: &LoadOptions,
+    ) -> Result<(Model, Vec<ModelWarning>), ModelError> {
         if opts.ignore_mimic {
             for j in &mut spec.joints {
                 j.mimic = None;

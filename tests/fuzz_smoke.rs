@@ -1,0 +1,340 @@
+//! The fuzz targets at CI size (stable toolchain, `cargo test --release`): replays every
+//! committed corpus and regression input of `fuzz/`, and feeds proptest-mutated seed
+//! files (byte flips, truncations, insertions of dictionary tokens and odd numbers,
+//! duplicated and deleted ranges) to the same entry points as the cargo-fuzz targets
+//! (`tests/fuzz_harness/mod.rs`). A panic fails the test; every refusal must render
+//! with the file name. The long campaigns are in `RELIABILITY.md` (## Fuzzing).
+
+mod fuzz_harness;
+
+use fuzz_harness as h;
+use proptest::prelude::*;
+use proptest::test_runner::{Config, TestRunner};
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Files directly in `dir` (sorted; none if it does not exist), at most `max_len` bytes.
+fn files(dir: &Path, ext: Option<&str>, max_len: usize) -> Vec<PathBuf> {
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut v: Vec<PathBuf> = rd
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file())
+        .filter(|p| ext.is_none_or(|x| p.extension().and_then(|e| e.to_str()) == Some(x)))
+        .filter(|p| p.file_name().and_then(|n| n.to_str()) != Some("EXPECTED.toml"))
+        .filter(|p| std::fs::metadata(p).is_ok_and(|m| m.len() as usize <= max_len))
+        .collect();
+    v.sort();
+    v
+}
+
+struct Target {
+    name: &'static str,
+    run: fn(&[u8]),
+    max_len: usize,
+    /// Seed directories and the extension of their files.
+    seeds: &'static [(&'static str, &'static str)],
+    dict: &'static str,
+}
+
+const TARGETS: [Target; 3] = [
+    Target {
+        name: "urdf_loader",
+        run: h::urdf,
+        max_len: h::URDF_MAX_LEN,
+        seeds: &[
+            ("robots", "urdf"),
+            ("tests/broken", "urdf"),
+            ("tests/data", "urdf"),
+        ],
+        dict: "urdf.dict",
+    },
+    Target {
+        name: "dh_loader",
+        run: h::dh,
+        max_len: h::TOML_MAX_LEN,
+        seeds: &[("robots", "toml"), ("tests/broken", "toml")],
+        dict: "dh.dict",
+    },
+    Target {
+        name: "scenario_loader",
+        run: h::scenario,
+        max_len: h::TOML_MAX_LEN,
+        seeds: &[("scenarios", "toml"), ("tests/broken_scenarios", "toml")],
+        dict: "scenario.dict",
+    },
+];
+
+impl Target {
+    /// Seed files, then the committed corpus and regression inputs.
+    fn inputs(&self) -> Vec<PathBuf> {
+        let mut v = Vec::new();
+        for (dir, ext) in self.seeds {
+            v.extend(files(&root().join(dir), Some(ext), self.max_len));
+        }
+        for dir in ["fuzz/corpus", "fuzz/regressions"] {
+            v.extend(files(&root().join(dir).join(self.name), None, usize::MAX));
+        }
+        v
+    }
+
+    /// The libFuzzer dictionary's tokens (`"…"` lines, `\"` and `\\` escapes).
+    fn tokens(&self) -> Vec<Vec<u8>> {
+        let p = root().join("fuzz/dict").join(self.dict);
+        let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        text.lines()
+            .filter_map(|l| l.trim().strip_prefix('"')?.strip_suffix('"'))
+            .map(|t| t.replace("\\\"", "\"").replace("\\\\", "\\").into_bytes())
+            .collect()
+    }
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// Seconds one replayed input may take (in release; the campaigns ran at -timeout=10
+/// under AddressSanitizer).
+const REPLAY_TIMEOUT_S: u64 = 60;
+
+/// Runs one input on a thread, naming it if the target panics or takes longer than
+/// [`REPLAY_TIMEOUT_S`] (a regression of a hang fails instead of hanging the test).
+fn run_named(t: &Target, what: &str, data: &[u8]) {
+    let (tx, rx) = std::sync::mpsc::channel();
+    let (run, data) = (t.run, data.to_vec());
+    let worker = std::thread::spawn(move || {
+        run(&data);
+        let _ = tx.send(());
+    });
+    match rx.recv_timeout(std::time::Duration::from_secs(REPLAY_TIMEOUT_S)) {
+        Ok(()) => {
+            let _ = worker.join();
+        }
+        Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+            panic!(
+                "{}: {what} still running after {REPLAY_TIMEOUT_S} s",
+                t.name
+            )
+        }
+        Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+            panic!("{}: panicked on {what}", t.name)
+        }
+    }
+}
+
+#[test]
+fn replay_seeds_corpus_and_regressions() {
+    for t in &TARGETS {
+        let inputs = t.inputs();
+        assert!(
+            inputs.len() >= 10,
+            "{}: only {} inputs",
+            t.name,
+            inputs.len()
+        );
+        for p in &inputs {
+            run_named(t, &p.display().to_string(), &read(p));
+        }
+    }
+}
+
+/// What each committed regression input must now give: (target directory, file, a
+/// substring of the error; `""` for an input that must load).
+const REGRESSIONS: &[(&str, &str, &str)] = &[
+    (
+        "scenario_loader",
+        "sweep_start_far_from_assembly.toml",
+        "more than a million tracking steps",
+    ),
+    (
+        "scenario_loader",
+        "slow_limit_position_newton.toml",
+        "locked here (limit position)",
+    ),
+];
+
+#[test]
+fn regressions_give_their_errors() {
+    let dir = root().join("fuzz/regressions");
+    for (target, file, expect) in REGRESSIONS {
+        let path = dir.join(target).join(file);
+        let text =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let err = match *target {
+            "urdf_loader" => armsim::model::Model::spec_from_str(&text, h::URDF_FILE)
+                .and_then(armsim::model::Model::build)
+                .err()
+                .map(|e| e.to_string()),
+            "dh_loader" => armsim::model::Model::spec_from_str(&text, h::DH_FILE)
+                .and_then(armsim::model::Model::build)
+                .err()
+                .map(|e| e.to_string()),
+            _ => armsim::scenario::check(h::SCENARIO_FILE, &text)
+                .err()
+                .map(|e| e.to_string()),
+        };
+        match err {
+            None => assert!(expect.is_empty(), "{file}: loaded, expected '{expect}'"),
+            Some(e) => assert!(
+                !expect.is_empty() && e.contains(expect),
+                "{file}: '{e}', expected '{expect}'"
+            ),
+        }
+    }
+    // Every regression input is listed.
+    for t in &TARGETS {
+        for p in files(&dir.join(t.name), None, usize::MAX) {
+            let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+            assert!(
+                REGRESSIONS.iter().any(|r| r.0 == t.name && r.1 == name),
+                "{}: not listed in REGRESSIONS",
+                p.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn regression_inputs_are_named_for_their_target() {
+    // Every file under fuzz/regressions/ sits in a directory named after a target.
+    let dir = root().join("fuzz/regressions");
+    let Ok(rd) = std::fs::read_dir(&dir) else {
+        return;
+    };
+    for e in rd.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if e.path().is_dir() {
+            assert!(
+                TARGETS.iter().any(|t| t.name == name),
+                "fuzz/regressions/{name}: not a target name"
+            );
+        }
+    }
+}
+
+/// One edit of an input.
+#[derive(Clone, Debug)]
+enum Edit {
+    /// XOR the byte at (position fraction) with a non-zero mask.
+    Flip(f64, u8),
+    /// Keep the first (fraction) of the input.
+    Truncate(f64),
+    /// Insert dictionary token `k` (modulo their number).
+    Token(f64, usize),
+    /// Insert an odd number.
+    Number(f64, String),
+    /// Delete `n` bytes.
+    Delete(f64, usize),
+    /// Repeat the `n` bytes from the position `times` times.
+    Repeat(f64, usize, usize),
+}
+
+fn number() -> impl Strategy<Value = String> {
+    prop_oneof![
+        Just("nan".to_string()),
+        Just("NaN".to_string()),
+        Just("inf".to_string()),
+        Just("-inf".to_string()),
+        Just("1e308".to_string()),
+        Just("-1e308".to_string()),
+        Just("5e-324".to_string()),
+        Just("-0".to_string()),
+        Just("18446744073709551615".to_string()),
+        Just("99999999999999999999999".to_string()),
+        any::<i64>().prop_map(|i| i.to_string()),
+        any::<f64>().prop_map(|x| format!("{x:e}")),
+        (-1e3f64..1e3).prop_map(|x| x.to_string()),
+    ]
+}
+
+fn edit() -> impl Strategy<Value = Edit> {
+    let at = 0.0f64..1.0;
+    prop_oneof![
+        (at.clone(), 1u8..=255).prop_map(|(p, m)| Edit::Flip(p, m)),
+        at.clone().prop_map(Edit::Truncate),
+        (at.clone(), any::<usize>()).prop_map(|(p, k)| Edit::Token(p, k)),
+        (at.clone(), number()).prop_map(|(p, n)| Edit::Number(p, n)),
+        (at.clone(), 1usize..64).prop_map(|(p, n)| Edit::Delete(p, n)),
+        (at, 1usize..128, 1usize..20).prop_map(|(p, n, k)| Edit::Repeat(p, n, k)),
+    ]
+}
+
+fn apply(data: &mut Vec<u8>, edits: &[Edit], tokens: &[Vec<u8>], max_len: usize) {
+    for e in edits {
+        let pos = |f: f64| ((data.len() as f64 * f) as usize).min(data.len());
+        match e {
+            Edit::Flip(f, m) => {
+                if !data.is_empty() {
+                    let i = pos(*f).min(data.len() - 1);
+                    data[i] ^= m;
+                }
+            }
+            Edit::Truncate(f) => data.truncate(pos(*f)),
+            Edit::Token(f, k) => {
+                let i = pos(*f);
+                let t = &tokens[k % tokens.len()];
+                data.splice(i..i, t.iter().copied());
+            }
+            Edit::Number(f, n) => {
+                let i = pos(*f);
+                data.splice(i..i, n.bytes());
+            }
+            Edit::Delete(f, n) => {
+                let i = pos(*f);
+                let j = (i + n).min(data.len());
+                data.drain(i..j);
+            }
+            Edit::Repeat(f, n, k) => {
+                let i = pos(*f);
+                let j = (i + n).min(data.len());
+                let chunk: Vec<u8> = data[i..j].to_vec();
+                for _ in 0..*k {
+                    data.splice(j..j, chunk.iter().copied());
+                }
+            }
+        }
+        data.truncate(max_len);
+    }
+}
+
+/// `cases` mutated seeds per target.
+fn mutate(t: &Target, cases: u32) {
+    let seeds: Vec<Vec<u8>> = t.inputs().iter().map(|p| read(p)).collect();
+    let tokens = t.tokens();
+    let mut runner = TestRunner::new(Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    let strategy = (0..seeds.len(), prop::collection::vec(edit(), 1..8));
+    let ran = std::cell::Cell::new(0u32);
+    runner
+        .run(&strategy, |(s, edits)| {
+            let mut data = seeds[s].clone();
+            apply(&mut data, &edits, &tokens, t.max_len);
+            (t.run)(&data);
+            ran.set(ran.get() + 1);
+            Ok(())
+        })
+        .unwrap_or_else(|e| panic!("{}: {e}", t.name));
+    assert!(ran.get() >= cases, "{}: {} cases ran", t.name, ran.get());
+}
+
+#[test]
+fn mutated_urdf() {
+    mutate(&TARGETS[0], 5000);
+}
+
+#[test]
+fn mutated_dh_tables() {
+    mutate(&TARGETS[1], 20000);
+}
+
+#[test]
+fn mutated_scenarios() {
+    mutate(&TARGETS[2], 10000);
+}
