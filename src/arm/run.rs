@@ -219,18 +219,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         })?;
     }
     let mut recorder = if opts.write_files && scene.outputs.mcap {
-        let (mut header, robot_tf) =
-            Header::for_model(&scene.name, &scene.model_path, model, &scene.spec);
-        let b = &scene.base;
-        header.static_tf.insert(
-            0,
-            crate::recording::tf::to_transform("world", &model.links[0].name, b),
-        );
-        header.metadata = vec![
-            ("scenario".into(), scene.file.clone()),
-            ("effects".into(), scene.effect_names.join(",")),
-            ("trajectory".into(), scene.timing.as_str().into()),
-        ];
+        let (header, robot_tf) = recording_header(&scene);
         let path = out_dir.join(format!("{}.mcap", scene.name));
         let w = McapWriter::create(&path, &header)
             .map_err(|e| fail("outputs", format!("recording: {e}")))?;
@@ -426,12 +415,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
             .collect();
         w.write_torque_check(duration, &rows)
             .map_err(|e| rec_err(e.to_string()))?;
-        if let Some(f) = collisions.get("first").filter(|f| !f.is_null()) {
-            let ev = CollisionEvent {
-                t: f["time"].as_f64().unwrap_or(0.0),
-                body_a: f["pair"][0].as_str().unwrap_or("").into(),
-                body_b: f["pair"][1].as_str().unwrap_or("").into(),
-            };
+        if let Some(ev) = first_collision_event(&collisions) {
             w.write_collisions(&[ev])
                 .map_err(|e| rec_err(e.to_string()))?;
         }
@@ -441,27 +425,13 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     }
     if let Some(sink) = &opts.rerun {
         let t0 = Instant::now();
-        let (mut header, tf) =
-            Header::for_model(&scene.name, &scene.model_path, model, &scene.spec);
-        header.static_tf.insert(
-            0,
-            crate::recording::tf::to_transform("world", &model.links[0].name, &scene.base),
-        );
+        let (header, tf) = recording_header(&scene);
         let mut data = Data::new(model);
         let frames = samples
             .iter()
             .map(|s| tf.frame_at(model, &mut data, s.t, &s.q, &s.qd, &s.tau))
             .collect();
-        let collisions = collisions
-            .get("first")
-            .filter(|f| !f.is_null())
-            .map(|f| CollisionEvent {
-                t: f["time"].as_f64().unwrap_or(0.0),
-                body_a: f["pair"][0].as_str().unwrap_or("").into(),
-                body_b: f["pair"][1].as_str().unwrap_or("").into(),
-            })
-            .into_iter()
-            .collect();
+        let collisions = first_collision_event(&collisions).into_iter().collect();
         let rec = crate::recording::Recording {
             header,
             frames,
@@ -616,6 +586,33 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         effect_runs,
         contact_built,
         report,
+    })
+}
+
+/// The recording header of a scene: the model's (joints, limits, robot description, fixed
+/// frames) with the scene's `world` → base transform first, and the scenario metadata.
+fn recording_header(scene: &Scene) -> (Header, crate::recording::tf::RobotTf) {
+    let model = &scene.model;
+    let (mut header, tf) = Header::for_model(&scene.name, &scene.model_path, model, &scene.spec);
+    header.static_tf.insert(
+        0,
+        crate::recording::tf::to_transform("world", &model.links[0].name, &scene.base),
+    );
+    header.metadata = vec![
+        ("scenario".into(), scene.file.clone()),
+        ("effects".into(), scene.effect_names.join(",")),
+        ("trajectory".into(), scene.timing.as_str().into()),
+    ];
+    (header, tf)
+}
+
+/// The first collision of the report's `collisions` JSON as a recording event.
+fn first_collision_event(collisions: &Value) -> Option<CollisionEvent> {
+    let f = collisions.get("first").filter(|f| !f.is_null())?;
+    Some(CollisionEvent {
+        t: f["time"].as_f64().unwrap_or(0.0),
+        body_a: f["pair"][0].as_str().unwrap_or("").into(),
+        body_b: f["pair"][1].as_str().unwrap_or("").into(),
     })
 }
 
