@@ -485,6 +485,9 @@ fn run(cli: Cli) -> Result<(), String> {
             rerun,
             spawn,
         } => {
+            if rerun.is_some() || spawn {
+                need_rerun()?;
+            }
             if let Some(dir) = &out {
                 std::fs::create_dir_all(dir)
                     .map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
@@ -1044,7 +1047,7 @@ fn ik_cmd(model: &Model, o: &IkCli, as_json: bool) -> Result<(), String> {
     let targets: Vec<Se3> = match (&o.target, &o.targets) {
         (Some(t), None) => vec![parse_pose(t, o.position_only, "--target")?],
         (None, Some(file)) => {
-            let text = std::fs::read_to_string(file)
+            let text = armsim::io::read_input_string(file)
                 .map_err(|e| format!("{}: cannot read: {e}", file.display()))?;
             let mut out = Vec::new();
             for (i, line) in text.lines().enumerate() {
@@ -1266,6 +1269,7 @@ fn workspace_cmd(
     use armsim::workspace::{sample_workspace, Sampling, WorkspaceOptions};
     let WsOutputs { csv: out, rerun } = outputs;
     if let Some(p) = &rerun {
+        need_rerun()?;
         check_output_dir(p)?;
     }
     if let Some(l) = &link {
@@ -1457,6 +1461,15 @@ fn workspace_rerun(
     Ok(())
 }
 
+/// Refuses at once (before any work) in a build without the `rerun` feature.
+fn need_rerun() -> Result<(), String> {
+    if armsim::recording::rerun_sink::AVAILABLE {
+        Ok(())
+    } else {
+        Err(armsim::recording::rerun_sink::RerunError::NotBuilt.to_string())
+    }
+}
+
 /// `armsim view`: an MCAP recording to Rerun.
 fn view_cmd(
     recording: &std::path::Path,
@@ -1465,6 +1478,7 @@ fn view_cmd(
     mesh_dir: Option<&std::path::Path>,
 ) -> Result<(), String> {
     use armsim::recording::{mcap_in, rerun_out};
+    need_rerun()?;
     let rec = mcap_in::read_mcap(recording).map_err(|e| e.to_string())?;
     let spec = match model {
         Some(p) => Some(Model::read_spec(p).map_err(|e| e.to_string())?),

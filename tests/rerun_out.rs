@@ -1,5 +1,7 @@
 //! Rerun output (src/recording/rerun_out.rs): recordings of real models written as .rrd,
-//! read back with the rerun crate's own decoder, and checked entity by entity.
+//! read back with the rerun crate's own decoder, and checked entity by entity. Needs the
+//! `rerun` feature (on by default).
+#![cfg(feature = "rerun")]
 
 mod common;
 

@@ -13,7 +13,14 @@ pub mod interrupt;
 pub mod mcap_in;
 pub mod mcap_out;
 mod model_header;
+#[cfg(feature = "rerun")]
 pub mod rerun_out;
+/// Rerun output in a build without the `rerun` feature: the same API, every log call
+/// refused with [`rerun_sink::RerunError::NotBuilt`].
+#[cfg(not(feature = "rerun"))]
+#[path = "rerun_off.rs"]
+pub mod rerun_out;
+pub mod rerun_sink;
 pub mod ros2;
 pub mod tf;
 pub mod urdf_out;

@@ -43,65 +43,13 @@ use rerun::{
     RecordingStreamBuilder, TimeColumn,
 };
 use std::collections::{BTreeMap, HashMap};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// Where the log goes.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum RerunSink {
-    /// Write an `.rrd` file (atomically).
-    Save(PathBuf),
-    /// Spawn the `rerun` viewer (found on `PATH`) and stream to it.
-    Spawn,
-}
-
-/// Why logging failed.
-#[derive(Debug, thiserror::Error)]
-pub enum RerunError {
-    /// The output file cannot be written.
-    #[error("{}: {msg}", path.display())]
-    Output {
-        /// The `.rrd` path.
-        path: PathBuf,
-        /// What went wrong.
-        msg: String,
-    },
-    /// The viewer could not be started or reached.
-    #[error("rerun viewer: {0}")]
-    Viewer(String),
-    /// The Rerun SDK refused the data.
-    #[error("rerun: {0}")]
-    Sdk(String),
-}
+pub use super::rerun_sink::*;
 
 fn sdk(e: impl std::fmt::Display) -> RerunError {
     RerunError::Sdk(e.to_string())
 }
-
-/// What was logged.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct RerunReport {
-    /// Link entities (`world/robot/<link>`), in order.
-    pub links: Vec<String>,
-    /// Links that received a transform per frame.
-    pub moving_links: usize,
-    /// Frames logged.
-    pub frames: usize,
-    /// Visual geometry entities logged.
-    pub visuals: usize,
-    /// Points logged over all clouds.
-    pub points: usize,
-    /// The tool link whose path was drawn.
-    pub tool: Option<String>,
-    /// Problems that did not stop the log (missing meshes, malformed frames, …).
-    pub warnings: Vec<String>,
-    /// Size of the written file (save only).
-    pub bytes: Option<u64>,
-}
-
-/// Application id of the recordings.
-pub const APP_ID: &str = "armsim";
-/// Name of the timeline.
-pub const TIMELINE: &str = "time";
 
 /// `world/robot/<link>`, the link name as one (escaped) path part.
 pub fn link_entity(link: &str) -> EntityPath {
@@ -115,30 +63,6 @@ pub fn path(parts: &[&str]) -> EntityPath {
 
 fn child(base: &EntityPath, part: &str) -> EntityPath {
     base.join(&EntityPath::new(vec![EntityPathPart::new(part)]))
-}
-
-/// Viridis-like colormap: `x` in `[0, 1]` (clamped; NaN gives grey) to RGB, linear
-/// interpolation between five stops of matplotlib's viridis.
-pub fn colormap(x: f32) -> [u8; 3] {
-    const STOPS: [[f32; 3]; 5] = [
-        [68.0, 1.0, 84.0],
-        [59.0, 82.0, 139.0],
-        [33.0, 145.0, 140.0],
-        [94.0, 201.0, 98.0],
-        [253.0, 231.0, 37.0],
-    ];
-    if x.is_nan() {
-        return [128, 128, 128];
-    }
-    let s = x.clamp(0.0, 1.0) * (STOPS.len() - 1) as f32;
-    let i = (s.floor() as usize).min(STOPS.len() - 2);
-    let f = s - i as f32;
-    let mut out = [0u8; 3];
-    for c in 0..3 {
-        let v = STOPS[i][c] + f * (STOPS[i + 1][c] - STOPS[i][c]);
-        out[c] = v.round().clamp(0.0, 255.0) as u8;
-    }
-    out
 }
 
 /// Logs `rec` to `sink`. Geometry comes from `spec`, else from the URDF in

@@ -1,0 +1,23 @@
+//! Rerun output when armsim is built without the `rerun` feature (`--no-default-features`,
+//! as the fuzz targets are): the types of [`super::rerun_sink`] and the two log calls of
+//! `rerun_out`, which refuse with [`RerunError::NotBuilt`] before doing any work.
+
+pub use super::rerun_sink::*;
+use super::{PointCloud, Recording};
+use crate::model::ModelSpec;
+use std::path::Path;
+
+/// Refuses: this build has no Rerun SDK.
+pub fn log_recording(
+    _rec: &Recording,
+    _spec: Option<&ModelSpec>,
+    _mesh_base: Option<&Path>,
+    _sink: &RerunSink,
+) -> Result<RerunReport, RerunError> {
+    Err(RerunError::NotBuilt)
+}
+
+/// Refuses: this build has no Rerun SDK.
+pub fn log_workspace(_cloud: &PointCloud, _sink: &RerunSink) -> Result<RerunReport, RerunError> {
+    Err(RerunError::NotBuilt)
+}
