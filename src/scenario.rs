@@ -149,7 +149,7 @@ pub fn run_file(path: &Path) -> Result<Report, ScenarioError> {
 /// Reads a scenario file and runs it with `opts` (output directory, interrupt).
 pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Report, ScenarioError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
+    let text = crate::io::read_input_string(path)
         .map_err(|e| ScenarioError::new(&file, None, "file", format!("cannot read: {e}")))?;
     if text.trim().is_empty() {
         return Err(ScenarioError::new(

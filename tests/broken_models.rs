@@ -597,3 +597,49 @@ fn check_failure_catches_each_defect() {
         .iter()
         .any(|p| p.contains("signal")));
 }
+
+/// Paths that are not regular files (a device that never ends, a directory, a FIFO) are
+/// refused by name, by every reader, instead of being read forever.
+#[test]
+fn non_regular_files_are_refused_not_read() {
+    let dir = std::env::temp_dir().join(format!("armsim_nonregular_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("model.urdf");
+    let _ = std::fs::remove_file(&fifo);
+    let made_fifo = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
+    let mut paths = vec![PathBuf::from("/dev/zero"), dir.clone()];
+    if made_fifo {
+        paths.push(fifo.clone());
+    }
+    for p in &paths {
+        let e = Model::read_spec(p).expect_err("a non-regular file loaded");
+        let msg = e.to_string();
+        assert!(
+            msg.starts_with(&p.display().to_string())
+                && (msg.contains("not a regular file") || msg.contains("is a directory")),
+            "{}: {msg}",
+            p.display()
+        );
+        let e = armsim::recording::mcap_in::read_mcap(p).expect_err("a non-regular MCAP read");
+        assert!(e.to_string().contains(&p.display().to_string()), "{e}");
+    }
+    // Meshes, through a link whose target is a device.
+    for ext in ["stl", "obj", "dae"] {
+        let link = dir.join(format!("zero.{ext}"));
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+        let e = armsim::collision::mesh::load_mesh(&link)
+            .map(drop)
+            .unwrap_err();
+        assert!(e.contains("not a regular file"), "{ext}: {e}");
+    }
+    // The CLI: exit 1 with the message, no panic.
+    let o = armsim(&["fk", "/dev/zero", "--q", "0"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("/dev/zero"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -102,12 +102,13 @@ pub fn load_mesh(path: &Path) -> Result<MeshData, String> {
         .to_ascii_lowercase();
     let mesh = match ext.as_str() {
         "stl" => {
-            let bytes = std::fs::read(path).map_err(|e| format!("cannot read: {e}"))?;
+            let bytes = crate::io::read_input(path).map_err(|e| format!("cannot read: {e}"))?;
             read_stl(&bytes)?
         }
         "obj" => read_obj(path)?,
         "dae" => {
-            let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read: {e}"))?;
+            let text =
+                crate::io::read_input_string(path).map_err(|e| format!("cannot read: {e}"))?;
             read_dae(&text)?
         }
         _ => {
@@ -207,8 +208,8 @@ fn read_stl_ascii(text: &str) -> Result<MeshData, String> {
 // `..Default::default()` fills the fields behind tobj features another crate may enable.
 #[allow(clippy::needless_update)]
 fn read_obj(path: &Path) -> Result<MeshData, String> {
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
-    let mut reader = std::io::BufReader::new(file);
+    let bytes = crate::io::read_input(path).map_err(|e| format!("cannot read: {e}"))?;
+    let mut reader = std::io::Cursor::new(bytes);
     let opts = tobj::LoadOptions {
         triangulate: true,
         single_index: false,

@@ -319,7 +319,7 @@ impl Model {
     /// Reads a model file into a [`ModelSpec`] without validating the tree.
     pub fn read_spec(path: &Path) -> Result<ModelSpec, ModelError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
+        let text = crate::io::read_input_string(path)
             .map_err(|e| ModelError::new(&file, None, "file", format!("cannot read: {e}")))?;
         Self::spec_from_str(&text, &file)
     }

@@ -40,7 +40,7 @@ pub fn robot_description(model_path: &Path, spec: &ModelSpec) -> String {
         .unwrap_or("")
         .to_ascii_lowercase();
     if ext == "urdf" || ext == "xml" {
-        if let Ok(text) = std::fs::read_to_string(model_path) {
+        if let Ok(text) = crate::io::read_input_string(model_path) {
             return text;
         }
     }
