@@ -41,7 +41,7 @@ struct Target {
     dict: &'static str,
 }
 
-const TARGETS: [Target; 3] = [
+const TARGETS: [Target; 4] = [
     Target {
         name: "urdf_loader",
         run: h::urdf,
@@ -67,6 +67,13 @@ const TARGETS: [Target; 3] = [
         seeds: &[("scenarios", "toml"), ("tests/broken_scenarios", "toml")],
         dict: "scenario.dict",
     },
+    Target {
+        name: "mcap_reader",
+        run: h::mcap,
+        max_len: h::MCAP_MAX_LEN,
+        seeds: &[("tests/data/recordings", "mcap")],
+        dict: "mcap.dict",
+    },
 ];
 
 impl Target {
@@ -82,19 +89,53 @@ impl Target {
         v
     }
 
-    /// The libFuzzer dictionary's tokens (`"…"` lines, `\"` and `\\` escapes).
+    /// The libFuzzer dictionary's tokens (`"…"` lines; `\"`, `\\` and `\xNN` escapes).
     fn tokens(&self) -> Vec<Vec<u8>> {
         let p = root().join("fuzz/dict").join(self.dict);
         let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         text.lines()
             .filter_map(|l| l.trim().strip_prefix('"')?.strip_suffix('"'))
-            .map(|t| t.replace("\\\"", "\"").replace("\\\\", "\\").into_bytes())
+            .map(unescape)
             .collect()
     }
 }
 
+/// A seed, corpus or regression input. Scenario inputs are run as
+/// `<repo>/scenarios/fuzz_scenario.toml` (see [`h::scenario_file`]), so the model paths of
+/// the broken scenarios (`../../robots/…`, written for `tests/broken_scenarios/`) are
+/// rewritten to `../robots/…` as the committed fuzz corpus has them.
+/// A dictionary token's bytes: `\\`, `\"` and `\xNN` escapes as libFuzzer reads them.
+fn unescape(t: &str) -> Vec<u8> {
+    let b = t.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'\\' && i + 1 < b.len() {
+            if b[i + 1] == b'x' && i + 3 < b.len() {
+                let hex = std::str::from_utf8(&b[i + 2..i + 4]).unwrap_or("");
+                let v = u8::from_str_radix(hex, 16)
+                    .unwrap_or_else(|_| panic!("bad escape in dictionary token {t}"));
+                out.push(v);
+                i += 4;
+            } else {
+                out.push(b[i + 1]);
+                i += 2;
+            }
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    out
+}
+
 fn read(p: &Path) -> Vec<u8> {
-    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+    let bytes = std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    if p.starts_with(root().join("tests/broken_scenarios")) {
+        let text = String::from_utf8(bytes).expect("UTF-8 scenario");
+        return text.replace("\"../../robots/", "\"../robots/").into_bytes();
+    }
+    bytes
 }
 
 /// Seconds one replayed input may take (in release; the campaigns ran at -timeout=10
@@ -155,6 +196,11 @@ const REGRESSIONS: &[(&str, &str, &str)] = &[
         "slow_limit_position_newton.toml",
         "locked here (limit position)",
     ),
+    (
+        "mcap_reader",
+        "uncompressed_chunk_record_overruns_chunk.mcap",
+        "bytes of content, more than the",
+    ),
 ];
 
 #[test]
@@ -162,8 +208,8 @@ fn regressions_give_their_errors() {
     let dir = root().join("fuzz/regressions");
     for (target, file, expect) in REGRESSIONS {
         let path = dir.join(target).join(file);
-        let text =
-            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let text = String::from_utf8_lossy(&bytes);
         let err = match *target {
             "urdf_loader" => armsim::model::Model::spec_from_str(&text, h::URDF_FILE)
                 .and_then(armsim::model::Model::build)
@@ -173,7 +219,12 @@ fn regressions_give_their_errors() {
                 .and_then(armsim::model::Model::build)
                 .err()
                 .map(|e| e.to_string()),
-            _ => armsim::scenario::check(h::SCENARIO_FILE, &text)
+            "mcap_reader" => {
+                armsim::recording::mcap_in::read_mcap_bytes(&bytes, Path::new(h::MCAP_FILE))
+                    .err()
+                    .map(|e| e.to_string())
+            }
+            _ => armsim::scenario::check(h::scenario_file(), &text)
                 .err()
                 .map(|e| e.to_string()),
         };
@@ -337,4 +388,9 @@ fn mutated_dh_tables() {
 #[test]
 fn mutated_scenarios() {
     mutate(&TARGETS[2], 10000);
+}
+
+#[test]
+fn mutated_recordings() {
+    mutate(&TARGETS[3], 5000);
 }

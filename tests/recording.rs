@@ -631,12 +631,56 @@ fn truncated_and_garbage_files_are_errors() {
 /// Small valid files to mutate: armsim's own (zstd chunks) and the same messages without
 /// chunks and without CRCs, so that mutations reach the records and the CDR payloads.
 fn fuzz_seeds() -> Vec<Vec<u8>> {
-    let dir = scratch("fuzz_seeds");
-    let path = dir.join("seed.mcap");
     let mut rec = ur5_recording(3);
     rec.clouds[0].points.truncate(5);
     rec.clouds[0].values.truncate(5);
-    write_recording(&path, &rec).unwrap();
+    zstd_and_plain(&rec, "seed")
+}
+
+/// The planar 2R (DH table, so its robot description is the generated URDF) for two
+/// frames, with a three-point cloud, its torque check and one collision: seeds of a few KiB
+/// that the `mcap_reader` fuzz target mutates faster than the UR5 ones.
+fn small_fuzz_seeds() -> Vec<Vec<u8>> {
+    let path = root().join("robots/planar_2r.toml");
+    let (model, _) = Model::load(&path).unwrap();
+    let spec = Model::read_spec(&path).unwrap();
+    let mut data = Data::new(&model);
+    let (header, robot_tf) = Header::for_model("2r", &path, &model, &spec);
+    let frames = (0..2)
+        .map(|k| {
+            let q = [0.1 * k as f64, -0.2];
+            robot_tf.frame_at(
+                &model,
+                &mut data,
+                0.01 * k as f64,
+                &q,
+                &[0.5, -0.5],
+                &[1.0, 2.0],
+            )
+        })
+        .collect();
+    let mut big = ur5_recording(1);
+    big.clouds[1].points.truncate(3);
+    big.torque_check.truncate(2);
+    for (row, joint) in big.torque_check.iter_mut().zip(model.dof_names()) {
+        row.joint = joint;
+    }
+    let rec = Recording {
+        header,
+        frames,
+        clouds: vec![big.clouds[1].clone()],
+        torque_check: big.torque_check,
+        collisions: big.collisions[..1].to_vec(),
+    };
+    zstd_and_plain(&rec, "small_seed")
+}
+
+/// `rec` written by armsim (zstd chunks) and its messages rewritten without chunks and
+/// without CRCs, so that mutations reach the records and the CDR payloads.
+fn zstd_and_plain(rec: &Recording, name: &str) -> Vec<Vec<u8>> {
+    let dir = scratch("fuzz_seeds");
+    let path = dir.join(format!("{name}.mcap"));
+    write_recording(&path, rec).unwrap();
     let zstd = std::fs::read(&path).unwrap();
     let mut plain = mcap::WriteOptions::new()
         .use_chunks(false)
@@ -649,6 +693,61 @@ fn fuzz_seeds() -> Vec<Vec<u8>> {
     }
     plain.finish().unwrap();
     vec![zstd, plain.into_inner().into_inner()]
+}
+
+/// Where the seed recordings of the `mcap_reader` fuzz target are committed.
+const MCAP_SEEDS: &str = "tests/data/recordings";
+
+/// Writes [`fuzz_seeds`] as the `mcap_reader` fuzz target's seed files:
+/// `cargo test --release --test recording -- --ignored write_mcap_seeds`.
+#[test]
+#[ignore]
+fn write_mcap_seeds() {
+    let dir = root().join(MCAP_SEEDS);
+    std::fs::create_dir_all(&dir).unwrap();
+    for (bytes, name) in all_seeds() {
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+}
+
+/// Every seed file with its name.
+fn all_seeds() -> Vec<(Vec<u8>, &'static str)> {
+    let names = [
+        "ur5_zstd.mcap",
+        "ur5_unchunked.mcap",
+        "planar_2r_zstd.mcap",
+        "planar_2r_unchunked.mcap",
+    ];
+    fuzz_seeds()
+        .into_iter()
+        .chain(small_fuzz_seeds())
+        .zip(names)
+        .collect()
+}
+
+/// The committed seed recordings are what [`fuzz_seeds`] and [`small_fuzz_seeds`] write
+/// today, and they read back (three UR5 or two 2R frames, clouds, the torque check and the
+/// collision events).
+#[test]
+fn committed_mcap_seeds_are_current() {
+    let dir = root().join(MCAP_SEEDS);
+    for (bytes, name) in all_seeds() {
+        let path = dir.join(name);
+        let rec = read_mcap(&path).unwrap_or_else(|e| panic!("{e}"));
+        let want = read_mcap_bytes(&bytes, &path).unwrap();
+        assert_eq!(rec.header.joint_names, want.header.joint_names, "{name}");
+        assert_eq!(rec.frames, want.frames, "{name}");
+        assert_eq!(rec.clouds, want.clouds, "{name}");
+        assert_eq!(rec.torque_check, want.torque_check, "{name}");
+        assert_eq!(rec.collisions, want.collisions, "{name}");
+        let (frames, joints) = if name.starts_with("ur5") {
+            (3, 6)
+        } else {
+            (2, 2)
+        };
+        assert_eq!(rec.frames.len(), frames, "{name}");
+        assert_eq!(rec.header.joint_names.len(), joints, "{name}");
+    }
 }
 
 fn assert_no_panic(bytes: &[u8]) {

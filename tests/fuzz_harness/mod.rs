@@ -11,18 +11,49 @@ use armsim::dynamics::gravity_torque;
 use armsim::kinematics::{forward_kinematics, update_frames};
 use armsim::model::{Model, ModelError};
 use armsim::spatial::Vec3;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 /// File names the inputs are given under (the extension picks the model loader).
 pub const URDF_FILE: &str = "fuzz.urdf";
 /// File name of DH-table inputs.
 pub const DH_FILE: &str = "fuzz_dh.toml";
-/// File name of scenario inputs.
-pub const SCENARIO_FILE: &str = "fuzz_scenario.toml";
+/// File name of MCAP inputs.
+pub const MCAP_FILE: &str = "fuzz.mcap";
+
+/// The repository root: this file is compiled into `tests/fuzz_smoke.rs` (manifest at the
+/// root) and into the cargo-fuzz targets (manifest in `fuzz/`).
+pub fn repo_root() -> &'static Path {
+    static ROOT: OnceLock<PathBuf> = OnceLock::new();
+    ROOT.get_or_init(|| {
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+        if dir.join("robots").is_dir() {
+            dir
+        } else {
+            dir.parent().map(Path::to_path_buf).unwrap_or(dir)
+        }
+    })
+}
+
+/// The name scenario inputs are given: `<repo>/scenarios/fuzz_scenario.toml`, so that an
+/// arm scenario's `model.file = "../robots/…"` reaches the bundled robots and the arm
+/// loader runs all the way through model loading, IK and planning checks.
+pub fn scenario_file() -> &'static str {
+    static FILE: OnceLock<String> = OnceLock::new();
+    FILE.get_or_init(|| {
+        repo_root()
+            .join("scenarios/fuzz_scenario.toml")
+            .display()
+            .to_string()
+    })
+}
 
 /// Largest inputs the targets are fuzzed with (`-max_len`), also used by the smoke test.
 pub const URDF_MAX_LEN: usize = 64 * 1024;
 /// Largest DH table and scenario inputs.
 pub const TOML_MAX_LEN: usize = 8 * 1024;
+/// Largest MCAP inputs (the seed recordings are 11 and 29 KiB).
+pub const MCAP_MAX_LEN: usize = 64 * 1024;
 
 /// Panics unless `msg` (a rendered error) names `file` first.
 fn check_message(file: &str, msg: &str) {
@@ -98,13 +129,39 @@ pub fn dh(data: &[u8]) {
     }
 }
 
-/// The `scenario_loader` target: parse and validate (linkage and torsional scenarios;
-/// arm scenarios are refused until their loader lands).
+/// The `scenario_loader` target: parse and validate any scenario (arm, linkage,
+/// torsional) as `armsim run` does before running it.
 pub fn scenario(data: &[u8]) {
     if let Ok(text) = std::str::from_utf8(data) {
-        if let Err(e) = armsim::scenario::check(SCENARIO_FILE, text) {
-            assert_eq!(e.file, SCENARIO_FILE, "error names another file: {e}");
-            check_message(SCENARIO_FILE, &e.to_string());
+        let file = scenario_file();
+        if let Err(e) = armsim::scenario::check(file, text) {
+            assert_eq!(e.file, file, "error names another file: {e}");
+            check_message(file, &e.to_string());
+        }
+    }
+}
+
+/// The `mcap_reader` target: read the bytes as a recording, as `armsim view` does; on
+/// success, turn every transform into a pose (what the viewer draws) and load the robot
+/// description the recording carries as a model (what `view` builds geometry from).
+pub fn mcap(data: &[u8]) {
+    use armsim::recording::{mcap_in, tf::to_se3};
+    match mcap_in::read_mcap_bytes(data, Path::new(MCAP_FILE)) {
+        Ok(rec) => {
+            let frames = rec.frames.iter().flat_map(|f| &f.tf);
+            for t in rec.header.static_tf.iter().chain(frames) {
+                let _ = to_se3(t);
+            }
+            if let Some(text) = &rec.header.robot_description {
+                model(text, "robot_description.urdf");
+            }
+        }
+        Err(e) => {
+            let msg = e.to_string();
+            check_message(MCAP_FILE, &msg);
+            // The reader turns a decoder panic into an error; under the fuzzer the panic
+            // hook aborts first, here the message gives it away.
+            assert!(!msg.contains("panicked"), "{msg}");
         }
     }
 }
