@@ -604,6 +604,64 @@ fn partial_joint_states_cannot_expand_without_bound() {
     );
 }
 
+/// Uncompressed chunks: armsim reads them, and refuses (instead of misreading, or panicking
+/// inside mcap 0.26's reader) a chunk whose first record claims more bytes than the chunk's
+/// records hold, whether or not the file holds those bytes.
+#[test]
+fn uncompressed_chunk_records_must_end_inside_their_chunk() {
+    let zstd = fuzz_seeds().remove(0);
+    let mut w = mcap::WriteOptions::new()
+        .compression(None)
+        .create(Cursor::new(Vec::new()))
+        .unwrap();
+    for m in mcap::MessageStream::new(&zstd).unwrap() {
+        w.write(&m.unwrap()).unwrap();
+    }
+    w.finish().unwrap();
+    let good = w.into_inner().into_inner();
+    let path = Path::new("uncompressed.mcap");
+    // Messages only (the rewrite drops the metadata record): they all read back.
+    let (rec, want) = (
+        read_mcap_bytes(&good, path).unwrap(),
+        read_mcap_bytes(&zstd, path).unwrap(),
+    );
+    assert_eq!(rec.frames, want.frames);
+    assert_eq!(rec.clouds, want.clouds);
+    assert_eq!(rec.torque_check, want.torque_check);
+    assert_eq!(rec.collisions, want.collisions);
+    assert_eq!(rec.header.robot_description, want.header.robot_description);
+    // The first chunk (opcode 6) after the magic and the header record.
+    let mut at = 8;
+    let chunk = loop {
+        let len = u64::from_le_bytes(good[at + 1..at + 9].try_into().unwrap()) as usize;
+        if good[at] == 0x06 {
+            break at;
+        }
+        at += 9 + len;
+    };
+    // Its body: times (16), uncompressed size (8) and CRC (4), compression "" (4), then the
+    // records' size (8) and the records.
+    let body = chunk + 9;
+    let compression_len = u32::from_le_bytes(good[body + 28..body + 32].try_into().unwrap());
+    assert_eq!(compression_len, 0, "the chunk is not uncompressed");
+    let size_at = body + 32;
+    let size = u64::from_le_bytes(good[size_at..size_at + 8].try_into().unwrap());
+    let first = size_at + 8;
+    for claim in [size - 8, size + 1000, u64::MAX - 3] {
+        let mut bad = good.clone();
+        bad[first + 1..first + 9].copy_from_slice(&claim.to_le_bytes());
+        let e = read_mcap_bytes(&bad, path).unwrap_err().to_string();
+        assert!(
+            e.starts_with("uncompressed.mcap: record ")
+                && e.contains(&format!(
+                    "declares {claim} bytes of content, more than the {} left",
+                    size - 9
+                )),
+            "{claim}: {e}"
+        );
+    }
+}
+
 #[test]
 fn truncated_and_garbage_files_are_errors() {
     let dir = scratch("truncated");
