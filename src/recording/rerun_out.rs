@@ -51,6 +51,18 @@ fn sdk(e: impl std::fmt::Display) -> RerunError {
     RerunError::Sdk(e.to_string())
 }
 
+/// Sends `cols` for `ent` as one chunk on the [`TIMELINE`], one row per time in `times`.
+fn send_timed(
+    stream: &RecordingStream,
+    ent: impl Into<EntityPath>,
+    times: impl IntoIterator<Item = f64>,
+    cols: impl IntoIterator<Item = rerun::SerializedComponentColumn>,
+) -> Result<(), RerunError> {
+    stream
+        .send_columns(ent, [TimeColumn::new_duration_secs(TIMELINE, times)], cols)
+        .map_err(sdk)
+}
+
 /// `world/robot/<link>`, the link name as one (escaped) path part.
 pub fn link_entity(link: &str) -> EntityPath {
     path(&["world", "robot", link])
@@ -461,16 +473,7 @@ fn log_texts(
         .with_many_level(std::iter::repeat_n(level, texts.len()))
         .columns_of_unit_batches()
         .map_err(sdk)?;
-    stream
-        .send_columns(
-            ent,
-            [TimeColumn::new_duration_secs(
-                TIMELINE,
-                vec![t; texts.len()],
-            )],
-            cols,
-        )
-        .map_err(sdk)
+    send_timed(stream, ent, vec![t; texts.len()], cols)
 }
 
 fn log_links(
@@ -514,16 +517,7 @@ fn log_links(
             .with_many_quaternion(qs)
             .columns_of_unit_batches()
             .map_err(sdk)?;
-        stream
-            .send_columns(
-                ent,
-                [TimeColumn::new_duration_secs(
-                    TIMELINE,
-                    times.iter().copied(),
-                )],
-                cols,
-            )
-            .map_err(sdk)?;
+        send_timed(stream, ent, times.iter().copied(), cols)?;
     }
     Ok(())
 }
@@ -566,26 +560,14 @@ fn log_skeleton(
     stream
         .log_static(
             ent.clone(),
-            &archetypes::LineStrips3D::update_fields()
-                .with_radii([0.006f32])
-                .with_colors([rerun::Color::from_rgb(230, 160, 40)]),
+            &style(archetypes::LineStrips3D::update_fields()),
         )
         .map_err(sdk)?;
     let cols = archetypes::LineStrips3D::update_fields()
         .with_strips(per.into_iter().flatten())
         .columns(lengths)
         .map_err(sdk)?;
-    stream
-        .send_columns(
-            ent,
-            [TimeColumn::new_duration_secs(
-                TIMELINE,
-                times.iter().copied(),
-            )],
-            cols,
-        )
-        .map_err(sdk)?;
-    Ok(())
+    send_timed(stream, ent, times.iter().copied(), cols)
 }
 
 /// The deepest link with a transform (the last in order among ties).
@@ -646,6 +628,19 @@ fn grow(b: &mut Option<Aabb>, p: &Vec3) {
     for k in 0..3 {
         lo[k] = lo[k].min(p[k]);
         hi[k] = hi[k].max(p[k]);
+    }
+}
+
+/// Grows `b` by the corners of primitive `g`'s bounding box, placed by its origin.
+fn grow_by_primitive(b: &mut Option<Aabb>, g: &Geometry) {
+    if let Some(c) = primitive_corners(&g.shape) {
+        for x in [c[0], c[3]] {
+            for y in [c[1], c[4]] {
+                for z in [c[2], c[5]] {
+                    grow(b, &g.origin.act_point(&Vec3::new(x, y, z)));
+                }
+            }
+        }
     }
 }
 
@@ -847,15 +842,7 @@ fn log_geometry(
                 k += 1;
                 report.visuals += 1;
             } else if log_primitive(stream, vent, g, color)? {
-                if let Some(c) = primitive_corners(&g.shape) {
-                    for x in [c[0], c[3]] {
-                        for y in [c[1], c[4]] {
-                            for z in [c[2], c[5]] {
-                                grow(&mut bb, &g.origin.act_point(&Vec3::new(x, y, z)));
-                            }
-                        }
-                    }
-                }
+                grow_by_primitive(&mut bb, g);
                 k += 1;
                 report.visuals += 1;
             }
@@ -868,15 +855,7 @@ fn log_geometry(
                 }
                 let vent = child(&ent, &format!("visual_{k}"));
                 if log_primitive(stream, vent, g, rerun::Color::from_rgb(150, 160, 175))? {
-                    if let Some(c) = primitive_corners(&g.shape) {
-                        for x in [c[0], c[3]] {
-                            for y in [c[1], c[4]] {
-                                for z in [c[2], c[5]] {
-                                    grow(&mut bb, &g.origin.act_point(&Vec3::new(x, y, z)));
-                                }
-                            }
-                        }
-                    }
+                    grow_by_primitive(&mut bb, g);
                     k += 1;
                     report.visuals += 1;
                 }
@@ -922,15 +901,10 @@ fn log_joint_plots(
         if t.is_empty() {
             return Ok(());
         }
-        stream
-            .send_columns(
-                ent,
-                [TimeColumn::new_duration_secs(TIMELINE, t)],
-                archetypes::Scalars::new(v)
-                    .columns_of_unit_batches()
-                    .map_err(sdk)?,
-            )
-            .map_err(sdk)
+        let cols = archetypes::Scalars::new(v)
+            .columns_of_unit_batches()
+            .map_err(sdk)?;
+        send_timed(stream, ent, t, cols)
     };
     let (t0, t1) = (frames[0].t, frames[frames.len() - 1].t);
     let style = |ent: &EntityPath, name: String, rgb: [u8; 3]| {
