@@ -9,6 +9,8 @@
 //! - the contact scene's sliding force equals Coulomb's μ m g;
 //! - every bundled scenario runs, and broken ones give `file:line: key: message` errors.
 
+mod common;
+
 use armsim::arm::{self, RunOptions};
 use armsim::data::Data;
 use armsim::dynamics::rnea;
@@ -514,17 +516,8 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
 
 #[test]
 fn broken_arm_scenarios_give_located_errors_and_no_panic() {
-    let dir = root().join("tests/broken_scenarios");
-    let mut listed: Vec<&str> = BROKEN.iter().map(|b| b.0).collect();
-    listed.sort_unstable();
-    let mut present: Vec<String> = std::fs::read_dir(&dir)
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with("arm_") && n.ends_with(".toml"))
-        .collect();
-    present.sort();
-    assert_eq!(present, listed, "every arm_*.toml is listed here");
+    let listed: Vec<&str> = BROKEN.iter().map(|b| b.0).collect();
+    common::assert_lists_every_broken_scenario("arm_", &listed);
     let out = std::env::temp_dir().join(format!("armsim_broken_{}", std::process::id()));
     for &(file, line, key, msg) in BROKEN {
         let rel = format!("tests/broken_scenarios/{file}");

@@ -6,6 +6,8 @@
 //! References are independent of the solver: published numbers, closed forms written out
 //! here, finite differences of the position solution, a second method.
 
+mod common;
+
 use armsim::mechanism::balancing::{self, RotorMass};
 use armsim::mechanism::branch::sign;
 use armsim::mechanism::catalog;
@@ -1432,17 +1434,8 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
 
 #[test]
 fn broken_linkage_scenarios_give_located_errors() {
-    let dir = root().join("tests/broken_scenarios");
-    let mut listed: Vec<&str> = BROKEN.iter().map(|b| b.0).collect();
-    listed.sort_unstable();
-    let mut present: Vec<String> = std::fs::read_dir(&dir)
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.starts_with("linkage_") && n.ends_with(".toml"))
-        .collect();
-    present.sort();
-    assert_eq!(present, listed, "every linkage_*.toml is listed here");
+    let listed: Vec<&str> = BROKEN.iter().map(|b| b.0).collect();
+    common::assert_lists_every_broken_scenario("linkage_", &listed);
     for &(file, line, key, msg) in BROKEN {
         let rel = format!("tests/broken_scenarios/{file}");
         let text = std::fs::read_to_string(root().join(&rel)).unwrap();

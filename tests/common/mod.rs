@@ -5,6 +5,22 @@ use armsim::model::Model;
 use armsim::spatial::{Mat3, Se3, Vec3};
 use std::path::PathBuf;
 
+/// Asserts that `listed` names exactly the files `tests/broken_scenarios/<prefix>*.toml`
+/// (in any order), so that a broken scenario added there cannot go untested.
+pub fn assert_lists_every_broken_scenario(prefix: &str, listed: &[&str]) {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/broken_scenarios");
+    let mut listed: Vec<&str> = listed.to_vec();
+    listed.sort_unstable();
+    let mut present: Vec<String> = std::fs::read_dir(&dir)
+        .expect("tests/broken_scenarios exists")
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(prefix) && n.ends_with(".toml"))
+        .collect();
+    present.sort();
+    assert_eq!(present, listed, "every {prefix}*.toml is listed");
+}
+
 /// Every model file in `robots/`, sorted.
 pub fn robot_files() -> Vec<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("robots");
