@@ -2,7 +2,7 @@
 //! the contact box), one panel per series group, drawn with plotters like the torque
 //! check's plot and written atomically.
 
-use crate::trajectory::plot::{encode_png, register_font};
+use crate::trajectory::plot::{encode_png, register_font, PALETTE};
 use crate::trajectory::PlotFormat;
 use plotters::prelude::*;
 
@@ -12,17 +12,6 @@ pub struct Panel {
     pub y_label: String,
     pub curves: Vec<(String, Vec<(f64, f64)>)>,
 }
-
-const COLORS: [RGBColor; 8] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-];
 
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, plotters::coord::Shift>,
@@ -64,7 +53,7 @@ fn draw<DB: DrawingBackend>(
             .draw()
             .map_err(err)?;
         for (i, (name, c)) in p.curves.iter().enumerate() {
-            let color = COLORS[i % COLORS.len()];
+            let color = PALETTE[i % PALETTE.len()];
             chart
                 .draw_series(LineSeries::new(c.iter().copied(), color.stroke_width(2)))
                 .map_err(err)?

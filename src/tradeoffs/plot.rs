@@ -3,19 +3,11 @@
 //! grouped bar charts. Text uses the bundled font through the torque-check plot's setup
 //! ([`crate::trajectory::plot`]), so no system font is needed.
 
+/// The report's colours: armsim's chart palette.
+pub use crate::trajectory::plot::PALETTE;
 use crate::trajectory::plot::{encode_png, register_font};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-/// The report's colours (colour-blind-safe Tableau order).
-pub const PALETTE: [RGBColor; 6] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-];
 
 /// One line of a panel.
 #[derive(Clone, Debug)]
