@@ -1428,13 +1428,18 @@ fn workspace_rerun(
     r: &armsim::workspace::WorkspaceResult,
     path: &std::path::Path,
 ) -> Result<(), String> {
-    use armsim::recording::{fk_frames, rerun_out, PointCloud, Recording};
-    let mut header = fk_frames::header_from_model(model, &format!("{} workspace", model.name));
-    header
-        .metadata
-        .push(("workspace_tool".into(), r.tool.clone()));
+    use armsim::recording::{rerun_out, Header, PointCloud, Recording};
+    let source = std::path::Path::new(&model.source);
+    let spec = Model::read_spec(source).map_err(|e| e.to_string())?;
+    let (mut header, robot_tf) =
+        Header::for_model(format!("{} workspace", model.name), source, model, &spec);
+    header.metadata = vec![
+        ("robot".into(), model.name.clone()),
+        ("model_source".into(), model.source.clone()),
+        ("workspace_tool".into(), r.tool.clone()),
+    ];
     let mut data = Data::new(model);
-    let frame = fk_frames::frame_from_state(model, &mut data, 0.0, &model.neutral(), &[], &[]);
+    let frame = robot_tf.frame_at(model, &mut data, 0.0, &model.neutral(), &[], &[]);
     let cloud = PointCloud {
         t: 0.0,
         frame: "world".into(),
@@ -1447,10 +1452,9 @@ fn workspace_rerun(
         clouds: vec![cloud],
         ..Default::default()
     };
-    let spec = Model::read_spec(std::path::Path::new(&model.source)).ok();
     let report = rerun_out::log_recording(
         &rec,
-        spec.as_ref(),
+        Some(&spec),
         None,
         &rerun_out::RerunSink::Save(path.to_path_buf()),
     )

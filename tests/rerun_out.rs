@@ -8,10 +8,10 @@ mod common;
 use armsim::data::Data;
 use armsim::dynamics::rnea;
 use armsim::model::Model;
-use armsim::recording::fk_frames::{frame_from_state, header_from_model};
 use armsim::recording::rerun_out::{
     colormap, link_entity, log_recording, log_workspace, path, RerunError, RerunSink,
 };
+use armsim::recording::Header;
 use armsim::recording::{CollisionEvent, PointCloud, Recording, TorqueRow};
 use armsim::workspace::{sample_workspace, WorkspaceOptions};
 use rerun::components::{Position3D, RotationQuat, Translation3D};
@@ -36,8 +36,11 @@ fn tmp_dir(tag: &str) -> PathBuf {
 /// A smooth motion around the neutral pose with RNEA torques, a workspace cloud with
 /// manipulability, one collision event and a torque-check table.
 fn recording(model: &Model, name: &str) -> Recording {
+    let source = std::path::Path::new(&model.source);
+    let spec = Model::read_spec(source).unwrap();
+    let (header, robot_tf) = Header::for_model(name, source, model, &spec);
     let mut rec = Recording {
-        header: header_from_model(model, name),
+        header,
         ..Default::default()
     };
     let mut data = Data::new(model);
@@ -55,7 +58,7 @@ fn recording(model: &Model, name: &str) -> Recording {
             .collect();
         let tau = rnea(model, &mut data, &q, &qd, &qdd, &model.gravity, None).to_vec();
         rec.frames
-            .push(frame_from_state(model, &mut data, t, &q, &qd, &tau));
+            .push(robot_tf.frame_at(model, &mut data, t, &q, &qd, &tau));
     }
     let ws = sample_workspace(
         model,

@@ -8,7 +8,6 @@
 //! interrupted run still leaves a valid file.
 
 pub mod error;
-pub mod fk_frames;
 pub mod interrupt;
 pub mod mcap_in;
 pub mod mcap_out;
