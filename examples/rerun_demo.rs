@@ -9,9 +9,8 @@
 use armsim::data::Data;
 use armsim::dynamics::rnea;
 use armsim::model::Model;
-use armsim::recording::fk_frames::{frame_from_state, header_from_model};
 use armsim::recording::rerun_out::{log_recording, RerunSink};
-use armsim::recording::{CollisionEvent, PointCloud, Recording};
+use armsim::recording::{CollisionEvent, Header, PointCloud, Recording};
 use armsim::workspace::{sample_workspace, WorkspaceOptions};
 use std::path::Path;
 use std::process::ExitCode;
@@ -19,8 +18,14 @@ use std::process::ExitCode;
 fn run(model_path: &str, target: &str) -> Result<(), String> {
     let (model, _) = Model::load(model_path).map_err(|e| e.to_string())?;
     let spec = Model::read_spec(Path::new(model_path)).map_err(|e| e.to_string())?;
+    let (header, robot_tf) = Header::for_model(
+        format!("{} demo", model.name),
+        Path::new(model_path),
+        &model,
+        &spec,
+    );
     let mut rec = Recording {
-        header: header_from_model(&model, &format!("{} demo", model.name)),
+        header,
         ..Default::default()
     };
     let mut data = Data::new(&model);
@@ -34,7 +39,7 @@ fn run(model_path: &str, target: &str) -> Result<(), String> {
         let qdd: Vec<f64> = (0..n).map(|i| -0.5 * w * w * ph(i).sin()).collect();
         let tau = rnea(&model, &mut data, &q, &qd, &qdd, &model.gravity, None).to_vec();
         rec.frames
-            .push(frame_from_state(&model, &mut data, t, &q, &qd, &tau));
+            .push(robot_tf.frame_at(&model, &mut data, t, &q, &qd, &tau));
     }
     let ws = sample_workspace(
         &model,
