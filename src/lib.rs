@@ -24,6 +24,7 @@ pub mod io;
 pub mod kinematics;
 pub mod mechanism;
 pub mod model;
+pub mod planning;
 pub mod recording;
 pub mod scenario;
 pub mod sim;
