@@ -3,3 +3,18 @@
 //! simplification; MoveIt planning scenes/requests and SRDF self-collision pairs as input.
 //!
 //! Layer: above `model` and `kinematics`, beside `collision` and `trajectory`.
+
+pub mod checker;
+pub mod environment;
+pub mod lanes;
+pub mod planner;
+pub mod rrt;
+pub mod sampler;
+pub mod self_pairs;
+pub mod simd;
+pub mod simplify;
+pub mod spheres;
+pub mod spherize;
+
+pub use checker::{CheckOptions, CheckScratch, Checker};
+pub use planner::{PlanOptions, PlanResult, PlanStatus, Planner};

@@ -1,0 +1,536 @@
+//! The vectorised collision checker: eight configurations at once, forward kinematics of
+//! the sphere centres and sphere–obstacle and sphere–sphere tests in f32 lanes.
+//!
+//! **Configurations.** [`Checker::lanes_hit`] computes the body poses for eight
+//! configurations (one per lane) down the tree, places each link's bounding sphere, tests it
+//! against each obstacle, and only where a lane overlaps tests the link's own spheres; then
+//! the enabled self-collision link pairs, bounding spheres first. The result is the mask
+//! of lanes in collision.
+//!
+//! **Edges, continuously.** An edge `a → b` is cut into `n = ⌈‖b − a‖ · resolution⌉`
+//! intervals of half-width `h = 1/(2n)` in the parameter `t`. The check at an interval's
+//! centre with every sphere inflated by `e_s = v_s h − tol` covers the whole interval: by
+//! the motion bound of [`super::spheres`], over the interval no centre moves further than
+//! `v_s h` from where it was checked, with `v_s = Σ_k |b_k − a_k| ρ_{s,k}`; so nothing
+//! penetrates by more than `tol`. Intervals are visited in *rake* order (lane `ℓ` takes
+//! intervals `ℓm, ℓm + 1, …`, `m = ⌈n/8⌉`), so a collision anywhere on the edge shows up in
+//! the first batches. An interval whose inflated check fails is checked exactly at its
+//! centre (a hit there is a real collision: the edge is invalid); otherwise it is split
+//! into two halves with half the inflation, until the inflation is gone, when a hit is
+//! real. Near obstacles the subdivision goes deep only where it has to.
+//!
+//! **Dispatch.** The entry points run an AVX2+FMA copy of the code when the CPU has them
+//! (detected once at construction) and the baseline SSE2 copy otherwise; both are the same
+//! source, inlined into two `#[target_feature]` wrappers.
+
+use super::environment::Environment;
+use super::lanes::{Mask, P3m, Pose, PoseM, L, N, P3};
+#[cfg(target_arch = "x86_64")]
+use super::simd::{Avx2, Sse2};
+use super::simd::{Scalar, Simd, W};
+use super::spheres::SphereModel;
+use crate::model::{Model, WORLD};
+
+/// One body of the kinematic tree in f32.
+#[derive(Clone, Copy, Debug)]
+struct Body {
+    parent: usize,
+    rot: [[f32; 3]; 3],
+    rot_identity: bool,
+    trans: [f32; 3],
+    axis: usize,
+    revolute: bool,
+    q_index: usize,
+    mult: f32,
+    offset: f32,
+}
+
+/// Settings of the checker.
+#[derive(Clone, Copy, Debug)]
+pub struct CheckOptions {
+    /// Edge intervals per unit of joint-space distance (the coarse level; finer where
+    /// needed).
+    pub resolution: f32,
+    /// Penetration the continuous check allows (m); the exact checks allow none.
+    pub tolerance: f32,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        Self {
+            resolution: 32.0,
+            tolerance: 5e-5,
+        }
+    }
+}
+
+/// Reusable buffers of one thread's checks (no allocation once warm).
+#[derive(Clone, Debug, Default)]
+pub struct CheckScratch {
+    poses: Vec<PoseM>,
+    centers: Vec<P3m>,
+    bounds: Vec<P3m>,
+    speed: Vec<f32>,
+    link_speed: Vec<f32>,
+    stack: Vec<(f32, f32)>,
+    q: Vec<L>,
+    /// Edge checks done.
+    pub edges: u64,
+    /// Batches of eight configurations checked.
+    pub batches: u64,
+}
+
+/// The robot's spheres, the obstacles, the self-collision pairs and the f32 kinematics.
+#[derive(Clone, Debug)]
+pub struct Checker {
+    bodies: Vec<Body>,
+    /// The robot's spheres.
+    pub spheres: SphereModel,
+    /// The obstacles.
+    pub env: Environment,
+    /// Link-group pairs checked for self-collision.
+    pub self_pairs: Vec<(usize, usize)>,
+    /// Per link group, the obstacles its bounding sphere can ever reach.
+    reachable: Vec<Vec<usize>>,
+    /// Settings.
+    pub opts: CheckOptions,
+    #[cfg(target_arch = "x86_64")]
+    avx2: Option<Avx2>,
+}
+
+impl Checker {
+    /// A checker for `model` with its sphere model, obstacles and self pairs.
+    pub fn new(
+        model: &Model,
+        spheres: SphereModel,
+        env: Environment,
+        self_pairs: Vec<(usize, usize)>,
+        opts: CheckOptions,
+    ) -> Checker {
+        let f = |x: f64| x as f32;
+        let bodies = (0..model.nbodies())
+            .map(|i| {
+                let p = &model.placement[i];
+                Body {
+                    parent: model.parent[i],
+                    rot: [0, 1, 2].map(|r| [0, 1, 2].map(|c| f(p.rot[(r, c)]))),
+                    rot_identity: model.placement_identity[i],
+                    trans: [f(p.trans.x), f(p.trans.y), f(p.trans.z)],
+                    axis: model.kind[i].axis_index(),
+                    revolute: model.kind[i].is_revolute(),
+                    q_index: model.q_index[i],
+                    mult: f(model.q_mult[i]),
+                    offset: f(model.q_offset[i]),
+                }
+            })
+            .collect();
+        let reachable = reachable_obstacles(model, &spheres, &env);
+        Checker {
+            bodies,
+            spheres,
+            env,
+            self_pairs,
+            reachable,
+            opts,
+            #[cfg(target_arch = "x86_64")]
+            avx2: Avx2::detect(),
+        }
+    }
+
+    /// Number of coordinates.
+    pub fn nv(&self) -> usize {
+        self.spheres.nv
+    }
+
+    /// Fresh scratch buffers sized for this checker.
+    pub fn scratch(&self) -> CheckScratch {
+        let mut s = CheckScratch {
+            poses: vec![PoseM::default(); self.bodies.len()],
+            centers: vec![P3m::default(); self.spheres.len()],
+            bounds: vec![P3m::default(); self.spheres.links.len()],
+            speed: vec![0.0; self.spheres.len()],
+            link_speed: vec![0.0; self.spheres.links.len()],
+            stack: Vec::with_capacity(256),
+            q: vec![L::splat(0.0); self.nv()],
+            ..Default::default()
+        };
+        s.stack.clear();
+        s
+    }
+
+    /// Whether configuration `q` is free (exact spheres, no inflation).
+    pub fn config_free(&self, q: &[f32], s: &mut CheckScratch) -> bool {
+        for (k, lane) in s.q.iter_mut().enumerate() {
+            *lane = L::splat(q[k]);
+        }
+        s.speed.iter_mut().for_each(|v| *v = 0.0);
+        s.link_speed.iter_mut().for_each(|v| *v = 0.0);
+        let mut qs = std::mem::take(&mut s.q);
+        let (hit, _) = self.dispatch_lanes(&qs, L::splat(0.0), s);
+        std::mem::swap(&mut s.q, &mut qs);
+        hit == 0
+    }
+
+    /// Whether the straight edge `a → b` is free, continuously (see the module docs).
+    pub fn edge_free(&self, a: &[f32], b: &[f32], s: &mut CheckScratch) -> bool {
+        s.edges += 1;
+        #[cfg(target_arch = "x86_64")]
+        {
+            if let Some(tok) = self.avx2 {
+                // SAFETY: the token proves the CPU has AVX2 and FMA.
+                return unsafe { edge_free_avx2(self, tok, a, b, s) };
+            }
+            self.edge_free_impl(Sse2::new(), a, b, s)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.edge_free_impl(Scalar, a, b, s)
+    }
+
+    fn dispatch_lanes(&self, q: &[L], h: L, s: &mut CheckScratch) -> (Mask, Mask) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if let Some(tok) = self.avx2 {
+                // SAFETY: the token proves the CPU has AVX2 and FMA.
+                return unsafe { lanes_hit_avx2(self, tok, q, h, s) };
+            }
+            self.lanes_hit(Sse2::new(), q, h, s)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.lanes_hit(Scalar, q, h, s)
+    }
+
+    #[inline(always)]
+    fn edge_free_impl<S: Simd>(&self, tok: S, a: &[f32], b: &[f32], s: &mut CheckScratch) -> bool {
+        let nv = self.nv();
+        let mut dist2 = 0.0f32;
+        for k in 0..nv {
+            dist2 += (b[k] - a[k]) * (b[k] - a[k]);
+        }
+        self.edge_speeds(a, b, s);
+        let n = ((dist2.sqrt() * self.opts.resolution).ceil() as usize).max(1);
+        let h0 = 0.5 / n as f32;
+        let m = n.div_ceil(N);
+        let mut qs = std::mem::take(&mut s.q);
+        s.stack.clear();
+        let mut ok = true;
+        // Coarse pass in rake order; an exact hit ends it, inflated-only hits wait.
+        for i in 0..m {
+            let mut t = [0.0f32; N];
+            let mut valid: Mask = 0;
+            for (l, tl) in t.iter_mut().enumerate() {
+                let k = l * m + i;
+                valid |= Mask::from(k < n) << l;
+                *tl = (k.min(n - 1) as f32 + 0.5) / n as f32;
+            }
+            let (exact, inflated) = self.lerp_lanes_hit(tok, a, b, &t, &[h0; N], &mut qs, s);
+            if exact & valid != 0 {
+                ok = false;
+                break;
+            }
+            for (l, &tl) in t.iter().enumerate() {
+                if inflated & valid & (1 << l) != 0 {
+                    s.stack.push((tl, h0));
+                }
+            }
+        }
+        ok = ok && self.refine(tok, a, b, &mut qs, s);
+        std::mem::swap(&mut s.q, &mut qs);
+        ok
+    }
+
+    /// Works through the stack of intervals `(t, h)` whose inflated check failed but whose
+    /// centre is free: their two halves are checked with half the inflation, eight at a
+    /// time. False on a real (exact) hit.
+    #[inline(always)]
+    fn refine<S: Simd>(
+        &self,
+        tok: S,
+        a: &[f32],
+        b: &[f32],
+        qs: &mut [L],
+        s: &mut CheckScratch,
+    ) -> bool {
+        while !s.stack.is_empty() {
+            let mut t = [0.0f32; N];
+            let mut h = [0.0f32; N];
+            let mut lanes = 0;
+            while lanes + 2 <= N && !s.stack.is_empty() {
+                let (tc, hc) = s.stack.pop().unwrap_or_default();
+                let hh = 0.5 * hc;
+                if hh < 1e-7 {
+                    // Subdivided to nothing without an exact hit: refuse, conservatively.
+                    return false;
+                }
+                t[lanes] = tc - hh;
+                t[lanes + 1] = tc + hh;
+                h[lanes] = hh;
+                h[lanes + 1] = hh;
+                lanes += 2;
+            }
+            for l in lanes..N {
+                t[l] = t[0];
+                h[l] = h[0];
+            }
+            let (exact, inflated) = self.lerp_lanes_hit(tok, a, b, &t, &h, qs, s);
+            if exact != 0 {
+                return false;
+            }
+            for l in 0..lanes {
+                if inflated & (1 << l) != 0 {
+                    s.stack.push((t[l], h[l]));
+                }
+            }
+        }
+        true
+    }
+
+    /// Per-sphere and per-link speed bounds `v = Σ_k |b_k − a_k| ρ_k` of the edge.
+    #[inline(always)]
+    fn edge_speeds(&self, a: &[f32], b: &[f32], s: &mut CheckScratch) {
+        let nv = self.nv();
+        let sm = &self.spheres;
+        for (i, v) in s.speed.iter_mut().enumerate() {
+            let rho = &sm.rho[i * nv..(i + 1) * nv];
+            *v = (0..nv).map(|k| (b[k] - a[k]).abs() * rho[k]).sum();
+        }
+        for (g, v) in s.link_speed.iter_mut().enumerate() {
+            let rho = &sm.link_rho[g * nv..(g + 1) * nv];
+            *v = (0..nv).map(|k| (b[k] - a[k]).abs() * rho[k]).sum();
+        }
+    }
+
+    /// Hits at `a + t (b − a)` per lane, spheres inflated for half-widths `h`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn lerp_lanes_hit<S: Simd>(
+        &self,
+        tok: S,
+        a: &[f32],
+        b: &[f32],
+        t: &[f32; N],
+        h: &[f32; N],
+        qs: &mut [L],
+        s: &mut CheckScratch,
+    ) -> (Mask, Mask) {
+        for (k, lane) in qs.iter_mut().enumerate() {
+            let d = b[k] - a[k];
+            for l in 0..N {
+                lane.0[l] = a[k] + t[l] * d;
+            }
+        }
+        s.batches += 1;
+        self.lanes_hit(tok, qs, L(*h), s)
+    }
+
+    /// Collision masks `(exact, inflated)` of eight configurations `q` (one `L` per
+    /// coordinate): `exact` with the spheres as they are, `inflated` with sphere `i` grown by
+    /// `max(speed_i · h − tol, 0)` per lane. Returns at the first exact hit (the masks are
+    /// then partial).
+    #[inline(always)]
+    pub(crate) fn lanes_hit<S: Simd>(
+        &self,
+        tok: S,
+        q: &[L],
+        h: L,
+        s: &mut CheckScratch,
+    ) -> (Mask, Mask) {
+        let sm = &self.spheres;
+        let h = tok.load(&h);
+        let tol = tok.splat(self.opts.tolerance);
+        let zero = tok.splat(0.0);
+        let inflate = |v: f32| (tok.splat(v) * h - tol).max(zero);
+        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        let (mut exact, mut inflated): (Mask, Mask) = (0, 0);
+        let mut g = 0;
+        for bi in 0..=self.bodies.len() {
+            // Groups on the world (bi == 0) come first, then those on body bi − 1.
+            let (body, pose) = if bi == 0 {
+                (WORLD, Pose::splat(tok, &identity, &[0.0; 3]))
+            } else {
+                let pose = self.body_pose(tok, bi - 1, q, &s.poses);
+                s.poses[bi - 1] = pose.store();
+                (bi - 1, pose)
+            };
+            while g < sm.links.len() && sm.links[g].body == body {
+                let ls = &sm.links[g];
+                for i in ls.first..ls.end {
+                    s.centers[i] = pose.act(tok, &sm.spheres[i].center).store();
+                }
+                let bc = pose.act(tok, &ls.bound.center);
+                s.bounds[g] = bc.store();
+                let br = tok.splat(ls.bound.radius) + inflate(s.link_speed[g]);
+                for &o in &self.reachable[g] {
+                    let ob = &self.env.obstacles[o];
+                    if ob.near(tok, &bc, br) == 0 || ob.overlaps(tok, &bc, br) == 0 {
+                        continue;
+                    }
+                    for i in ls.first..ls.end {
+                        let r = tok.splat(sm.spheres[i].radius);
+                        let c = P3::load(tok, &s.centers[i]);
+                        let m = ob.overlaps(tok, &c, r + inflate(s.speed[i]));
+                        if m != 0 {
+                            inflated |= m;
+                            exact |= ob.overlaps(tok, &c, r);
+                        }
+                    }
+                    if exact != 0 {
+                        return (exact, inflated);
+                    }
+                }
+                g += 1;
+            }
+        }
+        for &(ga, gb) in &self.self_pairs {
+            let (e, i) = self.pair_hit(tok, ga, gb, &inflate, s);
+            exact |= e;
+            inflated |= i;
+            if exact != 0 {
+                return (exact, inflated);
+            }
+        }
+        (exact, inflated)
+    }
+
+    /// Masks `(exact, inflated)` where link groups `ga` and `gb` overlap (bounding spheres
+    /// first).
+    #[inline(always)]
+    fn pair_hit<S: Simd>(
+        &self,
+        tok: S,
+        ga: usize,
+        gb: usize,
+        inflate: &impl Fn(f32) -> W<S>,
+        s: &CheckScratch,
+    ) -> (Mask, Mask) {
+        let sm = &self.spheres;
+        let (la, lb) = (&sm.links[ga], &sm.links[gb]);
+        let ca = P3::load(tok, &s.bounds[ga]);
+        let cb = P3::load(tok, &s.bounds[gb]);
+        let rr = tok.splat(la.bound.radius + lb.bound.radius)
+            + inflate(s.link_speed[ga])
+            + inflate(s.link_speed[gb]);
+        if ca.dist2(&cb).lt(rr * rr) == 0 {
+            return (0, 0);
+        }
+        let (mut exact, mut inflated) = (0, 0);
+        for i in la.first..la.end {
+            let ri = tok.splat(sm.spheres[i].radius);
+            let ei = inflate(s.speed[i]);
+            let ci = P3::load(tok, &s.centers[i]);
+            for j in lb.first..lb.end {
+                let cj = P3::load(tok, &s.centers[j]);
+                let r = ri + tok.splat(sm.spheres[j].radius);
+                let d2 = ci.dist2(&cj);
+                let rinf = r + ei + inflate(s.speed[j]);
+                let m = d2.lt(rinf * rinf);
+                if m != 0 {
+                    inflated |= m;
+                    exact |= d2.lt(r * r);
+                }
+            }
+        }
+        (exact, inflated)
+    }
+
+    /// `oM_parent · placement · J(q)` of body `i` in every lane.
+    #[inline(always)]
+    fn body_pose<S: Simd>(&self, tok: S, i: usize, q: &[L], poses: &[PoseM]) -> Pose<S> {
+        let b = &self.bodies[i];
+        let qi = tok
+            .load(&q[b.q_index])
+            .mul_add(tok.splat(b.mult), tok.splat(b.offset));
+        let mut out = if b.parent == WORLD {
+            Pose::splat(tok, &b.rot, &b.trans)
+        } else {
+            let p = Pose::load(tok, &poses[b.parent]);
+            let t = p.act(tok, &b.trans);
+            let r = if b.rot_identity {
+                p.r
+            } else {
+                let mut r = p.r;
+                for (row, rr) in r.iter_mut().enumerate() {
+                    for (col, x) in rr.iter_mut().enumerate() {
+                        *x = p.r[row][0].mul_add(
+                            tok.splat(b.rot[0][col]),
+                            p.r[row][1].mul_add(
+                                tok.splat(b.rot[1][col]),
+                                p.r[row][2] * tok.splat(b.rot[2][col]),
+                            ),
+                        );
+                    }
+                }
+                r
+            };
+            Pose { r, t }
+        };
+        if b.revolute {
+            let (sn, cs) = qi.sin_cos();
+            let (ci, cj) = match b.axis {
+                0 => (1, 2),
+                1 => (2, 0),
+                _ => (0, 1),
+            };
+            for row in 0..3 {
+                let (x, y) = (out.r[row][ci], out.r[row][cj]);
+                out.r[row][ci] = cs.mul_add(x, sn * y);
+                out.r[row][cj] = cs.mul_add(y, -(sn * x));
+            }
+        } else {
+            let k = b.axis;
+            out.t.x = out.r[0][k].mul_add(qi, out.t.x);
+            out.t.y = out.r[1][k].mul_add(qi, out.t.y);
+            out.t.z = out.r[2][k].mul_add(qi, out.t.z);
+        }
+        out
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn edge_free_avx2(
+    c: &Checker,
+    tok: Avx2,
+    a: &[f32],
+    b: &[f32],
+    s: &mut CheckScratch,
+) -> bool {
+    c.edge_free_impl(tok, a, b, s)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn lanes_hit_avx2(
+    c: &Checker,
+    tok: Avx2,
+    q: &[L],
+    h: L,
+    s: &mut CheckScratch,
+) -> (Mask, Mask) {
+    c.lanes_hit(tok, q, h, s)
+}
+
+/// Per link group, the obstacles within reach of its bounding sphere in any configuration:
+/// the group's bound swept about the first movable body's origin (a sphere of radius
+/// `|o − c| + r` around the chain root). Groups on the world are tested statically.
+fn reachable_obstacles(model: &Model, sm: &SphereModel, env: &Environment) -> Vec<Vec<usize>> {
+    let centers = sm.world_centers(model, &vec![0.0; model.nv]);
+    sm.links
+        .iter()
+        .map(|ls| {
+            (0..env.len())
+                .filter(|&o| {
+                    if ls.body != WORLD {
+                        return true;
+                    }
+                    // A fixed link: does any of its spheres touch the obstacle at all?
+                    let ob = &env.obstacles[o];
+                    (ls.first..ls.end).any(|i| {
+                        let c = centers[i];
+                        let p = P3::splat(Scalar, &[c.x as f32, c.y as f32, c.z as f32]);
+                        ob.overlaps(Scalar, &p, Scalar.splat(sm.spheres[i].radius)) != 0
+                    })
+                })
+                .collect()
+        })
+        .collect()
+}

@@ -1,0 +1,163 @@
+//! The planning environment: exact obstacle primitives in f32, and the lane test "does a
+//! sphere (one per lane) overlap this obstacle".
+//!
+//! Each test is the closed-form distance from the sphere centre to the solid, compared
+//! with the radius (squared, no square root where it can be avoided):
+//! - sphere: `|c − o|² < (r + R)²`;
+//! - box: `p = Rᵀ(c − o)`, `d_i = max(|p_i| − h_i, 0)`, `|d|² < r²` (zero inside);
+//! - cylinder along its z: `d_ρ = max(√(p_x² + p_y²) − R, 0)`, `d_z = max(|p_z| − h, 0)`,
+//!   `d_ρ² + d_z² < r²` (the point-to-rectangle distance in the plane through the axis);
+//! - capsule along its z: `p_z` clamped to `[−h, h]`, `|p − (0, 0, z)|² < (r + R)²`.
+//!
+//! Touching counts as free (strict `<`), as in the dense re-check of the tests.
+
+use super::lanes::{Mask, P3};
+use super::simd::{Simd, W};
+use crate::collision::Obstacle;
+use crate::model::Shape;
+
+/// Shape of an [`EnvObstacle`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EnvShape {
+    /// Sphere of this radius.
+    Sphere(f32),
+    /// Box with these half extents.
+    Box([f32; 3]),
+    /// Cylinder along local z: radius, half length.
+    Cylinder(f32, f32),
+    /// Capsule along local z: radius, half length of the segment.
+    Capsule(f32, f32),
+}
+
+/// An obstacle as the checker uses it.
+#[derive(Clone, Debug)]
+pub struct EnvObstacle {
+    /// Shape in its frame.
+    pub shape: EnvShape,
+    /// World position of its frame.
+    pub center: [f32; 3],
+    /// `Rᵀ` (world → obstacle frame), row-major.
+    pub rot_t: [[f32; 3]; 3],
+    /// Radius of a sphere about `center` containing the obstacle.
+    pub bound: f32,
+}
+
+/// Obstacles, with their names for reports.
+#[derive(Clone, Debug, Default)]
+pub struct Environment {
+    /// The obstacles.
+    pub obstacles: Vec<EnvObstacle>,
+    /// Their names.
+    pub names: Vec<String>,
+}
+
+impl Environment {
+    /// Converts obstacles; meshes are refused with the obstacle's name.
+    pub fn new(obstacles: &[Obstacle]) -> Result<Environment, String> {
+        let mut env = Environment::default();
+        for o in obstacles {
+            env.push(o)?;
+        }
+        Ok(env)
+    }
+
+    /// Adds one obstacle.
+    pub fn push(&mut self, o: &Obstacle) -> Result<(), String> {
+        let f = |x: f64| x as f32;
+        let (shape, bound) = match &o.shape {
+            Shape::Sphere { radius } => (EnvShape::Sphere(f(*radius)), *radius),
+            Shape::Box { size } => {
+                let h = size.map(|s| s / 2.0);
+                let b = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
+                (EnvShape::Box(h.map(f)), b)
+            }
+            Shape::Cylinder { radius, length } => (
+                EnvShape::Cylinder(f(*radius), f(length / 2.0)),
+                (radius * radius + length * length / 4.0).sqrt(),
+            ),
+            Shape::Capsule { radius, length } => (
+                EnvShape::Capsule(f(*radius), f(length / 2.0)),
+                radius + length / 2.0,
+            ),
+            Shape::Mesh { uri, .. } => {
+                return Err(format!(
+                    "obstacle '{}': mesh obstacles ('{uri}') are not supported by the planner; \
+                     use boxes, spheres, cylinders or capsules",
+                    o.name
+                ))
+            }
+        };
+        let r = o.pose.rot;
+        let t = o.pose.trans;
+        self.obstacles.push(EnvObstacle {
+            shape,
+            center: [f(t.x), f(t.y), f(t.z)],
+            rot_t: [
+                [f(r[(0, 0)]), f(r[(1, 0)]), f(r[(2, 0)])],
+                [f(r[(0, 1)]), f(r[(1, 1)]), f(r[(2, 1)])],
+                [f(r[(0, 2)]), f(r[(1, 2)]), f(r[(2, 2)])],
+            ],
+            bound: (bound * (1.0 + 1e-6)) as f32,
+        });
+        self.names.push(o.name.clone());
+        Ok(())
+    }
+
+    /// Number of obstacles.
+    pub fn len(&self) -> usize {
+        self.obstacles.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.obstacles.is_empty()
+    }
+}
+
+impl EnvObstacle {
+    /// Lanes where the sphere `(c, r)` overlaps the obstacle.
+    #[inline(always)]
+    pub fn overlaps<S: Simd>(&self, tok: S, c: &P3<S>, r: W<S>) -> Mask {
+        let o = &self.center;
+        let dx = c.x - tok.splat(o[0]);
+        let dy = c.y - tok.splat(o[1]);
+        let dz = c.z - tok.splat(o[2]);
+        let local = |k: usize| {
+            let m = &self.rot_t[k];
+            tok.splat(m[0])
+                .mul_add(dx, tok.splat(m[1]).mul_add(dy, tok.splat(m[2]) * dz))
+        };
+        let zero = tok.splat(0.0);
+        match self.shape {
+            EnvShape::Sphere(rad) => {
+                let rr = r + tok.splat(rad);
+                W::norm2(dx, dy, dz).lt(rr * rr)
+            }
+            EnvShape::Box(h) => {
+                let ex = (local(0).abs() - tok.splat(h[0])).max(zero);
+                let ey = (local(1).abs() - tok.splat(h[1])).max(zero);
+                let ez = (local(2).abs() - tok.splat(h[2])).max(zero);
+                W::norm2(ex, ey, ez).lt(r * r)
+            }
+            EnvShape::Cylinder(rad, h) => {
+                let (px, py) = (local(0), local(1));
+                let er = (px.mul_add(px, py * py).sqrt() - tok.splat(rad)).max(zero);
+                let ez = (local(2).abs() - tok.splat(h)).max(zero);
+                er.mul_add(er, ez * ez).lt(r * r)
+            }
+            EnvShape::Capsule(rad, h) => {
+                let pz = local(2);
+                let z = pz.max(tok.splat(-h)).min(tok.splat(h));
+                let rr = r + tok.splat(rad);
+                W::norm2(local(0), local(1), pz - z).lt(rr * rr)
+            }
+        }
+    }
+
+    /// Lanes where the sphere `(c, r)` overlaps the obstacle's bounding sphere.
+    #[inline(always)]
+    pub fn near<S: Simd>(&self, tok: S, c: &P3<S>, r: W<S>) -> Mask {
+        let rr = r + tok.splat(self.bound);
+        c.dist2(&P3::splat(tok, &self.center)).lt(rr * rr)
+    }
+}

@@ -1,0 +1,238 @@
+//! The robot's collision model for planning: spheres per link, in the frame of the body
+//! that carries them, with a bounding sphere per link and the motion-bound coefficients of
+//! continuous checking.
+//!
+//! **Sources.** A link's `<collision>` spheres are taken as given (the spherized Panda and
+//! UR5 of the benchmark); boxes, cylinders and capsules are covered by
+//! [`super::spherize::cover`] with overshoot at most [`SphereOptions::max_overshoot`].
+//! Meshes are not spherized here: a link whose only geometry is a mesh is reported in
+//! [`SphereModel::warnings`] and left unchecked (give the scenario a `skeleton_radius`, or
+//! use a spherized URDF).
+//!
+//! **Motion bound.** Along a straight joint-space segment, the centre `c` of a sphere on
+//! body `b` moves with speed `‖ċ‖ ≤ Σ_k |q̇_k| ρ_k`, the sum over the movable ancestors `k`
+//! of `b` (itself included): a revolute joint moves `c` at `|q̇_k| · dist(c, axis_k)` and
+//! `dist(c, axis_k) ≤ |c − o_k| ≤ Σ_{m ∈ k→b, m ≠ k} |t_m| + |p|`, the chain of placement
+//! translations `t_m` down to the body and the centre's offset `p` in the body frame
+//! (triangle inequality, whatever the configuration); a prismatic joint moves it at
+//! `|q̇_k|`. Mimic bodies add `|multiplier| ρ_k` to their master's coordinate.
+//! [`SphereModel::rho`] stores, per sphere, these coefficients per coordinate.
+
+use super::spherize::{cover, Primitive};
+use crate::model::{Model, Shape, WORLD};
+use crate::spatial::{Se3, Vec3};
+
+/// How to build the sphere model.
+#[derive(Clone, Debug)]
+pub struct SphereOptions {
+    /// Largest distance a generated sphere may reach outside the primitive it covers (m).
+    pub max_overshoot: f64,
+}
+
+impl Default for SphereOptions {
+    fn default() -> Self {
+        Self {
+            max_overshoot: 0.01,
+        }
+    }
+}
+
+/// One collision sphere.
+#[derive(Clone, Copy, Debug)]
+pub struct Sphere {
+    /// Centre in the frame of the carrying body (the world for world-fixed links).
+    pub center: [f32; 3],
+    /// Radius (m).
+    pub radius: f32,
+}
+
+/// The spheres of one link.
+#[derive(Clone, Debug)]
+pub struct LinkSpheres {
+    /// Link index in the model.
+    pub link: usize,
+    /// Carrying body, or [`WORLD`].
+    pub body: usize,
+    /// Index range into [`SphereModel::spheres`].
+    pub first: usize,
+    /// One past the last sphere.
+    pub end: usize,
+    /// Bounding sphere of the link's spheres, in the body frame.
+    pub bound: Sphere,
+}
+
+/// Spheres of every link, grouped by link, groups ordered by carrying body.
+#[derive(Clone, Debug)]
+pub struct SphereModel {
+    /// All spheres.
+    pub spheres: Vec<Sphere>,
+    /// Groups, world-fixed links first, then by body.
+    pub links: Vec<LinkSpheres>,
+    /// `rho[s * nv + k]`: the speed bound of sphere `s` per unit rate of coordinate `k`.
+    pub rho: Vec<f32>,
+    /// Per link group, the largest `rho` per coordinate over its spheres (`links.len() × nv`).
+    pub link_rho: Vec<f32>,
+    /// Number of coordinates.
+    pub nv: usize,
+    /// Links left without spheres, with the reason.
+    pub warnings: Vec<String>,
+}
+
+impl SphereModel {
+    /// Builds the sphere model of `model`'s collision geometry.
+    pub fn new(model: &Model, opts: &SphereOptions) -> SphereModel {
+        let mut order: Vec<usize> = (0..model.links.len()).collect();
+        order.sort_by_key(|&l| match model.links[l].body {
+            WORLD => 0,
+            b => b + 1,
+        });
+        let mut spheres = Vec::new();
+        let mut links = Vec::new();
+        let mut warnings = Vec::new();
+        for l in order {
+            let link = &model.links[l];
+            let first = spheres.len();
+            for g in &link.collisions {
+                let prim = match &g.shape {
+                    Shape::Sphere { radius } => Primitive::Sphere(*radius),
+                    Shape::Box { size } => Primitive::Box(size.map(|s| s / 2.0)),
+                    Shape::Cylinder { radius, length } => {
+                        Primitive::Cylinder(*radius, length / 2.0)
+                    }
+                    Shape::Capsule { radius, length } => Primitive::Capsule(*radius, length / 2.0),
+                    Shape::Mesh { uri, .. } => {
+                        warnings.push(format!(
+                            "link '{}': mesh '{uri}' is not spherized; the planner does not check it",
+                            link.name
+                        ));
+                        continue;
+                    }
+                };
+                let to_body = link.offset.mul(&g.origin);
+                for (c, r) in cover(&prim, opts.max_overshoot) {
+                    let p = to_body.act_point(&Vec3::new(c[0], c[1], c[2]));
+                    spheres.push(Sphere {
+                        center: [p.x as f32, p.y as f32, p.z as f32],
+                        radius: r as f32,
+                    });
+                }
+            }
+            if spheres.len() > first {
+                let bound = bounding_sphere(&spheres[first..]);
+                links.push(LinkSpheres {
+                    link: l,
+                    body: link.body,
+                    first,
+                    end: spheres.len(),
+                    bound,
+                });
+            }
+        }
+        let rho = motion_bounds(model, &links, &spheres);
+        let nv = model.nv;
+        let mut link_rho = vec![0.0f32; links.len() * nv];
+        for (g, ls) in links.iter().enumerate() {
+            for s in ls.first..ls.end {
+                for k in 0..nv {
+                    let v = &mut link_rho[g * nv + k];
+                    *v = v.max(rho[s * nv + k]);
+                }
+            }
+        }
+        SphereModel {
+            spheres,
+            links,
+            rho,
+            link_rho,
+            nv,
+            warnings,
+        }
+    }
+
+    /// Number of spheres.
+    pub fn len(&self) -> usize {
+        self.spheres.len()
+    }
+
+    /// Whether there are no spheres.
+    pub fn is_empty(&self) -> bool {
+        self.spheres.is_empty()
+    }
+
+    /// World-frame centres of every sphere at `q`, in f64 (for reference checks and
+    /// pictures, not the hot path).
+    pub fn world_centers(&self, model: &Model, q: &[f64]) -> Vec<Vec3> {
+        let mut data = crate::data::Data::new(model);
+        crate::kinematics::forward_kinematics(model, &mut data, q);
+        let mut out = vec![Vec3::zeros(); self.spheres.len()];
+        for ls in &self.links {
+            let pose = if ls.body == WORLD {
+                Se3::identity()
+            } else {
+                data.o_m_i[ls.body]
+            };
+            for s in ls.first..ls.end {
+                let c = self.spheres[s].center;
+                out[s] = pose.act_point(&Vec3::new(c[0] as f64, c[1] as f64, c[2] as f64));
+            }
+        }
+        out
+    }
+}
+
+/// A sphere containing `spheres` (centre at the mean of the centres, radius the farthest
+/// reach from it; not minimal, but tight for the elongated clusters of a link).
+fn bounding_sphere(spheres: &[Sphere]) -> Sphere {
+    let n = spheres.len() as f64;
+    let mut c = [0.0f64; 3];
+    for s in spheres {
+        for k in 0..3 {
+            c[k] += s.center[k] as f64 / n;
+        }
+    }
+    let r = spheres
+        .iter()
+        .map(|s| {
+            let d = (0..3)
+                .map(|k| (s.center[k] as f64 - c[k]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            d + s.radius as f64
+        })
+        .fold(0.0, f64::max);
+    Sphere {
+        center: c.map(|x| x as f32),
+        // Rounded up so the f32 bound still contains every f32 sphere.
+        radius: (r * (1.0 + 1e-6) + 1e-7) as f32,
+    }
+}
+
+/// The coefficients `ρ` of the module docs, per sphere and coordinate.
+fn motion_bounds(model: &Model, links: &[LinkSpheres], spheres: &[Sphere]) -> Vec<f32> {
+    let nv = model.nv;
+    let mut rho = vec![0.0f32; spheres.len() * nv];
+    for ls in links {
+        if ls.body == WORLD {
+            continue;
+        }
+        for s in ls.first..ls.end {
+            let c = spheres[s].center;
+            // |c − o_k|, bounded by the chain of placement lengths from k down to the body.
+            let mut reach =
+                ((c[0] as f64).powi(2) + (c[1] as f64).powi(2) + (c[2] as f64).powi(2)).sqrt();
+            let mut b = ls.body;
+            while b != WORLD {
+                let coef = if model.kind[b].is_revolute() {
+                    reach
+                } else {
+                    1.0
+                };
+                let k = model.q_index[b];
+                rho[s * nv + k] += (model.q_mult[b].abs() * coef * (1.0 + 1e-6)) as f32;
+                reach += model.placement[b].trans.norm();
+                b = model.parent[b];
+            }
+        }
+    }
+    rho
+}
