@@ -3,3 +3,7 @@
 //! simplification; MoveIt planning scenes/requests and SRDF self-collision pairs as input.
 //!
 //! Layer: above `model` and `kinematics`, beside `collision` and `trajectory`.
+
+pub mod error;
+pub mod moveit;
+pub mod srdf;
