@@ -369,7 +369,13 @@ fn truncated_yaml_is_refused_at_the_line_it_stops() {
     // Cut inside the flow list `position: [0.308…, 0.839…, …]` of Can1 (line 34).
     let cut = text.find("0.8398608492910964").unwrap();
     let e = parse_scene(&text[..cut], "cut.yaml", &[]).unwrap_err();
-    assert_error(&e, "cut.yaml", 34, "YAML", "did not find expected node content");
+    assert_error(
+        &e,
+        "cut.yaml",
+        34,
+        "YAML",
+        "did not find expected node content",
+    );
     // Cut just after `primitives:` of Can1 (line 36): valid YAML, but the object (from
     // line 33) has lost its id, written after it.
     let cut = text

@@ -240,26 +240,27 @@ fn primitive(doc: &Doc<'_>, prim: &Node, at: &str) -> Result<Shape, PlanningInpu
             ))
         }
     };
-    let (n, what): (usize, &str) =
-        match kind_name.as_str() {
-            "box" => (3, "[x, y, z] (full side lengths)"),
-            "sphere" => (1, "[radius]"),
-            "cylinder" => (2, "[height, radius]"),
-            "cone" | "prism" => return Err(doc.err(
+    let (n, what): (usize, &str) = match kind_name.as_str() {
+        "box" => (3, "[x, y, z] (full side lengths)"),
+        "sphere" => (1, "[radius]"),
+        "cylinder" => (2, "[height, radius]"),
+        "cone" | "prism" => {
+            return Err(doc.err(
                 t,
                 format!("{at}.type"),
                 format!(
                     "{kind_name} primitives are not supported (boxes, spheres and cylinders are)"
                 ),
-            )),
-            other => {
-                return Err(doc.err(
-                    t,
-                    format!("{at}.type"),
-                    format!("unknown primitive type '{other}' (expected box, sphere or cylinder)"),
-                ))
-            }
-        };
+            ))
+        }
+        other => {
+            return Err(doc.err(
+                t,
+                format!("{at}.type"),
+                format!("unknown primitive type '{other}' (expected box, sphere or cylinder)"),
+            ))
+        }
+    };
     let dn = doc.req(prim, at, "dimensions")?;
     let dat = format!("{at}.dimensions");
     let dims = doc.seq(dn, &dat)?;
