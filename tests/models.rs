@@ -223,10 +223,13 @@ fn twenty_thousand_link_chain_loads_without_recursion() {
     assert!((z - 0.1 * 19_999.0).abs() < 1e-9, "{z}");
 }
 
+/// Per link: its name and the `(radius, origin xyz)` of each collision sphere.
+type LinkSpheres = Vec<(String, Vec<(f64, [f64; 3])>)>;
+
 /// Collision spheres per link of a URDF, read independently of armsim's loader: for each
 /// `<link>`, the `(radius, origin xyz)` of every `<collision><geometry><sphere>`, and the
 /// number of collision elements that are not spheres.
-fn collision_spheres(text: &str) -> (Vec<(String, Vec<(f64, [f64; 3])>)>, usize) {
+fn collision_spheres(text: &str) -> (LinkSpheres, usize) {
     let doc = roxmltree::Document::parse(text).expect("XML");
     let nums = |s: &str| -> Vec<f64> { s.split_whitespace().map(|x| x.parse().unwrap()).collect() };
     let mut other = 0;
@@ -343,8 +346,7 @@ fn spherized_panda_has_the_kinematics_of_the_bundled_panda() {
     let mut worst = 0.0f64;
     for _ in 0..200 {
         let q = a.random_q(&mut rng);
-        let mut qb = q.clone();
-        qb.push(0.02);
+        let qb: Vec<f64> = q.iter().copied().chain([0.02]).collect();
         for link in ["panda_link8", "panda_hand"] {
             let d = pose_diff(
                 &tool_pose(&a, &mut da, &q, link),

@@ -177,7 +177,7 @@ fn a_general_quaternion_is_the_rotation_about_its_axis_by_twice_its_angle() {
     let q = [
         -0.0283616206065852,
         0.3818591884381666,
-        0.06842333535374601,
+        0.068_423_335_353_746, // 0.06842333535374601 in the file: the same f64
         0.9212477548743235,
     ];
     let v = Vec3::new(q[0], q[1], q[2]);

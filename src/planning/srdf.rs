@@ -23,6 +23,9 @@ use crate::model::Model;
 use crate::planning::error::{PlanningInputError, PlanningInputWarning};
 use std::path::Path;
 
+/// Two link names.
+pub type NamePair = (String, String);
+
 /// A `<disable_collisions>` or `<enable_collisions>` pair.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct LinkPair {
@@ -84,7 +87,7 @@ pub fn load_srdf(path: impl AsRef<Path>) -> Result<Srdf, PlanningInputError> {
 pub fn load_disabled_pairs(
     path: impl AsRef<Path>,
     model: &Model,
-) -> Result<(Vec<(String, String)>, Vec<PlanningInputWarning>), PlanningInputError> {
+) -> Result<(Vec<NamePair>, Vec<PlanningInputWarning>), PlanningInputError> {
     Ok(load_srdf(path)?.disabled_pairs(model))
 }
 
@@ -92,10 +95,7 @@ impl Srdf {
     /// The `<disable_collisions>` pairs minus the `<enable_collisions>` ones (either order),
     /// keeping only pairs whose two links `model` has; a warning for each pair dropped for
     /// an unknown link and for each `<disable_default_collisions>`.
-    pub fn disabled_pairs(
-        &self,
-        model: &Model,
-    ) -> (Vec<(String, String)>, Vec<PlanningInputWarning>) {
+    pub fn disabled_pairs(&self, model: &Model) -> (Vec<NamePair>, Vec<PlanningInputWarning>) {
         let mut warnings = Vec::new();
         for &line in &self.disable_default_lines {
             warnings.push(PlanningInputError::new(
