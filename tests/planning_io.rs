@@ -605,9 +605,22 @@ fn file_errors_name_the_path() {
 fn yaml_aliases_and_deep_nesting_are_refused_before_parsing() {
     let e = parse_scene("a: &x [1]\nb: *x\n", "s.yaml", &[]).unwrap_err();
     assert_error(&e, "s.yaml", 2, "YAML", "aliases");
+    let deep = format!("a: {}{}\n", "[".repeat(200), "]".repeat(200));
+    let e = parse_scene(&deep, "s.yaml", &[]).unwrap_err();
+    assert_error(&e, "s.yaml", 1, "YAML", "nested deeper than 128 levels");
+    // Far deeper, the parser's own limit speaks first.
     let deep = format!("a: {}{}\n", "[".repeat(100_000), "]".repeat(100_000));
     let e = parse_scene(&deep, "s.yaml", &[]).unwrap_err();
-    assert_error(&e, "s.yaml", 1, "YAML", "nested deeper than");
+    assert_error(&e, "s.yaml", 1, "YAML", "recursion limit exceeded");
+    // Block nesting counts too, and a literal block may hold '*' and brackets.
+    let mut deep = String::new();
+    for k in 0..200 {
+        deep += &format!("{}k{k}:\n", " ".repeat(k));
+    }
+    let e = parse_scene(&deep, "s.yaml", &[]).unwrap_err();
+    assert_error(&e, "s.yaml", 129, "YAML", "nested deeper than 128 levels");
+    let text = "name: |\n  a *b [c {d\nworld: {collision_objects: []}\n";
+    assert!(parse_scene(text, "s.yaml", &[]).unwrap().is_empty());
     let e = parse_scene("- 1\n- 2\n", "s.yaml", &[]).unwrap_err();
     assert_error(
         &e,

@@ -4,13 +4,14 @@
 
 use crate::planning::error::PlanningInputError;
 use saphyr::{LoadableYamlNode, MarkedYaml, Scalar, YamlData};
+use saphyr_parser::{Event, Parser};
 
 /// A YAML node with its source position.
 pub(crate) type Node = MarkedYaml<'static>;
 
-/// Deepest `[`/`{` nesting accepted: the loader and the drop of the tree recurse per
-/// level, and MoveIt messages need fewer than 10.
-const MAX_FLOW_DEPTH: usize = 128;
+/// Deepest nesting of lists and mappings accepted: dropping the tree recurses per level,
+/// and MoveIt messages need fewer than 10.
+const MAX_DEPTH: usize = 128;
 
 /// The file a document came from and how many lines it has (a parse error at the very end
 /// can point one line past it).
@@ -29,7 +30,7 @@ impl<'f> Doc<'f> {
         if text.trim().is_empty() {
             return Err(doc.err_at(None, "YAML", "the file is empty"));
         }
-        if let Some((line, msg)) = prescan(text) {
+        if let Some((line, msg)) = precheck(text) {
             return Err(doc.err_at(Some(line), "YAML", msg));
         }
         let mut docs = MarkedYaml::<'static>::load_from_str(text)
@@ -186,41 +187,33 @@ pub(crate) fn kind(node: &Node) -> String {
     }
 }
 
-/// A lexical scan before parsing, outside quotes and comments: the line and the problem
-/// of the first `[`/`{` nested deeper than [`MAX_FLOW_DEPTH`] or the first alias (`*name`:
-/// the loader copies the anchored tree at each alias, so a few lines of nested aliases
-/// would fill the memory; MoveIt messages never use them).
-fn prescan(text: &str) -> Option<(usize, String)> {
-    let (mut depth, mut line) = (0usize, 1usize);
-    let mut quote: Option<char> = None;
-    let mut comment = false;
-    let mut prev = ' ';
-    for c in text.chars() {
-        match (quote, c) {
-            (_, '\n') => {
-                line += 1;
-                comment = false;
-                // Flow scalars may span lines; quotes do too.
-            }
-            _ if comment => {}
-            (Some(q), c) if c == q => quote = None,
-            (Some(_), _) => {}
-            (None, '"' | '\'') if matches!(prev, ' ' | '[' | '{' | ',' | ':') => quote = Some(c),
-            (None, '#') if prev.is_whitespace() => comment = true,
-            (None, '[' | '{') => {
+/// A pass over the parser's events before building the tree: the line and the problem of
+/// the first collection nested deeper than [`MAX_DEPTH`], of the first alias (`*name`: the
+/// loader copies the anchored tree at each alias, so a few lines of nested aliases would
+/// fill the memory; MoveIt messages never use them), or of the first syntax error.
+fn precheck(text: &str) -> Option<(usize, String)> {
+    let mut depth = 0usize;
+    for ev in Parser::new_from_str(text) {
+        let (ev, span) = match ev {
+            Ok(e) => e,
+            Err(e) => return Some((e.marker().line(), e.info().to_string())),
+        };
+        match ev {
+            Event::SequenceStart(..) | Event::MappingStart(..) => {
                 depth += 1;
-                if depth > MAX_FLOW_DEPTH {
-                    let msg = format!("'[' or '{{' nested deeper than {MAX_FLOW_DEPTH} levels");
-                    return Some((line, msg));
+                if depth > MAX_DEPTH {
+                    let msg = format!("lists or mappings nested deeper than {MAX_DEPTH} levels");
+                    return Some((span.start.line(), msg));
                 }
             }
-            (None, '*') if matches!(prev, ' ' | '[' | '{' | ',' | ':') => {
-                return Some((line, "YAML aliases ('*name') are not supported".to_string()));
+            Event::SequenceEnd | Event::MappingEnd => depth = depth.saturating_sub(1),
+            Event::Alias(_) => {
+                let msg = "YAML aliases ('*name') are not supported".to_string();
+                return Some((span.start.line(), msg));
             }
-            (None, ']' | '}') => depth = depth.saturating_sub(1),
+            Event::StreamEnd => break,
             _ => {}
         }
-        prev = c;
     }
     None
 }
