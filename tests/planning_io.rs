@@ -531,6 +531,18 @@ fn an_unknown_or_missing_goal_joint_is_refused_by_name() {
         "start_state.joint_state.position",
         "6 position(s) for 7 joint name(s)",
     );
+    let text = PANDA_REVERSED.replace(
+        "    position: [7, 6, 5, 4, 3, 2, 1]\n",
+        "    position: [7, 6, 5, 4, 3, 2, 1]\n  multi_dof_joint_state:\n    transforms: [{translation: [0, 0, 0], rotation: [0, 0, 0, 1]}, {translation: [0, 0, 0.5]}]\n",
+    );
+    let e = parse_request(&text, "r.yaml", &m).unwrap_err();
+    assert_error(
+        &e,
+        "r.yaml",
+        6,
+        "start_state.multi_dof_joint_state.transforms[1]",
+        "a moved base",
+    );
     let text = PANDA_REVERSED.replace("panda_joint1, position: 0.1", "panda_joint3, position: 0.1");
     let e = parse_request(&text, "r.yaml", &m).unwrap_err();
     assert_error(

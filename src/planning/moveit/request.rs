@@ -11,9 +11,13 @@
 //! - a coordinate of the model missing from the start or from the goal is an error naming
 //!   every missing joint.
 //!
+//! A start state whose `multi_dof_joint_state` moves the base (MoveIt's virtual joint, not
+//! the identity) is refused: armsim's world is the model's root frame.
+//!
 //! Goals other than joint values (position or orientation constraints) are refused; goal
 //! constraints after the first (MoveIt's alternative goals) are ignored with a warning.
 
+use super::scene::components;
 use super::yaml::{Doc, Node};
 use crate::model::Model;
 use crate::planning::error::{PlanningInputError, PlanningInputWarning};
@@ -183,6 +187,9 @@ fn start_state(
             )
         })?;
     doc.map(js, at)?;
+    if let Some(state) = doc.get(root, "start_state") {
+        fixed_base(doc, state)?;
+    }
     let names_node = doc.req(js, at, "name")?;
     let names = doc.seq(names_node, &format!("{at}.name"))?;
     let pos_node = doc.req(js, at, "position")?;
@@ -205,6 +212,37 @@ fn start_state(
         s.set(n, &format!("{at}.name[{i}]"), name, value)?;
     }
     s.finish(js, at)
+}
+
+/// `start_state.multi_dof_joint_state.transforms[]` (MoveIt's virtual joint between the
+/// world and the robot's root) must be the identity: armsim's world is the model's root.
+fn fixed_base(doc: &Doc<'_>, state: &Node) -> Result<(), PlanningInputError> {
+    let Some(md) = doc.get(state, "multi_dof_joint_state") else {
+        return Ok(());
+    };
+    let at = "start_state.multi_dof_joint_state";
+    doc.map(md, at)?;
+    for (i, t) in doc.opt_seq(md, at, "transforms")?.iter().enumerate() {
+        let tat = format!("{at}.transforms[{i}]");
+        doc.map(t, &tat)?;
+        let p = match doc.get(t, "translation") {
+            Some(n) => components(doc, n, &format!("{tat}.translation"), ["x", "y", "z"])?,
+            None => [0.0; 3],
+        };
+        let q = match doc.get(t, "rotation") {
+            Some(n) => components(doc, n, &format!("{tat}.rotation"), ["x", "y", "z", "w"])?,
+            None => [0.0, 0.0, 0.0, 1.0],
+        };
+        let identity = p.iter().chain(&q[..3]).all(|c| c.abs() < 1e-12) && q[3] != 0.0;
+        if !identity {
+            return Err(doc.err(
+                t,
+                tat,
+                "a moved base (translation or rotation not the identity) is not supported: the model's root is the world",
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn goal(

@@ -325,7 +325,7 @@ pub(crate) fn pose(doc: &Doc<'_>, p: &Node, at: &str) -> Result<Se3, PlanningInp
 }
 
 /// `N` numbers as a list `[a, b, …]` or as a mapping with the keys `names`.
-fn components<const N: usize>(
+pub(super) fn components<const N: usize>(
     doc: &Doc<'_>,
     n: &Node,
     at: &str,
