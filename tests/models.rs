@@ -222,3 +222,175 @@ fn twenty_thousand_link_chain_loads_without_recursion() {
     let z = handle.join().unwrap();
     assert!((z - 0.1 * 19_999.0).abs() < 1e-9, "{z}");
 }
+
+/// Per link: its name and the `(radius, origin xyz)` of each collision sphere.
+type LinkSpheres = Vec<(String, Vec<(f64, [f64; 3])>)>;
+
+/// Collision spheres per link of a URDF, read independently of armsim's loader: for each
+/// `<link>`, the `(radius, origin xyz)` of every `<collision><geometry><sphere>`, and the
+/// number of collision elements that are not spheres.
+fn collision_spheres(text: &str) -> (LinkSpheres, usize) {
+    let doc = roxmltree::Document::parse(text).expect("XML");
+    let nums = |s: &str| -> Vec<f64> { s.split_whitespace().map(|x| x.parse().unwrap()).collect() };
+    let mut other = 0;
+    let mut links = Vec::new();
+    for link in doc
+        .root_element()
+        .children()
+        .filter(|n| n.has_tag_name("link"))
+    {
+        let mut spheres = Vec::new();
+        for c in link.children().filter(|n| n.has_tag_name("collision")) {
+            let xyz = c
+                .children()
+                .find(|n| n.has_tag_name("origin"))
+                .and_then(|o| o.attribute("xyz"))
+                .map_or(vec![0.0; 3], nums);
+            let shape = c
+                .descendants()
+                .find(|n| n.has_tag_name("sphere"))
+                .and_then(|s| s.attribute("radius"));
+            match shape {
+                Some(r) => spheres.push((r.parse().unwrap(), [xyz[0], xyz[1], xyz[2]])),
+                None => other += 1,
+            }
+        }
+        links.push((link.attribute("name").unwrap().to_string(), spheres));
+    }
+    (links, other)
+}
+
+#[test]
+fn spherized_planning_models_load_with_their_coordinates_and_every_collision_sphere() {
+    let bench = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/benchmarks/motion-planning");
+    let panda_joints: Vec<String> = (1..=7).map(|k| format!("panda_joint{k}")).collect();
+    let ur5_joints: Vec<String> = [
+        "shoulder_pan_joint",
+        "shoulder_lift_joint",
+        "elbow_joint",
+        "wrist_1_joint",
+        "wrist_2_joint",
+        "wrist_3_joint",
+    ]
+    .map(String::from)
+    .to_vec();
+    for (robot, nv, total, names) in [("panda", 7, 59, panda_joints), ("ur5", 6, 40, ur5_joints)] {
+        let rel = format!("robots/spherized/{robot}_spherized.urdf");
+        let text =
+            std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(&rel))
+                .unwrap();
+        // The repository copy is the benchmark's file, unchanged.
+        let shared = bench.join(format!("{robot}/{robot}_spherized.urdf"));
+        match std::fs::read_to_string(&shared) {
+            Ok(s) => assert_eq!(s, text, "{rel} differs from {}", shared.display()),
+            Err(e) => panic!(
+                "benchmark data expected at {} (../shared beside the clone): {e}",
+                shared.display()
+            ),
+        }
+        let (model, warnings) =
+            Model::load(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(&rel))
+                .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(model.nv, nv, "{robot}");
+        assert_eq!(model.dof_names(), names, "{robot}");
+        // Only the Panda's fixed finger carries a <mimic> (ignored with a warning).
+        let expect_warn = usize::from(robot == "panda");
+        assert_eq!(warnings.len(), expect_warn, "{warnings:?}");
+        let (links, other) = collision_spheres(&text);
+        assert_eq!(other, 0, "{robot}: non-sphere collision elements");
+        let mut count = 0;
+        for (name, spheres) in &links {
+            let l = &model.links[model.link_id(name).expect(name)];
+            assert_eq!(l.collisions.len(), spheres.len(), "{robot} link {name}");
+            for (g, (r, xyz)) in l.collisions.iter().zip(spheres) {
+                assert_eq!(
+                    g.shape,
+                    armsim::model::Shape::Sphere { radius: *r },
+                    "{name}"
+                );
+                assert_eq!(g.origin.trans, Vec3::from(*xyz), "{name}");
+                assert_eq!(g.origin.rot, nalgebra::Matrix3::identity(), "{name}");
+            }
+            count += spheres.len();
+        }
+        assert_eq!(count, total, "{robot}: collision spheres");
+    }
+    // Hand-read: the Panda's base sphere, radius 0.08 at z = 0.05 of panda_link0.
+    let (panda, _) = Model::load(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("robots/spherized/panda_spherized.urdf"),
+    )
+    .unwrap();
+    let base = &panda.links[panda.link_id("panda_link0").unwrap()].collisions;
+    assert_eq!(base.len(), 1);
+    assert_eq!(base[0].shape, armsim::model::Shape::Sphere { radius: 0.08 });
+    assert_eq!(base[0].origin.trans, Vec3::new(0.0, 0.0, 0.05));
+    assert_eq!(
+        panda.links[panda.link_id("panda_hand").unwrap()]
+            .collisions
+            .len(),
+        18
+    );
+}
+
+#[test]
+fn spherized_panda_has_the_kinematics_of_the_bundled_panda() {
+    let a = load("robots/spherized/panda_spherized.urdf");
+    let b = load("robots/panda.urdf");
+    // The bundled Panda's eighth coordinate is its (movable) finger.
+    assert_eq!(b.dof_names()[..7], a.dof_names()[..]);
+    assert_eq!(b.dof_names()[7], "panda_finger_joint1");
+    let (mut da, mut db) = (Data::new(&a), Data::new(&b));
+    let mut rng = SmallRng::seed_from_u64(3);
+    let mut worst = 0.0f64;
+    for _ in 0..200 {
+        let q = a.random_q(&mut rng);
+        let qb: Vec<f64> = q.iter().copied().chain([0.02]).collect();
+        for link in ["panda_link8", "panda_hand"] {
+            let d = pose_diff(
+                &tool_pose(&a, &mut da, &q, link),
+                &tool_pose(&b, &mut db, &qb, link),
+            );
+            worst = worst.max(d);
+        }
+    }
+    // The spherized file writes π/2 as 1.57079632679 (4.9e-12 rad short) on six joints:
+    // up to ~3e-11 rad of rotation error, times ~1 m of arm; anything else shows as > 1e-4.
+    assert!(worst < 1e-10, "worst difference {worst:e}");
+}
+
+#[test]
+fn mimic_on_a_fixed_joint_is_ignored_with_a_warning_naming_file_line_and_joint() {
+    let urdf = r#"<robot name="g">
+  <link name="hand"/>
+  <link name="finger"/>
+  <link name="other"/>
+  <joint name="slide" type="prismatic">
+    <parent link="hand"/><child link="finger"/>
+    <limit lower="0" upper="0.04" effort="20" velocity="0.2"/>
+  </joint>
+  <joint name="fixed_finger" type="fixed">
+    <parent link="hand"/><child link="other"/>
+    <mimic joint="slide" multiplier="-1"/>
+  </joint>
+</robot>"#;
+    let (m, w) = Model::load_str(urdf, "g.urdf", &Default::default()).unwrap();
+    assert_eq!(m.nv, 1);
+    assert_eq!(m.dof_names(), ["slide"]);
+    let fixed = &m.joints[m.joint_id("fixed_finger").unwrap()];
+    assert_eq!(fixed.jtype, JointType::Fixed);
+    assert!(fixed.mimic.is_none() && fixed.dof.is_none());
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!(
+        w[0].to_string(),
+        "g.urdf:9: joint 'fixed_finger': <mimic joint=\"slide\"> on a fixed joint: ignored (a fixed joint does not move)"
+    );
+    // Strict loading turns it into the error.
+    let strict = armsim::model::LoadOptions {
+        strict: true,
+        ..Default::default()
+    };
+    let e = Model::load_str(urdf, "g.urdf", &strict).unwrap_err();
+    assert_eq!(e.line, Some(9));
+}

@@ -680,7 +680,17 @@ impl<'a> Builder<'a> {
         for (ji, j) in spec.joints.iter().enumerate() {
             let Some(m) = &j.mimic else { continue };
             if !j.jtype.is_movable() {
-                return Err(self.err_joint(j, "mimic: a fixed joint cannot mimic"));
+                // A fixed joint has no coordinate to drive: urdfdom and Pinocchio ignore
+                // the tag (spherized planning models fix their fingers this way).
+                let w = self.err_joint(
+                    j,
+                    format!(
+                        "<mimic joint=\"{}\"> on a fixed joint: ignored (a fixed joint does not move)",
+                        m.joint
+                    ),
+                );
+                self.warnings.push(w);
+                continue;
             }
             let (mut mult, mut off) = (m.multiplier, m.offset);
             let mut cur = *joint_ix.get(m.joint.as_str()).ok_or_else(|| {

@@ -6,7 +6,9 @@
 
 pub mod checker;
 pub mod environment;
+pub mod error;
 pub mod lanes;
+pub mod moveit;
 pub mod planner;
 pub mod rrt;
 pub mod sampler;
@@ -15,6 +17,7 @@ pub mod simd;
 pub mod simplify;
 pub mod spheres;
 pub mod spherize;
+pub mod srdf;
 
 pub use checker::{CheckOptions, CheckScratch, Checker};
 pub use planner::{PlanOptions, PlanResult, PlanStatus, Planner};
