@@ -51,7 +51,7 @@ pub struct PlanArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Wall-clock limit of each search, in milliseconds (simplification not counted).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub time_limit_ms: Option<f64>,
     /// Return the first path found, without shortcutting and smoothing.
     #[arg(long)]
