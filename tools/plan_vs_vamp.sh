@@ -35,12 +35,12 @@ for robot in "${robots[@]}"; do
   echo; echo "## $robot"
   echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo; echo "VAMP: bash $BENCH/vamp/anchor.sh $robot ${dirs[*]} -- $passes"
-  bash "$BENCH/vamp/anchor.sh" "$robot" "${dirs[@]}" -- "$passes" | sed -n '/^| scene/,/^$/p' | sed '/^$/d' | tee "$out/vamp_$robot.md"
+  bash "$BENCH/vamp/anchor.sh" "$robot" "${dirs[@]}" -- "$passes" | awk '/^\| scene/{n++} /^$/{if(n)done=1} n==1&&!done' | tee "$out/vamp_$robot.md"
   args=("$ARMSIM" plan "$ROOT/robots/spherized/${robot}_spherized.urdf" --srdf "$ROOT/robots/spherized/$robot.srdf")
   for d in "${dirs[@]}"; do args+=(--moveit-dir "$d"); done
   args+=(--passes "$passes")
   echo; echo "armsim: ${args[*]#$ROOT/}"
-  $pin "${args[@]}" 2>/dev/null | sed -n '/^| scene | solved/,$p' | tee "$out/armsim_$robot.md"
+  $pin "${args[@]}" 2>/dev/null | awk '/^\| scene \| solved/{n++} /^$/{if(n)done=1} n==1&&!done' | tee "$out/armsim_$robot.md"
   echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
 done
 echo; echo "## Side by side (armsim / VAMP)"

@@ -194,6 +194,15 @@ pub fn json(h: &ReportHeader, outcomes: &[Outcome]) -> String {
     s
 }
 
+/// `x` with `prec` decimals, or `-` when there is no value (no solved problem).
+fn fixed(x: f64, prec: usize) -> String {
+    if x.is_finite() {
+        format!("{x:.prec$}")
+    } else {
+        "-".to_string()
+    }
+}
+
 fn status_name(s: PlanStatus) -> &'static str {
     match s {
         PlanStatus::Solved => "solved",
@@ -259,12 +268,25 @@ pub fn text(h: &ReportHeader, outcomes: &[Outcome]) -> String {
         rows.push(("ALL", stats(&all)));
     }
     for (scene, s) in rows {
+        let f1 = |x: f64| fixed(x, 1);
         let _ = writeln!(
             t,
-            "| {scene} | {}/{}/{} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.3} | {:.3} | {:.0} | {:.0} |",
-            s.solved, s.valid, s.total, s.plan[0], s.plan[1], s.plan[2], s.plan[3],
-            s.simplify[0], s.simplify[1], s.total_time[0], s.total_time[1],
-            s.cost_initial, s.cost, s.iterations[0], s.iterations[1]
+            "| {scene} | {}/{}/{} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            s.solved,
+            s.valid,
+            s.total,
+            f1(s.plan[0]),
+            f1(s.plan[1]),
+            f1(s.plan[2]),
+            f1(s.plan[3]),
+            f1(s.simplify[0]),
+            f1(s.simplify[1]),
+            f1(s.total_time[0]),
+            f1(s.total_time[1]),
+            fixed(s.cost_initial, 3),
+            fixed(s.cost, 3),
+            fixed(s.iterations[0], 0),
+            fixed(s.iterations[1], 0)
         );
     }
     t
