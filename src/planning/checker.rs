@@ -45,6 +45,16 @@ struct Body {
     offset: f32,
 }
 
+/// How an edge is checked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeMode {
+    /// Continuously: nothing penetrates by more than the tolerance anywhere on the edge.
+    Continuous,
+    /// At the coarse points only (`resolution` per unit), as sampling planners usually do:
+    /// fast, but the edge may graze an obstacle between two points.
+    Discrete,
+}
+
 /// Settings of the checker.
 #[derive(Clone, Copy, Debug)]
 pub struct CheckOptions {
@@ -172,18 +182,19 @@ impl Checker {
     }
 
     /// Whether the straight edge `a → b` is free, continuously (see the module docs).
-    pub fn edge_free(&self, a: &[f32], b: &[f32], s: &mut CheckScratch) -> bool {
+    pub fn edge_free(&self, a: &[f32], b: &[f32], mode: EdgeMode, s: &mut CheckScratch) -> bool {
         s.edges += 1;
+        let continuous = mode == EdgeMode::Continuous;
         #[cfg(target_arch = "x86_64")]
         {
             if let Some(tok) = self.avx2 {
                 // SAFETY: the token proves the CPU has AVX2 and FMA.
-                return unsafe { edge_free_avx2(self, tok, a, b, s) };
+                return unsafe { edge_free_avx2(self, tok, a, b, continuous, s) };
             }
-            self.edge_free_impl(Sse2::new(), a, b, s)
+            self.edge_free_impl(Sse2::new(), a, b, continuous, s)
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.edge_free_impl(Scalar, a, b, s)
+        self.edge_free_impl(Scalar, a, b, continuous, s)
     }
 
     fn dispatch_lanes(&self, q: &[L], h: L, s: &mut CheckScratch) -> (Mask, Mask) {
@@ -200,15 +211,24 @@ impl Checker {
     }
 
     #[inline(always)]
-    fn edge_free_impl<S: Simd>(&self, tok: S, a: &[f32], b: &[f32], s: &mut CheckScratch) -> bool {
+    fn edge_free_impl<S: Simd>(
+        &self,
+        tok: S,
+        a: &[f32],
+        b: &[f32],
+        continuous: bool,
+        s: &mut CheckScratch,
+    ) -> bool {
         let nv = self.nv();
         let mut dist2 = 0.0f32;
         for k in 0..nv {
             dist2 += (b[k] - a[k]) * (b[k] - a[k]);
         }
-        self.edge_speeds(a, b, s);
+        if continuous {
+            self.edge_speeds(a, b, s);
+        }
         let n = ((dist2.sqrt() * self.opts.resolution).ceil() as usize).max(1);
-        let h0 = 0.5 / n as f32;
+        let h0 = if continuous { 0.5 / n as f32 } else { 0.0 };
         let m = n.div_ceil(N);
         let mut qs = std::mem::take(&mut s.q);
         s.stack.clear();
@@ -220,7 +240,9 @@ impl Checker {
             for (l, tl) in t.iter_mut().enumerate() {
                 let k = l * m + i;
                 valid |= Mask::from(k < n) << l;
-                *tl = (k.min(n - 1) as f32 + 0.5) / n as f32;
+                // Continuous: interval centres; discrete: the points k/n, k = 1..n (the end
+                // included, the start being a node already checked).
+                *tl = (k.min(n - 1) as f32 + if continuous { 0.5 } else { 1.0 }) / n as f32;
             }
             let (exact, inflated) = self.lerp_lanes_hit(tok, a, b, &t, &[h0; N], &mut qs, s);
             if exact & valid != 0 {
@@ -492,9 +514,10 @@ unsafe fn edge_free_avx2(
     tok: Avx2,
     a: &[f32],
     b: &[f32],
+    continuous: bool,
     s: &mut CheckScratch,
 ) -> bool {
-    c.edge_free_impl(tok, a, b, s)
+    c.edge_free_impl(tok, a, b, continuous, s)
 }
 
 #[cfg(target_arch = "x86_64")]
