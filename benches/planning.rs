@@ -13,17 +13,20 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
 
+/// The model, its SRDF's disabled pairs, and the problems per scene.
+type Setup = (
+    Model,
+    Vec<(String, String)>,
+    Vec<(&'static str, Vec<Problem>)>,
+);
+
 struct Problem {
     obstacles: Vec<Obstacle>,
     start: Vec<f64>,
     goal: Vec<f64>,
 }
 
-fn setup() -> (
-    Model,
-    Vec<(String, String)>,
-    Vec<(&'static str, Vec<Problem>)>,
-) {
+fn setup() -> Setup {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let bench = root.join("../shared/benchmarks/motion-planning/panda");
     assert!(

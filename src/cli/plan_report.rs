@@ -118,7 +118,7 @@ fn stats(outcomes: &[&Outcome]) -> Stats {
 }
 
 /// The scenes in order of first appearance, each with its outcomes.
-fn by_scene<'a>(outcomes: &'a [Outcome]) -> Vec<(String, Vec<&'a Outcome>)> {
+fn by_scene(outcomes: &[Outcome]) -> Vec<(String, Vec<&Outcome>)> {
     let mut out: Vec<(String, Vec<&Outcome>)> = Vec::new();
     for o in outcomes {
         match out.iter_mut().find(|(s, _)| *s == o.scene) {

@@ -368,11 +368,11 @@ impl<'m> Recheck<'m> {
             points: 0,
         };
         for (i, w) in path.iter().enumerate() {
-            for k in 0..m.nv {
+            assert_eq!(w.len(), m.nv, "waypoint {i}");
+            for (k, &x) in w.iter().enumerate() {
                 assert!(
-                    w[k] >= m.lower[k] && w[k] <= m.upper[k],
-                    "waypoint {i}: coordinate {k} = {} outside [{}, {}]",
-                    w[k],
+                    x >= m.lower[k] && x <= m.upper[k],
+                    "waypoint {i}: coordinate {k} = {x} outside [{}, {}]",
                     m.lower[k],
                     m.upper[k]
                 );
