@@ -33,8 +33,9 @@ pub struct PlanArgs {
     /// Robot model (URDF). Its collision spheres are used as given; boxes, cylinders and
     /// capsules are covered with spheres; meshes are not checked (a warning says so).
     pub model: PathBuf,
-    /// MoveIt SRDF: its <disable_collisions> link pairs are not checked for self-collision.
-    /// Without it, adjacent links and pairs never in contact over random samples are dropped.
+    /// MoveIt SRDF: its <disable_collisions> link pairs are not checked for self-collision
+    /// (nor are links one joint apart). Without it, pairs never in contact over random
+    /// samples are dropped too.
     #[arg(long)]
     pub srdf: Option<PathBuf>,
     /// MoveIt PlanningScene YAML (obstacles; frame: world or the model's root link).
