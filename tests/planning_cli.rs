@@ -372,3 +372,82 @@ fn plan_time_limit_reaches_the_planner() {
     assert_eq!(r["status"], "solved");
     assert_eq!(r["cost"], r["cost_initial"]);
 }
+
+/// The impossible block problem of `plan_common::panda_wall_problem` as MoveIt files.
+fn write_block_problem(d: &Path) -> (PathBuf, PathBuf) {
+    let (scene, request) = (d.join("block_scene.yaml"), d.join("block_request.yaml"));
+    std::fs::write(
+        &scene,
+        "world:\n  collision_objects:\n    - id: block\n      header: {frame_id: panda_link0}\n      \
+         primitives:\n        - {type: box, dimensions: [0.02, 0.1, 0.17]}\n      \
+         primitive_poses:\n        - {position: [0, -0.15, 0.335], orientation: [0, 0, 0, 1]}\n",
+    )
+    .unwrap();
+    let q = |yaw: f64| {
+        plan_common::panda_upright(yaw)
+            .iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+    };
+    let goal: String = q(-1.5)
+        .iter()
+        .enumerate()
+        .map(|(k, x)| {
+            format!(
+                "      - {{joint_name: panda_joint{}, position: {x}}}\n",
+                k + 1
+            )
+        })
+        .collect();
+    let names: Vec<String> = (1..=7).map(|k| format!("panda_joint{k}")).collect();
+    std::fs::write(
+        &request,
+        format!(
+            "goal_constraints:\n  - joint_constraints:\n{goal}start_state:\n  joint_state:\n    \
+             name: [{}]\n    position: [{}]\n",
+            names.join(", "),
+            q(1.5).join(", ")
+        ),
+    )
+    .unwrap();
+    (scene, request)
+}
+
+#[test]
+fn plan_reports_failed_with_the_reason_under_a_time_limit() {
+    let d = scratch("block");
+    let (scene, request) = write_block_problem(&d);
+    let run = |extra: &[&str]| {
+        let base = [
+            "plan",
+            PANDA,
+            "--srdf",
+            PANDA_SRDF,
+            "--moveit-scene",
+            scene.to_str().unwrap(),
+            "--moveit-request",
+            request.to_str().unwrap(),
+        ];
+        armsim(&[&base[..], extra].concat())
+    };
+    let o = run(&["--time-limit-ms", "30", "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let r = &v["results"][0];
+    assert_eq!(r["problem"], "block_request");
+    assert_eq!(r["status"], "failed");
+    let why = r["reason"].as_str().unwrap();
+    assert!(why.contains("time limit of 30 ms"), "{why}");
+    assert!(r["path"].as_array().unwrap().is_empty());
+    let t = r["plan_time_us"].as_f64().unwrap();
+    assert!((30_000.0..1_000_000.0).contains(&t), "{t} µs");
+    // Text: the failure is counted valid but not solved, with its reason.
+    let o = run(&["--time-limit-ms", "30"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("| 0/1/1 |"), "{text}");
+    assert!(
+        text.contains("block_request failed: no path within the time limit"),
+        "{text}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
