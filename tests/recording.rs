@@ -28,6 +28,10 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The fixed epoch of the test recordings (2025-11-24T16:00:00Z in Unix ns), so that their
+/// bytes do not depend on the wall clock.
+const EPOCH: u64 = 1_764_000_000_000_000_000;
+
 /// A fresh directory under the target's test scratch space.
 fn scratch(name: &str) -> PathBuf {
     let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
@@ -52,6 +56,7 @@ fn ur5_recording(frames: usize) -> Recording {
         ("scenario".into(), "tests/recording.rs".into()),
         ("dt".into(), "0.01".into()),
     ];
+    header.epoch_ns = Some(EPOCH);
     let frames = (0..frames)
         .map(|k| {
             let t = k as f64 * 0.01;
@@ -129,6 +134,7 @@ fn ur5_recording(frames: usize) -> Recording {
         clouds,
         torque_check,
         collisions,
+        obstacles: Vec::new(),
     }
 }
 
@@ -222,7 +228,10 @@ fn written_file_passes_the_mcap_crates_own_reader() {
             ));
         }
         if m.channel.topic == "/robot_description" || m.channel.topic == "/tf_static" {
-            assert_eq!(m.log_time, 0);
+            assert_eq!(
+                m.log_time, EPOCH,
+                "start-up messages are logged at the epoch"
+            );
             assert!(m.channel.metadata["offered_qos_profiles"].contains("durability: 1"));
         }
         *counts.entry(m.channel.topic.clone()).or_default() += 1;
@@ -241,9 +250,9 @@ fn written_file_passes_the_mcap_crates_own_reader() {
     .collect();
     assert_eq!(counts, want);
 
-    // Joint states: names, values and stamps as written.
+    // Joint states: names, values and stamps as written, `t` after the epoch.
     for ((log_time, js), f) in joint_states.iter().zip(&rec.frames) {
-        assert_eq!(*log_time, (f.t * 1e9).round() as u64);
+        assert_eq!(*log_time, EPOCH + (f.t * 1e9).round() as u64);
         assert_eq!(js.header.stamp.to_nanos(), Some(*log_time));
         assert_eq!(js.name, rec.header.joint_names);
         assert_eq!(js.position, f.q);
@@ -268,6 +277,7 @@ fn written_file_passes_the_mcap_crates_own_reader() {
     assert_eq!(meta.metadata["name"], "ur5 wave");
     assert_eq!(meta.metadata["armsim_version"], env!("CARGO_PKG_VERSION"));
     assert_eq!(meta.metadata["scenario"], "tests/recording.rs");
+    assert_eq!(meta.metadata["armsim.epoch_ns"], EPOCH.to_string());
     let names: Vec<String> = serde_json::from_str(&meta.metadata["armsim.joint_names"]).unwrap();
     assert_eq!(names, rec.header.joint_names);
 }
@@ -703,7 +713,8 @@ fn small_fuzz_seeds() -> Vec<Vec<u8>> {
     let (model, _) = Model::load(&path).unwrap();
     let spec = Model::read_spec(&path).unwrap();
     let mut data = Data::new(&model);
-    let (header, robot_tf) = Header::for_model("2r", &path, &model, &spec);
+    let (mut header, robot_tf) = Header::for_model("2r", &path, &model, &spec);
+    header.epoch_ns = Some(EPOCH);
     let frames = (0..2)
         .map(|k| {
             let q = [0.1 * k as f64, -0.2];
@@ -729,6 +740,7 @@ fn small_fuzz_seeds() -> Vec<Vec<u8>> {
         clouds: vec![big.clouds[1].clone()],
         torque_check: big.torque_check,
         collisions: big.collisions[..1].to_vec(),
+        obstacles: Vec::new(),
     };
     zstd_and_plain(&rec, "small_seed")
 }
@@ -924,6 +936,7 @@ fn dh_robot_description_round_trips_through_a_recording() {
             static_tf: tf::RobotTf::new(&model, &spec).static_transforms(),
             robot_description: Some(urdf_text.clone()),
             metadata: vec![],
+            epoch_ns: Some(EPOCH),
         },
         frames: vec![Frame {
             t: 0.0,

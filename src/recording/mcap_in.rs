@@ -16,12 +16,19 @@
 //!   a scalar from the field `manipulability` (else `intensity`), any numeric type.
 //! - `diagnostic_msgs/msg/DiagnosticArray` on `/armsim/torque_check` (last message) and
 //!   `/armsim/collisions` → torque check and collision events.
+//! - `visualization_msgs/msg/MarkerArray` on `/armsim/obstacles` (last message) →
+//!   obstacles (see `obstacles::from_message`).
 //! - The metadata record `armsim` → name, joint names and effort limits (used when there
 //!   are no joint states, or to fill limits), the rest into `header.metadata`, sorted by key.
 //!   Effort limits otherwise come from the robot description's URDF, if it parses.
 //!
-//! Times are the messages' `header.stamp` (seconds since the epoch; see `mcap_out`).
-//! Everything else is ignored: unknown topics, schemas, encodings, attachments.
+//! Times are the messages' `header.stamp` minus the recording's epoch, in seconds, so that
+//! a recording starts at 0 whatever wall-clock time it was made at: the epoch is the
+//! metadata's `armsim.epoch_ns` (armsim's files, see `mcap_out`), else the earliest stamp
+//! of a joint state, transform, cloud or collision (other tools' files); it is returned as
+//! `header.epoch_ns` (`None` for a file with neither). A stamp before the epoch gives a
+//! negative time. Everything else is ignored: unknown topics, schemas, encodings,
+//! attachments.
 //!
 //! The file is untrusted input: records are parsed here with bounds checks (lengths are
 //! checked against the bytes left before anything is allocated), the `mcap` crate's
@@ -34,10 +41,11 @@
 
 use super::error::RecordError;
 use super::mcap_out::{
-    CLOUD_SCALAR_FIELD, KEY_EFFORT_LIMITS, KEY_JOINT_NAMES, KEY_NAME, METADATA_NAME,
-    TOPIC_COLLISIONS, TOPIC_JOINT_STATES, TOPIC_ROBOT_DESCRIPTION, TOPIC_TF, TOPIC_TF_STATIC,
-    TOPIC_TORQUE_CHECK,
+    CLOUD_SCALAR_FIELD, KEY_EFFORT_LIMITS, KEY_EPOCH, KEY_JOINT_NAMES, KEY_NAME, METADATA_NAME,
+    TOPIC_COLLISIONS, TOPIC_JOINT_STATES, TOPIC_OBSTACLES, TOPIC_ROBOT_DESCRIPTION, TOPIC_TF,
+    TOPIC_TF_STATIC, TOPIC_TORQUE_CHECK,
 };
+use super::obstacles::{self, ObstacleMarker};
 use super::ros2::{self, datatype, level, schema_is, RosMessage};
 use super::{CollisionEvent, Frame, Header, PointCloud, Recording, TorqueRow, Transform};
 use mcap::records::op;
@@ -165,6 +173,7 @@ enum Kind {
     Cloud,
     TorqueCheck,
     Collisions,
+    Obstacles,
     Ignored,
 }
 
@@ -212,6 +221,8 @@ fn kind_of(schema: Option<&SchemaRec>, ch: &ChannelRec) -> Kind {
         Kind::TorqueCheck
     } else if is(ros2::DiagnosticArray::NAME) && topic == TOPIC_COLLISIONS {
         Kind::Collisions
+    } else if is(ros2::MarkerArray::NAME) && topic == TOPIC_OBSTACLES {
+        Kind::Obstacles
     } else {
         Kind::Ignored
     }
@@ -228,9 +239,12 @@ struct Collected {
     tf: Vec<(u64, Transform)>,
     static_tf: Vec<Transform>,
     robot_description: Option<String>,
-    clouds: Vec<PointCloud>,
+    /// Clouds and collision events with their stamps (ns; `t` is set once the epoch is
+    /// known).
+    clouds: Vec<(u64, PointCloud)>,
     torque_check: Option<Vec<TorqueRow>>,
-    collisions: Vec<CollisionEvent>,
+    collisions: Vec<(u64, CollisionEvent)>,
+    obstacles: Option<Vec<ObstacleMarker>>,
     metadata: Option<BTreeMap<String, String>>,
     budget: Option<Budget>,
 }
@@ -516,7 +530,8 @@ impl Collected {
             }
             Kind::Cloud => {
                 let m: ros2::PointCloud2 = dec(data)?;
-                self.clouds.push(cloud_from_msg(&m)?);
+                let ns = stamp_nanos(&m.header.stamp)?;
+                self.clouds.push((ns, cloud_from_msg(&m)?));
             }
             Kind::TorqueCheck => {
                 let m: ros2::DiagnosticArray = dec(data)?;
@@ -530,19 +545,26 @@ impl Collected {
             }
             Kind::Collisions => {
                 let m: ros2::DiagnosticArray = dec(data)?;
-                let t = seconds(stamp_nanos(&m.header.stamp)?);
+                let ns = stamp_nanos(&m.header.stamp)?;
                 for s in &m.status {
                     let get = |k: &str| {
                         s.value(k)
                             .map(str::to_string)
                             .ok_or_else(|| format!("status '{}': no value '{k}'", s.name))
                     };
-                    self.collisions.push(CollisionEvent {
-                        t,
-                        body_a: get("body_a")?,
-                        body_b: get("body_b")?,
-                    });
+                    self.collisions.push((
+                        ns,
+                        CollisionEvent {
+                            t: 0.0,
+                            body_a: get("body_a")?,
+                            body_b: get("body_b")?,
+                        },
+                    ));
                 }
+            }
+            Kind::Obstacles => {
+                let m: ros2::MarkerArray = dec(data)?;
+                self.obstacles = Some(obstacles::from_message(&m));
             }
         }
         Ok(())
@@ -590,6 +612,15 @@ impl Collected {
             .map(|(i, n)| (n.as_str(), i))
             .collect();
         let n = joint_names.len();
+        let epoch = match meta.get(KEY_EPOCH) {
+            Some(text) => Some(
+                text.trim()
+                    .parse::<u64>()
+                    .map_err(|e| bad_meta(KEY_EPOCH, format!("'{text}': {e}")))?,
+            ),
+            None => self.earliest_stamp(&states),
+        };
+        let seconds = |ns: u64| seconds_after(ns, epoch.unwrap_or(0));
         let mut filled_left = self.budget.as_ref().map_or(usize::MAX, |b| b.filled);
         for (k, m) in states.iter().enumerate() {
             // Validated when read.
@@ -722,8 +753,11 @@ impl Collected {
         });
         let metadata = meta
             .into_iter()
-            .filter(|(k, _)| k != KEY_NAME && k != KEY_JOINT_NAMES && k != KEY_EFFORT_LIMITS)
+            .filter(|(k, _)| {
+                ![KEY_NAME, KEY_JOINT_NAMES, KEY_EFFORT_LIMITS, KEY_EPOCH].contains(&k.as_str())
+            })
             .collect();
+
         Ok(Recording {
             header: Header {
                 name,
@@ -732,12 +766,39 @@ impl Collected {
                 static_tf: self.static_tf,
                 robot_description: self.robot_description,
                 metadata,
+                epoch_ns: epoch,
             },
             frames: frames.into_iter().map(|(_, f)| f).collect(),
-            clouds: self.clouds,
+            clouds: self
+                .clouds
+                .into_iter()
+                .map(|(ns, c)| PointCloud {
+                    t: seconds(ns),
+                    ..c
+                })
+                .collect(),
             torque_check: self.torque_check.unwrap_or_default(),
-            collisions: self.collisions,
+            collisions: self
+                .collisions
+                .into_iter()
+                .map(|(ns, e)| CollisionEvent {
+                    t: seconds(ns),
+                    ..e
+                })
+                .collect(),
+            obstacles: self.obstacles.unwrap_or_default(),
         })
+    }
+
+    /// The earliest stamp of a joint state (of `states`), transform, cloud or collision.
+    fn earliest_stamp(&self, states: &[ros2::JointState]) -> Option<u64> {
+        let js = states
+            .iter()
+            .filter_map(|m| stamp_nanos(&m.header.stamp).ok());
+        js.chain(self.tf.iter().map(|(ns, _)| *ns))
+            .chain(self.clouds.iter().map(|(ns, _)| *ns))
+            .chain(self.collisions.iter().map(|(ns, _)| *ns))
+            .min()
     }
 }
 
@@ -757,8 +818,10 @@ fn stamp_nanos(t: &ros2::Time) -> Result<u64, String> {
         .ok_or_else(|| format!("time stamp before the epoch ({} s)", t.sec))
 }
 
-fn seconds(ns: u64) -> f64 {
-    ns as f64 / 1e9
+/// Seconds from `epoch` to `ns` (both in ns; negative before the epoch), exact to the
+/// nanosecond before the conversion to `f64`.
+fn seconds_after(ns: u64, epoch: u64) -> f64 {
+    (i128::from(ns) - i128::from(epoch)) as f64 / 1e9
 }
 
 fn from_msg(ts: ros2::TransformStamped) -> Transform {
@@ -873,7 +936,7 @@ fn cloud_from_msg(m: &ros2::PointCloud2) -> Result<PointCloud, String> {
         }
     }
     Ok(PointCloud {
-        t: seconds(stamp_nanos(&m.header.stamp)?),
+        t: 0.0,
         frame: m.header.frame_id.clone(),
         points,
         values,
