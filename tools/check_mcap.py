@@ -36,10 +36,10 @@ from mcap_ros2.decoder import DecoderFactory
 
 
 def joint_state_line(label, log_time, msg):
-    stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+    stamp = f"{msg.header.stamp.sec}.{msg.header.stamp.nanosec:09d}"
     pos = ", ".join(f"{x:.6g}" for x in msg.position)
     return (
-        f"{label} JointState: log_time {log_time} ns, stamp {stamp:.9f} s, "
+        f"{label} JointState: log_time {log_time} ns, stamp {stamp} s, "
         f"{len(msg.name)} joints {list(msg.name)}, position [{pos}], "
         f"{len(msg.velocity)} velocities, {len(msg.effort)} efforts"
     )
