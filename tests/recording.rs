@@ -748,7 +748,10 @@ fn small_fuzz_seeds() -> Vec<Vec<u8>> {
 /// `rec` written by armsim (zstd chunks) and its messages rewritten without chunks and
 /// without CRCs, so that mutations reach the records and the CDR payloads.
 fn zstd_and_plain(rec: &Recording, name: &str) -> Vec<Vec<u8>> {
-    let dir = scratch("fuzz_seeds");
+    // A directory per call: tests make seeds in parallel, and `scratch` empties its directory.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = scratch(&format!("fuzz_seeds_{call}"));
     let path = dir.join(format!("{name}.mcap"));
     write_recording(&path, rec).unwrap();
     let zstd = std::fs::read(&path).unwrap();
