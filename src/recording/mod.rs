@@ -9,6 +9,7 @@
 //! interrupted run still leaves a valid file.
 
 pub mod error;
+mod from_ros2;
 pub mod interrupt;
 pub mod mcap_in;
 pub mod mcap_out;
