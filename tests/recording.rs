@@ -4,19 +4,23 @@
 
 mod common;
 
+use armsim::collision::Obstacle;
 use armsim::data::Data;
 use armsim::kinematics::{
     compute_joint_jacobians, forward_kinematics, frame_jacobian, frame_placement, manipulability,
     Expressed,
 };
+use armsim::model::Shape;
 use armsim::model::{urdf, Model};
 use armsim::recording::error::RecordError;
 use armsim::recording::mcap_in::{read_mcap, read_mcap_bytes};
 use armsim::recording::mcap_out::{write_recording, McapWriter};
+use armsim::recording::obstacles::markers_of;
 use armsim::recording::ros2::{self, RosMessage};
 use armsim::recording::{
     interrupt, tf, urdf_out, CollisionEvent, Frame, Header, PointCloud, Recording, TorqueRow,
 };
+use armsim::spatial::Se3;
 use mcap::records::MessageHeader;
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
@@ -706,7 +710,8 @@ fn fuzz_seeds() -> Vec<Vec<u8>> {
 }
 
 /// The planar 2R (DH table, so its robot description is the generated URDF) for two
-/// frames, with a three-point cloud, its torque check and one collision: seeds of a few KiB
+/// frames, with a three-point cloud, its torque check, one collision and two obstacles (a
+/// box and a capsule: four markers and two labels): seeds of a few KiB
 /// that the `mcap_reader` fuzz target mutates faster than the UR5 ones.
 fn small_fuzz_seeds() -> Vec<Vec<u8>> {
     let path = root().join("robots/planar_2r.toml");
@@ -740,7 +745,22 @@ fn small_fuzz_seeds() -> Vec<Vec<u8>> {
         clouds: vec![big.clouds[1].clone()],
         torque_check: big.torque_check,
         collisions: big.collisions[..1].to_vec(),
-        obstacles: Vec::new(),
+        obstacles: markers_of(
+            &[
+                Obstacle::cuboid("box", [0.2, 0.1, 0.3], [0.5, 0.0, 0.15]),
+                Obstacle::new(
+                    "bar",
+                    Shape::Capsule {
+                        radius: 0.02,
+                        length: 0.3,
+                    },
+                    Se3::from_xyz_rpy([0.3, 0.2, 0.4], [0.0, 1.0, 0.0]),
+                ),
+            ],
+            "world",
+            &Se3::identity(),
+            None,
+        ),
     };
     zstd_and_plain(&rec, "small_seed")
 }
@@ -813,11 +833,13 @@ fn committed_mcap_seeds_are_current() {
         assert_eq!(rec.clouds, want.clouds, "{name}");
         assert_eq!(rec.torque_check, want.torque_check, "{name}");
         assert_eq!(rec.collisions, want.collisions, "{name}");
-        let (frames, joints) = if name.starts_with("ur5") {
-            (3, 6)
+        assert_eq!(rec.obstacles, want.obstacles, "{name}");
+        let (frames, joints, obstacle_shapes) = if name.starts_with("ur5") {
+            (3, 6, 0)
         } else {
-            (2, 2)
+            (2, 2, 4)
         };
+        assert_eq!(rec.obstacles.len(), obstacle_shapes, "{name}");
         assert_eq!(rec.frames.len(), frames, "{name}");
         assert_eq!(rec.header.joint_names.len(), joints, "{name}");
     }
