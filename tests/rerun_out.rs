@@ -14,7 +14,7 @@ use armsim::recording::rerun_out::{
 use armsim::recording::Header;
 use armsim::recording::{CollisionEvent, PointCloud, Recording, TorqueRow};
 use armsim::workspace::{sample_workspace, WorkspaceOptions};
-use rerun::components::{Position3D, RotationQuat, Translation3D};
+use rerun::components::{HalfSize3D, Position3D, RotationQuat, Translation3D};
 use rerun::external::re_log_encoding::rrd::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
 use rerun::StoreKind;
@@ -114,6 +114,8 @@ struct Contents {
     timelines: BTreeSet<String>,
     /// Static mesh vertex positions per entity.
     mesh_vertices: BTreeMap<String, Vec<[f32; 3]>>,
+    /// Static half sizes of boxes and ellipsoids per entity.
+    half_sizes: BTreeMap<String, Vec<[f32; 3]>>,
     /// Temporal transforms per entity, in row order: translation and `[x, y, z, w]`.
     poses: BTreeMap<String, Vec<Pose>>,
 }
@@ -163,6 +165,12 @@ fn decode(p: &Path) -> Contents {
             for row in chunk.iter_component::<Position3D>("Mesh3D:vertex_positions".into()) {
                 let v = c.mesh_vertices.entry(ent.clone()).or_default();
                 v.extend(row.iter().map(|p| p.0 .0));
+            }
+            for comp in ["Boxes3D:half_sizes", "Ellipsoids3D:half_sizes"] {
+                for row in chunk.iter_component::<HalfSize3D>(comp.into()) {
+                    let v = c.half_sizes.entry(ent.clone()).or_default();
+                    v.extend(row.iter().map(|h| h.0 .0));
+                }
             }
         } else {
             let tr = chunk.iter_component::<Translation3D>("Transform3D:translation".into());
@@ -599,5 +607,64 @@ fn cli_view_errors() {
         "--spawn",
     ]);
     assert_eq!(o.status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `armsim view` of a run's MCAP draws the scene's obstacles from its MarkerArray: one
+/// static entity per shape, boxes and spheres with the scenario's half sizes, the capsule
+/// as a cylinder and two spheres, the mesh with its scale and pose baked into the vertices.
+#[test]
+fn cli_view_draws_the_obstacles_of_a_run() {
+    let dir = tmp_dir("cli_obstacles");
+    let run = armsim(&[
+        "run",
+        "tests/data/scenarios/obstacle_markers.toml",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let rrd = dir.join("v.rrd");
+    let mcap = dir.join("obstacle_markers.mcap");
+    let o = armsim(&[
+        "view",
+        mcap.to_str().unwrap(),
+        "--save",
+        rrd.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let c = decode(&rrd);
+    let e = |name: &str, k: usize| {
+        path(&["world", "obstacles", name, &format!("shape_{k}")]).to_string()
+    };
+    assert_eq!(c.half_sizes[&e("table", 0)], vec![[0.4, 0.3, 0.02]]);
+    assert_eq!(c.half_sizes[&e("ball", 1)], vec![[0.07; 3]]);
+    assert!(c.has_static(&e("post", 2), "Cylinders3D:lengths"));
+    assert!(c.has_static(&e("rail", 3), "Cylinders3D:radii"));
+    assert_eq!(c.half_sizes[&e("rail", 4)], vec![[0.02; 3]]);
+    assert_eq!(c.half_sizes[&e("rail", 5)], vec![[0.02; 3]]);
+    assert!(c.has_static(&e("table", 0), "Boxes3D:labels"));
+    // The fixture: a unit cube scaled to 0.1 × 0.2 × 0.05, pitched by 0.4 rad, at
+    // (0.6, -0.3, 0.1): y spans ±0.1, x ±(0.05 cos 0.4 + 0.025 sin 0.4).
+    let v = &c.mesh_vertices[&e("fixture", 6)];
+    let span = |a: usize| {
+        let lo = v.iter().map(|p| p[a]).fold(f32::INFINITY, f32::min);
+        let hi = v.iter().map(|p| p[a]).fold(f32::NEG_INFINITY, f32::max);
+        (lo, hi)
+    };
+    let hx = 0.05 * 0.4f32.cos() + 0.025 * 0.4f32.sin();
+    let (x0, x1) = span(0);
+    let (y0, y1) = span(1);
+    assert!(
+        (x0 - (0.6 - hx)).abs() < 1e-6 && (x1 - (0.6 + hx)).abs() < 1e-6,
+        "{x0} {x1}"
+    );
+    assert!(
+        (y0 + 0.4).abs() < 1e-6 && (y1 + 0.2).abs() < 1e-6,
+        "{y0} {y1}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

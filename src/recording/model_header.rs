@@ -29,6 +29,7 @@ impl Header {
             static_tf: robot_tf.static_transforms(),
             robot_description: Some(robot_description(model_path, spec)),
             metadata: Vec::new(),
+            epoch_ns: None,
         };
         (header, robot_tf)
     }

@@ -11,6 +11,7 @@
 //! | `world/robot/skeleton`                   | segments parent origin → child origin, per frame   |
 //! | `world/tool_path`                        | the tool link's origin over time (static strip)    |
 //! | `world/workspace/cloud_<i>`              | point cloud coloured by its value (viridis)        |
+//! | `world/obstacles/<name>/shape_<k>`       | the scene's obstacles (static; `rerun_obstacles`)  |
 //! | `plots/torque/<joint>`                   | joint torque (or force), per frame                 |
 //! | `plots/torque/<joint>/upper_limit` / `lower_limit` | `±` effort limit (constant line)         |
 //! | `plots/q/<joint>`                        | joint position, per frame                          |
@@ -32,6 +33,7 @@
 //! failed run never leaves a partial `.rrd`. Spawning starts the external `rerun` viewer
 //! (from PyPI `rerun-sdk`, same version as the `rerun` crate) and streams to it.
 
+use super::rerun_obstacles::log_obstacles;
 use super::{CollisionEvent, Frame, PointCloud, Recording, Transform};
 use crate::collision::mesh::{load_mesh, MeshData};
 use crate::collision::resolve::resolve_uri;
@@ -440,6 +442,17 @@ fn log_with(
         Some(s) => log_geometry(stream, s, &tree, mesh_base, &mut report, &mut warnings)?,
         None => HashMap::new(),
     };
+    let first = posed.first().map(|(w, _)| w);
+    let frame_pose = |name: &str| Some(first?[*tree.index.get(name)?]);
+    let (obstacles, base) = (&rec.obstacles, mesh_base);
+    log_obstacles(
+        stream,
+        obstacles,
+        &frame_pose,
+        base,
+        &mut report,
+        &mut warnings,
+    )?;
     log_joint_plots(stream, rec, &frames)?;
     let t0 = times.first().copied().unwrap_or(0.0);
     let info = log_clouds(stream, rec, &tree, &mut report, &mut warnings)?;

@@ -54,6 +54,8 @@ pub struct RerunReport {
     pub visuals: usize,
     /// Points logged over all clouds.
     pub points: usize,
+    /// Obstacle shapes drawn.
+    pub obstacles: usize,
     /// The tool link whose path was drawn.
     pub tool: Option<String>,
     /// Problems that did not stop the log (missing meshes, malformed frames, …).
