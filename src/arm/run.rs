@@ -35,6 +35,8 @@ pub struct RunOptions {
     pub stop: fn() -> bool,
     /// Also log the run to Rerun (an `.rrd` file or a spawned viewer).
     pub rerun: Option<crate::recording::rerun_out::RerunSink>,
+    /// Directories searched first for `package://` mesh URIs (`--package-path`).
+    pub package_path: Vec<PathBuf>,
 }
 
 impl Default for RunOptions {
@@ -44,6 +46,7 @@ impl Default for RunOptions {
             write_files: true,
             stop: || false,
             rerun: None,
+            package_path: Vec::new(),
         }
     }
 }
@@ -593,7 +596,13 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
 /// frames) with the scene's `world` → base transform first, and the scenario metadata.
 fn recording_header(scene: &Scene) -> (Header, crate::recording::tf::RobotTf) {
     let model = &scene.model;
-    let (mut header, tf) = Header::for_model(&scene.name, &scene.model_path, model, &scene.spec);
+    let (mut header, tf) = Header::for_model_with(
+        &scene.name,
+        &scene.model_path,
+        model,
+        &scene.spec,
+        &scene.package_paths,
+    );
     header.static_tf.insert(
         0,
         crate::recording::tf::to_transform("world", &model.links[0].name, &scene.base),
