@@ -456,9 +456,8 @@ fn load_model(
     let unresolved = resolve_spec_meshes(&mut spec, path.parent(), &pkgs);
     let mut notes = Vec::new();
     let mut touching = Vec::new();
-    let mut added = Vec::new();
     if let Some(r) = skeleton {
-        added = add_skeleton(&mut spec, r, path.parent());
+        let added = add_skeleton(&mut spec, r, path.parent());
         touching = skeleton_contacts(&spec, &added, r);
         if !added.is_empty() {
             notes.push(format!(
@@ -467,10 +466,10 @@ fn load_model(
             ));
         }
     }
-    // Unresolved collision meshes are reported by the collision model, except where the
-    // skeleton replaced them.
+    // Unresolved collision meshes are reported by the collision model, unless the
+    // skeleton took them out of the spec.
     for u in &unresolved {
-        if u.kind == "visual" || added.contains(&u.link) {
+        if u.kind == "visual" || skeleton.is_some() {
             notes.push(format!(
                 "{}: link '{}': {} mesh '{}' not found: {}",
                 path.display(),
