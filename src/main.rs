@@ -263,6 +263,10 @@ enum Cmd {
         /// ROS_PACKAGE_PATH, AMENT_PREFIX_PATH and the model file's folder tree).
         #[arg(long = "package-path", value_name = "DIR")]
         package_path: Vec<PathBuf>,
+        /// Keep the mesh URIs of the recording's robot description as the model file
+        /// writes them (default: absolute file:// URIs of the files found here).
+        #[arg(long)]
+        keep_mesh_uris: bool,
     },
     /// Time one algorithm (median ns per call over random states inside the limits).
     Bench {
@@ -490,6 +494,7 @@ fn run(cli: Cli) -> Result<(), String> {
             rerun,
             spawn,
             package_path,
+            keep_mesh_uris,
         } => {
             if rerun.is_some() || spawn {
                 need_rerun()?;
@@ -510,6 +515,7 @@ fn run(cli: Cli) -> Result<(), String> {
                     (None, false) => None,
                 },
                 package_path,
+                keep_mesh_uris,
                 ..Default::default()
             };
             let report =

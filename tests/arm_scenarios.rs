@@ -520,6 +520,19 @@ fn package_uris_resolve_through_package_paths_and_the_mcap_names_absolute_files(
             "{u}"
         );
     }
+    // --keep-mesh-uris: the URIs as the URDF writes them.
+    let keep = RunOptions {
+        keep_mesh_uris: true,
+        ..opts
+    };
+    arm::run(&scenario, &plain, &keep).unwrap();
+    let rec = armsim::recording::mcap_in::read_mcap(&dir.join("out/planted.mcap")).unwrap();
+    let uris = mesh_uris(&rec.header.robot_description.unwrap());
+    assert_eq!(uris.len(), 14);
+    assert!(
+        uris.iter().all(|u| u.starts_with("package://ur5/")),
+        "{uris:?}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -379,8 +379,43 @@ fn geometry_from_the_embedded_urdf() {
     let dir = tmp_dir("embedded");
     let out = dir.join("e.rrd");
     let report = log_recording(&rec, None, None, &RerunSink::Save(out.clone())).unwrap();
-    // UR5 meshes are not shipped: the seven visuals are reported missing in one warning
-    // (one reason: the package is not found), nothing fails.
+    // The description names the bundled meshes by file:// URIs: every link with a visual
+    // gets one Mesh3D per visual, with the vertices of its file.
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let c = decode(&out);
+    let spec = Model::read_spec(&root().join("robots/ur5.urdf")).unwrap();
+    let mut meshes = 0;
+    for l in &spec.links {
+        assert!(c.entities.contains(&link_entity(&l.name).to_string()));
+        for (k, g) in l.visuals.iter().enumerate() {
+            let armsim::model::Shape::Mesh { uri, .. } = &g.shape else {
+                panic!("{}: visual {k} is not a mesh", l.name)
+            };
+            let file = root().join("robots").join(uri);
+            let want = armsim::collision::mesh::load_mesh(&file)
+                .unwrap()
+                .vertices
+                .len();
+            let e = format!("{}/visual_{k}", link_entity(&l.name));
+            let got = c.mesh_vertices.get(&e).map_or(0, |v| v.len());
+            assert_eq!(got, want, "{e}: Mesh3D vertices");
+            assert!(want > 100, "{e}: a real mesh, not a primitive");
+            meshes += 1;
+        }
+    }
+    assert_eq!(meshes, 7);
+    assert_eq!(report.visuals, 7);
+
+    // The same description with the original package:// URIs and no such package: the
+    // seven visuals are reported missing in one warning (one reason), nothing fails.
+    let mut pkg = rec.clone();
+    let desc = pkg.header.robot_description.take().unwrap();
+    let abs = std::fs::canonicalize(root().join("robots/meshes/ur5")).unwrap();
+    pkg.header.robot_description = Some(desc.replace(
+        &format!("file://{}/", abs.display()),
+        "package://ur_description/meshes/ur5/",
+    ));
+    let report = log_recording(&pkg, None, None, &RerunSink::Save(dir.join("p.rrd"))).unwrap();
     assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
     assert!(
         report.warnings[0].starts_with("7 visual meshes not drawn ('package://ur_description/"),
@@ -388,10 +423,6 @@ fn geometry_from_the_embedded_urdf() {
         report.warnings[0]
     );
     assert!(report.warnings[0].contains("package 'ur_description' not found"));
-    let c = decode(&out);
-    for l in &model.links {
-        assert!(c.entities.contains(&link_entity(&l.name).to_string()));
-    }
 
     // Without any description: frames and plots only.
     let mut bare = rec.clone();

@@ -19,6 +19,8 @@ pub mod rerun_out;
 #[cfg(not(feature = "rerun"))]
 #[path = "rerun_off.rs"]
 pub mod rerun_out;
+#[cfg(feature = "rerun")]
+mod rerun_scene;
 pub mod rerun_sink;
 pub mod ros2;
 pub mod tf;

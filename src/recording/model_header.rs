@@ -22,20 +22,24 @@ impl Header {
         spec: &ModelSpec,
     ) -> (Header, RobotTf) {
         let pkgs = PackagePaths::from_env(Vec::new());
-        Self::for_model_with(name, model_path, model, spec, &pkgs)
+        Self::for_model_with(name, model_path, model, spec, Some(&pkgs))
     }
 
-    /// [`Header::for_model`] with the package paths `pkgs` for `package://` mesh URIs.
+    /// [`Header::for_model`] with the package paths `pkgs` for `package://` mesh URIs;
+    /// `None` keeps the description's mesh URIs as written (for viewers that resolve
+    /// `package://` themselves, e.g. with `ROS_PACKAGE_PATH`).
     pub fn for_model_with(
         name: impl Into<String>,
         model_path: &Path,
         model: &Model,
         spec: &ModelSpec,
-        pkgs: &PackagePaths,
+        pkgs: Option<&PackagePaths>,
     ) -> (Header, RobotTf) {
         let robot_tf = RobotTf::new(model, spec);
-        let text = robot_description(model_path, spec);
-        let (text, _missing) = absolute_mesh_uris(&text, model_path.parent(), pkgs);
+        let mut text = robot_description(model_path, spec);
+        if let Some(pkgs) = pkgs {
+            text = absolute_mesh_uris(&text, model_path.parent(), pkgs).0;
+        }
         let header = Header {
             name: name.into(),
             joint_names: model.dof_names(),

@@ -18,6 +18,17 @@ pub fn log_recording(
 }
 
 /// Refuses: this build has no Rerun SDK.
+pub fn log_recording_with(
+    _rec: &Recording,
+    _spec: Option<&ModelSpec>,
+    _mesh_base: Option<&Path>,
+    _extras: &SceneExtras,
+    _sink: &RerunSink,
+) -> Result<RerunReport, RerunError> {
+    Err(RerunError::NotBuilt)
+}
+
+/// Refuses: this build has no Rerun SDK.
 pub fn log_workspace(_cloud: &PointCloud, _sink: &RerunSink) -> Result<RerunReport, RerunError> {
     Err(RerunError::NotBuilt)
 }

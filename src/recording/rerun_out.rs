@@ -9,6 +9,7 @@
 //! | `world/robot/<link>/visual_<k>`          | visual geometry in the link frame (static)         |
 //! | `world/robot/<link>/collision`           | red box on a link at its collision times           |
 //! | `world/robot/skeleton`                   | segments parent origin → child origin, per frame   |
+//! | `world/obstacles/<name>`                 | scene obstacles ([`SceneExtras`]), static          |
 //! | `world/tool_path`                        | the tool link's origin over time (static strip)    |
 //! | `world/workspace/cloud_<i>`              | point cloud coloured by its value (viridis)        |
 //! | `plots/torque/<joint>`                   | joint torque (or force), per frame                 |
@@ -87,6 +88,17 @@ pub fn log_recording(
     mesh_base: Option<&Path>,
     sink: &RerunSink,
 ) -> Result<RerunReport, RerunError> {
+    log_recording_with(rec, spec, mesh_base, &SceneExtras::default(), sink)
+}
+
+/// [`log_recording`] with the scene around the robot (obstacles, see [`SceneExtras`]).
+pub fn log_recording_with(
+    rec: &Recording,
+    spec: Option<&ModelSpec>,
+    mesh_base: Option<&Path>,
+    extras: &SceneExtras,
+    sink: &RerunSink,
+) -> Result<RerunReport, RerunError> {
     check_sink(sink)?;
     let parsed;
     let mut pre_warnings = Vec::new();
@@ -113,6 +125,7 @@ pub fn log_recording(
     };
     let (stream, storage) = open(sink, &name, Some(make_blueprint(rec)))?;
     let mut report = log_with(&stream, rec, spec, mesh_base, pre_warnings)?;
+    super::rerun_scene::log_obstacles(&stream, extras, &mut report.warnings)?;
     report.bytes = finish(&stream, storage, sink)?;
     Ok(report)
 }
@@ -687,7 +700,7 @@ fn color_of(g: &Geometry) -> rerun::Color {
 }
 
 /// Logs one primitive; `false` when the shape is a mesh or has non-positive sizes.
-fn log_primitive(
+pub(crate) fn log_primitive(
     stream: &RecordingStream,
     ent: EntityPath,
     g: &Geometry,
@@ -740,7 +753,7 @@ fn log_primitive(
 }
 
 /// Area-weighted vertex normals.
-fn vertex_normals(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<[f32; 3]> {
+pub(crate) fn vertex_normals(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<[f32; 3]> {
     let mut n = vec![Vec3::zeros(); vertices.len()];
     let v = |i: u32| {
         let p = vertices[i as usize];
