@@ -13,6 +13,8 @@ pub mod mcap_in;
 pub mod mcap_out;
 mod model_header;
 #[cfg(feature = "rerun")]
+mod rerun_blueprint;
+#[cfg(feature = "rerun")]
 pub mod rerun_out;
 /// Rerun output in a build without the `rerun` feature: the same API, every log call
 /// refused with [`rerun_sink::RerunError::NotBuilt`].
