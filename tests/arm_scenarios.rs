@@ -398,7 +398,7 @@ fn planted_obstacle_is_hit_by_the_wrist_3_mesh_at_a_true_contact() {
         })
         .fold(f64::INFINITY, f64::min);
     let depth = first["depth"].as_f64().unwrap();
-    assert!(depth >= 0.0 && depth < 1e-3, "{first}");
+    assert!((0.0..1e-3).contains(&depth), "{first}");
     assert!(
         ((dist - 0.03) + depth).abs() < 1e-7,
         "ball centre to mesh {dist}, reported depth {depth}"
