@@ -440,10 +440,21 @@ fn log_with(
         rerun::TextLogLevel::WARN,
     )?;
     report.warnings = warnings;
+    // What the camera frames: the link origins over the motion and the world clouds.
     let mut robot = None;
     for (w, _) in &posed {
         for m in w {
             super::rerun_scene::grow(&mut robot, &m.trans);
+        }
+    }
+    for c in rec
+        .clouds
+        .iter()
+        .filter(|c| !tree.index.contains_key(&c.frame))
+    {
+        for p in c.points.iter().filter(|p| p.iter().all(|x| x.is_finite())) {
+            let v = Vec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+            super::rerun_scene::grow(&mut robot, &v);
         }
     }
     Ok((report, robot))
