@@ -891,6 +891,36 @@ fn model_mesh_uris_resolve_and_missing_ones_are_reported() {
 }
 
 #[test]
+fn collision_options_package_path_finds_a_package() {
+    // mesh_probe.urdf's link 'missing' names package://no_such_package/meshes/part.stl;
+    // a package directory given in CollisionOptions::package_path makes it resolve.
+    let model = load("tests/data/mesh_probe.urdf");
+    let dir = std::env::temp_dir().join(format!("armsim_pkgpath_{}", std::process::id()));
+    let meshes = dir.join("no_such_package/meshes");
+    std::fs::create_dir_all(&meshes).unwrap();
+    std::fs::copy(
+        data("tests/data/meshes/cube_binary.stl"),
+        meshes.join("part.stl"),
+    )
+    .unwrap();
+    let opts = CollisionOptions {
+        package_path: vec![dir.clone()],
+        ..Default::default()
+    };
+    // The link sits at x = -5: a sphere of radius 0.1 centred 1 m above it.
+    let probe = Obstacle::sphere("probe", 0.1, [-5.0, 0.0, 1.0]);
+    let cm = CollisionModel::new(&model, vec![probe], &opts).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(cm.unprotected_links().is_empty(), "{:?}", cm.warnings());
+    let mut cd = CollisionData::new(&model, &cm);
+    cm.update(&model, &mut cd, &[]);
+    let link = Body::Link(model.link_id("missing").unwrap());
+    // The unit cube's top face at z = 0.5: 1 - 0.5 - 0.1.
+    let d = cm.body_distance(&cd, link, Body::Obstacle(0)).unwrap();
+    assert!((d - 0.4).abs() < 1e-9, "{d}");
+}
+
+#[test]
 fn mesh_against_mesh() {
     // The link 'relative' of mesh_probe.urdf is the unit cube at the origin (a closed
     // triangle mesh); obstacles: the same cube as a mesh, 2 m above, and overlapping it by
