@@ -304,14 +304,18 @@ fn read_back_equals_written() {
     assert_eq!(back.torque_check, want.torque_check);
     assert_eq!(back.collisions, want.collisions);
     assert_eq!(back, want);
-    // The URDF is the file's own text.
+    // The URDF is the file's own text, its relative mesh paths (meshes/ur5/...) made
+    // absolute file:// URIs of the bundled files.
+    let robots = std::fs::canonicalize(root().join("robots")).unwrap();
+    let text = std::fs::read_to_string(root().join("robots/ur5.urdf")).unwrap();
+    let want_text = text.replace(
+        "filename=\"meshes/",
+        &format!("filename=\"file://{}/meshes/", robots.display()),
+    );
+    assert_ne!(want_text, text);
     assert_eq!(
         back.header.robot_description.as_deref(),
-        Some(
-            std::fs::read_to_string(root().join("robots/ur5.urdf"))
-                .unwrap()
-                .as_str()
-        )
+        Some(want_text.as_str())
     );
     // No temporary files are left beside it.
     let names: Vec<_> = std::fs::read_dir(&dir)

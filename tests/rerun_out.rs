@@ -111,6 +111,10 @@ struct Contents {
     statics: BTreeMap<(String, String), usize>,
     entities: BTreeSet<String>,
     blueprint_msgs: usize,
+    /// The 3-D view's eye: position and look target, from the blueprint.
+    eye: Option<([f32; 3], [f32; 3])>,
+    /// Query expressions of the blueprint's views.
+    view_queries: Vec<String>,
     timelines: BTreeSet<String>,
     /// Static mesh vertex positions per entity.
     mesh_vertices: BTreeMap<String, Vec<[f32; 3]>>,
@@ -151,11 +155,25 @@ fn decode(p: &Path) -> Contents {
         let LogMsg::ArrowMsg(store, arrow) = m else {
             continue;
         };
+        let chunk = Chunk::from_arrow_msg(&arrow).unwrap();
         if store.kind() == StoreKind::Blueprint {
             c.blueprint_msgs += 1;
+            let pos = chunk
+                .iter_component::<Position3D>("EyeControls3D:position".into())
+                .next();
+            let target = chunk
+                .iter_component::<Position3D>("EyeControls3D:look_target".into())
+                .next();
+            if let (Some(p), Some(t)) = (pos, target) {
+                c.eye = Some((p[0].0 .0, t[0].0 .0));
+            }
+            for q in chunk.iter_component::<rerun::blueprint::components::QueryExpression>(
+                "ViewContents:query".into(),
+            ) {
+                c.view_queries.extend(q.iter().map(|e| e.0.to_string()));
+            }
             continue;
         }
-        let chunk = Chunk::from_arrow_msg(&arrow).unwrap();
         let ent = chunk.entity_path().to_string();
         c.entities.insert(ent.clone());
         for tl in chunk.timelines().keys() {
@@ -212,6 +230,32 @@ fn check_model(rel: &str) {
 
     let c = decode(&out);
     assert!(c.blueprint_msgs > 0, "blueprint stored");
+    // The 3-D view's eye looks at a point inside the box of the link origins over the
+    // motion, from outside it.
+    let (eye, target) = c.eye.expect("EyeControls3D in the blueprint");
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for (t, _) in c.poses.values().flatten() {
+        for k in 0..3 {
+            lo[k] = lo[k].min(t[k]);
+            hi[k] = hi[k].max(t[k]);
+        }
+    }
+    assert!(
+        (0..3).all(|k| lo[k] - 0.2 <= target[k] && target[k] <= hi[k] + 0.2),
+        "{target:?} {lo:?} {hi:?}"
+    );
+    assert!(
+        (0..3).any(|k| eye[k] < lo[k] - 0.2 || eye[k] > hi[k] + 0.2),
+        "{eye:?} {lo:?} {hi:?}"
+    );
+    // Bodies are drawn, so the skeleton is left out of the 3-D view.
+    assert!(
+        c.view_queries
+            .iter()
+            .any(|q| q == "- /world/robot/skeleton"),
+        "{:?}",
+        c.view_queries
+    );
     assert_eq!(
         c.timelines,
         BTreeSet::from(["time".to_string()]),
@@ -379,6 +423,69 @@ fn visual_geometry_of_every_kind() {
 }
 
 #[test]
+fn scene_obstacles_are_drawn_in_world_coordinates() {
+    use armsim::model::{Geometry, Shape};
+    use armsim::recording::rerun_out::{log_recording_with, SceneExtras};
+    use armsim::spatial::Se3;
+    let model = common::load("robots/ur5.urdf");
+    let rec = recording(&model, "scene");
+    let dir = tmp_dir("scene");
+    let out = dir.join("scene.rrd");
+    let g = |shape: Shape, xyz: [f64; 3]| Geometry {
+        origin: Se3::from_xyz_rpy(xyz, [0.0; 3]),
+        shape,
+        rgba: None,
+    };
+    let cube = |uri: &str| Shape::Mesh {
+        uri: uri.into(),
+        scale: [0.1; 3],
+    };
+    let extras = SceneExtras {
+        obstacles: vec![
+            (
+                "table".into(),
+                g(
+                    Shape::Box {
+                        size: [0.8, 1.2, 0.04],
+                    },
+                    [0.45, 0.0, -0.025],
+                ),
+            ),
+            (
+                "ball".into(),
+                g(Shape::Sphere { radius: 0.05 }, [0.5, 0.1, 0.3]),
+            ),
+            ("block".into(), g(cube("cube.obj"), [0.3, -0.4, 0.2])),
+            ("ghost".into(), g(cube("no_such.obj"), [0.0; 3])),
+        ],
+        obstacle_dir: Some(root().join("tests/data/meshes")),
+    };
+    let report =
+        log_recording_with(&rec, None, None, &extras, &RerunSink::Save(out.clone())).unwrap();
+    let c = decode(&out);
+    assert!(c.has_static("/world/obstacles/table", "Boxes3D:half_sizes"));
+    assert!(c.has_static("/world/obstacles/ball", "Ellipsoids3D:half_sizes"));
+    // The unit cube (vertices at ±0.5), scaled by 0.1 and placed at (0.3, -0.4, 0.2).
+    let v = &c.mesh_vertices["/world/obstacles/block"];
+    assert_eq!(v.len(), 8);
+    for p in v {
+        for (k, centre) in [0.3f32, -0.4, 0.2].iter().enumerate() {
+            assert!(((p[k] - centre).abs() - 0.05).abs() < 1e-6, "{p:?}");
+        }
+    }
+    assert!(!c.entities.contains("/world/obstacles/ghost"));
+    assert!(
+        report
+            .warnings
+            .iter()
+            .any(|w| w.contains("obstacle 'ghost'") && w.contains("no_such.obj")),
+        "{:?}",
+        report.warnings
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn geometry_from_the_embedded_urdf() {
     // No spec given: the URDF text in the header is parsed.
     let model = common::load("robots/ur5.urdf");
@@ -387,8 +494,43 @@ fn geometry_from_the_embedded_urdf() {
     let dir = tmp_dir("embedded");
     let out = dir.join("e.rrd");
     let report = log_recording(&rec, None, None, &RerunSink::Save(out.clone())).unwrap();
-    // UR5 meshes are not shipped: the seven visuals are reported missing in one warning
-    // (one reason: the package is not found), nothing fails.
+    // The description names the bundled meshes by file:// URIs: every link with a visual
+    // gets one Mesh3D per visual, with the vertices of its file.
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let c = decode(&out);
+    let spec = Model::read_spec(&root().join("robots/ur5.urdf")).unwrap();
+    let mut meshes = 0;
+    for l in &spec.links {
+        assert!(c.entities.contains(&link_entity(&l.name).to_string()));
+        for (k, g) in l.visuals.iter().enumerate() {
+            let armsim::model::Shape::Mesh { uri, .. } = &g.shape else {
+                panic!("{}: visual {k} is not a mesh", l.name)
+            };
+            let file = root().join("robots").join(uri);
+            let want = armsim::collision::mesh::load_mesh(&file)
+                .unwrap()
+                .vertices
+                .len();
+            let e = format!("{}/visual_{k}", link_entity(&l.name));
+            let got = c.mesh_vertices.get(&e).map_or(0, |v| v.len());
+            assert_eq!(got, want, "{e}: Mesh3D vertices");
+            assert!(want > 100, "{e}: a real mesh, not a primitive");
+            meshes += 1;
+        }
+    }
+    assert_eq!(meshes, 7);
+    assert_eq!(report.visuals, 7);
+
+    // The same description with the original package:// URIs and no such package: the
+    // seven visuals are reported missing in one warning (one reason), nothing fails.
+    let mut pkg = rec.clone();
+    let desc = pkg.header.robot_description.take().unwrap();
+    let abs = std::fs::canonicalize(root().join("robots/meshes/ur5")).unwrap();
+    pkg.header.robot_description = Some(desc.replace(
+        &format!("file://{}/", abs.display()),
+        "package://ur_description/meshes/ur5/",
+    ));
+    let report = log_recording(&pkg, None, None, &RerunSink::Save(dir.join("p.rrd"))).unwrap();
     assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
     assert!(
         report.warnings[0].starts_with("7 visual meshes not drawn ('package://ur_description/"),
@@ -396,10 +538,6 @@ fn geometry_from_the_embedded_urdf() {
         report.warnings[0]
     );
     assert!(report.warnings[0].contains("package 'ur_description' not found"));
-    let c = decode(&out);
-    for l in &model.links {
-        assert!(c.entities.contains(&link_entity(&l.name).to_string()));
-    }
 
     // Without any description: frames and plots only.
     let mut bare = rec.clone();

@@ -36,6 +36,11 @@ pub struct RunOptions {
     pub stop: fn() -> bool,
     /// Also log the run to Rerun (an `.rrd` file or a spawned viewer).
     pub rerun: Option<crate::recording::rerun_out::RerunSink>,
+    /// Directories searched first for `package://` mesh URIs (`--package-path`).
+    pub package_path: Vec<PathBuf>,
+    /// Keep the recording's robot description's mesh URIs as the model file writes them
+    /// instead of absolute `file://` URIs (`--keep-mesh-uris`).
+    pub keep_mesh_uris: bool,
 }
 
 impl Default for RunOptions {
@@ -45,6 +50,8 @@ impl Default for RunOptions {
             write_files: true,
             stop: || false,
             rerun: None,
+            package_path: Vec::new(),
+            keep_mesh_uris: false,
         }
     }
 }
@@ -222,7 +229,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         })?;
     }
     let mut recorder = if opts.write_files && scene.outputs.mcap {
-        let (header, robot_tf) = recording_header(&scene, started_ns);
+        let (header, robot_tf) = recording_header(&scene, started_ns, opts.keep_mesh_uris);
         let path = out_dir.join(format!("{}.mcap", scene.name));
         let rec_err =
             |e: crate::recording::error::RecordError| fail("outputs", format!("recording: {e}"));
@@ -433,7 +440,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     }
     if let Some(sink) = &opts.rerun {
         let t0 = Instant::now();
-        let (header, tf) = recording_header(&scene, started_ns);
+        let (header, tf) = recording_header(&scene, started_ns, opts.keep_mesh_uris);
         let mut data = Data::new(model);
         let frames = samples
             .iter()
@@ -447,10 +454,27 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
             obstacles: obstacle_markers(&scene),
             ..Default::default()
         };
-        let rep = crate::recording::rerun_out::log_recording(
+        let extras = crate::recording::rerun_out::SceneExtras {
+            obstacles: scene
+                .obstacles
+                .iter()
+                .filter_map(|o| o.to_obstacle().ok())
+                .map(|o| {
+                    let g = crate::model::Geometry {
+                        origin: scene.base.mul(&o.pose),
+                        shape: o.shape.clone(),
+                        rgba: None,
+                    };
+                    (o.name.clone(), g)
+                })
+                .collect(),
+            obstacle_dir: Path::new(&scene.file).parent().map(Path::to_path_buf),
+        };
+        let rep = crate::recording::rerun_out::log_recording_with(
             &rec,
             Some(&scene.spec),
             scene.model_path.parent(),
+            &extras,
             sink,
         )
         .map_err(|e| fail("outputs", format!("rerun: {e}")))?;
@@ -601,10 +625,20 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
 
 /// The recording header of a scene: the model's (joints, limits, robot description, fixed
 /// frames) with the scene's `world` → base transform first, the scenario metadata, and the
-/// epoch `epoch_ns` (Unix ns of `t = 0`).
-fn recording_header(scene: &Scene, epoch_ns: u64) -> (Header, crate::recording::tf::RobotTf) {
+/// epoch `epoch_ns` (Unix ns of `t = 0`); mesh URIs made absolute unless `keep_uris`.
+fn recording_header(
+    scene: &Scene,
+    epoch_ns: u64,
+    keep_uris: bool,
+) -> (Header, crate::recording::tf::RobotTf) {
     let model = &scene.model;
-    let (mut header, tf) = Header::for_model(&scene.name, &scene.model_path, model, &scene.spec);
+    let (mut header, tf) = Header::for_model_with(
+        &scene.name,
+        &scene.model_path,
+        model,
+        &scene.spec,
+        (!keep_uris).then_some(&scene.package_paths),
+    );
     header.static_tf.insert(
         0,
         crate::recording::tf::to_transform("world", &model.links[0].name, &scene.base),

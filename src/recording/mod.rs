@@ -18,12 +18,16 @@ pub mod obstacles;
 #[cfg(feature = "rerun")]
 mod rerun_obstacles;
 #[cfg(feature = "rerun")]
+mod rerun_blueprint;
+#[cfg(feature = "rerun")]
 pub mod rerun_out;
 /// Rerun output in a build without the `rerun` feature: the same API, every log call
 /// refused with [`rerun_sink::RerunError::NotBuilt`].
 #[cfg(not(feature = "rerun"))]
 #[path = "rerun_off.rs"]
 pub mod rerun_out;
+#[cfg(feature = "rerun")]
+mod rerun_scene;
 pub mod rerun_sink;
 pub mod ros2;
 pub mod tf;
