@@ -54,6 +54,10 @@ pub struct ModelSec {
     pub base_rpy: [f64; 3],
     /// Tool link (default: the last link of the tree).
     pub tool: Option<Spanned<String>>,
+    /// Directories searched first for `package://` mesh URIs, relative to the scenario
+    /// file (after the command line's `--package-path`, before `ROS_PACKAGE_PATH`).
+    #[serde(default)]
+    pub package_path: Vec<Spanned<String>>,
 }
 
 /// `[gravity]`.

@@ -80,6 +80,7 @@ pub struct CheckScratch {
     poses: Vec<PoseM>,
     centers: Vec<P3m>,
     bounds: Vec<P3m>,
+    placed: Vec<bool>,
     speed: Vec<f32>,
     link_speed: Vec<f32>,
     stack: Vec<(f32, f32)>,
@@ -158,6 +159,7 @@ impl Checker {
             poses: vec![PoseM::default(); self.bodies.len()],
             centers: vec![P3m::default(); self.spheres.len()],
             bounds: vec![P3m::default(); self.spheres.links.len()],
+            placed: vec![false; self.spheres.links.len()],
             speed: vec![0.0; self.spheres.len()],
             link_speed: vec![0.0; self.spheres.links.len()],
             stack: Vec::with_capacity(256),
@@ -375,9 +377,7 @@ impl Checker {
             };
             while g < sm.links.len() && sm.links[g].body == body {
                 let ls = &sm.links[g];
-                for i in ls.first..ls.end {
-                    s.centers[i] = pose.act(tok, &sm.spheres[i].center).store();
-                }
+                s.placed[g] = false;
                 let bc = pose.act(tok, &ls.bound.center);
                 s.bounds[g] = bc.store();
                 let br = tok.splat(ls.bound.radius) + inflate(s.link_speed[g]);
@@ -386,6 +386,7 @@ impl Checker {
                     if ob.near(tok, &bc, br) == 0 || ob.overlaps(tok, &bc, br) == 0 {
                         continue;
                     }
+                    self.place_spheres(tok, g, &pose, s);
                     for i in ls.first..ls.end {
                         let r = tok.splat(sm.spheres[i].radius);
                         let c = P3::load(tok, &s.centers[i]);
@@ -413,6 +414,30 @@ impl Checker {
         (exact, inflated)
     }
 
+    /// Computes the world centres of group `g`'s spheres (once per batch).
+    #[inline(always)]
+    fn place_spheres<S: Simd>(&self, tok: S, g: usize, pose: &Pose<S>, s: &mut CheckScratch) {
+        if s.placed[g] {
+            return;
+        }
+        let ls = &self.spheres.links[g];
+        for i in ls.first..ls.end {
+            s.centers[i] = pose.act(tok, &self.spheres.spheres[i].center).store();
+        }
+        s.placed[g] = true;
+    }
+
+    /// The pose of body `b` (or the world) stored by this batch.
+    #[inline(always)]
+    fn stored_pose<S: Simd>(&self, tok: S, b: usize, s: &CheckScratch) -> Pose<S> {
+        if b == WORLD {
+            let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+            Pose::splat(tok, &identity, &[0.0; 3])
+        } else {
+            Pose::load(tok, &s.poses[b])
+        }
+    }
+
     /// Masks `(exact, inflated)` where link groups `ga` and `gb` overlap (bounding spheres
     /// first).
     #[inline(always)]
@@ -422,7 +447,7 @@ impl Checker {
         ga: usize,
         gb: usize,
         inflate: &impl Fn(f32) -> W<S>,
-        s: &CheckScratch,
+        s: &mut CheckScratch,
     ) -> (Mask, Mask) {
         let sm = &self.spheres;
         let (la, lb) = (&sm.links[ga], &sm.links[gb]);
@@ -433,6 +458,12 @@ impl Checker {
             + inflate(s.link_speed[gb]);
         if ca.dist2(&cb).lt(rr * rr) == 0 {
             return (0, 0);
+        }
+        for (g, body) in [(ga, la.body), (gb, lb.body)] {
+            if !s.placed[g] {
+                let pose = self.stored_pose(tok, body, s);
+                self.place_spheres(tok, g, &pose, s);
+            }
         }
         let (mut exact, mut inflated) = (0, 0);
         for i in la.first..la.end {

@@ -109,7 +109,15 @@ impl SphereModel {
                     }
                 };
                 let to_body = link.offset.mul(&g.origin);
-                for (c, r) in cover(&prim, opts.max_overshoot) {
+                let (cover, used) = cover(&prim, opts.max_overshoot);
+                if used > opts.max_overshoot {
+                    warnings.push(format!(
+                        "link '{}': a primitive this large is covered with overshoot {used:.4} m \
+                         (more than the {} m asked for)",
+                        link.name, opts.max_overshoot
+                    ));
+                }
+                for (c, r) in cover {
                     let p = to_body.act_point(&Vec3::new(c[0], c[1], c[2]));
                     spheres.push(Sphere {
                         center: [p.x as f32, p.y as f32, p.z as f32],

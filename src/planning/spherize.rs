@@ -6,14 +6,16 @@
 //!
 //! 1. grid points `p` at spacing `s` over the shape's bounding box, keeping those with
 //!    `φ(p) ≤ s√3/2` (every point of the shape is within `s√3/2` of a kept point);
-//! 2. repeatedly, the deepest uncovered point `p` gets a sphere of radius `max(−φ(p), 0) + δ`;
-//!    it marks as covered the points within `radius − s√3/2` of its centre.
+//! 2. repeatedly, the deepest uncovered point `p` gets a sphere of radius `δ − φ(p)`; it
+//!    marks as covered the points within `radius − s√3/2` of its centre.
 //!
-//! A sphere centred at depth `d = −φ(p)` with radius `d + δ` reaches at most `δ` outside the
-//! shape (the ball of radius `d` is inside it), so the **overshoot is at most δ**; a point
-//! of the shape is within `s√3/2` of a covered grid point, itself within `r − s√3/2` of a
-//! centre, so the **shape is inside the union**. With `s = δ/√3` the covered radius is at
-//! least `δ/2`, so the loop ends. A capsule needs no grid: spheres of radius `R + δ` on its
+//! `φ` is 1-Lipschitz, so on a sphere of radius `δ − φ(p)` about `p`, `φ ≤ δ`: the
+//! **overshoot is at most δ**. With `s = δ/√3` the slack `s√3/2` is `δ/2` and every kept
+//! point has `φ ≤ δ/2`, so every sphere has radius ≥ `δ/2` ≥ the slack: a point of the shape
+//! is within the slack of a kept grid point, which is either the centre of a sphere (and
+//! inside it) or within `radius − slack` of one; so the **shape is inside the union**.
+//! For primitives of more than about 70 δ per axis, δ is raised until the grid has at most
+//! 400 000 points (the bound then holds for the raised δ, which [`cover`] returns). A capsule needs no grid: spheres of radius `R + δ` on its
 //! segment, spaced `2√(2Rδ + δ²)`, cover it exactly with overshoot `δ`.
 
 /// A primitive in its own frame (boxes by half extents; cylinders and capsules along z).
@@ -63,12 +65,25 @@ impl Primitive {
     }
 }
 
-/// Spheres `(centre, radius)` in the primitive's frame covering it with overshoot ≤ `delta`.
-pub fn cover(shape: &Primitive, delta: f64) -> Vec<([f64; 3], f64)> {
+/// Spheres `(centre, radius)` in the primitive's frame covering it, and the overshoot bound
+/// they meet (`delta`, or more for very large primitives: see the module docs).
+pub fn cover(shape: &Primitive, delta: f64) -> (Vec<([f64; 3], f64)>, f64) {
     match *shape {
-        Primitive::Sphere(r) => vec![([0.0; 3], r)],
-        Primitive::Capsule(r, h) => cover_capsule(r, h, delta),
-        _ => cover_by_sdf(shape, delta),
+        Primitive::Sphere(r) => (vec![([0.0; 3], r)], 0.0),
+        Primitive::Capsule(r, h) => (cover_capsule(r, h, delta), delta),
+        _ => {
+            let he = shape.half_extents();
+            let mut delta = delta;
+            let points = |d: f64| {
+                he.iter()
+                    .map(|h| (2.0 * h / (d / 3f64.sqrt())).ceil() + 1.0)
+                    .product::<f64>()
+            };
+            while points(delta) > 4e5 {
+                delta *= 1.25;
+            }
+            (cover_by_sdf(shape, delta), delta)
+        }
     }
 }
 
@@ -90,9 +105,7 @@ fn cover_capsule(r: f64, h: f64, delta: f64) -> Vec<([f64; 3], f64)> {
 
 fn cover_by_sdf(shape: &Primitive, delta: f64) -> Vec<([f64; 3], f64)> {
     let he = shape.half_extents();
-    // Spacing δ/√3, but at most 60 points per axis (the overshoot bound still holds; only
-    // the covered radius per sphere shrinks, so the loop may place more spheres).
-    let s = (delta / 3f64.sqrt()).max(2.0 * he.iter().cloned().fold(0.0, f64::max) / 60.0);
+    let s = delta / 3f64.sqrt();
     let slack = s * 3f64.sqrt() / 2.0;
     let counts = he.map(|h| ((2.0 * h) / s).ceil() as usize + 1);
     let mut pts: Vec<([f64; 3], f64)> = Vec::new();
@@ -120,7 +133,7 @@ fn cover_by_sdf(shape: &Primitive, delta: f64) -> Vec<([f64; 3], f64)> {
             continue;
         }
         let (c, phi) = pts[i];
-        let r = (-phi).max(0.0) + delta;
+        let r = delta - phi;
         let reach2 = (r - slack).max(0.0).powi(2);
         for (k, (p, _)) in pts.iter().enumerate() {
             let d2 = (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2);
@@ -141,7 +154,8 @@ mod tests {
     /// Checks both claims on a dense random sample: every point of the shape is inside
     /// some sphere, and no sphere reaches further than `delta` outside the shape.
     fn check_cover(shape: Primitive, delta: f64) -> usize {
-        let spheres = cover(&shape, delta);
+        let (spheres, used) = cover(&shape, delta);
+        assert_eq!(used, delta);
         let he = shape.half_extents();
         let mut state = 0x2545_f491_4f6c_dd1du64;
         let mut rnd = || {
@@ -189,7 +203,7 @@ mod tests {
 
     #[test]
     fn capsule_cover_is_spheres_of_radius_r_plus_delta_on_the_segment() {
-        let s = cover(&Primitive::Capsule(0.05, 0.2), 0.01);
+        let (s, _) = cover(&Primitive::Capsule(0.05, 0.2), 0.01);
         // Spacing 2√(2Rδ + δ²) = 2√0.0011 ≈ 0.0663 → ceil(0.4 / 0.0663) = 7 gaps.
         assert_eq!(s.len(), 8);
         assert!(s.iter().all(|(_, r)| (*r - 0.06).abs() < 1e-15));
