@@ -16,21 +16,34 @@ use armsim::planning::{PlanOptions, PlanStatus, Planner};
 use armsim::spatial::{Inertia, Mat3, Vec3};
 use nalgebra::DMatrix;
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
 struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Allocations made by this thread (the test harness's own threads allocate while a
+    /// test measures: printing results, starting the next test).
+    static MINE: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    let _ = MINE.try_with(|c| c.set(c.get() + 1));
+}
+
+/// Allocations made so far by the calling thread.
+fn allocs() -> usize {
+    MINE.with(|c| c.get())
+}
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        count();
         unsafe { System.alloc(l) }
     }
     unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
         unsafe { System.dealloc(p, l) }
     }
     unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        count();
         unsafe { System.realloc(p, l, n) }
     }
 }
@@ -59,7 +72,7 @@ fn kinematics_hot_paths_do_not_allocate() {
         let q = model.neutral();
         let qd: Vec<f64> = (0..model.nv).map(|k| 0.1 * k as f64 - 0.2).collect();
         let tool = model.links.len() - 1;
-        let before = ALLOCS.load(Ordering::SeqCst);
+        let before = allocs();
         for _ in 0..100 {
             kinematics::forward_kinematics(&model, &mut data, &q);
             kinematics::update_frames(&model, &mut data);
@@ -79,7 +92,7 @@ fn kinematics_hot_paths_do_not_allocate() {
                 &mut j,
             );
         }
-        let after = ALLOCS.load(Ordering::SeqCst);
+        let after = allocs();
         assert_eq!(
             after - before,
             0,
@@ -128,7 +141,7 @@ fn kinematics_hot_paths_do_not_allocate() {
         };
         let g = Vec3::new(0.0, 0.0, -9.81);
         let mut thdd = vec![0.0; n];
-        let before = ALLOCS.load(Ordering::SeqCst);
+        let before = allocs();
         for _ in 0..100 {
             dynamics::rnea(&model, &mut data, &q, &qd, &qd, &g, None);
             dynamics::bias(&model, &mut data, &q, &qd, &g);
@@ -147,7 +160,7 @@ fn kinematics_hot_paths_do_not_allocate() {
             let _ = dynamics::kinetic_energy(&model, &mut data, &q, &qd)
                 + dynamics::potential_energy(&model, &mut data, &q, &g);
         }
-        let after = ALLOCS.load(Ordering::SeqCst);
+        let after = allocs();
         assert_eq!(
             after - before,
             0,
@@ -156,16 +169,16 @@ fn kinematics_hot_paths_do_not_allocate() {
         );
         // The counter works: a Vec allocates.
         let v: Vec<f64> = Vec::with_capacity(8);
-        assert!(ALLOCS.load(Ordering::SeqCst) > after);
+        assert!(allocs() > after);
         drop(v);
     }
 }
 
 /// Allocations made by `f`.
 fn allocations(f: impl FnOnce()) -> usize {
-    let before = ALLOCS.load(Ordering::SeqCst);
+    let before = allocs();
     f();
-    ALLOCS.load(Ordering::SeqCst) - before
+    allocs() - before
 }
 
 #[test]
