@@ -16,9 +16,9 @@ pub mod mcap_out;
 mod model_header;
 pub mod obstacles;
 #[cfg(feature = "rerun")]
-mod rerun_obstacles;
-#[cfg(feature = "rerun")]
 mod rerun_blueprint;
+#[cfg(feature = "rerun")]
+mod rerun_obstacles;
 #[cfg(feature = "rerun")]
 pub mod rerun_out;
 /// Rerun output in a build without the `rerun` feature: the same API, every log call
