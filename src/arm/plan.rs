@@ -332,7 +332,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
             }
             Group::Planned(path, with_part, key) => {
                 let planner = planners.as_mut().expect("built").planner(with_part);
-                let spline = smooth_path(planner, &path, lim)
+                let spline = smooth_path(planner, &path)
                     .map_err(|m| err(&key, None, format!("planned motion: {m}")))?;
                 // A curved path's dense check may need more refinements (and accepts a
                 // 1e-6 relative excess); then a finer grid, once.

@@ -12,10 +12,11 @@
 //!   `collision.disabled_pairs` and the pairs whose spheres touch at the initial
 //!   configuration are dropped as well. The report says which.
 //! - **Smooth path.** A minimum-jerk spline through the via points ([`MinJerk`], which
-//!   passes through them without stopping). Its chords at 48 points per via interval are
-//!   checked with the planner's continuous edge check; where one collides, the planned
-//!   (collision-free) polyline gets extra via points around it, which pulls the spline
-//!   onto it, and the check repeats.
+//!   passes through them without stopping; segment durations by chord length). Its chords
+//!   at 48 points per via interval are checked with the planner's continuous edge check;
+//!   where one collides, the planned (collision-free) polyline gets extra via points in
+//!   that interval and its neighbours, which pulls the spline onto it, and the check
+//!   repeats.
 
 use super::scene::Scene;
 use crate::collision::Obstacle;
@@ -23,7 +24,7 @@ use crate::model::{Geometry, Model, Shape};
 use crate::planning::spheres::SphereModel;
 use crate::planning::{PlanOptions, PlanStatus, Planner};
 use crate::spatial::Se3;
-use crate::trajectory::{JointLimits, MinJerk, Trajectory};
+use crate::trajectory::{MinJerk, Trajectory};
 use std::time::Duration;
 
 /// `[planner]` settings, validated.
@@ -204,39 +205,67 @@ fn touching_at(m: &Model, sm: &SphereModel, q: &[f64]) -> Vec<(String, String)> 
 /// Chord checks per via interval of the smooth path.
 const CHORDS: usize = 48;
 
+/// Via points closer than this to the previous one are dropped (rad).
+const MIN_GAP: f64 = 1e-4;
+
+/// Refinement rounds of [`smooth_path`].
+const ROUNDS: usize = 16;
+
 /// A smooth path through the via points of the collision-free polyline `path`, whose
-/// chords pass `planner`'s continuous check (see the module docs).
-pub fn smooth_path(
-    planner: &mut Planner,
-    path: &[Vec<f64>],
-    limits: &JointLimits,
-) -> Result<MinJerk, String> {
-    let mut wps = path.to_vec();
+/// chords pass `planner`'s continuous check (see the module docs). The spline's segment
+/// durations are proportional to the via intervals' joint-space lengths (chord-length
+/// parameterisation: no wiggle where via points crowd), the end ones doubled (the spline
+/// starts and ends at rest).
+pub fn smooth_path(planner: &mut Planner, path: &[Vec<f64>]) -> Result<MinJerk, String> {
+    let len = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let last = path.len() - 1;
+    let mut wps: Vec<Vec<f64>> = vec![path[0].clone()];
+    for (i, w) in path.iter().enumerate().skip(1) {
+        if i == last || len(w, wps.last().expect("non-empty")) > MIN_GAP {
+            wps.push(w.clone());
+        }
+    }
+    if wps.len() > 2 && len(&wps[wps.len() - 2], &wps[wps.len() - 1]) <= MIN_GAP {
+        wps.remove(wps.len() - 2);
+    }
     let n = path[0].len();
-    for _ in 0..10 {
-        let spline = MinJerk::new(&wps, limits).map_err(|e| e.to_string())?;
-        let total = CHORDS * (wps.len() - 1);
-        let dur = spline.duration();
+    for _ in 0..ROUNDS {
+        let m = wps.len() - 1;
+        let h: Vec<f64> = (0..m)
+            .map(|k| {
+                let end = if k == 0 || k + 1 == m { 2.0 } else { 1.0 };
+                end * len(&wps[k], &wps[k + 1]).max(MIN_GAP)
+            })
+            .collect();
+        let spline = MinJerk::with_durations(&wps, &h).map_err(|e| e.to_string())?;
+        let knots = spline.knot_times().to_vec();
         let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let mut prev = wps[0].clone();
-        let mut bad: Vec<usize> = Vec::new();
-        for i in 1..=total {
-            spline.sample(dur * i as f64 / total as f64, &mut q, &mut qd, &mut qdd);
-            if !planner.edge_free(&prev, &q) {
-                bad.push(nearest_via(&wps, &q));
+        let mut split = vec![false; m];
+        let mut clean = true;
+        for k in 0..m {
+            for i in 1..=CHORDS {
+                let t = knots[k] + (knots[k + 1] - knots[k]) * i as f64 / CHORDS as f64;
+                spline.sample(t, &mut q, &mut qd, &mut qdd);
+                if !planner.edge_free(&prev, &q) {
+                    clean = false;
+                    for s in k.saturating_sub(1)..(k + 2).min(m) {
+                        split[s] = true;
+                    }
+                }
+                prev.copy_from_slice(&q);
             }
-            prev.copy_from_slice(&q);
         }
-        if bad.is_empty() {
+        if clean {
             return Ok(spline);
         }
-        // Midpoints in the intervals on both sides of each offending via point.
-        let mut split = vec![false; wps.len() - 1];
-        for v in bad {
-            for k in v.saturating_sub(2)..(v + 2).min(wps.len() - 1) {
-                split[k] = true;
-            }
-        }
+        // Midpoints in the offending intervals and their neighbours.
         let mut out = vec![wps[0].clone()];
         for (k, w) in wps.windows(2).enumerate() {
             if split[k] {
@@ -246,13 +275,7 @@ pub fn smooth_path(
         }
         wps = out;
     }
-    Err("the smooth path through the planned via points still collides after 10 refinements".into())
-}
-
-/// Index of the via point nearest to `q` (joint-space distance).
-fn nearest_via(wps: &[Vec<f64>], q: &[f64]) -> usize {
-    let d = |w: &Vec<f64>| w.iter().zip(q).map(|(a, b)| (a - b).powi(2)).sum::<f64>();
-    (0..wps.len())
-        .min_by(|&i, &j| d(&wps[i]).total_cmp(&d(&wps[j])))
-        .unwrap_or(0)
+    Err(format!(
+        "the smooth path through the planned via points still collides after {ROUNDS} refinements"
+    ))
 }

@@ -6,15 +6,21 @@
 //!
 //! 1. grid points `p` at spacing `s` over the shape's bounding box, keeping those with
 //!    `φ(p) ≤ s√3/2` (every point of the shape is within `s√3/2` of a kept point);
-//! 2. repeatedly, the deepest uncovered point `p` gets a sphere of radius `max(−φ(p), 0) + δ`;
-//!    it marks as covered the points within `radius − s√3/2` of its centre.
+//! 2. repeatedly, the deepest uncovered point `p` gets a sphere of radius
+//!    `r = max(δ − φ(p), s√3/2)`; it marks as covered the points within `r − s√3/2` of its
+//!    centre.
 //!
-//! A sphere centred at depth `d = −φ(p)` with radius `d + δ` reaches at most `δ` outside the
-//! shape (the ball of radius `d` is inside it), so the **overshoot is at most δ**; a point
-//! of the shape is within `s√3/2` of a covered grid point, itself within `r − s√3/2` of a
-//! centre, so the **shape is inside the union**. With `s = δ/√3` the covered radius is at
-//! least `δ/2`, so the loop ends. A capsule needs no grid: spheres of radius `R + δ` on its
+//! `φ` is 1-Lipschitz, so a point of the ball has `φ ≤ φ(p) + r = max(δ, φ(p) + s√3/2)`:
+//! with `s = δ/√3` (kept points have `φ(p) ≤ δ/2`) the **overshoot is at most δ** (for a
+//! shape so large that the grid is capped at [`MAX_GRID`] points, at most `s√3`). A point
+//! of the shape is within `s√3/2` of a grid point (kept, since `φ ≤ s√3/2` there), which is
+//! a centre (and `r ≥ s√3/2`) or within `r − s√3/2` of one, so the **shape is inside the
+//! union**. Each sphere covers at least its own point, so the loop ends. A capsule needs no grid: spheres of radius `R + δ` on its
 //! segment, spaced `2√(2Rδ + δ²)`, cover it exactly with overshoot `δ`.
+
+/// Grid points of a cover at most (about): finer grids are coarsened, and the overshoot
+/// bound becomes `s√3` for spacing `s`.
+const MAX_GRID: f64 = 300_000.0;
 
 /// A primitive in its own frame (boxes by half extents; cylinders and capsules along z).
 #[derive(Clone, Copy, Debug)]
@@ -68,7 +74,7 @@ pub fn cover(shape: &Primitive, delta: f64) -> Vec<([f64; 3], f64)> {
     match *shape {
         Primitive::Sphere(r) => vec![([0.0; 3], r)],
         Primitive::Capsule(r, h) => cover_capsule(r, h, delta),
-        _ => cover_by_sdf(shape, delta),
+        _ => cover_sdf(&|p| shape.sdf(p), [0.0; 3], shape.half_extents(), delta),
     }
 }
 
@@ -88,11 +94,19 @@ fn cover_capsule(r: f64, h: f64, delta: f64) -> Vec<([f64; 3], f64)> {
         .collect()
 }
 
-fn cover_by_sdf(shape: &Primitive, delta: f64) -> Vec<([f64; 3], f64)> {
-    let he = shape.half_extents();
-    // Spacing δ/√3, but at most 60 points per axis (the overshoot bound still holds; only
-    // the covered radius per sphere shrinks, so the loop may place more spheres).
-    let s = (delta / 3f64.sqrt()).max(2.0 * he.iter().cloned().fold(0.0, f64::max) / 60.0);
+/// The greedy medial cover (module docs) of the shape with signed distance `sdf` inside
+/// the box `center ± he`, overshoot ≤ `delta`. Any signed distance works (a mesh's, see
+/// [`super::mesh_sdf`]); with an unsigned one (an open mesh) the spheres have radius
+/// `delta` and wrap the surface.
+pub fn cover_sdf(
+    sdf: &dyn Fn([f64; 3]) -> f64,
+    center: [f64; 3],
+    he: [f64; 3],
+    delta: f64,
+) -> Vec<([f64; 3], f64)> {
+    // Spacing δ/√3, but at most about MAX_GRID points (then the overshoot bound is s√3).
+    let vol = he.iter().map(|h| 2.0 * h + delta).product::<f64>();
+    let s = (delta / 3f64.sqrt()).max((vol / MAX_GRID).cbrt());
     let slack = s * 3f64.sqrt() / 2.0;
     let counts = he.map(|h| ((2.0 * h) / s).ceil() as usize + 1);
     let mut pts: Vec<([f64; 3], f64)> = Vec::new();
@@ -100,11 +114,11 @@ fn cover_by_sdf(shape: &Primitive, delta: f64) -> Vec<([f64; 3], f64)> {
         for j in 0..counts[1] {
             for k in 0..counts[2] {
                 let p = [
-                    -he[0] + (2.0 * he[0]) * i as f64 / (counts[0] - 1).max(1) as f64,
-                    -he[1] + (2.0 * he[1]) * j as f64 / (counts[1] - 1).max(1) as f64,
-                    -he[2] + (2.0 * he[2]) * k as f64 / (counts[2] - 1).max(1) as f64,
+                    center[0] - he[0] + (2.0 * he[0]) * i as f64 / (counts[0] - 1).max(1) as f64,
+                    center[1] - he[1] + (2.0 * he[1]) * j as f64 / (counts[1] - 1).max(1) as f64,
+                    center[2] - he[2] + (2.0 * he[2]) * k as f64 / (counts[2] - 1).max(1) as f64,
                 ];
-                let phi = shape.sdf(p);
+                let phi = sdf(p);
                 if phi <= slack {
                     pts.push((p, phi));
                 }
@@ -120,7 +134,8 @@ fn cover_by_sdf(shape: &Primitive, delta: f64) -> Vec<([f64; 3], f64)> {
             continue;
         }
         let (c, phi) = pts[i];
-        let r = (-phi).max(0.0) + delta;
+        // φ is 1-Lipschitz: the ball reaches at most φ + r = max(δ, φ + slack) outside.
+        let r = (delta - phi).max(slack);
         let reach2 = (r - slack).max(0.0).powi(2);
         for (k, (p, _)) in pts.iter().enumerate() {
             let d2 = (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2);
