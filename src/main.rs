@@ -258,6 +258,15 @@ enum Cmd {
         /// Also log the run to a spawned Rerun viewer (arm scenarios).
         #[arg(long)]
         spawn: bool,
+        /// Directory searched first for `package://` mesh URIs: one containing packages,
+        /// or a package itself (repeatable; then the scenario's `model.package_path`,
+        /// ROS_PACKAGE_PATH, AMENT_PREFIX_PATH and the model file's folder tree).
+        #[arg(long = "package-path", value_name = "DIR")]
+        package_path: Vec<PathBuf>,
+        /// Keep the mesh URIs of the recording's robot description as the model file
+        /// writes them (default: absolute file:// URIs of the files found here).
+        #[arg(long)]
+        keep_mesh_uris: bool,
     },
     /// Time one algorithm (median ns per call over random states inside the limits).
     Bench {
@@ -484,6 +493,8 @@ fn run(cli: Cli) -> Result<(), String> {
             check,
             rerun,
             spawn,
+            package_path,
+            keep_mesh_uris,
         } => {
             if rerun.is_some() || spawn {
                 need_rerun()?;
@@ -503,6 +514,8 @@ fn run(cli: Cli) -> Result<(), String> {
                     (None, true) => Some(armsim::recording::rerun_out::RerunSink::Spawn),
                     (None, false) => None,
                 },
+                package_path,
+                keep_mesh_uris,
                 ..Default::default()
             };
             let report =

@@ -5,7 +5,8 @@
 //!   its violations flagged at exactly the samples where the recomputation exceeds;
 //! - a left-out effect is never run (effect counters, the contact pipeline never built);
 //! - the time-optimal plan meets every limit and beats the trapezoidal one;
-//! - a planted obstacle is hit by the right link at the analytic time;
+//! - a planted obstacle is hit by the right link: the skeleton capsule at the analytic
+//!   time, the real wrist mesh at a contact confirmed triangle by triangle;
 //! - the contact scene's sliding force equals Coulomb's μ m g;
 //! - every bundled scenario runs, and broken ones give `file:line: key: message` errors.
 
@@ -282,17 +283,16 @@ fn time_optimal_plan_meets_the_limits_and_beats_the_trapezoid() {
     assert!(t1 < t2, "time-optimal {t1} s vs trapezoidal {t2} s");
 }
 
-#[test]
-fn planted_obstacle_is_hit_by_the_wrist_capsule_at_the_analytic_time() {
-    // The tool (pointing down) moves along x from 0.3 to 0.6 m at z = 0.3. In this URDF
-    // wrist_3_link and tool0 share their origin, so the skeleton capsule ending at the tool
-    // point is wrist_2_link's (radius r = 0.04, rising vertically from it). A sphere of
-    // radius 0.03 at x = 0.5 on the line is first touched when x_tool = 0.5 − 0.07.
-    let text = r#"
+/// The planted-obstacle scenario on the UR5 model file `model` (absolute or relative to
+/// `scenarios/`): the tool (pointing down) moves along x from 0.3 to 0.6 m at z = 0.3,
+/// toward a sphere of radius 0.03 at x = 0.5.
+fn planted_text(model: &str) -> String {
+    format!(
+        r#"
 name = "planted"
 effects = []
 [model]
-file = "../robots/ur5.urdf"
+file = "{model}"
 tool = "tool0"
 [initial]
 q = [0.0, -1.5708, 1.5708, -1.5708, -1.5708, 0.0]
@@ -306,15 +306,30 @@ skeleton_radius = 0.04
 [task]
 type = "sequence"
 steps = [
-  { line = { xyz = [0.3, 0.1, 0.3], rpy = [3.14159265358979, 0.0, -1.5707963267949] } },
-  { line = { xyz = [0.6, 0.1, 0.3], rpy = [3.14159265358979, 0.0, -1.5707963267949] } },
+  {{ line = {{ xyz = [0.3, 0.1, 0.3], rpy = [3.14159265358979, 0.0, -1.5707963267949] }} }},
+  {{ line = {{ xyz = [0.6, 0.1, 0.3], rpy = [3.14159265358979, 0.0, -1.5707963267949] }} }},
 ]
 [trajectory]
 line_samples = 201
 [simulation]
 enabled = false
-"#;
-    let out = run_text("planted", text);
+"#
+    )
+}
+
+#[test]
+fn planted_obstacle_is_hit_by_the_wrist_capsule_at_the_analytic_time() {
+    // The skeleton fallback: a copy of the UR5 whose meshes cannot be found. In this URDF
+    // wrist_3_link and tool0 share their origin, so the skeleton capsule ending at the tool
+    // point is wrist_2_link's (radius r = 0.04, rising vertically from it). The sphere is
+    // first touched when x_tool = 0.5 − 0.07.
+    let dir = std::env::temp_dir().join(format!("armsim-planted-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = dir.join("ur5_without_meshes.urdf");
+    let text = std::fs::read_to_string(root().join("robots/ur5.urdf")).unwrap();
+    std::fs::write(&urdf, text.replace("\"meshes/ur5/", "\"no_such_dir/ur5/")).unwrap();
+    let out = run_text("planted", &planted_text(&urdf.display().to_string()));
+    let _ = std::fs::remove_dir_all(&dir);
     let first = &out.report.json["collisions"]["first"];
     assert_eq!(first["pair"][0], "wrist_2_link", "{first}");
     assert_eq!(first["pair"][1], "ball");
@@ -336,6 +351,241 @@ enabled = false
     let found = first["time"].as_f64().unwrap();
     assert!((found - t).abs() < 2e-3, "found {found} s, analytic {t} s");
     assert_eq!(out.report.json["ok"], false);
+}
+
+/// Closest point of triangle `abc` to `p` (Ericson, Real-Time Collision Detection 5.1.5).
+fn closest_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
+}
+
+#[test]
+fn planted_obstacle_is_hit_by_the_wrist_3_mesh_at_a_true_contact() {
+    // The same motion with the UR5's real collision meshes: the wrist_3 casing (a
+    // cylinder of radius ~0.038 around the tool axis) reaches the ball first. At the
+    // reported configuration the ball's distance to the mesh, computed here triangle by
+    // triangle from the STL file, equals the reported depth.
+    let out = run_text("planted", &planted_text("../robots/ur5.urdf"));
+    let first = &out.report.json["collisions"]["first"];
+    assert_eq!(first["pair"][0], "wrist_3_link", "{first}");
+    assert_eq!(first["pair"][1], "ball");
+    let model = &out.scene.model;
+    let q: Vec<f64> = model
+        .dof_names()
+        .iter()
+        .map(|n| first["q"][n].as_f64().unwrap())
+        .collect();
+    let mut d = Data::new(model);
+    armsim::kinematics::forward_kinematics(model, &mut d, &q);
+    let li = model.link_id("wrist_3_link").unwrap();
+    let link = &model.links[li];
+    let base = &out.scene.base;
+    let pose = base
+        .mul(&d.o_m_i[link.body])
+        .mul(&link.offset)
+        .mul(&link.collisions[0].origin);
+    let b = std::fs::read(root().join("robots/meshes/ur5/collision/wrist3.stl")).unwrap();
+    let n = u32::from_le_bytes(b[80..84].try_into().unwrap()) as usize;
+    assert_eq!(b.len(), 84 + 50 * n);
+    let f = |at: usize| f32::from_le_bytes(b[at..at + 4].try_into().unwrap()) as f64;
+    let vertex = |t: usize, k: usize| {
+        let at = 84 + 50 * t + 12 + 12 * k;
+        pose.act_point(&Vec3::new(f(at), f(at + 4), f(at + 8)))
+    };
+    let centre = Vec3::new(0.5, 0.1, 0.3);
+    let dist = (0..n)
+        .map(|t| {
+            (closest_on_triangle(centre, vertex(t, 0), vertex(t, 1), vertex(t, 2)) - centre).norm()
+        })
+        .fold(f64::INFINITY, f64::min);
+    let depth = first["depth"].as_f64().unwrap();
+    assert!((0.0..1e-3).contains(&depth), "{first}");
+    assert!(
+        ((dist - 0.03) + depth).abs() < 1e-7,
+        "ball centre to mesh {dist}, reported depth {depth}"
+    );
+    assert_eq!(out.report.json["ok"], false);
+}
+
+/// The `<mesh filename>` values of URDF text.
+fn mesh_uris(urdf: &str) -> Vec<String> {
+    let doc = roxmltree::Document::parse(urdf).unwrap();
+    doc.descendants()
+        .filter(|n| n.has_tag_name("mesh"))
+        .map(|n| n.attribute("filename").unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn package_uris_resolve_through_package_paths_and_the_mcap_names_absolute_files() {
+    // The UR5 with its meshes named package://ur5/... : robots/meshes is a directory
+    // containing the "package" ur5.
+    let dir = std::env::temp_dir().join(format!("armsim_pkg_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = dir.join("arm.urdf");
+    let text = std::fs::read_to_string(root().join("robots/ur5.urdf")).unwrap();
+    std::fs::write(&urdf, text.replace("\"meshes/ur5/", "\"package://ur5/")).unwrap();
+    let scenario = dir.join("arm.toml");
+    let meshes = root().join("robots/meshes");
+    let plain = planted_text(&urdf.display().to_string());
+    let with_key = |p: &str| {
+        plain.replace(
+            "tool = \"tool0\"",
+            &format!("tool = \"tool0\"\npackage_path = [\"{p}\"]"),
+        )
+    };
+    let mesh_warnings = |out: &arm::Outcome| -> Vec<String> {
+        out.report.json["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|w| w.as_str().unwrap().to_string())
+            .filter(|w| w.contains("package://ur5/"))
+            .collect()
+    };
+
+    // Nowhere to find the package: one warning per visual mesh, naming its URI; the
+    // collision meshes fall back to skeleton capsules (and are named too).
+    let out = arm::run(&scenario, &plain, &no_files()).unwrap();
+    let w = mesh_warnings(&out);
+    assert_eq!(w.len(), 14, "{w:#?}");
+    assert!(w
+        .iter()
+        .any(|m| m.contains("visual mesh 'package://ur5/visual/forearm.dae' not found")));
+
+    // From the scenario key (relative to the scenario file, here absolute) and from the
+    // command line: every mesh resolves to an absolute existing file.
+    let key = with_key(meshes.to_str().unwrap());
+    let cli = RunOptions {
+        package_path: vec![meshes.clone()],
+        ..no_files()
+    };
+    for (out, how) in [
+        (
+            arm::run(&scenario, &key, &no_files()).unwrap(),
+            "model.package_path",
+        ),
+        (arm::run(&scenario, &plain, &cli).unwrap(), "--package-path"),
+    ] {
+        assert!(
+            mesh_warnings(&out).is_empty(),
+            "{how}: {:?}",
+            mesh_warnings(&out)
+        );
+        let mut n = 0;
+        for l in &out.scene.spec.links {
+            for g in l.visuals.iter().chain(&l.collisions) {
+                if let armsim::model::Shape::Mesh { uri, .. } = &g.shape {
+                    let p = Path::new(uri);
+                    assert!(p.is_absolute() && p.is_file(), "{how}: {uri}");
+                    n += 1;
+                }
+            }
+        }
+        assert_eq!(n, 14, "{how}");
+        assert_eq!(
+            out.report.json["collisions"]["first"]["pair"][0],
+            "wrist_3_link"
+        );
+    }
+
+    // A package_path that is not a directory: file, line and key.
+    let e = arm::run(&scenario, &with_key("no_such_dir"), &no_files())
+        .err()
+        .expect("error")
+        .to_string();
+    assert!(
+        e.contains("arm.toml:7") && e.contains("model.package_path") && e.contains("no_such_dir"),
+        "{e}"
+    );
+
+    // The recording's robot_description names every mesh by an absolute file:// URI of
+    // an existing file.
+    let opts = RunOptions {
+        out_dir: Some(dir.join("out")),
+        package_path: vec![meshes.clone()],
+        ..Default::default()
+    };
+    arm::run(&scenario, &plain, &opts).unwrap();
+    let rec = armsim::recording::mcap_in::read_mcap(&dir.join("out/planted.mcap")).unwrap();
+    let desc = rec.header.robot_description.expect("robot_description");
+    let uris = mesh_uris(&desc);
+    assert_eq!(uris.len(), 14);
+    for u in &uris {
+        let p = u
+            .strip_prefix("file://")
+            .unwrap_or_else(|| panic!("not file://: {u}"));
+        assert!(Path::new(p).is_absolute() && Path::new(p).is_file(), "{u}");
+        assert!(
+            p.starts_with(meshes.canonicalize().unwrap().to_str().unwrap()),
+            "{u}"
+        );
+    }
+    // --keep-mesh-uris: the URIs as the URDF writes them.
+    let keep = RunOptions {
+        keep_mesh_uris: true,
+        ..opts
+    };
+    arm::run(&scenario, &plain, &keep).unwrap();
+    let rec = armsim::recording::mcap_in::read_mcap(&dir.join("out/planted.mcap")).unwrap();
+    let uris = mesh_uris(&rec.header.robot_description.unwrap());
+    assert_eq!(uris.len(), 14);
+    assert!(
+        uris.iter().all(|u| u.starts_with("package://ur5/")),
+        "{uris:?}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bundled_scenario_recording_names_existing_mesh_files() {
+    // The bundled UR5 scenario's MCAP: relative mesh paths became absolute file:// URIs.
+    let dir = std::env::temp_dir().join(format!("armsim_meshrec_{}", std::process::id()));
+    let path = root().join("scenarios/ur5_pick_and_place.toml");
+    // Only the recording matters here: no collision check (seconds with meshes).
+    let text =
+        bundled("ur5_pick_and_place").replace("[collision]\n", "[collision]\nenabled = false\n");
+    let opts = RunOptions {
+        out_dir: Some(dir.clone()),
+        ..Default::default()
+    };
+    arm::run(&path, &text, &opts).unwrap();
+    let rec = armsim::recording::mcap_in::read_mcap(&dir.join("ur5_pick_and_place.mcap")).unwrap();
+    let uris = mesh_uris(&rec.header.robot_description.unwrap());
+    assert_eq!(uris.len(), 14);
+    for u in &uris {
+        let p = u.strip_prefix("file:///").map(|p| format!("/{p}"));
+        let p = p.unwrap_or_else(|| panic!("not an absolute file:// URI: {u}"));
+        assert!(Path::new(&p).is_file(), "{u}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]

@@ -6,7 +6,7 @@
 
 use armsim::collision::{
     Body, CollisionData, CollisionError, CollisionModel, CollisionOptions, MissingMeshes, Obstacle,
-    ObstacleSpec, Scope, TrajectoryOptions,
+    ObstacleSpec, Scope, ShapeKind, TrajectoryOptions,
 };
 use armsim::model::{Geometry, JointSpec, JointType, LinkSpec, Model, ModelSpec, Shape};
 use armsim::spatial::{Se3, Vec3};
@@ -891,6 +891,36 @@ fn model_mesh_uris_resolve_and_missing_ones_are_reported() {
 }
 
 #[test]
+fn collision_options_package_path_finds_a_package() {
+    // mesh_probe.urdf's link 'missing' names package://no_such_package/meshes/part.stl;
+    // a package directory given in CollisionOptions::package_path makes it resolve.
+    let model = load("tests/data/mesh_probe.urdf");
+    let dir = std::env::temp_dir().join(format!("armsim_pkgpath_{}", std::process::id()));
+    let meshes = dir.join("no_such_package/meshes");
+    std::fs::create_dir_all(&meshes).unwrap();
+    std::fs::copy(
+        data("tests/data/meshes/cube_binary.stl"),
+        meshes.join("part.stl"),
+    )
+    .unwrap();
+    let opts = CollisionOptions {
+        package_path: vec![dir.clone()],
+        ..Default::default()
+    };
+    // The link sits at x = -5: a sphere of radius 0.1 centred 1 m above it.
+    let probe = Obstacle::sphere("probe", 0.1, [-5.0, 0.0, 1.0]);
+    let cm = CollisionModel::new(&model, vec![probe], &opts).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(cm.unprotected_links().is_empty(), "{:?}", cm.warnings());
+    let mut cd = CollisionData::new(&model, &cm);
+    cm.update(&model, &mut cd, &[]);
+    let link = Body::Link(model.link_id("missing").unwrap());
+    // The unit cube's top face at z = 0.5: 1 - 0.5 - 0.1.
+    let d = cm.body_distance(&cd, link, Body::Obstacle(0)).unwrap();
+    assert!((d - 0.4).abs() < 1e-9, "{d}");
+}
+
+#[test]
 fn mesh_against_mesh() {
     // The link 'relative' of mesh_probe.urdf is the unit cube at the origin (a closed
     // triangle mesh); obstacles: the same cube as a mesh, 2 m above, and overlapping it by
@@ -984,46 +1014,128 @@ fn file_uris_and_absolute_paths_resolve() {
 }
 
 #[test]
-fn bundled_ur5_loads_without_its_meshes_and_lists_the_unprotected_links() {
+fn bundled_ur5_has_a_collision_mesh_on_every_arm_link() {
     let model = load("robots/ur5.urdf");
-    let cm = CollisionModel::new(
-        &model,
-        vec![Obstacle::cuboid(
-            "table",
-            [2.0, 2.0, 0.1],
-            [0.0, 0.0, -0.06],
-        )],
-        &CollisionOptions::default(),
-    )
-    .unwrap();
-    let want = [
-        "base_link_inertia",
-        "shoulder_link",
-        "upper_arm_link",
-        "forearm_link",
-        "wrist_1_link",
-        "wrist_2_link",
-        "wrist_3_link",
-    ];
-    let mut got = cm.unprotected_links().to_vec();
-    got.sort();
-    let mut want_sorted = want.map(String::from).to_vec();
-    want_sorted.sort();
-    assert_eq!(got, want_sorted);
-    let w = cm.warnings();
-    assert_eq!(w.len(), 8, "{w:?}");
-    assert!(w.iter().all(|m| m.contains("ur5.urdf")));
-    assert!(w
+    let cm = CollisionModel::new(&model, vec![], &CollisionOptions::default()).unwrap();
+    assert!(
+        cm.unprotected_links().is_empty(),
+        "{:?}",
+        cm.unprotected_links()
+    );
+    assert!(cm.warnings().is_empty(), "{:?}", cm.warnings());
+    let mut meshed: Vec<&str> = (0..cm.num_shapes())
+        .map(|k| cm.shape(k))
+        .filter(|(_, s)| matches!(s.kind, ShapeKind::TriMesh { .. }))
+        .map(|(b, _)| cm.body_name(b))
+        .collect();
+    meshed.sort();
+    assert_eq!(
+        meshed,
+        [
+            "base_link_inertia",
+            "forearm_link",
+            "shoulder_link",
+            "upper_arm_link",
+            "wrist_1_link",
+            "wrist_2_link",
+            "wrist_3_link"
+        ]
+    );
+}
+
+/// Vertices of a binary STL file (read here, independently of `collision::mesh`).
+fn stl_vertices(path: &std::path::Path) -> Vec<Vec3> {
+    let b = std::fs::read(path).unwrap();
+    let n = u32::from_le_bytes(b[80..84].try_into().unwrap()) as usize;
+    assert_eq!(b.len(), 84 + 50 * n, "{}: not a binary STL", path.display());
+    let f = |at: usize| f32::from_le_bytes(b[at..at + 4].try_into().unwrap()) as f64;
+    (0..n)
+        .flat_map(|t| (0..3).map(move |k| 84 + 50 * t + 12 + 12 * k))
+        .map(|at| Vec3::new(f(at), f(at + 4), f(at + 8)))
+        .collect()
+}
+
+#[test]
+fn ur5_forearm_mesh_to_box_distance_matches_its_vertices() {
+    // UR5 at q = (0, -0.5, 0.5, 0, 0, 0): upper arm raised, forearm horizontal. A box
+    // with horizontal faces, wide enough to cover the forearm's footprint, is placed above
+    // it and then beside it (x face). Against a plane face the distance from a triangle
+    // mesh is attained at a vertex, so the expected value is the vertex set's gap to the
+    // face: the STL vertices (read in this test) moved to world by FK and the file's
+    // collision origin.
+    let model = load("robots/ur5.urdf");
+    let q = [0.0, -0.5, 0.5, 0.0, 0.0, 0.0];
+    let mut kin = armsim::data::Data::new(&model);
+    armsim::kinematics::forward_kinematics(&model, &mut kin, &q);
+    let li = model.link_id("forearm_link").unwrap();
+    let link = &model.links[li];
+    assert_eq!(link.collisions.len(), 1);
+    let g = &link.collisions[0];
+    let Shape::Mesh { uri, .. } = &g.shape else {
+        panic!("forearm collision is not a mesh")
+    };
+    assert!(uri.ends_with("meshes/ur5/collision/forearm.stl"), "{uri}");
+    let pose = kin.o_m_i[link.body].mul(&link.offset).mul(&g.origin);
+    let verts: Vec<Vec3> = stl_vertices(&data("robots/meshes/ur5/collision/forearm.stl"))
         .iter()
-        .any(|m| m.contains("package://ur_description/meshes/ur5/collision/forearm.stl")));
-    assert!(w
-        .last()
-        .unwrap()
-        .contains("7 link(s) without any collision shape"));
-    // Nothing to collide: queries answer, nothing is in collision.
+        .map(|v| pose.act_point(v))
+        .collect();
+    let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+    for v in &verts {
+        lo = lo.inf(v);
+        hi = hi.sup(v);
+    }
+    // The real forearm: 0.39225 m between the joint axes, ~0.49 m of casing along x.
+    assert!(
+        (0.45..0.55).contains(&(hi.x - lo.x)),
+        "forearm extent {lo:?} .. {hi:?}"
+    );
+    let gap = 0.05;
+    let centre = (lo + hi) * 0.5;
+    let above = Obstacle::cuboid(
+        "above",
+        [2.0, 2.0, 0.2],
+        [centre.x, centre.y, hi.z + gap + 0.1],
+    );
+    // Beside: a 0.2 m thick slab spanning the whole arm in y and z, its -x face 0.03 m
+    // beyond the forearm's farthest vertex in +x.
+    let beside = Obstacle::cuboid("beside", [0.2, 2.0, 2.0], [hi.x + 0.03 + 0.1, 0.0, 0.0]);
+    let cm =
+        CollisionModel::new(&model, vec![above, beside], &CollisionOptions::default()).unwrap();
     let mut cd = CollisionData::new(&model, &cm);
-    assert!(!cm.in_collision(&model, &mut cd, &vec![0.3; model.nv], Scope::All));
-    assert!(cm.min_distance(&mut cd, Scope::All).is_none());
+    cm.update(&model, &mut cd, &q);
+    let zmax = verts.iter().map(|v| v.z).fold(f64::NEG_INFINITY, f64::max);
+    let xmax = verts.iter().map(|v| v.x).fold(f64::NEG_INFINITY, f64::max);
+    let want_above = (hi.z + gap) - zmax;
+    let want_beside = (hi.x + 0.03) - xmax;
+    let d_above = cm
+        .body_distance(&cd, Body::Link(li), Body::Obstacle(0))
+        .unwrap();
+    let d_beside = cm
+        .body_distance(&cd, Body::Link(li), Body::Obstacle(1))
+        .unwrap();
+    assert!(
+        (d_above - want_above).abs() < 1e-6,
+        "{d_above} vs {want_above}"
+    );
+    assert!(
+        (d_beside - want_beside).abs() < 1e-6,
+        "{d_beside} vs {want_beside}"
+    );
+    // Lowered to 1 cm below the forearm's top, the box is in collision with it.
+    let low = Obstacle::cuboid(
+        "low",
+        [2.0, 2.0, 0.2],
+        [centre.x, centre.y, hi.z - 0.01 + 0.1],
+    );
+    let cm = CollisionModel::new(&model, vec![low], &CollisionOptions::default()).unwrap();
+    let mut cd = CollisionData::new(&model, &cm);
+    cm.update(&model, &mut cd, &q);
+    assert!(
+        cm.body_distance(&cd, Body::Link(li), Body::Obstacle(0))
+            .unwrap()
+            <= 0.0
+    );
 }
 
 // ---------------------------------------------------------------------------------------

@@ -4,19 +4,23 @@
 
 mod common;
 
+use armsim::collision::Obstacle;
 use armsim::data::Data;
 use armsim::kinematics::{
     compute_joint_jacobians, forward_kinematics, frame_jacobian, frame_placement, manipulability,
     Expressed,
 };
+use armsim::model::Shape;
 use armsim::model::{urdf, Model};
 use armsim::recording::error::RecordError;
 use armsim::recording::mcap_in::{read_mcap, read_mcap_bytes};
 use armsim::recording::mcap_out::{write_recording, McapWriter};
+use armsim::recording::obstacles::markers_of;
 use armsim::recording::ros2::{self, RosMessage};
 use armsim::recording::{
     interrupt, tf, urdf_out, CollisionEvent, Frame, Header, PointCloud, Recording, TorqueRow,
 };
+use armsim::spatial::Se3;
 use mcap::records::MessageHeader;
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
@@ -27,6 +31,10 @@ use std::path::{Path, PathBuf};
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
+
+/// The fixed epoch of the test recordings (2025-11-24T16:00:00Z in Unix ns), so that their
+/// bytes do not depend on the wall clock.
+const EPOCH: u64 = 1_764_000_000_000_000_000;
 
 /// A fresh directory under the target's test scratch space.
 fn scratch(name: &str) -> PathBuf {
@@ -52,6 +60,7 @@ fn ur5_recording(frames: usize) -> Recording {
         ("scenario".into(), "tests/recording.rs".into()),
         ("dt".into(), "0.01".into()),
     ];
+    header.epoch_ns = Some(EPOCH);
     let frames = (0..frames)
         .map(|k| {
             let t = k as f64 * 0.01;
@@ -129,6 +138,7 @@ fn ur5_recording(frames: usize) -> Recording {
         clouds,
         torque_check,
         collisions,
+        obstacles: Vec::new(),
     }
 }
 
@@ -222,7 +232,10 @@ fn written_file_passes_the_mcap_crates_own_reader() {
             ));
         }
         if m.channel.topic == "/robot_description" || m.channel.topic == "/tf_static" {
-            assert_eq!(m.log_time, 0);
+            assert_eq!(
+                m.log_time, EPOCH,
+                "start-up messages are logged at the epoch"
+            );
             assert!(m.channel.metadata["offered_qos_profiles"].contains("durability: 1"));
         }
         *counts.entry(m.channel.topic.clone()).or_default() += 1;
@@ -241,9 +254,9 @@ fn written_file_passes_the_mcap_crates_own_reader() {
     .collect();
     assert_eq!(counts, want);
 
-    // Joint states: names, values and stamps as written.
+    // Joint states: names, values and stamps as written, `t` after the epoch.
     for ((log_time, js), f) in joint_states.iter().zip(&rec.frames) {
-        assert_eq!(*log_time, (f.t * 1e9).round() as u64);
+        assert_eq!(*log_time, EPOCH + (f.t * 1e9).round() as u64);
         assert_eq!(js.header.stamp.to_nanos(), Some(*log_time));
         assert_eq!(js.name, rec.header.joint_names);
         assert_eq!(js.position, f.q);
@@ -268,6 +281,7 @@ fn written_file_passes_the_mcap_crates_own_reader() {
     assert_eq!(meta.metadata["name"], "ur5 wave");
     assert_eq!(meta.metadata["armsim_version"], env!("CARGO_PKG_VERSION"));
     assert_eq!(meta.metadata["scenario"], "tests/recording.rs");
+    assert_eq!(meta.metadata["armsim.epoch_ns"], EPOCH.to_string());
     let names: Vec<String> = serde_json::from_str(&meta.metadata["armsim.joint_names"]).unwrap();
     assert_eq!(names, rec.header.joint_names);
 }
@@ -290,14 +304,18 @@ fn read_back_equals_written() {
     assert_eq!(back.torque_check, want.torque_check);
     assert_eq!(back.collisions, want.collisions);
     assert_eq!(back, want);
-    // The URDF is the file's own text.
+    // The URDF is the file's own text, its relative mesh paths (meshes/ur5/...) made
+    // absolute file:// URIs of the bundled files.
+    let robots = std::fs::canonicalize(root().join("robots")).unwrap();
+    let text = std::fs::read_to_string(root().join("robots/ur5.urdf")).unwrap();
+    let want_text = text.replace(
+        "filename=\"meshes/",
+        &format!("filename=\"file://{}/meshes/", robots.display()),
+    );
+    assert_ne!(want_text, text);
     assert_eq!(
         back.header.robot_description.as_deref(),
-        Some(
-            std::fs::read_to_string(root().join("robots/ur5.urdf"))
-                .unwrap()
-                .as_str()
-        )
+        Some(want_text.as_str())
     );
     // No temporary files are left beside it.
     let names: Vec<_> = std::fs::read_dir(&dir)
@@ -696,14 +714,16 @@ fn fuzz_seeds() -> Vec<Vec<u8>> {
 }
 
 /// The planar 2R (DH table, so its robot description is the generated URDF) for two
-/// frames, with a three-point cloud, its torque check and one collision: seeds of a few KiB
+/// frames, with a three-point cloud, its torque check, one collision and two obstacles (a
+/// box and a capsule: four markers and two labels): seeds of a few KiB
 /// that the `mcap_reader` fuzz target mutates faster than the UR5 ones.
 fn small_fuzz_seeds() -> Vec<Vec<u8>> {
     let path = root().join("robots/planar_2r.toml");
     let (model, _) = Model::load(&path).unwrap();
     let spec = Model::read_spec(&path).unwrap();
     let mut data = Data::new(&model);
-    let (header, robot_tf) = Header::for_model("2r", &path, &model, &spec);
+    let (mut header, robot_tf) = Header::for_model("2r", &path, &model, &spec);
+    header.epoch_ns = Some(EPOCH);
     let frames = (0..2)
         .map(|k| {
             let q = [0.1 * k as f64, -0.2];
@@ -729,6 +749,22 @@ fn small_fuzz_seeds() -> Vec<Vec<u8>> {
         clouds: vec![big.clouds[1].clone()],
         torque_check: big.torque_check,
         collisions: big.collisions[..1].to_vec(),
+        obstacles: markers_of(
+            &[
+                Obstacle::cuboid("box", [0.2, 0.1, 0.3], [0.5, 0.0, 0.15]),
+                Obstacle::new(
+                    "bar",
+                    Shape::Capsule {
+                        radius: 0.02,
+                        length: 0.3,
+                    },
+                    Se3::from_xyz_rpy([0.3, 0.2, 0.4], [0.0, 1.0, 0.0]),
+                ),
+            ],
+            "world",
+            &Se3::identity(),
+            None,
+        ),
     };
     zstd_and_plain(&rec, "small_seed")
 }
@@ -736,7 +772,10 @@ fn small_fuzz_seeds() -> Vec<Vec<u8>> {
 /// `rec` written by armsim (zstd chunks) and its messages rewritten without chunks and
 /// without CRCs, so that mutations reach the records and the CDR payloads.
 fn zstd_and_plain(rec: &Recording, name: &str) -> Vec<Vec<u8>> {
-    let dir = scratch("fuzz_seeds");
+    // A directory per call: tests make seeds in parallel, and `scratch` empties its directory.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = scratch(&format!("fuzz_seeds_{call}"));
     let path = dir.join(format!("{name}.mcap"));
     write_recording(&path, rec).unwrap();
     let zstd = std::fs::read(&path).unwrap();
@@ -798,11 +837,13 @@ fn committed_mcap_seeds_are_current() {
         assert_eq!(rec.clouds, want.clouds, "{name}");
         assert_eq!(rec.torque_check, want.torque_check, "{name}");
         assert_eq!(rec.collisions, want.collisions, "{name}");
-        let (frames, joints) = if name.starts_with("ur5") {
-            (3, 6)
+        assert_eq!(rec.obstacles, want.obstacles, "{name}");
+        let (frames, joints, obstacle_shapes) = if name.starts_with("ur5") {
+            (3, 6, 0)
         } else {
-            (2, 2)
+            (2, 2, 4)
         };
+        assert_eq!(rec.obstacles.len(), obstacle_shapes, "{name}");
         assert_eq!(rec.frames.len(), frames, "{name}");
         assert_eq!(rec.header.joint_names.len(), joints, "{name}");
     }
@@ -924,6 +965,7 @@ fn dh_robot_description_round_trips_through_a_recording() {
             static_tf: tf::RobotTf::new(&model, &spec).static_transforms(),
             robot_description: Some(urdf_text.clone()),
             metadata: vec![],
+            epoch_ns: Some(EPOCH),
         },
         frames: vec![Frame {
             t: 0.0,

@@ -14,7 +14,7 @@ use armsim::recording::rerun_out::{
 use armsim::recording::Header;
 use armsim::recording::{CollisionEvent, PointCloud, Recording, TorqueRow};
 use armsim::workspace::{sample_workspace, WorkspaceOptions};
-use rerun::components::{Position3D, RotationQuat, Translation3D};
+use rerun::components::{HalfSize3D, Position3D, RotationQuat, Translation3D};
 use rerun::external::re_log_encoding::rrd::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
 use rerun::StoreKind;
@@ -111,9 +111,15 @@ struct Contents {
     statics: BTreeMap<(String, String), usize>,
     entities: BTreeSet<String>,
     blueprint_msgs: usize,
+    /// The 3-D view's eye: position and look target, from the blueprint.
+    eye: Option<([f32; 3], [f32; 3])>,
+    /// Query expressions of the blueprint's views.
+    view_queries: Vec<String>,
     timelines: BTreeSet<String>,
     /// Static mesh vertex positions per entity.
     mesh_vertices: BTreeMap<String, Vec<[f32; 3]>>,
+    /// Static half sizes of boxes and ellipsoids per entity.
+    half_sizes: BTreeMap<String, Vec<[f32; 3]>>,
     /// Temporal transforms per entity, in row order: translation and `[x, y, z, w]`.
     poses: BTreeMap<String, Vec<Pose>>,
 }
@@ -149,11 +155,25 @@ fn decode(p: &Path) -> Contents {
         let LogMsg::ArrowMsg(store, arrow) = m else {
             continue;
         };
+        let chunk = Chunk::from_arrow_msg(&arrow).unwrap();
         if store.kind() == StoreKind::Blueprint {
             c.blueprint_msgs += 1;
+            let pos = chunk
+                .iter_component::<Position3D>("EyeControls3D:position".into())
+                .next();
+            let target = chunk
+                .iter_component::<Position3D>("EyeControls3D:look_target".into())
+                .next();
+            if let (Some(p), Some(t)) = (pos, target) {
+                c.eye = Some((p[0].0 .0, t[0].0 .0));
+            }
+            for q in chunk.iter_component::<rerun::blueprint::components::QueryExpression>(
+                "ViewContents:query".into(),
+            ) {
+                c.view_queries.extend(q.iter().map(|e| e.0.to_string()));
+            }
             continue;
         }
-        let chunk = Chunk::from_arrow_msg(&arrow).unwrap();
         let ent = chunk.entity_path().to_string();
         c.entities.insert(ent.clone());
         for tl in chunk.timelines().keys() {
@@ -163,6 +183,12 @@ fn decode(p: &Path) -> Contents {
             for row in chunk.iter_component::<Position3D>("Mesh3D:vertex_positions".into()) {
                 let v = c.mesh_vertices.entry(ent.clone()).or_default();
                 v.extend(row.iter().map(|p| p.0 .0));
+            }
+            for comp in ["Boxes3D:half_sizes", "Ellipsoids3D:half_sizes"] {
+                for row in chunk.iter_component::<HalfSize3D>(comp.into()) {
+                    let v = c.half_sizes.entry(ent.clone()).or_default();
+                    v.extend(row.iter().map(|h| h.0 .0));
+                }
             }
         } else {
             let tr = chunk.iter_component::<Translation3D>("Transform3D:translation".into());
@@ -204,6 +230,32 @@ fn check_model(rel: &str) {
 
     let c = decode(&out);
     assert!(c.blueprint_msgs > 0, "blueprint stored");
+    // The 3-D view's eye looks at a point inside the box of the link origins over the
+    // motion, from outside it.
+    let (eye, target) = c.eye.expect("EyeControls3D in the blueprint");
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for (t, _) in c.poses.values().flatten() {
+        for k in 0..3 {
+            lo[k] = lo[k].min(t[k]);
+            hi[k] = hi[k].max(t[k]);
+        }
+    }
+    assert!(
+        (0..3).all(|k| lo[k] - 0.2 <= target[k] && target[k] <= hi[k] + 0.2),
+        "{target:?} {lo:?} {hi:?}"
+    );
+    assert!(
+        (0..3).any(|k| eye[k] < lo[k] - 0.2 || eye[k] > hi[k] + 0.2),
+        "{eye:?} {lo:?} {hi:?}"
+    );
+    // Bodies are drawn, so the skeleton is left out of the 3-D view.
+    assert!(
+        c.view_queries
+            .iter()
+            .any(|q| q == "- /world/robot/skeleton"),
+        "{:?}",
+        c.view_queries
+    );
     assert_eq!(
         c.timelines,
         BTreeSet::from(["time".to_string()]),
@@ -371,6 +423,69 @@ fn visual_geometry_of_every_kind() {
 }
 
 #[test]
+fn scene_obstacles_are_drawn_in_world_coordinates() {
+    use armsim::model::{Geometry, Shape};
+    use armsim::recording::rerun_out::{log_recording_with, SceneExtras};
+    use armsim::spatial::Se3;
+    let model = common::load("robots/ur5.urdf");
+    let rec = recording(&model, "scene");
+    let dir = tmp_dir("scene");
+    let out = dir.join("scene.rrd");
+    let g = |shape: Shape, xyz: [f64; 3]| Geometry {
+        origin: Se3::from_xyz_rpy(xyz, [0.0; 3]),
+        shape,
+        rgba: None,
+    };
+    let cube = |uri: &str| Shape::Mesh {
+        uri: uri.into(),
+        scale: [0.1; 3],
+    };
+    let extras = SceneExtras {
+        obstacles: vec![
+            (
+                "table".into(),
+                g(
+                    Shape::Box {
+                        size: [0.8, 1.2, 0.04],
+                    },
+                    [0.45, 0.0, -0.025],
+                ),
+            ),
+            (
+                "ball".into(),
+                g(Shape::Sphere { radius: 0.05 }, [0.5, 0.1, 0.3]),
+            ),
+            ("block".into(), g(cube("cube.obj"), [0.3, -0.4, 0.2])),
+            ("ghost".into(), g(cube("no_such.obj"), [0.0; 3])),
+        ],
+        obstacle_dir: Some(root().join("tests/data/meshes")),
+    };
+    let report =
+        log_recording_with(&rec, None, None, &extras, &RerunSink::Save(out.clone())).unwrap();
+    let c = decode(&out);
+    assert!(c.has_static("/world/obstacles/table", "Boxes3D:half_sizes"));
+    assert!(c.has_static("/world/obstacles/ball", "Ellipsoids3D:half_sizes"));
+    // The unit cube (vertices at ±0.5), scaled by 0.1 and placed at (0.3, -0.4, 0.2).
+    let v = &c.mesh_vertices["/world/obstacles/block"];
+    assert_eq!(v.len(), 8);
+    for p in v {
+        for (k, centre) in [0.3f32, -0.4, 0.2].iter().enumerate() {
+            assert!(((p[k] - centre).abs() - 0.05).abs() < 1e-6, "{p:?}");
+        }
+    }
+    assert!(!c.entities.contains("/world/obstacles/ghost"));
+    assert!(
+        report
+            .warnings
+            .iter()
+            .any(|w| w.contains("obstacle 'ghost'") && w.contains("no_such.obj")),
+        "{:?}",
+        report.warnings
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn geometry_from_the_embedded_urdf() {
     // No spec given: the URDF text in the header is parsed.
     let model = common::load("robots/ur5.urdf");
@@ -379,8 +494,43 @@ fn geometry_from_the_embedded_urdf() {
     let dir = tmp_dir("embedded");
     let out = dir.join("e.rrd");
     let report = log_recording(&rec, None, None, &RerunSink::Save(out.clone())).unwrap();
-    // UR5 meshes are not shipped: the seven visuals are reported missing in one warning
-    // (one reason: the package is not found), nothing fails.
+    // The description names the bundled meshes by file:// URIs: every link with a visual
+    // gets one Mesh3D per visual, with the vertices of its file.
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let c = decode(&out);
+    let spec = Model::read_spec(&root().join("robots/ur5.urdf")).unwrap();
+    let mut meshes = 0;
+    for l in &spec.links {
+        assert!(c.entities.contains(&link_entity(&l.name).to_string()));
+        for (k, g) in l.visuals.iter().enumerate() {
+            let armsim::model::Shape::Mesh { uri, .. } = &g.shape else {
+                panic!("{}: visual {k} is not a mesh", l.name)
+            };
+            let file = root().join("robots").join(uri);
+            let want = armsim::collision::mesh::load_mesh(&file)
+                .unwrap()
+                .vertices
+                .len();
+            let e = format!("{}/visual_{k}", link_entity(&l.name));
+            let got = c.mesh_vertices.get(&e).map_or(0, |v| v.len());
+            assert_eq!(got, want, "{e}: Mesh3D vertices");
+            assert!(want > 100, "{e}: a real mesh, not a primitive");
+            meshes += 1;
+        }
+    }
+    assert_eq!(meshes, 7);
+    assert_eq!(report.visuals, 7);
+
+    // The same description with the original package:// URIs and no such package: the
+    // seven visuals are reported missing in one warning (one reason), nothing fails.
+    let mut pkg = rec.clone();
+    let desc = pkg.header.robot_description.take().unwrap();
+    let abs = std::fs::canonicalize(root().join("robots/meshes/ur5")).unwrap();
+    pkg.header.robot_description = Some(desc.replace(
+        &format!("file://{}/", abs.display()),
+        "package://ur_description/meshes/ur5/",
+    ));
+    let report = log_recording(&pkg, None, None, &RerunSink::Save(dir.join("p.rrd"))).unwrap();
     assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
     assert!(
         report.warnings[0].starts_with("7 visual meshes not drawn ('package://ur_description/"),
@@ -388,10 +538,6 @@ fn geometry_from_the_embedded_urdf() {
         report.warnings[0]
     );
     assert!(report.warnings[0].contains("package 'ur_description' not found"));
-    let c = decode(&out);
-    for l in &model.links {
-        assert!(c.entities.contains(&link_entity(&l.name).to_string()));
-    }
 
     // Without any description: frames and plots only.
     let mut bare = rec.clone();
@@ -599,5 +745,64 @@ fn cli_view_errors() {
         "--spawn",
     ]);
     assert_eq!(o.status.code(), Some(2));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `armsim view` of a run's MCAP draws the scene's obstacles from its MarkerArray: one
+/// static entity per shape, boxes and spheres with the scenario's half sizes, the capsule
+/// as a cylinder and two spheres, the mesh with its scale and pose baked into the vertices.
+#[test]
+fn cli_view_draws_the_obstacles_of_a_run() {
+    let dir = tmp_dir("cli_obstacles");
+    let run = armsim(&[
+        "run",
+        "tests/data/scenarios/obstacle_markers.toml",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let rrd = dir.join("v.rrd");
+    let mcap = dir.join("obstacle_markers.mcap");
+    let o = armsim(&[
+        "view",
+        mcap.to_str().unwrap(),
+        "--save",
+        rrd.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let c = decode(&rrd);
+    let e = |name: &str, k: usize| {
+        path(&["world", "obstacles", name, &format!("shape_{k}")]).to_string()
+    };
+    assert_eq!(c.half_sizes[&e("table", 0)], vec![[0.4, 0.3, 0.02]]);
+    assert_eq!(c.half_sizes[&e("ball", 1)], vec![[0.07; 3]]);
+    assert!(c.has_static(&e("post", 2), "Cylinders3D:lengths"));
+    assert!(c.has_static(&e("rail", 3), "Cylinders3D:radii"));
+    assert_eq!(c.half_sizes[&e("rail", 4)], vec![[0.02; 3]]);
+    assert_eq!(c.half_sizes[&e("rail", 5)], vec![[0.02; 3]]);
+    assert!(c.has_static(&e("table", 0), "Boxes3D:labels"));
+    // The fixture: a unit cube scaled to 0.1 × 0.2 × 0.05, pitched by 0.4 rad, at
+    // (0.6, -0.3, 0.1): y spans ±0.1, x ±(0.05 cos 0.4 + 0.025 sin 0.4).
+    let v = &c.mesh_vertices[&e("fixture", 6)];
+    let span = |a: usize| {
+        let lo = v.iter().map(|p| p[a]).fold(f32::INFINITY, f32::min);
+        let hi = v.iter().map(|p| p[a]).fold(f32::NEG_INFINITY, f32::max);
+        (lo, hi)
+    };
+    let hx = 0.05 * 0.4f32.cos() + 0.025 * 0.4f32.sin();
+    let (x0, x1) = span(0);
+    let (y0, y1) = span(1);
+    assert!(
+        (x0 - (0.6 - hx)).abs() < 1e-6 && (x1 - (0.6 + hx)).abs() < 1e-6,
+        "{x0} {x1}"
+    );
+    assert!(
+        (y0 + 0.4).abs() < 1e-6 && (y1 + 0.2).abs() < 1e-6,
+        "{y0} {y1}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -25,17 +25,27 @@ pub mod schema;
 pub use run::{run_scene, Outcome, RunOptions, SimSample};
 
 use crate::scenario::ScenarioError;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Parses and validates an arm scenario without running it.
 pub fn load(path: &Path, text: &str) -> Result<scene::Scene, ScenarioError> {
+    load_with(path, text, &[])
+}
+
+/// [`load`] with package paths from the command line (searched first for `package://`
+/// mesh URIs).
+pub fn load_with(
+    path: &Path,
+    text: &str,
+    package_path: &[PathBuf],
+) -> Result<scene::Scene, ScenarioError> {
     let file = path.display().to_string();
     let parsed: schema::ArmFile =
         toml::from_str(text).map_err(|e| ScenarioError::from_toml(&file, text, &e))?;
-    scene::build(path, text, &parsed)
+    scene::build_with(path, text, &parsed, package_path)
 }
 
 /// Parses, validates and runs an arm scenario.
 pub fn run(path: &Path, text: &str, opts: &RunOptions) -> Result<Outcome, ScenarioError> {
-    run_scene(load(path, text)?, opts)
+    run_scene(load_with(path, text, &opts.package_path)?, opts)
 }

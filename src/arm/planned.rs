@@ -36,6 +36,8 @@ pub struct PlannerSettings {
     pub time_limit: Duration,
     /// Shortcut and smooth the paths.
     pub simplify: bool,
+    /// Overshoot of the sphere cover (m).
+    pub max_overshoot: f64,
     /// The SRDF's disabled pairs, when one is given (with its path for the report).
     pub srdf: Option<(String, Vec<(String, String)>)>,
 }
@@ -106,12 +108,14 @@ impl ScenePlanners {
             .filter(|p| base.link_id(&p[0]).is_some() && base.link_id(&p[1]).is_some())
             .map(|p| (p[0].clone(), p[1].clone()))
             .collect();
-        let opts = PlanOptions {
+        let mut opts = PlanOptions {
             seed: settings.seed,
             time_limit: Some(settings.time_limit),
             simplify: settings.simplify,
             ..Default::default()
         };
+        opts.spheres.package_path = scene.package_paths.explicit.clone();
+        opts.spheres.max_overshoot = settings.max_overshoot;
         match &settings.srdf {
             Some((path, _)) => notes.push(format!("planner: self pairs from the SRDF {path}")),
             None => notes.push(

@@ -5,12 +5,13 @@
 
 use super::contact::{ContactReport, ContactSim};
 use super::plan::{plan, Plan};
-use super::plots::{self, Panel};
+use super::plots;
 use super::scene::{Scene, Timing};
 use crate::data::Data;
 use crate::dynamics::{Effects, Payload};
 use crate::kinematics::{forward_kinematics, frame_placement};
-use crate::recording::mcap_out::McapWriter;
+use crate::recording::mcap_out::{wall_clock_ns, McapWriter};
+use crate::recording::obstacles::{markers_of, ObstacleMarker};
 use crate::recording::{CollisionEvent, Header, TorqueRow};
 use crate::scenario::{Report, ScenarioError};
 use crate::sim::{SimConfig, Simulator, StepHook};
@@ -35,6 +36,11 @@ pub struct RunOptions {
     pub stop: fn() -> bool,
     /// Also log the run to Rerun (an `.rrd` file or a spawned viewer).
     pub rerun: Option<crate::recording::rerun_out::RerunSink>,
+    /// Directories searched first for `package://` mesh URIs (`--package-path`).
+    pub package_path: Vec<PathBuf>,
+    /// Keep the recording's robot description's mesh URIs as the model file writes them
+    /// instead of absolute `file://` URIs (`--keep-mesh-uris`).
+    pub keep_mesh_uris: bool,
 }
 
 impl Default for RunOptions {
@@ -44,6 +50,8 @@ impl Default for RunOptions {
             write_files: true,
             stop: || false,
             rerun: None,
+            package_path: Vec::new(),
+            keep_mesh_uris: false,
         }
     }
 }
@@ -100,6 +108,8 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     let n = model.nv;
     let file = scene.file.clone();
     let fail = |key: &str, msg: String| ScenarioError::new(&file, None, key, msg);
+    // The recording's epoch: simulated t = 0 is the run's wall-clock start.
+    let started_ns = wall_clock_ns();
     let mut timings = Map::new();
     let mut warnings = scene.warnings.clone();
     warnings.extend(scene.model_warnings.iter().cloned());
@@ -178,10 +188,15 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         })?;
     }
     let mut recorder = if opts.write_files && scene.outputs.mcap {
-        let (header, robot_tf) = recording_header(&scene);
+        let (header, robot_tf) = recording_header(&scene, started_ns, opts.keep_mesh_uris);
         let path = out_dir.join(format!("{}.mcap", scene.name));
-        let w = McapWriter::create(&path, &header)
-            .map_err(|e| fail("outputs", format!("recording: {e}")))?;
+        let rec_err =
+            |e: crate::recording::error::RecordError| fail("outputs", format!("recording: {e}"));
+        let mut w = McapWriter::create(&path, &header).map_err(rec_err)?;
+        let markers = obstacle_markers(&scene);
+        if !markers.is_empty() {
+            w.write_obstacles(&markers).map_err(rec_err)?;
+        }
         Some((w, robot_tf, Data::new(model), None::<String>))
     } else {
         None
@@ -388,7 +403,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     }
     if let Some(sink) = &opts.rerun {
         let t0 = Instant::now();
-        let (header, tf) = recording_header(&scene);
+        let (header, tf) = recording_header(&scene, started_ns, opts.keep_mesh_uris);
         let mut data = Data::new(model);
         let frames = samples
             .iter()
@@ -400,12 +415,30 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
             frames,
             collisions,
             clouds: tool_path.iter().cloned().collect(),
+            obstacles: obstacle_markers(&scene),
             ..Default::default()
         };
-        let rep = crate::recording::rerun_out::log_recording(
+        let extras = crate::recording::rerun_out::SceneExtras {
+            obstacles: scene
+                .obstacles
+                .iter()
+                .filter_map(|o| o.to_obstacle().ok())
+                .map(|o| {
+                    let g = crate::model::Geometry {
+                        origin: scene.base.mul(&o.pose),
+                        shape: o.shape.clone(),
+                        rgba: None,
+                    };
+                    (o.name.clone(), g)
+                })
+                .collect(),
+            obstacle_dir: Path::new(&scene.file).parent().map(Path::to_path_buf),
+        };
+        let rep = crate::recording::rerun_out::log_recording_with(
             &rec,
             Some(&scene.spec),
             scene.model_path.parent(),
+            &extras,
             sink,
         )
         .map_err(|e| fail("outputs", format!("rerun: {e}")))?;
@@ -422,7 +455,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
             let ext = if fmt == PlotFormat::Png { "png" } else { "svg" };
             let p = out_dir.join(format!("{}_torques.{ext}", scene.name));
             torque
-                .write_plot(&p, fmt)
+                .write_plot_titled(&p, fmt, Some(&scene.name))
                 .map_err(|e| out_err(e.to_string()))?;
             outputs.push(p.display().to_string());
             if !samples.is_empty() {
@@ -430,7 +463,8 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
                 plots::write(
                     &p,
                     &format!("{}: simulation", scene.name),
-                    &sim_panels(&scene, &samples, contact_report.is_some()),
+                    &simulation_subtitle(&scene, &sim_json),
+                    &plots::simulation_panels(&scene, &samples),
                     fmt,
                 )
                 .map_err(out_err)?;
@@ -556,10 +590,21 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
 }
 
 /// The recording header of a scene: the model's (joints, limits, robot description, fixed
-/// frames) with the scene's `world` → base transform first, and the scenario metadata.
-fn recording_header(scene: &Scene) -> (Header, crate::recording::tf::RobotTf) {
+/// frames) with the scene's `world` → base transform first, the scenario metadata, and the
+/// epoch `epoch_ns` (Unix ns of `t = 0`); mesh URIs made absolute unless `keep_uris`.
+fn recording_header(
+    scene: &Scene,
+    epoch_ns: u64,
+    keep_uris: bool,
+) -> (Header, crate::recording::tf::RobotTf) {
     let model = &scene.model;
-    let (mut header, tf) = Header::for_model(&scene.name, &scene.model_path, model, &scene.spec);
+    let (mut header, tf) = Header::for_model_with(
+        &scene.name,
+        &scene.model_path,
+        model,
+        &scene.spec,
+        (!keep_uris).then_some(&scene.package_paths),
+    );
     header.static_tf.insert(
         0,
         crate::recording::tf::to_transform("world", &model.links[0].name, &scene.base),
@@ -569,7 +614,25 @@ fn recording_header(scene: &Scene) -> (Header, crate::recording::tf::RobotTf) {
         ("effects".into(), scene.effect_names.join(",")),
         ("trajectory".into(), scene.timing.as_str().into()),
     ];
+    header.epoch_ns = Some(epoch_ns);
     (header, tf)
+}
+
+/// The scene's obstacles as recording markers in `world` (the scene frame), mesh files
+/// resolved against the scenario's directory.
+pub fn obstacle_markers(scene: &Scene) -> Vec<ObstacleMarker> {
+    // Validated when the scene was built.
+    let obstacles: Vec<_> = scene
+        .obstacles
+        .iter()
+        .filter_map(|o| o.to_obstacle().ok())
+        .collect();
+    markers_of(
+        &obstacles,
+        "world",
+        &scene.base,
+        Path::new(&scene.file).parent(),
+    )
 }
 
 /// The first collision of the report's `collisions` JSON as a recording event.
@@ -612,39 +675,19 @@ fn vibration_frequency(samples: &[SimSample], t_end: f64) -> Option<f64> {
     (span > 0.0).then(|| (crossings.len() - 1) as f64 / (2.0 * span))
 }
 
-fn sim_panels(scene: &Scene, samples: &[SimSample], contact: bool) -> Vec<Panel> {
-    let names = scene.model.dof_names();
-    let n = names.len();
-    let mut panels = vec![Panel {
-        caption: "tracking error q - q_ref".into(),
-        y_label: "rad or m".into(),
-        curves: (0..n)
-            .map(|k| {
-                (
-                    names[k].clone(),
-                    samples.iter().map(|s| (s.t, s.q[k] - s.q_ref[k])).collect(),
-                )
-            })
-            .collect(),
-    }];
-    panels.push(Panel {
-        caption: if scene.effects.elasticity.is_some() {
-            "motor torques".into()
+/// The simulation plot's second title line: controller, integrator, step and effects.
+fn simulation_subtitle(scene: &Scene, sim: &Value) -> String {
+    format!(
+        "{} control, {} integrator, step {} s - effects: {}",
+        sim["controller"].as_str().unwrap_or("?"),
+        sim["integrator"].as_str().unwrap_or("?"),
+        sim["dt"].as_f64().unwrap_or(f64::NAN),
+        if scene.effect_names.is_empty() {
+            "none (rigid bodies)".to_string()
         } else {
-            "applied joint torques".into()
-        },
-        y_label: "N m or N".into(),
-        curves: (0..n)
-            .map(|k| {
-                (
-                    names[k].clone(),
-                    samples.iter().map(|s| (s.t, s.tau[k])).collect(),
-                )
-            })
-            .collect(),
-    });
-    let _ = contact;
-    panels
+            scene.effect_names.join(", ")
+        }
+    )
 }
 
 fn write_csv(path: &Path, names: &[String], traj: &dyn Trajectory, dt: f64) -> Result<(), String> {

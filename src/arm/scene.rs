@@ -4,6 +4,7 @@
 //! file, the line and the key.
 
 use super::schema::*;
+use crate::collision::resolve::{resolve_spec_meshes, PackagePaths};
 use crate::collision::{CollisionOptions, ObstacleSpec};
 use crate::dynamics::{Effects, Elasticity, Friction, Payload, Rotor};
 use crate::model::{Model, ModelSpec, Shape};
@@ -118,7 +119,11 @@ pub struct Scene {
     pub description: Option<String>,
     pub model_path: PathBuf,
     pub model: Model,
+    /// The model as read, its resolvable mesh URIs replaced by absolute paths.
     pub spec: ModelSpec,
+    /// Where `package://` URIs were searched (command line, `model.package_path`, then
+    /// the environment).
+    pub package_paths: PackagePaths,
     pub model_warnings: Vec<String>,
     /// Scene → robot base.
     pub base: Se3,
@@ -399,8 +404,8 @@ fn skeleton_contacts(spec: &ModelSpec, skeleton: &[String], radius: f64) -> Vec<
     out
 }
 
-/// A loaded model: its path, spec (with skeleton capsules), model, warnings, notes, and
-/// the skeleton pairs that touch by construction.
+/// A loaded model: its path, spec (mesh URIs resolved, with skeleton capsules), model,
+/// warnings, notes, the skeleton pairs that touch by construction, and the package paths.
 type Loaded = (
     PathBuf,
     ModelSpec,
@@ -408,14 +413,43 @@ type Loaded = (
     Vec<String>,
     Vec<String>,
     Vec<[String; 2]>,
+    PackagePaths,
 );
 
-/// Loads the model named by `[model]`.
+/// The package search paths: `cli` first, then `model.package_path` (relative to the
+/// scenario's directory `dir`), then the environment.
+fn package_paths(
+    cx: &Ctx,
+    dir: &Path,
+    sec: &ModelSec,
+    cli: &[PathBuf],
+) -> Result<PackagePaths, ScenarioError> {
+    let mut explicit = cli.to_vec();
+    for p in &sec.package_path {
+        let d = dir.join(p.get_ref());
+        if !d.is_dir() {
+            return Err(cx.at(
+                p.span(),
+                "model.package_path",
+                format!(
+                    "'{}' is not a directory (looked for {})",
+                    p.get_ref(),
+                    d.display()
+                ),
+            ));
+        }
+        explicit.push(d);
+    }
+    Ok(PackagePaths::from_env(explicit))
+}
+
+/// Loads the model named by `[model]`; `cli` are the command line's package paths.
 fn load_model(
     cx: &Ctx,
     dir: &Path,
     sec: &Spanned<ModelSec>,
     skeleton: Option<f64>,
+    cli: &[PathBuf],
 ) -> Result<Loaded, ScenarioError> {
     let m = sec.get_ref();
     let rel = m.file.get_ref();
@@ -428,6 +462,8 @@ fn load_model(
         )));
     }
     let mut spec = Model::read_spec(&path).map_err(|e| fail(format!("cannot load: {e}")))?;
+    let pkgs = package_paths(cx, dir, m, cli)?;
+    let unresolved = resolve_spec_meshes(&mut spec, path.parent(), &pkgs);
     let mut notes = Vec::new();
     let mut touching = Vec::new();
     if let Some(r) = skeleton {
@@ -440,13 +476,27 @@ fn load_model(
             ));
         }
     }
+    // Unresolved collision meshes are reported by the collision model, unless the
+    // skeleton took them out of the spec.
+    for u in &unresolved {
+        if u.kind == "visual" || skeleton.is_some() {
+            notes.push(format!(
+                "{}: link '{}': {} mesh '{}' not found: {}",
+                path.display(),
+                u.link,
+                u.kind,
+                u.uri,
+                u.reason
+            ));
+        }
+    }
     let (model, warnings) =
         Model::build(spec.clone()).map_err(|e| fail(format!("cannot load: {e}")))?;
     if model.nv == 0 {
         return Err(fail("the model has no movable joint".into()));
     }
     let w = warnings.iter().map(|w| w.to_string()).collect();
-    Ok((path, spec, model, w, notes, touching))
+    Ok((path, spec, model, w, notes, touching, pkgs))
 }
 
 fn get_f(
@@ -468,6 +518,17 @@ fn get_f(
 
 /// Validates `file` (read from `path`) into a [`Scene`].
 pub fn build(path: &Path, text: &str, file: &ArmFile) -> Result<Scene, ScenarioError> {
+    build_with(path, text, file, &[])
+}
+
+/// [`build`] with package paths from the command line, searched before the file's
+/// `model.package_path` and the environment.
+pub fn build_with(
+    path: &Path,
+    text: &str,
+    file: &ArmFile,
+    package_path: &[PathBuf],
+) -> Result<Scene, ScenarioError> {
     let fname = path.display().to_string();
     let cx = Ctx { file: &fname, text };
     let dir = path.parent().unwrap_or(Path::new("."));
@@ -567,8 +628,8 @@ pub fn build(path: &Path, text: &str, file: &ArmFile) -> Result<Scene, ScenarioE
             0.0,
         )?),
     };
-    let (model_path, spec, model, model_warnings, notes, touching) =
-        load_model(&cx, dir, &file.model, skeleton)?;
+    let (model_path, spec, model, model_warnings, notes, touching, package_paths) =
+        load_model(&cx, dir, &file.model, skeleton, package_path)?;
     warnings.extend(notes);
     let names = model.dof_names();
     let n = model.nv;
@@ -1543,6 +1604,7 @@ pub fn build(path: &Path, text: &str, file: &ArmFile) -> Result<Scene, ScenarioE
         name,
         description: file.description.clone(),
         model_path,
+        package_paths,
         model,
         spec,
         model_warnings,
@@ -1606,6 +1668,11 @@ fn planner_settings(
         Some(t) if finite_pos(*t.get_ref()) => *t.get_ref(),
         Some(t) => return Err(cx.at(t.span(), "planner.time_limit_ms", "must be positive")),
     };
+    let max_overshoot = match p.and_then(|p| p.max_overshoot.as_ref()) {
+        None => 0.01,
+        Some(t) if finite_pos(*t.get_ref()) => *t.get_ref(),
+        Some(t) => return Err(cx.at(t.span(), "planner.max_overshoot", "must be positive")),
+    };
     let srdf = match p.and_then(|p| p.srdf.as_ref()) {
         None => None,
         Some(f) => {
@@ -1620,6 +1687,7 @@ fn planner_settings(
         seed: p.and_then(|p| p.seed).unwrap_or(0),
         time_limit: std::time::Duration::from_secs_f64(ms / 1e3),
         simplify: p.and_then(|p| p.simplify).unwrap_or(true),
+        max_overshoot,
         srdf,
     }))
 }

@@ -56,6 +56,10 @@ pub struct ModelSec {
     pub base_rpy: [f64; 3],
     /// Tool link (default: the last link of the tree).
     pub tool: Option<Spanned<String>>,
+    /// Directories searched first for `package://` mesh URIs, relative to the scenario
+    /// file (after the command line's `--package-path`, before `ROS_PACKAGE_PATH`).
+    #[serde(default)]
+    pub package_path: Vec<Spanned<String>>,
 }
 
 /// `[gravity]`.
@@ -271,6 +275,10 @@ pub struct PlannerSec {
     pub time_limit_ms: Option<Spanned<f64>>,
     /// Shortcut and smooth the path (default true).
     pub simplify: Option<bool>,
+    /// Largest overshoot of the spheres covering the robot's collision primitives and
+    /// meshes (m; default 0.01). Mesh covers need about `area / δ²` spheres: a coarser
+    /// cover plans faster (the parry check of the motion still uses the exact meshes).
+    pub max_overshoot: Option<Spanned<f64>>,
     /// MoveIt SRDF with the disabled self-collision pairs, relative to the scenario
     /// (default: adjacent and never-touching pairs found by sampling).
     pub srdf: Option<Spanned<String>>,

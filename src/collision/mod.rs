@@ -47,10 +47,11 @@
 //! (GJK stops at the first separating plane that proves it does not).
 //!
 //! **Meshes** (see [`mesh`] and [`resolve`]): URIs relative to the model file, absolute,
-//! `file://` or `package://`. A mesh that cannot be *found* is, by default, skipped with a
-//! warning naming the model file, link and URI, and the links left without any shape
-//! are listed by [`CollisionModel::unprotected_links`] (the bundled robots ship without
-//! their meshes); [`MissingMeshes::Error`] makes it an error. A mesh that is found but
+//! `file://` or `package://` (searched in [`CollisionOptions::package_path`], then
+//! `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH` and the model's folder tree). A mesh that
+//! cannot be *found* is, by default, skipped with a warning naming the model file, link
+//! and URI, and the links left without any shape are listed by
+//! [`CollisionModel::unprotected_links`]; [`MissingMeshes::Error`] makes it an error. A mesh that is found but
 //! cannot be read is always an error.
 //!
 //! ```
@@ -113,6 +114,10 @@ pub struct CollisionOptions {
     pub margin: f64,
     /// Directory relative obstacle mesh paths start from (default: the current one).
     pub obstacle_dir: Option<PathBuf>,
+    /// Directories searched first for `package://` URIs (each containing packages or being
+    /// one), before `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH` and the model's folder tree
+    /// (see [`resolve`]).
+    pub package_path: Vec<PathBuf>,
 }
 
 /// Which pairs a query looks at.
@@ -330,13 +335,14 @@ type MeshKey = (PathBuf, [u64; 3]);
 fn build_shape(
     shape: &Shape,
     base: Option<&Path>,
+    pkgs: &resolve::PackagePaths,
     opts: &CollisionOptions,
     cache: &mut HashMap<MeshKey, CollisionShape>,
     notes: &mut Vec<String>,
 ) -> Result<Result<CollisionShape, String>, (bool, String)> {
     match shape {
         Shape::Mesh { uri, scale } => {
-            let path = match resolve::resolve_uri(uri, base) {
+            let path = match resolve::resolve_with(uri, base, pkgs) {
                 Ok(p) => p,
                 Err(e) => return Ok(Err(e.0)),
             };
@@ -376,6 +382,7 @@ impl CollisionModel {
             )));
         }
         let base = model_dir(model);
+        let pkgs = resolve::PackagePaths::from_env(opts.package_path.clone());
         let mut cache: HashMap<MeshKey, CollisionShape> = HashMap::new();
         let mut warnings = Vec::new();
         let mut notes = Vec::new();
@@ -384,7 +391,14 @@ impl CollisionModel {
         for (li, link) in model.links.iter().enumerate() {
             let before = objects.len();
             for g in &link.collisions {
-                let built = build_shape(&g.shape, base.as_deref(), opts, &mut cache, &mut notes);
+                let built = build_shape(
+                    &g.shape,
+                    base.as_deref(),
+                    &pkgs,
+                    opts,
+                    &mut cache,
+                    &mut notes,
+                );
                 let uri = match &g.shape {
                     Shape::Mesh { uri, .. } => uri.clone(),
                     _ => String::new(),
@@ -465,7 +479,7 @@ impl CollisionModel {
                 None => {}
             }
             let base = opts.obstacle_dir.as_deref();
-            let cs = match build_shape(&ob.shape, base, opts, &mut cache, &mut notes) {
+            let cs = match build_shape(&ob.shape, base, &pkgs, opts, &mut cache, &mut notes) {
                 Ok(Ok(cs)) => cs,
                 Ok(Err(reason)) | Err((_, reason)) => return Err(err(reason)),
             };

@@ -45,6 +45,16 @@ struct Body {
     offset: f32,
 }
 
+/// How an edge is checked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeMode {
+    /// Continuously: nothing penetrates by more than the tolerance anywhere on the edge.
+    Continuous,
+    /// At the coarse points only (`resolution` per unit), as sampling planners usually do:
+    /// fast, but the edge may graze an obstacle between two points.
+    Discrete,
+}
+
 /// Settings of the checker.
 #[derive(Clone, Copy, Debug)]
 pub struct CheckOptions {
@@ -70,6 +80,7 @@ pub struct CheckScratch {
     poses: Vec<PoseM>,
     centers: Vec<P3m>,
     bounds: Vec<P3m>,
+    placed: Vec<bool>,
     speed: Vec<f32>,
     link_speed: Vec<f32>,
     stack: Vec<(f32, f32)>,
@@ -148,6 +159,7 @@ impl Checker {
             poses: vec![PoseM::default(); self.bodies.len()],
             centers: vec![P3m::default(); self.spheres.len()],
             bounds: vec![P3m::default(); self.spheres.links.len()],
+            placed: vec![false; self.spheres.links.len()],
             speed: vec![0.0; self.spheres.len()],
             link_speed: vec![0.0; self.spheres.links.len()],
             stack: Vec::with_capacity(256),
@@ -172,18 +184,19 @@ impl Checker {
     }
 
     /// Whether the straight edge `a → b` is free, continuously (see the module docs).
-    pub fn edge_free(&self, a: &[f32], b: &[f32], s: &mut CheckScratch) -> bool {
+    pub fn edge_free(&self, a: &[f32], b: &[f32], mode: EdgeMode, s: &mut CheckScratch) -> bool {
         s.edges += 1;
+        let continuous = mode == EdgeMode::Continuous;
         #[cfg(target_arch = "x86_64")]
         {
             if let Some(tok) = self.avx2 {
                 // SAFETY: the token proves the CPU has AVX2 and FMA.
-                return unsafe { edge_free_avx2(self, tok, a, b, s) };
+                return unsafe { edge_free_avx2(self, tok, a, b, continuous, s) };
             }
-            self.edge_free_impl(Sse2::new(), a, b, s)
+            self.edge_free_impl(Sse2::new(), a, b, continuous, s)
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.edge_free_impl(Scalar, a, b, s)
+        self.edge_free_impl(Scalar, a, b, continuous, s)
     }
 
     fn dispatch_lanes(&self, q: &[L], h: L, s: &mut CheckScratch) -> (Mask, Mask) {
@@ -200,15 +213,24 @@ impl Checker {
     }
 
     #[inline(always)]
-    fn edge_free_impl<S: Simd>(&self, tok: S, a: &[f32], b: &[f32], s: &mut CheckScratch) -> bool {
+    fn edge_free_impl<S: Simd>(
+        &self,
+        tok: S,
+        a: &[f32],
+        b: &[f32],
+        continuous: bool,
+        s: &mut CheckScratch,
+    ) -> bool {
         let nv = self.nv();
         let mut dist2 = 0.0f32;
         for k in 0..nv {
             dist2 += (b[k] - a[k]) * (b[k] - a[k]);
         }
-        self.edge_speeds(a, b, s);
+        if continuous {
+            self.edge_speeds(a, b, s);
+        }
         let n = ((dist2.sqrt() * self.opts.resolution).ceil() as usize).max(1);
-        let h0 = 0.5 / n as f32;
+        let h0 = if continuous { 0.5 / n as f32 } else { 0.0 };
         let m = n.div_ceil(N);
         let mut qs = std::mem::take(&mut s.q);
         s.stack.clear();
@@ -220,7 +242,9 @@ impl Checker {
             for (l, tl) in t.iter_mut().enumerate() {
                 let k = l * m + i;
                 valid |= Mask::from(k < n) << l;
-                *tl = (k.min(n - 1) as f32 + 0.5) / n as f32;
+                // Continuous: interval centres; discrete: the points k/n, k = 1..n (the end
+                // included, the start being a node already checked).
+                *tl = (k.min(n - 1) as f32 + if continuous { 0.5 } else { 1.0 }) / n as f32;
             }
             let (exact, inflated) = self.lerp_lanes_hit(tok, a, b, &t, &[h0; N], &mut qs, s);
             if exact & valid != 0 {
@@ -353,9 +377,7 @@ impl Checker {
             };
             while g < sm.links.len() && sm.links[g].body == body {
                 let ls = &sm.links[g];
-                for i in ls.first..ls.end {
-                    s.centers[i] = pose.act(tok, &sm.spheres[i].center).store();
-                }
+                s.placed[g] = false;
                 let bc = pose.act(tok, &ls.bound.center);
                 s.bounds[g] = bc.store();
                 let br = tok.splat(ls.bound.radius) + inflate(s.link_speed[g]);
@@ -364,6 +386,7 @@ impl Checker {
                     if ob.near(tok, &bc, br) == 0 || ob.overlaps(tok, &bc, br) == 0 {
                         continue;
                     }
+                    self.place_spheres(tok, g, &pose, s);
                     for i in ls.first..ls.end {
                         let r = tok.splat(sm.spheres[i].radius);
                         let c = P3::load(tok, &s.centers[i]);
@@ -391,6 +414,30 @@ impl Checker {
         (exact, inflated)
     }
 
+    /// Computes the world centres of group `g`'s spheres (once per batch).
+    #[inline(always)]
+    fn place_spheres<S: Simd>(&self, tok: S, g: usize, pose: &Pose<S>, s: &mut CheckScratch) {
+        if s.placed[g] {
+            return;
+        }
+        let ls = &self.spheres.links[g];
+        for i in ls.first..ls.end {
+            s.centers[i] = pose.act(tok, &self.spheres.spheres[i].center).store();
+        }
+        s.placed[g] = true;
+    }
+
+    /// The pose of body `b` (or the world) stored by this batch.
+    #[inline(always)]
+    fn stored_pose<S: Simd>(&self, tok: S, b: usize, s: &CheckScratch) -> Pose<S> {
+        if b == WORLD {
+            let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+            Pose::splat(tok, &identity, &[0.0; 3])
+        } else {
+            Pose::load(tok, &s.poses[b])
+        }
+    }
+
     /// Masks `(exact, inflated)` where link groups `ga` and `gb` overlap (bounding spheres
     /// first).
     #[inline(always)]
@@ -400,7 +447,7 @@ impl Checker {
         ga: usize,
         gb: usize,
         inflate: &impl Fn(f32) -> W<S>,
-        s: &CheckScratch,
+        s: &mut CheckScratch,
     ) -> (Mask, Mask) {
         let sm = &self.spheres;
         let (la, lb) = (&sm.links[ga], &sm.links[gb]);
@@ -411,6 +458,12 @@ impl Checker {
             + inflate(s.link_speed[gb]);
         if ca.dist2(&cb).lt(rr * rr) == 0 {
             return (0, 0);
+        }
+        for (g, body) in [(ga, la.body), (gb, lb.body)] {
+            if !s.placed[g] {
+                let pose = self.stored_pose(tok, body, s);
+                self.place_spheres(tok, g, &pose, s);
+            }
         }
         let (mut exact, mut inflated) = (0, 0);
         for i in la.first..la.end {
@@ -492,9 +545,10 @@ unsafe fn edge_free_avx2(
     tok: Avx2,
     a: &[f32],
     b: &[f32],
+    continuous: bool,
     s: &mut CheckScratch,
 ) -> bool {
-    c.edge_free_impl(tok, a, b, s)
+    c.edge_free_impl(tok, a, b, continuous, s)
 }
 
 #[cfg(target_arch = "x86_64")]

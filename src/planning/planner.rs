@@ -5,7 +5,7 @@
 //! straight edge, searches, and simplifies. `plan_time_us` runs from the query to the first
 //! path (the scene is built once, in [`Planner::new`]); `simplify_time_us` is the rest.
 
-use super::checker::{CheckOptions, CheckScratch, Checker};
+use super::checker::{CheckOptions, CheckScratch, Checker, EdgeMode};
 use super::environment::Environment;
 use super::rrt::{Rrt, RrtOptions, SearchEnd};
 use super::sampler::{bounds, Sampler, SamplerKind};
@@ -104,6 +104,8 @@ pub struct Planner {
     start: Vec<f32>,
     goal: Vec<f32>,
     path: Vec<f32>,
+    sub: Vec<f32>,
+    spliced: Vec<f32>,
 }
 
 impl Planner {
@@ -155,6 +157,8 @@ impl Planner {
             start: vec![0.0; nv],
             goal: vec![0.0; nv],
             path: Vec::with_capacity(nv * 1024),
+            sub: Vec::with_capacity(nv * 1024),
+            spliced: Vec::with_capacity(nv * 1024),
             opts,
         })
     }
@@ -213,15 +217,7 @@ impl Planner {
         }
         let mut sampler = Sampler::new(self.opts.sampler, &self.lo, &self.hi, self.opts.seed);
         let deadline = self.opts.time_limit.map(|d| t0 + d);
-        let found = self.rrt.solve(
-            &self.checker,
-            &mut self.scratch,
-            &mut sampler,
-            &self.start,
-            &self.goal,
-            deadline,
-            &mut self.path,
-        );
+        let found = self.search(&mut sampler, deadline);
         res.iterations = self.rrt.iterations;
         res.plan_time_us = t0.elapsed().as_secs_f64() * 1e6;
         if let Err(end) = found {
@@ -263,6 +259,70 @@ impl Planner {
         res
     }
 
+    /// RRT-Connect with discrete edge checks (fast), then every edge of the path checked
+    /// continuously; an edge that fails is re-planned with continuous checks and spliced
+    /// in. If a repair fails, the whole search is run again with continuous checks.
+    fn search(
+        &mut self,
+        sampler: &mut Sampler,
+        deadline: Option<Instant>,
+    ) -> Result<(), SearchEnd> {
+        let (c, s) = (&self.checker, &mut self.scratch);
+        let (start, goal) = (&self.start, &self.goal);
+        self.rrt.solve(
+            c,
+            s,
+            sampler,
+            start,
+            goal,
+            deadline,
+            EdgeMode::Discrete,
+            &mut self.path,
+        )?;
+        let iterations = self.rrt.iterations;
+        let nv = start.len();
+        self.spliced.clear();
+        self.spliced.extend_from_slice(&self.path[..nv]);
+        let n = self.path.len() / nv;
+        for i in 0..n - 1 {
+            let (a, b) = (&self.path[i * nv..][..nv], &self.path[(i + 1) * nv..][..nv]);
+            if !c.edge_free(a, b, EdgeMode::Continuous, s) {
+                let repaired = self.rrt.solve(
+                    c,
+                    s,
+                    sampler,
+                    a,
+                    b,
+                    deadline,
+                    EdgeMode::Continuous,
+                    &mut self.sub,
+                );
+                if repaired.is_err() {
+                    let r = self.rrt.solve(
+                        c,
+                        s,
+                        sampler,
+                        start,
+                        goal,
+                        deadline,
+                        EdgeMode::Continuous,
+                        &mut self.path,
+                    );
+                    self.rrt.iterations += iterations;
+                    return r;
+                }
+                // The sub-path's first point is `a`, already in.
+                self.spliced.extend_from_slice(&self.sub[nv..]);
+                self.rrt.iterations += iterations;
+            } else {
+                self.spliced.extend_from_slice(b);
+            }
+        }
+        std::mem::swap(&mut self.path, &mut self.spliced);
+        self.rrt.iterations = self.rrt.iterations.max(iterations);
+        Ok(())
+    }
+
     /// Checks one configuration exactly (true when free).
     pub fn is_free(&mut self, q: &[f64]) -> bool {
         let qf: Vec<f32> = q.iter().map(|&x| x as f32).collect();
@@ -274,7 +334,12 @@ impl Planner {
     pub fn edge_free(&mut self, a: &[f64], b: &[f64]) -> bool {
         let af: Vec<f32> = a.iter().map(|&x| x as f32).collect();
         let bf: Vec<f32> = b.iter().map(|&x| x as f32).collect();
-        self.checker.edge_free(&af, &bf, &mut self.scratch)
+        self.checker.edge_free(
+            &af,
+            &bf,
+            super::checker::EdgeMode::Continuous,
+            &mut self.scratch,
+        )
     }
 
     /// The check counters (edges, batches of eight) since the planner was built.

@@ -13,7 +13,7 @@
 //! linear scan over coordinates padded to a multiple of eight (vectorised). Nothing is
 //! allocated per iteration.
 
-use super::checker::{CheckScratch, Checker};
+use super::checker::{CheckScratch, Checker, EdgeMode};
 use super::sampler::Sampler;
 use std::time::Instant;
 
@@ -164,6 +164,7 @@ impl Rrt {
         start: &[f32],
         goal: &[f32],
         deadline: Option<Instant>,
+        mode: EdgeMode,
         path: &mut Vec<f32>,
     ) -> Result<(), SearchEnd> {
         let nv = start.len();
@@ -174,7 +175,7 @@ impl Rrt {
         self.trees[1].push(goal, u32::MAX);
         self.iterations = 0;
         path.clear();
-        if checker.edge_free(start, goal, scratch) {
+        if checker.edge_free(start, goal, mode, scratch) {
             path.extend_from_slice(start);
             path.extend_from_slice(goal);
             return Ok(());
@@ -193,7 +194,7 @@ impl Rrt {
             let a = usize::from(self.trees[1].len() < self.trees[0].len());
             sampler.next(&mut self.sample[..nv]);
             let target = std::mem::take(&mut self.sample);
-            let ext = self.extend(a, &target, checker, scratch, true);
+            let ext = self.extend(a, &target, checker, scratch, mode, true);
             self.sample = target;
             let (Step::Advanced(new) | Step::Reached(new)) = ext else {
                 continue;
@@ -202,7 +203,7 @@ impl Rrt {
             target[..self.trees[a].stride].copy_from_slice(self.trees[a].node(new));
             let b = 1 - a;
             let connected = loop {
-                match self.extend(b, &target, checker, scratch, false) {
+                match self.extend(b, &target, checker, scratch, mode, false) {
                     Step::Reached(end) => break Some(end),
                     Step::Advanced(_) => continue,
                     Step::Trapped => break None,
@@ -226,6 +227,7 @@ impl Rrt {
         target: &[f32],
         checker: &Checker,
         scratch: &mut CheckScratch,
+        mode: EdgeMode,
         sample: bool,
     ) -> Step {
         let o = self.opts;
@@ -245,6 +247,7 @@ impl Rrt {
         let free = checker.edge_free(
             &tree.nodes[near as usize * tree.stride..][..nv],
             &self.step[..nv],
+            mode,
             scratch,
         );
         let r = &mut tree.radius[near as usize];

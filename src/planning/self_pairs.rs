@@ -1,7 +1,9 @@
 //! Which link pairs the planner checks for self-collision.
 //!
 //! - With an SRDF: every pair of links that carry spheres, minus its
-//!   `<disable_collisions>` pairs.
+//!   `<disable_collisions>` pairs and minus the *adjacent* pairs below (as armsim's collision
+//!   module does: the spheres of two links one joint apart overlap at the joint by
+//!   construction in spherized models, e.g. the UR5's `wrist_2_link` and `fts_robotside`).
 //! - Without: minus the *adjacent* pairs (links on the same body, or on a body and its
 //!   parent body, world-fixed links counting as the world's) and minus the pairs that never
 //!   touch over random samples of the joint box (as MoveIt's setup assistant does: such
@@ -22,8 +24,8 @@ pub enum PairSource {
     Sampled(usize),
 }
 
-/// Link-group index pairs `(a, b)`, `a < b`, to check; every pair of links on different
-/// bodies, minus `disabled` (link names, either order).
+/// Link-group index pairs `(a, b)`, `a < b`, to check; every pair of links on bodies that
+/// are neither the same nor one joint apart, minus `disabled` (link names, either order).
 pub fn from_disabled(
     model: &Model,
     sm: &SphereModel,
@@ -37,7 +39,7 @@ pub fn from_disabled(
     for a in 0..sm.links.len() {
         for b in a + 1..sm.links.len() {
             let (la, lb) = (&sm.links[a], &sm.links[b]);
-            if la.body == lb.body {
+            if adjacent(model, la.body, lb.body) {
                 continue;
             }
             let (na, nb) = (&model.links[la.link].name, &model.links[lb.link].name);
@@ -64,6 +66,7 @@ pub fn sampled(
     samples: usize,
     seed: u64,
 ) -> (Vec<(usize, usize)>, Vec<(String, String)>) {
+    // Every pair on non-adjacent bodies.
     let all = from_disabled(model, sm, &[]);
     let mut touched = vec![false; all.len()];
     let mut rng = super::sampler::Rng::new(seed);
@@ -90,7 +93,7 @@ pub fn sampled(
     let mut dropped = Vec::new();
     for (p, &(a, b)) in all.iter().enumerate() {
         let (la, lb) = (&sm.links[a], &sm.links[b]);
-        if touched[p] && !adjacent(model, la.body, lb.body) {
+        if touched[p] {
             keep.push((a, b));
         } else {
             dropped.push((

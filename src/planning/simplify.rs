@@ -14,7 +14,7 @@
 //! The cost is the joint-space L2 length. Buffers live in [`Simplifier`]: nothing is
 //! allocated once it has seen a path as long.
 
-use super::checker::{CheckScratch, Checker};
+use super::checker::{CheckScratch, Checker, EdgeMode};
 use super::sampler::Rng;
 
 /// Settings of the simplification.
@@ -115,7 +115,14 @@ impl Simplifier {
         let mut i = 0;
         while i < n - 1 {
             let mut j = n - 1;
-            while j > i + 1 && !c.edge_free(&path[i * nv..][..nv], &path[j * nv..][..nv], s) {
+            while j > i + 1
+                && !c.edge_free(
+                    &path[i * nv..][..nv],
+                    &path[j * nv..][..nv],
+                    EdgeMode::Continuous,
+                    s,
+                )
+            {
                 j -= 1;
             }
             self.tmp.extend_from_slice(&path[j * nv..][..nv]);
@@ -141,7 +148,14 @@ impl Simplifier {
             }
             let i = rng.below(n - 2);
             let j = i + 2 + rng.below((n - i - 2).min(1 + n / 3));
-            if j >= n || !c.edge_free(&path[i * nv..][..nv], &path[j * nv..][..nv], s) {
+            if j >= n
+                || !c.edge_free(
+                    &path[i * nv..][..nv],
+                    &path[j * nv..][..nv],
+                    EdgeMode::Continuous,
+                    s,
+                )
+            {
                 fails += 1;
                 continue;
             }
@@ -186,7 +200,9 @@ impl Simplifier {
             self.point_at(path, nv, si, u, true);
             self.point_at(path, nv, sj, v, false);
             let direct = dist(&self.a, &self.b);
-            if direct >= (v - u) * (1.0 - 1e-4) || !c.edge_free(&self.a, &self.b, s) {
+            if direct >= (v - u) * (1.0 - 1e-4)
+                || !c.edge_free(&self.a, &self.b, EdgeMode::Continuous, s)
+            {
                 fails += 1;
                 continue;
             }
@@ -250,8 +266,18 @@ impl Simplifier {
             }
             let shift = dist(&self.a, &path[i * nv..][..nv]);
             if shift > 1e-5
-                && c.edge_free(&path[(i - 1) * nv..][..nv], &self.a, s)
-                && c.edge_free(&self.a, &path[(i + 1) * nv..][..nv], s)
+                && c.edge_free(
+                    &path[(i - 1) * nv..][..nv],
+                    &self.a,
+                    EdgeMode::Continuous,
+                    s,
+                )
+                && c.edge_free(
+                    &self.a,
+                    &path[(i + 1) * nv..][..nv],
+                    EdgeMode::Continuous,
+                    s,
+                )
             {
                 path[i * nv..(i + 1) * nv].copy_from_slice(&self.a);
                 moved = true;

@@ -23,7 +23,7 @@
 use super::mesh_sdf::MeshSdf;
 use super::spherize::{cover, cover_sdf, Primitive};
 use crate::collision::mesh::load_mesh;
-use crate::collision::resolve::resolve_uri;
+use crate::collision::resolve::{resolve_with, PackagePaths};
 use crate::model::{Model, Shape, WORLD};
 use crate::spatial::{Se3, Vec3};
 use std::collections::HashMap;
@@ -34,12 +34,16 @@ use std::path::{Path, PathBuf};
 pub struct SphereOptions {
     /// Largest distance a generated sphere may reach outside the primitive it covers (m).
     pub max_overshoot: f64,
+    /// Directories searched first for `package://` mesh URIs (then the environment and
+    /// the model file's ancestors, as [`crate::collision`] does).
+    pub package_path: Vec<PathBuf>,
 }
 
 impl Default for SphereOptions {
     fn default() -> Self {
         Self {
             max_overshoot: 0.01,
+            package_path: Vec::new(),
         }
     }
 }
@@ -96,7 +100,10 @@ impl SphereModel {
         let mut spheres = Vec::new();
         let mut links = Vec::new();
         let mut warnings = Vec::new();
-        let mut meshes = MeshCovers::default();
+        let mut meshes = MeshCovers {
+            packages: PackagePaths::from_env(opts.package_path.clone()),
+            done: HashMap::new(),
+        };
         for l in order {
             let link = &model.links[l];
             let first = spheres.len();
@@ -126,7 +133,15 @@ impl SphereModel {
                     }
                 };
                 let to_body = link.offset.mul(&g.origin);
-                push_spheres(&mut spheres, &to_body, cover(&prim, opts.max_overshoot));
+                let (cover, used) = cover(&prim, opts.max_overshoot);
+                if used > opts.max_overshoot {
+                    warnings.push(format!(
+                        "link '{}': a primitive this large is covered with overshoot {used:.4} m \
+                         (more than the {} m asked for)",
+                        link.name, opts.max_overshoot
+                    ));
+                }
+                push_spheres(&mut spheres, &to_body, cover);
             }
             if spheres.len() > first {
                 let bound = bounding_sphere(&spheres[first..]);
@@ -204,8 +219,8 @@ fn push_spheres(spheres: &mut Vec<Sphere>, to_body: &Se3, cover: Vec<([f64; 3], 
 
 /// Mesh covers by resolved file and scale, so a mesh used by several links is covered
 /// once.
-#[derive(Default)]
 struct MeshCovers {
+    packages: PackagePaths,
     done: HashMap<(PathBuf, [u64; 3]), (Vec<([f64; 3], f64)>, Option<String>)>,
 }
 
@@ -222,17 +237,26 @@ impl MeshCovers {
         let base = Path::new(&model.source)
             .parent()
             .filter(|p| !p.as_os_str().is_empty());
-        let path = resolve_uri(uri, base).map_err(|e| e.0)?;
+        let path = resolve_with(uri, base, &self.packages).map_err(|e| e.0)?;
         let key = (path.clone(), scale.map(f64::to_bits));
         if let Some(c) = self.done.get(&key) {
             return Ok(c.clone());
         }
         let data = load_mesh(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let sdf = MeshSdf::new(&data, scale).map_err(|e| format!("{}: {e}", path.display()))?;
-        let spheres = cover_sdf(&|p| sdf.sdf(p), sdf.center, sdf.half, delta);
-        let note = (!sdf.closed).then(|| {
-            format!("mesh '{uri}' is open: its spheres wrap the surface only (no inside)")
-        });
+        let (spheres, used) = cover_sdf(&|p| sdf.sdf(p), sdf.center, sdf.half, delta);
+        let mut notes = Vec::new();
+        if !sdf.closed {
+            notes.push(format!(
+                "mesh '{uri}' is open: its spheres wrap the surface only (no inside)"
+            ));
+        }
+        if used > delta {
+            notes.push(format!(
+                "mesh '{uri}' is this large: covered with overshoot {used:.4} m (more than the {delta} m asked for)"
+            ));
+        }
+        let note = (!notes.is_empty()).then(|| notes.join("; "));
         self.done.insert(key, (spheres.clone(), note.clone()));
         Ok((spheres, note))
     }

@@ -1,26 +1,22 @@
 //! Sphere covers of collision primitives, with a stated maximum overshoot.
 //!
 //! The planner sees the robot as spheres. URDF `<sphere>` elements are taken as given; every
-//! other primitive (box, cylinder, capsule) is covered by spheres from its signed distance
+//! other primitive (box, cylinder, capsule), and a mesh ([`super::mesh_sdf`]), is covered by spheres from its signed distance
 //! function `φ` (negative inside) by a greedy medial cover:
 //!
 //! 1. grid points `p` at spacing `s` over the shape's bounding box, keeping those with
 //!    `φ(p) ≤ s√3/2` (every point of the shape is within `s√3/2` of a kept point);
-//! 2. repeatedly, the deepest uncovered point `p` gets a sphere of radius
-//!    `r = max(δ − φ(p), s√3/2)`; it marks as covered the points within `r − s√3/2` of its
-//!    centre.
+//! 2. repeatedly, the deepest uncovered point `p` gets a sphere of radius `δ − φ(p)`; it
+//!    marks as covered the points within `radius − s√3/2` of its centre.
 //!
-//! `φ` is 1-Lipschitz, so a point of the ball has `φ ≤ φ(p) + r = max(δ, φ(p) + s√3/2)`:
-//! with `s = δ/√3` (kept points have `φ(p) ≤ δ/2`) the **overshoot is at most δ** (for a
-//! shape so large that the grid is capped at [`MAX_GRID`] points, at most `s√3`). A point
-//! of the shape is within `s√3/2` of a grid point (kept, since `φ ≤ s√3/2` there), which is
-//! a centre (and `r ≥ s√3/2`) or within `r − s√3/2` of one, so the **shape is inside the
-//! union**. Each sphere covers at least its own point, so the loop ends. A capsule needs no grid: spheres of radius `R + δ` on its
+//! `φ` is 1-Lipschitz, so on a sphere of radius `δ − φ(p)` about `p`, `φ ≤ δ`: the
+//! **overshoot is at most δ**. With `s = δ/√3` the slack `s√3/2` is `δ/2` and every kept
+//! point has `φ ≤ δ/2`, so every sphere has radius ≥ `δ/2` ≥ the slack: a point of the shape
+//! is within the slack of a kept grid point, which is either the centre of a sphere (and
+//! inside it) or within `radius − slack` of one; so the **shape is inside the union**.
+//! For primitives of more than about 70 δ per axis, δ is raised until the grid has at most
+//! 400 000 points (the bound then holds for the raised δ, which [`cover`] returns). A capsule needs no grid: spheres of radius `R + δ` on its
 //! segment, spaced `2√(2Rδ + δ²)`, cover it exactly with overshoot `δ`.
-
-/// Grid points of a cover at most (about): finer grids are coarsened, and the overshoot
-/// bound becomes `s√3` for spacing `s`.
-const MAX_GRID: f64 = 300_000.0;
 
 /// A primitive in its own frame (boxes by half extents; cylinders and capsules along z).
 #[derive(Clone, Copy, Debug)]
@@ -69,13 +65,36 @@ impl Primitive {
     }
 }
 
-/// Spheres `(centre, radius)` in the primitive's frame covering it with overshoot ≤ `delta`.
-pub fn cover(shape: &Primitive, delta: f64) -> Vec<([f64; 3], f64)> {
+/// Spheres `(centre, radius)` in the primitive's frame covering it, and the overshoot bound
+/// they meet (`delta`, or more for very large primitives: see the module docs).
+pub fn cover(shape: &Primitive, delta: f64) -> (Vec<([f64; 3], f64)>, f64) {
     match *shape {
-        Primitive::Sphere(r) => vec![([0.0; 3], r)],
-        Primitive::Capsule(r, h) => cover_capsule(r, h, delta),
+        Primitive::Sphere(r) => (vec![([0.0; 3], r)], 0.0),
+        Primitive::Capsule(r, h) => (cover_capsule(r, h, delta), delta),
         _ => cover_sdf(&|p| shape.sdf(p), [0.0; 3], shape.half_extents(), delta),
     }
+}
+
+/// The greedy medial cover (module docs) of the shape with signed distance `sdf` inside
+/// the box `center ± he`, and the overshoot bound it meets (`delta`, raised past 400 000
+/// grid points). Any signed distance works (a mesh's, see [`super::mesh_sdf`]); with an
+/// unsigned one (an open mesh) the spheres wrap the surface.
+pub fn cover_sdf(
+    sdf: &dyn Fn([f64; 3]) -> f64,
+    center: [f64; 3],
+    he: [f64; 3],
+    delta: f64,
+) -> (Vec<([f64; 3], f64)>, f64) {
+    let mut delta = delta;
+    let points = |d: f64| {
+        he.iter()
+            .map(|h| (2.0 * h / (d / 3f64.sqrt())).ceil() + 1.0)
+            .product::<f64>()
+    };
+    while points(delta) > 4e5 {
+        delta *= 1.25;
+    }
+    (cover_grid(sdf, center, he, delta), delta)
 }
 
 fn cover_capsule(r: f64, h: f64, delta: f64) -> Vec<([f64; 3], f64)> {
@@ -94,19 +113,13 @@ fn cover_capsule(r: f64, h: f64, delta: f64) -> Vec<([f64; 3], f64)> {
         .collect()
 }
 
-/// The greedy medial cover (module docs) of the shape with signed distance `sdf` inside
-/// the box `center ± he`, overshoot ≤ `delta`. Any signed distance works (a mesh's, see
-/// [`super::mesh_sdf`]); with an unsigned one (an open mesh) the spheres have radius
-/// `delta` and wrap the surface.
-pub fn cover_sdf(
+fn cover_grid(
     sdf: &dyn Fn([f64; 3]) -> f64,
     center: [f64; 3],
     he: [f64; 3],
     delta: f64,
 ) -> Vec<([f64; 3], f64)> {
-    // Spacing δ/√3, but at most about MAX_GRID points (then the overshoot bound is s√3).
-    let vol = he.iter().map(|h| 2.0 * h + delta).product::<f64>();
-    let s = (delta / 3f64.sqrt()).max((vol / MAX_GRID).cbrt());
+    let s = delta / 3f64.sqrt();
     let slack = s * 3f64.sqrt() / 2.0;
     let counts = he.map(|h| ((2.0 * h) / s).ceil() as usize + 1);
     let mut pts: Vec<([f64; 3], f64)> = Vec::new();
@@ -134,8 +147,7 @@ pub fn cover_sdf(
             continue;
         }
         let (c, phi) = pts[i];
-        // φ is 1-Lipschitz: the ball reaches at most φ + r = max(δ, φ + slack) outside.
-        let r = (delta - phi).max(slack);
+        let r = delta - phi;
         let reach2 = (r - slack).max(0.0).powi(2);
         for (k, (p, _)) in pts.iter().enumerate() {
             let d2 = (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2);
@@ -156,7 +168,8 @@ mod tests {
     /// Checks both claims on a dense random sample: every point of the shape is inside
     /// some sphere, and no sphere reaches further than `delta` outside the shape.
     fn check_cover(shape: Primitive, delta: f64) -> usize {
-        let spheres = cover(&shape, delta);
+        let (spheres, used) = cover(&shape, delta);
+        assert_eq!(used, delta);
         let he = shape.half_extents();
         let mut state = 0x2545_f491_4f6c_dd1du64;
         let mut rnd = || {
@@ -204,7 +217,7 @@ mod tests {
 
     #[test]
     fn capsule_cover_is_spheres_of_radius_r_plus_delta_on_the_segment() {
-        let s = cover(&Primitive::Capsule(0.05, 0.2), 0.01);
+        let (s, _) = cover(&Primitive::Capsule(0.05, 0.2), 0.01);
         // Spacing 2√(2Rδ + δ²) = 2√0.0011 ≈ 0.0663 → ceil(0.4 / 0.0663) = 7 gaps.
         assert_eq!(s.len(), 8);
         assert!(s.iter().all(|(_, r)| (*r - 0.06).abs() < 1e-15));

@@ -16,12 +16,19 @@
 //!   a scalar from the field `manipulability` (else `intensity`), any numeric type.
 //! - `diagnostic_msgs/msg/DiagnosticArray` on `/armsim/torque_check` (last message) and
 //!   `/armsim/collisions` → torque check and collision events.
+//! - `visualization_msgs/msg/MarkerArray` on `/armsim/obstacles` (last message) →
+//!   obstacles (see `obstacles::from_message`).
 //! - The metadata record `armsim` → name, joint names and effort limits (used when there
 //!   are no joint states, or to fill limits), the rest into `header.metadata`, sorted by key.
 //!   Effort limits otherwise come from the robot description's URDF, if it parses.
 //!
-//! Times are the messages' `header.stamp` (seconds since the epoch; see `mcap_out`).
-//! Everything else is ignored: unknown topics, schemas, encodings, attachments.
+//! Times are the messages' `header.stamp` minus the recording's epoch, in seconds, so that
+//! a recording starts at 0 whatever wall-clock time it was made at: the epoch is the
+//! metadata's `armsim.epoch_ns` (armsim's files, see `mcap_out`), else the earliest stamp
+//! of a joint state, transform, cloud or collision (other tools' files); it is returned as
+//! `header.epoch_ns` (`None` for a file with neither). A stamp before the epoch gives a
+//! negative time. Everything else is ignored: unknown topics, schemas, encodings,
+//! attachments.
 //!
 //! The file is untrusted input: records are parsed here with bounds checks (lengths are
 //! checked against the bytes left before anything is allocated), the `mcap` crate's
@@ -33,12 +40,14 @@
 //! for joints that partial joint-state messages lack.
 
 use super::error::RecordError;
+use super::from_ros2::{cloud_from_msg, from_msg, stamp_nanos, torque_row};
 use super::mcap_out::{
-    CLOUD_SCALAR_FIELD, KEY_EFFORT_LIMITS, KEY_JOINT_NAMES, KEY_NAME, METADATA_NAME,
-    TOPIC_COLLISIONS, TOPIC_JOINT_STATES, TOPIC_ROBOT_DESCRIPTION, TOPIC_TF, TOPIC_TF_STATIC,
+    KEY_EFFORT_LIMITS, KEY_EPOCH, KEY_JOINT_NAMES, KEY_NAME, METADATA_NAME, TOPIC_COLLISIONS,
+    TOPIC_JOINT_STATES, TOPIC_OBSTACLES, TOPIC_ROBOT_DESCRIPTION, TOPIC_TF, TOPIC_TF_STATIC,
     TOPIC_TORQUE_CHECK,
 };
-use super::ros2::{self, datatype, level, schema_is, RosMessage};
+use super::obstacles::{self, ObstacleMarker};
+use super::ros2::{self, schema_is, RosMessage};
 use super::{CollisionEvent, Frame, Header, PointCloud, Recording, TorqueRow, Transform};
 use mcap::records::op;
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
@@ -165,6 +174,7 @@ enum Kind {
     Cloud,
     TorqueCheck,
     Collisions,
+    Obstacles,
     Ignored,
 }
 
@@ -212,6 +222,8 @@ fn kind_of(schema: Option<&SchemaRec>, ch: &ChannelRec) -> Kind {
         Kind::TorqueCheck
     } else if is(ros2::DiagnosticArray::NAME) && topic == TOPIC_COLLISIONS {
         Kind::Collisions
+    } else if is(ros2::MarkerArray::NAME) && topic == TOPIC_OBSTACLES {
+        Kind::Obstacles
     } else {
         Kind::Ignored
     }
@@ -228,9 +240,12 @@ struct Collected {
     tf: Vec<(u64, Transform)>,
     static_tf: Vec<Transform>,
     robot_description: Option<String>,
-    clouds: Vec<PointCloud>,
+    /// Clouds and collision events with their stamps (ns; `t` is set once the epoch is
+    /// known).
+    clouds: Vec<(u64, PointCloud)>,
     torque_check: Option<Vec<TorqueRow>>,
-    collisions: Vec<CollisionEvent>,
+    collisions: Vec<(u64, CollisionEvent)>,
+    obstacles: Option<Vec<ObstacleMarker>>,
     metadata: Option<BTreeMap<String, String>>,
     budget: Option<Budget>,
 }
@@ -516,7 +531,8 @@ impl Collected {
             }
             Kind::Cloud => {
                 let m: ros2::PointCloud2 = dec(data)?;
-                self.clouds.push(cloud_from_msg(&m)?);
+                let ns = stamp_nanos(&m.header.stamp)?;
+                self.clouds.push((ns, cloud_from_msg(&m)?));
             }
             Kind::TorqueCheck => {
                 let m: ros2::DiagnosticArray = dec(data)?;
@@ -530,19 +546,26 @@ impl Collected {
             }
             Kind::Collisions => {
                 let m: ros2::DiagnosticArray = dec(data)?;
-                let t = seconds(stamp_nanos(&m.header.stamp)?);
+                let ns = stamp_nanos(&m.header.stamp)?;
                 for s in &m.status {
                     let get = |k: &str| {
                         s.value(k)
                             .map(str::to_string)
                             .ok_or_else(|| format!("status '{}': no value '{k}'", s.name))
                     };
-                    self.collisions.push(CollisionEvent {
-                        t,
-                        body_a: get("body_a")?,
-                        body_b: get("body_b")?,
-                    });
+                    self.collisions.push((
+                        ns,
+                        CollisionEvent {
+                            t: 0.0,
+                            body_a: get("body_a")?,
+                            body_b: get("body_b")?,
+                        },
+                    ));
                 }
+            }
+            Kind::Obstacles => {
+                let m: ros2::MarkerArray = dec(data)?;
+                self.obstacles = Some(obstacles::from_message(&m));
             }
         }
         Ok(())
@@ -590,6 +613,15 @@ impl Collected {
             .map(|(i, n)| (n.as_str(), i))
             .collect();
         let n = joint_names.len();
+        let epoch = match meta.get(KEY_EPOCH) {
+            Some(text) => Some(
+                text.trim()
+                    .parse::<u64>()
+                    .map_err(|e| bad_meta(KEY_EPOCH, format!("'{text}': {e}")))?,
+            ),
+            None => self.earliest_stamp(&states),
+        };
+        let seconds = |ns: u64| seconds_after(ns, epoch.unwrap_or(0));
         let mut filled_left = self.budget.as_ref().map_or(usize::MAX, |b| b.filled);
         for (k, m) in states.iter().enumerate() {
             // Validated when read.
@@ -722,8 +754,11 @@ impl Collected {
         });
         let metadata = meta
             .into_iter()
-            .filter(|(k, _)| k != KEY_NAME && k != KEY_JOINT_NAMES && k != KEY_EFFORT_LIMITS)
+            .filter(|(k, _)| {
+                ![KEY_NAME, KEY_JOINT_NAMES, KEY_EFFORT_LIMITS, KEY_EPOCH].contains(&k.as_str())
+            })
             .collect();
+
         Ok(Recording {
             header: Header {
                 name,
@@ -732,12 +767,39 @@ impl Collected {
                 static_tf: self.static_tf,
                 robot_description: self.robot_description,
                 metadata,
+                epoch_ns: epoch,
             },
             frames: frames.into_iter().map(|(_, f)| f).collect(),
-            clouds: self.clouds,
+            clouds: self
+                .clouds
+                .into_iter()
+                .map(|(ns, c)| PointCloud {
+                    t: seconds(ns),
+                    ..c
+                })
+                .collect(),
             torque_check: self.torque_check.unwrap_or_default(),
-            collisions: self.collisions,
+            collisions: self
+                .collisions
+                .into_iter()
+                .map(|(ns, e)| CollisionEvent {
+                    t: seconds(ns),
+                    ..e
+                })
+                .collect(),
+            obstacles: self.obstacles.unwrap_or_default(),
         })
+    }
+
+    /// The earliest stamp of a joint state (of `states`), transform, cloud or collision.
+    fn earliest_stamp(&self, states: &[ros2::JointState]) -> Option<u64> {
+        let js = states
+            .iter()
+            .filter_map(|m| stamp_nanos(&m.header.stamp).ok());
+        js.chain(self.tf.iter().map(|(ns, _)| *ns))
+            .chain(self.clouds.iter().map(|(ns, _)| *ns))
+            .chain(self.collisions.iter().map(|(ns, _)| *ns))
+            .min()
     }
 }
 
@@ -749,161 +811,8 @@ fn push_tf(tf: &mut Vec<Transform>, t: Transform) {
     }
 }
 
-fn stamp_nanos(t: &ros2::Time) -> Result<u64, String> {
-    if t.nanosec >= 1_000_000_000 {
-        return Err(format!("time stamp nanosec {} ≥ 1e9", t.nanosec));
-    }
-    t.to_nanos()
-        .ok_or_else(|| format!("time stamp before the epoch ({} s)", t.sec))
-}
-
-fn seconds(ns: u64) -> f64 {
-    ns as f64 / 1e9
-}
-
-fn from_msg(ts: ros2::TransformStamped) -> Transform {
-    let tr = ts.transform.translation;
-    let r = ts.transform.rotation;
-    Transform {
-        parent: ts.header.frame_id,
-        child: ts.child_frame_id,
-        translation: [tr.x, tr.y, tr.z],
-        rotation: [r.x, r.y, r.z, r.w],
-    }
-}
-
-/// Reads one value of `dt` at `off`; `None` out of bounds or for an unknown datatype.
-fn read_value(data: &[u8], off: usize, dt: u8, big_endian: bool) -> Option<f64> {
-    let size = datatype::size(dt)?;
-    let b = data.get(off..off.checked_add(size)?)?;
-    macro_rules! num {
-        ($t:ty) => {{
-            let a: [u8; std::mem::size_of::<$t>()] = b.try_into().ok()?;
-            if big_endian {
-                <$t>::from_be_bytes(a) as f64
-            } else {
-                <$t>::from_le_bytes(a) as f64
-            }
-        }};
-    }
-    Some(match dt {
-        datatype::INT8 => num!(i8),
-        datatype::UINT8 => num!(u8),
-        datatype::INT16 => num!(i16),
-        datatype::UINT16 => num!(u16),
-        datatype::INT32 => num!(i32),
-        datatype::UINT32 => num!(u32),
-        datatype::FLOAT32 => num!(f32),
-        _ => num!(f64),
-    })
-}
-
-fn cloud_from_msg(m: &ros2::PointCloud2) -> Result<PointCloud, String> {
-    let step = m.point_step as usize;
-    let field = |name: &str| m.fields.iter().find(|f| f.name == name);
-    let check = |f: &ros2::PointField| -> Result<(usize, u8), String> {
-        let size = datatype::size(f.datatype)
-            .ok_or_else(|| format!("field '{}': unknown datatype {}", f.name, f.datatype))?;
-        let off = f.offset as usize;
-        if off.checked_add(size).is_none_or(|end| end > step) {
-            return Err(format!(
-                "field '{}' (offset {}, {size} bytes) does not fit the point step {step}",
-                f.name, f.offset
-            ));
-        }
-        Ok((off, f.datatype))
-    };
-    let mut xyz = [(0usize, 0u8); 3];
-    for (slot, name) in xyz.iter_mut().zip(["x", "y", "z"]) {
-        let f = field(name).ok_or_else(|| format!("no field '{name}'"))?;
-        if f.datatype != datatype::FLOAT32 && f.datatype != datatype::FLOAT64 {
-            return Err(format!(
-                "field '{name}' has datatype {} (expected FLOAT32 or FLOAT64)",
-                f.datatype
-            ));
-        }
-        *slot = check(f)?;
-    }
-    let scalar = match field(CLOUD_SCALAR_FIELD).or_else(|| field("intensity")) {
-        Some(f) => Some(check(f)?),
-        None => None,
-    };
-    let (w, h) = (m.width as usize, m.height as usize);
-    let row_len = w
-        .checked_mul(step)
-        .ok_or_else(|| "width × point_step overflows".to_string())?;
-    let row_step = m.row_step as usize;
-    if h > 1 && row_step < row_len {
-        return Err(format!(
-            "row_step {row_step} is shorter than width × point_step = {row_len}"
-        ));
-    }
-    if w > 0 && h > 0 {
-        let need = (h - 1)
-            .checked_mul(row_step)
-            .and_then(|x| x.checked_add(row_len))
-            .ok_or_else(|| "cloud size overflows".to_string())?;
-        if need > m.data.len() {
-            return Err(format!(
-                "{w}×{h} points of {step} bytes need {need} bytes, the data has {}",
-                m.data.len()
-            ));
-        }
-    }
-    // Bounded by the data length: every point takes at least 4 bytes of it.
-    let count = w.saturating_mul(h);
-    let mut points = Vec::with_capacity(count);
-    let mut values = Vec::with_capacity(if scalar.is_some() { count } else { 0 });
-    let be = m.is_bigendian;
-    for r in 0..h {
-        for c in 0..w {
-            let base = r * row_step + c * step;
-            let get = |(off, dt): (usize, u8)| {
-                read_value(&m.data, base + off, dt, be)
-                    .ok_or_else(|| format!("point {} lies outside the data", r * w + c))
-            };
-            points.push([
-                get(xyz[0])? as f32,
-                get(xyz[1])? as f32,
-                get(xyz[2])? as f32,
-            ]);
-            if let Some(s) = scalar {
-                values.push(get(s)? as f32);
-            }
-        }
-    }
-    Ok(PointCloud {
-        t: seconds(stamp_nanos(&m.header.stamp)?),
-        frame: m.header.frame_id.clone(),
-        points,
-        values,
-    })
-}
-
-fn torque_row(s: &ros2::DiagnosticStatus) -> Result<TorqueRow, String> {
-    let opt = |k: &str| -> Result<Option<f64>, String> {
-        match s.value(k) {
-            None | Some("none") => Ok(None),
-            Some(v) => v
-                .trim()
-                .parse::<f64>()
-                .map(Some)
-                .map_err(|e| format!("status '{}': {k} = '{v}': {e}", s.name)),
-        }
-    };
-    let num = |k: &str| -> Result<f64, String> {
-        opt(k)?.ok_or_else(|| format!("status '{}': no value '{k}'", s.name))
-    };
-    Ok(TorqueRow {
-        joint: s.name.clone(),
-        peak_torque: num("peak_torque")?,
-        rms_torque: num("rms_torque")?,
-        peak_speed: num("peak_speed")?,
-        peak_power: num("peak_power")?,
-        limit: opt("limit")?,
-        velocity_limit: opt("velocity_limit")?,
-        margin: opt("margin")?,
-        ok: s.level == level::OK,
-        first_violation: opt("first_violation")?,
-    })
+/// Seconds from `epoch` to `ns` (both in ns; negative before the epoch), exact to the
+/// nanosecond before the conversion to `f64`.
+fn seconds_after(ns: u64, epoch: u64) -> f64 {
+    (i128::from(ns) - i128::from(epoch)) as f64 / 1e9
 }

@@ -13,16 +13,21 @@
 //! | `/armsim/workspace` | `sensor_msgs/msg/PointCloud2` | each point cloud |
 //! | `/armsim/torque_check` | `diagnostic_msgs/msg/DiagnosticArray` | each torque check |
 //! | `/armsim/collisions` | `diagnostic_msgs/msg/DiagnosticArray` | one per contact time |
+//! | `/armsim/obstacles` | `visualization_msgs/msg/MarkerArray` | once at start (see `obstacles`) |
 //!
-//! `/robot_description` and `/tf_static` carry rosbag2's transient-local ("latched") QoS in
-//! their channel metadata. A metadata record named `armsim` holds the header's name, the
-//! armsim version, the joint names and effort limits, and the header's free-form metadata.
+//! `/robot_description`, `/tf_static` and `/armsim/obstacles` carry rosbag2's
+//! transient-local ("latched") QoS in their channel metadata. A metadata record named
+//! `armsim` holds the header's name, the armsim version, the joint names and effort
+//! limits, the epoch, and the header's free-form metadata.
 //!
-//! **Time.** Simulation time `t` (seconds, `t ≥ 0`) is written as `t` nanoseconds after
-//! the Unix epoch: `t = 0` is 1970-01-01T00:00:00Z. It is the messages' `header.stamp`;
-//! `log_time = publish_time` is the same time, raised where needed so that log times never
-//! decrease (collision events written after later frames keep their own stamp but are
-//! logged at the latest time written). The start-up messages are logged at 0.
+//! **Time.** Simulation time `t` (seconds, `t ≥ 0`) is written as wall-clock time: `t`
+//! after the *epoch*, the Unix time in nanoseconds of `t = 0` — [`Header::epoch_ns`], or
+//! the wall clock when the writer is created if that is `None` (an arm run sets it to the
+//! run's start). The epoch is in the metadata as `armsim.epoch_ns` (decimal). `epoch + t`
+//! is the messages' `header.stamp`; `log_time = publish_time` is the same time, raised
+//! where needed so that log times never decrease (collision events written after later
+//! frames keep their own stamp but are logged at the latest time written). The start-up
+//! messages are logged at the epoch. Tests pass a fixed epoch for reproducible files.
 //!
 //! **Atomicity.** The file is written to a temporary sibling and renamed over the target by
 //! [`McapWriter::finish`] after an fsync. A writer dropped without `finish` removes its
@@ -30,6 +35,7 @@
 //! (see `recording::interrupt`) leaves a complete, valid MCAP.
 
 use super::error::RecordError;
+use super::obstacles::{self, ObstacleMarker};
 use super::ros2::{self, datatype, level, RosMessage};
 use super::{CollisionEvent, Frame, Header, PointCloud, Recording, TorqueRow, Transform};
 use mcap::records::{MessageHeader, Metadata};
@@ -54,6 +60,8 @@ pub const TOPIC_WORKSPACE: &str = "/armsim/workspace";
 pub const TOPIC_TORQUE_CHECK: &str = "/armsim/torque_check";
 /// Topic of the collision events.
 pub const TOPIC_COLLISIONS: &str = "/armsim/collisions";
+/// Topic of the scene's obstacles.
+pub const TOPIC_OBSTACLES: &str = "/armsim/obstacles";
 /// Name of the metadata record.
 pub const METADATA_NAME: &str = "armsim";
 /// Name of the optional scalar field of the point clouds.
@@ -65,6 +73,7 @@ pub(crate) const KEY_NAME: &str = "name";
 pub(crate) const KEY_VERSION: &str = "armsim_version";
 pub(crate) const KEY_JOINT_NAMES: &str = "armsim.joint_names";
 pub(crate) const KEY_EFFORT_LIMITS: &str = "armsim.effort_limits";
+pub(crate) const KEY_EPOCH: &str = "armsim.epoch_ns";
 
 /// rosbag2's QoS of a latched topic (reliable, transient local, keep last 1), numeric form.
 const LATCHED_QOS: &str = "- history: 1\n  depth: 1\n  reliability: 1\n  durability: 1\n  \
@@ -86,6 +95,7 @@ pub struct McapWriter {
     writer: Option<Writer<BufWriter<File>>>,
     joint_names: Vec<String>,
     hardware_id: String,
+    epoch_ns: u64,
     last_log_time: u64,
     joint_states: Option<Chan>,
     tf: Option<Chan>,
@@ -94,14 +104,22 @@ pub struct McapWriter {
     collisions: Option<Chan>,
 }
 
-/// `t` seconds as nanoseconds since the epoch; `t` must be finite, `≥ 0` and fit a ROS
-/// time (`< 2^31` s).
-fn nanos(t: f64) -> Option<u64> {
-    if (0.0..2_147_483_648.0).contains(&t) {
-        Some((t * 1e9).round() as u64)
-    } else {
-        None
+/// The Unix time of `t` seconds after `epoch_ns`, in nanoseconds and as a ROS time;
+/// `None` unless `t` is finite, `≥ 0` and the sum fits a ROS time (seconds in an `i32`:
+/// before 2038-01-19).
+fn nanos(epoch_ns: u64, t: f64) -> Option<(u64, ros2::Time)> {
+    if !(0.0..2_147_483_648.0).contains(&t) {
+        return None;
     }
+    let ns = epoch_ns.checked_add((t * 1e9).round() as u64)?;
+    Some((ns, ros2::Time::from_nanos(ns)?))
+}
+
+/// The wall clock now, in nanoseconds since the Unix epoch (0 if the clock is before it).
+pub fn wall_clock_ns() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))
 }
 
 /// Shortest text that parses back to the same `f64`.
@@ -132,8 +150,16 @@ fn temp_path(path: &Path) -> Result<PathBuf, RecordError> {
 
 impl McapWriter {
     /// Creates the temporary file beside `path`, writes the `armsim` metadata record,
-    /// `/robot_description` and `/tf_static`.
+    /// `/robot_description` and `/tf_static`. Times count from `header.epoch_ns`, or from
+    /// now if that is `None`.
     pub fn create(path: &Path, header: &Header) -> Result<Self, RecordError> {
+        let epoch_ns = header.epoch_ns.unwrap_or_else(wall_clock_ns);
+        let Some((_, epoch_stamp)) = nanos(epoch_ns, 0.0) else {
+            return Err(RecordError::invalid(
+                path,
+                format!("epoch {epoch_ns} ns is after the end of ROS time (2038-01-19)"),
+            ));
+        };
         let tmp = temp_path(path)?;
         let file = File::create(&tmp).map_err(|e| RecordError::io(&tmp, e))?;
         let mut w = McapWriter {
@@ -142,7 +168,8 @@ impl McapWriter {
             writer: None,
             joint_names: header.joint_names.clone(),
             hardware_id: header.name.clone(),
-            last_log_time: 0,
+            epoch_ns,
+            last_log_time: epoch_ns,
             joint_states: None,
             tf: None,
             workspace: None,
@@ -165,12 +192,12 @@ impl McapWriter {
         if let Some(urdf) = &header.robot_description {
             let mut ch = w.channel::<ros2::StringMsg>(TOPIC_ROBOT_DESCRIPTION, true)?;
             let msg = ros2::StringMsg { data: urdf.clone() };
-            w.write(&mut ch, 0, &msg)?;
+            w.write(&mut ch, epoch_ns, &msg)?;
         }
         if !header.static_tf.is_empty() {
             let mut ch = w.channel::<ros2::TfMessage>(TOPIC_TF_STATIC, true)?;
-            let msg = tf_message(&header.static_tf, ros2::Time::default());
-            w.write(&mut ch, 0, &msg)?;
+            let msg = tf_message(&header.static_tf, epoch_stamp);
+            w.write(&mut ch, epoch_ns, &msg)?;
         }
         Ok(w)
     }
@@ -178,6 +205,11 @@ impl McapWriter {
     /// The target path.
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// The epoch: Unix time in nanoseconds of `t = 0`.
+    pub fn epoch_ns(&self) -> u64 {
+        self.epoch_ns
     }
 
     fn metadata_record(&self, header: &Header) -> Result<Metadata, RecordError> {
@@ -203,6 +235,7 @@ impl McapWriter {
             KEY_EFFORT_LIMITS.to_string(),
             json(serde_json::to_string(&limits))?,
         );
+        m.insert(KEY_EPOCH.to_string(), self.epoch_ns.to_string());
         let mut seen = std::collections::HashSet::new();
         for (k, v) in &header.metadata {
             if !seen.insert(k.as_str()) {
@@ -270,15 +303,16 @@ impl McapWriter {
     }
 
     fn stamp(&self, t: f64, what: &str) -> Result<(u64, ros2::Time), RecordError> {
-        let ns = nanos(t).ok_or_else(|| {
+        nanos(self.epoch_ns, t).ok_or_else(|| {
             RecordError::invalid(
                 &self.path,
-                format!("{what}: time {t} is not a finite time in [0, 2^31) s"),
+                format!(
+                    "{what}: time {t} s is not finite and ≥ 0, or is past the end of ROS \
+                     time (2038-01-19) from the epoch {} ns",
+                    self.epoch_ns
+                ),
             )
-        })?;
-        // `nanos` keeps t below 2^31 s, so the seconds fit.
-        let time = ros2::Time::from_nanos(ns).unwrap_or_default();
-        Ok((ns, time))
+        })
     }
 
     /// Opens a topic on first use.
@@ -456,6 +490,16 @@ impl McapWriter {
         Ok(())
     }
 
+    /// Writes the scene's obstacles on `/armsim/obstacles` (latched): one MarkerArray
+    /// stamped at the epoch (`t = 0`; logged later if later messages were written
+    /// already). See [`super::obstacles`] for the markers.
+    pub fn write_obstacles(&mut self, markers: &[ObstacleMarker]) -> Result<(), RecordError> {
+        let (ns, stamp) = self.stamp(0.0, "obstacles")?;
+        let msg = obstacles::to_message(markers, stamp);
+        let mut ch = self.channel::<ros2::MarkerArray>(TOPIC_OBSTACLES, true)?;
+        self.write(&mut ch, ns, &msg)
+    }
+
     /// Writes collision events on `/armsim/collisions`: one DiagnosticArray per run of
     /// events with the same time, one ERROR status per contact with `body_a`, `body_b`.
     pub fn write_collisions(&mut self, events: &[CollisionEvent]) -> Result<(), RecordError> {
@@ -554,10 +598,13 @@ fn tf_message(tf: &[Transform], stamp: ros2::Time) -> ros2::TfMessage {
     }
 }
 
-/// Writes a whole recording: header, frames, clouds, the torque check (stamped at the last
-/// frame's time, or 0 without frames) and the collision events.
+/// Writes a whole recording: header, obstacles, frames, clouds, the torque check (stamped
+/// at the last frame's time, or 0 without frames) and the collision events.
 pub fn write_recording(path: &Path, rec: &Recording) -> Result<PathBuf, RecordError> {
     let mut w = McapWriter::create(path, &rec.header)?;
+    if !rec.obstacles.is_empty() {
+        w.write_obstacles(&rec.obstacles)?;
+    }
     for f in &rec.frames {
         w.write_frame(f)?;
     }

@@ -3,15 +3,22 @@
 //! (`rerun_out`) share.
 //!
 //! A recording is a header (joint names, limits, static frames, robot description,
-//! metadata) and a time-ordered stream of [`Frame`]s, plus optional point clouds, a
-//! torque-check table and collision events. Writers stream frames one at a time so an
+//! metadata, the wall-clock epoch of `t = 0`) and a time-ordered stream of [`Frame`]s,
+//! plus optional point clouds, a torque-check table, collision events and the scene's
+//! obstacles ([`obstacles::ObstacleMarker`]). Writers stream frames one at a time so an
 //! interrupted run still leaves a valid file.
 
 pub mod error;
+mod from_ros2;
 pub mod interrupt;
 pub mod mcap_in;
 pub mod mcap_out;
 mod model_header;
+pub mod obstacles;
+#[cfg(feature = "rerun")]
+mod rerun_blueprint;
+#[cfg(feature = "rerun")]
+mod rerun_obstacles;
 #[cfg(feature = "rerun")]
 pub mod rerun_out;
 /// Rerun output in a build without the `rerun` feature: the same API, every log call
@@ -19,6 +26,8 @@ pub mod rerun_out;
 #[cfg(not(feature = "rerun"))]
 #[path = "rerun_off.rs"]
 pub mod rerun_out;
+#[cfg(feature = "rerun")]
+mod rerun_scene;
 pub mod rerun_sink;
 pub mod ros2;
 pub mod tf;
@@ -98,6 +107,11 @@ pub struct Header {
     pub robot_description: Option<String>,
     /// Free-form key/value metadata (scenario path, armsim version, ...).
     pub metadata: Vec<(String, String)>,
+    /// Wall-clock time of `t = 0` in nanoseconds since the Unix epoch: an MCAP file's log
+    /// times and stamps are `epoch_ns + t`. `None`: the writer takes the wall clock when
+    /// it creates the file. The reader sets it (see `mcap_in`).
+    #[serde(default)]
+    pub epoch_ns: Option<u64>,
 }
 
 /// A whole recording in memory.
@@ -108,4 +122,7 @@ pub struct Recording {
     pub clouds: Vec<PointCloud>,
     pub torque_check: Vec<TorqueRow>,
     pub collisions: Vec<CollisionEvent>,
+    /// The scene's obstacles (fixed for the whole recording).
+    #[serde(default)]
+    pub obstacles: Vec<obstacles::ObstacleMarker>,
 }

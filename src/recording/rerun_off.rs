@@ -1,5 +1,5 @@
 //! Rerun output when armsim is built without the `rerun` feature (`--no-default-features`,
-//! as the fuzz targets are): the types of [`super::rerun_sink`] and the two log calls of
+//! as the fuzz targets are): the types of [`super::rerun_sink`] and the log calls of
 //! `rerun_out`, which refuse with [`RerunError::NotBuilt`] before doing any work.
 
 pub use super::rerun_sink::*;
@@ -12,6 +12,17 @@ pub fn log_recording(
     _rec: &Recording,
     _spec: Option<&ModelSpec>,
     _mesh_base: Option<&Path>,
+    _sink: &RerunSink,
+) -> Result<RerunReport, RerunError> {
+    Err(RerunError::NotBuilt)
+}
+
+/// Refuses: this build has no Rerun SDK.
+pub fn log_recording_with(
+    _rec: &Recording,
+    _spec: Option<&ModelSpec>,
+    _mesh_base: Option<&Path>,
+    _extras: &SceneExtras,
     _sink: &RerunSink,
 ) -> Result<RerunReport, RerunError> {
     Err(RerunError::NotBuilt)

@@ -9,8 +9,10 @@
 //! | `world/robot/<link>/visual_<k>`          | visual geometry in the link frame (static)         |
 //! | `world/robot/<link>/collision`           | red box on a link at its collision times           |
 //! | `world/robot/skeleton`                   | segments parent origin → child origin, per frame   |
+//! | `world/obstacles/<name>`                 | scene obstacles ([`SceneExtras`]), static          |
 //! | `world/tool_path`                        | the tool link's origin over time (static strip)    |
 //! | `world/workspace/cloud_<i>`              | point cloud coloured by its value (viridis)        |
+//! | `world/obstacles/<name>/shape_<k>`       | the scene's obstacles (static; `rerun_obstacles`)  |
 //! | `plots/torque/<joint>`                   | joint torque (or force), per frame                 |
 //! | `plots/torque/<joint>/upper_limit` / `lower_limit` | `±` effort limit (constant line)         |
 //! | `plots/q/<joint>`                        | joint position, per frame                          |
@@ -32,6 +34,7 @@
 //! failed run never leaves a partial `.rrd`. Spawning starts the external `rerun` viewer
 //! (from PyPI `rerun-sdk`, same version as the `rerun` crate) and streams to it.
 
+use super::rerun_obstacles::log_obstacles;
 use super::{CollisionEvent, Frame, PointCloud, Recording, Transform};
 use crate::collision::mesh::{load_mesh, MeshData};
 use crate::collision::resolve::resolve_uri;
@@ -39,7 +42,7 @@ use crate::model::{Geometry, ModelSpec, Shape};
 use crate::spatial::{Mat3, Se3, Vec3};
 use nalgebra::{Quaternion, Rotation3, UnitQuaternion};
 use rerun::{
-    archetypes, blueprint, components::FillMode, EntityPath, EntityPathPart, RecordingStream,
+    archetypes, components::FillMode, EntityPath, EntityPathPart, RecordingStream,
     RecordingStreamBuilder, TimeColumn,
 };
 use std::collections::{BTreeMap, HashMap};
@@ -87,6 +90,17 @@ pub fn log_recording(
     mesh_base: Option<&Path>,
     sink: &RerunSink,
 ) -> Result<RerunReport, RerunError> {
+    log_recording_with(rec, spec, mesh_base, &SceneExtras::default(), sink)
+}
+
+/// [`log_recording`] with the scene around the robot (obstacles, see [`SceneExtras`]).
+pub fn log_recording_with(
+    rec: &Recording,
+    spec: Option<&ModelSpec>,
+    mesh_base: Option<&Path>,
+    extras: &SceneExtras,
+    sink: &RerunSink,
+) -> Result<RerunReport, RerunError> {
     check_sink(sink)?;
     let parsed;
     let mut pre_warnings = Vec::new();
@@ -111,8 +125,30 @@ pub fn log_recording(
     } else {
         rec.header.name.clone()
     };
-    let (stream, storage) = open(sink, &name, Some(make_blueprint(rec)))?;
-    let mut report = log_with(&stream, rec, spec, mesh_base, pre_warnings)?;
+    let (stream, storage) = open(sink, &name)?;
+    let (mut report, robot) = log_with(&stream, rec, spec, mesh_base, pre_warnings)?;
+    let scene = super::rerun_scene::log_obstacles(&stream, extras, &mut report.warnings)?;
+    // Frame the robot (link origins over the motion, padded for the link bodies) and the
+    // obstacles near it (a floor larger than the workspace does not push the camera away).
+    let eye = robot.map(|(lo, hi)| {
+        let pad = 0.15;
+        let (mut lo, mut hi) = (lo.map(|x| x - pad), hi.map(|x| x + pad));
+        if let Some((olo, ohi)) = scene {
+            for k in 0..3 {
+                let reach = 0.4;
+                lo[k] = lo[k].min(olo[k].max(lo[k] - reach));
+                hi[k] = hi[k].max(ohi[k].min(hi[k] + reach));
+            }
+        }
+        super::rerun_blueprint::Eye::framing(lo, hi)
+    });
+    // The skeleton lines run through the link bodies: hidden when bodies are drawn.
+    let hidden: &[&str] = if report.visuals > 0 {
+        &["/world/robot/skeleton"]
+    } else {
+        &[]
+    };
+    super::rerun_blueprint::send(&stream, rec, hidden, eye)?;
     report.bytes = finish(&stream, storage, sink)?;
     Ok(report)
 }
@@ -155,17 +191,10 @@ fn check_sink(sink: &RerunSink) -> Result<(), RerunError> {
 
 type Storage = Option<rerun::sink::MemorySinkStorage>;
 
-fn open(
-    sink: &RerunSink,
-    name: &str,
-    bp: Option<blueprint::Blueprint>,
-) -> Result<(RecordingStream, Storage), RerunError> {
-    let mut b = RecordingStreamBuilder::new(APP_ID)
+fn open(sink: &RerunSink, name: &str) -> Result<(RecordingStream, Storage), RerunError> {
+    let b = RecordingStreamBuilder::new(APP_ID)
         .enabled(true)
         .recording_name(name);
-    if let Some(bp) = bp {
-        b = b.with_blueprint(bp);
-    }
     match sink {
         RerunSink::Save(_) => b.memory().map(|(s, st)| (s, Some(st))).map_err(sdk),
         RerunSink::Spawn => b
@@ -201,47 +230,6 @@ fn finish(
             Ok(None)
         }
     }
-}
-
-/// Views: the 3-D scene on the left; on the right, tabs with the per-joint torque plots,
-/// the joint positions, the text log and the reports (each only when there is data).
-fn make_blueprint(rec: &Recording) -> blueprint::Blueprint {
-    use blueprint::{
-        ContainerLike, Grid, Horizontal, Spatial3DView, Tabs, TextDocumentView, TextLogView,
-        TimeSeriesView,
-    };
-    let scene: ContainerLike = Spatial3DView::new("robot").with_origin("world").into();
-    let mut tabs: Vec<ContainerLike> = Vec::new();
-    let plots = rec.frames.len() >= 2;
-    if plots && rec.frames.iter().any(|f| !f.tau.is_empty()) {
-        let torque: Vec<ContainerLike> = rec
-            .header
-            .joint_names
-            .iter()
-            .map(|j| {
-                TimeSeriesView::new(format!("τ {j}"))
-                    .with_origin(path(&["plots", "torque", j]))
-                    .into()
-            })
-            .collect();
-        tabs.push(Grid::new(torque).with_name("torque").into());
-    }
-    if plots && rec.frames.iter().any(|f| !f.q.is_empty()) {
-        tabs.push(
-            TimeSeriesView::new("joint positions")
-                .with_origin("plots/q")
-                .into(),
-        );
-    }
-    tabs.push(TextLogView::new("log").with_origin("log").into());
-    tabs.push(
-        TextDocumentView::new("reports")
-            .with_origin("reports")
-            .into(),
-    );
-    blueprint::Blueprint::new(
-        Horizontal::new([scene, Tabs::new(tabs).into()]).with_column_shares([3.0, 2.0]),
-    )
 }
 
 /// The transform tree of a recording: every frame that is the child of some transform.
@@ -390,7 +378,7 @@ pub fn log_to_stream(
     spec: Option<&ModelSpec>,
     mesh_base: Option<&Path>,
 ) -> Result<RerunReport, RerunError> {
-    log_with(stream, rec, spec, mesh_base, Vec::new())
+    log_with(stream, rec, spec, mesh_base, Vec::new()).map(|r| r.0)
 }
 
 fn log_with(
@@ -399,7 +387,7 @@ fn log_with(
     spec: Option<&ModelSpec>,
     mesh_base: Option<&Path>,
     mut warnings: Vec<String>,
-) -> Result<RerunReport, RerunError> {
+) -> Result<(RerunReport, Option<super::rerun_scene::Bounds>), RerunError> {
     let mut report = RerunReport::default();
     stream
         .log_static("world", &archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())
@@ -440,6 +428,17 @@ fn log_with(
         Some(s) => log_geometry(stream, s, &tree, mesh_base, &mut report, &mut warnings)?,
         None => HashMap::new(),
     };
+    let first = posed.first().map(|(w, _)| w);
+    let frame_pose = |name: &str| Some(first?[*tree.index.get(name)?]);
+    let (obstacles, base) = (&rec.obstacles, mesh_base);
+    log_obstacles(
+        stream,
+        obstacles,
+        &frame_pose,
+        base,
+        &mut report,
+        &mut warnings,
+    )?;
     log_joint_plots(stream, rec, &frames)?;
     let t0 = times.first().copied().unwrap_or(0.0);
     let info = log_clouds(stream, rec, &tree, &mut report, &mut warnings)?;
@@ -454,7 +453,24 @@ fn log_with(
         rerun::TextLogLevel::WARN,
     )?;
     report.warnings = warnings;
-    Ok(report)
+    // What the camera frames: the link origins over the motion and the world clouds.
+    let mut robot = None;
+    for (w, _) in &posed {
+        for m in w {
+            super::rerun_scene::grow(&mut robot, &m.trans);
+        }
+    }
+    for c in rec
+        .clouds
+        .iter()
+        .filter(|c| !tree.index.contains_key(&c.frame))
+    {
+        for p in c.points.iter().filter(|p| p.iter().all(|x| x.is_finite())) {
+            let v = Vec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+            super::rerun_scene::grow(&mut robot, &v);
+        }
+    }
+    Ok((report, robot))
 }
 
 /// Text log rows at time `t` (temporal, so that every row is kept).
@@ -687,7 +703,7 @@ fn color_of(g: &Geometry) -> rerun::Color {
 }
 
 /// Logs one primitive; `false` when the shape is a mesh or has non-positive sizes.
-fn log_primitive(
+pub(crate) fn log_primitive(
     stream: &RecordingStream,
     ent: EntityPath,
     g: &Geometry,
@@ -740,7 +756,7 @@ fn log_primitive(
 }
 
 /// Area-weighted vertex normals.
-fn vertex_normals(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<[f32; 3]> {
+pub(crate) fn vertex_normals(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<[f32; 3]> {
     let mut n = vec![Vec3::zeros(); vertices.len()];
     let v = |i: u32| {
         let p = vertices[i as usize];

@@ -41,6 +41,17 @@ pub enum RerunError {
     NotBuilt,
 }
 
+/// The scene around the robot: obstacles drawn as static geometry under
+/// `world/obstacles/<name>` (their `origin` is the world pose), included in the framing of
+/// the 3-D view.
+#[derive(Clone, Debug, Default)]
+pub struct SceneExtras {
+    /// Obstacles by name.
+    pub obstacles: Vec<(String, crate::model::Geometry)>,
+    /// Directory relative obstacle mesh paths start from (default: the current one).
+    pub obstacle_dir: Option<PathBuf>,
+}
+
 /// What was logged.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RerunReport {
@@ -54,6 +65,8 @@ pub struct RerunReport {
     pub visuals: usize,
     /// Points logged over all clouds.
     pub points: usize,
+    /// Obstacle shapes drawn.
+    pub obstacles: usize,
     /// The tool link whose path was drawn.
     pub tool: Option<String>,
     /// Problems that did not stop the log (missing meshes, malformed frames, …).

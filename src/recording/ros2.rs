@@ -118,6 +118,39 @@ string name\nuint32 offset\nuint8 datatype\nuint32 count\n"
     (key_value) => {
         "string key\nstring value\n"
     };
+    (duration) => {
+        "int32 sec\nuint32 nanosec\n"
+    };
+    (point) => {
+        "float64 x\nfloat64 y\nfloat64 z\n"
+    };
+    (pose) => {
+        "geometry_msgs/Point position\ngeometry_msgs/Quaternion orientation\n"
+    };
+    (color_rgba) => {
+        "float32 r\nfloat32 g\nfloat32 b\nfloat32 a\n"
+    };
+    (compressed_image) => {
+        "std_msgs/Header header\nstring format\nuint8[] data\n"
+    };
+    (uv_coordinate) => {
+        "float32 u\nfloat32 v\n"
+    };
+    (mesh_file) => {
+        "string filename\nuint8[] data\n"
+    };
+    (marker) => {
+        "int32 ARROW=0\nint32 CUBE=1\nint32 SPHERE=2\nint32 CYLINDER=3\nint32 LINE_STRIP=4\n\
+int32 LINE_LIST=5\nint32 CUBE_LIST=6\nint32 SPHERE_LIST=7\nint32 POINTS=8\n\
+int32 TEXT_VIEW_FACING=9\nint32 MESH_RESOURCE=10\nint32 TRIANGLE_LIST=11\nint32 ARROW_STRIP=12\n\
+int32 ADD=0\nint32 MODIFY=0\nint32 DELETE=2\nint32 DELETEALL=3\n\
+std_msgs/Header header\nstring ns\nint32 id\nint32 type\nint32 action\n\
+geometry_msgs/Pose pose\ngeometry_msgs/Vector3 scale\nstd_msgs/ColorRGBA color\n\
+builtin_interfaces/Duration lifetime\nbool frame_locked\ngeometry_msgs/Point[] points\n\
+std_msgs/ColorRGBA[] colors\nstring texture_resource\nsensor_msgs/CompressedImage texture\n\
+visualization_msgs/UVCoordinate[] uv_coordinates\nstring text\nstring mesh_resource\n\
+visualization_msgs/MeshFile mesh_file\nbool mesh_use_embedded_materials\n"
+    };
     (diagnostic_status) => {
         "byte OK=0\nbyte WARN=1\nbyte ERROR=2\nbyte STALE=3\n\
 byte level\nstring name\nstring message\nstring hardware_id\ndiagnostic_msgs/KeyValue[] values\n"
@@ -423,6 +456,170 @@ impl RosMessage for DiagnosticArray {
     );
 }
 
+/// `geometry_msgs/msg/Point`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Point {
+    /// x.
+    pub x: f64,
+    /// y.
+    pub y: f64,
+    /// z.
+    pub z: f64,
+}
+
+/// `geometry_msgs/msg/Pose`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Pose {
+    /// Position.
+    pub position: Point,
+    /// Orientation.
+    pub orientation: Quaternion,
+}
+
+/// `std_msgs/msg/ColorRGBA` (components in `[0, 1]`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct ColorRgba {
+    /// Red.
+    pub r: f32,
+    /// Green.
+    pub g: f32,
+    /// Blue.
+    pub b: f32,
+    /// Opacity.
+    pub a: f32,
+}
+
+/// `builtin_interfaces/msg/Duration`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct Duration {
+    /// Seconds.
+    pub sec: i32,
+    /// Nanoseconds, `< 1e9`.
+    pub nanosec: u32,
+}
+
+/// `sensor_msgs/msg/CompressedImage`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct CompressedImage {
+    /// Stamp and frame.
+    pub header: Header,
+    /// `jpeg`, `png`, ...
+    pub format: String,
+    /// The image file bytes.
+    #[serde(with = "serde_bytes")]
+    pub data: Vec<u8>,
+}
+
+/// `visualization_msgs/msg/UVCoordinate`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct UvCoordinate {
+    /// u.
+    pub u: f32,
+    /// v.
+    pub v: f32,
+}
+
+/// `visualization_msgs/msg/MeshFile`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct MeshFile {
+    /// File name (for its extension).
+    pub filename: String,
+    /// The file bytes.
+    #[serde(with = "serde_bytes")]
+    pub data: Vec<u8>,
+}
+
+/// `visualization_msgs/msg/Marker` types and actions.
+pub mod marker {
+    /// `CUBE`: a box, `scale` = side lengths.
+    pub const CUBE: i32 = 1;
+    /// `SPHERE`: an ellipsoid, `scale` = diameters.
+    pub const SPHERE: i32 = 2;
+    /// `CYLINDER`: along local z, `scale` = (diameter x, diameter y, length).
+    pub const CYLINDER: i32 = 3;
+    /// `TEXT_VIEW_FACING`: `text` facing the viewer, `scale.z` = letter height.
+    pub const TEXT_VIEW_FACING: i32 = 9;
+    /// `MESH_RESOURCE`: the mesh at `mesh_resource`, `scale` per axis.
+    pub const MESH_RESOURCE: i32 = 10;
+    /// `ADD` (= `MODIFY`).
+    pub const ADD: i32 = 0;
+    /// `DELETE`.
+    pub const DELETE: i32 = 2;
+    /// `DELETEALL`.
+    pub const DELETEALL: i32 = 3;
+}
+
+/// `visualization_msgs/msg/Marker` (the ROS 2 Humble definition and later: with
+/// texture and embedded-mesh fields).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Marker {
+    /// Stamp and the frame `pose` is in.
+    pub header: Header,
+    /// Namespace; `(ns, id)` names the marker.
+    pub ns: String,
+    /// Id within `ns`.
+    pub id: i32,
+    /// One of [`marker`]'s types.
+    #[serde(rename = "type")]
+    pub kind: i32,
+    /// One of [`marker`]'s actions.
+    pub action: i32,
+    /// Pose in `header.frame_id`.
+    pub pose: Pose,
+    /// Size (see [`marker`]).
+    pub scale: Vector3,
+    /// Colour.
+    pub color: ColorRgba,
+    /// Zero: forever.
+    pub lifetime: Duration,
+    /// Re-transformed into its frame every time step.
+    pub frame_locked: bool,
+    /// Points of line and point markers.
+    pub points: Vec<Point>,
+    /// Per-point colours.
+    pub colors: Vec<ColorRgba>,
+    /// Texture URI.
+    pub texture_resource: String,
+    /// Embedded texture.
+    pub texture: CompressedImage,
+    /// Texture coordinates.
+    pub uv_coordinates: Vec<UvCoordinate>,
+    /// Text of text markers (armsim also names its obstacles with it).
+    pub text: String,
+    /// Mesh URI of mesh markers.
+    pub mesh_resource: String,
+    /// Embedded mesh.
+    pub mesh_file: MeshFile,
+    /// Use the mesh file's own materials.
+    pub mesh_use_embedded_materials: bool,
+}
+
+/// `visualization_msgs/msg/MarkerArray`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct MarkerArray {
+    /// The markers.
+    pub markers: Vec<Marker>,
+}
+
+impl RosMessage for MarkerArray {
+    const NAME: &'static str = "visualization_msgs/msg/MarkerArray";
+    const SCHEMA: &'static str = concat!(
+        "visualization_msgs/Marker[] markers\n",
+        section!("visualization_msgs/Marker", defs!(marker)),
+        section!("std_msgs/Header", defs!(header)),
+        section!("builtin_interfaces/Time", defs!(time)),
+        section!("geometry_msgs/Pose", defs!(pose)),
+        section!("geometry_msgs/Point", defs!(point)),
+        section!("geometry_msgs/Quaternion", defs!(quaternion)),
+        section!("geometry_msgs/Vector3", defs!(vector3)),
+        section!("std_msgs/ColorRGBA", defs!(color_rgba)),
+        section!("builtin_interfaces/Duration", defs!(duration)),
+        section!("sensor_msgs/CompressedImage", defs!(compressed_image)),
+        section!("visualization_msgs/UVCoordinate", defs!(uv_coordinate)),
+        section!("visualization_msgs/MeshFile", defs!(mesh_file)),
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -434,6 +631,95 @@ mod tests {
         assert_eq!(JointState::SCHEMA.matches(&sep).count(), 2);
         assert!(TfMessage::SCHEMA.contains(&format!("{sep}geometry_msgs/Quaternion\nfloat64 x\n")));
         assert_eq!(DiagnosticArray::SCHEMA.matches(&sep).count(), 4);
+        // Every type MarkerArray uses, once each, and nothing it does not use.
+        let sections: Vec<&str> = MarkerArray::SCHEMA
+            .split(&sep)
+            .skip(1)
+            .map(|s| s.lines().next().unwrap())
+            .collect();
+        assert_eq!(
+            sections,
+            [
+                "visualization_msgs/Marker",
+                "std_msgs/Header",
+                "builtin_interfaces/Time",
+                "geometry_msgs/Pose",
+                "geometry_msgs/Point",
+                "geometry_msgs/Quaternion",
+                "geometry_msgs/Vector3",
+                "std_msgs/ColorRGBA",
+                "builtin_interfaces/Duration",
+                "sensor_msgs/CompressedImage",
+                "visualization_msgs/UVCoordinate",
+                "visualization_msgs/MeshFile",
+            ]
+        );
+        for used in MarkerArray::SCHEMA
+            .lines()
+            .filter(|l| !l.contains('=') && !l.starts_with("MSG: "))
+            .filter_map(|l| l.split_whitespace().next())
+            .filter(|t| t.contains('/'))
+        {
+            let t = used.trim_end_matches("[]");
+            assert!(sections.contains(&t), "{t} has no section");
+        }
+    }
+
+    #[test]
+    fn marker_cdr_layout() {
+        let m = Marker {
+            id: 7,
+            kind: marker::CUBE,
+            scale: Vector3 {
+                x: 1.0,
+                y: 2.0,
+                z: 3.0,
+            },
+            color: ColorRgba {
+                r: 0.5,
+                g: 0.25,
+                b: 1.0,
+                a: 1.0,
+            },
+            text: "t".into(),
+            ..Default::default()
+        };
+        let b = encode(&m).unwrap();
+        let f64s = |v: &[f64]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+        let expected: Vec<u8> = [
+            &CDR_LE[..],
+            &[0; 8],                                     // header.stamp
+            &[1, 0, 0, 0, 0, 0, 0, 0], // frame_id "" (length 1: the NUL), padded to 4
+            &[1, 0, 0, 0, 0, 0, 0, 0], // ns ""
+            &[7, 0, 0, 0],             // id
+            &[1, 0, 0, 0],             // type
+            &[0, 0, 0, 0],             // action, at offset 32
+            &[0, 0, 0, 0],             // padding: the pose's f64s start at offset 40
+            &f64s(&[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]), // pose
+            &f64s(&[1.0, 2.0, 3.0]),   // scale
+            &[0.5f32, 0.25, 1.0, 1.0]
+                .iter()
+                .flat_map(|x| x.to_le_bytes())
+                .collect::<Vec<u8>>(),
+            &[0; 8],                      // lifetime
+            &[0, 0, 0, 0],                // frame_locked + padding
+            &[0, 0, 0, 0],                // points
+            &[0, 0, 0, 0],                // colors
+            &[1, 0, 0, 0, 0, 0, 0, 0],    // texture_resource ""
+            &[0; 8],                      // texture.header.stamp
+            &[1, 0, 0, 0, 0, 0, 0, 0],    // texture.header.frame_id
+            &[1, 0, 0, 0, 0, 0, 0, 0],    // texture.format
+            &[0, 0, 0, 0],                // texture.data
+            &[0, 0, 0, 0],                // uv_coordinates
+            &[2, 0, 0, 0, b't', 0, 0, 0], // text "t"
+            &[1, 0, 0, 0, 0, 0, 0, 0],    // mesh_resource ""
+            &[1, 0, 0, 0, 0, 0, 0, 0],    // mesh_file.filename
+            &[0, 0, 0, 0],                // mesh_file.data
+            &[0],                         // mesh_use_embedded_materials
+        ]
+        .concat();
+        assert_eq!(b, expected);
+        assert_eq!(decode::<Marker>(&b).unwrap(), m);
     }
 
     #[test]

@@ -1,7 +1,9 @@
 //! The `/robot_description` of a recording: URDF text for any model armsim loads.
 //!
-//! Owned here: [`robot_description`] (the original text for URDF models) and
-//! [`generate_urdf`] (a URDF for a [`ModelSpec`] from a DH table or a generated chain).
+//! Owned here: [`robot_description`] (the original text for URDF models),
+//! [`generate_urdf`] (a URDF for a [`ModelSpec`] from a DH table or a generated chain) and
+//! [`absolute_mesh_uris`] (every mesh URI that resolves on this machine rewritten as an
+//! absolute `file://` URI, so that viewers of a recording find the meshes).
 //!
 //! The generated URDF loads back into [`crate::model::Model`] with the same link frames and
 //! joint coordinates:
@@ -22,6 +24,7 @@
 //! cylinder along each movable joint's axis, a cylinder for every link offset, a small
 //! sphere on each leaf link.
 
+use crate::collision::resolve::{file_uri, resolve_with, PackagePaths};
 use crate::model::{Geometry, JointType, ModelSpec, Shape};
 use crate::spatial::{rot_z, rotation_z_to, Mat3, Se3, Vec3};
 use std::collections::{HashMap, HashSet};
@@ -45,6 +48,52 @@ pub fn robot_description(model_path: &Path, spec: &ModelSpec) -> String {
         }
     }
     generate_urdf(spec)
+}
+
+/// `urdf` with the `filename` of every `<mesh>` that resolves (against `base`, the model
+/// file's directory, and `pkgs`; see [`crate::collision::resolve`]) replaced by the
+/// absolute `file://` URI of its file. Meshes that do not resolve keep their URI and are
+/// returned as `(uri, why)`; the rest of the text is untouched. Text that is not XML is
+/// returned as it is.
+pub fn absolute_mesh_uris(
+    urdf: &str,
+    base: Option<&Path>,
+    pkgs: &PackagePaths,
+) -> (String, Vec<(String, String)>) {
+    let opts = roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..Default::default()
+    };
+    let Ok(doc) = roxmltree::Document::parse_with_options(urdf, opts) else {
+        return (urdf.to_string(), Vec::new());
+    };
+    let mut edits: Vec<(std::ops::Range<usize>, String)> = Vec::new();
+    let mut missing = Vec::new();
+    for node in doc.descendants().filter(|n| n.has_tag_name("mesh")) {
+        let Some(attr) = node.attributes().find(|a| a.name() == "filename") else {
+            continue;
+        };
+        match resolve_with(attr.value(), base, pkgs) {
+            Ok(p) => edits.push((attr.range_value(), esc(&file_uri(&p)))),
+            Err(e) => {
+                if !missing
+                    .iter()
+                    .any(|(u, _): &(String, String)| u == attr.value())
+                {
+                    missing.push((attr.value().to_string(), e.0));
+                }
+            }
+        }
+    }
+    let mut out = String::with_capacity(urdf.len() + 64 * edits.len());
+    let mut at = 0;
+    for (range, uri) in edits {
+        out.push_str(&urdf[at..range.start]);
+        out.push_str(&uri);
+        at = range.end;
+    }
+    out.push_str(&urdf[at..]);
+    (out, missing)
 }
 
 /// URDF roll-pitch-yaw of a rotation (`R = Rz(yaw) Ry(pitch) Rx(roll)`), accurate at and

@@ -13,7 +13,8 @@
 //!   second-order-cone program with clarabel;
 //! - [`check_torques`] (`torque_check.rs`): peak / RMS torque, peak speed and power, margins
 //!   and the first violation time of every limit along any trajectory, with a text table,
-//!   JSON rows and a PNG/SVG plot (`plot.rs`).
+//!   JSON rows and a PNG/SVG plot (`plot.rs`), whose axis labels come from [`ticks`]
+//!   (nice tick positions, labels with a common power of ten).
 //!
 //! Also [`TimeScaled`] (uniform slow-down of any trajectory), [`LinearPath`] and
 //! [`SplinePath`] (paths for TOPP), and [`AsReference`] (any trajectory as the simulator's
@@ -27,6 +28,7 @@ mod cartesian;
 mod min_jerk;
 pub(crate) mod plot;
 mod quintic;
+pub mod ticks;
 mod topp;
 mod torque_check;
 mod trapezoidal;

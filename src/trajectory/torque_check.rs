@@ -382,12 +382,22 @@ impl TorqueReport {
         path: &std::path::Path,
         format: PlotFormat,
     ) -> Result<(), TrajectoryError> {
+        self.write_plot_titled(path, format, None)
+    }
+
+    /// [`write_plot`](Self::write_plot) with the scenario's name in the title.
+    pub fn write_plot_titled(
+        &self,
+        path: &std::path::Path,
+        format: PlotFormat,
+        scenario: Option<&str>,
+    ) -> Result<(), TrajectoryError> {
         if self.t.is_empty() {
             return Err(TrajectoryError::Output(
                 "plot: the report kept no samples (CheckOptions::keep_series)".into(),
             ));
         }
-        let bytes = render(self, format).map_err(TrajectoryError::Output)?;
+        let bytes = render(self, format, scenario).map_err(TrajectoryError::Output)?;
         crate::io::write_atomic(path, &bytes)
             .map_err(|e| TrajectoryError::Output(format!("{}: {e}", path.display())))
     }
