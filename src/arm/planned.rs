@@ -84,14 +84,10 @@ impl ScenePlanners {
             .map(|o| o.to_obstacle().map_err(|e| e.to_string()))
             .collect::<Result<Vec<Obstacle>, _>>()?;
         let names: Vec<&str> = obstacles.iter().map(|o| o.name.as_str()).collect();
-        let disabled: Vec<[String; 2]> = scene
-            .collision
-            .as_ref()
-            .map(|c| c.disabled_pairs.clone())
-            .unwrap_or_default();
+        let disabled = &scene.planner_disabled;
         let mut base = scene.model.clone();
         let mut notes = Vec::new();
-        for pair in &disabled {
+        for pair in disabled {
             for (a, b) in [(&pair[0], &pair[1]), (&pair[1], &pair[0])] {
                 if let (Some(l), true) = (base.link_id(a), names.contains(&b.as_str())) {
                     if !base.links[l].collisions.is_empty() {

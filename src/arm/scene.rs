@@ -166,6 +166,8 @@ pub struct Scene {
     pub planner: Option<super::planned::PlannerSettings>,
     /// The grasped part's shape, on the tool between attach and detach.
     pub part: Option<super::planned::Part>,
+    /// `collision.disabled_pairs` and the skeleton's touching pairs, for the planner.
+    pub planner_disabled: Vec<[String; 2]>,
 }
 
 /// Error context: the file and its text.
@@ -1123,6 +1125,11 @@ pub fn build_with(
         s.rpy = crate::spatial::matrix_to_rpy(&local.rot);
         obstacles.push(s);
     }
+    // The planner leaves these pairs out whether or not the motion is checked.
+    let mut planner_disabled = touching.clone();
+    if let Some(c) = csec {
+        planner_disabled.extend(c.disabled_pairs.iter().map(|p| p.get_ref().clone()));
+    }
     let collision_enabled = csec.is_none_or(|c| c.enabled);
     let self_collision = csec.is_none_or(|c| c.self_collision);
     let collision = if collision_enabled {
@@ -1639,6 +1646,7 @@ pub fn build_with(
         warnings,
         planner,
         part,
+        planner_disabled,
     })
 }
 
