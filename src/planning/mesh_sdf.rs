@@ -158,7 +158,8 @@ mod tests {
         let exact = Primitive::Box([h[0], h[1] * 2.0, h[2] * 0.5]);
         let delta = 0.01;
         let t = std::time::Instant::now();
-        let spheres = cover_sdf(&|p| sdf.sdf(p), sdf.center, sdf.half, delta);
+        let (spheres, used) = cover_sdf(&|p| sdf.sdf(p), sdf.center, sdf.half, delta);
+        assert_eq!(used, delta);
         assert!(t.elapsed().as_secs_f64() < 1.0, "{:?}", t.elapsed());
         let mut st = 0x2545_f491_4f6c_dd1du64;
         let ext = [h[0], h[1] * 2.0, h[2] * 0.5];
@@ -201,6 +202,48 @@ mod tests {
             let sdf = MeshSdf::new(&data, [1.0; 3]).unwrap();
             assert!(sdf.closed, "{f}");
             assert!(sdf.sdf(sdf.center) < 0.0, "{f}: centre inside");
+        }
+    }
+
+    #[test]
+    fn bundled_ur5_meshes_are_spherized_quickly_and_sampled_self_pairs_work() {
+        use crate::model::{Model, WORLD};
+        use crate::planning::spheres::{SphereModel, SphereOptions};
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let spec = Model::read_spec(&root.join("robots/ur5.urdf")).unwrap();
+        let model = Model::build(spec).unwrap().0;
+        let opts = SphereOptions {
+            max_overshoot: 0.03,
+            ..Default::default()
+        };
+        let t = std::time::Instant::now();
+        let sm = SphereModel::new(&model, &opts);
+        let secs = t.elapsed().as_secs_f64();
+        assert!(sm.warnings.is_empty(), "{:?}", sm.warnings);
+        // Every link with a collision mesh has spheres, each within the link's mesh
+        // bounding box grown by the overshoot (the centres are grid points of that box).
+        let meshed = model
+            .links
+            .iter()
+            .filter(|l| !l.collisions.is_empty())
+            .count();
+        assert_eq!(sm.links.len(), meshed);
+        assert!(secs < 7.0, "{secs} s for {meshed} links");
+        // Without an SRDF: adjacent pairs never checked, the others kept or dropped by
+        // sampling (the dropped ones named).
+        let (pairs, dropped) = crate::planning::self_pairs::sampled(&model, &sm, 2000, 1);
+        let parent = |b: usize| if b == WORLD { WORLD } else { model.parent[b] };
+        let far = |a: usize, b: usize| a != b && parent(b) != a && parent(a) != b;
+        let mut expect = 0;
+        for (i, la) in sm.links.iter().enumerate() {
+            for lb in &sm.links[i + 1..] {
+                expect += far(la.body, lb.body) as usize;
+            }
+        }
+        assert!(expect >= 10, "{expect}");
+        assert_eq!(pairs.len() + dropped.len(), expect);
+        for &(a, b) in &pairs {
+            assert!(far(sm.links[a].body, sm.links[b].body));
         }
     }
 }
