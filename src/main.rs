@@ -2,6 +2,8 @@
 //! non-zero with a message naming the file, the element and the problem on bad input,
 //! and never panics on user input.
 
+mod cli;
+
 use armsim::bench::{self, Algo};
 use armsim::data::Data;
 use armsim::dynamics::{self, Effects, Friction, Payload, Rotor};
@@ -296,6 +298,9 @@ enum Cmd {
         #[arg(long)]
         quiet: bool,
     },
+    /// Plan collision-free motions (RRT-Connect on the robot's collision spheres) for MoveIt
+    /// problems: one scene + request, or every pair of benchmark folders.
+    Plan(cli::plan::PlanArgs),
     /// Write the generated N-joint benchmark chain as URDF.
     Chain {
         /// Number of joints.
@@ -543,6 +548,11 @@ fn run(cli: Cli) -> Result<(), String> {
             tiny,
             quiet,
         } => tradeoffs_cmd(&out, quick, tiny, quiet),
+        Cmd::Plan(args) => {
+            let text = cli::plan::run(&args)?;
+            print!("{text}");
+            Ok(())
+        }
         Cmd::Chain { n, out } => {
             if n == 0 || n > 1_000_000 {
                 return Err(format!("chain: N must be between 1 and 1000000, got {n}"));

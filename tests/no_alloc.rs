@@ -1,30 +1,49 @@
 //! The hot paths allocate nothing per call: a counting global allocator watches FK,
 //! frame updates, joint Jacobians, frame Jacobians and their time derivatives, RNEA,
-//! CRBA, ABA, Cholesky forward dynamics and the effect-aware dynamics.
+//! CRBA, ABA, Cholesky forward dynamics and the effect-aware dynamics; the planner's
+//! collision checks allocate nothing, and a planning query allocates the same few buffers
+//! whatever its number of iterations.
 
 mod common;
+mod plan_common;
 
 use armsim::data::Data;
 use armsim::dynamics;
 use armsim::kinematics::{self, Expressed};
+use armsim::planning::checker::EdgeMode;
+use armsim::planning::rrt::RrtOptions;
+use armsim::planning::{PlanOptions, PlanStatus, Planner};
 use armsim::spatial::{Inertia, Mat3, Vec3};
 use nalgebra::DMatrix;
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
 struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Allocations made by this thread (the test harness's own threads allocate while a
+    /// test measures: printing results, starting the next test).
+    static MINE: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    let _ = MINE.try_with(|c| c.set(c.get() + 1));
+}
+
+/// Allocations made so far by the calling thread.
+fn allocs() -> usize {
+    MINE.with(|c| c.get())
+}
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        count();
         unsafe { System.alloc(l) }
     }
     unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
         unsafe { System.dealloc(p, l) }
     }
     unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        count();
         unsafe { System.realloc(p, l, n) }
     }
 }
@@ -32,8 +51,16 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
+/// The counter is global: the tests of this file run one at a time.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn serial() -> std::sync::MutexGuard<'static, ()> {
+    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 #[test]
 fn kinematics_hot_paths_do_not_allocate() {
+    let _serial = serial();
     for file in [
         "robots/ur5.urdf",
         "robots/panda.urdf",
@@ -45,7 +72,7 @@ fn kinematics_hot_paths_do_not_allocate() {
         let q = model.neutral();
         let qd: Vec<f64> = (0..model.nv).map(|k| 0.1 * k as f64 - 0.2).collect();
         let tool = model.links.len() - 1;
-        let before = ALLOCS.load(Ordering::SeqCst);
+        let before = allocs();
         for _ in 0..100 {
             kinematics::forward_kinematics(&model, &mut data, &q);
             kinematics::update_frames(&model, &mut data);
@@ -65,7 +92,7 @@ fn kinematics_hot_paths_do_not_allocate() {
                 &mut j,
             );
         }
-        let after = ALLOCS.load(Ordering::SeqCst);
+        let after = allocs();
         assert_eq!(
             after - before,
             0,
@@ -114,7 +141,7 @@ fn kinematics_hot_paths_do_not_allocate() {
         };
         let g = Vec3::new(0.0, 0.0, -9.81);
         let mut thdd = vec![0.0; n];
-        let before = ALLOCS.load(Ordering::SeqCst);
+        let before = allocs();
         for _ in 0..100 {
             dynamics::rnea(&model, &mut data, &q, &qd, &qd, &g, None);
             dynamics::bias(&model, &mut data, &q, &qd, &g);
@@ -133,7 +160,7 @@ fn kinematics_hot_paths_do_not_allocate() {
             let _ = dynamics::kinetic_energy(&model, &mut data, &q, &qd)
                 + dynamics::potential_energy(&model, &mut data, &q, &g);
         }
-        let after = ALLOCS.load(Ordering::SeqCst);
+        let after = allocs();
         assert_eq!(
             after - before,
             0,
@@ -142,7 +169,141 @@ fn kinematics_hot_paths_do_not_allocate() {
         );
         // The counter works: a Vec allocates.
         let v: Vec<f64> = Vec::with_capacity(8);
-        assert!(ALLOCS.load(Ordering::SeqCst) > after);
+        assert!(allocs() > after);
         drop(v);
     }
+}
+
+/// Allocations made by `f`.
+fn allocations(f: impl FnOnce()) -> usize {
+    let before = allocs();
+    f();
+    allocs() - before
+}
+
+#[test]
+fn planner_collision_checks_allocate_nothing_after_warm_up() {
+    let _serial = serial();
+    let robot = plan_common::Robot::load("panda");
+    let p = &plan_common::problems(&robot, "table_pick")[1];
+    let pl = Planner::new(
+        &robot.model,
+        &p.obstacles,
+        Some(&robot.disabled),
+        PlanOptions::default(),
+    )
+    .unwrap();
+    let c = &pl.checker;
+    let mut s = c.scratch();
+    // 64 configurations spread over the joint box (a fixed LCG), some free, some not.
+    let mut x = 12345u64;
+    let qs: Vec<Vec<f32>> = (0..64)
+        .map(|_| {
+            (0..robot.model.nv)
+                .map(|k| {
+                    x = x
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    let u = (x >> 40) as f64 / (1u64 << 24) as f64;
+                    let (lo, hi) = (robot.model.lower[k], robot.model.upper[k]);
+                    (lo + u * (hi - lo)) as f32
+                })
+                .collect()
+        })
+        .collect();
+    let mut free = (0, 0);
+    let mut sweep = |s: &mut armsim::planning::CheckScratch| {
+        free = (0, 0);
+        for i in 0..qs.len() {
+            free.0 += usize::from(c.config_free(&qs[i], s));
+            let (a, b) = (&qs[i], &qs[(i + 1) % qs.len()]);
+            free.1 += usize::from(c.edge_free(a, b, EdgeMode::Continuous, s));
+            free.1 += usize::from(c.edge_free(a, b, EdgeMode::Discrete, s));
+        }
+    };
+    sweep(&mut s);
+    let n = allocations(|| {
+        for _ in 0..3 {
+            sweep(&mut s);
+        }
+    });
+    assert_eq!(
+        n, 0,
+        "{n} allocations in 3 × 64 configuration and edge checks"
+    );
+    // Both outcomes were exercised.
+    assert!(free.0 > 0 && free.0 < 64, "{free:?}");
+    assert!(free.1 < 128, "{free:?}");
+}
+
+#[test]
+fn planner_allocations_do_not_grow_with_iterations() {
+    let _serial = serial();
+    let robot = plan_common::Robot::load("panda");
+    let query = |pl: &mut Planner, start: &[f64], goal: &[f64]| {
+        let mut r = None;
+        let n = allocations(|| r = Some(pl.plan(start, goal)));
+        (n, r.unwrap())
+    };
+    // The impossible problem under 1000 and 10000 iterations: the same allocations.
+    let (obstacles, start, goal) = plan_common::panda_wall_problem();
+    let mut per_limit = Vec::new();
+    for max_iterations in [1000, 10_000] {
+        let opts = PlanOptions {
+            rrt: RrtOptions {
+                max_iterations,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let mut pl = Planner::new(&robot.model, &obstacles, Some(&robot.disabled), opts).unwrap();
+        let _warm_up = pl.plan(&start, &goal);
+        let (n, r) = query(&mut pl, &start, &goal);
+        assert_eq!(r.status, PlanStatus::Failed);
+        assert_eq!(r.iterations, max_iterations);
+        per_limit.push(n);
+    }
+    eprintln!("failed queries: allocations {per_limit:?} for 1000 / 10000 iterations");
+    assert_eq!(
+        per_limit[0], per_limit[1],
+        "allocations grow with iterations"
+    );
+    assert!(per_limit[0] <= 8, "{} allocations per query", per_limit[0]);
+    // Solved problems, simplified: the result's path and a few per-query buffers only,
+    // whether the straight edge is free (0001) or the search takes long (the most
+    // iterations among the first problems).
+    let problems = plan_common::problems(&robot, "table_pick");
+    let mut most = (0, 0);
+    for (i, p) in problems
+        .iter()
+        .enumerate()
+        .take(20)
+        .filter(|(_, p)| p.valid)
+    {
+        let mut pl = Planner::new(
+            &robot.model,
+            &p.obstacles,
+            Some(&robot.disabled),
+            PlanOptions::default(),
+        )
+        .unwrap();
+        let _warm_up = pl.plan(&p.start, &p.goal);
+        let (n, r) = query(&mut pl, &p.start, &p.goal);
+        assert_eq!(r.status, PlanStatus::Solved);
+        assert!(
+            n <= 8 + r.path.len(),
+            "table_pick {}: {n} allocations for a path of {} points after {} iterations",
+            p.id,
+            r.path.len(),
+            r.iterations
+        );
+        if r.iterations > most.1 {
+            most = (i, r.iterations);
+        }
+    }
+    assert!(
+        most.1 >= 300,
+        "the hardest of the first 20 took only {} iterations",
+        most.1
+    );
 }

@@ -466,10 +466,21 @@ impl Checker {
             }
         }
         let (mut exact, mut inflated) = (0, 0);
+        // Each sphere of the group with more spheres against the other group's bound first.
+        let (la, lb, cb, gb) = if la.end - la.first >= lb.end - lb.first {
+            (la, lb, cb, gb)
+        } else {
+            (lb, la, ca, ga)
+        };
+        let rb = tok.splat(lb.bound.radius) + inflate(s.link_speed[gb]);
         for i in la.first..la.end {
             let ri = tok.splat(sm.spheres[i].radius);
             let ei = inflate(s.speed[i]);
             let ci = P3::load(tok, &s.centers[i]);
+            let reach = ri + ei + rb;
+            if ci.dist2(&cb).lt(reach * reach) == 0 {
+                continue;
+            }
             for j in lb.first..lb.end {
                 let cj = P3::load(tok, &s.centers[j]);
                 let r = ri + tok.splat(sm.spheres[j].radius);

@@ -1,0 +1,5 @@
+//! Commands of the `armsim` binary that live in their own modules (src/main.rs parses the
+//! command line and dispatches here).
+
+pub mod plan;
+pub mod plan_report;

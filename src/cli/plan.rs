@@ -1,0 +1,275 @@
+//! `armsim plan`: plans MoveIt problems (one scene + request pair, or every
+//! `sceneNNNN.yaml` / `requestNNNN.yaml` pair of one or more benchmark folders) with
+//! [`armsim::planning::Planner`], and prints a table per problem and the anchor-style
+//! summary (or JSON).
+//!
+//! Every input is read before anything is planned, so a bad file stops the command with
+//! its `FILE:LINE: ELEMENT: PROBLEM` message and nothing written. Problems run in order on
+//! one thread, or on `--threads N` (rayon, one planner per problem); the results do not
+//! depend on the thread count (the sampler is seeded per query). `--passes N` plans each
+//! problem N times and reports the median times (the VAMP anchor's protocol; the paths of
+//! the passes must be identical, which is checked).
+
+use super::plan_report::{self, Outcome, ReportHeader};
+use armsim::collision::Obstacle;
+use armsim::model::{LoadOptions, Model};
+use armsim::planning::moveit::{self, problem_pairs};
+use armsim::planning::self_pairs::PairSource;
+use armsim::planning::srdf;
+use armsim::planning::{PlanOptions, Planner};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// Arguments of `armsim plan`.
+#[derive(clap::Args, Debug)]
+#[command(group(
+    clap::ArgGroup::new("problems")
+        .required(true)
+        .args(["moveit_scene", "moveit_dir"])
+))]
+pub struct PlanArgs {
+    /// Robot model (URDF). Its collision spheres are used as given; boxes, cylinders and
+    /// capsules are covered with spheres; meshes are not checked (a warning says so).
+    pub model: PathBuf,
+    /// MoveIt SRDF: its <disable_collisions> link pairs are not checked for self-collision
+    /// (nor are links one joint apart). Without it, pairs never in contact over random
+    /// samples are dropped too.
+    #[arg(long)]
+    pub srdf: Option<PathBuf>,
+    /// MoveIt PlanningScene YAML (obstacles; frame: world or the model's root link).
+    #[arg(long, requires = "moveit_request")]
+    pub moveit_scene: Option<PathBuf>,
+    /// MoveIt MotionPlanRequest YAML (start state and joint goal).
+    #[arg(long, requires = "moveit_scene")]
+    pub moveit_request: Option<PathBuf>,
+    /// Folder of sceneNNNN.yaml / requestNNNN.yaml pairs, planned in order (repeatable:
+    /// the summary then has a row per folder and one for all).
+    #[arg(long)]
+    pub moveit_dir: Vec<PathBuf>,
+    /// Seed of the sampler and of the simplifier (same seed, same path).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Wall-clock limit of each search, in milliseconds (simplification not counted).
+    #[arg(long, allow_negative_numbers = true)]
+    pub time_limit_ms: Option<f64>,
+    /// Return the first path found, without shortcutting and smoothing.
+    #[arg(long)]
+    pub no_simplify: bool,
+    /// Threads planning problems in parallel (each problem has its own planner).
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+    /// Plan each problem this many times; times are the median over the passes.
+    #[arg(long, default_value_t = 1)]
+    pub passes: usize,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the output to this file (atomically) instead of standard output.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// One problem, read.
+struct Input {
+    scene_label: String,
+    id: String,
+    scene_file: PathBuf,
+    obstacles: Vec<Obstacle>,
+    start: Vec<f64>,
+    goal: Vec<f64>,
+}
+
+/// Runs the command; returns what goes to standard output (empty with `--out`).
+pub fn run(a: &PlanArgs) -> Result<String, String> {
+    let opts = plan_options(a)?;
+    if a.threads == 0 || a.threads > 1024 {
+        return Err(format!("--threads: expected 1 to 1024, got {}", a.threads));
+    }
+    if a.passes == 0 || a.passes > 10_000 {
+        return Err(format!("--passes: expected 1 to 10000, got {}", a.passes));
+    }
+    let (model, warnings) =
+        Model::load_with(&a.model, &LoadOptions::default()).map_err(|e| e.to_string())?;
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+    let disabled = match &a.srdf {
+        Some(p) => {
+            let (pairs, warnings) =
+                srdf::load_disabled_pairs(p, &model).map_err(|e| e.to_string())?;
+            for w in warnings {
+                eprintln!("warning: {w}");
+            }
+            Some(pairs)
+        }
+        None => None,
+    };
+    let inputs = read_inputs(a, &model)?;
+    // The scene-independent choices (sphere model, self pairs), said once.
+    let probe = Planner::new(&model, &[], disabled.as_deref(), opts.clone())?;
+    for w in &probe.checker.spheres.warnings {
+        eprintln!("warning: {}: {w}", a.model.display());
+    }
+    if let PairSource::Sampled(n) = probe.pair_source {
+        eprintln!(
+            "note: no --srdf: self-collision is not checked between adjacent links nor between \
+             links never in contact over {n} random configurations"
+        );
+    }
+    drop(probe);
+    let solve = |inp: &Input| solve(&model, disabled.as_deref(), &opts, a.passes, inp);
+    let outcomes: Vec<Outcome> = if a.threads == 1 {
+        inputs.iter().map(solve).collect::<Result<_, _>>()?
+    } else {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(a.threads)
+            .build()
+            .map_err(|e| format!("--threads {}: cannot start the threads: {e}", a.threads))?;
+        pool.install(|| inputs.par_iter().map(solve).collect::<Result<_, _>>())?
+    };
+    for o in outcomes.iter().filter(|o| !o.passes_identical) {
+        eprintln!(
+            "warning: {} {}: the {} passes did not return the same path",
+            o.scene, o.problem, a.passes
+        );
+    }
+    let header = ReportHeader {
+        model: &model,
+        seed: a.seed,
+        simplify: !a.no_simplify,
+        passes: a.passes,
+        threads: a.threads,
+        time_limit_ms: a.time_limit_ms,
+    };
+    let text = if a.json {
+        plan_report::json(&header, &outcomes)
+    } else {
+        plan_report::text(&header, &outcomes)
+    };
+    match &a.out {
+        Some(p) => {
+            armsim::io::write_atomic(p, text.as_bytes())
+                .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
+            Ok(String::new())
+        }
+        None => Ok(text),
+    }
+}
+
+/// The planner settings the arguments ask for.
+fn plan_options(a: &PlanArgs) -> Result<PlanOptions, String> {
+    let time_limit = match a.time_limit_ms {
+        None => None,
+        Some(t) if t.is_finite() && t > 0.0 && t <= 1e9 => Some(Duration::from_secs_f64(t / 1e3)),
+        Some(t) => {
+            return Err(format!(
+                "--time-limit-ms: expected a positive number of milliseconds, got {t}"
+            ))
+        }
+    };
+    Ok(PlanOptions {
+        seed: a.seed,
+        time_limit,
+        simplify: !a.no_simplify,
+        ..Default::default()
+    })
+}
+
+/// The problem files the arguments name, as (scene label, id, scene, request).
+fn problem_files(a: &PlanArgs) -> Result<Vec<(String, String, PathBuf, PathBuf)>, String> {
+    if let (Some(s), Some(r)) = (&a.moveit_scene, &a.moveit_request) {
+        let stem = r.file_stem().map(|s| s.to_string_lossy().into_owned());
+        let stem = stem.unwrap_or_default();
+        let id = stem.strip_prefix("request").unwrap_or(&stem).to_string();
+        let label = dir_label(s.parent().unwrap_or(Path::new(".")));
+        return Ok(vec![(label, id, s.clone(), r.clone())]);
+    }
+    let mut out = Vec::new();
+    for dir in &a.moveit_dir {
+        let label = dir_label(dir);
+        for p in problem_pairs(dir).map_err(|e| e.to_string())? {
+            out.push((label.clone(), p.id, p.scene, p.request));
+        }
+    }
+    Ok(out)
+}
+
+/// A folder's name for the tables (`table_pick` for `…/panda/table_pick/`).
+fn dir_label(dir: &Path) -> String {
+    let canon = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+    canon
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| dir.display().to_string())
+}
+
+/// Reads every scene and request; request warnings repeated across files are said once.
+fn read_inputs(a: &PlanArgs, model: &Model) -> Result<Vec<Input>, String> {
+    let root = model
+        .links
+        .iter()
+        .find(|l| l.parent_joint.is_none())
+        .map(|l| l.name.clone())
+        .unwrap_or_default();
+    let frames = [root.as_str()];
+    let mut seen: BTreeMap<(String, String), usize> = BTreeMap::new();
+    let mut inputs = Vec::new();
+    for (scene_label, id, scene, request) in problem_files(a)? {
+        let obstacles = moveit::load_scene_in(&scene, &frames).map_err(|e| e.to_string())?;
+        let (req, warnings) = moveit::load_request(&request, model).map_err(|e| e.to_string())?;
+        for w in warnings {
+            let n = seen
+                .entry((w.element.clone(), w.message.clone()))
+                .or_insert(0);
+            if *n == 0 {
+                eprintln!("warning: {w}");
+            }
+            *n += 1;
+        }
+        inputs.push(Input {
+            scene_label,
+            id,
+            scene_file: scene,
+            obstacles,
+            start: req.start,
+            goal: req.goal,
+        });
+    }
+    let repeated: usize = seen.values().map(|n| n - 1).sum();
+    if repeated > 0 {
+        eprintln!("warning: the same request warnings again in {repeated} more places (not shown)");
+    }
+    Ok(inputs)
+}
+
+/// Plans one problem `passes` times.
+fn solve(
+    model: &Model,
+    disabled: Option<&[(String, String)]>,
+    opts: &PlanOptions,
+    passes: usize,
+    inp: &Input,
+) -> Result<Outcome, String> {
+    let mut planner = Planner::new(model, &inp.obstacles, disabled, opts.clone())
+        .map_err(|e| format!("{}: {e}", inp.scene_file.display()))?;
+    let mut result = planner.plan(&inp.start, &inp.goal);
+    let mut plan = vec![result.plan_time_us];
+    let mut simplify = vec![result.simplify_time_us];
+    let mut passes_identical = true;
+    for _ in 1..passes {
+        let r = planner.plan(&inp.start, &inp.goal);
+        passes_identical &= r.path == result.path && r.status == result.status;
+        plan.push(r.plan_time_us);
+        simplify.push(r.simplify_time_us);
+    }
+    result.plan_time_us = plan_report::median(&mut plan);
+    result.simplify_time_us = plan_report::median(&mut simplify);
+    Ok(Outcome {
+        scene: inp.scene_label.clone(),
+        problem: inp.id.clone(),
+        result,
+        passes_identical,
+    })
+}

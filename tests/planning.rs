@@ -1,0 +1,346 @@
+//! Acceptance of the motion planner (issue 13) on the shown MotionBenchMaker scenes
+//! (Panda and UR5 × table_pick, bookshelf_small, box; 600 problems):
+//! - every problem `validity.json` marks valid is solved; the invalid ones are reported
+//!   `invalid_start` / `invalid_goal`, and the independent re-check confirms the contact;
+//! - every returned path passes an independent dense re-check (see `plan_common`): 1000
+//!   configurations per unit of joint-space distance, exact obstacles, SRDF pairs (and
+//!   links one joint apart unchecked, as the planner does), joint
+//!   limits, exact start and goal; no penetration above 0.1 mm;
+//! - the same seed gives the same path, bit for bit, in two planners and in repeated
+//!   queries; a time limit is honoured within 10 %; an impossible problem fails with a
+//!   reason under a time or an iteration limit, never a hang or a colliding path.
+
+mod plan_common;
+
+use armsim::planning::rrt::RrtOptions;
+use armsim::planning::{PlanOptions, PlanResult, PlanStatus, Planner};
+use plan_common::{panda_wall_problem, path_length, problems, Recheck, Robot};
+use std::sync::RwLock;
+use std::time::{Duration, Instant};
+
+/// The timing test runs alone (write lock); the others share (read lock), so that this
+/// binary's own tests do not pre-empt the measured planner.
+static TIMING: RwLock<()> = RwLock::new(());
+
+/// The penetration a re-checked path may show (m).
+const MAX_PENETRATION: f64 = 1e-4;
+
+fn planner(robot: &Robot, obstacles: &[armsim::collision::Obstacle], opts: PlanOptions) -> Planner {
+    Planner::new(&robot.model, obstacles, Some(&robot.disabled), opts).unwrap()
+}
+
+/// Checks one solved result against the problem: exact ends, limits, dense re-check, cost.
+fn assert_path_ok(
+    robot: &Robot,
+    check: &mut Recheck,
+    start: &[f64],
+    goal: &[f64],
+    r: &PlanResult,
+    what: &str,
+) -> f64 {
+    assert!(r.path.len() >= 2, "{what}: path of {} points", r.path.len());
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(
+        bits(&r.path[0]),
+        bits(start),
+        "{what}: path does not start at the start"
+    );
+    assert_eq!(
+        bits(r.path.last().unwrap()),
+        bits(goal),
+        "{what}: path does not end at the goal"
+    );
+    assert!(r.path.iter().all(|w| w.len() == robot.model.nv));
+    let rep = check.path(&r.path);
+    assert!(
+        rep.max_penetration <= MAX_PENETRATION,
+        "{what}: the path penetrates by {:.3} mm (re-checked at {} configurations)",
+        rep.max_penetration * 1e3,
+        rep.points
+    );
+    // The reported cost is the path's joint-space length (the planner sums in f32).
+    let len = path_length(&r.path);
+    assert!(
+        (r.cost - len).abs() <= 1e-5 * len.max(1.0),
+        "{what}: cost {} but the path is {len} long",
+        r.cost
+    );
+    assert!(
+        r.cost <= r.cost_initial + 1e-5,
+        "{what}: simplification lengthened the path"
+    );
+    rep.max_penetration
+}
+
+/// Plans every problem of `robot`/`scene` and checks each result.
+fn solves_every_valid_problem_with_rechecked_paths(robot: &str, scene: &str, simplify: bool) {
+    let _shared = TIMING.read().unwrap_or_else(|e| e.into_inner());
+    let robot = Robot::load(robot);
+    let (mut solved, mut invalid, mut worst, mut points) = (0, 0, f64::NEG_INFINITY, 0usize);
+    let mut plan_us = Vec::new();
+    for p in problems(&robot, scene) {
+        let what = format!("{}/{scene} {}", robot.name, p.id);
+        let opts = PlanOptions {
+            simplify,
+            ..Default::default()
+        };
+        let mut pl = planner(&robot, &p.obstacles, opts);
+        let r = pl.plan(&p.start, &p.goal);
+        let mut check = Recheck::new(&robot, &p.obstacles);
+        if !p.valid {
+            // The reference says start or goal is in collision; the independent check agrees.
+            let q = match r.status {
+                PlanStatus::InvalidStart => &p.start,
+                PlanStatus::InvalidGoal => &p.goal,
+                s => panic!("{what}: invalid in validity.json but {s:?}: {:?}", r.reason),
+            };
+            let pen = check.penetration(q);
+            assert!(
+                pen > 0.0,
+                "{what}: {:?} but the re-check finds {pen} m",
+                r.status
+            );
+            assert!(r.reason.as_deref().is_some_and(|s| s.contains("collision")));
+            assert!(r.path.is_empty());
+            invalid += 1;
+            continue;
+        }
+        assert_eq!(r.status, PlanStatus::Solved, "{what}: {:?}", r.reason);
+        assert!(r.reason.is_none());
+        worst = worst.max(assert_path_ok(
+            &robot, &mut check, &p.start, &p.goal, &r, &what,
+        ));
+        points += r.path.len();
+        plan_us.push(r.plan_time_us);
+        solved += 1;
+    }
+    plan_us.sort_by(f64::total_cmp);
+    eprintln!(
+        "{}/{scene} (simplify {simplify}): {solved} solved, {invalid} invalid; worst re-checked \
+         penetration {:+.3} µm (negative: clearance); planning median {:.1} µs; {points} waypoints",
+        robot.name,
+        worst * 1e6,
+        plan_us[plan_us.len() / 2]
+    );
+    assert_eq!(solved + invalid, 100);
+}
+
+#[test]
+fn panda_table_pick_all_valid_solved_and_rechecked() {
+    solves_every_valid_problem_with_rechecked_paths("panda", "table_pick", true);
+}
+
+#[test]
+fn panda_bookshelf_small_all_valid_solved_and_rechecked() {
+    solves_every_valid_problem_with_rechecked_paths("panda", "bookshelf_small", true);
+}
+
+#[test]
+fn panda_box_all_valid_solved_and_rechecked() {
+    solves_every_valid_problem_with_rechecked_paths("panda", "box", true);
+}
+
+#[test]
+fn ur5_table_pick_all_valid_solved_and_rechecked() {
+    solves_every_valid_problem_with_rechecked_paths("ur5", "table_pick", true);
+}
+
+#[test]
+fn ur5_bookshelf_small_all_valid_solved_and_rechecked() {
+    solves_every_valid_problem_with_rechecked_paths("ur5", "bookshelf_small", true);
+}
+
+#[test]
+fn ur5_box_all_valid_solved_and_rechecked() {
+    solves_every_valid_problem_with_rechecked_paths("ur5", "box", true);
+}
+
+/// The search's own paths (no shortcuts to hide a bad edge) pass the re-check too.
+#[test]
+fn unsimplified_paths_of_the_box_scenes_pass_the_recheck() {
+    solves_every_valid_problem_with_rechecked_paths("panda", "box", false);
+    solves_every_valid_problem_with_rechecked_paths("ur5", "box", false);
+}
+
+/// The re-check itself detects what it must: the wall problem's link 1 sphere is 4 cm into
+/// the block at yaw 0, and a straight line through yaw 0 is caught.
+#[test]
+fn recheck_finds_the_wall_contact_of_a_straight_line_through_it() {
+    let robot = Robot::load("panda");
+    let (obstacles, start, goal) = panda_wall_problem();
+    let mut check = Recheck::new(&robot, &obstacles);
+    assert!(check.pair_count() > 10);
+    assert!(check.penetration(&start) < 0.0, "start is free");
+    assert!(check.penetration(&goal) < 0.0, "goal is free");
+    // panda_link1's sphere (0, −0.08, 0), r 0.06, at yaw 0 is at (0, −0.08, 0.333): the
+    // block's face is at y = −0.1, so it penetrates 0.06 − 0.02 = 0.04 m.
+    let at0 = check.penetration(&plan_common::panda_upright(0.0));
+    assert!((at0 - 0.04).abs() < 1e-9, "penetration at yaw 0: {at0}");
+    let rep = check.path(&[start, goal]);
+    assert!((rep.max_penetration - 0.04).abs() < 1e-9);
+    assert_eq!(rep.points, ((1.5f64 + 1.5) * 1000.0).ceil() as usize + 1);
+}
+
+#[test]
+fn same_seed_gives_bitwise_identical_paths_across_planners_and_queries() {
+    let robot = Robot::load("panda");
+    let opts = PlanOptions {
+        seed: 7,
+        ..Default::default()
+    };
+    let mut searched = 0;
+    for p in problems(&robot, "box").iter().filter(|p| p.valid).take(12) {
+        let mut a = planner(&robot, &p.obstacles, opts.clone());
+        let mut b = planner(&robot, &p.obstacles, opts.clone());
+        let ra = a.plan(&p.start, &p.goal);
+        let rb = b.plan(&p.start, &p.goal);
+        let ra2 = a.plan(&p.start, &p.goal);
+        assert_eq!(ra.status, PlanStatus::Solved);
+        for r in [&rb, &ra2] {
+            assert_eq!(r.iterations, ra.iterations, "box {}", p.id);
+            let bits = |r: &PlanResult| -> Vec<u64> {
+                r.path.iter().flatten().map(|x| x.to_bits()).collect()
+            };
+            assert_eq!(bits(r), bits(&ra), "box {}: paths differ", p.id);
+            assert_eq!(r.cost.to_bits(), ra.cost.to_bits());
+        }
+        searched += usize::from(ra.iterations > 0);
+    }
+    assert!(searched >= 3, "only {searched} problems needed a search");
+}
+
+#[test]
+fn different_seeds_explore_differently() {
+    let robot = Robot::load("panda");
+    let mut differ = 0;
+    for p in problems(&robot, "box").iter().filter(|p| p.valid).take(12) {
+        let r: Vec<PlanResult> = [0, 1]
+            .map(|seed| {
+                let opts = PlanOptions {
+                    seed,
+                    ..Default::default()
+                };
+                planner(&robot, &p.obstacles, opts).plan(&p.start, &p.goal)
+            })
+            .into();
+        if r[0].iterations > 0 && (r[0].path != r[1].path || r[0].iterations != r[1].iterations) {
+            differ += 1;
+        }
+    }
+    assert!(differ >= 2, "seeds 0 and 1 differ on {differ} problems");
+}
+
+/// Plans the impossible wall problem with `opts`; returns the result and the elapsed time.
+fn plan_wall(opts: PlanOptions) -> (PlanResult, Duration) {
+    let robot = Robot::load("panda");
+    let (obstacles, start, goal) = panda_wall_problem();
+    let mut pl = planner(&robot, &obstacles, opts);
+    let t = Instant::now();
+    let r = pl.plan(&start, &goal);
+    (r, t.elapsed())
+}
+
+#[test]
+fn time_limit_is_honoured_within_ten_percent_on_an_impossible_problem() {
+    let _alone = TIMING.write().unwrap_or_else(|e| e.into_inner());
+    let robot = Robot::load("panda");
+    let (obstacles, start, goal) = panda_wall_problem();
+    let limit = Duration::from_millis(50);
+    let opts = PlanOptions {
+        time_limit: Some(limit),
+        ..Default::default()
+    };
+    let mut pl = planner(&robot, &obstacles, opts);
+    let _warm_up = pl.plan(&start, &goal);
+    let mut elapsed = Vec::new();
+    for _ in 0..5 {
+        let t = Instant::now();
+        let r = pl.plan(&start, &goal);
+        let e = t.elapsed();
+        assert_eq!(r.status, PlanStatus::Failed, "{:?}", r.reason);
+        let why = r.reason.as_deref().unwrap_or_default();
+        assert!(why.contains("time limit") && why.contains("50 ms"), "{why}");
+        assert!(r.path.is_empty());
+        assert!(r.iterations > 100, "{} iterations in 50 ms", r.iterations);
+        // Never gives up early; the reported time is the measured one.
+        assert!(e >= limit, "returned after {e:?}");
+        assert!(r.plan_time_us >= 50_000.0 && r.plan_time_us <= e.as_secs_f64() * 1e6);
+        elapsed.push(e.as_secs_f64() * 1e3);
+    }
+    elapsed.sort_by(f64::total_cmp);
+    eprintln!("50 ms limit: elapsed {elapsed:.2?} ms");
+    // Within 10 %: the planner stops within 5 ms of its limit (the best of five runs: on a
+    // loaded machine other processes pre-empt some runs, which is no fault of the planner;
+    // a planner that looked at the clock too rarely would overshoot in every run).
+    assert!(elapsed[0] <= 55.0, "elapsed {elapsed:?} ms");
+    assert!(elapsed[4] <= 100.0, "elapsed {elapsed:?} ms");
+}
+
+#[test]
+fn iteration_limit_ends_an_impossible_problem_with_a_reason() {
+    for max_iterations in [1000, 20_000] {
+        let opts = PlanOptions {
+            rrt: RrtOptions {
+                max_iterations,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let (r, e) = plan_wall(opts);
+        assert_eq!(r.status, PlanStatus::Failed, "{:?}", r.reason);
+        let why = r.reason.as_deref().unwrap_or_default();
+        assert!(
+            why.contains(&format!("{max_iterations} iterations")),
+            "{why}"
+        );
+        assert_eq!(r.iterations, max_iterations);
+        assert!(r.path.is_empty() && r.cost == 0.0);
+        assert!(
+            e < Duration::from_secs(20),
+            "{max_iterations} iterations took {e:?}"
+        );
+    }
+    // A node limit ends it too, with its own reason.
+    let opts = PlanOptions {
+        rrt: RrtOptions {
+            max_nodes: 50,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let (r, _) = plan_wall(opts);
+    assert_eq!(r.status, PlanStatus::Failed);
+    assert!(
+        r.reason.as_deref().unwrap_or_default().contains("50 nodes"),
+        "{:?}",
+        r.reason
+    );
+    assert!(r.path.is_empty());
+}
+
+#[test]
+fn start_and_goal_outside_limits_or_of_wrong_length_are_invalid() {
+    let robot = Robot::load("panda");
+    let (obstacles, start, goal) = panda_wall_problem();
+    let mut pl = planner(&robot, &obstacles, PlanOptions::default());
+    let mut bad = start.clone();
+    bad[3] = 0.5; // joint 4 upper limit 0.0873
+    let r = pl.plan(&bad, &goal);
+    assert_eq!(r.status, PlanStatus::InvalidStart);
+    assert!(
+        r.reason.as_deref().unwrap().contains("outside its limits"),
+        "{:?}",
+        r.reason
+    );
+    let r = pl.plan(&start, &goal[..6]);
+    assert_eq!(r.status, PlanStatus::InvalidGoal);
+    assert!(
+        r.reason.as_deref().unwrap().contains("6 values"),
+        "{:?}",
+        r.reason
+    );
+    // The goal with link 1 in the wall.
+    let r = pl.plan(&start, &plan_common::panda_upright(0.0));
+    assert_eq!(r.status, PlanStatus::InvalidGoal);
+    assert!(r.path.is_empty());
+}
