@@ -1008,7 +1008,8 @@ fn plan_task_reaches_joint_and_pose_goals_around_the_crate() {
     let head = &base[..i];
     let tail = &base[j..];
     // Joint goal on the far side of the crate.
-    let goal = [1.0, -1.5708, 1.5708, -1.5708, -1.5708, 0.0];
+    let h = std::f64::consts::FRAC_PI_2;
+    let goal = [1.0, -h, h, -h, -h, 0.0];
     let text = format!("{head}[task]\ntype = \"plan\"\ngoal_q = {goal:?}\n\n{tail}");
     let out = run_text("ur5_pick_and_place", &text);
     assert_eq!(out.report.json["collisions"]["collision_free"], true);

@@ -255,9 +255,7 @@ pub fn smooth_path(planner: &mut Planner, path: &[Vec<f64>]) -> Result<MinJerk, 
                 spline.sample(t, &mut q, &mut qd, &mut qdd);
                 if !planner.edge_free(&prev, &q) {
                     clean = false;
-                    for s in k.saturating_sub(1)..(k + 2).min(m) {
-                        split[s] = true;
-                    }
+                    split[k.saturating_sub(1)..(k + 2).min(m)].fill(true);
                 }
                 prev.copy_from_slice(&q);
             }

@@ -217,11 +217,14 @@ fn push_spheres(spheres: &mut Vec<Sphere>, to_body: &Se3, cover: Vec<([f64; 3], 
     }
 }
 
+/// A cover's spheres `(centre, radius)` and a note (open mesh, raised overshoot).
+type NotedCover = (Vec<([f64; 3], f64)>, Option<String>);
+
 /// Mesh covers by resolved file and scale, so a mesh used by several links is covered
 /// once.
 struct MeshCovers {
     packages: PackagePaths,
-    done: HashMap<(PathBuf, [u64; 3]), (Vec<([f64; 3], f64)>, Option<String>)>,
+    done: HashMap<(PathBuf, [u64; 3]), NotedCover>,
 }
 
 impl MeshCovers {
@@ -233,7 +236,7 @@ impl MeshCovers {
         uri: &str,
         scale: [f64; 3],
         delta: f64,
-    ) -> Result<(Vec<([f64; 3], f64)>, Option<String>), String> {
+    ) -> Result<NotedCover, String> {
         let base = Path::new(&model.source)
             .parent()
             .filter(|p| !p.as_os_str().is_empty());
