@@ -76,9 +76,17 @@ fn friction(v: f64, b: f64, fc: f64) -> f64 {
 
 #[test]
 fn torque_check_agrees_with_an_independent_rnea_recomputation() {
+    // The bundled pick-and-place carries its 1.5 kg part only between the pick and the
+    // place: before and after, the reference is the bare UR5; in between, the UR5 with
+    // the part merged into tool0.
     let out = run_text("ur5_pick_and_place", &bundled("ur5_pick_and_place"));
-    let model = ur5_with_payload(1.5, [0.0, 0.0, 0.08]);
-    let mut data = Data::new(&model);
+    let (attach, detach) = out.plan.carry.expect("the task grasps a part");
+    assert!(attach > 0.5 && detach > attach + 1.0, "{attach} {detach}");
+    let loaded = ur5_with_payload(1.5, [0.0, 0.0, 0.06]);
+    let bare = Model::build(Model::read_spec(&root().join("robots/ur5.urdf")).unwrap())
+        .unwrap()
+        .0;
+    let mut data = Data::new(&loaded);
     let viscous = [2.0, 2.0, 1.5, 0.5, 0.5, 0.5];
     let coulomb = [3.0, 3.0, 2.0, 1.0, 1.0, 1.0];
     let g = Vec3::new(0.0, 0.0, -9.81);
@@ -88,15 +96,35 @@ fn torque_check_agrees_with_an_independent_rnea_recomputation() {
     let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut worst: f64 = 0.0;
     let mut checked = 0;
-    for k in (0..rep.t.len()).step_by(37) {
-        traj.sample(rep.t[k], &mut q, &mut qd, &mut qdd);
-        let tau = rnea(&model, &mut data, &q, &qd, &qdd, &g, None).to_vec();
+    let (mut before, mut during, mut after) = (0, 0, 0);
+    for k in (0..rep.t.len()).step_by(23) {
+        let t = rep.t[k];
+        traj.sample(t, &mut q, &mut qd, &mut qdd);
+        let carrying = t >= attach && t <= detach;
+        let model = if carrying { &loaded } else { &bare };
+        match (t < attach, carrying) {
+            (true, _) => before += 1,
+            (_, true) => during += 1,
+            _ => after += 1,
+        }
+        let tau = rnea(model, &mut data, &q, &qd, &qdd, &g, None).to_vec();
         for j in 0..n {
             let expect = tau[j] + friction(qd[j], viscous[j], coulomb[j]);
             worst = worst.max((expect - rep.torque(k, j)).abs());
         }
         checked += 1;
     }
+    assert!(
+        before > 20 && during > 20 && after > 20,
+        "{before} {during} {after}"
+    );
+    // The part's weight is felt: at a held pose inside the window the shoulder-lift
+    // torque differs from the bare arm's by about m g × lever arm (> 1 N m here).
+    let k = rep.t.iter().position(|&t| t > attach + 1e-3).unwrap();
+    traj.sample(rep.t[k], &mut q, &mut qd, &mut qdd);
+    let with = rnea(&loaded, &mut data, &q, &qd, &qdd, &g, None)[1];
+    let without = rnea(&bare, &mut data, &q, &qd, &qdd, &g, None)[1];
+    assert!((with - without).abs() > 1.0, "{with} {without}");
     assert!(checked > 300, "{checked} samples");
     assert!(worst < 1e-9, "largest torque difference {worst:e} N m");
     // The JSON rows carry the same peaks.
@@ -895,4 +923,132 @@ fn workspace_writes_its_cloud_as_pointcloud2_in_mcap() {
     }
     assert!(rec.header.robot_description.unwrap().contains("<robot"));
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The bundled pick-and-place with the planner switched off: joint-space moves to the IK
+/// solutions of the approach poses.
+fn pick_and_place_unplanned() -> String {
+    let text = bundled("ur5_pick_and_place");
+    let i = text.find("[planner]").unwrap();
+    let j = text[i..].find("\n\n").unwrap() + i + 2;
+    let text = format!("{}{}", &text[..i], &text[j..]);
+    assert!(text.contains("planner = \"rrt-connect\""));
+    text.replace("planner = \"rrt-connect\"", "planner = \"none\"")
+}
+
+#[test]
+fn bundled_pick_and_place_direct_path_hits_the_crate_and_the_planned_one_does_not() {
+    // Direct: the parry trajectory check finds the crate in the way.
+    let out = run_text("ur5_pick_and_place", &pick_and_place_unplanned());
+    let c = &out.report.json["collisions"];
+    assert_eq!(c["checked"], true);
+    assert_eq!(c["collision_free"], false, "{c}");
+    let pair = c["first"]["pair"].as_array().unwrap();
+    assert!(pair.iter().any(|p| p == "crate"), "{pair:?}");
+    assert!(out.plan.planned_paths.is_empty());
+    // Planned: the same check (continuous between samples, the part on the tool from
+    // the pick to the place) finds nothing.
+    let out = run_text("ur5_pick_and_place", &bundled("ur5_pick_and_place"));
+    let c = &out.report.json["collisions"];
+    assert_eq!(c["collision_free"], true, "{c}");
+    let (a, b) = out.plan.carry.unwrap();
+    assert_eq!(c["part_checked_s"], serde_json::json!([a, b]));
+    assert_eq!(
+        out.plan.planned_paths.len(),
+        3,
+        "approach, transfer, return"
+    );
+    let planner = &out.report.json["plan"]["planner"];
+    assert_eq!(planner["algorithm"], "rrt-connect");
+    assert_eq!(planner["segments"], 3);
+}
+
+#[test]
+fn planned_transfer_goes_through_its_via_points_without_stopping() {
+    let out = run_text("ur5_pick_and_place", &bundled("ur5_pick_and_place"));
+    let traj = &out.plan.trajectory;
+    let planned: Vec<_> = out
+        .plan
+        .pieces
+        .iter()
+        .filter(|p| p.kind == "planned")
+        .collect();
+    assert_eq!(planned.len(), 3);
+    // The transfer (from the pick's retreat to the place's approach) goes around the
+    // crate: more than two via points.
+    let transfer = &out.plan.planned_paths[1];
+    assert!(transfer.len() > 2, "{} via points", transfer.len());
+    let n = 6;
+    let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    for p in planned {
+        // Rest at both ends, moving everywhere in between (sampled every 2 ms away from
+        // the ends): no stop at the via points.
+        let k = (p.duration_s / 0.002) as usize;
+        let mut slowest = f64::INFINITY;
+        for i in 1..k {
+            let t = p.start_s + p.duration_s * i as f64 / k as f64;
+            let u = (t - p.start_s).min(p.start_s + p.duration_s - t);
+            traj.sample(t, &mut q, &mut qd, &mut qdd);
+            let speed = qd.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if u > 0.1 {
+                slowest = slowest.min(speed);
+            }
+        }
+        assert!(slowest > 0.05, "{}: slowest {slowest} rad/s", p.from);
+        traj.sample(p.start_s + 1e-9, &mut q, &mut qd, &mut qdd);
+        assert!(qd.iter().all(|x| x.abs() < 1e-3), "{qd:?}");
+    }
+}
+
+#[test]
+fn plan_task_reaches_joint_and_pose_goals_around_the_crate() {
+    let base = bundled("ur5_pick_and_place");
+    let i = base.find("[task]").unwrap();
+    let j = base.find("[trajectory]").unwrap();
+    let head = &base[..i];
+    let tail = &base[j..];
+    // Joint goal on the far side of the crate.
+    let h = std::f64::consts::FRAC_PI_2;
+    let goal = [1.0, -h, h, -h, -h, 0.0];
+    let text = format!("{head}[task]\ntype = \"plan\"\ngoal_q = {goal:?}\n\n{tail}");
+    let out = run_text("ur5_pick_and_place", &text);
+    assert_eq!(out.report.json["collisions"]["collision_free"], true);
+    assert_eq!(out.plan.planned_paths.len(), 1);
+    let path = &out.plan.planned_paths[0];
+    assert!(path.len() > 2, "the straight move crosses the crate");
+    let traj = &out.plan.trajectory;
+    let (mut q, mut qd, mut qdd) = (vec![0.0; 6], vec![0.0; 6], vec![0.0; 6]);
+    traj.sample(traj.duration(), &mut q, &mut qd, &mut qdd);
+    for k in 0..6 {
+        assert!((q[k] - goal[k]).abs() < 1e-9, "{q:?}");
+    }
+    // The same seed gives the same path.
+    let again = run_text("ur5_pick_and_place", &text);
+    assert_eq!(again.plan.planned_paths, out.plan.planned_paths);
+    // Tool pose goal through IK: the motion ends at the pose.
+    let text = format!(
+        "{head}[task]\ntype = \"plan\"\ngoal = {{ xyz = [0.45, 0.3, 0.35], rpy = [3.14159265, 0.0, -1.5707963] }}\n\n{tail}"
+    );
+    let out = run_text("ur5_pick_and_place", &text);
+    assert_eq!(out.report.json["collisions"]["collision_free"], true);
+    let traj = &out.plan.trajectory;
+    traj.sample(traj.duration(), &mut q, &mut qd, &mut qdd);
+    let model = Model::build(Model::read_spec(&root().join("robots/ur5.urdf")).unwrap())
+        .unwrap()
+        .0;
+    let mut data = Data::new(&model);
+    armsim::kinematics::forward_kinematics(&model, &mut data, &q);
+    let tool = model.link_id("tool0").unwrap();
+    let p = armsim::kinematics::frame_placement(&model, &data, tool).trans;
+    assert!((p - Vec3::new(0.45, 0.3, 0.35)).norm() < 1e-6, "{p:?}");
+}
+
+#[test]
+fn planner_table_without_a_planned_task_is_refused_with_its_line() {
+    let text = pick_and_place_unplanned().replace("[task]", "[planner]\nseed = 3\n\n[task]");
+    let path = root().join("scenarios/ur5_pick_and_place.toml");
+    let e = arm::load(&path, &text).err().expect("refused").to_string();
+    assert!(e.contains("planner") && e.contains("plans nothing"), "{e}");
+    let line = text.lines().position(|l| l == "[planner]").unwrap() + 1;
+    assert!(e.contains(&format!(":{line}:")), "{e}");
 }

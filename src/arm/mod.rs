@@ -7,12 +7,16 @@
 //! - [`schema`]: the file's serde structures (unknown keys refused);
 //! - [`scene`]: validation into a [`scene::Scene`] (errors name the file, line and key);
 //! - [`plan`]: the task as one timed trajectory;
+//! - [`planned`]: the RRT-Connect planners of a scene and smooth planned paths;
+//! - [`checks`]: the collision check with the grasped part, the planned tool path;
 //! - [`contact`]: the rapier3d contact scene, built only for the `contact` effect;
 //! - [`run`]: the end-to-end run and its report;
 //! - [`plots`]: the simulation plot.
 
+pub mod checks;
 pub mod contact;
 pub mod plan;
+pub mod planned;
 pub mod plots;
 pub mod run;
 pub mod scene;

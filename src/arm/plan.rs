@@ -7,10 +7,16 @@
 //!   (trapezoidal and quintic stop at each waypoint; the minimum-jerk spline passes
 //!   through them); time-optimal timing runs TOPP on each straight joint segment, with
 //!   the scene's torque limits and effects.
+//! - A planned step ([`Step::Plan`]) runs RRT-Connect ([`super::planned`]) from the current
+//!   configuration (with the grasped part on the tool between [`Step::Attach`] and
+//!   [`Step::Detach`]) and times the path as one smooth motion through its via points by
+//!   TOPP with the effects of that interval (the payload only while the part is held).
 //! - A straight line keeps its tool-speed timing, or is re-timed by TOPP along its IK
 //!   path when the timing is time-optimal.
 
+use super::planned::{smooth_path, ScenePlanners};
 use super::scene::{Scene, Step, Timing};
+use crate::dynamics::Effects;
 use crate::kinematics::ik::{IkOptions, IkSolver, IkStatus};
 use crate::model::Model;
 use crate::scenario::ScenarioError;
@@ -77,7 +83,7 @@ impl Trajectory for Dwell {
 /// One planned piece, for the report.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct PieceInfo {
-    /// `joint`, `line` or `dwell`.
+    /// `joint`, `planned`, `line` or `dwell`.
     pub kind: &'static str,
     /// Where it comes from in the file.
     pub from: String,
@@ -95,6 +101,13 @@ pub struct Plan {
     pub waypoints: Vec<Vec<f64>>,
     pub ik_solves: usize,
     pub planning_time_s: f64,
+    /// When the task grasps a part: the attach and detach times (s); `None` when the
+    /// payload (if any) is carried throughout.
+    pub carry: Option<(f64, f64)>,
+    /// The planned paths' via points (one list per planned segment).
+    pub planned_paths: Vec<Vec<Vec<f64>>>,
+    /// The planner's figures and notes, when the task plans.
+    pub planner: Option<serde_json::Value>,
 }
 
 fn named(model: &Model, q: &[f64]) -> serde_json::Map<String, serde_json::Value> {
@@ -108,6 +121,10 @@ fn named(model: &Model, q: &[f64]) -> serde_json::Map<String, serde_json::Value>
 
 enum Group {
     Joint(Vec<Vec<f64>>, Vec<String>),
+    /// A planned path's via points, whether the part is on the tool, the step key.
+    Planned(Vec<Vec<f64>>, bool, String),
+    /// Grasp (true) or release.
+    Grip(bool),
     Line(Box<crate::trajectory::CartesianMove>, String),
     Dwell(Vec<f64>, f64, String),
 }
@@ -129,6 +146,21 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
         position_only: scene.position_only,
         ..Default::default()
     };
+    let solve_ik = |ik: &mut IkSolver, target: &crate::spatial::Se3, seed: &[f64]| {
+        let r = ik.solve(model, scene.tool, target, Some(seed), &ik_opts);
+        if r.status != IkStatus::Converged {
+            return Err(format!(
+                "the tool pose is out of reach: IK {} (position error {:.3e} m, rotation error {:.3e} rad)",
+                r.status.as_str(),
+                r.position_error,
+                r.rotation_error
+            ));
+        }
+        Ok(r.q)
+    };
+    let grips = scene.steps.iter().any(|s| matches!(s.step, Step::Attach));
+    let mut carrying = false;
+    let mut planners: Option<ScenePlanners> = None;
     let mut groups: Vec<Group> = Vec::new();
     let mut q = scene.q0.clone();
     let mut waypoints = vec![q.clone()];
@@ -156,22 +188,40 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
             }
             Step::Pose(target) => {
                 ik_solves += 1;
-                let r = ik.solve(model, scene.tool, target, Some(&q), &ik_opts);
-                if r.status != IkStatus::Converged {
-                    return Err(err(
-                        &ts.key,
-                        ts.line,
-                        format!(
-                            "the tool pose is out of reach: IK {} (position error {:.3e} m, rotation error {:.3e} rad)",
-                            r.status.as_str(),
-                            r.position_error,
-                            r.rotation_error
-                        ),
-                    ));
-                }
-                q = r.q;
+                q = solve_ik(&mut ik, target, &q).map_err(|m| err(&ts.key, ts.line, m))?;
                 pending.push(q.clone());
                 pending_keys.push(ts.key.clone());
+            }
+            Step::Plan(target) => {
+                let goal = match target {
+                    Ok(g) => g.clone(),
+                    Err(pose) => {
+                        ik_solves += 1;
+                        solve_ik(&mut ik, pose, &q).map_err(|m| err(&ts.key, ts.line, m))?
+                    }
+                };
+                flush(&mut groups, &mut pending, &mut pending_keys, &q);
+                if planners.is_none() {
+                    let settings = scene
+                        .planner
+                        .as_ref()
+                        .ok_or_else(|| err(&ts.key, ts.line, "no planner settings".into()))?;
+                    planners = Some(
+                        ScenePlanners::new(scene, settings).map_err(|m| err("planner", None, m))?,
+                    );
+                }
+                let p = planners.as_mut().expect("built");
+                let path = p
+                    .plan(carrying, &q, &goal)
+                    .map_err(|m| err(&ts.key, ts.line, m))?;
+                q = goal;
+                groups.push(Group::Planned(path, carrying, ts.key.clone()));
+                pending = vec![q.clone()];
+            }
+            Step::Attach | Step::Detach => {
+                flush(&mut groups, &mut pending, &mut pending_keys, &q);
+                carrying = matches!(ts.step, Step::Attach);
+                groups.push(Group::Grip(carrying));
             }
             Step::Line(goal) => {
                 flush(&mut groups, &mut pending, &mut pending_keys, &q);
@@ -228,27 +278,23 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
         segments: scene.topp_segments,
         ..Default::default()
     };
-    let mut pieces: Vec<Box<dyn Trajectory + Send + Sync>> = Vec::new();
-    let mut infos = Vec::new();
-    let mut knots = vec![0.0];
-    let mut push = |p: Box<dyn Trajectory + Send + Sync>, kind: &'static str, from: String| {
-        let t0 = *knots.last().expect("non-empty");
-        let d = p.duration();
-        let mut qe = vec![0.0; model.nv];
-        let (mut a, mut b) = (vec![0.0; model.nv], vec![0.0; model.nv]);
-        p.sample(d, &mut qe, &mut a, &mut b);
-        infos.push(PieceInfo {
-            kind,
-            from,
-            start_s: t0,
-            duration_s: d,
-            end_q: named(model, &qe),
-        });
-        knots.push(t0 + d);
-        pieces.push(p);
+    let loaded = &scene.effects;
+    let free = Effects {
+        payload: None,
+        ..scene.effects.clone()
     };
+    let mut tl = Timeline {
+        n: model.nv,
+        knots: vec![0.0],
+        pieces: Vec::new(),
+        infos: Vec::new(),
+    };
+    let mut carrying = !grips;
+    let (mut attach_t, mut detach_t) = (None, None);
+    let mut planned_paths = Vec::new();
     let lim = &scene.limits;
     for g in groups {
+        let fx = if carrying { loaded } else { &free };
         match g {
             Group::Joint(wps, keys) => {
                 let from = keys.join(", ");
@@ -260,53 +306,135 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
                     )
                 };
                 match scene.timing {
-                    Timing::Trapezoidal => push(
+                    Timing::Trapezoidal => tl.push(
+                        model,
                         Box::new(Trapezoidal::new(&wps, lim).map_err(e)?),
                         "joint",
                         from,
                     ),
-                    Timing::Quintic => {
-                        push(Box::new(Quintic::new(&wps, lim).map_err(e)?), "joint", from)
-                    }
-                    Timing::MinimumJerk => {
-                        push(Box::new(MinJerk::new(&wps, lim).map_err(e)?), "joint", from)
-                    }
+                    Timing::Quintic => tl.push(
+                        model,
+                        Box::new(Quintic::new(&wps, lim).map_err(e)?),
+                        "joint",
+                        from,
+                    ),
+                    Timing::MinimumJerk => tl.push(
+                        model,
+                        Box::new(MinJerk::new(&wps, lim).map_err(e)?),
+                        "joint",
+                        from,
+                    ),
                     Timing::TimeOptimal => {
                         for (i, w) in wps.windows(2).enumerate() {
                             let path = LinearPath::new(w[0].clone(), w[1].clone()).map_err(e)?;
-                            let t =
-                                topp(model, path, lim, &scene.effects, &topp_opts).map_err(e)?;
-                            push(
-                                Box::new(t),
-                                "joint",
-                                keys.get(i).cloned().unwrap_or_default(),
-                            );
+                            let t = topp(model, path, lim, fx, &topp_opts).map_err(e)?;
+                            let key = keys.get(i).cloned().unwrap_or_default();
+                            tl.push(model, Box::new(t), "joint", key);
                         }
                     }
+                }
+            }
+            Group::Planned(path, with_part, key) => {
+                let planner = planners.as_mut().expect("built").planner(with_part);
+                let spline = smooth_path(planner, &path)
+                    .map_err(|m| err(&key, None, format!("planned motion: {m}")))?;
+                // A curved path's dense check may need more refinements (and accepts a
+                // 1e-6 relative excess); then a finer grid, once.
+                let mut opts = ToppOptions {
+                    max_refinements: 30,
+                    tolerance: 1e-6,
+                    ..topp_opts.clone()
+                };
+                let t = loop {
+                    match topp(model, spline.clone(), lim, fx, &opts) {
+                        Ok(t) => break t,
+                        Err(_) if opts.segments < 2 * topp_opts.segments => opts.segments *= 2,
+                        Err(x) => return Err(err(&key, None, format!("planned motion: {x}"))),
+                    }
+                };
+                tl.push(model, Box::new(t), "planned", key);
+                planned_paths.push(path);
+            }
+            Group::Grip(on) => {
+                carrying = on;
+                let t = *tl.knots.last().expect("non-empty");
+                if on {
+                    attach_t = Some(t);
+                } else {
+                    detach_t = Some(t);
                 }
             }
             Group::Line(mv, key) => {
                 if scene.timing == Timing::TimeOptimal {
                     let path = mv.path().clone();
-                    let t = topp(model, path, lim, &scene.effects, &topp_opts)
+                    let t = topp(model, path, lim, fx, &topp_opts)
                         .map_err(|x| err(&key, None, format!("straight line: {x}")))?;
-                    push(Box::new(t), "line", key);
+                    tl.push(model, Box::new(t), "line", key);
                 } else {
-                    push(mv, "line", key);
+                    tl.push(model, mv, "line", key);
                 }
             }
-            Group::Dwell(q, d, key) => push(Box::new(Dwell { q, duration: d }), "dwell", key),
+            Group::Dwell(q, d, key) => {
+                tl.push(model, Box::new(Dwell { q, duration: d }), "dwell", key)
+            }
         }
     }
+    let end = *tl.knots.last().expect("non-empty");
+    let carry = attach_t.map(|a| (a, detach_t.unwrap_or(end)));
+    let planner = planners.map(|p| {
+        serde_json::json!({
+            "algorithm": "rrt-connect",
+            "segments": p.segments,
+            "iterations": p.iterations,
+            "plan_time_us": p.plan_time_us,
+            "notes": p.notes,
+        })
+    });
     Ok(Plan {
         trajectory: Sequence {
             n: model.nv,
-            knots,
-            pieces,
+            knots: tl.knots,
+            pieces: tl.pieces,
         },
-        pieces: infos,
+        pieces: tl.infos,
         waypoints,
         ik_solves,
         planning_time_s: start.elapsed().as_secs_f64(),
+        carry,
+        planned_paths,
+        planner,
     })
+}
+
+/// The pieces being joined, with their start times and report entries.
+struct Timeline {
+    n: usize,
+    knots: Vec<f64>,
+    pieces: Vec<Box<dyn Trajectory + Send + Sync>>,
+    infos: Vec<PieceInfo>,
+}
+
+impl Timeline {
+    fn push(
+        &mut self,
+        model: &Model,
+        p: Box<dyn Trajectory + Send + Sync>,
+        kind: &'static str,
+        from: String,
+    ) {
+        let t0 = *self.knots.last().expect("non-empty");
+        let d = p.duration();
+        let mut qe = vec![0.0; self.n];
+        let (mut a, mut b) = (vec![0.0; self.n], vec![0.0; self.n]);
+        p.sample(d, &mut qe, &mut a, &mut b);
+        self.infos.push(PieceInfo {
+            kind,
+            from,
+            start_s: t0,
+            duration_s: d,
+            end_q: named(model, &qe),
+        });
+        self.knots.push(t0 + d);
+        self.pieces.push(p);
+    }
 }

@@ -7,7 +7,6 @@ use super::contact::{ContactReport, ContactSim};
 use super::plan::{plan, Plan};
 use super::plots;
 use super::scene::{Scene, Timing};
-use crate::collision::{CollisionData, CollisionModel, Scope, TrajectoryOptions};
 use crate::data::Data;
 use crate::dynamics::{Effects, Payload};
 use crate::kinematics::{forward_kinematics, frame_placement};
@@ -18,7 +17,8 @@ use crate::scenario::{Report, ScenarioError};
 use crate::sim::{SimConfig, Simulator, StepHook};
 use crate::spatial::Inertia;
 use crate::trajectory::{
-    check_torques, AsReference, CheckOptions, PlotFormat, TorqueReport, Trajectory,
+    check_torques, check_torques_switched, AsReference, CheckOptions, PlotFormat, TorqueReport,
+    Trajectory,
 };
 use serde_json::{json, Map, Value};
 use std::fmt::Write as _;
@@ -140,8 +140,18 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
             velocity_limit: Some(scene.check_velocity.clone()),
             keep_series: i + 1 == masses.len(),
         };
-        let r = check_torques(model, traj, &fx, &copts)
-            .map_err(|e| fail("trajectory", format!("torque check: {e}")))?;
+        // With a grasped part, its payload only between the attach and the detach.
+        let r = match plan.carry {
+            Some(window) => {
+                let bare = Effects {
+                    payload: None,
+                    ..fx.clone()
+                };
+                check_torques_switched(model, traj, &bare, &fx, window, &copts)
+            }
+            None => check_torques(model, traj, &fx, &copts),
+        }
+        .map_err(|e| fail("trajectory", format!("torque check: {e}")))?;
         sweep.push((*m, r));
     }
     let torque = sweep.last().expect("one").1.clone();
@@ -156,61 +166,10 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     let t0 = Instant::now();
     let collisions = match &scene.collision {
         None => json!({"checked": false}),
-        Some(copts) => {
-            let cm = CollisionModel::from_specs(model, &scene.obstacles, copts)
-                .map_err(|e| fail("collision", e.to_string()))?;
-            warnings.extend(cm.warnings().iter().cloned());
-            let mut cd = CollisionData::new(model, &cm);
-            let k = ((duration / 0.01).ceil() as usize).clamp(50, 20_000);
-            let times: Vec<f64> = (0..=k).map(|i| duration * i as f64 / k as f64).collect();
-            let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-            let qs: Vec<Vec<f64>> = times
-                .iter()
-                .map(|&t| {
-                    traj.sample(t, &mut q, &mut qd, &mut qdd);
-                    q.clone()
-                })
-                .collect();
-            let scope = if scene.self_collision {
-                Scope::All
-            } else {
-                Scope::Environment
-            };
-            let topts = TrajectoryOptions {
-                scope,
-                time_tolerance: 1e-4,
-                max_step: Some(scene.collision_max_step),
-                distances: true,
-            };
-            let rep = cm
-                .check_trajectory(model, &mut cd, &times, &qs, &topts)
-                .map_err(|e| fail("collision", e.to_string()))?;
-            let pd = |t: f64, p: &crate::collision::PairDistance| {
-                json!({
-                    "time": t,
-                    "pair": [cm.body_name(p.a), cm.body_name(p.b)],
-                    "distance": p.distance,
-                })
-            };
-            json!({
-                "checked": true,
-                "collision_free": rep.first_collision.is_none(),
-                "first": rep.first_collision.as_ref().map(|c| json!({
-                    "time": c.time,
-                    "last_free": c.last_free,
-                    "pair": [c.names.0, c.names.1],
-                    "depth": c.pairs.first().map(|p| -p.distance),
-                    "pairs": c.pairs.iter().map(|p| json!([cm.body_name(p.a), cm.body_name(p.b), p.distance])).collect::<Vec<_>>(),
-                    "q": named(&names, &c.q),
-                })),
-                "min_environment": rep.min_environment.as_ref().map(|(t, p)| pd(*t, p)),
-                "min_self": rep.min_self.as_ref().map(|(t, p)| pd(*t, p)),
-                "pairs_tested": cm.tested_pairs(scope).len(),
-                "configurations_checked": rep.configurations_checked,
-                "unprotected_links": cm.unprotected_links(),
-            })
-        }
+        Some(copts) => super::checks::check_collisions(&scene, &plan, copts, &mut warnings)
+            .map_err(|e| fail("collision", e))?,
     };
+    let tool_path = super::checks::planned_tool_path(&scene, &plan);
     timings.insert("collisions_s".into(), json!(t0.elapsed().as_secs_f64()));
 
     // The output directory and the recording (streamed during the simulation, so an
@@ -254,6 +213,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         let sim_duration = ss.duration.unwrap_or(duration + ss.settle);
         let mut sim = Simulator::new(model, scene.effects.clone())
             .map_err(|e| fail("simulation", e.to_string()))?;
+        sim.set_payload_window(plan.carry);
         let cfg = SimConfig {
             dt: ss.dt,
             duration: sim_duration,
@@ -428,6 +388,9 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
                 first_violation: j.first_violation_s,
             })
             .collect();
+        if let Some(c) = &tool_path {
+            w.write_cloud(c).map_err(|e| rec_err(e.to_string()))?;
+        }
         w.write_torque_check(duration, &rows)
             .map_err(|e| rec_err(e.to_string()))?;
         if let Some(ev) = first_collision_event(&collisions) {
@@ -451,6 +414,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
             header,
             frames,
             collisions,
+            clouds: tool_path.iter().cloned().collect(),
             obstacles: obstacle_markers(&scene),
             ..Default::default()
         };
@@ -586,6 +550,8 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
             "duration_s": duration,
             "pieces": plan.pieces,
             "ik_solves": plan.ik_solves,
+            "planner": plan.planner,
+            "part_carried_s": plan.carry.map(|(a, b)| [a, b]),
         },
         "torque_check": torque.json_rows(),
         "torque_check_ok": torque.ok,

@@ -58,6 +58,12 @@ pub enum Step {
     Line(Se3),
     /// Stay still (s).
     Dwell(f64),
+    /// Planned, collision-free move to joint values (`Ok`) or a tool pose through IK.
+    Plan(Result<Vec<f64>, Se3>),
+    /// The tool grasps the part: from here its mass and shape travel with it.
+    Attach,
+    /// The tool releases the part.
+    Detach,
 }
 
 /// A step with where it was written (for error messages).
@@ -156,6 +162,12 @@ pub struct Scene {
     pub simulation: Option<SimSettings>,
     pub outputs: Outputs,
     pub warnings: Vec<String>,
+    /// Planner settings (when the task plans).
+    pub planner: Option<super::planned::PlannerSettings>,
+    /// The grasped part's shape, on the tool between attach and detach.
+    pub part: Option<super::planned::Part>,
+    /// `collision.disabled_pairs` and the skeleton's touching pairs, for the planner.
+    pub planner_disabled: Vec<[String; 2]>,
 }
 
 /// Error context: the file and its text.
@@ -1113,6 +1125,11 @@ pub fn build_with(
         s.rpy = crate::spatial::matrix_to_rpy(&local.rot);
         obstacles.push(s);
     }
+    // The planner leaves these pairs out whether or not the motion is checked.
+    let mut planner_disabled = touching.clone();
+    if let Some(c) = csec {
+        planner_disabled.extend(c.disabled_pairs.iter().map(|p| p.get_ref().clone()));
+    }
     let collision_enabled = csec.is_none_or(|c| c.enabled);
     let self_collision = csec.is_none_or(|c| c.self_collision);
     let collision = if collision_enabled {
@@ -1286,16 +1303,39 @@ pub fn build_with(
                 p.xyz[2] += a;
                 p
             };
+            let planned = uses_planner(&cx, tsec)?;
             for (label, p) in [("pick", pick), ("place", place)] {
                 let key = format!("task.{label}");
-                push(&mut steps, Step::Pose(to_base(&above(p.get_ref()))), format!("{key} (approach)"), p.span());
+                let approach = to_base(&above(p.get_ref()));
+                let step = if planned { Step::Plan(Err(approach)) } else { Step::Pose(approach) };
+                push(&mut steps, step, format!("{key} (approach)"), p.span());
                 push(&mut steps, Step::Line(to_base(p.get_ref())), key.clone(), p.span());
                 if dwell > 0.0 {
                     push(&mut steps, Step::Dwell(dwell), key.clone(), p.span());
                 }
+                let grip = if label == "pick" { Step::Attach } else { Step::Detach };
+                push(&mut steps, grip, key.clone(), p.span());
                 push(&mut steps, Step::Line(to_base(&above(p.get_ref()))), format!("{key} (retreat)"), p.span());
             }
-            push(&mut steps, Step::Joint(q0.clone()), "initial.q (return)".into(), pick.span());
+            let back = if planned { Step::Plan(Ok(q0.clone())) } else { Step::Joint(q0.clone()) };
+            push(&mut steps, back, "initial.q (return)".into(), pick.span());
+        }
+        "plan" => {
+            let target = match (&tsec.goal, &tsec.goal_q) {
+                (Some(g), None) => {
+                    check_pose(g.get_ref(), "task.goal", g.span())?;
+                    Err(to_base(g.get_ref()))
+                }
+                (None, Some(j)) => Ok(joint_row(j, "task.goal_q")?),
+                _ => {
+                    return Err(cx.at(
+                        file.task.span(),
+                        "task.goal",
+                        "task type 'plan' needs exactly one of task.goal (a tool pose) and task.goal_q (joint values)",
+                    ))
+                }
+            };
+            push(&mut steps, Step::Plan(target), "task.goal".into(), file.task.span());
         }
         "sequence" => {
             let list = tsec.steps.as_ref().ok_or_else(|| need("steps"))?;
@@ -1339,7 +1379,7 @@ pub fn build_with(
                 file.task.get_ref().kind.span(),
                 "task.type",
                 format!(
-                    "unknown task type '{other}' (expected joint_waypoints, cartesian_waypoints, line, pick_and_place or sequence)"
+                    "unknown task type '{other}' (expected joint_waypoints, cartesian_waypoints, line, pick_and_place, plan or sequence)"
                 ),
             ))
         }
@@ -1531,6 +1571,32 @@ pub fn build_with(
             }
         },
     };
+    let plans = steps.iter().any(|s| matches!(s.step, Step::Plan(_)));
+    let planner = planner_settings(&cx, file, dir, &model, plans, &mut warnings)?;
+    let part = match &tsec.part {
+        None => None,
+        Some(p) => {
+            let v = p.get_ref();
+            if kind != "pick_and_place" {
+                return Err(cx.at(
+                    p.span(),
+                    "task.part",
+                    "only a pick_and_place task grasps a part",
+                ));
+            }
+            if !(v.size.iter().all(|x| finite_pos(*x)) && v.xyz.iter().all(|x| x.is_finite())) {
+                return Err(cx.at(
+                    p.span(),
+                    "task.part",
+                    "size must be positive and xyz finite",
+                ));
+            }
+            Some(super::planned::Part {
+                size: v.size,
+                xyz: v.xyz,
+            })
+        }
+    };
     let outputs = Outputs {
         dir: osec.and_then(|o| o.dir.clone()).map(PathBuf::from),
         torque_plot,
@@ -1578,7 +1644,76 @@ pub fn build_with(
         simulation,
         outputs,
         warnings,
+        planner,
+        part,
+        planner_disabled,
     })
+}
+
+/// The `[planner]` settings when the task plans (the table is refused otherwise).
+fn planner_settings(
+    cx: &Ctx,
+    file: &ArmFile,
+    dir: &Path,
+    model: &Model,
+    plans: bool,
+    warnings: &mut Vec<String>,
+) -> Result<Option<super::planned::PlannerSettings>, ScenarioError> {
+    let sec = file.planner.as_ref();
+    if !plans {
+        return match sec {
+            Some(s) => Err(cx.at(
+                s.span(),
+                "planner",
+                "the task plans nothing (use task type 'plan' or task.planner = \"rrt-connect\")",
+            )),
+            None => Ok(None),
+        };
+    }
+    let p = sec.map(|s| s.get_ref());
+    let ms = match p.and_then(|p| p.time_limit_ms.as_ref()) {
+        None => 1000.0,
+        Some(t) if finite_pos(*t.get_ref()) => *t.get_ref(),
+        Some(t) => return Err(cx.at(t.span(), "planner.time_limit_ms", "must be positive")),
+    };
+    let max_overshoot = match p.and_then(|p| p.max_overshoot.as_ref()) {
+        None => 0.01,
+        Some(t) if finite_pos(*t.get_ref()) => *t.get_ref(),
+        Some(t) => return Err(cx.at(t.span(), "planner.max_overshoot", "must be positive")),
+    };
+    let srdf = match p.and_then(|p| p.srdf.as_ref()) {
+        None => None,
+        Some(f) => {
+            let path = dir.join(f.get_ref());
+            let (pairs, w) = crate::planning::srdf::load_disabled_pairs(&path, model)
+                .map_err(|e| cx.at(f.span(), "planner.srdf", e.to_string()))?;
+            warnings.extend(w.iter().map(|w| format!("{w}")));
+            Some((path.display().to_string(), pairs))
+        }
+    };
+    Ok(Some(super::planned::PlannerSettings {
+        seed: p.and_then(|p| p.seed).unwrap_or(0),
+        time_limit: std::time::Duration::from_secs_f64(ms / 1e3),
+        simplify: p.and_then(|p| p.simplify).unwrap_or(true),
+        max_overshoot,
+        srdf,
+    }))
+}
+
+/// Whether a pick-and-place plans its transfers (`task.planner`).
+fn uses_planner(cx: &Ctx, tsec: &TaskSec) -> Result<bool, ScenarioError> {
+    match &tsec.planner {
+        None => Ok(false),
+        Some(p) => match p.get_ref().as_str() {
+            "rrt-connect" => Ok(true),
+            "none" => Ok(false),
+            other => Err(cx.at(
+                p.span(),
+                "task.planner",
+                format!("unknown planner '{other}' (expected rrt-connect or none)"),
+            )),
+        },
+    }
 }
 
 fn check_in_limits(

@@ -34,6 +34,8 @@ pub struct ArmFile {
     #[serde(default)]
     pub obstacles: Vec<Spanned<ObstacleSpec>>,
     pub collision: Option<Spanned<CollisionSec>>,
+    /// Settings of the motion planner (task `plan`, or `planner = "rrt-connect"`).
+    pub planner: Option<Spanned<PlannerSec>>,
     pub task: Spanned<TaskSec>,
     pub trajectory: Option<Spanned<TrajectorySec>>,
     pub simulation: Option<Spanned<SimulationSec>>,
@@ -236,8 +238,16 @@ pub struct TaskSec {
     pub waypoints: Option<Spanned<Vec<PerJoint>>>,
     /// `cartesian_waypoints`: tool poses.
     pub poses: Option<Spanned<Vec<PoseSec>>>,
-    /// `line`: the goal pose.
+    /// `line` and `plan`: the goal pose.
     pub goal: Option<Spanned<PoseSec>>,
+    /// `plan`: the goal as joint values (instead of `goal`).
+    pub goal_q: Option<PerJoint>,
+    /// `pick_and_place`: `"rrt-connect"` plans the transfers around the obstacles
+    /// (default `"none"`: joint-space moves to the IK solutions).
+    pub planner: Option<Spanned<String>>,
+    /// `pick_and_place`: the grasped part as a box in the tool frame; it joins the
+    /// collision checks from the pick to the place.
+    pub part: Option<Spanned<PartSec>>,
     /// `pick_and_place`.
     pub pick: Option<Spanned<PoseSec>>,
     pub place: Option<Spanned<PoseSec>>,
@@ -253,6 +263,36 @@ pub struct TaskSec {
     /// Tool poses constrain the position only (default: for arms with fewer than six
     /// joints).
     pub position_only: Option<bool>,
+}
+
+/// `[planner]`: RRT-Connect settings.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlannerSec {
+    /// Sampler and simplifier seed (default 0).
+    pub seed: Option<u64>,
+    /// Search time limit per planned segment (ms; default 1000).
+    pub time_limit_ms: Option<Spanned<f64>>,
+    /// Shortcut and smooth the path (default true).
+    pub simplify: Option<bool>,
+    /// Largest overshoot of the spheres covering the robot's collision primitives and
+    /// meshes (m; default 0.01). Mesh covers need about `area / δ²` spheres: a coarser
+    /// cover plans faster (the parry check of the motion still uses the exact meshes).
+    pub max_overshoot: Option<Spanned<f64>>,
+    /// MoveIt SRDF with the disabled self-collision pairs, relative to the scenario
+    /// (default: adjacent and never-touching pairs found by sampling).
+    pub srdf: Option<Spanned<String>>,
+}
+
+/// The grasped part: a box in the tool link's frame.
+#[derive(Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub struct PartSec {
+    /// Edge lengths (m).
+    pub size: [f64; 3],
+    /// Centre in the tool frame (m).
+    #[serde(default)]
+    pub xyz: [f64; 3],
 }
 
 /// `[trajectory]`.

@@ -8,6 +8,7 @@ pub mod checker;
 pub mod environment;
 pub mod error;
 pub mod lanes;
+pub mod mesh_sdf;
 pub mod moveit;
 pub mod planner;
 pub mod rrt;

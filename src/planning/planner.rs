@@ -329,6 +329,19 @@ impl Planner {
         self.checker.config_free(&qf, &mut self.scratch)
     }
 
+    /// Checks the straight edge `a → b` continuously (true when free; not the hot path:
+    /// it converts to f32 through two small vectors).
+    pub fn edge_free(&mut self, a: &[f64], b: &[f64]) -> bool {
+        let af: Vec<f32> = a.iter().map(|&x| x as f32).collect();
+        let bf: Vec<f32> = b.iter().map(|&x| x as f32).collect();
+        self.checker.edge_free(
+            &af,
+            &bf,
+            super::checker::EdgeMode::Continuous,
+            &mut self.scratch,
+        )
+    }
+
     /// The check counters (edges, batches of eight) since the planner was built.
     pub fn counters(&self) -> (u64, u64) {
         (self.scratch.edges, self.scratch.batches)

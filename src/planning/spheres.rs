@@ -5,9 +5,11 @@
 //! **Sources.** A link's `<collision>` spheres are taken as given (the spherized Panda and
 //! UR5 of the benchmark); boxes, cylinders and capsules are covered by
 //! [`super::spherize::cover`] with overshoot at most [`SphereOptions::max_overshoot`].
-//! Meshes are not spherized here: a link whose only geometry is a mesh is reported in
-//! [`SphereModel::warnings`] and left unchecked (give the scenario a `skeleton_radius`, or
-//! use a spherized URDF).
+//! Meshes (resolved relative to the model file, as [`crate::collision`] does) are covered
+//! the same way from their signed distance ([`super::mesh_sdf`]): closed meshes with the
+//! same two guarantees; open meshes on their surface only (a note in
+//! [`SphereModel::warnings`]). A mesh that cannot be found or read is reported there and
+//! left unchecked.
 //!
 //! **Motion bound.** Along a straight joint-space segment, the centre `c` of a sphere on
 //! body `b` moves with speed `‖ċ‖ ≤ Σ_k |q̇_k| ρ_k`, the sum over the movable ancestors `k`
@@ -18,21 +20,30 @@
 //! `|q̇_k|`. Mimic bodies add `|multiplier| ρ_k` to their master's coordinate.
 //! [`SphereModel::rho`] stores, per sphere, these coefficients per coordinate.
 
-use super::spherize::{cover, Primitive};
+use super::mesh_sdf::MeshSdf;
+use super::spherize::{cover, cover_sdf, Primitive};
+use crate::collision::mesh::load_mesh;
+use crate::collision::resolve::{resolve_with, PackagePaths};
 use crate::model::{Model, Shape, WORLD};
 use crate::spatial::{Se3, Vec3};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 
 /// How to build the sphere model.
 #[derive(Clone, Debug)]
 pub struct SphereOptions {
     /// Largest distance a generated sphere may reach outside the primitive it covers (m).
     pub max_overshoot: f64,
+    /// Directories searched first for `package://` mesh URIs (then the environment and
+    /// the model file's ancestors, as [`crate::collision`] does).
+    pub package_path: Vec<PathBuf>,
 }
 
 impl Default for SphereOptions {
     fn default() -> Self {
         Self {
             max_overshoot: 0.01,
+            package_path: Vec::new(),
         }
     }
 }
@@ -89,6 +100,10 @@ impl SphereModel {
         let mut spheres = Vec::new();
         let mut links = Vec::new();
         let mut warnings = Vec::new();
+        let mut meshes = MeshCovers {
+            packages: PackagePaths::from_env(opts.package_path.clone()),
+            done: HashMap::new(),
+        };
         for l in order {
             let link = &model.links[l];
             let first = spheres.len();
@@ -100,11 +115,20 @@ impl SphereModel {
                         Primitive::Cylinder(*radius, length / 2.0)
                     }
                     Shape::Capsule { radius, length } => Primitive::Capsule(*radius, length / 2.0),
-                    Shape::Mesh { uri, .. } => {
-                        warnings.push(format!(
-                            "link '{}': mesh '{uri}' is not spherized; the planner does not check it",
-                            link.name
-                        ));
+                    Shape::Mesh { uri, scale } => {
+                        let to_body = link.offset.mul(&g.origin);
+                        match meshes.cover(model, uri, *scale, opts.max_overshoot) {
+                            Ok((cover, note)) => {
+                                if let Some(n) = note {
+                                    warnings.push(format!("link '{}': {n}", link.name));
+                                }
+                                push_spheres(&mut spheres, &to_body, cover);
+                            }
+                            Err(e) => warnings.push(format!(
+                                "link '{}': mesh '{uri}' is not spherized ({e}); the planner does not check it",
+                                link.name
+                            )),
+                        }
                         continue;
                     }
                 };
@@ -117,13 +141,7 @@ impl SphereModel {
                         link.name, opts.max_overshoot
                     ));
                 }
-                for (c, r) in cover {
-                    let p = to_body.act_point(&Vec3::new(c[0], c[1], c[2]));
-                    spheres.push(Sphere {
-                        center: [p.x as f32, p.y as f32, p.z as f32],
-                        radius: r as f32,
-                    });
-                }
+                push_spheres(&mut spheres, &to_body, cover);
             }
             if spheres.len() > first {
                 let bound = bounding_sphere(&spheres[first..]);
@@ -185,6 +203,65 @@ impl SphereModel {
             }
         }
         out
+    }
+}
+
+/// Adds a cover's spheres, placed by `to_body` (geometry → body frame).
+fn push_spheres(spheres: &mut Vec<Sphere>, to_body: &Se3, cover: Vec<([f64; 3], f64)>) {
+    for (c, r) in cover {
+        let p = to_body.act_point(&Vec3::new(c[0], c[1], c[2]));
+        spheres.push(Sphere {
+            center: [p.x as f32, p.y as f32, p.z as f32],
+            radius: r as f32,
+        });
+    }
+}
+
+/// A cover's spheres `(centre, radius)` and a note (open mesh, raised overshoot).
+type NotedCover = (Vec<([f64; 3], f64)>, Option<String>);
+
+/// Mesh covers by resolved file and scale, so a mesh used by several links is covered
+/// once.
+struct MeshCovers {
+    packages: PackagePaths,
+    done: HashMap<(PathBuf, [u64; 3]), NotedCover>,
+}
+
+impl MeshCovers {
+    /// The cover of mesh `uri` (resolved relative to the model file, as the collision
+    /// module does) and a note for an open mesh.
+    fn cover(
+        &mut self,
+        model: &Model,
+        uri: &str,
+        scale: [f64; 3],
+        delta: f64,
+    ) -> Result<NotedCover, String> {
+        let base = Path::new(&model.source)
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty());
+        let path = resolve_with(uri, base, &self.packages).map_err(|e| e.0)?;
+        let key = (path.clone(), scale.map(f64::to_bits));
+        if let Some(c) = self.done.get(&key) {
+            return Ok(c.clone());
+        }
+        let data = load_mesh(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let sdf = MeshSdf::new(&data, scale).map_err(|e| format!("{}: {e}", path.display()))?;
+        let (spheres, used) = cover_sdf(&|p| sdf.sdf(p), sdf.center, sdf.half, delta);
+        let mut notes = Vec::new();
+        if !sdf.closed {
+            notes.push(format!(
+                "mesh '{uri}' is open: its spheres wrap the surface only (no inside)"
+            ));
+        }
+        if used > delta {
+            notes.push(format!(
+                "mesh '{uri}' is this large: covered with overshoot {used:.4} m (more than the {delta} m asked for)"
+            ));
+        }
+        let note = (!notes.is_empty()).then(|| notes.join("; "));
+        self.done.insert(key, (spheres.clone(), note.clone()));
+        Ok((spheres, note))
     }
 }
 

@@ -1,7 +1,7 @@
 //! Sphere covers of collision primitives, with a stated maximum overshoot.
 //!
 //! The planner sees the robot as spheres. URDF `<sphere>` elements are taken as given; every
-//! other primitive (box, cylinder, capsule) is covered by spheres from its signed distance
+//! other primitive (box, cylinder, capsule), and a mesh ([`super::mesh_sdf`]), is covered by spheres from its signed distance
 //! function `φ` (negative inside) by a greedy medial cover:
 //!
 //! 1. grid points `p` at spacing `s` over the shape's bounding box, keeping those with
@@ -71,20 +71,30 @@ pub fn cover(shape: &Primitive, delta: f64) -> (Vec<([f64; 3], f64)>, f64) {
     match *shape {
         Primitive::Sphere(r) => (vec![([0.0; 3], r)], 0.0),
         Primitive::Capsule(r, h) => (cover_capsule(r, h, delta), delta),
-        _ => {
-            let he = shape.half_extents();
-            let mut delta = delta;
-            let points = |d: f64| {
-                he.iter()
-                    .map(|h| (2.0 * h / (d / 3f64.sqrt())).ceil() + 1.0)
-                    .product::<f64>()
-            };
-            while points(delta) > 4e5 {
-                delta *= 1.25;
-            }
-            (cover_by_sdf(shape, delta), delta)
-        }
+        _ => cover_sdf(&|p| shape.sdf(p), [0.0; 3], shape.half_extents(), delta),
     }
+}
+
+/// The greedy medial cover (module docs) of the shape with signed distance `sdf` inside
+/// the box `center ± he`, and the overshoot bound it meets (`delta`, raised past 400 000
+/// grid points). Any signed distance works (a mesh's, see [`super::mesh_sdf`]); with an
+/// unsigned one (an open mesh) the spheres wrap the surface.
+pub fn cover_sdf(
+    sdf: &dyn Fn([f64; 3]) -> f64,
+    center: [f64; 3],
+    he: [f64; 3],
+    delta: f64,
+) -> (Vec<([f64; 3], f64)>, f64) {
+    let mut delta = delta;
+    let points = |d: f64| {
+        he.iter()
+            .map(|h| (2.0 * h / (d / 3f64.sqrt())).ceil() + 1.0)
+            .product::<f64>()
+    };
+    while points(delta) > 4e5 {
+        delta *= 1.25;
+    }
+    (cover_grid(sdf, center, he, delta), delta)
 }
 
 fn cover_capsule(r: f64, h: f64, delta: f64) -> Vec<([f64; 3], f64)> {
@@ -103,8 +113,12 @@ fn cover_capsule(r: f64, h: f64, delta: f64) -> Vec<([f64; 3], f64)> {
         .collect()
 }
 
-fn cover_by_sdf(shape: &Primitive, delta: f64) -> Vec<([f64; 3], f64)> {
-    let he = shape.half_extents();
+fn cover_grid(
+    sdf: &dyn Fn([f64; 3]) -> f64,
+    center: [f64; 3],
+    he: [f64; 3],
+    delta: f64,
+) -> Vec<([f64; 3], f64)> {
     let s = delta / 3f64.sqrt();
     let slack = s * 3f64.sqrt() / 2.0;
     let counts = he.map(|h| ((2.0 * h) / s).ceil() as usize + 1);
@@ -113,11 +127,11 @@ fn cover_by_sdf(shape: &Primitive, delta: f64) -> Vec<([f64; 3], f64)> {
         for j in 0..counts[1] {
             for k in 0..counts[2] {
                 let p = [
-                    -he[0] + (2.0 * he[0]) * i as f64 / (counts[0] - 1).max(1) as f64,
-                    -he[1] + (2.0 * he[1]) * j as f64 / (counts[1] - 1).max(1) as f64,
-                    -he[2] + (2.0 * he[2]) * k as f64 / (counts[2] - 1).max(1) as f64,
+                    center[0] - he[0] + (2.0 * he[0]) * i as f64 / (counts[0] - 1).max(1) as f64,
+                    center[1] - he[1] + (2.0 * he[1]) * j as f64 / (counts[1] - 1).max(1) as f64,
+                    center[2] - he[2] + (2.0 * he[2]) * k as f64 / (counts[2] - 1).max(1) as f64,
                 ];
-                let phi = shape.sdf(p);
+                let phi = sdf(p);
                 if phi <= slack {
                     pts.push((p, phi));
                 }

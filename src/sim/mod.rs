@@ -25,7 +25,7 @@
 //! Nothing allocates per step: every buffer lives in [`Simulator`].
 
 use crate::data::Data;
-use crate::dynamics::{self, Effects, SingularMassMatrix};
+use crate::dynamics::{self, Effects, Payload, SingularMassMatrix};
 use crate::model::Model;
 use nalgebra::DMatrix;
 use std::time::Instant;
@@ -253,6 +253,9 @@ pub struct Simulator<'m> {
     se_w: Vec<f64>,
     se_c: Vec<f64>,
     se_p: Vec<f64>,
+    /// The payload and the interval `[from, to]` (s) in which it is carried; outside it
+    /// the effects have no payload (see [`Simulator::set_payload_window`]).
+    payload_window: Option<(Payload, f64, f64)>,
 }
 
 /// `x > 0` rounded down to three significant digits, so that a printed step limit is
@@ -263,6 +266,35 @@ fn floor_3_digits(x: f64) -> f64 {
 }
 
 impl<'m> Simulator<'m> {
+    /// Carries the effects' payload only for `from ≤ t ≤ to` (a part grasped and
+    /// released); switched at step boundaries, for the plant and the controller alike.
+    /// `None` carries it throughout. Does nothing without a payload.
+    pub fn set_payload_window(&mut self, window: Option<(f64, f64)>) {
+        if let Some((p, _, _)) = self.payload_window.take() {
+            self.set_payload(Some(p));
+        }
+        if let (Some((from, to)), Some(p)) = (window, self.effects.payload.clone()) {
+            self.payload_window = Some((p, from, to));
+        }
+    }
+
+    fn set_payload(&mut self, p: Option<Payload>) {
+        self.effects.payload = p.clone();
+        self.rigid_fx.payload = p.clone();
+        self.static_fx.payload = p;
+    }
+
+    fn apply_payload_window(&mut self, t: f64) {
+        let Some((p, from, to)) = &self.payload_window else {
+            return;
+        };
+        let on = t >= *from && t <= *to;
+        if on != self.effects.payload.is_some() {
+            let p = on.then(|| p.clone());
+            self.set_payload(p);
+        }
+    }
+
     /// A simulator for `model` with exactly `effects`.
     pub fn new(model: &'m Model, effects: Effects) -> Result<Self, SimError> {
         effects.validate(model).map_err(SimError::Config)?;
@@ -304,6 +336,7 @@ impl<'m> Simulator<'m> {
             se_w: v(n),
             se_c: v(n),
             se_p: v(n),
+            payload_window: None,
         })
     }
 
@@ -599,6 +632,7 @@ impl<'m> Simulator<'m> {
                 self.x[2 * n + i] = q0[i] + g[i] / k[i];
             }
         }
+        self.apply_payload_window(0.0);
         let steps = (cfg.duration / cfg.dt).round() as usize;
         let audit = self.conservative() && hook.conservative();
         let e0 = if audit {
@@ -630,6 +664,7 @@ impl<'m> Simulator<'m> {
         let mut interrupted = false;
         for step in 0..steps {
             let t = step as f64 * h;
+            self.apply_payload_window(t);
             if !hook.before_step(t, &x[..n], &x[n..2 * n], &mut self.plant) {
                 taken = step;
                 interrupted = true;

@@ -38,7 +38,9 @@ pub use min_jerk::MinJerk;
 pub use plot::PlotFormat;
 pub use quintic::Quintic;
 pub use topp::{topp, LinearPath, ToppOptions, ToppStats, ToppTrajectory};
-pub use torque_check::{check_torques, CheckOptions, JointCheck, TorqueReport};
+pub use torque_check::{
+    check_torques, check_torques_switched, CheckOptions, JointCheck, TorqueReport,
+};
 pub use trapezoidal::Trapezoidal;
 
 use crate::model::Model;

@@ -15,6 +15,8 @@
 //!   of the torque and speed crossings.
 //!
 //! Limits of `+∞` (none in the model file) never fail; they serialise as `null`.
+//! [`check_torques_switched`] uses a second effect set inside a time window (a grasped
+//! part's payload).
 
 use super::plot::{render, PlotFormat};
 use super::{time_grid, Trajectory, TrajectoryError};
@@ -138,6 +140,21 @@ pub fn check_torques(
     effects: &Effects,
     opts: &CheckOptions,
 ) -> Result<TorqueReport, TrajectoryError> {
+    check_torques_switched(model, traj, effects, effects, (f64::NAN, f64::NAN), opts)
+}
+
+/// [`check_torques`] with `inside` at the samples with `window.0 ≤ t ≤ window.1` and
+/// `outside` elsewhere (a part grasped between two instants).
+pub fn check_torques_switched(
+    model: &Model,
+    traj: &dyn Trajectory,
+    outside: &Effects,
+    inside: &Effects,
+    window: (f64, f64),
+    opts: &CheckOptions,
+) -> Result<TorqueReport, TrajectoryError> {
+    inside.validate(model).map_err(TrajectoryError::Invalid)?;
+    let effects = outside;
     let n = model.nv;
     if traj.dof() != n {
         return Err(TrajectoryError::Invalid(format!(
@@ -185,7 +202,12 @@ pub fn check_torques(
             k as f64 * step
         };
         traj.sample(tk, &mut q, &mut qd, &mut qdd);
-        let tau = inverse_dynamics(model, &mut data, effects, &q, &qd, &qdd);
+        let fx = if tk >= window.0 && tk <= window.1 {
+            inside
+        } else {
+            outside
+        };
+        let tau = inverse_dynamics(model, &mut data, fx, &q, &qd, &qdd);
         let w = if k == 0 || k == intervals { 0.5 } else { 1.0 };
         for (j, a) in acc.iter_mut().enumerate() {
             let (x, v) = (tau[j], qd[j]);

@@ -1,0 +1,279 @@
+//! Planned motions in arm scenarios: the `[planner]` settings, the grasped part, the
+//! RRT-Connect planners of the scene (one for the bare arm, one with the part on the
+//! tool), and the smooth path through a planned path's via points that TOPP re-times as
+//! one motion (no stop at the via points).
+//!
+//! - **Collision model.** The planner sees the model's collision geometry as spheres
+//!   ([`crate::planning::spheres`]) and the scenario's obstacles exactly. Links that the
+//!   scenario disables against an obstacle (a base resting on the table) are left out of
+//!   the planner's model; the parry check of the whole motion still covers them.
+//! - **Self pairs.** From the `[planner] srdf`, or sampled (adjacent and never-touching
+//!   pairs dropped, see [`crate::planning::self_pairs`]); the scenario's link–link
+//!   `collision.disabled_pairs` and the pairs whose spheres touch at the initial
+//!   configuration are dropped as well. The report says which.
+//! - **Smooth path.** A minimum-jerk spline through the via points ([`MinJerk`], which
+//!   passes through them without stopping; segment durations by chord length). Its chords
+//!   at 48 points per via interval are checked with the planner's continuous edge check;
+//!   where one collides, the planned (collision-free) polyline gets extra via points in
+//!   that interval and its neighbours, which pulls the spline onto it, and the check
+//!   repeats.
+
+use super::scene::Scene;
+use crate::collision::Obstacle;
+use crate::model::{Geometry, Model, Shape};
+use crate::planning::spheres::SphereModel;
+use crate::planning::{PlanOptions, PlanStatus, Planner};
+use crate::spatial::Se3;
+use crate::trajectory::{MinJerk, Trajectory};
+use std::time::Duration;
+
+/// `[planner]` settings, validated.
+#[derive(Clone, Debug)]
+pub struct PlannerSettings {
+    /// Sampler and simplifier seed.
+    pub seed: u64,
+    /// Search time limit per planned segment.
+    pub time_limit: Duration,
+    /// Shortcut and smooth the paths.
+    pub simplify: bool,
+    /// Overshoot of the sphere cover (m).
+    pub max_overshoot: f64,
+    /// The SRDF's disabled pairs, when one is given (with its path for the report).
+    pub srdf: Option<(String, Vec<(String, String)>)>,
+}
+
+/// The grasped part: a box in the tool link's frame.
+#[derive(Clone, Copy, Debug)]
+pub struct Part {
+    /// Edge lengths (m).
+    pub size: [f64; 3],
+    /// Centre in the tool frame (m).
+    pub xyz: [f64; 3],
+}
+
+/// `model` with the part as a collision box on link `tool`.
+pub fn with_part(model: &Model, tool: usize, part: &Part) -> Model {
+    let mut m = model.clone();
+    m.links[tool].collisions.push(Geometry {
+        origin: Se3::from_xyz_rpy(part.xyz, [0.0; 3]),
+        shape: Shape::Box { size: part.size },
+        rgba: None,
+    });
+    m
+}
+
+/// The planners of one scene.
+pub struct ScenePlanners {
+    free: Planner,
+    carrying: Option<Planner>,
+    /// How the self pairs were chosen, and what the planner leaves out.
+    pub notes: Vec<String>,
+    /// Planned segments so far.
+    pub segments: usize,
+    /// Search iterations and planning time over the segments.
+    pub iterations: usize,
+    pub plan_time_us: f64,
+}
+
+impl ScenePlanners {
+    /// Builds the planners of `scene` (the carrying one when the task grasps a part).
+    pub fn new(scene: &Scene, settings: &PlannerSettings) -> Result<ScenePlanners, String> {
+        let obstacles = scene
+            .obstacles
+            .iter()
+            .map(|o| o.to_obstacle().map_err(|e| e.to_string()))
+            .collect::<Result<Vec<Obstacle>, _>>()?;
+        let names: Vec<&str> = obstacles.iter().map(|o| o.name.as_str()).collect();
+        let disabled = &scene.planner_disabled;
+        let mut base = scene.model.clone();
+        let mut notes = Vec::new();
+        for pair in disabled {
+            for (a, b) in [(&pair[0], &pair[1]), (&pair[1], &pair[0])] {
+                if let (Some(l), true) = (base.link_id(a), names.contains(&b.as_str())) {
+                    if !base.links[l].collisions.is_empty() {
+                        base.links[l].collisions.clear();
+                        notes.push(format!(
+                            "planner: link '{a}' left out (disabled against obstacle '{b}')"
+                        ));
+                    }
+                }
+            }
+        }
+        let link_pairs: Vec<(String, String)> = disabled
+            .iter()
+            .filter(|p| base.link_id(&p[0]).is_some() && base.link_id(&p[1]).is_some())
+            .map(|p| (p[0].clone(), p[1].clone()))
+            .collect();
+        let mut opts = PlanOptions {
+            seed: settings.seed,
+            time_limit: Some(settings.time_limit),
+            simplify: settings.simplify,
+            ..Default::default()
+        };
+        opts.spheres.package_path = scene.package_paths.explicit.clone();
+        opts.spheres.max_overshoot = settings.max_overshoot;
+        match &settings.srdf {
+            Some((path, _)) => notes.push(format!("planner: self pairs from the SRDF {path}")),
+            None => notes.push(
+                "planner: no SRDF; self pairs: adjacent links, pairs never in contact over 10000 random samples and pairs in contact at the initial configuration dropped".into(),
+            ),
+        }
+        let build = |m: &Model| -> Result<Planner, String> {
+            let mut off = link_pairs.clone();
+            match &settings.srdf {
+                Some((_, pairs)) => off.extend(pairs.iter().cloned()),
+                None => {
+                    let sm = SphereModel::new(m, &opts.spheres);
+                    off.extend(crate::planning::self_pairs::sampled(m, &sm, 10_000, opts.seed).1);
+                    off.extend(touching_at(m, &sm, &scene.q0));
+                }
+            }
+            Planner::new(m, &obstacles, Some(&off), opts.clone())
+        };
+        let free = build(&base)?;
+        notes.extend(
+            free.checker
+                .spheres
+                .warnings
+                .iter()
+                .map(|w| format!("planner: {w}")),
+        );
+        let carrying = match &scene.part {
+            Some(p) => Some(build(&with_part(&base, scene.tool, p))?),
+            None => None,
+        };
+        Ok(ScenePlanners {
+            free,
+            carrying,
+            notes,
+            segments: 0,
+            iterations: 0,
+            plan_time_us: 0.0,
+        })
+    }
+
+    /// The planner for the bare arm, or for the arm with the part.
+    pub fn planner(&mut self, carrying: bool) -> &mut Planner {
+        match (&mut self.carrying, carrying) {
+            (Some(p), true) => p,
+            _ => &mut self.free,
+        }
+    }
+
+    /// A collision-free path from `a` to `b` (via points, ends included).
+    pub fn plan(&mut self, carrying: bool, a: &[f64], b: &[f64]) -> Result<Vec<Vec<f64>>, String> {
+        let r = self.planner(carrying).plan(a, b);
+        self.segments += 1;
+        self.iterations += r.iterations;
+        self.plan_time_us += r.plan_time_us;
+        match r.status {
+            PlanStatus::Solved => Ok(r.path),
+            s => Err(format!(
+                "planner: {} ({})",
+                match s {
+                    PlanStatus::InvalidStart => "invalid start",
+                    PlanStatus::InvalidGoal => "invalid goal",
+                    _ => "failed",
+                },
+                r.reason.unwrap_or_default()
+            )),
+        }
+    }
+}
+
+/// Link pairs whose spheres overlap at `q` (MoveIt's setup assistant drops such
+/// "default" pairs too: the sphere cover's overshoot makes neighbours of neighbours touch).
+fn touching_at(m: &Model, sm: &SphereModel, q: &[f64]) -> Vec<(String, String)> {
+    let c = sm.world_centers(m, q);
+    let mut out = Vec::new();
+    for (a, la) in sm.links.iter().enumerate() {
+        for lb in &sm.links[a + 1..] {
+            let touch = la.body != lb.body
+                && (la.first..la.end).any(|i| {
+                    (lb.first..lb.end).any(|j| {
+                        (c[i] - c[j]).norm() < (sm.spheres[i].radius + sm.spheres[j].radius) as f64
+                    })
+                });
+            if touch {
+                out.push((m.links[la.link].name.clone(), m.links[lb.link].name.clone()));
+            }
+        }
+    }
+    out
+}
+
+/// Chord checks per via interval of the smooth path.
+const CHORDS: usize = 48;
+
+/// Via points closer than this to the previous one are dropped (rad).
+const MIN_GAP: f64 = 1e-4;
+
+/// Refinement rounds of [`smooth_path`].
+const ROUNDS: usize = 16;
+
+/// A smooth path through the via points of the collision-free polyline `path`, whose
+/// chords pass `planner`'s continuous check (see the module docs). The spline's segment
+/// durations are proportional to the via intervals' joint-space lengths (chord-length
+/// parameterisation: no wiggle where via points crowd), the end ones doubled (the spline
+/// starts and ends at rest).
+pub fn smooth_path(planner: &mut Planner, path: &[Vec<f64>]) -> Result<MinJerk, String> {
+    let len = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let last = path.len() - 1;
+    let mut wps: Vec<Vec<f64>> = vec![path[0].clone()];
+    for (i, w) in path.iter().enumerate().skip(1) {
+        if i == last || len(w, wps.last().expect("non-empty")) > MIN_GAP {
+            wps.push(w.clone());
+        }
+    }
+    if wps.len() > 2 && len(&wps[wps.len() - 2], &wps[wps.len() - 1]) <= MIN_GAP {
+        wps.remove(wps.len() - 2);
+    }
+    let n = path[0].len();
+    for _ in 0..ROUNDS {
+        let m = wps.len() - 1;
+        let h: Vec<f64> = (0..m)
+            .map(|k| {
+                let end = if k == 0 || k + 1 == m { 2.0 } else { 1.0 };
+                end * len(&wps[k], &wps[k + 1]).max(MIN_GAP)
+            })
+            .collect();
+        let spline = MinJerk::with_durations(&wps, &h).map_err(|e| e.to_string())?;
+        let knots = spline.knot_times().to_vec();
+        let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let mut prev = wps[0].clone();
+        let mut split = vec![false; m];
+        let mut clean = true;
+        for k in 0..m {
+            for i in 1..=CHORDS {
+                let t = knots[k] + (knots[k + 1] - knots[k]) * i as f64 / CHORDS as f64;
+                spline.sample(t, &mut q, &mut qd, &mut qdd);
+                if !planner.edge_free(&prev, &q) {
+                    clean = false;
+                    split[k.saturating_sub(1)..(k + 2).min(m)].fill(true);
+                }
+                prev.copy_from_slice(&q);
+            }
+        }
+        if clean {
+            return Ok(spline);
+        }
+        // Midpoints in the offending intervals and their neighbours.
+        let mut out = vec![wps[0].clone()];
+        for (k, w) in wps.windows(2).enumerate() {
+            if split[k] {
+                out.push(w[0].iter().zip(&w[1]).map(|(a, b)| 0.5 * (a + b)).collect());
+            }
+            out.push(w[1].clone());
+        }
+        wps = out;
+    }
+    Err(format!(
+        "the smooth path through the planned via points still collides after {ROUNDS} refinements"
+    ))
+}

@@ -1,0 +1,249 @@
+//! Signed distance of a triangle mesh, for the sphere cover of mesh collision geometry
+//! ([`super::spherize::cover_sdf`]).
+//!
+//! The unsigned distance is the distance to the nearest triangle (parry's BVH point
+//! projection onto the [`TriMesh`]). For a **closed**, consistently oriented mesh (every
+//! edge shared by two triangles in opposite directions; wound outwards, flipped if its
+//! signed volume is negative) the sign comes from the angle-weighted pseudo-normals at the
+//! nearest feature (Bærentzen and Aanæs, *IEEE TVCG* 11(3), 2005): a point is inside when
+//! it lies behind the pseudo-normal of its nearest point, a test that is exact for closed
+//! manifold meshes. An **open** mesh has no inside: the distance is unsigned, and the
+//! cover only wraps its surface.
+
+use crate::collision::mesh::MeshData;
+use parry3d_f64::math::Vector;
+use parry3d_f64::query::PointQuery;
+use parry3d_f64::shape::{TriMesh, TriMeshFlags};
+
+/// A triangle mesh with its bounding box, answering signed distances.
+pub struct MeshSdf {
+    tri: TriMesh,
+    /// Whether the mesh is closed (signed distance) or open (unsigned).
+    pub closed: bool,
+    /// Centre of the bounding box.
+    pub center: [f64; 3],
+    /// Half extents of the bounding box.
+    pub half: [f64; 3],
+}
+
+impl MeshSdf {
+    /// The mesh scaled by `scale` (per axis; a mirror flips the winding back).
+    pub fn new(mesh: &MeshData, scale: [f64; 3]) -> Result<MeshSdf, String> {
+        if mesh.triangles.is_empty() {
+            return Err("the mesh has no triangles".into());
+        }
+        if !scale.iter().all(|s| s.is_finite() && *s != 0.0) {
+            return Err(format!(
+                "mesh scale must be finite and non-zero, got {scale:?}"
+            ));
+        }
+        let mut m = mesh.clone();
+        for v in &mut m.vertices {
+            for k in 0..3 {
+                v[k] *= scale[k];
+            }
+        }
+        let closed = m.is_closed();
+        let mut flags = TriMeshFlags::empty();
+        if closed {
+            if m.signed_volume6() < 0.0 {
+                m.flip();
+            }
+            flags |= TriMeshFlags::ORIENTED;
+        }
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for v in &m.vertices {
+            for k in 0..3 {
+                lo[k] = lo[k].min(v[k]);
+                hi[k] = hi[k].max(v[k]);
+            }
+        }
+        let vertices: Vec<Vector> = m
+            .vertices
+            .iter()
+            .map(|p| Vector::new(p[0], p[1], p[2]))
+            .collect();
+        let tri = TriMesh::with_flags(vertices, m.triangles, flags)
+            .map_err(|e| format!("invalid triangle mesh: {e:?}"))?;
+        Ok(MeshSdf {
+            tri,
+            closed,
+            center: [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k])),
+            half: [0, 1, 2].map(|k| 0.5 * (hi[k] - lo[k])),
+        })
+    }
+
+    /// Signed distance from `p` to the surface (negative inside a closed mesh).
+    pub fn sdf(&self, p: [f64; 3]) -> f64 {
+        let x = Vector::new(p[0], p[1], p[2]);
+        let proj = self.tri.project_local_point(x, false);
+        let d = (proj.point - x).length();
+        if self.closed && self.tri.contains_local_point(x) {
+            -d
+        } else {
+            d
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::planning::spherize::{cover_sdf, Primitive};
+
+    /// A box `±h` as 12 outward triangles.
+    fn box_mesh(h: [f64; 3]) -> MeshData {
+        let v: Vec<[f64; 3]> = (0..8)
+            .map(|i| [0, 1, 2].map(|k| if i >> k & 1 == 1 { h[k] } else { -h[k] }))
+            .collect();
+        // Faces as quads of corner indices (bit k set = +h on axis k), wound outwards.
+        let quads = [
+            [0, 2, 3, 1], // z−
+            [4, 5, 7, 6], // z+
+            [0, 1, 5, 4], // y−
+            [2, 6, 7, 3], // y+
+            [0, 4, 6, 2], // x−
+            [1, 3, 7, 5], // x+
+        ];
+        let mut triangles = Vec::new();
+        for q in quads {
+            triangles.push([q[0], q[1], q[2]]);
+            triangles.push([q[0], q[2], q[3]]);
+        }
+        MeshData {
+            vertices: v,
+            triangles,
+        }
+    }
+
+    fn rnd(state: &mut u64) -> f64 {
+        *state ^= *state << 13;
+        *state ^= *state >> 7;
+        *state ^= *state << 17;
+        (*state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+
+    #[test]
+    fn box_mesh_signed_distance_equals_the_box_closed_form() {
+        let h = [0.05, 0.1, 0.2];
+        let m = box_mesh(h);
+        assert!(m.is_closed() && m.signed_volume6() > 0.0);
+        // Inverted winding is flipped back; a mirror scale too.
+        let mut inv = m.clone();
+        inv.flip();
+        let exact = Primitive::Box(h);
+        let mut st = 0x9e37_79b9_7f4a_7c15u64;
+        for sdf in [
+            MeshSdf::new(&m, [1.0; 3]).unwrap(),
+            MeshSdf::new(&inv, [1.0; 3]).unwrap(),
+            MeshSdf::new(&m, [-1.0, 1.0, 1.0]).unwrap(),
+        ] {
+            assert!(sdf.closed);
+            for _ in 0..5000 {
+                let p = [rnd(&mut st) * 0.3, rnd(&mut st) * 0.3, rnd(&mut st) * 0.3];
+                let (a, b) = (sdf.sdf(p), exact.sdf(p));
+                assert!((a - b).abs() < 1e-12, "{p:?}: mesh {a}, box {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn closed_mesh_cover_contains_the_mesh_and_overshoots_at_most_delta() {
+        // A box mesh scaled anisotropically, checked against the box's closed form:
+        // every sampled point inside is in a sphere; no sphere's surface point is more
+        // than delta outside.
+        let h = [0.04, 0.15, 0.06];
+        let scale = [1.0, 2.0, 0.5];
+        let sdf = MeshSdf::new(&box_mesh(h), scale).unwrap();
+        let exact = Primitive::Box([h[0], h[1] * 2.0, h[2] * 0.5]);
+        let delta = 0.01;
+        let t = std::time::Instant::now();
+        let (spheres, used) = cover_sdf(&|p| sdf.sdf(p), sdf.center, sdf.half, delta);
+        assert_eq!(used, delta);
+        assert!(t.elapsed().as_secs_f64() < 1.0, "{:?}", t.elapsed());
+        let mut st = 0x2545_f491_4f6c_dd1du64;
+        let ext = [h[0], h[1] * 2.0, h[2] * 0.5];
+        let mut inside = 0;
+        for _ in 0..20000 {
+            let p = [0, 1, 2].map(|k| rnd(&mut st) * ext[k]);
+            if exact.sdf(p) <= 0.0 {
+                inside += 1;
+                assert!(
+                    spheres.iter().any(|(c, r)| {
+                        ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2))
+                            .sqrt()
+                            <= *r + 1e-12
+                    }),
+                    "{p:?} not covered"
+                );
+            }
+        }
+        assert!(inside > 19000);
+        for (c, r) in &spheres {
+            for _ in 0..200 {
+                let d = [rnd(&mut st), rnd(&mut st), rnd(&mut st)];
+                let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1e-9);
+                let p = [0, 1, 2].map(|k| c[k] + r * d[k] / n);
+                assert!(exact.sdf(p) <= delta + 1e-12, "overshoot at {p:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn open_mesh_is_unsigned_and_bundled_cube_files_are_closed() {
+        let mut m = box_mesh([0.1; 3]);
+        m.triangles.truncate(10); // the x+ face removed
+        let sdf = MeshSdf::new(&m, [1.0; 3]).unwrap();
+        assert!(!sdf.closed);
+        assert!((sdf.sdf([0.0; 3]) - 0.1).abs() < 1e-12, "unsigned inside");
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/meshes");
+        for f in ["cube_binary.stl", "cube.obj"] {
+            let data = crate::collision::mesh::load_mesh(&dir.join(f)).unwrap();
+            let sdf = MeshSdf::new(&data, [1.0; 3]).unwrap();
+            assert!(sdf.closed, "{f}");
+            assert!(sdf.sdf(sdf.center) < 0.0, "{f}: centre inside");
+        }
+    }
+
+    #[test]
+    fn bundled_ur5_meshes_are_spherized_quickly_and_sampled_self_pairs_work() {
+        use crate::model::{Model, WORLD};
+        use crate::planning::spheres::{SphereModel, SphereOptions};
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let spec = Model::read_spec(&root.join("robots/ur5.urdf")).unwrap();
+        let model = Model::build(spec).unwrap().0;
+        let opts = SphereOptions {
+            max_overshoot: 0.03,
+            ..Default::default()
+        };
+        let t = std::time::Instant::now();
+        let sm = SphereModel::new(&model, &opts);
+        let secs = t.elapsed().as_secs_f64();
+        assert!(sm.warnings.is_empty(), "{:?}", sm.warnings);
+        // Every link with a collision mesh has spheres, each within the link's mesh
+        // bounding box grown by the overshoot (the centres are grid points of that box).
+        let meshed = model
+            .links
+            .iter()
+            .filter(|l| !l.collisions.is_empty())
+            .count();
+        assert_eq!(sm.links.len(), meshed);
+        assert!(secs < 7.0, "{secs} s for {meshed} links");
+        // Without an SRDF: adjacent pairs never checked, the others kept or dropped by
+        // sampling (the dropped ones named).
+        let (pairs, dropped) = crate::planning::self_pairs::sampled(&model, &sm, 2000, 1);
+        let parent = |b: usize| if b == WORLD { WORLD } else { model.parent[b] };
+        let far = |a: usize, b: usize| a != b && parent(b) != a && parent(a) != b;
+        let mut expect = 0;
+        for (i, la) in sm.links.iter().enumerate() {
+            for lb in &sm.links[i + 1..] {
+                expect += far(la.body, lb.body) as usize;
+            }
+        }
+        assert!(expect >= 10, "{expect}");
+        assert_eq!(pairs.len() + dropped.len(), expect);
+        for &(a, b) in &pairs {
+            assert!(far(sm.links[a].body, sm.links[b].body));
+        }
+    }
+}
