@@ -38,14 +38,16 @@ fn pixels(path: &std::path::Path) -> (Vec<u8>, u32, u32) {
 #[test]
 fn ur5_tracking_error_ticks_are_distinct_and_scaled() {
     let (out, dir) = run_bundled("ur5_pick_and_place", "ticks");
-    // The case that used to read "0.0" everywhere: errors of at most a few 1e-8.
+    // The case that used to read "0.0" everywhere: errors far below the 0.1 a one-decimal
+    // label resolves (a few 1e-8 before the planner; a few 1e-5 now that the planned path is
+    // timed by TOPP, whose accelerations switch at once).
     let max_err = out
         .samples
         .iter()
         .flat_map(|s| s.q.iter().zip(&s.q_ref).map(|(q, r)| (q - r).abs()))
         .fold(0.0f64, f64::max);
     assert!(
-        max_err > 1e-10 && max_err < 1e-6,
+        max_err > 1e-10 && max_err < 1e-3,
         "max tracking error {max_err}"
     );
     let panels = plots::simulation_panels(&out.scene, &out.samples);
