@@ -338,8 +338,8 @@ impl Checker {
     ) -> (Mask, Mask) {
         for (k, lane) in qs.iter_mut().enumerate() {
             let d = b[k] - a[k];
-            for l in 0..N {
-                lane.0[l] = a[k] + t[l] * d;
+            for (x, &tl) in lane.0.iter_mut().zip(t) {
+                *x = a[k] + tl * d;
             }
         }
         s.batches += 1;

@@ -125,9 +125,9 @@ impl<S: Simd> Pose<S> {
             r: [[z; 3]; 3],
             t: P3::splat(tok, t),
         };
-        for i in 0..3 {
-            for j in 0..3 {
-                out.r[i][j] = tok.splat(r[i][j]);
+        for (row, src) in out.r.iter_mut().zip(r) {
+            for (x, v) in row.iter_mut().zip(src) {
+                *x = tok.splat(*v);
             }
         }
         out

@@ -172,8 +172,8 @@ impl Planner {
                 q.len()
             ));
         }
-        for k in 0..nv {
-            let x = q[k] as f32;
+        for (k, &qk) in q.iter().enumerate() {
+            let x = qk as f32;
             if !(x >= self.lo[k] && x <= self.hi[k]) {
                 return Some(format!(
                     "{which}: coordinate {k} = {} is outside its limits [{}, {}]",

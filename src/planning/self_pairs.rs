@@ -12,6 +12,7 @@
 //! Links on one body never move relative to each other: such pairs are always dropped.
 
 use super::spheres::SphereModel;
+use super::srdf::NamePair;
 use crate::model::{Model, WORLD};
 use std::collections::HashSet;
 
@@ -65,7 +66,7 @@ pub fn sampled(
     sm: &SphereModel,
     samples: usize,
     seed: u64,
-) -> (Vec<(usize, usize)>, Vec<(String, String)>) {
+) -> (Vec<(usize, usize)>, Vec<NamePair>) {
     // Every pair on non-adjacent bodies.
     let all = from_disabled(model, sm, &[]);
     let mut touched = vec![false; all.len()];

@@ -197,9 +197,12 @@ impl SphereModel {
             } else {
                 data.o_m_i[ls.body]
             };
-            for s in ls.first..ls.end {
-                let c = self.spheres[s].center;
-                out[s] = pose.act_point(&Vec3::new(c[0] as f64, c[1] as f64, c[2] as f64));
+            for (o, sp) in out[ls.first..ls.end]
+                .iter_mut()
+                .zip(&self.spheres[ls.first..ls.end])
+            {
+                let c = sp.center;
+                *o = pose.act_point(&Vec3::new(c[0] as f64, c[1] as f64, c[2] as f64));
             }
         }
         out
@@ -271,8 +274,8 @@ fn bounding_sphere(spheres: &[Sphere]) -> Sphere {
     let n = spheres.len() as f64;
     let mut c = [0.0f64; 3];
     for s in spheres {
-        for k in 0..3 {
-            c[k] += s.center[k] as f64 / n;
+        for (ck, &sk) in c.iter_mut().zip(&s.center) {
+            *ck += sk as f64 / n;
         }
     }
     let r = spheres
