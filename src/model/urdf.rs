@@ -132,21 +132,8 @@ fn validate(text: &str, file: &str) -> Result<Lines, ModelError> {
         allow_dtd: true,
         ..Default::default()
     };
-    let doc = roxmltree::Document::parse_with_options(text, opts).map_err(|e| {
-        use roxmltree::Error as E;
-        // Some errors carry no position (roxmltree says 1:1): an early end of the file is
-        // at its last line; the others have no line.
-        let line = match e {
-            E::UnexpectedEndOfStream | E::UnclosedRootNode => Some(text.lines().count().max(1)),
-            E::NoRootNode
-            | E::DtdDetected
-            | E::NodesLimitReached
-            | E::AttributesLimitReached
-            | E::NamespacesLimitReached => None,
-            _ => Some(e.pos().row as usize),
-        };
-        ModelError::new(file, line, "XML", e.to_string())
-    })?;
+    let doc = roxmltree::Document::parse_with_options(text, opts)
+        .map_err(|e| xml_error(text, file, e))?;
     // urdf-rs walks the document recursively: refuse absurd nesting (a URDF needs ~6).
     let lx = LineIndex::new(text);
     if let Some(deep) = doc
@@ -583,4 +570,21 @@ fn positive_or_inf(v: f64) -> f64 {
     } else {
         f64::INFINITY
     }
+}
+
+/// The located error of an XML syntax error in `text` read from `file`. Some errors carry no
+/// position (roxmltree says 1:1): an early end of the file is at its last line; the others
+/// have no line.
+pub(crate) fn xml_error(text: &str, file: &str, e: roxmltree::Error) -> ModelError {
+    use roxmltree::Error as E;
+    let line = match e {
+        E::UnexpectedEndOfStream | E::UnclosedRootNode => Some(text.lines().count().max(1)),
+        E::NoRootNode
+        | E::DtdDetected
+        | E::NodesLimitReached
+        | E::AttributesLimitReached
+        | E::NamespacesLimitReached => None,
+        _ => Some(e.pos().row as usize),
+    };
+    ModelError::new(file, line, "XML", e.to_string())
 }

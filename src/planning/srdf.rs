@@ -142,19 +142,8 @@ impl Srdf {
 
 /// Parses SRDF text read from `file` (used in messages).
 pub fn parse_srdf(text: &str, file: &str) -> Result<Srdf, PlanningInputError> {
-    let doc = roxmltree::Document::parse(text).map_err(|e| {
-        use roxmltree::Error as E;
-        let line = match e {
-            E::UnexpectedEndOfStream | E::UnclosedRootNode => Some(text.lines().count().max(1)),
-            E::NoRootNode
-            | E::DtdDetected
-            | E::NodesLimitReached
-            | E::AttributesLimitReached
-            | E::NamespacesLimitReached => None,
-            _ => Some(e.pos().row as usize),
-        };
-        PlanningInputError::new(file, line, "XML", e.to_string())
-    })?;
+    let doc = roxmltree::Document::parse(text)
+        .map_err(|e| crate::model::urdf::xml_error(text, file, e))?;
     let line = |n: roxmltree::Node<'_, '_>| doc.text_pos_at(n.range().start).row as usize;
     let root = doc.root_element();
     if root.tag_name().name() != "robot" {
