@@ -12,7 +12,18 @@
 //! centre with every sphere inflated by `e_s = v_s h − tol` covers the whole interval: by
 //! the motion bound of [`super::spheres`], over the interval no centre moves further than
 //! `v_s h` from where it was checked, with `v_s = Σ_k |b_k − a_k| ρ_{s,k}`; so nothing
-//! penetrates by more than `tol`. Intervals are visited in *rake* order (lane `ℓ` takes
+//! penetrates by more than `tol`.
+//!
+//! **Tighter, at the check point.** Along the edge (`q = a + tΔ`) a centre moves with
+//! `c' = Σ_k Δ_k ω̂_k × (c − o_k)`, and `|c''| ≤ 3 ‖Δ‖₁ v_s`: differentiating, `|ω̂_k'| ≤ ‖Δ‖₁`,
+//! `|c − o_k| ≤ ρ_{s,k}`, `|c'| ≤ v_s` and `|o_k'| ≤ v_s`. So within `h` of the check point
+//! the centre moves at most `(|c'(t_c)| + ½ · 3 ‖Δ‖₁ v_s h) h`; the checker takes the smaller
+//! of this and `v_s h`. `c'(t_c)` comes from the bodies' twists per unit `t`, propagated
+//! with the poses (`ω_i = ω_p + Δ_i z_i`, `v_i = v_p + ω_p × (o_i − o_p)`); a link's bound
+//! moves at most at `|v_bc| + |ω| R`. On the Panda problems this cuts the batches of the
+//! continuous checks by 2.4× (median 181 → 76 per query).
+//!
+//! Intervals are visited in *rake* order (lane `ℓ` takes
 //! intervals `ℓm, ℓm + 1, …`, `m = ⌈n/8⌉`), so a collision anywhere on the edge shows up in
 //! the first batches. An interval whose inflated check fails is checked exactly at its
 //! centre (a hit there is a real collision: the edge is invalid); otherwise it is split
@@ -81,6 +92,17 @@ pub struct CheckScratch {
     centers: Vec<P3m>,
     bounds: Vec<P3m>,
     placed: Vec<bool>,
+    /// Per body, its world twist `(ω, v)` per unit of the edge parameter.
+    twist: Vec<[P3m; 2]>,
+    /// Per sphere and per group bound, the inflation of the current batch.
+    infl: Vec<L>,
+    bound_infl: Vec<L>,
+    /// Per body, its coordinate's change over the edge (mimic multiplier included).
+    body_delta: Vec<f32>,
+    /// `Σ |body_delta|`.
+    l1: f32,
+    /// Whether a continuous edge check is under way (twists and speeds are set).
+    moving: bool,
     speed: Vec<f32>,
     link_speed: Vec<f32>,
     stack: Vec<(f32, f32)>,
@@ -160,6 +182,10 @@ impl Checker {
             centers: vec![P3m::default(); self.spheres.len()],
             bounds: vec![P3m::default(); self.spheres.links.len()],
             placed: vec![false; self.spheres.links.len()],
+            twist: vec![[P3m::default(); 2]; self.bodies.len()],
+            infl: vec![L::splat(0.0); self.spheres.len()],
+            bound_infl: vec![L::splat(0.0); self.spheres.links.len()],
+            body_delta: vec![0.0; self.bodies.len()],
             speed: vec![0.0; self.spheres.len()],
             link_speed: vec![0.0; self.spheres.links.len()],
             stack: Vec::with_capacity(256),
@@ -229,6 +255,7 @@ impl Checker {
         if continuous {
             self.edge_speeds(a, b, s);
         }
+        s.moving = continuous;
         let n = ((dist2.sqrt() * self.opts.resolution).ceil() as usize).max(1);
         let h0 = if continuous { 0.5 / n as f32 } else { 0.0 };
         let m = n.div_ceil(N);
@@ -259,6 +286,7 @@ impl Checker {
         }
         ok = ok && self.refine(tok, a, b, &mut qs, s);
         std::mem::swap(&mut s.q, &mut qs);
+        s.moving = false;
         ok
     }
 
@@ -321,6 +349,11 @@ impl Checker {
             let rho = &sm.link_rho[g * nv..(g + 1) * nv];
             *v = (0..nv).map(|k| (b[k] - a[k]).abs() * rho[k]).sum();
         }
+        s.l1 = 0.0;
+        for (d, body) in s.body_delta.iter_mut().zip(&self.bodies) {
+            *d = body.mult * (b[body.q_index] - a[body.q_index]);
+            s.l1 += d.abs();
+        }
     }
 
     /// Hits at `a + t (b − a)` per lane, spheres inflated for half-widths `h`.
@@ -360,9 +393,6 @@ impl Checker {
     ) -> (Mask, Mask) {
         let sm = &self.spheres;
         let h = tok.load(&h);
-        let tol = tok.splat(self.opts.tolerance);
-        let zero = tok.splat(0.0);
-        let inflate = |v: f32| (tok.splat(v) * h - tol).max(zero);
         let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
         let (mut exact, mut inflated): (Mask, Mask) = (0, 0);
         let mut g = 0;
@@ -373,6 +403,10 @@ impl Checker {
             } else {
                 let pose = self.body_pose(tok, bi - 1, q, &s.poses);
                 s.poses[bi - 1] = pose.store();
+                if s.moving {
+                    let (w, v) = self.body_twist(tok, bi - 1, &pose, s);
+                    s.twist[bi - 1] = [w.store(), v.store()];
+                }
                 (bi - 1, pose)
             };
             while g < sm.links.len() && sm.links[g].body == body {
@@ -380,17 +414,19 @@ impl Checker {
                 s.placed[g] = false;
                 let bc = pose.act(tok, &ls.bound.center);
                 s.bounds[g] = bc.store();
-                let br = tok.splat(ls.bound.radius) + inflate(s.link_speed[g]);
+                let bi_g = self.bound_inflation(tok, g, &bc, h, s);
+                s.bound_infl[g] = S::store(bi_g);
+                let br = tok.splat(ls.bound.radius) + bi_g;
                 for &o in &self.reachable[g] {
                     let ob = &self.env.obstacles[o];
                     if ob.near(tok, &bc, br) == 0 || ob.overlaps(tok, &bc, br) == 0 {
                         continue;
                     }
-                    self.place_spheres(tok, g, &pose, s);
+                    self.place_spheres(tok, g, &pose, h, s);
                     for i in ls.first..ls.end {
                         let r = tok.splat(sm.spheres[i].radius);
                         let c = P3::load(tok, &s.centers[i]);
-                        let m = ob.overlaps(tok, &c, r + inflate(s.speed[i]));
+                        let m = ob.overlaps(tok, &c, r + tok.load(&s.infl[i]));
                         if m != 0 {
                             inflated |= m;
                             exact |= ob.overlaps(tok, &c, r);
@@ -404,7 +440,7 @@ impl Checker {
             }
         }
         for &(ga, gb) in &self.self_pairs {
-            let (e, i) = self.pair_hit(tok, ga, gb, &inflate, s);
+            let (e, i) = self.pair_hit(tok, ga, gb, h, s);
             exact |= e;
             inflated |= i;
             if exact != 0 {
@@ -416,15 +452,117 @@ impl Checker {
 
     /// Computes the world centres of group `g`'s spheres (once per batch).
     #[inline(always)]
-    fn place_spheres<S: Simd>(&self, tok: S, g: usize, pose: &Pose<S>, s: &mut CheckScratch) {
+    fn place_spheres<S: Simd>(
+        &self,
+        tok: S,
+        g: usize,
+        pose: &Pose<S>,
+        h: W<S>,
+        s: &mut CheckScratch,
+    ) {
         if s.placed[g] {
             return;
         }
         let ls = &self.spheres.links[g];
+        let tw = (s.moving && ls.body != WORLD).then(|| {
+            let t = &s.twist[ls.body];
+            (P3::load(tok, &t[0]), P3::load(tok, &t[1]))
+        });
         for i in ls.first..ls.end {
-            s.centers[i] = pose.act(tok, &self.spheres.spheres[i].center).store();
+            let c = pose.act(tok, &self.spheres.spheres[i].center);
+            s.centers[i] = c.store();
+            let speed = tw.map(|(w, v)| point_speed(&w, &v, &pose.t, &c));
+            s.infl[i] = S::store(self.inflation(tok, s.speed[i], speed, h, s.l1));
         }
         s.placed[g] = true;
+    }
+
+    /// The inflation `max(speed · h − tol, 0)` of a point whose speed bound over the edge is
+    /// `v` (per unit of the edge parameter) and whose speed at the check point is `now`:
+    /// within `h` of it the speed is at most `now + ½ M h` with `M = 3 ‖Δ‖₁ v` (see the
+    /// module docs), and never more than `v`.
+    #[inline(always)]
+    fn inflation<S: Simd>(&self, tok: S, v: f32, now: Option<W<S>>, h: W<S>, l1: f32) -> W<S> {
+        let bound = tok.splat(v);
+        let speed = match now {
+            Some(now) => bound.min(now + tok.splat(1.5 * l1 * v) * h),
+            None => bound,
+        };
+        (speed * h - tok.splat(self.opts.tolerance)).max(tok.splat(0.0))
+    }
+
+    /// Inflation of group `g`'s bounding sphere centred at `bc`: its points move at most at
+    /// `|v_bc| + |ω| R`.
+    #[inline(always)]
+    fn bound_inflation<S: Simd>(
+        &self,
+        tok: S,
+        g: usize,
+        bc: &P3<S>,
+        h: W<S>,
+        s: &CheckScratch,
+    ) -> W<S> {
+        let ls = &self.spheres.links[g];
+        let now = (s.moving && ls.body != WORLD).then(|| {
+            let t = &s.twist[ls.body];
+            let (w, v) = (P3::load(tok, &t[0]), P3::load(tok, &t[1]));
+            let o = P3::load(tok, &s.poses[ls.body].t);
+            point_speed(&w, &v, &o, bc)
+                + W::norm2(w.x, w.y, w.z).sqrt() * tok.splat(ls.bound.radius)
+        });
+        self.inflation(tok, s.link_speed[g], now, h, s.l1)
+    }
+
+    /// World twist `(ω, v)` of body `i` per unit of the edge parameter: `ω = ω_p + Δ_i z_i`
+    /// (revolute), `v = v_p + ω_p × (o_i − o_p)` (`+ Δ_i z_i` if prismatic).
+    #[inline(always)]
+    fn body_twist<S: Simd>(
+        &self,
+        tok: S,
+        i: usize,
+        pose: &Pose<S>,
+        s: &CheckScratch,
+    ) -> (P3<S>, P3<S>) {
+        let b = &self.bodies[i];
+        let zero = P3::splat(tok, &[0.0; 3]);
+        let (wp, vp, op) = if b.parent == WORLD {
+            (zero, zero, zero)
+        } else {
+            let t = &s.twist[b.parent];
+            (
+                P3::load(tok, &t[0]),
+                P3::load(tok, &t[1]),
+                P3::load(tok, &s.poses[b.parent].t),
+            )
+        };
+        let d = tok.splat(s.body_delta[i]);
+        let k = b.axis;
+        let z = P3 {
+            x: pose.r[0][k] * d,
+            y: pose.r[1][k] * d,
+            z: pose.r[2][k] * d,
+        };
+        let c = cross(&wp, &sub(&pose.t, &op));
+        let mut v = P3 {
+            x: vp.x + c.x,
+            y: vp.y + c.y,
+            z: vp.z + c.z,
+        };
+        let w = if b.revolute {
+            P3 {
+                x: wp.x + z.x,
+                y: wp.y + z.y,
+                z: wp.z + z.z,
+            }
+        } else {
+            v = P3 {
+                x: v.x + z.x,
+                y: v.y + z.y,
+                z: v.z + z.z,
+            };
+            wp
+        };
+        (w, v)
     }
 
     /// The pose of body `b` (or the world) stored by this batch.
@@ -446,7 +584,7 @@ impl Checker {
         tok: S,
         ga: usize,
         gb: usize,
-        inflate: &impl Fn(f32) -> W<S>,
+        h: W<S>,
         s: &mut CheckScratch,
     ) -> (Mask, Mask) {
         let sm = &self.spheres;
@@ -454,15 +592,15 @@ impl Checker {
         let ca = P3::load(tok, &s.bounds[ga]);
         let cb = P3::load(tok, &s.bounds[gb]);
         let rr = tok.splat(la.bound.radius + lb.bound.radius)
-            + inflate(s.link_speed[ga])
-            + inflate(s.link_speed[gb]);
+            + tok.load(&s.bound_infl[ga])
+            + tok.load(&s.bound_infl[gb]);
         if ca.dist2(&cb).lt(rr * rr) == 0 {
             return (0, 0);
         }
         for (g, body) in [(ga, la.body), (gb, lb.body)] {
             if !s.placed[g] {
                 let pose = self.stored_pose(tok, body, s);
-                self.place_spheres(tok, g, &pose, s);
+                self.place_spheres(tok, g, &pose, h, s);
             }
         }
         let (mut exact, mut inflated) = (0, 0);
@@ -472,10 +610,10 @@ impl Checker {
         } else {
             (lb, la, ca, ga)
         };
-        let rb = tok.splat(lb.bound.radius) + inflate(s.link_speed[gb]);
+        let rb = tok.splat(lb.bound.radius) + tok.load(&s.bound_infl[gb]);
         for i in la.first..la.end {
             let ri = tok.splat(sm.spheres[i].radius);
-            let ei = inflate(s.speed[i]);
+            let ei = tok.load(&s.infl[i]);
             let ci = P3::load(tok, &s.centers[i]);
             let reach = ri + ei + rb;
             if ci.dist2(&cb).lt(reach * reach) == 0 {
@@ -485,7 +623,7 @@ impl Checker {
                 let cj = P3::load(tok, &s.centers[j]);
                 let r = ri + tok.splat(sm.spheres[j].radius);
                 let d2 = ci.dist2(&cj);
-                let rinf = r + ei + inflate(s.speed[j]);
+                let rinf = r + ei + tok.load(&s.infl[j]);
                 let m = d2.lt(rinf * rinf);
                 if m != 0 {
                     inflated |= m;
@@ -598,4 +736,31 @@ fn reachable_obstacles(model: &Model, sm: &SphereModel, env: &Environment) -> Ve
                 .collect()
         })
         .collect()
+}
+
+/// `a − b`.
+#[inline(always)]
+fn sub<S: Simd>(a: &P3<S>, b: &P3<S>) -> P3<S> {
+    P3 {
+        x: a.x - b.x,
+        y: a.y - b.y,
+        z: a.z - b.z,
+    }
+}
+
+/// `a × b`.
+#[inline(always)]
+fn cross<S: Simd>(a: &P3<S>, b: &P3<S>) -> P3<S> {
+    P3 {
+        x: a.y * b.z - a.z * b.y,
+        y: a.z * b.x - a.x * b.z,
+        z: a.x * b.y - a.y * b.x,
+    }
+}
+
+/// `|v + ω × (c − o)|`: the speed of point `c` on a body with twist `(ω, v)` at origin `o`.
+#[inline(always)]
+fn point_speed<S: Simd>(w: &P3<S>, v: &P3<S>, o: &P3<S>, c: &P3<S>) -> W<S> {
+    let r = cross(w, &sub(c, o));
+    W::norm2(v.x + r.x, v.y + r.y, v.z + r.z).sqrt()
 }
