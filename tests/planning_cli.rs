@@ -451,3 +451,38 @@ fn plan_reports_failed_with_the_reason_under_a_time_limit() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn plan_scenario_plans_each_planned_move_of_the_task_around_the_crate() {
+    let scenario = "scenarios/ur5_pick_and_place.toml";
+    let v = json(&["plan", "robots/ur5.urdf", "--scenario", scenario, "--json"]);
+    let names: Vec<&str> = v["joints"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| j.as_str().unwrap())
+        .collect();
+    assert_eq!(names[0], "shoulder_pan_joint");
+    assert_eq!(names.len(), 6);
+    let results = v["results"].as_array().unwrap();
+    // Approach, transfer and return: the pick-and-place's three joint moves.
+    assert_eq!(results.len(), 3, "{v}");
+    // The same moves as `armsim run` plans (one code path, the same seed).
+    let text = std::fs::read_to_string(scenario).unwrap();
+    let scene = armsim::arm::load(Path::new(scenario), &text).unwrap();
+    let plan = armsim::arm::plan::plan(&scene).unwrap();
+    for (r, want) in results.iter().zip(&plan.planned_paths) {
+        assert_eq!(r["status"], "solved", "{r}");
+        assert!(!r["problem"].as_str().unwrap().is_empty(), "{r}");
+        let path: Vec<Vec<f64>> = r["path"].as_array().unwrap().iter().map(f64s).collect();
+        assert_eq!(&path, want);
+        assert!(r["cost"].as_f64().unwrap() <= r["cost_initial"].as_f64().unwrap() + 1e-9);
+    }
+    // The transfer goes around the crate: more than its two ends.
+    assert!(results[1]["path"].as_array().unwrap().len() > 2);
+    // The model must be the scenario's.
+    fails_with(
+        &["plan", PANDA, "--scenario", scenario],
+        "scenario's own model",
+    );
+}

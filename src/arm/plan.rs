@@ -108,6 +108,8 @@ pub struct Plan {
     pub planned_paths: Vec<Vec<Vec<f64>>>,
     /// The planner's figures and notes, when the task plans.
     pub planner: Option<serde_json::Value>,
+    /// Each planned segment's result, in order.
+    pub planned_segments: Vec<super::planned::SegmentResult>,
 }
 
 fn named(model: &Model, q: &[f64]) -> serde_json::Map<String, serde_json::Value> {
@@ -212,7 +214,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
                 }
                 let p = planners.as_mut().expect("built");
                 let path = p
-                    .plan(carrying, &q, &goal)
+                    .plan(&ts.key, carrying, &q, &goal)
                     .map_err(|m| err(&ts.key, ts.line, m))?;
                 q = goal;
                 groups.push(Group::Planned(path, carrying, ts.key.clone()));
@@ -381,6 +383,9 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
     }
     let end = *tl.knots.last().expect("non-empty");
     let carry = attach_t.map(|a| (a, detach_t.unwrap_or(end)));
+    let planned_segments = planners
+        .as_mut()
+        .map_or_else(Vec::new, |p| std::mem::take(&mut p.results));
     let planner = planners.map(|p| {
         serde_json::json!({
             "algorithm": "rrt-connect",
@@ -403,6 +408,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
         carry,
         planned_paths,
         planner,
+        planned_segments,
     })
 }
 

@@ -16,7 +16,8 @@
 //!   at 48 points per via interval are checked with the planner's continuous edge check;
 //!   where one collides, the planned (collision-free) polyline gets extra via points in
 //!   that interval and its neighbours, which pulls the spline onto it, and the check
-//!   repeats.
+//!   repeats. The planner's shortcuts keep [`SMOOTHING_ROOM`] from the obstacles, so the
+//!   spline has room to round the corners of the simplified path.
 
 use super::scene::Scene;
 use crate::collision::Obstacle;
@@ -73,6 +74,20 @@ pub struct ScenePlanners {
     /// Search iterations and planning time over the segments.
     pub iterations: usize,
     pub plan_time_us: f64,
+    /// Each planned segment's result, in order (path in the `results` form of
+    /// `armsim plan --json`).
+    pub results: Vec<SegmentResult>,
+}
+
+/// One planned segment of a scenario's task.
+#[derive(Clone, Debug)]
+pub struct SegmentResult {
+    /// The task step's key (`task.steps[2]`, ...).
+    pub step: String,
+    /// Whether the part was on the tool.
+    pub carrying: bool,
+    /// The planner's answer (status, reason, times, costs, via points).
+    pub result: crate::planning::PlanResult,
 }
 
 impl ScenePlanners {
@@ -112,6 +127,7 @@ impl ScenePlanners {
         };
         opts.spheres.package_path = scene.package_paths.explicit.clone();
         opts.spheres.max_overshoot = settings.max_overshoot;
+        opts.check.clearance = SMOOTHING_ROOM;
         match &settings.srdf {
             Some((path, _)) => notes.push(format!("planner: self pairs from the SRDF {path}")),
             None => notes.push(
@@ -149,6 +165,7 @@ impl ScenePlanners {
             segments: 0,
             iterations: 0,
             plan_time_us: 0.0,
+            results: Vec::new(),
         })
     }
 
@@ -161,11 +178,22 @@ impl ScenePlanners {
     }
 
     /// A collision-free path from `a` to `b` (via points, ends included).
-    pub fn plan(&mut self, carrying: bool, a: &[f64], b: &[f64]) -> Result<Vec<Vec<f64>>, String> {
+    pub fn plan(
+        &mut self,
+        step: &str,
+        carrying: bool,
+        a: &[f64],
+        b: &[f64],
+    ) -> Result<Vec<Vec<f64>>, String> {
         let r = self.planner(carrying).plan(a, b);
         self.segments += 1;
         self.iterations += r.iterations;
         self.plan_time_us += r.plan_time_us;
+        self.results.push(SegmentResult {
+            step: step.to_string(),
+            carrying,
+            result: r.clone(),
+        });
         match r.status {
             PlanStatus::Solved => Ok(r.path),
             s => Err(format!(
@@ -211,6 +239,14 @@ const MIN_GAP: f64 = 1e-4;
 /// Refinement rounds of [`smooth_path`].
 const ROUNDS: usize = 16;
 
+/// Distance from the obstacles that the planner's shortcuts keep (m), so that the smooth
+/// path through the via points has room to round the corners: a taut path would touch the
+/// obstacles it wraps, and any spline through it would cut into them.
+const SMOOTHING_ROOM: f32 = 0.01;
+
+/// Most via points the refinement may reach, per planned via point.
+const MAX_GROWTH: usize = 16;
+
 /// A smooth path through the via points of the collision-free polyline `path`, whose
 /// chords pass `planner`'s continuous check (see the module docs). The spline's segment
 /// durations are proportional to the via intervals' joint-space lengths (chord-length
@@ -235,7 +271,11 @@ pub fn smooth_path(planner: &mut Planner, path: &[Vec<f64>]) -> Result<MinJerk, 
         wps.remove(wps.len() - 2);
     }
     let n = path[0].len();
+    let cap = MAX_GROWTH * wps.len();
     for _ in 0..ROUNDS {
+        if wps.len() > cap {
+            break;
+        }
         let m = wps.len() - 1;
         let h: Vec<f64> = (0..m)
             .map(|k| {
@@ -274,6 +314,6 @@ pub fn smooth_path(planner: &mut Planner, path: &[Vec<f64>]) -> Result<MinJerk, 
         wps = out;
     }
     Err(format!(
-        "the smooth path through the planned via points still collides after {ROUNDS} refinements"
+        "the smooth path through the planned via points still collides after refining them to {} points", wps.len()
     ))
 }

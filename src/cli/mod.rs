@@ -3,3 +3,4 @@
 
 pub mod plan;
 pub mod plan_report;
+pub mod plan_scenario;

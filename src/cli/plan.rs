@@ -27,7 +27,7 @@ use std::time::Duration;
 #[command(group(
     clap::ArgGroup::new("problems")
         .required(true)
-        .args(["moveit_scene", "moveit_dir"])
+        .args(["moveit_scene", "moveit_dir", "scenario"])
 ))]
 pub struct PlanArgs {
     /// Robot model (URDF). Its collision spheres are used as given; boxes, cylinders and
@@ -48,9 +48,15 @@ pub struct PlanArgs {
     /// the summary then has a row per folder and one for all).
     #[arg(long)]
     pub moveit_dir: Vec<PathBuf>,
-    /// Seed of the sampler and of the simplifier (same seed, same path).
-    #[arg(long, default_value_t = 0)]
-    pub seed: u64,
+    /// Arm scenario TOML (the model must be the scenario's): plans its task's planned
+    /// moves (`type = "plan"` steps, or every joint move of `planner = "rrt-connect"`)
+    /// around its obstacles, a result per move; the scenario's `[planner]` settings apply
+    /// unless `--seed`, `--time-limit-ms`, `--no-simplify` or `--srdf` are given.
+    #[arg(long, conflicts_with_all = ["moveit_scene", "moveit_dir"])]
+    pub scenario: Option<PathBuf>,
+    /// Seed of the sampler and of the simplifier (same seed, same path; default 0).
+    #[arg(long)]
+    pub seed: Option<u64>,
     /// Wall-clock limit of each search, in milliseconds (simplification not counted).
     #[arg(long, allow_negative_numbers = true)]
     pub time_limit_ms: Option<f64>,
@@ -84,11 +90,10 @@ struct Input {
 /// Runs the command; returns what goes to standard output (empty with `--out`).
 pub fn run(a: &PlanArgs) -> Result<String, String> {
     let opts = plan_options(a)?;
-    if a.threads == 0 || a.threads > 1024 {
-        return Err(format!("--threads: expected 1 to 1024, got {}", a.threads));
-    }
-    if a.passes == 0 || a.passes > 10_000 {
-        return Err(format!("--passes: expected 1 to 10000, got {}", a.passes));
+    check_counts(a)?;
+    if let Some(file) = &a.scenario {
+        let text = super::plan_scenario::run(a, file, &opts)?;
+        return emit(a, text);
     }
     let (model, warnings) =
         Model::load_with(&a.model, &LoadOptions::default()).map_err(|e| e.to_string())?;
@@ -137,7 +142,7 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
     }
     let header = ReportHeader {
         model: &model,
-        seed: a.seed,
+        seed: opts.seed,
         simplify: !a.no_simplify,
         passes: a.passes,
         threads: a.threads,
@@ -148,6 +153,11 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
     } else {
         plan_report::text(&header, &outcomes)
     };
+    emit(a, text)
+}
+
+/// Writes `text` to `--out` (atomically; returns nothing to print) or returns it.
+fn emit(a: &PlanArgs, text: String) -> Result<String, String> {
     match &a.out {
         Some(p) => {
             armsim::io::write_atomic(p, text.as_bytes())
@@ -170,7 +180,7 @@ fn plan_options(a: &PlanArgs) -> Result<PlanOptions, String> {
         }
     };
     Ok(PlanOptions {
-        seed: a.seed,
+        seed: a.seed.unwrap_or(0),
         time_limit,
         simplify: !a.no_simplify,
         ..Default::default()
@@ -242,6 +252,17 @@ fn read_inputs(a: &PlanArgs, model: &Model) -> Result<Vec<Input>, String> {
         eprintln!("warning: the same request warnings again in {repeated} more places (not shown)");
     }
     Ok(inputs)
+}
+
+/// Checks `--threads` and `--passes`.
+pub(super) fn check_counts(a: &PlanArgs) -> Result<(), String> {
+    if a.threads == 0 || a.threads > 1024 {
+        return Err(format!("--threads: expected 1 to 1024, got {}", a.threads));
+    }
+    if a.passes == 0 || a.passes > 10_000 {
+        return Err(format!("--passes: expected 1 to 10000, got {}", a.passes));
+    }
+    Ok(())
 }
 
 /// Plans one problem `passes` times.

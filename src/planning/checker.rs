@@ -39,7 +39,7 @@ use super::lanes::{Mask, P3m, Pose, PoseM, L, N, P3};
 #[cfg(target_arch = "x86_64")]
 use super::simd::{Avx2, Sse2};
 use super::simd::{Scalar, Simd, W};
-use super::spheres::SphereModel;
+use super::spheres::{LinkSpheres, SphereModel};
 use crate::model::{Model, WORLD};
 
 /// One body of the kinematic tree in f32.
@@ -66,6 +66,10 @@ pub enum EdgeMode {
     Discrete,
 }
 
+/// Joint-space distance from the path's ends over which the demanded clearance grows from
+/// zero to its full value (rad).
+pub const CLEARANCE_RAMP: f32 = 0.3;
+
 /// Settings of the checker.
 #[derive(Clone, Copy, Debug)]
 pub struct CheckOptions {
@@ -74,6 +78,11 @@ pub struct CheckOptions {
     pub resolution: f32,
     /// Penetration the continuous check allows (m); the exact checks allow none.
     pub tolerance: f32,
+    /// Distance from the obstacles that checks made with [`CheckScratch::keep_clearance`]
+    /// set demand (m), ramped down near the path's ends ([`CLEARANCE_RAMP`]): the simplifier
+    /// keeps it so that a smooth curve through the simplified waypoints has room to cut
+    /// corners. Zero by default (MotionBenchMaker semantics).
+    pub clearance: f32,
 }
 
 impl Default for CheckOptions {
@@ -81,6 +90,7 @@ impl Default for CheckOptions {
         Self {
             resolution: 32.0,
             tolerance: 5e-5,
+            clearance: 0.0,
         }
     }
 }
@@ -103,6 +113,12 @@ pub struct CheckScratch {
     l1: f32,
     /// Whether a continuous edge check is under way (twists and speeds are set).
     moving: bool,
+    /// Whether the obstacle checks demand [`CheckOptions::clearance`].
+    pub keep_clearance: bool,
+    /// The path's start and goal (`2 nv`): the clearance demanded of a configuration grows
+    /// from zero at them to the full value [`CLEARANCE_RAMP`] away (joint-space distance),
+    /// since a task puts the arm close to the obstacles there on purpose (a pick, a place).
+    pub ends: Vec<f32>,
     speed: Vec<f32>,
     link_speed: Vec<f32>,
     stack: Vec<(f32, f32)>,
@@ -157,7 +173,7 @@ impl Checker {
                 }
             })
             .collect();
-        let reachable = reachable_obstacles(model, &spheres, &env);
+        let reachable = reachable_obstacles(model, &spheres, &env, opts.clearance);
         Checker {
             bodies,
             spheres,
@@ -186,6 +202,7 @@ impl Checker {
             infl: vec![L::splat(0.0); self.spheres.len()],
             bound_infl: vec![L::splat(0.0); self.spheres.links.len()],
             body_delta: vec![0.0; self.bodies.len()],
+            ends: Vec::with_capacity(2 * self.nv()),
             speed: vec![0.0; self.spheres.len()],
             link_speed: vec![0.0; self.spheres.links.len()],
             stack: Vec::with_capacity(256),
@@ -212,17 +229,16 @@ impl Checker {
     /// Whether the straight edge `a → b` is free, continuously (see the module docs).
     pub fn edge_free(&self, a: &[f32], b: &[f32], mode: EdgeMode, s: &mut CheckScratch) -> bool {
         s.edges += 1;
-        let continuous = mode == EdgeMode::Continuous;
         #[cfg(target_arch = "x86_64")]
         {
             if let Some(tok) = self.avx2 {
                 // SAFETY: the token proves the CPU has AVX2 and FMA.
-                return unsafe { edge_free_avx2(self, tok, a, b, continuous, s) };
+                return unsafe { edge_free_avx2(self, tok, a, b, mode, s) };
             }
-            self.edge_free_impl(Sse2::new(), a, b, continuous, s)
+            self.edge_free_impl(Sse2::new(), a, b, mode, s)
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.edge_free_impl(Scalar, a, b, continuous, s)
+        self.edge_free_impl(Scalar, a, b, mode, s)
     }
 
     fn dispatch_lanes(&self, q: &[L], h: L, s: &mut CheckScratch) -> (Mask, Mask) {
@@ -232,10 +248,10 @@ impl Checker {
                 // SAFETY: the token proves the CPU has AVX2 and FMA.
                 return unsafe { lanes_hit_avx2(self, tok, q, h, s) };
             }
-            self.lanes_hit(Sse2::new(), q, h, s)
+            self.lanes_hit::<_, false>(Sse2::new(), q, h, s)
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.lanes_hit(Scalar, q, h, s)
+        self.lanes_hit::<_, false>(Scalar, q, h, s)
     }
 
     #[inline(always)]
@@ -244,9 +260,10 @@ impl Checker {
         tok: S,
         a: &[f32],
         b: &[f32],
-        continuous: bool,
+        mode: EdgeMode,
         s: &mut CheckScratch,
     ) -> bool {
+        let continuous = mode == EdgeMode::Continuous;
         let nv = self.nv();
         let mut dist2 = 0.0f32;
         for k in 0..nv {
@@ -376,15 +393,24 @@ impl Checker {
             }
         }
         s.batches += 1;
-        self.lanes_hit(tok, qs, L(*h), s)
+        if s.moving {
+            self.lanes_hit::<S, true>(tok, qs, L(*h), s)
+        } else {
+            self.lanes_hit::<S, false>(tok, qs, L(*h), s)
+        }
     }
 
     /// Collision masks `(exact, inflated)` of eight configurations `q` (one `L` per
     /// coordinate): `exact` with the spheres as they are, `inflated` with sphere `i` grown by
     /// `max(speed_i · h − tol, 0)` per lane. Returns at the first exact hit (the masks are
-    /// then partial).
+    /// then partial). Without `MOVING` (configurations, discrete edges) nothing is inflated
+    /// and the inflation is not even computed: `inflated == exact`.
+    ///
+    /// Every body is placed first (base to tip), then the link groups meet the obstacles
+    /// from the tip back to the base, as VAMP orders them: the hand and the distal links are
+    /// the likeliest to hit, so a colliding batch ends early. Self pairs come last.
     #[inline(always)]
-    pub(crate) fn lanes_hit<S: Simd>(
+    pub(crate) fn lanes_hit<S: Simd, const MOVING: bool>(
         &self,
         tok: S,
         q: &[L],
@@ -393,66 +419,91 @@ impl Checker {
     ) -> (Mask, Mask) {
         let sm = &self.spheres;
         let h = tok.load(&h);
-        let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
         let (mut exact, mut inflated): (Mask, Mask) = (0, 0);
-        let mut g = 0;
-        for bi in 0..=self.bodies.len() {
-            // Groups on the world (bi == 0) come first, then those on body bi − 1.
-            let (body, pose) = if bi == 0 {
-                (WORLD, Pose::splat(tok, &identity, &[0.0; 3]))
-            } else {
-                let pose = self.body_pose(tok, bi - 1, q, &s.poses);
-                s.poses[bi - 1] = pose.store();
-                if s.moving {
-                    let (w, v) = self.body_twist(tok, bi - 1, &pose, s);
-                    s.twist[bi - 1] = [w.store(), v.store()];
-                }
-                (bi - 1, pose)
-            };
-            while g < sm.links.len() && sm.links[g].body == body {
-                let ls = &sm.links[g];
-                s.placed[g] = false;
-                let bc = pose.act(tok, &ls.bound.center);
-                s.bounds[g] = bc.store();
+        let pad = if s.keep_clearance {
+            self.clearance(tok, q, s)
+        } else {
+            tok.splat(0.0)
+        };
+        for bi in 0..self.bodies.len() {
+            let pose = self.body_pose(tok, bi, q, &s.poses);
+            s.poses[bi] = pose.store();
+            if MOVING {
+                let (w, v) = self.body_twist(tok, bi, &pose, s);
+                s.twist[bi] = [w.store(), v.store()];
+            }
+        }
+        for g in (0..sm.links.len()).rev() {
+            let ls = &sm.links[g];
+            s.placed[g] = false;
+            let pose = self.stored_pose(tok, ls.body, s);
+            let bc = pose.act(tok, &ls.bound.center);
+            s.bounds[g] = bc.store();
+            let mut br = tok.splat(ls.bound.radius) + pad;
+            if MOVING {
                 let bi_g = self.bound_inflation(tok, g, &bc, h, s);
                 s.bound_infl[g] = S::store(bi_g);
-                let br = tok.splat(ls.bound.radius) + bi_g;
-                for &o in &self.reachable[g] {
-                    let ob = &self.env.obstacles[o];
-                    if ob.near(tok, &bc, br) == 0 || ob.overlaps(tok, &bc, br) == 0 {
-                        continue;
-                    }
-                    self.place_spheres(tok, g, &pose, h, s);
-                    for i in ls.first..ls.end {
-                        let r = tok.splat(sm.spheres[i].radius);
-                        let c = P3::load(tok, &s.centers[i]);
+                br = br + bi_g;
+            }
+            for &o in &self.reachable[g] {
+                let ob = &self.env.obstacles[o];
+                if ob.near(tok, &bc, br) == 0 || ob.overlaps(tok, &bc, br) == 0 {
+                    continue;
+                }
+                self.place_spheres::<S, MOVING>(tok, g, &pose, h, s);
+                for i in ls.first..ls.end {
+                    let r = tok.splat(sm.spheres[i].radius) + pad;
+                    let c = P3::load(tok, &s.centers[i]);
+                    if MOVING {
                         let m = ob.overlaps(tok, &c, r + tok.load(&s.infl[i]));
                         if m != 0 {
                             inflated |= m;
                             exact |= ob.overlaps(tok, &c, r);
                         }
-                    }
-                    if exact != 0 {
-                        return (exact, inflated);
+                    } else {
+                        exact |= ob.overlaps(tok, &c, r);
                     }
                 }
-                g += 1;
+                if exact != 0 {
+                    return (exact, if MOVING { inflated } else { exact });
+                }
             }
         }
         for &(ga, gb) in &self.self_pairs {
-            let (e, i) = self.pair_hit(tok, ga, gb, h, s);
+            let (e, i) = self.pair_hit::<S, MOVING>(tok, ga, gb, h, s);
             exact |= e;
             inflated |= i;
             if exact != 0 {
-                return (exact, inflated);
+                break;
             }
         }
-        (exact, inflated)
+        (exact, if MOVING { inflated } else { exact })
+    }
+
+    /// The clearance demanded of each lane: the full [`CheckOptions::clearance`] farther
+    /// than [`CLEARANCE_RAMP`] from both ends of the path, less in proportion nearer.
+    #[inline(always)]
+    fn clearance<S: Simd>(&self, tok: S, q: &[L], s: &CheckScratch) -> W<S> {
+        let nv = self.nv();
+        let full = tok.splat(self.opts.clearance);
+        if s.ends.len() != 2 * nv {
+            return full;
+        }
+        let (mut ds, mut dg) = (tok.splat(0.0), tok.splat(0.0));
+        for (k, qk) in q.iter().enumerate().take(nv) {
+            let x = tok.load(qk);
+            let a = x - tok.splat(s.ends[k]);
+            let b = x - tok.splat(s.ends[nv + k]);
+            ds = a.mul_add(a, ds);
+            dg = b.mul_add(b, dg);
+        }
+        let near = ds.min(dg).sqrt() * tok.splat(1.0 / CLEARANCE_RAMP);
+        full * near.min(tok.splat(1.0))
     }
 
     /// Computes the world centres of group `g`'s spheres (once per batch).
     #[inline(always)]
-    fn place_spheres<S: Simd>(
+    fn place_spheres<S: Simd, const MOVING: bool>(
         &self,
         tok: S,
         g: usize,
@@ -464,14 +515,27 @@ impl Checker {
             return;
         }
         let ls = &self.spheres.links[g];
-        let tw = (s.moving && ls.body != WORLD).then(|| {
+        if !MOVING {
+            for i in ls.first..ls.end {
+                s.centers[i] = pose.act(tok, &self.spheres.spheres[i].center).store();
+            }
+            s.placed[g] = true;
+            return;
+        }
+        // No closures here: they would not inherit the caller's target features.
+        let tw = if ls.body != WORLD {
             let t = &s.twist[ls.body];
-            (P3::load(tok, &t[0]), P3::load(tok, &t[1]))
-        });
+            Some((P3::load(tok, &t[0]), P3::load(tok, &t[1])))
+        } else {
+            None
+        };
         for i in ls.first..ls.end {
             let c = pose.act(tok, &self.spheres.spheres[i].center);
             s.centers[i] = c.store();
-            let speed = tw.map(|(w, v)| point_speed(&w, &v, &pose.t, &c));
+            let speed = match &tw {
+                Some((w, v)) => Some(point_speed(w, v, &pose.t, &c)),
+                None => None,
+            };
             s.infl[i] = S::store(self.inflation(tok, s.speed[i], speed, h, s.l1));
         }
         s.placed[g] = true;
@@ -502,14 +566,19 @@ impl Checker {
         h: W<S>,
         s: &CheckScratch,
     ) -> W<S> {
+        // No closures here: they would not inherit the caller's target features.
         let ls = &self.spheres.links[g];
-        let now = (s.moving && ls.body != WORLD).then(|| {
+        let now = if ls.body != WORLD {
             let t = &s.twist[ls.body];
             let (w, v) = (P3::load(tok, &t[0]), P3::load(tok, &t[1]));
             let o = P3::load(tok, &s.poses[ls.body].t);
-            point_speed(&w, &v, &o, bc)
-                + W::norm2(w.x, w.y, w.z).sqrt() * tok.splat(ls.bound.radius)
-        });
+            Some(
+                point_speed(&w, &v, &o, bc)
+                    + W::norm2(w.x, w.y, w.z).sqrt() * tok.splat(ls.bound.radius),
+            )
+        } else {
+            None
+        };
         self.inflation(tok, s.link_speed[g], now, h, s.l1)
     }
 
@@ -579,7 +648,7 @@ impl Checker {
     /// Masks `(exact, inflated)` where link groups `ga` and `gb` overlap (bounding spheres
     /// first).
     #[inline(always)]
-    fn pair_hit<S: Simd>(
+    fn pair_hit<S: Simd, const MOVING: bool>(
         &self,
         tok: S,
         ga: usize,
@@ -591,17 +660,21 @@ impl Checker {
         let (la, lb) = (&sm.links[ga], &sm.links[gb]);
         let ca = P3::load(tok, &s.bounds[ga]);
         let cb = P3::load(tok, &s.bounds[gb]);
-        let rr = tok.splat(la.bound.radius + lb.bound.radius)
-            + tok.load(&s.bound_infl[ga])
-            + tok.load(&s.bound_infl[gb]);
+        let mut rr = tok.splat(la.bound.radius + lb.bound.radius);
+        if MOVING {
+            rr = rr + tok.load(&s.bound_infl[ga]) + tok.load(&s.bound_infl[gb]);
+        }
         if ca.dist2(&cb).lt(rr * rr) == 0 {
             return (0, 0);
         }
         for (g, body) in [(ga, la.body), (gb, lb.body)] {
             if !s.placed[g] {
                 let pose = self.stored_pose(tok, body, s);
-                self.place_spheres(tok, g, &pose, h, s);
+                self.place_spheres::<S, MOVING>(tok, g, &pose, h, s);
             }
+        }
+        if !MOVING {
+            return (self.pair_spheres_hit(tok, la, lb, ca, cb, s), 0);
         }
         let (mut exact, mut inflated) = (0, 0);
         // Each sphere of the group with more spheres against the other group's bound first.
@@ -632,6 +705,41 @@ impl Checker {
             }
         }
         (exact, inflated)
+    }
+
+    /// Mask of the lanes where a sphere of `la` touches one of `lb` (no inflation): each
+    /// sphere of the group with more spheres against the other group's bound first.
+    #[inline(always)]
+    fn pair_spheres_hit<S: Simd>(
+        &self,
+        tok: S,
+        la: &LinkSpheres,
+        lb: &LinkSpheres,
+        ca: P3<S>,
+        cb: P3<S>,
+        s: &CheckScratch,
+    ) -> Mask {
+        let sm = &self.spheres;
+        let (la, lb, cb) = if la.end - la.first >= lb.end - lb.first {
+            (la, lb, cb)
+        } else {
+            (lb, la, ca)
+        };
+        let rb = tok.splat(lb.bound.radius);
+        let mut hit = 0;
+        for i in la.first..la.end {
+            let ri = tok.splat(sm.spheres[i].radius);
+            let ci = P3::load(tok, &s.centers[i]);
+            let reach = ri + rb;
+            if ci.dist2(&cb).lt(reach * reach) == 0 {
+                continue;
+            }
+            for j in lb.first..lb.end {
+                let r = ri + tok.splat(sm.spheres[j].radius);
+                hit |= ci.dist2(&P3::load(tok, &s.centers[j])).lt(r * r);
+            }
+        }
+        hit
     }
 
     /// `oM_parent · placement · J(q)` of body `i` in every lane.
@@ -694,10 +802,10 @@ unsafe fn edge_free_avx2(
     tok: Avx2,
     a: &[f32],
     b: &[f32],
-    continuous: bool,
+    mode: EdgeMode,
     s: &mut CheckScratch,
 ) -> bool {
-    c.edge_free_impl(tok, a, b, continuous, s)
+    c.edge_free_impl(tok, a, b, mode, s)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -709,13 +817,18 @@ unsafe fn lanes_hit_avx2(
     h: L,
     s: &mut CheckScratch,
 ) -> (Mask, Mask) {
-    c.lanes_hit(tok, q, h, s)
+    c.lanes_hit::<_, false>(tok, q, h, s)
 }
 
 /// Per link group, the obstacles within reach of its bounding sphere in any configuration:
 /// the group's bound swept about the first movable body's origin (a sphere of radius
 /// `|o − c| + r` around the chain root). Groups on the world are tested statically.
-fn reachable_obstacles(model: &Model, sm: &SphereModel, env: &Environment) -> Vec<Vec<usize>> {
+fn reachable_obstacles(
+    model: &Model,
+    sm: &SphereModel,
+    env: &Environment,
+    clearance: f32,
+) -> Vec<Vec<usize>> {
     let centers = sm.world_centers(model, &vec![0.0; model.nv]);
     sm.links
         .iter()
@@ -730,7 +843,7 @@ fn reachable_obstacles(model: &Model, sm: &SphereModel, env: &Environment) -> Ve
                     (ls.first..ls.end).any(|i| {
                         let c = centers[i];
                         let p = P3::splat(Scalar, &[c.x as f32, c.y as f32, c.z as f32]);
-                        ob.overlaps(Scalar, &p, Scalar.splat(sm.spheres[i].radius)) != 0
+                        ob.overlaps(Scalar, &p, Scalar.splat(sm.spheres[i].radius + clearance)) != 0
                     })
                 })
                 .collect()

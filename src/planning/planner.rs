@@ -237,6 +237,10 @@ impl Planner {
         res.cost_initial = path_length(&self.path, nv);
         let t1 = Instant::now();
         if self.opts.simplify {
+            self.scratch.keep_clearance = self.opts.check.clearance > 0.0;
+            self.scratch.ends.clear();
+            self.scratch.ends.extend_from_slice(&self.start);
+            self.scratch.ends.extend_from_slice(&self.goal);
             self.simplifier.run(
                 &mut self.path,
                 nv,
@@ -244,6 +248,7 @@ impl Planner {
                 &mut self.scratch,
                 sampler.rng(),
             );
+            self.scratch.keep_clearance = false;
         }
         res.simplify_time_us = t1.elapsed().as_secs_f64() * 1e6;
         res.cost = path_length(&self.path, nv);

@@ -47,6 +47,8 @@ pub struct Simplifier {
     cum: Vec<f32>,
     a: Vec<f32>,
     b: Vec<f32>,
+    /// Per waypoint of a B-spline pass, whether it moved.
+    moved: Vec<bool>,
 }
 
 /// Joint-space L2 length of a flat path of `nv`-vectors.
@@ -253,6 +255,8 @@ impl Simplifier {
         std::mem::swap(path, &mut self.tmp);
         let n = path.len() / nv;
         let mut moved = false;
+        self.moved.clear();
+        self.moved.resize(n, false);
         let mut i = 2;
         while i + 1 < n {
             self.a.clear();
@@ -281,9 +285,27 @@ impl Simplifier {
             {
                 path[i * nv..(i + 1) * nv].copy_from_slice(&self.a);
                 moved = true;
+                self.moved[i] = true;
             }
             i += 2;
         }
+        self.drop_straight_midpoints(path, nv);
         moved
+    }
+
+    /// Removes the inserted midpoints whose neighbours both stayed: they lie on the
+    /// segment they were inserted on, so the path is the same without them (no check
+    /// needed), and a path that cannot move does not double at every pass.
+    fn drop_straight_midpoints(&mut self, path: &mut Vec<f32>, nv: usize) {
+        let n = path.len() / nv;
+        let mut w = 0;
+        for k in 0..n {
+            let straight = k % 2 == 1 && !self.moved[k - 1] && !self.moved[k + 1];
+            if !straight {
+                path.copy_within(k * nv..(k + 1) * nv, w * nv);
+                w += 1;
+            }
+        }
+        path.truncate(w * nv);
     }
 }
