@@ -69,6 +69,9 @@ pub struct PlanArgs {
     /// Write the output to this file (atomically) instead of standard output.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Treat model warnings as errors, as the model commands' --strict does.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// One problem, read.
@@ -90,8 +93,11 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
     if a.passes == 0 || a.passes > 10_000 {
         return Err(format!("--passes: expected 1 to 10000, got {}", a.passes));
     }
-    let (model, warnings) =
-        Model::load_with(&a.model, &LoadOptions::default()).map_err(|e| e.to_string())?;
+    let load = LoadOptions {
+        strict: a.strict,
+        ..Default::default()
+    };
+    let (model, warnings) = Model::load_with(&a.model, &load).map_err(|e| e.to_string())?;
     for w in warnings {
         eprintln!("warning: {w}");
     }
