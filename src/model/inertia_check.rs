@@ -16,8 +16,12 @@ use super::{ModelError, ModelWarning};
 use crate::spatial::Mat3;
 
 /// Relative size of a negative principal moment that is floating-point noise: accepted
-/// silently.
+/// silently (as is one below [`NOISE_ABS`]).
 const NOISE_REL: f64 = 1e-9;
+
+/// Absolute size (kg m²) below which a negative principal moment, or a triangle-inequality
+/// defect, is noise (a milligram 1 mm from its axis): iCub's tensors of 1e-20 kg m².
+const NOISE_ABS: f64 = 1e-12;
 
 /// A negative principal moment up to this fraction of the largest one is clamped (with a
 /// warning).
@@ -57,7 +61,8 @@ pub(super) fn check(l: &mut LinkSpec, file: &str) -> Result<Vec<ModelWarning>, M
     let ev = eig.eigenvalues;
     let (lo, hi) = (ev.min(), ev.max());
     let moments = format!("{:.6e}, {:.6e}, {:.6e}", ev[0], ev[1], ev[2]);
-    if lo < -NOISE_REL * scale {
+    let noise = (NOISE_REL * scale).max(NOISE_ABS);
+    if lo < -noise {
         let tol = clamp_tolerance(hi);
         let clamped = ev.map(|e| e.max(0.0));
         i.inertia_com =
@@ -81,7 +86,7 @@ pub(super) fn check(l: &mut LinkSpec, file: &str) -> Result<Vec<ModelWarning>, M
         return Ok(warnings); // clamped: the warning already says it is not a rigid body
     }
     let (a, b, c) = (ev[0], ev[1], ev[2]);
-    let tol = NOISE_REL * scale;
+    let tol = noise;
     if a + b < c - tol || a + c < b - tol || b + c < a - tol {
         warnings.push(err(format!(
             "inertial: principal moments {a:.6e}, {b:.6e}, {c:.6e} break the triangle inequality (not a physical rigid body)"

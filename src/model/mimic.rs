@@ -10,12 +10,15 @@ use super::spec::{JointSpec, ModelSpec};
 use super::ModelWarning;
 use std::collections::HashMap;
 
-/// Per spec joint: the independent master (spec index), multiplier and offset, for the
-/// joints that mimic another; warnings for the relations ignored.
+/// The independent master (spec index), multiplier and offset of a joint that mimics
+/// another.
+pub(super) type Resolved = Option<(usize, f64, f64)>;
+
+/// Per spec joint, its [`Resolved`] relation; warnings for the relations ignored.
 pub(super) fn resolve(
     spec: &ModelSpec,
     joint_ix: &HashMap<&str, usize>,
-) -> (Vec<Option<(usize, f64, f64)>>, Vec<ModelWarning>) {
+) -> (Vec<Resolved>, Vec<ModelWarning>) {
     let joints = &spec.joints;
     let n = joints.len();
     let mut warnings = Vec::new();
