@@ -269,6 +269,9 @@ enum Cmd {
         /// writes them (default: absolute file:// URIs of the files found here).
         #[arg(long)]
         keep_mesh_uris: bool,
+        /// Treat model warnings as errors, as the model commands' --strict does.
+        #[arg(long)]
+        strict: bool,
     },
     /// Time one algorithm (median ns per call over random states inside the limits).
     Bench {
@@ -500,6 +503,7 @@ fn run(cli: Cli) -> Result<(), String> {
             spawn,
             package_path,
             keep_mesh_uris,
+            strict,
         } => {
             if rerun.is_some() || spawn {
                 need_rerun()?;
@@ -521,6 +525,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 },
                 package_path,
                 keep_mesh_uris,
+                strict,
                 ..Default::default()
             };
             let report =

@@ -86,6 +86,7 @@ fn probe_model(shape: Shape) -> Model {
         joints,
         urdf_text: None,
         gravity: None,
+        warnings: Vec::new(),
     };
     Model::build(spec).unwrap().0
 }

@@ -986,6 +986,7 @@ fn single_joint(jl: f64) -> Model {
         joints: vec![j],
         urdf_text: None,
         gravity: None,
+        warnings: Vec::new(),
     })
     .unwrap()
     .0

@@ -1261,6 +1261,7 @@ fn four_bar_tree() -> armsim::model::Model {
         joints,
         urdf_text: None,
         gravity: None,
+        warnings: Vec::new(),
     };
     armsim::model::Model::build(spec).unwrap().0
 }

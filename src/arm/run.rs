@@ -41,6 +41,8 @@ pub struct RunOptions {
     /// Keep the recording's robot description's mesh URIs as the model file writes them
     /// instead of absolute `file://` URIs (`--keep-mesh-uris`).
     pub keep_mesh_uris: bool,
+    /// Refuse a model that loads only with warnings (`--strict`).
+    pub strict: bool,
 }
 
 impl Default for RunOptions {
@@ -52,6 +54,7 @@ impl Default for RunOptions {
             rerun: None,
             package_path: Vec::new(),
             keep_mesh_uris: false,
+            strict: false,
         }
     }
 }
@@ -108,6 +111,9 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     let n = model.nv;
     let file = scene.file.clone();
     let fail = |key: &str, msg: String| ScenarioError::new(&file, None, key, msg);
+    if let Some(w) = scene.model_warnings.first().filter(|_| opts.strict) {
+        return Err(fail("model.file", format!("--strict: {w}")));
+    }
     // The recording's epoch: simulated t = 0 is the run's wall-clock start.
     let started_ns = wall_clock_ns();
     let mut timings = Map::new();

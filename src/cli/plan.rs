@@ -75,6 +75,9 @@ pub struct PlanArgs {
     /// Write the output to this file (atomically) instead of standard output.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Treat model warnings as errors, as the model commands' --strict does.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// One problem, read.
@@ -95,8 +98,11 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
         let text = super::plan_scenario::run(a, file, &opts)?;
         return emit(a, text);
     }
-    let (model, warnings) =
-        Model::load_with(&a.model, &LoadOptions::default()).map_err(|e| e.to_string())?;
+    let load = LoadOptions {
+        strict: a.strict,
+        ..Default::default()
+    };
+    let (model, warnings) = Model::load_with(&a.model, &load).map_err(|e| e.to_string())?;
     for w in warnings {
         eprintln!("warning: {w}");
     }

@@ -264,6 +264,7 @@ impl TorsionalChain {
             joints,
             urdf_text: None,
             gravity: None,
+            warnings: Vec::new(),
         };
         Model::build(spec).map(|(m, _)| m)
     }

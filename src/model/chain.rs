@@ -65,6 +65,7 @@ pub fn chain_spec(n: usize) -> ModelSpec {
         joints,
         urdf_text: None,
         gravity: None,
+        warnings: Vec::new(),
     }
 }
 

@@ -431,6 +431,7 @@ fn build(dh: DhFile, file: &str, layout: &Layout) -> Result<ModelSpec, ModelErro
     links.push(LinkSpec::new("tool"));
     Ok(ModelSpec {
         gravity: dh.gravity.map(Vec3::from),
+        warnings: Vec::new(),
         name: dh.name.unwrap_or_else(|| "dh_robot".to_string()),
         source: file.to_string(),
         root_offset: base,

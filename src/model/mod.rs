@@ -18,11 +18,15 @@
 pub mod chain;
 pub mod dh;
 mod error;
+mod inertia_check;
+mod mimic;
 mod sampling;
 mod spec;
+mod spec_check;
 pub mod urdf;
 
 pub use error::{ModelError, ModelWarning};
+pub use inertia_check::{clamp_tolerance, CLAMP_ABS, CLAMP_REL};
 pub use spec::{Geometry, JointSpec, JointType, Limits, LinkSpec, MimicSpec, ModelSpec, Shape};
 
 use crate::spatial::{rotation_z_to, Inertia, InertiaO, Mat3, Se3, Vec3};
@@ -292,9 +296,6 @@ pub struct Model {
     joint_index: HashMap<String, usize>,
 }
 
-/// Relative tolerance for the inertia checks.
-const INERTIA_TOL: f64 = 1e-9;
-
 impl Model {
     /// Loads a model file, choosing the loader by extension (`.urdf`/`.xml` or `.toml`).
     /// Returns the model and the warnings.
@@ -419,9 +420,18 @@ impl Model {
         self.dof_joint(k).jtype == JointType::Continuous
     }
 
-    /// Validates a spec and compiles it (see the module docs).
-    pub fn build(spec: ModelSpec) -> Result<(Model, Vec<ModelWarning>), ModelError> {
-        Builder::new(&spec).build()
+    /// Validates a spec and compiles it (see the module docs). The warnings start with
+    /// the reader's ([`ModelSpec::warnings`]).
+    pub fn build(mut spec: ModelSpec) -> Result<(Model, Vec<ModelWarning>), ModelError> {
+        let mut warnings = std::mem::take(&mut spec.warnings);
+        for l in spec.links.iter_mut() {
+            warnings.extend(inertia_check::check(l, &spec.source)?);
+        }
+        Builder {
+            spec: &spec,
+            warnings,
+        }
+        .build()
     }
 }
 
@@ -430,14 +440,7 @@ struct Builder<'a> {
     warnings: Vec<ModelWarning>,
 }
 
-impl<'a> Builder<'a> {
-    fn new(spec: &'a ModelSpec) -> Self {
-        Self {
-            spec,
-            warnings: Vec::new(),
-        }
-    }
-
+impl Builder<'_> {
     fn err_joint(&self, j: &JointSpec, msg: impl Into<String>) -> ModelError {
         ModelError::new(
             &self.spec.source,
@@ -449,113 +452,6 @@ impl<'a> Builder<'a> {
 
     fn err_link(&self, l: &LinkSpec, msg: impl Into<String>) -> ModelError {
         ModelError::new(&self.spec.source, l.line, format!("link '{}'", l.name), msg)
-    }
-
-    fn check_finite_se3(&self, t: &Se3) -> bool {
-        t.rot.iter().all(|x| x.is_finite()) && t.trans.iter().all(|x| x.is_finite())
-    }
-
-    fn check_link(&mut self, l: &LinkSpec) -> Result<(), ModelError> {
-        let i = &l.inertial;
-        let finite = i.mass.is_finite()
-            && i.com.iter().all(|x| x.is_finite())
-            && i.inertia_com.iter().all(|x| x.is_finite());
-        if !finite {
-            return Err(self.err_link(l, "inertial: non-finite number"));
-        }
-        if i.mass < 0.0 {
-            return Err(self.err_link(l, format!("inertial: negative mass {}", i.mass)));
-        }
-        let sym = (i.inertia_com - i.inertia_com.transpose()).norm();
-        let scale = i.inertia_com.norm().max(f64::MIN_POSITIVE);
-        if sym > 1e-12 * scale {
-            return Err(self.err_link(l, "inertial: inertia tensor is not symmetric"));
-        }
-        let eig = i.inertia_com.symmetric_eigenvalues();
-        let tol = INERTIA_TOL * scale;
-        if eig.iter().any(|&e| e < -tol) {
-            return Err(self.err_link(
-                l,
-                format!(
-                    "inertial: inertia tensor is not positive semi-definite (principal moments {:.6e}, {:.6e}, {:.6e})",
-                    eig[0], eig[1], eig[2]
-                ),
-            ));
-        }
-        let (a, b, c) = (eig[0], eig[1], eig[2]);
-        if a + b < c - tol || a + c < b - tol || b + c < a - tol {
-            self.warnings.push(self.err_link(
-                l,
-                format!(
-                    "inertial: principal moments {a:.6e}, {b:.6e}, {c:.6e} break the triangle inequality (not a physical rigid body)"
-                ),
-            ));
-        }
-        for g in l.visuals.iter().chain(l.collisions.iter()) {
-            if !self.check_finite_se3(&g.origin) {
-                return Err(self.err_link(l, "geometry origin: non-finite number"));
-            }
-        }
-        Ok(())
-    }
-
-    fn check_joint(&self, j: &JointSpec) -> Result<(), ModelError> {
-        if !self.check_finite_se3(&j.origin) || !self.check_finite_se3(&j.child_offset) {
-            return Err(self.err_joint(j, "origin: non-finite number"));
-        }
-        if j.jtype.is_movable() {
-            if !j.axis.iter().all(|x| x.is_finite()) {
-                return Err(self.err_joint(j, "axis: non-finite number"));
-            }
-            if j.axis.norm() < 1e-9 {
-                return Err(self.err_joint(j, "axis: zero vector"));
-            }
-        }
-        let lim = &j.limits;
-        for (name, v) in [
-            ("lower", lim.lower),
-            ("upper", lim.upper),
-            ("velocity", lim.velocity),
-            ("effort", lim.effort),
-        ] {
-            if v.is_nan() {
-                return Err(self.err_joint(j, format!("limit: {name} is not a number")));
-            }
-        }
-        if lim.lower > lim.upper {
-            return Err(self.err_joint(
-                j,
-                format!(
-                    "limit: lower limit {} is greater than upper limit {}",
-                    lim.lower, lim.upper
-                ),
-            ));
-        }
-        if lim.velocity < 0.0 || lim.effort < 0.0 {
-            return Err(self.err_joint(j, "limit: negative velocity or effort limit"));
-        }
-        for (name, v) in [
-            ("damping", j.damping),
-            ("friction", j.friction),
-            ("motor_inertia", j.motor_inertia),
-            ("gear_ratio", j.gear_ratio),
-        ] {
-            if !v.is_finite() {
-                return Err(self.err_joint(j, format!("{name}: non-finite number")));
-            }
-        }
-        if j.motor_inertia < 0.0 || j.damping < 0.0 || j.friction < 0.0 {
-            return Err(self.err_joint(j, "negative damping, friction or motor inertia"));
-        }
-        if j.gear_ratio == 0.0 {
-            return Err(self.err_joint(j, "gear_ratio: must not be zero"));
-        }
-        if let Some(m) = &j.mimic {
-            if !m.multiplier.is_finite() || !m.offset.is_finite() {
-                return Err(self.err_joint(j, "mimic: non-finite multiplier or offset"));
-            }
-        }
-        Ok(())
     }
 
     fn build(mut self) -> Result<(Model, Vec<ModelWarning>), ModelError> {
@@ -675,59 +571,9 @@ impl<'a> Builder<'a> {
             ));
         }
 
-        // Mimic resolution: master must exist, be movable, and chains must not cycle.
-        let mut mimic_resolved: Vec<Option<(usize, f64, f64)>> = vec![None; spec.joints.len()];
-        for (ji, j) in spec.joints.iter().enumerate() {
-            let Some(m) = &j.mimic else { continue };
-            if !j.jtype.is_movable() {
-                // A fixed joint has no coordinate to drive: urdfdom and Pinocchio ignore
-                // the tag (spherized planning models fix their fingers this way).
-                let w = self.err_joint(
-                    j,
-                    format!(
-                        "<mimic joint=\"{}\"> on a fixed joint: ignored (a fixed joint does not move)",
-                        m.joint
-                    ),
-                );
-                self.warnings.push(w);
-                continue;
-            }
-            let (mut mult, mut off) = (m.multiplier, m.offset);
-            let mut cur = *joint_ix.get(m.joint.as_str()).ok_or_else(|| {
-                self.err_joint(
-                    j,
-                    format!("mimic: master joint '{}' does not exist", m.joint),
-                )
-            })?;
-            let mut steps = 0usize;
-            loop {
-                if cur == ji || steps > spec.joints.len() {
-                    return Err(self.err_joint(j, "mimic: the mimic relations form a cycle"));
-                }
-                let mj = &spec.joints[cur];
-                if !mj.jtype.is_movable() {
-                    return Err(
-                        self.err_joint(j, format!("mimic: master joint '{}' is fixed", mj.name))
-                    );
-                }
-                match &mj.mimic {
-                    None => break,
-                    Some(mm) => {
-                        // q = mult (mm.mult q' + mm.off) + off
-                        off += mult * mm.offset;
-                        mult *= mm.multiplier;
-                        cur = *joint_ix.get(mm.joint.as_str()).ok_or_else(|| {
-                            self.err_joint(
-                                mj,
-                                format!("mimic: master joint '{}' does not exist", mm.joint),
-                            )
-                        })?;
-                        steps += 1;
-                    }
-                }
-            }
-            mimic_resolved[ji] = Some((cur, mult, off));
-        }
+        // Mimic resolution (relations that cannot be honoured are warned about).
+        let (mimic_resolved, mimic_warnings) = mimic::resolve(spec, &joint_ix);
+        self.warnings.extend(mimic_warnings);
 
         // Re-index: links and joints in tree order.
         let mut new_link = vec![0usize; nl];
@@ -744,7 +590,7 @@ impl<'a> Builder<'a> {
         let mut dof_joints = Vec::new();
         for &j in &order_joints {
             let js = &spec.joints[j];
-            if js.jtype.is_movable() && js.mimic.is_none() {
+            if js.jtype.is_movable() && mimic_resolved[j].is_none() {
                 dof_of_spec_joint[j] = Some(dof_joints.len());
                 dof_joints.push(new_joint[j]);
             }

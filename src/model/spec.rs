@@ -222,4 +222,7 @@ pub struct ModelSpec {
     pub urdf_text: Option<String>,
     /// Gravity the file asks for, if it says.
     pub gravity: Option<Vec3>,
+    /// Problems the reader found and worked around (what was ignored or repaired, where);
+    /// [`crate::model::Model::build`] reports them first among its warnings.
+    pub warnings: Vec<super::ModelWarning>,
 }
