@@ -8,12 +8,13 @@ use super::plan::{plan, Plan};
 use super::plots;
 use super::scene::{Scene, Timing};
 use crate::data::Data;
+use crate::diag::LocatedError as ScenarioError;
 use crate::dynamics::{Effects, Payload};
 use crate::kinematics::{forward_kinematics, frame_placement};
 use crate::recording::mcap_out::{wall_clock_ns, McapWriter};
 use crate::recording::obstacles::{markers_of, ObstacleMarker};
 use crate::recording::{CollisionEvent, Header, TorqueRow};
-use crate::scenario::{Report, ScenarioError};
+use crate::report::Report;
 use crate::sim::{SimConfig, Simulator, StepHook};
 use crate::spatial::Inertia;
 use crate::trajectory::{

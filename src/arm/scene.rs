@@ -6,9 +6,9 @@
 use super::schema::*;
 use crate::collision::resolve::{resolve_spec_meshes, PackagePaths};
 use crate::collision::{CollisionOptions, ObstacleSpec};
+use crate::diag::LocatedError as ScenarioError;
 use crate::dynamics::{Effects, Elasticity, Friction, Payload, Rotor};
 use crate::model::{Model, ModelSpec, Shape};
-use crate::scenario::{line_at, ScenarioError};
 use crate::sim::{Controller, Integrator};
 use crate::spatial::{Inertia, Mat3, Se3, Vec3};
 use crate::trajectory::JointLimits;
@@ -170,26 +170,10 @@ pub struct Scene {
     pub planner_disabled: Vec<[String; 2]>,
 }
 
-/// Error context: the file and its text.
-pub struct Ctx<'a> {
-    pub file: &'a str,
-    pub text: &'a str,
-}
+/// Error context: the file and its text (the crate's one error builder).
+pub type Ctx<'a> = crate::diag::Source<'a>;
 
-impl Ctx<'_> {
-    /// An error at `span` (byte range).
-    pub fn at(&self, span: Range<usize>, key: &str, msg: impl Into<String>) -> ScenarioError {
-        ScenarioError::new(self.file, Some(line_at(self.text, span.start)), key, msg)
-    }
-
-    fn line(&self, span: Range<usize>) -> Option<usize> {
-        Some(line_at(self.text, span.start))
-    }
-}
-
-fn finite_pos(x: f64) -> bool {
-    x > 0.0 && x.is_finite()
-}
+use crate::diag::finite_positive as finite_pos;
 
 /// Reads a per-joint value: a number for all, a list in joint order, or a table by joint
 /// name over `default`.
@@ -1245,7 +1229,7 @@ pub fn build_with(
         steps.push(TaskStep {
             step,
             key,
-            line: cx.line(span),
+            line: Some(cx.line(&span)),
         })
     };
     let check_pose = |p: &PoseSec, key: &str, span: Range<usize>| -> Result<(), ScenarioError> {

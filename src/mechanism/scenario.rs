@@ -15,11 +15,11 @@ use super::machine_motion::Characteristic;
 use super::position::{solve_position, NewtonOptions};
 use super::sweep::SweepOptions;
 use super::Vec2;
-use crate::scenario::{line_at, line_of_key, Report, ScenarioError};
+use crate::diag::{all_finite, line_of_key, LocatedError as ScenarioError, Source};
+use crate::report::Report;
 use nalgebra::DVector;
 use serde::Deserialize;
 use std::collections::{BTreeMap, HashMap};
-use std::ops::Range;
 use std::path::Path;
 use toml::Spanned;
 
@@ -287,43 +287,6 @@ pub struct Scenario {
     pub machine: Option<MachineScenario>,
 }
 
-struct Ctx<'a> {
-    file: &'a str,
-    text: &'a str,
-}
-
-impl Ctx<'_> {
-    fn line(&self, span: &Range<usize>) -> usize {
-        line_at(self.text, span.start)
-    }
-
-    /// Line of `key =` inside `span` (falling back to the span's first line).
-    fn key_line(&self, span: &Range<usize>, key: &str) -> usize {
-        let start = self.line(span);
-        let end = line_at(self.text, span.end);
-        self.text
-            .lines()
-            .enumerate()
-            .skip(start - 1)
-            .take(end + 1 - start)
-            .find(|(_, l)| {
-                l.trim_start()
-                    .strip_prefix(key)
-                    .is_some_and(|r| r.trim_start().starts_with('='))
-            })
-            .map(|(i, _)| i + 1)
-            .unwrap_or(start)
-    }
-
-    fn err(&self, line: usize, key: impl Into<String>, msg: impl Into<String>) -> ScenarioError {
-        ScenarioError::new(self.file, Some(line), key, msg)
-    }
-}
-
-fn finite(v: &[f64]) -> bool {
-    v.iter().all(|x| x.is_finite())
-}
-
 fn unit(v: [f64; 2]) -> Option<Vec2> {
     let d = Vec2::new(v[0], v[1]);
     let n = d.norm();
@@ -333,7 +296,7 @@ fn unit(v: [f64; 2]) -> Option<Vec2> {
 /// Parses and validates `text` (the contents of `file`); assembles the linkage once.
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     let spec: Spec = toml::from_str(text).map_err(|e| ScenarioError::from_toml(file, text, &e))?;
-    let cx = Ctx { file, text };
+    let cx = Source::new(file, text);
     let name = spec.name.clone().unwrap_or_else(|| {
         Path::new(file)
             .file_stem()
@@ -397,7 +360,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     })
 }
 
-fn parse_link(cx: &Ctx, name: &str, sp: &Spanned<LinkSpec>) -> Result<Link, ScenarioError> {
+fn parse_link(cx: &Source, name: &str, sp: &Spanned<LinkSpec>) -> Result<Link, ScenarioError> {
     let line = cx.line(&sp.span());
     let key = format!("links.{name}");
     let s = sp.get_ref();
@@ -430,7 +393,7 @@ fn parse_link(cx: &Ctx, name: &str, sp: &Spanned<LinkSpec>) -> Result<Link, Scen
         ));
     }
     for (pn, p) in s.points.iter().flatten() {
-        if !finite(p) {
+        if !all_finite(p) {
             return Err(cx.err(line, format!("{key}.points.{pn}"), "non-finite coordinates"));
         }
         if points.iter().any(|(n, _)| n == pn) {
@@ -457,7 +420,7 @@ fn parse_link(cx: &Ctx, name: &str, sp: &Spanned<LinkSpec>) -> Result<Link, Scen
         }
     }
     let com = match s.com {
-        Some(c) if !finite(&c) => {
+        Some(c) if !all_finite(&c) => {
             return Err(cx.err(
                 cx.key_line(&sp.span(), "com"),
                 format!("{key}.com"),
@@ -485,7 +448,7 @@ fn body_of(links: &[Link], name: &str) -> Option<usize> {
     }
 }
 
-fn parse_mechanism(cx: &Ctx, spec: &Spec) -> Result<MechanismScenario, ScenarioError> {
+fn parse_mechanism(cx: &Source, spec: &Spec) -> Result<MechanismScenario, ScenarioError> {
     let links_spec = spec.links.as_ref().expect("checked by the caller");
     // File order (the map is sorted by name): by span.
     let mut order: Vec<(&String, &Spanned<LinkSpec>)> = links_spec.iter().collect();
@@ -505,7 +468,7 @@ fn parse_mechanism(cx: &Ctx, spec: &Spec) -> Result<MechanismScenario, ScenarioE
     }
     let mut ground = Vec::new();
     for (n, p) in spec.ground.iter().flatten() {
-        if !finite(p.get_ref()) {
+        if !all_finite(p.get_ref()) {
             return Err(cx.err(
                 cx.line(&p.span()),
                 format!("ground.{n}"),
@@ -556,7 +519,7 @@ fn parse_mechanism(cx: &Ctx, spec: &Spec) -> Result<MechanismScenario, ScenarioE
                 "must be a non-zero vector",
             )
         })?;
-        if !finite(&s.through) {
+        if !all_finite(&s.through) {
             return Err(cx.err(
                 cx.key_line(&span, "through"),
                 format!("{key}.through"),
@@ -745,7 +708,11 @@ fn parse_mechanism(cx: &Ctx, spec: &Spec) -> Result<MechanismScenario, ScenarioE
         )
     };
     let step_key = if angle_input { "step_deg" } else { "step" };
-    if !(step.is_finite() && step > 0.0 && finite(&[from, to, assemble_at]) && finite(&report_at)) {
+    if !(step.is_finite()
+        && step > 0.0
+        && all_finite(&[from, to, assemble_at])
+        && all_finite(&report_at))
+    {
         return Err(cx.err(
             cx.key_line(&sspan, step_key),
             format!("sweep.{step_key}"),
@@ -769,7 +736,7 @@ fn parse_mechanism(cx: &Ctx, spec: &Spec) -> Result<MechanismScenario, ScenarioE
                 format!("no point '{n}' on any link"),
             ));
         }
-        if !finite(p.get_ref()) {
+        if !all_finite(p.get_ref()) {
             return Err(cx.err(cx.line(&p.span()), format!("guess.{n}"), "non-finite"));
         }
         guess.insert(n.clone(), Vec2::new(p.get_ref()[0], p.get_ref()[1]));
@@ -990,7 +957,7 @@ fn text_line_of_table(text: &str, table: &str) -> Option<usize> {
 }
 
 fn parse_kineto(
-    cx: &Ctx,
+    cx: &Source,
     k: &Spanned<KinetoSpec>,
     loads: &[Spanned<LoadSpec>],
     l: &Linkage,
@@ -1000,7 +967,7 @@ fn parse_kineto(
     let span = k.span();
     let ks = k.get_ref();
     let g = ks.gravity.unwrap_or([0.0, -9.81]);
-    if !finite(&g) {
+    if !all_finite(&g) {
         return Err(cx.err(
             cx.key_line(&span, "gravity"),
             "kinetostatics.gravity",
@@ -1068,7 +1035,7 @@ fn parse_kineto(
                     format!("link '{}' has no point '{pn}'", s.link),
                 )
             })?;
-            if !finite(&f) {
+            if !all_finite(&f) {
                 return Err(cx.err(
                     cx.key_line(&span, "force"),
                     format!("{key}.force"),
@@ -1099,7 +1066,7 @@ fn parse_kineto(
 }
 
 fn parse_flywheel(
-    cx: &Ctx,
+    cx: &Source,
     f: &Spanned<FlywheelSpec>,
     mech: Option<&MechanismScenario>,
 ) -> Result<FlywheelScenario, ScenarioError> {
@@ -1133,7 +1100,7 @@ fn parse_flywheel(
     let table = match &s.torque_deg {
         Some(t) => {
             if t.len() < 3
-                || t.iter().any(|r| !finite(r))
+                || t.iter().any(|r| !all_finite(r))
                 || t.windows(2).any(|w| w[1][0] <= w[0][0])
             {
                 return Err(cx.err(
@@ -1165,7 +1132,7 @@ fn parse_flywheel(
     })
 }
 
-fn parse_rotor(cx: &Ctx, r: &Spanned<RotorSpec>) -> Result<RotorScenario, ScenarioError> {
+fn parse_rotor(cx: &Source, r: &Spanned<RotorSpec>) -> Result<RotorScenario, ScenarioError> {
     let span = r.span();
     let s = r.get_ref();
     let n = s.masses.len();
@@ -1190,7 +1157,7 @@ fn parse_rotor(cx: &Ctx, r: &Spanned<RotorSpec>) -> Result<RotorScenario, Scenar
         ("planes", &s.planes),
         ("plane_radii", &s.plane_radii),
     ] {
-        if !finite(v) {
+        if !all_finite(v) {
             return Err(cx.err(
                 cx.key_line(&span, k),
                 format!("rotor_balance.{k}"),
@@ -1244,7 +1211,7 @@ fn parse_rotor(cx: &Ctx, r: &Spanned<RotorSpec>) -> Result<RotorScenario, Scenar
     })
 }
 
-fn parse_machine(cx: &Ctx, m: &Spanned<MachineSpec>) -> Result<MachineScenario, ScenarioError> {
+fn parse_machine(cx: &Source, m: &Spanned<MachineSpec>) -> Result<MachineScenario, ScenarioError> {
     let span = m.span();
     let s = m.get_ref();
     if !(s.inertia.is_finite() && s.inertia > 0.0) {
@@ -1254,7 +1221,7 @@ fn parse_machine(cx: &Ctx, m: &Spanned<MachineSpec>) -> Result<MachineScenario, 
             "must be positive",
         ));
     }
-    if s.drive.is_empty() || !finite(&s.drive) {
+    if s.drive.is_empty() || !all_finite(&s.drive) {
         return Err(cx.err(
             cx.key_line(&span, "drive"),
             "machine_motion.drive",

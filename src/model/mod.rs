@@ -15,14 +15,18 @@
 //! - mimic joints (`q = multiplier * q_master + offset`) are bodies without a coordinate
 //!   of their own: they read the master's coordinate.
 
+mod axis_x;
 pub mod chain;
 pub mod dh;
 mod error;
+mod ids;
 mod sampling;
 mod spec;
 pub mod urdf;
 
+pub(crate) use axis_x::AxisX;
 pub use error::{ModelError, ModelWarning};
+pub use ids::{FrameId, JointId};
 pub use spec::{Geometry, JointSpec, JointType, Limits, LinkSpec, MimicSpec, ModelSpec, Shape};
 
 use crate::spatial::{rotation_z_to, Inertia, InertiaO, Mat3, Se3, Vec3};
