@@ -1,12 +1,12 @@
 //! The commands of the `armsim` binary, one file per command group; `src/main.rs` holds
 //! the clap structs' dispatch. Every command reads its clap `Args` struct directly.
 //!
-//! - [`inspect`]: `info`, `fk`, `jacobian`, `bench`, `chain`;
-//! - [`dynamics`]: `dynamics`;
-//! - [`ik`]: `ik` (numeric and analytic);
-//! - [`workspace`]: `workspace`;
-//! - [`scenario`]: `run`, `view`, `tradeoffs`;
-//! - [`plan`] (with [`plan_report`]): `plan`.
+//! - [`inspect`] holds `info`, `fk`, `jacobian`, `bench` and `chain`;
+//! - [`dynamics`] holds `dynamics`;
+//! - [`ik`] holds `ik` (numeric and analytic);
+//! - [`workspace`] holds `workspace`;
+//! - [`scenario`] holds `run`, `view` and `tradeoffs`;
+//! - [`plan`] (with [`plan_report`]) holds `plan`.
 
 pub mod plan;
 pub mod plan_report;

@@ -207,7 +207,7 @@ fn check_torque_sweep(scene: &Scene, plan: &Plan) -> Result<Sweep, ScenarioError
         let fx = if m.is_nan() {
             scene.effects.clone()
         } else {
-            effects_with_mass(&scene, *m).map_err(|e| fail("payload", e))?
+            effects_with_mass(scene, *m).map_err(|e| fail("payload", e))?
         };
         let copts = CheckOptions {
             dt: scene.check_dt,

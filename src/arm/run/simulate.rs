@@ -186,7 +186,7 @@ fn simulation_json(
             .collect();
         named(&names, &f)
     });
-    let vib = vibration_frequency(&samples, duration);
+    let vib = vibration_frequency(samples, duration);
     json!({
         "integrator": sim_report.integrator,
         "controller": match &ss.controller {

@@ -42,14 +42,15 @@ pub(super) fn named(
     named.sort_by_key(|n| EFFECT_NAMES.iter().position(|m| m == n));
     let has = |e: &str| named.contains(&e);
     // Parameter tables for effects left out: ignored, with a warning.
-    for (sec, present) in [
-        ("gravity", file.gravity.is_some()),
-        ("friction", file.friction.is_some()),
-        ("rotor_inertia", file.rotor_inertia.is_some()),
-        ("joint_elasticity", file.joint_elasticity.is_some()),
-        ("payload", file.payload.is_some()),
-        ("contact", file.contact.is_some()),
-    ] {
+    let tables = [
+        file.gravity.is_some(),
+        file.friction.is_some(),
+        file.rotor_inertia.is_some(),
+        file.joint_elasticity.is_some(),
+        file.payload.is_some(),
+        file.contact.is_some(),
+    ];
+    for (&sec, present) in EFFECT_NAMES.iter().zip(tables) {
         if present && !has(sec) {
             warnings.push(format!(
                 "[{sec}] is given but '{sec}' is not in effects: it is not simulated"
@@ -98,7 +99,7 @@ pub(super) fn build(sx: &Sections, named: &[&'static str]) -> Result<Built, Scen
     let file = sx.file;
     let model = sx.model;
     effects
-        .validate(&model)
+        .validate(model)
         .map_err(|e| cx.at(file.effects.span(), "effects", e))?;
     Ok((effects, payload_masses, payload_inertia))
 }
@@ -131,7 +132,7 @@ fn gravity_and_friction(
         effects.gravity = Some(base.rot.transpose() * Vec3::new(g[0], g[1], g[2]));
     }
     if has("friction") {
-        let mut f = Friction::from_model(&model);
+        let mut f = Friction::from_model(model);
         if let Some(sec) = &file.friction {
             let s = sec.get_ref();
             for (v, key, dst) in [
@@ -145,12 +146,12 @@ fn gravity_and_friction(
                 ),
             ] {
                 if let Some(v) = v {
-                    let vals = per_joint(&cx, v, key, &names, dst)?;
+                    let vals = per_joint(cx, v, key, names, dst)?;
                     positive_all(
-                        &cx,
+                        cx,
                         v,
                         key,
-                        &names,
+                        names,
                         &vals,
                         key != "friction.stribeck_velocity",
                     )?;
@@ -174,7 +175,7 @@ fn gravity_and_friction(
                     ));
                 }
             }
-            f.smoothing = get_f(&cx, &s.smoothing, "friction.smoothing", f.smoothing)?;
+            f.smoothing = get_f(cx, &s.smoothing, "friction.smoothing", f.smoothing)?;
         }
         effects.friction = Some(f);
     }
@@ -192,7 +193,7 @@ fn rotor_inertia(
     let names = &sx.names;
     let has = |e: &str| named.contains(&e);
     if has("rotor_inertia") {
-        let mut r = Rotor::from_model(&model, 1.0);
+        let mut r = Rotor::from_model(model, 1.0);
         if let Some(sec) = &file.rotor_inertia {
             let s = sec.get_ref();
             for (v, key, dst, zero_ok) in [
@@ -211,8 +212,8 @@ fn rotor_inertia(
                 ),
             ] {
                 if let Some(v) = v {
-                    let vals = per_joint(&cx, v, key, &names, dst)?;
-                    positive_all(&cx, v, key, &names, &vals, zero_ok)?;
+                    let vals = per_joint(cx, v, key, names, dst)?;
+                    positive_all(cx, v, key, names, &vals, zero_ok)?;
                     if key.ends_with("efficiency") {
                         if let Some(k) = vals.iter().position(|e| *e > 1.0) {
                             return Err(cx.at(
@@ -259,24 +260,24 @@ fn joint_elasticity(
         let s = sec.get_ref();
         let zeros = vec![0.0; n];
         let stiffness = per_joint(
-            &cx,
+            cx,
             &s.stiffness,
             "joint_elasticity.stiffness",
-            &names,
+            names,
             &zeros,
         )?;
         positive_all(
-            &cx,
+            cx,
             &s.stiffness,
             "joint_elasticity.stiffness",
-            &names,
+            names,
             &stiffness,
             false,
         )?;
         let damping = match &s.damping {
             Some(v) => {
-                let d = per_joint(&cx, v, "joint_elasticity.damping", &names, &zeros)?;
-                positive_all(&cx, v, "joint_elasticity.damping", &names, &d, true)?;
+                let d = per_joint(cx, v, "joint_elasticity.damping", names, &zeros)?;
+                positive_all(cx, v, "joint_elasticity.damping", names, &d, true)?;
                 d
             }
             None => zeros.clone(),
@@ -292,14 +293,8 @@ fn joint_elasticity(
         };
         let motor_inertia = match &s.motor_inertia {
             Some(v) => {
-                let b = per_joint(
-                    &cx,
-                    v,
-                    "joint_elasticity.motor_inertia",
-                    &names,
-                    &from_rotor,
-                )?;
-                positive_all(&cx, v, "joint_elasticity.motor_inertia", &names, &b, false)?;
+                let b = per_joint(cx, v, "joint_elasticity.motor_inertia", names, &from_rotor)?;
+                positive_all(cx, v, "joint_elasticity.motor_inertia", names, &b, false)?;
                 b
             }
             None => {
@@ -408,8 +403,8 @@ fn payload(
         let com = Vec3::new(s.com[0], s.com[1], s.com[2]);
         let mass = *payload_masses.last().expect("non-empty");
         let inertia = Inertia::new(mass, com, inertia_com);
-        let p = Payload::new(&model, link, inertia)
-            .map_err(|e| cx.at(sec.span(), "payload.link", e))?;
+        let p =
+            Payload::new(model, link, inertia).map_err(|e| cx.at(sec.span(), "payload.link", e))?;
         effects.payload = Some(p);
         Ok((payload_masses, Some((link, inertia))))
     }

@@ -21,7 +21,7 @@ pub(super) fn position_limits(sx: &Sections) -> Result<(Vec<f64>, Vec<f64>), Sce
             (&l.upper, "limits.upper", &mut upper, &model.upper, false),
         ] {
             if let Some(v) = v {
-                let vals = per_joint(&cx, v, key, &names, model_lim)?;
+                let vals = per_joint(cx, v, key, names, model_lim)?;
                 for k in 0..n {
                     let outside = if is_lower {
                         vals[k] < model_lim[k]
@@ -84,8 +84,8 @@ pub(super) fn rate_limits(sx: &Sections) -> Result<RateLimits, ScenarioError> {
     };
     let mut velocity = model.velocity_limit.clone();
     if let Some(v) = lsec.and_then(|l| l.velocity.as_ref()) {
-        let vals = per_joint(&cx, v, "limits.velocity", &names, &velocity)?;
-        positive_all(&cx, v, "limits.velocity", &names, &vals, false)?;
+        let vals = per_joint(cx, v, "limits.velocity", names, &velocity)?;
+        positive_all(cx, v, "limits.velocity", names, &vals, false)?;
         for k in 0..n {
             if vals[k] > model.velocity_limit[k] {
                 return Err(cx.at(
@@ -122,16 +122,16 @@ pub(super) fn rate_limits(sx: &Sections) -> Result<RateLimits, ScenarioError> {
     let default_acc: Vec<f64> = velocity.iter().map(|v| 4.0 * v).collect();
     let acceleration = match lsec.and_then(|l| l.acceleration.as_ref()) {
         Some(v) => {
-            let vals = per_joint(&cx, v, "limits.acceleration", &names, &default_acc)?;
-            positive_all(&cx, v, "limits.acceleration", &names, &vals, false)?;
+            let vals = per_joint(cx, v, "limits.acceleration", names, &default_acc)?;
+            positive_all(cx, v, "limits.acceleration", names, &vals, false)?;
             vals
         }
         None => default_acc,
     };
     let mut effort = model.effort_limit.clone();
     if let Some(v) = lsec.and_then(|l| l.effort.as_ref()) {
-        let vals = per_joint(&cx, v, "limits.effort", &names, &effort)?;
-        positive_all(&cx, v, "limits.effort", &names, &vals, false)?;
+        let vals = per_joint(cx, v, "limits.effort", names, &effort)?;
+        positive_all(cx, v, "limits.effort", names, &vals, false)?;
         for k in 0..n {
             if vals[k] > model.effort_limit[k] {
                 return Err(cx.at(
@@ -193,13 +193,13 @@ pub(super) fn initial(
                     }
                 })
                 .collect();
-            let vals = per_joint(&cx, &s.q, "initial.q", &names, &raw_default)?;
+            let vals = per_joint(cx, &s.q, "initial.q", names, &raw_default)?;
             let q: Vec<f64> = vals
                 .iter()
                 .enumerate()
                 .map(|(k, x)| deg(*x, k, s.degrees))
                 .collect();
-            check_in_limits(&cx, &s.q, "initial.q", &names, &q, &lower, &upper)?;
+            check_in_limits(cx, &s.q, "initial.q", names, &q, lower, upper)?;
             q
         }
         None => neutral.clone(),

@@ -28,15 +28,13 @@ use crate::trajectory::JointLimits;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
-/// The effects a scenario may name, in report order.
-pub const EFFECT_NAMES: [&str; 6] = [
-    "gravity",
-    "friction",
-    "rotor_inertia",
-    "joint_elasticity",
-    "payload",
-    "contact",
-];
+/// The effects a scenario may name, in report order: the dynamics effects of
+/// [`crate::data::EffectSet::NAMES`] (external wrenches come from the contact scene, not
+/// from a name) and `contact`.
+pub const EFFECT_NAMES: [&str; 6] = {
+    let d = crate::data::EffectSet::NAMES;
+    [d[0], d[1], d[2], d[3], d[4], "contact"]
+};
 
 /// How the joint motion is timed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -259,16 +257,15 @@ pub fn per_joint(
                         .unwrap_or_default();
                     cx.at(
                         v.span(),
-                        &format!("{key}.{name}"),
+                        format!("{key}.{name}"),
                         format!(
                             "unknown joint '{name}'{hint}; the joints are: {}",
                             names.join(", ")
                         ),
                     )
                 })?;
-                out[k] = num(x).ok_or_else(|| {
-                    cx.at(v.span(), &format!("{key}.{name}"), "expected a number")
-                })?;
+                out[k] = num(x)
+                    .ok_or_else(|| cx.at(v.span(), format!("{key}.{name}"), "expected a number"))?;
             }
             out
         }

@@ -57,14 +57,14 @@ pub(super) fn load(
     let skeleton = match csec.and_then(|c| c.skeleton_radius.as_ref()) {
         None => None,
         Some(r) => Some(get_f(
-            &cx,
+            cx,
             &Some(r.clone()),
             "collision.skeleton_radius",
             0.0,
         )?),
     };
     let (model_path, spec, model, model_warnings, notes, touching, package_paths) =
-        load_model(&cx, dir, &file.model, skeleton, package_path)?;
+        load_model(cx, dir, &file.model, skeleton, package_path)?;
     warnings.extend(notes);
     let msec = file.model.get_ref();
     if !msec

@@ -92,7 +92,7 @@ pub(super) fn collision(
         None
     };
     let collision_max_step = get_f(
-        &cx,
+        cx,
         &csec.and_then(|c| c.max_step.clone()),
         "collision.max_step",
         0.02,
@@ -158,9 +158,9 @@ pub(super) fn contact(
             box_mass: b.mass,
             box_friction: b.friction,
             pusher_link,
-            pusher_radius: get_f(&cx, &c.pusher_radius, "contact.pusher_radius", 0.03)?,
+            pusher_radius: get_f(cx, &c.pusher_radius, "contact.pusher_radius", 0.03)?,
             pusher_offset: c.pusher_offset,
-            dt: get_f(&cx, &c.dt, "contact.dt", 0.0)?,
+            dt: get_f(cx, &c.dt, "contact.dt", 0.0)?,
         }))
     }
 }

@@ -58,19 +58,19 @@ pub(super) fn trajectory(sx: &Sections) -> Result<TrajectorySection, ScenarioErr
         10_000,
     )?;
     let tool_speed = get_f(
-        &cx,
+        cx,
         &trs.and_then(|t| t.tool_speed.clone()),
         "trajectory.tool_speed",
         0.25,
     )?;
     let tool_acceleration = get_f(
-        &cx,
+        cx,
         &trs.and_then(|t| t.tool_acceleration.clone()),
         "trajectory.tool_acceleration",
         1.0,
     )?;
     let check_dt = get_f(
-        &cx,
+        cx,
         &trs.and_then(|t| t.check_dt.clone()),
         "trajectory.check_dt",
         1e-3,
@@ -117,7 +117,7 @@ pub(super) fn simulation(
         },
     };
     let controller = controller(sx, ssec)?;
-    let dt = get_f(&cx, &ssec.and_then(|s| s.dt.clone()), "simulation.dt", 1e-3)?;
+    let dt = get_f(cx, &ssec.and_then(|s| s.dt.clone()), "simulation.dt", 1e-3)?;
     if dt > 0.1 {
         let sp = ssec
             .and_then(|s| s.dt.as_ref())
@@ -131,7 +131,7 @@ pub(super) fn simulation(
     }
     let duration = match ssec.and_then(|s| s.duration.as_ref()) {
         None => None,
-        Some(d) => Some(get_f(&cx, &Some(d.clone()), "simulation.duration", 0.0)?),
+        Some(d) => Some(get_f(cx, &Some(d.clone()), "simulation.duration", 0.0)?),
     };
     let settle = match ssec.and_then(|s| s.settle.as_ref()) {
         None => 0.5,
@@ -148,7 +148,7 @@ pub(super) fn simulation(
         }
     }
     let record_rate = get_f(
-        &cx,
+        cx,
         &ssec.and_then(|s| s.record_rate.clone()),
         "simulation.record_rate",
         100.0,
@@ -176,8 +176,8 @@ fn controller(sx: &Sections, ssec: Option<&SimulationSec>) -> Result<Controller,
         match v {
             None => Ok(vec![d; n]),
             Some(v) => {
-                let g = per_joint(&cx, v, key, &names, &vec![d; n])?;
-                positive_all(&cx, v, key, &names, &g, true)?;
+                let g = per_joint(cx, v, key, names, &vec![d; n])?;
+                positive_all(cx, v, key, names, &g, true)?;
                 Ok(g)
             }
         }

@@ -32,13 +32,13 @@ pub(super) fn steps(
     let tsec = file.task.get_ref();
     let tdeg = tsec.degrees;
     let joint_row = |v: &PerJoint, key: &str| -> Result<Vec<f64>, ScenarioError> {
-        let raw = per_joint(&cx, v, key, &names, &q0)?;
+        let raw = per_joint(cx, v, key, names, q0)?;
         let q: Vec<f64> = raw
             .iter()
             .enumerate()
             .map(|(k, x)| deg(*x, k, tdeg))
             .collect();
-        check_in_limits(&cx, v, key, &names, &q, &lower, &upper)?;
+        check_in_limits(cx, v, key, names, &q, lower, upper)?;
         Ok(q)
     };
     let to_base = |p: &PoseSec| base_inv.mul(&pose_of(p));
@@ -46,7 +46,7 @@ pub(super) fn steps(
     let need = |what: &str| {
         cx.at(
             file.task.span(),
-            &format!("task.{what}"),
+            format!("task.{what}"),
             format!("task type '{kind}' needs task.{what}"),
         )
     };
@@ -113,7 +113,7 @@ pub(super) fn steps(
                 p.xyz[2] += a;
                 p
             };
-            let planned = uses_planner(&cx, tsec)?;
+            let planned = uses_planner(cx, tsec)?;
             for (label, p) in [("pick", pick), ("place", place)] {
                 let key = format!("task.{label}");
                 let approach = to_base(&above(p.get_ref()));
@@ -177,7 +177,7 @@ pub(super) fn steps(
                 } else {
                     let d = st.dwell.expect("counted");
                     if !(d.is_finite() && d > 0.0) {
-                        return Err(cx.at(s.span(), &format!("{key}.dwell"), "must be positive"));
+                        return Err(cx.at(s.span(), format!("{key}.dwell"), "must be positive"));
                     }
                     Step::Dwell(d)
                 };
