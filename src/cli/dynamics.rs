@@ -121,23 +121,7 @@ fn dynamics_cmd(model: &Model, q: &str, o: &DynamicsArgs, as_json: bool) -> Resu
         Some(s) => parse_triple("gravity", s)?,
         None => model.gravity,
     };
-    let mut effects = Effects::gravity(g);
-    if o.friction {
-        effects.friction = Some(Friction::from_model(model));
-    }
-    if o.rotor {
-        if !(o.efficiency > 0.0 && o.efficiency <= 1.0) {
-            return Err(format!("--efficiency: {} is not in (0, 1]", o.efficiency));
-        }
-        effects.rotor = Some(Rotor::from_model(model, o.efficiency));
-    }
-    if let Some(p) = &o.payload {
-        effects.payload = Some(parse_payload(model, p)?);
-    }
-    effects.validate(model)?;
-    if o.method != MethodArg::Rnea && effects.names() != ["gravity"] {
-        return Err("--method lagrange-*: the Lagrange references cover the rigid model with gravity only; drop --friction/--rotor/--payload".into());
-    }
+    let effects = effects_of(model, o, g)?;
     let mut data = Data::new(model);
     let tau = match o.method {
         MethodArg::Rnea => {
@@ -187,35 +171,96 @@ fn dynamics_cmd(model: &Model, q: &str, o: &DynamicsArgs, as_json: bool) -> Resu
         print_json(&out);
         return Ok(());
     }
-    println!("effects: {} (tau by {method})", effects.names().join(", "));
+    print_text(
+        model,
+        &Results {
+            effects: &effects,
+            method,
+            tau: &tau,
+            bias: &bias,
+            gravity_tau: &gravity_tau,
+            qdd: qdd.as_deref(),
+            mass: &mass,
+            energies: (ke, pe),
+        },
+    );
+    Ok(())
+}
+
+/// The effects the options name (gravity always; friction, rotor and payload on request),
+/// checked against the model and the method.
+fn effects_of(model: &Model, o: &DynamicsArgs, g: Vec3) -> Result<Effects, String> {
+    let mut effects = Effects::gravity(g);
+    if o.friction {
+        effects.friction = Some(Friction::from_model(model));
+    }
+    if o.rotor {
+        if !(o.efficiency > 0.0 && o.efficiency <= 1.0) {
+            return Err(format!("--efficiency: {} is not in (0, 1]", o.efficiency));
+        }
+        effects.rotor = Some(Rotor::from_model(model, o.efficiency));
+    }
+    if let Some(p) = &o.payload {
+        effects.payload = Some(parse_payload(model, p)?);
+    }
+    effects.validate(model)?;
+    if o.method != MethodArg::Rnea && effects.names() != ["gravity"] {
+        return Err("--method lagrange-*: the Lagrange references cover the rigid model with gravity only; drop --friction/--rotor/--payload".into());
+    }
+    Ok(effects)
+}
+
+/// What `armsim dynamics` computed, for the text output.
+struct Results<'a> {
+    effects: &'a Effects,
+    method: &'a str,
+    tau: &'a [f64],
+    bias: &'a [f64],
+    gravity_tau: &'a [f64],
+    qdd: Option<&'a [f64]>,
+    mass: &'a nalgebra::DMatrix<f64>,
+    energies: (f64, f64),
+}
+
+/// The text output of `armsim dynamics`.
+fn print_text(model: &Model, r: &Results) {
+    println!(
+        "effects: {} (tau by {})",
+        r.effects.names().join(", "),
+        r.method
+    );
     println!(
         "{:<24} {:>14} {:>14} {:>14}{}",
         "joint",
         "tau",
         "bias",
         "gravity",
-        if qdd.is_some() { "            qdd" } else { "" }
+        if r.qdd.is_some() {
+            "            qdd"
+        } else {
+            ""
+        }
     );
     for (k, name) in model.dof_names().iter().enumerate() {
         print!(
             "{:<24} {:>14.6} {:>14.6} {:>14.6}",
-            name, tau[k], bias[k], gravity_tau[k]
+            name, r.tau[k], r.bias[k], r.gravity_tau[k]
         );
-        if let Some(qdd) = &qdd {
+        if let Some(qdd) = r.qdd {
             print!(" {:>14.6}", qdd[k]);
         }
         println!();
     }
+    let (ke, pe) = r.energies;
     println!("kinetic energy {ke:.6} J, potential energy {pe:.6} J");
     println!("mass matrix:");
-    for r in 0..model.nv {
+    for i in 0..model.nv {
         println!(
             "  {}",
             (0..model.nv)
-                .map(|c| format!("{:>11.6}", mass[(r, c)]))
+                .map(|c| format!("{:>11.6}", r.mass[(i, c)]))
                 .collect::<Vec<_>>()
                 .join(" ")
         );
     }
-    Ok(())
 }

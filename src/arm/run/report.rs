@@ -106,6 +106,15 @@ pub(super) fn report_json(cx: &OutputContext, p: Parts) -> Value {
 
 pub(super) fn summary(scene: &Scene, plan: &Plan, torque: &TorqueReport, j: &Value) -> String {
     let mut s = String::new();
+    summary_plan(&mut s, scene, plan, torque, j);
+    summary_collisions(&mut s, j);
+    summary_simulation(&mut s, j);
+    summary_rest(&mut s, torque, j);
+    s
+}
+
+/// The scenario, the plan and the torque check (with the payload sweep).
+fn summary_plan(s: &mut String, scene: &Scene, plan: &Plan, torque: &TorqueReport, j: &Value) {
     let model = &scene.model;
     let _ = writeln!(s, "scenario {} ({})", scene.name, scene.file);
     if let Some(d) = &scene.description {
@@ -169,6 +178,10 @@ pub(super) fn summary(scene: &Scene, plan: &Plan, torque: &TorqueReport, j: &Val
             );
         }
     }
+}
+
+/// The collision check.
+fn summary_collisions(s: &mut String, j: &Value) {
     let c = &j["collisions"];
     let _ = writeln!(s);
     if c["checked"].as_bool() == Some(true) {
@@ -217,6 +230,10 @@ pub(super) fn summary(scene: &Scene, plan: &Plan, torque: &TorqueReport, j: &Val
     } else {
         let _ = writeln!(s, "collisions: not checked ([collision] enabled = false)");
     }
+}
+
+/// The simulation: tracking, vibration, energy audit.
+fn summary_simulation(s: &mut String, j: &Value) {
     let sim = &j["simulation"];
     if !sim.is_null() {
         let _ = writeln!(
@@ -287,6 +304,10 @@ pub(super) fn summary(scene: &Scene, plan: &Plan, torque: &TorqueReport, j: &Val
             }
         );
     }
+}
+
+/// The contact scene, the verdict, warnings, files and timings.
+fn summary_rest(s: &mut String, torque: &TorqueReport, j: &Value) {
     if let Some(c) = j.get("contact").filter(|c| !c.is_null()) {
         let _ = writeln!(
             s,
@@ -338,5 +359,4 @@ pub(super) fn summary(scene: &Scene, plan: &Plan, torque: &TorqueReport, j: &Val
             .collect();
         let _ = writeln!(s, "timings: {}", list.join(", "));
     }
-    s
 }
