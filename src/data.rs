@@ -40,7 +40,7 @@ pub struct Data {
     /// Composite inertias (CRBA).
     pub ic: Vec<InertiaO>,
     /// Structured joint transforms (CRBA).
-    pub(crate) axis_x: Vec<crate::dynamics::AxisX>,
+    pub(crate) axis_x: Vec<crate::model::AxisX>,
     /// Articulated inertias (ABA).
     pub ia: Vec<Matrix6<f64>>,
     /// Articulated bias forces (ABA).
@@ -64,9 +64,9 @@ pub struct Data {
     /// External wrenches per body, in body frames.
     pub f_ext: Vec<Force>,
     /// How often each effect's code ran.
-    pub effect_runs: crate::dynamics::EffectRuns,
+    pub effect_runs: EffectRuns,
     /// The effects the last effect-aware dynamics call included.
-    pub effects_used: crate::dynamics::EffectSet,
+    pub effects_used: EffectSet,
 }
 
 impl Data {
@@ -105,4 +105,54 @@ impl Data {
             effects_used: Default::default(),
         }
     }
+}
+
+/// The set of effects a computation included (what [`crate::dynamics::Effects`] named), recorded in
+/// `Data::effects_used` by every effect-aware call.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EffectSet(pub(crate) u8);
+
+impl EffectSet {
+    /// The effect names, in the fixed order of the bits (and of every listing).
+    pub const NAMES: [&'static str; 6] = [
+        "gravity",
+        "friction",
+        "rotor_inertia",
+        "joint_elasticity",
+        "payload",
+        "external_wrench",
+    ];
+
+    /// Whether the named effect is in the set.
+    pub fn contains(&self, name: &str) -> bool {
+        Self::NAMES
+            .iter()
+            .position(|n| *n == name)
+            .is_some_and(|i| self.0 & (1 << i) != 0)
+    }
+
+    /// The names in the set, in a fixed order.
+    pub fn names(&self) -> Vec<&'static str> {
+        (0..Self::NAMES.len())
+            .filter(|i| self.0 & (1 << i) != 0)
+            .map(|i| Self::NAMES[i])
+            .collect()
+    }
+}
+
+/// How many times each effect's code ran (for tests and audits).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EffectRuns {
+    /// Gravity.
+    pub gravity: u64,
+    /// Friction.
+    pub friction: u64,
+    /// Rotor inertia / gearing.
+    pub rotor: u64,
+    /// Elasticity.
+    pub elasticity: u64,
+    /// Payload.
+    pub payload: u64,
+    /// External wrenches.
+    pub external: u64,
 }

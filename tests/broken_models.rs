@@ -180,10 +180,10 @@ fn library_refuses_every_broken_file() {
                         err.line, e.line
                     ));
                 }
-                if !err.element.contains(&e.element) {
+                if !err.key.contains(&e.element) {
                     failures.push(format!(
                         "{name}: element {:?} lacks {:?}",
-                        err.element, e.element
+                        err.key, e.element
                     ));
                 }
                 if !err.message.contains(&e.message) {
@@ -452,7 +452,7 @@ fn deep_chain_20k_with_missing_child_is_refused() {
         Ok(_) => panic!("Model::load accepted the broken chain"),
         Err(err) => {
             assert_eq!(err.line, e.line, "{err}");
-            assert_eq!(err.element, e.element, "{err}");
+            assert_eq!(err.key, e.element, "{err}");
             assert!(err.message.contains(&e.message), "{err}");
         }
     }

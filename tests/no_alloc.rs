@@ -307,3 +307,27 @@ fn planner_allocations_do_not_grow_with_iterations() {
         most.1
     );
 }
+
+#[test]
+fn robot_facade_calls_allocate_nothing_after_warm_up() {
+    let _g = serial();
+    let mut robot =
+        armsim::Robot::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/ur5.urdf")).unwrap();
+    let tool = robot.frame("tool0").unwrap();
+    let q = [0.3, -1.1, 1.3, -0.5, 1.2, 0.4];
+    let v = [0.2, -0.3, 0.5, 0.1, -0.4, 0.6];
+    let mut sum = 0.0;
+    let mut calls = |robot: &mut armsim::Robot| {
+        sum += robot.fk(&q).unwrap().pose(tool).trans.x;
+        sum += robot.jacobian(&q, tool, Expressed::WorldAligned).unwrap()[(0, 0)];
+        sum += robot.rnea(&q, &v, &v).unwrap()[0];
+        sum += robot.gravity_torque(&q).unwrap()[1];
+        sum += robot.crba(&q).unwrap()[(0, 0)];
+        sum += robot.aba(&q, &v, &v).unwrap()[2];
+        sum += robot.kinetic_energy(&q, &v).unwrap();
+    };
+    calls(&mut robot); // warm up
+    let n = allocations(|| calls(&mut robot));
+    assert_eq!(n, 0, "the facade allocated {n} times");
+    assert!(sum.is_finite());
+}

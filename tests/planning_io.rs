@@ -44,7 +44,7 @@ fn max_abs_diff(a: &Mat3, b: &Mat3) -> f64 {
 fn assert_error(e: &PlanningInputError, file: &str, line: usize, element: &str, message: &str) {
     assert_eq!(e.file, file, "{e}");
     assert_eq!(e.line, Some(line), "{e}");
-    assert_eq!(e.element, element, "{e}");
+    assert_eq!(e.key, element, "{e}");
     assert!(e.message.contains(message), "{e}\n  lacks: {message}");
     assert!(
         e.to_string()
@@ -566,7 +566,7 @@ fn a_malformed_srdf_element_is_refused_with_file_and_line() {
         "missing 'link2' attribute",
     );
     let e = parse_srdf(&text[..text.len() - 10], "bad.srdf").unwrap_err();
-    assert_eq!((e.file.as_str(), e.element.as_str()), ("bad.srdf", "XML"));
+    assert_eq!((e.file.as_str(), e.key.as_str()), ("bad.srdf", "XML"));
     assert_eq!(e.line, Some(4), "{e}");
     assert!(e.message.contains("never closed"), "{e}");
 }

@@ -908,7 +908,7 @@ fn dh_models_get_a_urdf_with_the_same_kinematics() {
         // The same warnings as the table (e.g. puma560's textbook inertias).
         let messages = |w: &[armsim::model::ModelWarning]| {
             w.iter()
-                .map(|w| (w.element.clone(), w.message.clone()))
+                .map(|w| (w.key.clone(), w.message.clone()))
                 .collect::<Vec<_>>()
         };
         assert_eq!(

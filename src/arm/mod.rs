@@ -24,7 +24,7 @@ pub mod schema;
 
 pub use run::{run_scene, Outcome, RunOptions, SimSample};
 
-use crate::scenario::ScenarioError;
+use crate::diag::LocatedError as ScenarioError;
 use std::path::{Path, PathBuf};
 
 /// Parses and validates an arm scenario without running it.

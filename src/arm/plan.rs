@@ -16,10 +16,10 @@
 
 use super::planned::{smooth_path, ScenePlanners};
 use super::scene::{Scene, Step, Timing};
+use crate::diag::LocatedError as ScenarioError;
 use crate::dynamics::Effects;
 use crate::kinematics::ik::{IkOptions, IkSolver, IkStatus};
 use crate::model::Model;
-use crate::scenario::ScenarioError;
 use crate::trajectory::{
     cartesian_line, topp, CartesianOptions, LinearPath, MinJerk, Quintic, ToppOptions, Trajectory,
     Trapezoidal,

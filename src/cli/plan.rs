@@ -236,9 +236,7 @@ fn read_inputs(a: &PlanArgs, model: &Model) -> Result<Vec<Input>, String> {
         let obstacles = moveit::load_scene_in(&scene, &frames).map_err(|e| e.to_string())?;
         let (req, warnings) = moveit::load_request(&request, model).map_err(|e| e.to_string())?;
         for w in warnings {
-            let n = seen
-                .entry((w.element.clone(), w.message.clone()))
-                .or_insert(0);
+            let n = seen.entry((w.key.clone(), w.message.clone())).or_insert(0);
             if *n == 0 {
                 eprintln!("warning: {w}");
             }

@@ -16,11 +16,11 @@ use super::lr::lr_eigenvalues;
 use super::modes::{undamped_modes, CPM_PER_RAD_S};
 use super::time::steady_state_by_integration;
 use super::GearedChain;
-use crate::scenario::{line_at, Report, ScenarioError};
+use crate::diag::{line_at, LocatedError as ScenarioError, Source};
+use crate::report::Report;
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::fmt::Write;
-use std::ops::Range;
 use std::path::Path;
 use toml::Spanned;
 
@@ -110,34 +110,6 @@ struct MeasSection {
     torque: Spanned<f64>,
 }
 
-/// Error builder bound to one file.
-struct Ctx<'a> {
-    file: String,
-    text: &'a str,
-}
-
-impl Ctx<'_> {
-    fn at(
-        &self,
-        span: Range<usize>,
-        key: impl Into<String>,
-        msg: impl Into<String>,
-    ) -> ScenarioError {
-        ScenarioError::new(&self.file, Some(line_at(self.text, span.start)), key, msg)
-    }
-
-    /// Line of a `[section]` header.
-    fn section(&self, name: &str, msg: impl Into<String>) -> ScenarioError {
-        let header = format!("[{name}]");
-        let line = self
-            .text
-            .lines()
-            .position(|l| l.trim_start().starts_with(&header))
-            .map(|i| i + 1);
-        ScenarioError::new(&self.file, line, name, msg)
-    }
-}
-
 fn vals<T: Clone>(v: &SVec<T>) -> Vec<T> {
     v.get_ref().iter().map(|s| s.get_ref().clone()).collect()
 }
@@ -192,12 +164,9 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
 /// Parses and validates `text` (the contents of `file`) without the analyses (the modes
 /// of the chain are computed only to check a time step).
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
-    let ctx = Ctx {
-        file: file.to_string(),
-        text,
-    };
+    let ctx = Source::new(file, text);
     let sc: ScenarioFile =
-        toml::from_str(text).map_err(|e| ScenarioError::from_toml(&ctx.file, text, &e))?;
+        toml::from_str(text).map_err(|e| ScenarioError::from_toml(ctx.file, text, &e))?;
 
     // ---- Chain.
     let ch = &sc.chain;
@@ -586,8 +555,8 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         }
     };
     Ok(Scenario {
-        name: sc.name.clone().unwrap_or_else(|| ctx.file.clone()),
-        file: ctx.file,
+        name: sc.name.clone().unwrap_or_else(|| ctx.file.to_string()),
+        file: ctx.file.to_string(),
         chain,
         rated,
         exc,

@@ -23,10 +23,10 @@
 
 use super::aba::aba_impl;
 use super::crba::crba_impl;
-use super::forward::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
 use super::rnea::rnea_impl;
-use crate::data::Data;
+use crate::data::{Data, EffectSet};
 use crate::kinematics::forward_kinematics;
+use crate::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
 use crate::model::{Model, WORLD};
 use crate::spatial::{Force, Inertia, InertiaO, Vec3};
 use nalgebra::DMatrix;
@@ -194,55 +194,6 @@ pub struct Effects {
     pub payload: Option<Payload>,
     /// External wrenches (none when empty).
     pub external: Vec<ExternalWrench>,
-}
-
-/// The set of effects a computation included (what [`Effects`] named), recorded in
-/// `Data::effects_used` by every effect-aware call.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct EffectSet(u8);
-
-impl EffectSet {
-    const NAMES: [&'static str; 6] = [
-        "gravity",
-        "friction",
-        "rotor_inertia",
-        "joint_elasticity",
-        "payload",
-        "external_wrench",
-    ];
-
-    /// Whether the named effect is in the set.
-    pub fn contains(&self, name: &str) -> bool {
-        Self::NAMES
-            .iter()
-            .position(|n| *n == name)
-            .is_some_and(|i| self.0 & (1 << i) != 0)
-    }
-
-    /// The names in the set, in a fixed order.
-    pub fn names(&self) -> Vec<&'static str> {
-        (0..Self::NAMES.len())
-            .filter(|i| self.0 & (1 << i) != 0)
-            .map(|i| Self::NAMES[i])
-            .collect()
-    }
-}
-
-/// How many times each effect's code ran (for tests and audits).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct EffectRuns {
-    /// Gravity.
-    pub gravity: u64,
-    /// Friction.
-    pub friction: u64,
-    /// Rotor inertia / gearing.
-    pub rotor: u64,
-    /// Elasticity.
-    pub elasticity: u64,
-    /// Payload.
-    pub payload: u64,
-    /// External wrenches.
-    pub external: u64,
 }
 
 impl Effects {
@@ -446,6 +397,28 @@ pub fn forward_dynamics_with<'a>(
         rotor: effects.rotor.as_ref(),
         payload: effects.payload.as_ref(),
         external: &effects.external,
+    };
+    forward_core(model, data, &parts, q, qd, tau)
+}
+
+/// Forward dynamics of the rigid model with gravity only (none: `None`): the one
+/// ABA-or-CRBA dispatcher behind [`super::forward_dynamics`] and
+/// [`forward_dynamics_with`], with one NaN policy (a non-finite `q̈` from ABA is a
+/// [`SingularMassMatrix`], as a failed Cholesky pivot is).
+pub(crate) fn forward_rigid<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    gravity: Option<&Vec3>,
+    q: &[f64],
+    qd: &[f64],
+    tau: &[f64],
+) -> Result<&'a [f64], SingularMassMatrix> {
+    let parts = Parts {
+        gravity,
+        friction: None,
+        rotor: None,
+        payload: None,
+        external: &[],
     };
     forward_core(model, data, &parts, q, qd, tau)
 }

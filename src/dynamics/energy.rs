@@ -1,11 +1,13 @@
 //! Kinetic and potential energy: `T = ½ Σ v_iᵀ I_i v_i` (body velocities, body inertias)
 //! and `V = −Σ m_i gᵀ c_i` (world centres of mass); and the gradient `∂T/∂q` at fixed
 //! `q̇` (the force a symplectic integrator needs for a configuration-dependent mass
-//! matrix).
+//! matrix); and both energies with the enabled effects ([`energies_with`]: rotor armature
+//! and payload included).
 
+use super::effects::{mass_matrix, Effects};
 use super::rnea::project;
 use crate::data::Data;
-use crate::kinematics::{forward_kinematics, forward_kinematics_vel};
+use crate::kinematics::{forward_kinematics, forward_kinematics_vel, frame_placement};
 use crate::model::{Model, WORLD};
 use crate::spatial::{InertiaO, Vec3};
 
@@ -85,4 +87,31 @@ pub(crate) fn kinetic_energy_gradient_impl<'a>(
         }
     }
     &data.tau
+}
+
+/// Kinetic and potential energy with the enabled `effects`: `T = ½ q̇ᵀ M q̇` with the
+/// effects' mass matrix (rotor armature, payload), and `V` of the bodies plus the
+/// payload's `−m gᵀ c` (gravity from `effects`; none: `V = 0` from the bodies).
+/// Returns `(T, V)`; uses `data.mass` and the placements.
+pub fn energies_with(
+    model: &Model,
+    data: &mut Data,
+    effects: &Effects,
+    q: &[f64],
+    qd: &[f64],
+) -> (f64, f64) {
+    let n = model.nv;
+    let mass = mass_matrix(model, data, effects, q);
+    let ke = 0.5
+        * (0..n)
+            .map(|i| (0..n).map(|j| qd[i] * mass[(i, j)] * qd[j]).sum::<f64>())
+            .sum::<f64>();
+    let g = effects.gravity.unwrap_or_else(Vec3::zeros);
+    let mut pe = potential_energy(model, data, q, &g);
+    if let Some(p) = &effects.payload {
+        forward_kinematics(model, data, q);
+        let c = frame_placement(model, data, p.link).act_point(&p.inertia.com);
+        pe -= p.inertia.mass * g.dot(&c);
+    }
+    (ke, pe)
 }

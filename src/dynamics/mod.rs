@@ -14,19 +14,18 @@ mod lagrange_energy;
 mod lagrange_trace;
 mod rnea;
 
+pub use crate::data::{EffectRuns, EffectSet};
+pub use crate::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
 pub use aba::aba;
 pub use crba::crba;
-pub(crate) use crba::{crba_impl, AxisX};
+pub(crate) use crba::crba_impl;
 pub use effects::{
-    elastic_forward_dynamics, forward_dynamics_with, inverse_dynamics, mass_matrix, EffectRuns,
-    EffectSet, Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor,
+    elastic_forward_dynamics, forward_dynamics_with, inverse_dynamics, mass_matrix, Effects,
+    Elasticity, ExternalWrench, Friction, Payload, Rotor,
 };
 pub(crate) use energy::kinetic_energy_gradient_impl;
-pub use energy::{kinetic_energy, kinetic_energy_gradient, potential_energy};
-pub use forward::{
-    cholesky_in_place, cholesky_solve_in_place, forward_dynamics, forward_dynamics_crba,
-    SingularMassMatrix,
-};
+pub use energy::{energies_with, kinetic_energy, kinetic_energy_gradient, potential_energy};
+pub use forward::{forward_dynamics, forward_dynamics_crba};
 pub use lagrange_energy::{
     coriolis_matrix, gravity_torque_energy, lagrange_energy, mass_matrix_derivatives,
     mass_matrix_energy,

@@ -14,7 +14,7 @@ use super::sweep::{
 };
 use super::virtual_power;
 use super::{flywheel, Vec2};
-use crate::scenario::Report;
+use crate::report::Report;
 use nalgebra::DVector;
 use serde_json::{json, Map, Value};
 use std::f64::consts::TAU;

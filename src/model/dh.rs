@@ -127,7 +127,7 @@ impl Layout {
 pub fn parse(text: &str, file: &str) -> Result<ModelSpec, ModelError> {
     let layout = Layout::scan(text);
     let dh: DhFile = toml::from_str(text).map_err(|e| {
-        let line = e.span().map(|s| crate::scenario::line_at(text, s.start));
+        let line = e.span().map(|s| crate::diag::line_at(text, s.start));
         let element = line
             .map(|l| layout.element_at_line(l))
             .unwrap_or_else(|| "file".to_string());

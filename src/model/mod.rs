@@ -15,9 +15,11 @@
 //! - mimic joints (`q = multiplier * q_master + offset`) are bodies without a coordinate
 //!   of their own: they read the master's coordinate.
 
+mod axis_x;
 pub mod chain;
 pub mod dh;
 mod error;
+mod ids;
 mod inertia_check;
 mod mimic;
 mod sampling;
@@ -25,7 +27,9 @@ mod spec;
 mod spec_check;
 pub mod urdf;
 
+pub(crate) use axis_x::AxisX;
 pub use error::{ModelError, ModelWarning};
+pub use ids::{FrameId, JointId};
 pub use inertia_check::{clamp_tolerance, CLAMP_ABS, CLAMP_REL};
 pub use spec::{Geometry, JointSpec, JointType, Limits, LinkSpec, MimicSpec, ModelSpec, Shape};
 

@@ -543,7 +543,28 @@ pub(crate) struct Sink<'a, const N: usize> {
     pub candidates: usize,
 }
 
-impl<const N: usize> Sink<'_, N> {
+impl<'a, const N: usize> Sink<'a, N> {
+    /// A sink for the solutions of one target: `seed` (default zeros) is the reference
+    /// for free joints and wrapping; `respect` keeps only solutions inside the limits.
+    pub(crate) fn new(
+        rows: &'a [DhRow; N],
+        lower: &'a [f64; N],
+        upper: &'a [f64; N],
+        seed: Option<&[f64; N]>,
+        respect: bool,
+        out: &'a mut Vec<RawSolution<N>>,
+    ) -> Self {
+        Sink {
+            rows,
+            lower,
+            upper,
+            reference: seed.copied().unwrap_or([0.0; N]),
+            respect,
+            out,
+            candidates: 0,
+        }
+    }
+
     /// DH variable of joint `k` at its reference value (for free joints).
     #[inline]
     pub fn free(&self, k: usize) -> f64 {

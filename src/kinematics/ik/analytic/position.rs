@@ -84,15 +84,14 @@ pub fn rrp_ik(
     out.clear();
     let p = params.base_inv.act_point(target);
     let [r1, r2, _] = &params.rows;
-    let mut sink = Sink {
-        rows: &params.rows,
-        lower: &params.lower,
-        upper: &params.upper,
-        reference: seed.copied().unwrap_or([0.0; 3]),
-        respect: respect_limits,
+    let mut sink = Sink::new(
+        &params.rows,
+        &params.lower,
+        &params.upper,
+        seed,
+        respect_limits,
         out,
-        candidates: 0,
-    };
+    );
     let s_1 = twist_sign(r1.alpha);
     let s_2 = twist_sign(r2.alpha);
     let shoulder = shoulder_roots(p.x, p.y, s_1 * r2.d, sink.free(0))?;
@@ -202,15 +201,14 @@ pub fn planar_2r_ik(
     if (p.z - r1.d - r2.d).abs() > PLANE_TOL {
         return Err(Unreachable("the target is not in the arm's plane"));
     }
-    let mut sink = Sink {
-        rows: &params.rows,
-        lower: &params.lower,
-        upper: &params.upper,
-        reference: seed.copied().unwrap_or([0.0; 2]),
-        respect: respect_limits,
+    let mut sink = Sink::new(
+        &params.rows,
+        &params.lower,
+        &params.upper,
+        seed,
+        respect_limits,
         out,
-        candidates: 0,
-    };
+    );
     let (a1, a2) = (r1.a, r2.a);
     let r = p.x.hypot(p.y);
     let c2 = (r * r - a1 * a1 - a2 * a2) / (2.0 * a1 * a2);

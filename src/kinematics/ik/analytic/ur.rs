@@ -182,15 +182,14 @@ pub fn ur_ik_with(
         params.base_inv.mul(target).mul(&params.tool_inv)
     };
     let [r1, r2, r3, r4, r5, r6] = &params.rows;
-    let mut sink = Sink {
-        rows: &params.rows,
-        lower: &params.lower,
-        upper: &params.upper,
-        reference: seed.copied().unwrap_or([0.0; 6]),
-        respect: respect_limits,
+    let mut sink = Sink::new(
+        &params.rows,
+        &params.lower,
+        &params.upper,
+        seed,
+        respect_limits,
         out,
-        candidates: 0,
-    };
+    );
     let s_1 = twist_sign(r1.alpha);
     let s_4 = twist_sign(r4.alpha);
     let s_5 = twist_sign(r5.alpha);

@@ -221,15 +221,14 @@ pub fn wrist_ik_with(
     let t = params.base_inv.mul(target).mul(&params.tool_inv);
     let rows = &params.rows;
     let [r1, r2, r3, r4, r5, r6] = rows;
-    let mut sink = Sink {
+    let mut sink = Sink::new(
         rows,
-        lower: &params.lower,
-        upper: &params.upper,
-        reference: seed.copied().unwrap_or([0.0; 6]),
-        respect: respect_limits,
+        &params.lower,
+        &params.upper,
+        seed,
+        respect_limits,
         out,
-        candidates: 0,
-    };
+    );
     let s_1 = twist_sign(r1.alpha);
     let s_4 = twist_sign(r4.alpha);
     let s_5 = twist_sign(r5.alpha);

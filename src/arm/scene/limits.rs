@@ -1,0 +1,232 @@
+//! The `[limits]` section (position limits inside the model's, velocity scale, velocity,
+//! acceleration and effort limits) and the `[initial]` configuration inside them.
+
+use super::{per_joint, positive_all, to_radians_if, Ctx, PerJoint, Sections};
+use crate::diag::LocatedError as ScenarioError;
+use crate::trajectory::JointLimits;
+
+/// The position limits: the model's, narrowed by `limits.lower`/`limits.upper`.
+pub(super) fn position_limits(sx: &Sections) -> Result<(Vec<f64>, Vec<f64>), ScenarioError> {
+    let cx = &sx.cx;
+    let file = sx.file;
+    let model = sx.model;
+    let names = &sx.names;
+    let n = sx.n;
+    let lsec = file.limits.as_ref().map(|l| l.get_ref());
+    let mut lower = model.lower.clone();
+    let mut upper = model.upper.clone();
+    if let Some(l) = lsec {
+        for (v, key, dst, model_lim, is_lower) in [
+            (&l.lower, "limits.lower", &mut lower, &model.lower, true),
+            (&l.upper, "limits.upper", &mut upper, &model.upper, false),
+        ] {
+            if let Some(v) = v {
+                let vals = per_joint(cx, v, key, names, model_lim)?;
+                for k in 0..n {
+                    let outside = if is_lower {
+                        vals[k] < model_lim[k]
+                    } else {
+                        vals[k] > model_lim[k]
+                    };
+                    if outside {
+                        return Err(cx.at(
+                            v.span(),
+                            key,
+                            format!(
+                                "joint {}: {} is outside the model's range [{}, {}]",
+                                names[k], vals[k], model.lower[k], model.upper[k]
+                            ),
+                        ));
+                    }
+                }
+                *dst = vals;
+            }
+        }
+    }
+    for k in 0..n {
+        if lower[k] >= upper[k] {
+            let span = lsec
+                .and_then(|l| l.lower.as_ref().or(l.upper.as_ref()))
+                .map(|v| v.span())
+                .unwrap_or(0..0);
+            return Err(cx.at(
+                span,
+                "limits.lower",
+                format!(
+                    "joint {}: lower limit {} is not below the upper limit {}",
+                    names[k], lower[k], upper[k]
+                ),
+            ));
+        }
+    }
+    Ok((lower, upper))
+}
+
+/// The rate limits: planning limits (velocity scaled), and the velocity and effort the
+/// torque check judges against.
+pub(super) fn rate_limits(sx: &Sections) -> Result<RateLimits, ScenarioError> {
+    let cx = &sx.cx;
+    let file = sx.file;
+    let model = sx.model;
+    let names = &sx.names;
+    let n = sx.n;
+    let lsec = file.limits.as_ref().map(|l| l.get_ref());
+    let scale = match lsec.and_then(|l| l.velocity_scale.as_ref()) {
+        None => 1.0,
+        Some(s) if *s.get_ref() > 0.0 && *s.get_ref() <= 1.0 => *s.get_ref(),
+        Some(s) => {
+            return Err(cx.at(
+                s.span(),
+                "limits.velocity_scale",
+                format!("must be in (0, 1] (got {})", s.get_ref()),
+            ))
+        }
+    };
+    let mut velocity = model.velocity_limit.clone();
+    if let Some(v) = lsec.and_then(|l| l.velocity.as_ref()) {
+        let vals = per_joint(cx, v, "limits.velocity", names, &velocity)?;
+        positive_all(cx, v, "limits.velocity", names, &vals, false)?;
+        for k in 0..n {
+            if vals[k] > model.velocity_limit[k] {
+                return Err(cx.at(
+                    v.span(),
+                    "limits.velocity",
+                    format!(
+                        "joint {}: {} exceeds the model's velocity limit {}",
+                        names[k], vals[k], model.velocity_limit[k]
+                    ),
+                ));
+            }
+        }
+        velocity = vals;
+    }
+    if let Some(k) = velocity.iter().position(|v| !v.is_finite()) {
+        let span = file
+            .limits
+            .as_ref()
+            .map(|l| l.span())
+            .unwrap_or(file.model.span());
+        return Err(cx.at(
+            span,
+            "limits.velocity",
+            format!(
+                "joint {}: the model gives no velocity limit; set limits.velocity",
+                names[k]
+            ),
+        ));
+    }
+    let check_velocity = velocity.clone();
+    for v in &mut velocity {
+        *v *= scale;
+    }
+    let default_acc: Vec<f64> = velocity.iter().map(|v| 4.0 * v).collect();
+    let acceleration = match lsec.and_then(|l| l.acceleration.as_ref()) {
+        Some(v) => {
+            let vals = per_joint(cx, v, "limits.acceleration", names, &default_acc)?;
+            positive_all(cx, v, "limits.acceleration", names, &vals, false)?;
+            vals
+        }
+        None => default_acc,
+    };
+    let mut effort = model.effort_limit.clone();
+    if let Some(v) = lsec.and_then(|l| l.effort.as_ref()) {
+        let vals = per_joint(cx, v, "limits.effort", names, &effort)?;
+        positive_all(cx, v, "limits.effort", names, &vals, false)?;
+        for k in 0..n {
+            if vals[k] > model.effort_limit[k] {
+                return Err(cx.at(
+                    v.span(),
+                    "limits.effort",
+                    format!(
+                        "joint {}: {} exceeds the model's effort limit {}",
+                        names[k], vals[k], model.effort_limit[k]
+                    ),
+                ));
+            }
+        }
+        effort = vals;
+    }
+    let limits = JointLimits {
+        velocity,
+        acceleration,
+        effort: effort.clone(),
+    };
+    Ok(RateLimits {
+        limits,
+        check_velocity,
+        effort,
+    })
+}
+
+/// What [`rate_limits`] returns.
+pub(super) struct RateLimits {
+    pub limits: JointLimits,
+    pub check_velocity: Vec<f64>,
+    pub effort: Vec<f64>,
+}
+
+/// The initial configuration (`[initial]`, degrees allowed), inside the limits; the
+/// neutral pose clamped into them by default.
+pub(super) fn initial(
+    sx: &Sections,
+    lower: &[f64],
+    upper: &[f64],
+) -> Result<Vec<f64>, ScenarioError> {
+    let cx = &sx.cx;
+    let file = sx.file;
+    let model = sx.model;
+    let names = &sx.names;
+    let n = sx.n;
+    let deg = |x: f64, k: usize, degrees: bool| to_radians_if(model, x, k, degrees);
+    let neutral: Vec<f64> = (0..n).map(|k| 0.0f64.clamp(lower[k], upper[k])).collect();
+    let q0 = match &file.initial {
+        Some(init) => {
+            let s = init.get_ref();
+            let raw_default: Vec<f64> = neutral
+                .iter()
+                .enumerate()
+                .map(|(k, x)| {
+                    if s.degrees && deg(1.0, k, true) != 1.0 {
+                        x.to_degrees()
+                    } else {
+                        *x
+                    }
+                })
+                .collect();
+            let vals = per_joint(cx, &s.q, "initial.q", names, &raw_default)?;
+            let q: Vec<f64> = vals
+                .iter()
+                .enumerate()
+                .map(|(k, x)| deg(*x, k, s.degrees))
+                .collect();
+            check_in_limits(cx, &s.q, "initial.q", names, &q, lower, upper)?;
+            q
+        }
+        None => neutral.clone(),
+    };
+    Ok(q0)
+}
+
+pub(super) fn check_in_limits(
+    cx: &Ctx,
+    v: &PerJoint,
+    key: &str,
+    names: &[String],
+    q: &[f64],
+    lower: &[f64],
+    upper: &[f64],
+) -> Result<(), ScenarioError> {
+    for k in 0..q.len() {
+        if q[k] < lower[k] - 1e-9 || q[k] > upper[k] + 1e-9 {
+            return Err(cx.at(
+                v.span(),
+                key,
+                format!(
+                    "joint {}: {} is outside the limits [{}, {}]",
+                    names[k], q[k], lower[k], upper[k]
+                ),
+            ));
+        }
+    }
+    Ok(())
+}

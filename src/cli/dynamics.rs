@@ -1,0 +1,266 @@
+//! `armsim dynamics`: joint torques (RNEA or a Lagrange reference), mass matrix, bias,
+//! gravity torques and energies at one state with the chosen effects; with `--tau` the
+//! forward-dynamics accelerations.
+
+use super::{link_id, load, parse_values, print_json, rows, ModelArgs};
+use armsim::data::Data;
+use armsim::dynamics::{self, Effects, Friction, Payload, Rotor};
+use armsim::model::Model;
+use armsim::spatial::{Inertia, Mat3, Vec3};
+use clap::ValueEnum;
+use serde_json::json;
+
+#[derive(clap::Args)]
+pub struct DynamicsArgs {
+    #[command(flatten)]
+    pub m: ModelArgs,
+    /// Joint positions, comma separated.
+    #[arg(long, allow_hyphen_values = true)]
+    pub q: String,
+    /// Joint velocities (default zeros).
+    #[arg(long, allow_hyphen_values = true)]
+    pub v: Option<String>,
+    /// Joint accelerations (default zeros).
+    #[arg(long, allow_hyphen_values = true)]
+    pub a: Option<String>,
+    /// Joint torques: also compute q̈ by forward dynamics.
+    #[arg(long, allow_hyphen_values = true)]
+    pub tau: Option<String>,
+    /// Gravity vector x,y,z (default: the model's, (0, 0, -9.81)).
+    #[arg(long, allow_hyphen_values = true)]
+    pub gravity: Option<String>,
+    /// Include joint friction from the model file (<dynamics damping friction>).
+    #[arg(long)]
+    pub friction: bool,
+    /// Include rotor inertia and gearing from the model file (motor_inertia, gear_ratio).
+    #[arg(long)]
+    pub rotor: bool,
+    /// Gear efficiency for --rotor, in (0, 1].
+    #[arg(long, default_value_t = 1.0)]
+    pub efficiency: f64,
+    /// Payload: LINK,MASS[,cx,cy,cz] (point mass at the COM in the link frame).
+    #[arg(long, allow_hyphen_values = true)]
+    pub payload: Option<String>,
+    /// Formulation for tau: rnea (default), lagrange-trace or lagrange-energy (slow
+    /// references; rigid model with gravity only).
+    #[arg(long, value_enum, default_value = "rnea")]
+    pub method: MethodArg,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    Rnea,
+    LagrangeTrace,
+    LagrangeEnergy,
+}
+
+/// `armsim dynamics`.
+pub fn run(a: &DynamicsArgs) -> Result<(), String> {
+    dynamics_cmd(&load(&a.m)?, &a.q, a, a.m.json)
+}
+
+fn parse_triple(what: &str, s: &str) -> Result<Vec3, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--{what}: expected x,y,z numbers, got '{s}'"))?;
+    if v.len() != 3 || !v.iter().all(|x| x.is_finite()) {
+        return Err(format!(
+            "--{what}: expected three finite numbers x,y,z, got '{s}'"
+        ));
+    }
+    Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+fn parse_payload(model: &Model, s: &str) -> Result<Payload, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 2 && parts.len() != 5 {
+        return Err(format!(
+            "--payload: expected LINK,MASS[,cx,cy,cz], got '{s}'"
+        ));
+    }
+    let link = link_id(model, parts[0])?;
+    let nums: Vec<f64> = parts[1..]
+        .iter()
+        .map(|t| t.parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--payload: '{s}' has a value that is not a number"))?;
+    if !nums.iter().all(|x| x.is_finite()) || nums[0] < 0.0 {
+        return Err(format!(
+            "--payload: mass and centre of mass must be finite, mass ≥ 0 ('{s}')"
+        ));
+    }
+    let com = if nums.len() == 4 {
+        Vec3::new(nums[1], nums[2], nums[3])
+    } else {
+        Vec3::zeros()
+    };
+    Payload::new(model, link, Inertia::new(nums[0], com, Mat3::zeros()))
+}
+
+fn dynamics_cmd(model: &Model, q: &str, o: &DynamicsArgs, as_json: bool) -> Result<(), String> {
+    let q = parse_values(model, "q", q)?;
+    let zeros = vec![0.0; model.nv];
+    let v =
+        o.v.as_deref()
+            .map(|s| parse_values(model, "v", s))
+            .transpose()?
+            .unwrap_or_else(|| zeros.clone());
+    let a =
+        o.a.as_deref()
+            .map(|s| parse_values(model, "a", s))
+            .transpose()?
+            .unwrap_or_else(|| zeros.clone());
+    let tau_in = o
+        .tau
+        .as_deref()
+        .map(|s| parse_values(model, "tau", s))
+        .transpose()?;
+    let g = match &o.gravity {
+        Some(s) => parse_triple("gravity", s)?,
+        None => model.gravity,
+    };
+    let effects = effects_of(model, o, g)?;
+    let mut data = Data::new(model);
+    let tau = match o.method {
+        MethodArg::Rnea => {
+            dynamics::inverse_dynamics(model, &mut data, &effects, &q, &v, &a).to_vec()
+        }
+        MethodArg::LagrangeTrace => dynamics::lagrange_trace(model, &mut data, &q, &v, &a, &g),
+        MethodArg::LagrangeEnergy => dynamics::lagrange_energy(model, &mut data, &q, &v, &a, &g),
+    };
+    let bias = dynamics::inverse_dynamics(model, &mut data, &effects, &q, &v, &zeros).to_vec();
+    let static_effects = Effects {
+        friction: None,
+        ..effects.clone()
+    };
+    let gravity_tau =
+        dynamics::inverse_dynamics(model, &mut data, &static_effects, &q, &zeros, &zeros).to_vec();
+    let mass = dynamics::mass_matrix(model, &mut data, &effects, &q).clone();
+    let (ke, pe) = dynamics::energies_with(model, &mut data, &effects, &q, &v);
+    let qdd = match &tau_in {
+        None => None,
+        Some(t) => Some(
+            dynamics::forward_dynamics_with(model, &mut data, &effects, &q, &v, t)
+                .map_err(|e| format!("{}: forward dynamics: {e}", model.source))?
+                .to_vec(),
+        ),
+    };
+    let method = match o.method {
+        MethodArg::Rnea => "rnea",
+        MethodArg::LagrangeTrace => "lagrange-trace",
+        MethodArg::LagrangeEnergy => "lagrange-energy",
+    };
+    if as_json {
+        let mut out = json!({
+            "joints": model.dof_names(),
+            "effects": effects.names(),
+            "method": method,
+            "gravity_vector": [g.x, g.y, g.z],
+            "tau": tau,
+            "mass_matrix": rows(&mass),
+            "bias": bias,
+            "gravity": gravity_tau,
+            "kinetic_energy": ke,
+            "potential_energy": pe,
+        });
+        if let Some(qdd) = &qdd {
+            out["qdd"] = json!(qdd);
+        }
+        print_json(&out);
+        return Ok(());
+    }
+    print_text(
+        model,
+        &Results {
+            effects: &effects,
+            method,
+            tau: &tau,
+            bias: &bias,
+            gravity_tau: &gravity_tau,
+            qdd: qdd.as_deref(),
+            mass: &mass,
+            energies: (ke, pe),
+        },
+    );
+    Ok(())
+}
+
+/// The effects the options name (gravity always; friction, rotor and payload on request),
+/// checked against the model and the method.
+fn effects_of(model: &Model, o: &DynamicsArgs, g: Vec3) -> Result<Effects, String> {
+    let mut effects = Effects::gravity(g);
+    if o.friction {
+        effects.friction = Some(Friction::from_model(model));
+    }
+    if o.rotor {
+        if !(o.efficiency > 0.0 && o.efficiency <= 1.0) {
+            return Err(format!("--efficiency: {} is not in (0, 1]", o.efficiency));
+        }
+        effects.rotor = Some(Rotor::from_model(model, o.efficiency));
+    }
+    if let Some(p) = &o.payload {
+        effects.payload = Some(parse_payload(model, p)?);
+    }
+    effects.validate(model)?;
+    if o.method != MethodArg::Rnea && effects.names() != ["gravity"] {
+        return Err("--method lagrange-*: the Lagrange references cover the rigid model with gravity only; drop --friction/--rotor/--payload".into());
+    }
+    Ok(effects)
+}
+
+/// What `armsim dynamics` computed, for the text output.
+struct Results<'a> {
+    effects: &'a Effects,
+    method: &'a str,
+    tau: &'a [f64],
+    bias: &'a [f64],
+    gravity_tau: &'a [f64],
+    qdd: Option<&'a [f64]>,
+    mass: &'a nalgebra::DMatrix<f64>,
+    energies: (f64, f64),
+}
+
+/// The text output of `armsim dynamics`.
+fn print_text(model: &Model, r: &Results) {
+    println!(
+        "effects: {} (tau by {})",
+        r.effects.names().join(", "),
+        r.method
+    );
+    println!(
+        "{:<24} {:>14} {:>14} {:>14}{}",
+        "joint",
+        "tau",
+        "bias",
+        "gravity",
+        if r.qdd.is_some() {
+            "            qdd"
+        } else {
+            ""
+        }
+    );
+    for (k, name) in model.dof_names().iter().enumerate() {
+        print!(
+            "{:<24} {:>14.6} {:>14.6} {:>14.6}",
+            name, r.tau[k], r.bias[k], r.gravity_tau[k]
+        );
+        if let Some(qdd) = r.qdd {
+            print!(" {:>14.6}", qdd[k]);
+        }
+        println!();
+    }
+    let (ke, pe) = r.energies;
+    println!("kinetic energy {ke:.6} J, potential energy {pe:.6} J");
+    println!("mass matrix:");
+    for i in 0..model.nv {
+        println!(
+            "  {}",
+            (0..model.nv)
+                .map(|c| format!("{:>11.6}", r.mass[(i, c)]))
+                .collect::<Vec<_>>()
+                .join(" ")
+        );
+    }
+}
