@@ -189,17 +189,25 @@ enum Cmd {
         #[arg(long)]
         analytic: bool,
     },
-    /// Reachable workspace of a link: voxel volume (or area for planar arms) with its
-    /// standard error and voxel-size bias, boundary, manipulability, dexterity.
+    /// Reachable workspace of a link: voxel volume (or area for planar arms) with a 95 %
+    /// interval (or a lower bound when under-sampled), boundary, manipulability, dexterity.
     Workspace {
         #[command(flatten)]
         m: ModelArgs,
         /// The link whose origin is sampled (default: the deepest link).
         #[arg(long)]
         link: Option<String>,
-        /// Number of joint-space samples (split into replicates).
+        /// Number of joint-space samples (split into replicates; in adaptive mode the
+        /// first budget tried).
         #[arg(long, default_value_t = 1 << 22)]
         samples: u64,
+        /// Adaptive mode: double the samples until the interval's half-width is at most
+        /// this fraction of the estimate (e.g. 0.01), within --max-samples.
+        #[arg(long)]
+        target_rel_error: Option<f64>,
+        /// Adaptive mode: the most samples to draw.
+        #[arg(long, default_value_t = 1 << 30)]
+        max_samples: u64,
         /// Voxel edge (m).
         #[arg(long, default_value_t = 0.02)]
         voxel: f64,
@@ -442,6 +450,8 @@ fn run(cli: Cli) -> Result<(), String> {
             m,
             link,
             samples,
+            target_rel_error,
+            max_samples,
             voxel,
             method,
             replicates,
@@ -452,8 +462,13 @@ fn run(cli: Cli) -> Result<(), String> {
         } => {
             let model = load(&m)?;
             let outputs = WsOutputs { csv: out, rerun };
+            let budget = WsBudget {
+                samples,
+                target_rel_error,
+                max_samples,
+            };
             workspace_cmd(
-                &model, link, samples, voxel, &method, replicates, seed, extras, outputs, m.json,
+                &model, link, budget, voxel, &method, replicates, seed, extras, outputs, m.json,
             )
         }
         Cmd::View {
@@ -1280,7 +1295,7 @@ fn write_workspace_mcap(
 fn workspace_cmd(
     model: &Model,
     link: Option<String>,
-    samples: u64,
+    budget: WsBudget,
     voxel: f64,
     method: &str,
     replicates: usize,
@@ -1301,6 +1316,18 @@ fn workspace_cmd(
     if !(voxel > 0.0 && voxel.is_finite()) {
         return Err(format!("--voxel: {voxel} is not a positive length"));
     }
+    let WsBudget {
+        samples,
+        target_rel_error,
+        max_samples,
+    } = budget;
+    if let Some(t) = target_rel_error {
+        if !(t > 0.0 && t < 1.0) {
+            return Err(format!(
+                "--target-rel-error: {t} is not a fraction in (0, 1)"
+            ));
+        }
+    }
     if samples == 0 || replicates < 2 {
         return Err(
             "--samples must be positive and --replicates at least 2 (for the standard error)"
@@ -1310,6 +1337,8 @@ fn workspace_cmd(
     let sampling: Sampling = method.parse().map_err(|e| format!("--method: {e}"))?;
     let opts = WorkspaceOptions {
         samples,
+        target_rel_error,
+        max_samples: Some(max_samples),
         replicates,
         sampling,
         seed,
@@ -1345,24 +1374,13 @@ fn workspace_cmd(
         print_json(&v);
         return Ok(());
     }
-    let (what, unit) = if r.planar {
-        ("area", "m²")
-    } else {
-        ("volume", "m³")
-    };
     println!(
         "{} workspace of '{}' ({} samples in {} replicates, {:?} sampling, voxel {} m, {:.2} s)",
         r.robot, r.tool, r.samples, r.replicates, r.sampling, r.voxel, r.time_s
     );
-    println!(
-        "{what}: {:.6} {unit} ± {:.6} (standard error)",
-        r.measure(),
-        r.measure_stderr()
-    );
-    println!(
-        "voxel-size bias ≈ {:.6} {unit}; corrected {:.6} ± {:.6}",
-        r.bias.bias, r.bias.corrected, r.bias.corrected_stderr
-    );
+    for line in armsim::workspace::summary_lines(&r) {
+        println!("{line}");
+    }
     println!(
         "boundary voxels {}, occupied {}",
         r.boundary_voxels, r.occupied_voxels
@@ -1417,6 +1435,13 @@ fn tradeoffs_cmd(
         println!("wrote {}", p.display());
     }
     Ok(())
+}
+
+/// Sample budget of `workspace`.
+struct WsBudget {
+    samples: u64,
+    target_rel_error: Option<f64>,
+    max_samples: u64,
 }
 
 /// Output files of `workspace`.
