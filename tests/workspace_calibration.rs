@@ -204,3 +204,41 @@ fn batched_fk_matches_scalar_fk() {
         assert!(worst < 1e-12, "{}: {worst:e}", path.display());
     }
 }
+
+/// Writes `docs/workspace_convergence.png` (the report's convergence plot for a run of
+/// 2^25 samples on the R-R-P shell at 5 cm) — run by hand:
+/// `cargo test --release --test workspace_calibration -- --ignored convergence_plot`.
+#[test]
+#[ignore = "writes the documentation's plot"]
+fn convergence_plot_for_the_docs() {
+    use armsim::tradeoffs::{report::workspace_convergence_png, workspace};
+    let model = common::load("robots/textbook_spherical_rrp.toml");
+    let o = WorkspaceOptions {
+        samples: 1 << 25,
+        voxel: 0.05,
+        extras: false,
+        quiet: true,
+        ..Default::default()
+    };
+    let r = sample_workspace(&model, &o).expect("runs");
+    let run = workspace::ConvergenceRun {
+        case: "textbook spherical R-R-P shell".into(),
+        truth: workspace::rrp_truth(),
+        voxel: 0.05,
+        points: r.convergence.clone(),
+    };
+    for p in &run.points {
+        eprintln!(
+            "| {} | {:.4} | {} | {} |",
+            p.samples,
+            p.measure,
+            p.interval[0].map_or("–".into(), |v| format!("{v:.4}")),
+            p.interval[1].map_or("–".into(), |v| format!("{v:.4}"))
+        );
+    }
+    let png = workspace_convergence_png(&run).expect("renders");
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/workspace_convergence.png");
+    std::fs::write(path, png).expect("writes");
+    assert!(r.interval_covers(run.truth));
+}

@@ -369,6 +369,11 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
         )?,
     ));
 
+    out.push((
+        "workspace_convergence.png".to_string(),
+        workspace_convergence_png(&ws.convergence)?,
+    ));
+
     // 5. Effects.
     let ef = &r.effects;
     let cats: Vec<String> = ef.rows.iter().map(|r| r.name.clone()).collect();
@@ -918,6 +923,17 @@ fn workspace_section(s: &mut String, r: &Report) {
         let _ = writeln!(s);
     }
     let _ = writeln!(s, "![workspace error vs samples](workspace_error.png)\n");
+    let c = &st.convergence;
+    let _ = writeln!(
+        s,
+        "**Convergence of one run** ({}, voxel {} m, Sobol', truth {:.4} m³): the estimate and its 95 % interval \
+         after every doubling of the samples (only a lower bound while coverage has not converged).\n",
+        c.case, c.voxel, c.truth
+    );
+    let _ = writeln!(
+        s,
+        "![workspace estimate and interval vs samples](workspace_convergence.png)\n"
+    );
     let _ = writeln!(s, "**Reading.** {}\n", workspace_reading(r));
 }
 
@@ -1093,4 +1109,60 @@ pub fn effects_reading(r: &Report) -> String {
         ));
     }
     out.join(" ")
+}
+
+/// The convergence plot: estimate, interval (lower bound only while not converged) and
+/// the closed form against samples.
+pub fn workspace_convergence_png(c: &super::workspace::ConvergenceRun) -> Result<Vec<u8>, String> {
+    let pts = &c.points;
+    let xs = |f: &dyn Fn(&crate::workspace::ConvergencePoint) -> Option<f64>| -> Vec<(f64, f64)> {
+        pts.iter()
+            .filter_map(|p| f(p).map(|y| (p.samples as f64, y)))
+            .collect()
+    };
+    let (x0, x1) = (
+        pts.first().map_or(1.0, |p| p.samples as f64),
+        pts.last().map_or(1.0, |p| p.samples as f64),
+    );
+    let panel = Panel {
+        title: format!("{} (voxel {} m)", c.case, c.voxel),
+        x_desc: "samples N".into(),
+        y_desc: "volume (m³)".into(),
+        log_x: true,
+        series: vec![
+            Series {
+                label: "truth (closed form)".into(),
+                points: vec![(x0, c.truth), (x1, c.truth)],
+                color: PALETTE[2],
+                dashed: false,
+            },
+            Series {
+                label: "estimate".into(),
+                points: xs(&|p| Some(p.measure)),
+                color: PALETTE[0],
+                dashed: false,
+            },
+            Series {
+                label: "95 % interval: lower end".into(),
+                points: xs(&|p| p.interval[0]),
+                color: PALETTE[1],
+                dashed: true,
+            },
+            Series {
+                label: "95 % interval: upper end".into(),
+                points: xs(&|p| p.interval[1]),
+                color: PALETTE[3],
+                dashed: true,
+            },
+        ],
+        y_range: Some((0.0, 1.5 * c.truth)),
+        legend: Legend::LowerRight,
+        ..Default::default()
+    };
+    render_panels(
+        "Workspace volume: estimate and 95 % interval vs samples",
+        &[panel],
+        1,
+        (900, 560),
+    )
 }

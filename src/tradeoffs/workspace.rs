@@ -39,6 +39,9 @@ pub struct WorkspaceConfig {
     pub voxels_2r: Vec<f64>,
     /// Voxel edge (m) of the spherical R-R-P runs (none: not run).
     pub voxel_rrp: Option<f64>,
+    /// Samples of the convergence run (one R-R-P run at 5 cm whose doublings give the
+    /// estimate and interval against samples).
+    pub convergence_samples: u64,
 }
 
 impl WorkspaceConfig {
@@ -51,6 +54,7 @@ impl WorkspaceConfig {
                 seeds: 3,
                 voxels_2r: vec![0.05],
                 voxel_rrp: None,
+                convergence_samples: 1 << 18,
             },
             super::Mode::Quick => WorkspaceConfig {
                 exponents: (4..=14).collect(),
@@ -58,6 +62,7 @@ impl WorkspaceConfig {
                 seeds: 4,
                 voxels_2r: vec![0.05, 0.03],
                 voxel_rrp: Some(0.25),
+                convergence_samples: 1 << 22,
             },
             super::Mode::Full => WorkspaceConfig {
                 exponents: (4..=17).collect(),
@@ -65,6 +70,7 @@ impl WorkspaceConfig {
                 seeds: 8,
                 voxels_2r: vec![0.05, 0.02],
                 voxel_rrp: Some(0.15),
+                convergence_samples: 1 << 25,
             },
         }
     }
@@ -126,6 +132,52 @@ pub struct WorkspaceStudy {
     pub threads: usize,
     /// Rows, case-major, then sampling, then N.
     pub rows: Vec<WorkspaceRow>,
+    /// The convergence run.
+    pub convergence: ConvergenceRun,
+}
+
+/// One run's estimate and interval after every doubling of the samples, against a
+/// closed form.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConvergenceRun {
+    /// What was measured.
+    pub case: String,
+    /// The closed form.
+    pub truth: f64,
+    /// Voxel edge (m).
+    pub voxel: f64,
+    /// The series (samples, estimate, interval).
+    pub points: Vec<crate::workspace::ConvergencePoint>,
+}
+
+/// The closed-form volume of the textbook spherical R-R-P: the shell sector
+/// `r ∈ [0.6, 1.5]`, elevation `[−45°, 60°]`, azimuth `[−170°, 170°]`.
+pub fn rrp_truth() -> f64 {
+    (1.5f64.powi(3) - 0.6f64.powi(3)) / 3.0
+        * (60f64.to_radians().sin() + 45f64.to_radians().sin())
+        * 340f64.to_radians()
+}
+
+/// The convergence run: Sobol', 8 replicates, 5 cm voxels.
+fn convergence_run(opts: &Options, samples: u64) -> Result<ConvergenceRun, String> {
+    let model = super::bundled_robot("textbook_spherical_rrp.toml")?;
+    let voxel = 0.05;
+    opts.say(format!("workspace: convergence run, R-R-P, N = {samples}"));
+    let o = WorkspaceOptions {
+        samples,
+        seed: opts.seed,
+        voxel,
+        extras: false,
+        quiet: true,
+        ..Default::default()
+    };
+    let r = sample_workspace(&model, &o).map_err(|e| e.to_string())?;
+    Ok(ConvergenceRun {
+        case: "textbook spherical R-R-P shell".into(),
+        truth: rrp_truth(),
+        voxel,
+        points: r.convergence,
+    })
 }
 
 impl WorkspaceStudy {
@@ -173,9 +225,7 @@ pub fn run(opts: &Options, cfg: &WorkspaceConfig) -> Result<WorkspaceStudy, Stri
         ));
     }
     if let Some(h) = cfg.voxel_rrp {
-        let truth = (1.5f64.powi(3) - 0.6f64.powi(3)) / 3.0
-            * (60f64.to_radians().sin() + 45f64.to_radians().sin())
-            * 340f64.to_radians();
+        let truth = rrp_truth();
         cases.push((
             WorkspaceCase {
                 name: format!("R-R-P shell, h = {h}"),
@@ -248,6 +298,7 @@ pub fn run(opts: &Options, cfg: &WorkspaceConfig) -> Result<WorkspaceStudy, Stri
         replicates: cfg.replicates,
         threads: rayon::current_num_threads(),
         rows,
+        convergence: convergence_run(opts, cfg.convergence_samples)?,
     })
 }
 

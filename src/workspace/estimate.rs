@@ -17,9 +17,12 @@
 //! The under-sampling left at stage `K` is the boundary layer's unseen cells: cells that
 //! the workspace meets in a sliver, which samples rarely hit. Their number follows from
 //! the cells hit once and twice ([`unseen`], a Good–Turing / capture–recapture argument):
-//! between `f1` and `D f1`, centrally `f1/α̂`. Each unseen cell adds one cell to `C` when
-//! found. The headline is `V = C_K + c f1/α̂`; the interval
-//! `[C_K + c f1 − t s − so, C_K + c D f1 + t s + so]`, with `s` the standard deviation of
+//! at most `D f1` under independent sampling with a density bounded away from zero at the
+//! boundary, centrally `f1/α̂`; no useful lower bound (stratified Sobol' points, or a
+//! density that grows towards a fold of the workspace, leave fewer unseen cells than
+//! independent points would). Each unseen cell adds one cell to `C` when found. The
+//! headline is `V = C_K + c f1/α̂`; the interval
+//! `[C_K − t s − so, C_K + c D f1 + t s + so]`, with `s` the standard deviation of
 //! the replicates' own `V_r` and `t` Student's 97.5 % quantile for `R − 1` degrees of
 //! freedom (the pooled `V` is one grid, like each `V_r`, with more samples: `s` bounds
 //! its noise), `so = |C − richardson|`. While coverage has not converged (the doubling
@@ -89,7 +92,7 @@ pub struct Estimate {
     /// The unseen cells' measure still to come, central estimate (`None` while coverage
     /// has not converged).
     pub remaining: Option<f64>,
-    /// Its bounds `[f₁ c, D f₁ c]` (net of the isolated holes already filled).
+    /// Its bounds `[0, D f₁ c]` (net of the isolated holes already filled).
     pub remaining_bounds: Option<[f64; 2]>,
     /// Cells hit exactly once and exactly twice (pooled grid).
     pub singles: u64,
@@ -178,7 +181,8 @@ pub(crate) fn remaining_growth(series: &[f64], dims: i32, noise: f64) -> Option<
 /// corner, `1/2` near an edge, `1` across a face. With `λ ∝ φ` the expected hits, the
 /// counts are Poisson mixtures and `E f0 / E f1 = Γ(α)/Γ(1 + α) = 1/α`,
 /// `E f2 / E f1 = (1 + α)/2`: the unseen cells number between `f1` (`α = 1`) and `D f1`
-/// (`α = 1/D`), centrally `f1/α̂` with `α̂ = 2 f2/f1 − 1` clamped to `[1/D, 1]`.
+/// (`α = 1/D`), centrally `f1/α̂` with `α̂ = 2 f2/f1 − 1` clamped to `[1/D, 1]`. (The
+/// caller uses 0, not `f1`, as the low end: see the module docs.)
 pub(crate) fn unseen(f1: u64, f2: u64, holes: u64, dims: i32) -> (f64, f64, f64) {
     let d = dims as f64;
     let (f1, f2, h) = (f1 as f64, f2 as f64, holes as f64);
@@ -206,7 +210,7 @@ pub(crate) fn estimate(stages: &[Stage], cm: f64, dims: i32) -> Estimate {
     let inner = last.inner as f64 * cm;
     let outer = last.dilated as f64 * cm;
     let converged = remaining_growth(&series, dims, sd).is_some() && per_cell >= MIN_PER_CELL;
-    let (t_lo, t_mid, t_hi) = unseen(last.singles, last.doubles, last.holes, dims);
+    let (_, t_mid, t_hi) = unseen(last.singles, last.doubles, last.holes, dims);
     let remaining = converged.then_some(t_mid * cm);
     let mut e = Estimate {
         samples: last.samples,
@@ -219,7 +223,7 @@ pub(crate) fn estimate(stages: &[Stage], cm: f64, dims: i32) -> Estimate {
         raw,
         voxel_bias: 0.5 * last.exposed as f64 * cm,
         remaining,
-        remaining_bounds: converged.then_some([t_lo * cm, t_hi * cm]),
+        remaining_bounds: converged.then_some([0.0, t_hi * cm]),
         singles: last.singles,
         doubles: last.doubles,
         inner,
@@ -230,10 +234,7 @@ pub(crate) fn estimate(stages: &[Stage], cm: f64, dims: i32) -> Estimate {
     match remaining {
         Some(g) if noise.is_finite() => {
             e.measure = c + g;
-            e.interval = [
-                Some(c + t_lo * cm - noise - so),
-                Some(c + t_hi * cm + noise + so),
-            ];
+            e.interval = [Some(c - noise - so), Some(c + t_hi * cm + noise + so)];
             e.kind = IntervalKind::Interval;
         }
         _ => {

@@ -111,6 +111,9 @@ pub struct WorkspaceOptions {
     pub shift_grid: bool,
     /// No progress bar.
     pub quiet: bool,
+    /// Forward kinematics eight configurations at a time in SIMD lanes (default); `false`
+    /// runs the scalar FK one configuration at a time (same results; for benchmarks).
+    pub batched_fk: bool,
 }
 
 impl Default for WorkspaceOptions {
@@ -133,6 +136,7 @@ impl Default for WorkspaceOptions {
             keep_points: 0,
             shift_grid: true,
             quiet: false,
+            batched_fk: true,
         }
     }
 }
@@ -357,6 +361,7 @@ pub fn sample_workspace(
             center,
             radius,
             chain: chain.clone(),
+            batched: opts.batched_fk,
         };
         let pb = progress::bar(n_max * r as u64, opts.quiet, "workspace");
         let mut reps: Vec<volume::Replicate> =

@@ -50,6 +50,8 @@ pub(crate) struct Ctx<'a> {
     pub radius: f64,
     /// Batched FK of the tool origin.
     pub chain: ToolChain,
+    /// Whether to use it (otherwise the scalar FK, one configuration at a time).
+    pub batched: bool,
 }
 
 /// A grid like `ctx.grid`, shifted by a uniform offset in `[0, 2h)` per axis drawn from
@@ -178,7 +180,7 @@ impl Replicate {
                     q[k][l] = *v;
                 }
             }
-            if lanes_in_range(&q) {
+            if ctx.batched && lanes_in_range(&q) {
                 ctx.chain.positions(&q, &mut out);
             } else {
                 let data = data.get_or_insert_with(|| Data::new(model));
