@@ -270,31 +270,38 @@ fn step(st: &Step, pose: &mut Pose8, q: &Lanes) {
             }
         }
     }
-    let rotate = |pose: &mut Pose8, i: usize, j: usize| {
-        let (s, c) = sin_cos8(q);
-        for row in 0..3 {
-            for l in 0..LANES {
-                let a = pose.r[3 * row + i][l];
-                let b = pose.r[3 * row + j][l];
-                pose.r[3 * row + i][l] = c[l] * a + s[l] * b;
-                pose.r[3 * row + j][l] = c[l] * b - s[l] * a;
-            }
-        }
-    };
-    let slide = |pose: &mut Pose8, k: usize| {
-        for a in 0..3 {
-            for l in 0..LANES {
-                pose.t[a][l] += pose.r[3 * a + k][l] * q[l];
-            }
-        }
-    };
     match st.kind {
-        BodyKind::RevoluteX => rotate(pose, 1, 2),
-        BodyKind::RevoluteY => rotate(pose, 2, 0),
-        BodyKind::RevoluteZ => rotate(pose, 0, 1),
-        BodyKind::PrismaticX => slide(pose, 0),
-        BodyKind::PrismaticY => slide(pose, 1),
-        BodyKind::PrismaticZ => slide(pose, 2),
+        BodyKind::RevoluteX => rotate(pose, 1, 2, q),
+        BodyKind::RevoluteY => rotate(pose, 2, 0, q),
+        BodyKind::RevoluteZ => rotate(pose, 0, 1, q),
+        BodyKind::PrismaticX => slide(pose, 0, q),
+        BodyKind::PrismaticY => slide(pose, 1, q),
+        BodyKind::PrismaticZ => slide(pose, 2, q),
+    }
+}
+
+/// `R ← R · R_k(q)`: columns `i`, `j` rotate (functions, not closures, so that they
+/// inline into the AVX2 entry and are compiled with its features).
+#[inline(always)]
+fn rotate(pose: &mut Pose8, i: usize, j: usize, q: &Lanes) {
+    let (s, c) = sin_cos8(q);
+    for row in 0..3 {
+        for l in 0..LANES {
+            let a = pose.r[3 * row + i][l];
+            let b = pose.r[3 * row + j][l];
+            pose.r[3 * row + i][l] = c[l] * a + s[l] * b;
+            pose.r[3 * row + j][l] = c[l] * b - s[l] * a;
+        }
+    }
+}
+
+/// `t ← t + R e_k q`.
+#[inline(always)]
+fn slide(pose: &mut Pose8, k: usize, q: &Lanes) {
+    for a in 0..3 {
+        for l in 0..LANES {
+            pose.t[a][l] += pose.r[3 * a + k][l] * q[l];
+        }
     }
 }
 
