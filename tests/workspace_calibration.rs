@@ -191,7 +191,7 @@ fn batched_fk_matches_scalar_fk() {
             let mut q = vec![[0.0; LANES]; model.nv];
             for lanes in q.iter_mut() {
                 for v in lanes.iter_mut() {
-                    x = (x * 997.0 + 0.318).fract();
+                    x = (x * 997.0 + 0.271).fract();
                     *v = (x - 0.5) * 8.0;
                 }
             }

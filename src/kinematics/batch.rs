@@ -17,6 +17,10 @@
 //! The planner's collision checker batches in `f32` lanes (`planning::simd`); a workspace
 //! volume needs the `f64` positions of the scalar FK, hence this separate kernel.
 
+// Lane loops index several arrays by the lane (rotation entries, translations, joint
+// values): an explicit index keeps the scalar code's operations visible.
+#![allow(clippy::needless_range_loop)]
+
 use crate::model::{BodyKind, Model, WORLD};
 
 /// Lanes per batch.
@@ -246,8 +250,7 @@ fn step(st: &Step, pose: &mut Pose8, q: &Lanes) {
         // Translation first: it uses the parent's rotation.
         for a in 0..3 {
             for l in 0..LANES {
-                pose.t[a][l] = ((r[3 * a][l] * px + r[3 * a + 1][l] * py) + r[3 * a + 2][l] * pz)
-                    + pose.t[a][l];
+                pose.t[a][l] += (r[3 * a][l] * px + r[3 * a + 1][l] * py) + r[3 * a + 2][l] * pz;
             }
         }
         if let Some(p) = st.perm {

@@ -334,7 +334,7 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
                     dashed: false,
                 });
                 series.push(Series {
-                    label: format!("{name}: reported band 3σ + systematic"),
+                    label: format!("{name}: reported 95 % half-width"),
                     points: rows
                         .iter()
                         .filter(|r| r.median_band.is_finite())
@@ -879,9 +879,9 @@ fn workspace_section(s: &mut String, r: &Report) {
     let _ = writeln!(
         s,
         "`sample_workspace` with {} replicates per estimate (N = replicates × 2^k samples), randomly shifted grids, \
-         {} rayon threads; the estimate is the bias-corrected measure, compared with the closed form. Its own error estimate: \
-         the standard error σ over replicates, and the band 3σ + systematic uncertainty (second-order voxel bias plus the growth \
-         still expected from more samples; ∞ while coverage has not converged). Each cell is the mean over independent seeds \
+         {} rayon threads; the estimate is the headline (bias-corrected pooled occupancy plus the unseen boundary cells), \
+         compared with the closed form. Its own error estimate: the 95 % interval (the band: its half-width; ∞ while only \
+         a lower bound is given); σ is the replicates' spread. Each cell is the mean over independent seeds \
          (the band: their median); \"truth in finite band\" = how often the reported interval contained the truth, among the \
          runs whose band was finite. Seeds per cell: {}.\n",
         st.replicates,

@@ -10,15 +10,13 @@
 //!   `[−45°, 60°]`, azimuth `[−170°, 170°]`, volume
 //!   `(r₂³ − r₁³)/3 · (sin 60° + sin 45°) · 340°`.
 //!
-//! The estimate is [`crate::workspace::sample_workspace`]'s bias-corrected measure
-//! (`bias.corrected`, 8 replicates, randomly shifted grids; the raw occupancy's error is
-//! listed beside it). Both count occupied cells, so they mean something only once the
-//! grid is covered: below that the corrected estimate is even negative. Its own error estimate is the
-//! standard error `σ` over the replicates and the band `3σ + uncertainty` (the systematic
-//! part: second-order voxel bias plus the growth still expected from more samples, infinite
-//! while coverage has not converged). Each cell is repeated over several seeds; the table
-//! gives the mean absolute error, the median band and how often the truth fell inside the
-//! reported interval.
+//! The estimate is [`crate::workspace::sample_workspace`]'s headline (8 replicates,
+//! randomly shifted grids; the pooled raw occupancy's error is listed beside it). Its own
+//! error estimate is the 95 % interval (the band: its half-width), infinite while only a
+//! lower bound is given. Each cell is repeated over several seeds; the table gives the
+//! mean absolute error, the median band and how often the truth fell inside the reported
+//! interval. A separate convergence run shows one run's estimate and interval after every
+//! doubling of the samples.
 
 use super::{Options, Stats};
 use crate::model::Model;
@@ -93,9 +91,10 @@ pub struct WorkspaceRow {
     pub mean_rel_error: f64,
     /// Mean `|raw occupancy − truth|` (no bias correction), relative to the truth.
     pub mean_rel_error_raw: f64,
-    /// Mean reported standard error `σ` of the estimate.
+    /// Mean reported noise scale `σ` of the estimate (the replicates' spread).
     pub mean_stderr: f64,
-    /// Median reported band `3σ + uncertainty` (∞ while coverage has not converged).
+    /// Median half-width of the reported 95 % interval (∞ while only a lower bound is
+    /// given).
     pub median_band: f64,
     /// Fraction of seeds whose band was finite.
     pub converged_fraction: f64,
@@ -261,16 +260,17 @@ pub fn run(opts: &Options, cfg: &WorkspaceConfig) -> Result<WorkspaceStudy, Stri
                         ..Default::default()
                     };
                     let r = sample_workspace(model, &o).map_err(|e| e.to_string())?;
-                    let b = &r.bias;
-                    err.push((b.corrected - case.truth).abs());
-                    raw.push((r.measure() - case.truth).abs());
-                    se.push(b.corrected_stderr);
-                    let w = 3.0 * b.corrected_stderr + b.uncertainty;
+                    err.push((r.measure() - case.truth).abs());
+                    raw.push((r.pooled - case.truth).abs());
+                    se.push(r.measure_stderr());
+                    let w = match r.measure_interval() {
+                        [Some(lo), Some(hi)] => 0.5 * (hi - lo),
+                        _ => f64::INFINITY,
+                    };
                     band.push(w);
                     if w.is_finite() {
                         converged += 1;
-                        covered +=
-                            usize::from(b.interval[0] <= case.truth && case.truth <= b.interval[1]);
+                        covered += usize::from(r.interval_covers(case.truth));
                     }
                     times.push(r.time_s);
                 }

@@ -78,7 +78,7 @@ pub struct WorkspaceOptions {
     pub target_rel_error: Option<f64>,
     /// Adaptive mode: the most samples to draw (default `2^30`).
     pub max_samples: Option<u64>,
-    /// Independent replicates `R` (≥ 2); the standard errors are `sd / √R`.
+    /// Independent replicates `R` (≥ 2); their spread is the noise scale of the estimate.
     pub replicates: usize,
     /// Random or Sobol'.
     pub sampling: Sampling,
@@ -293,26 +293,7 @@ pub fn sample_workspace(
     let (center, radius) = reach_bound(model, tool, &jb);
     let chain = crate::kinematics::batch::ToolChain::new(model, tool).expect("the tool moves");
     let mut warnings = Vec::new();
-
-    // Pilot cloud: planarity and the in-plane tool axis.
-    let mut pilot = Vec::with_capacity(4096);
-    let mut rots = Vec::with_capacity(4096);
-    {
-        let mut data = crate::data::Data::new(model);
-        let mut q = vec![0.0; model.nv];
-        let mut s = RandomStream::new(opts.seed, u64::MAX, model.nv, 0);
-        for _ in 0..4096 {
-            s.next_q(&jb, &mut q);
-            crate::kinematics::forward_kinematics(model, &mut data, &q);
-            let m = crate::kinematics::frame_placement(model, &data, tool);
-            pilot.push(m.trans);
-            rots.push(m.rot);
-        }
-    }
-    // Flat within 1 nm per metre of reach; a direction counts for the dimension beyond
-    // 1 µm per metre.
-    let tol = 1e-9 * (1.0 + radius);
-    let shape = plane::analyse(&pilot, 1e3 * tol);
+    let (shape, rots, tol) = pilot(model, opts, &jb, tool, radius);
     let mut planar = match opts.planar {
         None => shape.off_plane <= tol,
         Some(p) => p,
@@ -334,61 +315,23 @@ pub fn sample_workspace(
 
     loop {
         let plane_frame = planar.then_some(shape.plane);
-        let grid = Grid::new(opts.voxel, &center, radius, plane_frame, [0.0; 3]).map_err(|cells| {
-            WorkspaceError::Invalid(format!(
-                "a dense grid of {cells} cells of {} m around a reach of {radius:.3} m is too large (max {}): use a larger voxel",
-                opts.voxel,
-                grid::MAX_CELLS
-            ))
-        })?;
-        let est = volume::shifted_grid(
-            &grid,
-            &center,
-            radius,
-            opts.seed,
-            u64::MAX - 1,
-            opts.shift_grid,
-        );
-        let ctx = Ctx {
+        let ctx = make_ctx(
             model,
+            opts,
             tool,
-            jb: jb.clone(),
-            grid,
-            est,
-            sampling: opts.sampling,
-            seed: opts.seed,
-            shift: opts.shift_grid,
-            center,
-            radius,
-            chain: chain.clone(),
-            batched: opts.batched_fk,
-        };
-        let pb = progress::bar(n_max * r as u64, opts.quiet, "workspace");
-        let mut reps: Vec<volume::Replicate> =
-            (0..r).map(|i| volume::Replicate::new(&ctx, i)).collect();
+            &jb,
+            &chain,
+            (center, radius),
+            plane_frame,
+        )?;
+        let Doublings {
+            stages,
+            convergence,
+            reached,
+            reps,
+        } = doublings(&ctx, opts, &plan, planar);
         let cm = ctx.est.cell_measure();
         let dims = ctx.est.dims();
-        let unit = if planar { "m²" } else { "m³" };
-        let mut stages = Vec::new();
-        let mut convergence = Vec::new();
-        let mut reached = None;
-        for &n in &plan {
-            stages.push(volume::run_stage(&ctx, &mut reps, n, &pb));
-            let e = estimate::estimate(&stages, cm, dims);
-            convergence.push(convergence_point(&e, n));
-            pb.set_message(match e.interval {
-                [Some(lo), Some(hi)] => format!("{:.4} {unit} in [{lo:.4}, {hi:.4}]", e.measure),
-                [lo, _] => format!("≥ {:.4} {unit} (lower bound)", lo.unwrap_or(0.0)),
-            });
-            if let Some(t) = opts.target_rel_error {
-                let ok = e.kind == IntervalKind::Interval && e.rel_half_width() <= t;
-                reached = Some(ok);
-                if ok && n >= per_replicate(opts.samples, r).min(n_max) {
-                    break;
-                }
-            }
-        }
-        pb.finish_and_clear();
         let max_off = reps.iter().map(|r| r.max_off_plane).fold(0.0, f64::max);
         if planar && opts.planar.is_none() && max_off > 100.0 * tol {
             warnings.push(format!(
@@ -400,22 +343,7 @@ pub fn sample_workspace(
         let e = estimate::estimate(&stages, cm, dims);
         let last = stages.last().expect("one stage");
         let n = last.samples / r as u64;
-        if e.kind == IntervalKind::LowerBound {
-            warnings.push(format!(
-                "coverage has not converged ({:.1} samples per occupied voxel): the {} is only bounded below, by {:.4} {unit}; about {} samples (or a larger voxel) would give an interval",
-                e.samples_per_cell,
-                if planar { "area" } else { "volume" },
-                e.interval[0].unwrap_or(0.0),
-                e.samples_needed.unwrap_or(0)
-            ));
-        }
-        if reached == Some(false) {
-            warnings.push(format!(
-                "the target relative error {} was not reached within {} samples",
-                opts.target_rel_error.unwrap_or(0.0),
-                last.samples
-            ));
-        }
+        warnings.extend(coverage_warnings(&e, opts, planar, reached));
         let union = volume::common_union(&ctx, &reps);
         let pooled_scan = ctx.grid.scan(&union);
         let boundary_bits = ctx.grid.boundary_bits(&union);
@@ -504,6 +432,152 @@ pub fn sample_workspace(
             boundary_bits,
             estimate: e,
         });
+    }
+}
+
+/// The grids and shared state of the passes: the common grid, the pooled estimation
+/// grid (shifted by an offset drawn from the seed), the batched FK chain.
+fn make_ctx<'a>(
+    model: &'a Model,
+    opts: &WorkspaceOptions,
+    tool: usize,
+    jb: &JointBox,
+    chain: &crate::kinematics::batch::ToolChain,
+    (center, radius): (Vec3, f64),
+    plane_frame: Option<grid::PlaneFrame>,
+) -> Result<Ctx<'a>, WorkspaceError> {
+    let grid = Grid::new(opts.voxel, &center, radius, plane_frame, [0.0; 3]).map_err(|cells| {
+        WorkspaceError::Invalid(format!(
+            "a dense grid of {cells} cells of {} m around a reach of {radius:.3} m is too large (max {}): use a larger voxel",
+            opts.voxel,
+            grid::MAX_CELLS
+        ))
+    })?;
+    let est = volume::shifted_grid(
+        &grid,
+        &center,
+        radius,
+        opts.seed,
+        u64::MAX - 1,
+        opts.shift_grid,
+    );
+    Ok(Ctx {
+        model,
+        tool,
+        jb: jb.clone(),
+        grid,
+        est,
+        sampling: opts.sampling,
+        seed: opts.seed,
+        shift: opts.shift_grid,
+        center,
+        radius,
+        chain: chain.clone(),
+        batched: opts.batched_fk,
+    })
+}
+
+/// The warnings about coverage and the adaptive target.
+fn coverage_warnings(
+    e: &Estimate,
+    opts: &WorkspaceOptions,
+    planar: bool,
+    reached: Option<bool>,
+) -> Vec<String> {
+    let unit = if planar { "m²" } else { "m³" };
+    let mut out = Vec::new();
+    if e.kind == IntervalKind::LowerBound {
+        out.push(format!(
+            "coverage has not converged ({:.1} samples per occupied voxel): the {} is only bounded below, by {:.4} {unit}; about {} samples (or a larger voxel) would give an interval",
+            e.samples_per_cell,
+            if planar { "area" } else { "volume" },
+            e.interval[0].unwrap_or(0.0),
+            e.samples_needed.unwrap_or(0)
+        ));
+    }
+    if reached == Some(false) {
+        out.push(format!(
+            "the target relative error {} was not reached within {} samples",
+            opts.target_rel_error.unwrap_or(0.0),
+            e.samples
+        ));
+    }
+    out
+}
+
+/// The pilot cloud (4096 random samples through the scalar FK): its shape (planarity,
+/// dimension), the tool rotations (for the in-plane tool axis), and the flatness
+/// tolerance (1 nm per metre of reach).
+fn pilot(
+    model: &Model,
+    opts: &WorkspaceOptions,
+    jb: &JointBox,
+    tool: usize,
+    radius: f64,
+) -> (plane::Shape, Vec<crate::spatial::Mat3>, f64) {
+    let mut pilot = Vec::with_capacity(4096);
+    let mut rots = Vec::with_capacity(4096);
+    let mut data = crate::data::Data::new(model);
+    let mut q = vec![0.0; model.nv];
+    let mut s = RandomStream::new(opts.seed, u64::MAX, model.nv, 0);
+    for _ in 0..4096 {
+        s.next_q(jb, &mut q);
+        crate::kinematics::forward_kinematics(model, &mut data, &q);
+        let m = crate::kinematics::frame_placement(model, &data, tool);
+        pilot.push(m.trans);
+        rots.push(m.rot);
+    }
+    // Flat within 1 nm per metre of reach; a direction counts for the dimension beyond
+    // 1 µm per metre.
+    let tol = 1e-9 * (1.0 + radius);
+    (plane::analyse(&pilot, 1e3 * tol), rots, tol)
+}
+
+/// What the doublings of the volume pass leave.
+struct Doublings {
+    stages: Vec<estimate::Stage>,
+    convergence: Vec<ConvergencePoint>,
+    /// Adaptive mode: whether the target was reached.
+    reached: Option<bool>,
+    reps: Vec<volume::Replicate>,
+}
+
+/// Runs the volume pass doubling by doubling (`plan`: samples per replicate), with the
+/// progress bar showing the estimate after each; in adaptive mode stops once the
+/// target is met.
+fn doublings(ctx: &Ctx, opts: &WorkspaceOptions, plan: &[u64], planar: bool) -> Doublings {
+    let r = opts.replicates;
+    let n_max = *plan.last().expect("one stage");
+    let pb = progress::bar(n_max * r as u64, opts.quiet, "workspace");
+    let mut reps: Vec<volume::Replicate> = (0..r).map(|i| volume::Replicate::new(ctx, i)).collect();
+    let cm = ctx.est.cell_measure();
+    let dims = ctx.est.dims();
+    let unit = if planar { "m²" } else { "m³" };
+    let mut stages = Vec::new();
+    let mut convergence = Vec::new();
+    let mut reached = None;
+    for &n in plan {
+        stages.push(volume::run_stage(ctx, &mut reps, n, &pb));
+        let e = estimate::estimate(&stages, cm, dims);
+        convergence.push(convergence_point(&e, n));
+        pb.set_message(match e.interval {
+            [Some(lo), Some(hi)] => format!("{:.4} {unit} in [{lo:.4}, {hi:.4}]", e.measure),
+            [lo, _] => format!("≥ {:.4} {unit} (lower bound)", lo.unwrap_or(0.0)),
+        });
+        if let Some(t) = opts.target_rel_error {
+            let ok = e.kind == IntervalKind::Interval && e.rel_half_width() <= t;
+            reached = Some(ok);
+            if ok && n >= per_replicate(opts.samples, r).min(n_max) {
+                break;
+            }
+        }
+    }
+    pb.finish_and_clear();
+    Doublings {
+        stages,
+        convergence,
+        reached,
+        reps,
     }
 }
 

@@ -161,6 +161,7 @@ impl Replicate {
     }
 
     /// Draws samples until `to`, eight at a time.
+    #[allow(clippy::needless_range_loop)] // lanes index the configuration and output arrays
     fn advance(&mut self, ctx: &Ctx, to: u64, pb: &ProgressBar) {
         let model = ctx.model;
         let nq = model.nv;
