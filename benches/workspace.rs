@@ -1,12 +1,13 @@
-//! Criterion benchmark of the workspace volume pass: forward kinematics of the tool link,
-//! RNG or scrambled Sobol', and voxel insertion, per sample, on ONE thread (a one-thread
-//! rayon pool), for the UR5 (URDF, tool0) with the default 2 cm voxels. The Jacobian pass
-//! is off; `thrpt` is FK samples per second per core.
+//! Criterion benchmark of the workspace volume pass on ONE thread (a one-thread rayon
+//! pool), for the UR5 (URDF, tool0) with the default 2 cm voxels, random and Sobol'
+//! sampling, with the batched FK (eight configurations per SIMD lane set, the default)
+//! and with the scalar FK one configuration at a time (`batched_fk: false`, as before
+//! batching). The Jacobian pass is off; `thrpt` is tool positions per second per core.
 //!
-//! Before criterion's wall-clock runs it prints the same pass timed in process CPU time
+//! Before criterion's wall-clock runs it prints the same passes timed in process CPU time
 //! (Linux `/proc/self/stat`), which a loaded shared machine does not inflate.
 //!
-//! Run: `cargo bench --bench workspace` (figures in `docs/workspace.md`).
+//! Run: `cargo bench --bench workspace` (figures in `BENCHMARKS.md`).
 
 use armsim::model::Model;
 use armsim::workspace::{sample_workspace, Sampling, WorkspaceOptions};
@@ -22,6 +23,18 @@ fn cpu_seconds() -> Option<f64> {
     Some(ticks / 100.0)
 }
 
+fn options(samples: u64, sampling: Sampling, batched_fk: bool) -> WorkspaceOptions {
+    WorkspaceOptions {
+        samples,
+        replicates: 2,
+        sampling,
+        extras: false,
+        quiet: true,
+        batched_fk,
+        ..Default::default()
+    }
+}
+
 fn workspace_benches(c: &mut Criterion) {
     let root = env!("CARGO_MANIFEST_DIR");
     let model = Model::load(format!("{root}/robots/ur5.urdf"))
@@ -31,21 +44,21 @@ fn workspace_benches(c: &mut Criterion) {
         .num_threads(1)
         .build()
         .expect("pool");
-    for sampling in [Sampling::Random, Sampling::Sobol] {
-        let opts = WorkspaceOptions {
-            samples: 1 << 23,
-            replicates: 2,
-            sampling,
-            extras: false,
-            quiet: true,
-            ..Default::default()
-        };
+    let variants = [
+        (Sampling::Random, true),
+        (Sampling::Sobol, true),
+        (Sampling::Random, false),
+        (Sampling::Sobol, false),
+    ];
+    for (sampling, batched) in variants {
+        let opts = options(1 << 23, sampling, batched);
         let t0 = cpu_seconds();
         let r = pool.install(|| sample_workspace(&model, &opts).expect("runs"));
         if let (Some(a), Some(b)) = (t0, cpu_seconds()) {
             let ns = (b - a) / r.samples as f64 * 1e9;
             eprintln!(
-                "workspace_ur5 {sampling:?}: {} samples, {:.2} s CPU: {ns:.0} ns/sample, {:.2} M samples/s/core",
+                "workspace_ur5 {sampling:?} {}: {} samples, {:.2} s CPU: {ns:.1} ns/sample, {:.2} M samples/s/core",
+                if batched { "batched FK" } else { "scalar FK" },
                 r.samples,
                 b - a,
                 1e3 / ns
@@ -55,16 +68,13 @@ fn workspace_benches(c: &mut Criterion) {
     let mut g = c.benchmark_group("workspace_ur5");
     g.sample_size(10);
     g.throughput(Throughput::Elements(SAMPLES));
-    for sampling in [Sampling::Random, Sampling::Sobol] {
-        let opts = WorkspaceOptions {
-            samples: SAMPLES,
-            replicates: 2,
-            sampling,
-            extras: false,
-            quiet: true,
-            ..Default::default()
-        };
-        let name = format!("volume_{sampling:?}").to_lowercase();
+    for (sampling, batched) in variants {
+        let opts = options(SAMPLES, sampling, batched);
+        let name = format!(
+            "volume_{sampling:?}{}",
+            if batched { "" } else { "_scalar_fk" }
+        )
+        .to_lowercase();
         g.bench_function(name, |b| {
             b.iter(|| pool.install(|| sample_workspace(&model, &opts).expect("runs")))
         });

@@ -32,8 +32,8 @@ enum Cmd {
     Dynamics(cli::dynamics::DynamicsArgs),
     /// Inverse kinematics of a link frame for one target pose or a CSV file of targets.
     Ik(cli::ik::IkArgs),
-    /// Reachable workspace of a link: voxel volume (or area for planar arms) with its
-    /// standard error and voxel-size bias, boundary, manipulability, dexterity.
+    /// Reachable workspace of a link: voxel volume (or area for planar arms) with a 95 %
+    /// interval (or a lower bound when under-sampled), boundary, manipulability, dexterity.
     Workspace(cli::workspace::WorkspaceArgs),
     /// Show a recording (MCAP) in Rerun: write an .rrd file, or spawn the viewer (the
     /// `rerun` program on PATH, from `pip install rerun-sdk==0.36.3`).

@@ -537,10 +537,24 @@ fn workspace_json_contract() {
         "bbox",
         "time_s",
         "area_m2",
+        "area_interval_m2",
+        "volume_interval_m3",
+        "interval_kind",
+        "samples_needed",
         "joint_names",
     ] {
         assert!(v.get(key).is_some(), "missing '{key}'");
     }
+    // Covered: a two-sided interval around the area that holds π.
+    assert_eq!(v["interval_kind"], "interval");
+    let (lo, hi) = (
+        v["area_interval_m2"][0].as_f64().unwrap(),
+        v["area_interval_m2"][1].as_f64().unwrap(),
+    );
+    assert!(
+        lo <= std::f64::consts::PI && std::f64::consts::PI <= hi,
+        "[{lo}, {hi}]"
+    );
     // Uniform rods of 0.5 m: a disc of radius 1 m; raw voxel estimates overshoot by the
     // documented voxel bias, the corrected estimate is within a few standard errors.
     let area = v["area_m2"].as_f64().unwrap();
@@ -551,4 +565,52 @@ fn workspace_json_contract() {
         &["workspace", "robots/ur5.urdf", "--method", "grid"],
         "--method",
     );
+    fails_with(
+        &["workspace", "robots/ur5.urdf", "--target-rel-error", "0"],
+        "--target-rel-error",
+    );
+}
+
+/// Too few samples: a lower bound (null upper end), the samples needed, and the text
+/// output says "lower bound". Adaptive mode doubles until the interval is narrow enough.
+#[test]
+fn workspace_lower_bound_and_adaptive_mode() {
+    let rrp = "robots/textbook_spherical_rrp.toml";
+    let v = json(&[
+        "workspace",
+        rrp,
+        "--samples",
+        "4096",
+        "--voxel",
+        "0.1",
+        "--json",
+    ]);
+    assert_eq!(v["interval_kind"], "lower_bound");
+    assert!(v["volume_interval_m3"][1].is_null());
+    assert!(v["volume_interval_m3"][0].as_f64().unwrap() <= 9.83);
+    assert!(v["samples_needed"].as_u64().unwrap() > 4096);
+    let out = armsim(&["workspace", rrp, "--samples", "4096", "--voxel", "0.1"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("lower bound"), "{text}");
+    let v = json(&[
+        "workspace",
+        "robots/planar_2r.toml",
+        "--samples",
+        "4096",
+        "--voxel",
+        "0.05",
+        "--target-rel-error",
+        "0.05",
+        "--json",
+    ]);
+    assert_eq!(v["target_reached"], true);
+    assert_eq!(v["interval_kind"], "interval");
+    let area = v["area_m2"].as_f64().unwrap();
+    let (lo, hi) = (
+        v["area_interval_m2"][0].as_f64().unwrap(),
+        v["area_interval_m2"][1].as_f64().unwrap(),
+    );
+    assert!(0.5 * (hi - lo) <= 0.05 * area, "[{lo}, {hi}] around {area}");
+    assert!(lo <= std::f64::consts::PI && std::f64::consts::PI <= hi);
+    assert!(v["samples"].as_u64().unwrap() > 4096);
 }

@@ -1,5 +1,5 @@
-//! `armsim workspace`: the reachable workspace of a link (volume or area with its
-//! standard error and voxel-size bias, boundary, extras), and its CSV, MCAP and Rerun
+//! `armsim workspace`: the reachable workspace of a link (volume or area with its 95 %
+//! interval, or a lower bound when under-sampled; boundary, extras), and its CSV, MCAP and Rerun
 //! outputs.
 
 use super::scenario::need_rerun;
@@ -16,9 +16,17 @@ pub struct WorkspaceArgs {
     /// The link whose origin is sampled (default: the deepest link).
     #[arg(long)]
     pub link: Option<String>,
-    /// Number of joint-space samples (split into replicates).
+    /// Number of joint-space samples (split into replicates; in adaptive mode the
+    /// first budget tried).
     #[arg(long, default_value_t = 1 << 22)]
     pub samples: u64,
+    /// Adaptive mode: double the samples until the interval's half-width is at most
+    /// this fraction of the estimate (e.g. 0.01), within --max-samples.
+    #[arg(long)]
+    pub target_rel_error: Option<f64>,
+    /// Adaptive mode: the most samples to draw.
+    #[arg(long, default_value_t = 1 << 30)]
+    pub max_samples: u64,
     /// Voxel edge (m).
     #[arg(long, default_value_t = 0.02)]
     pub voxel: f64,
@@ -60,6 +68,13 @@ pub fn run(a: &WorkspaceArgs) -> Result<(), String> {
     if !(voxel > 0.0 && voxel.is_finite()) {
         return Err(format!("--voxel: {voxel} is not a positive length"));
     }
+    if let Some(t) = a.target_rel_error {
+        if !(t > 0.0 && t < 1.0) {
+            return Err(format!(
+                "--target-rel-error: {t} is not a fraction in (0, 1)"
+            ));
+        }
+    }
     if samples == 0 || replicates < 2 {
         return Err(
             "--samples must be positive and --replicates at least 2 (for the standard error)"
@@ -69,6 +84,8 @@ pub fn run(a: &WorkspaceArgs) -> Result<(), String> {
     let sampling: Sampling = method.parse().map_err(|e| format!("--method: {e}"))?;
     let opts = WorkspaceOptions {
         samples,
+        target_rel_error: a.target_rel_error,
+        max_samples: Some(a.max_samples),
         replicates,
         sampling,
         seed,
@@ -104,24 +121,13 @@ pub fn run(a: &WorkspaceArgs) -> Result<(), String> {
         print_json(&v);
         return Ok(());
     }
-    let (what, unit) = if r.planar {
-        ("area", "m²")
-    } else {
-        ("volume", "m³")
-    };
     println!(
         "{} workspace of '{}' ({} samples in {} replicates, {:?} sampling, voxel {} m, {:.2} s)",
         r.robot, r.tool, r.samples, r.replicates, r.sampling, r.voxel, r.time_s
     );
-    println!(
-        "{what}: {:.6} {unit} ± {:.6} (standard error)",
-        r.measure(),
-        r.measure_stderr()
-    );
-    println!(
-        "voxel-size bias ≈ {:.6} {unit}; corrected {:.6} ± {:.6}",
-        r.bias.bias, r.bias.corrected, r.bias.corrected_stderr
-    );
+    for line in armsim::workspace::summary_lines(&r) {
+        println!("{line}");
+    }
     println!(
         "boundary voxels {}, occupied {}",
         r.boundary_voxels, r.occupied_voxels

@@ -1,6 +1,7 @@
 //! Kinematics: forward kinematics (placements, velocities, accelerations), geometric
 //! Jacobians and their time derivatives in three expressions, and the dexterity measures.
 
+pub mod batch;
 mod fk;
 pub mod ik;
 mod jacobian;

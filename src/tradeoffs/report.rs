@@ -334,7 +334,7 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
                     dashed: false,
                 });
                 series.push(Series {
-                    label: format!("{name}: reported band 3σ + systematic"),
+                    label: format!("{name}: reported 95 % half-width"),
                     points: rows
                         .iter()
                         .filter(|r| r.median_band.is_finite())
@@ -367,6 +367,11 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
             2,
             (700, 540),
         )?,
+    ));
+
+    out.push((
+        "workspace_convergence.png".to_string(),
+        workspace_convergence_png(&ws.convergence)?,
     ));
 
     // 5. Effects.
@@ -874,9 +879,9 @@ fn workspace_section(s: &mut String, r: &Report) {
     let _ = writeln!(
         s,
         "`sample_workspace` with {} replicates per estimate (N = replicates × 2^k samples), randomly shifted grids, \
-         {} rayon threads; the estimate is the bias-corrected measure, compared with the closed form. Its own error estimate: \
-         the standard error σ over replicates, and the band 3σ + systematic uncertainty (second-order voxel bias plus the growth \
-         still expected from more samples; ∞ while coverage has not converged). Each cell is the mean over independent seeds \
+         {} rayon threads; the estimate is the headline (bias-corrected pooled occupancy plus the unseen boundary cells), \
+         compared with the closed form. Its own error estimate: the 95 % interval (the band: its half-width; ∞ while only \
+         a lower bound is given); σ is the replicates' spread. Each cell is the mean over independent seeds \
          (the band: their median); \"truth in finite band\" = how often the reported interval contained the truth, among the \
          runs whose band was finite. Seeds per cell: {}.\n",
         st.replicates,
@@ -918,6 +923,17 @@ fn workspace_section(s: &mut String, r: &Report) {
         let _ = writeln!(s);
     }
     let _ = writeln!(s, "![workspace error vs samples](workspace_error.png)\n");
+    let c = &st.convergence;
+    let _ = writeln!(
+        s,
+        "**Convergence of one run** ({}, voxel {} m, Sobol', truth {:.4} m³): the estimate and its 95 % interval \
+         after every doubling of the samples (only a lower bound while coverage has not converged).\n",
+        c.case, c.voxel, c.truth
+    );
+    let _ = writeln!(
+        s,
+        "![workspace estimate and interval vs samples](workspace_convergence.png)\n"
+    );
     let _ = writeln!(s, "**Reading.** {}\n", workspace_reading(r));
 }
 
@@ -1093,4 +1109,60 @@ pub fn effects_reading(r: &Report) -> String {
         ));
     }
     out.join(" ")
+}
+
+/// The convergence plot: estimate, interval (lower bound only while not converged) and
+/// the closed form against samples.
+pub fn workspace_convergence_png(c: &super::workspace::ConvergenceRun) -> Result<Vec<u8>, String> {
+    let pts = &c.points;
+    let xs = |f: &dyn Fn(&crate::workspace::ConvergencePoint) -> Option<f64>| -> Vec<(f64, f64)> {
+        pts.iter()
+            .filter_map(|p| f(p).map(|y| (p.samples as f64, y)))
+            .collect()
+    };
+    let (x0, x1) = (
+        pts.first().map_or(1.0, |p| p.samples as f64),
+        pts.last().map_or(1.0, |p| p.samples as f64),
+    );
+    let panel = Panel {
+        title: format!("{} (voxel {} m)", c.case, c.voxel),
+        x_desc: "samples N".into(),
+        y_desc: "volume (m³)".into(),
+        log_x: true,
+        series: vec![
+            Series {
+                label: "truth (closed form)".into(),
+                points: vec![(x0, c.truth), (x1, c.truth)],
+                color: PALETTE[2],
+                dashed: false,
+            },
+            Series {
+                label: "estimate".into(),
+                points: xs(&|p| Some(p.measure)),
+                color: PALETTE[0],
+                dashed: false,
+            },
+            Series {
+                label: "95 % interval: lower end".into(),
+                points: xs(&|p| p.interval[0]),
+                color: PALETTE[1],
+                dashed: true,
+            },
+            Series {
+                label: "95 % interval: upper end".into(),
+                points: xs(&|p| p.interval[1]),
+                color: PALETTE[3],
+                dashed: true,
+            },
+        ],
+        y_range: Some((0.0, 1.5 * c.truth)),
+        legend: Legend::LowerRight,
+        ..Default::default()
+    };
+    render_panels(
+        "Workspace volume: estimate and 95 % interval vs samples",
+        &[panel],
+        1,
+        (900, 560),
+    )
 }

@@ -10,15 +10,13 @@
 //!   `[−45°, 60°]`, azimuth `[−170°, 170°]`, volume
 //!   `(r₂³ − r₁³)/3 · (sin 60° + sin 45°) · 340°`.
 //!
-//! The estimate is [`crate::workspace::sample_workspace`]'s bias-corrected measure
-//! (`bias.corrected`, 8 replicates, randomly shifted grids; the raw occupancy's error is
-//! listed beside it). Both count occupied cells, so they mean something only once the
-//! grid is covered: below that the corrected estimate is even negative. Its own error estimate is the
-//! standard error `σ` over the replicates and the band `3σ + uncertainty` (the systematic
-//! part: second-order voxel bias plus the growth still expected from more samples, infinite
-//! while coverage has not converged). Each cell is repeated over several seeds; the table
-//! gives the mean absolute error, the median band and how often the truth fell inside the
-//! reported interval.
+//! The estimate is [`crate::workspace::sample_workspace`]'s headline (8 replicates,
+//! randomly shifted grids; the pooled raw occupancy's error is listed beside it). Its own
+//! error estimate is the 95 % interval (the band: its half-width), infinite while only a
+//! lower bound is given. Each cell is repeated over several seeds; the table gives the
+//! mean absolute error, the median band and how often the truth fell inside the reported
+//! interval. A separate convergence run shows one run's estimate and interval after every
+//! doubling of the samples.
 
 use super::{Options, Stats};
 use crate::model::Model;
@@ -39,6 +37,9 @@ pub struct WorkspaceConfig {
     pub voxels_2r: Vec<f64>,
     /// Voxel edge (m) of the spherical R-R-P runs (none: not run).
     pub voxel_rrp: Option<f64>,
+    /// Samples of the convergence run (one R-R-P run at 5 cm whose doublings give the
+    /// estimate and interval against samples).
+    pub convergence_samples: u64,
 }
 
 impl WorkspaceConfig {
@@ -51,6 +52,7 @@ impl WorkspaceConfig {
                 seeds: 3,
                 voxels_2r: vec![0.05],
                 voxel_rrp: None,
+                convergence_samples: 1 << 18,
             },
             super::Mode::Quick => WorkspaceConfig {
                 exponents: (4..=14).collect(),
@@ -58,6 +60,7 @@ impl WorkspaceConfig {
                 seeds: 4,
                 voxels_2r: vec![0.05, 0.03],
                 voxel_rrp: Some(0.25),
+                convergence_samples: 1 << 22,
             },
             super::Mode::Full => WorkspaceConfig {
                 exponents: (4..=17).collect(),
@@ -65,6 +68,7 @@ impl WorkspaceConfig {
                 seeds: 8,
                 voxels_2r: vec![0.05, 0.02],
                 voxel_rrp: Some(0.15),
+                convergence_samples: 1 << 25,
             },
         }
     }
@@ -87,9 +91,10 @@ pub struct WorkspaceRow {
     pub mean_rel_error: f64,
     /// Mean `|raw occupancy − truth|` (no bias correction), relative to the truth.
     pub mean_rel_error_raw: f64,
-    /// Mean reported standard error `σ` of the estimate.
+    /// Mean reported noise scale `σ` of the estimate (the replicates' spread).
     pub mean_stderr: f64,
-    /// Median reported band `3σ + uncertainty` (∞ while coverage has not converged).
+    /// Median half-width of the reported 95 % interval (∞ while only a lower bound is
+    /// given).
     pub median_band: f64,
     /// Fraction of seeds whose band was finite.
     pub converged_fraction: f64,
@@ -126,6 +131,52 @@ pub struct WorkspaceStudy {
     pub threads: usize,
     /// Rows, case-major, then sampling, then N.
     pub rows: Vec<WorkspaceRow>,
+    /// The convergence run.
+    pub convergence: ConvergenceRun,
+}
+
+/// One run's estimate and interval after every doubling of the samples, against a
+/// closed form.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConvergenceRun {
+    /// What was measured.
+    pub case: String,
+    /// The closed form.
+    pub truth: f64,
+    /// Voxel edge (m).
+    pub voxel: f64,
+    /// The series (samples, estimate, interval).
+    pub points: Vec<crate::workspace::ConvergencePoint>,
+}
+
+/// The closed-form volume of the textbook spherical R-R-P: the shell sector
+/// `r ∈ [0.6, 1.5]`, elevation `[−45°, 60°]`, azimuth `[−170°, 170°]`.
+pub fn rrp_truth() -> f64 {
+    (1.5f64.powi(3) - 0.6f64.powi(3)) / 3.0
+        * (60f64.to_radians().sin() + 45f64.to_radians().sin())
+        * 340f64.to_radians()
+}
+
+/// The convergence run: Sobol', 8 replicates, 5 cm voxels.
+fn convergence_run(opts: &Options, samples: u64) -> Result<ConvergenceRun, String> {
+    let model = super::bundled_robot("textbook_spherical_rrp.toml")?;
+    let voxel = 0.05;
+    opts.say(format!("workspace: convergence run, R-R-P, N = {samples}"));
+    let o = WorkspaceOptions {
+        samples,
+        seed: opts.seed,
+        voxel,
+        extras: false,
+        quiet: true,
+        ..Default::default()
+    };
+    let r = sample_workspace(&model, &o).map_err(|e| e.to_string())?;
+    Ok(ConvergenceRun {
+        case: "textbook spherical R-R-P shell".into(),
+        truth: rrp_truth(),
+        voxel,
+        points: r.convergence,
+    })
 }
 
 impl WorkspaceStudy {
@@ -173,9 +224,7 @@ pub fn run(opts: &Options, cfg: &WorkspaceConfig) -> Result<WorkspaceStudy, Stri
         ));
     }
     if let Some(h) = cfg.voxel_rrp {
-        let truth = (1.5f64.powi(3) - 0.6f64.powi(3)) / 3.0
-            * (60f64.to_radians().sin() + 45f64.to_radians().sin())
-            * 340f64.to_radians();
+        let truth = rrp_truth();
         cases.push((
             WorkspaceCase {
                 name: format!("R-R-P shell, h = {h}"),
@@ -211,16 +260,17 @@ pub fn run(opts: &Options, cfg: &WorkspaceConfig) -> Result<WorkspaceStudy, Stri
                         ..Default::default()
                     };
                     let r = sample_workspace(model, &o).map_err(|e| e.to_string())?;
-                    let b = &r.bias;
-                    err.push((b.corrected - case.truth).abs());
-                    raw.push((r.measure() - case.truth).abs());
-                    se.push(b.corrected_stderr);
-                    let w = 3.0 * b.corrected_stderr + b.uncertainty;
+                    err.push((r.measure() - case.truth).abs());
+                    raw.push((r.pooled - case.truth).abs());
+                    se.push(r.measure_stderr());
+                    let w = match r.measure_interval() {
+                        [Some(lo), Some(hi)] => 0.5 * (hi - lo),
+                        _ => f64::INFINITY,
+                    };
                     band.push(w);
                     if w.is_finite() {
                         converged += 1;
-                        covered +=
-                            usize::from(b.interval[0] <= case.truth && case.truth <= b.interval[1]);
+                        covered += usize::from(r.interval_covers(case.truth));
                     }
                     times.push(r.time_s);
                 }
@@ -248,6 +298,7 @@ pub fn run(opts: &Options, cfg: &WorkspaceConfig) -> Result<WorkspaceStudy, Stri
         replicates: cfg.replicates,
         threads: rayon::current_num_threads(),
         rows,
+        convergence: convergence_run(opts, cfg.convergence_samples)?,
     })
 }
 

@@ -16,8 +16,9 @@
 
 use crate::spatial::Vec3;
 
-/// Largest grid, in cells (one bit each: 256 MiB per grid).
-pub const MAX_CELLS: u64 = 1 << 31;
+/// Largest grid, in cells (one bit each: 64 MiB per bitset; the volume pass keeps seven
+/// per replicate).
+pub const MAX_CELLS: u64 = 1 << 29;
 
 /// The plane of a planar workspace: origin `o` (the point of the plane closest to the
 /// world origin), in-plane axes `u`, `v` and normal `n`, orthonormal.
@@ -112,6 +113,7 @@ impl Grid {
     }
 
     /// The grid of cells `2h` covering the same box (same shift).
+    #[cfg(test)]
     pub fn coarse(&self) -> Grid {
         let planar = self.plane.is_some();
         let nx = (self.n[0] / 2).div_ceil(64) * 64;
@@ -337,6 +339,122 @@ impl Grid {
     }
 }
 
+impl Grid {
+    /// Cells of the occupied set after an erosion (`erode`) or a dilation by the cube of
+    /// `3^D` cells (26 neighbours in 3-D, 8 in a plane). The eroded set is the *inner*
+    /// cells — occupied with every neighbour occupied — and the dilated set the occupied
+    /// cells plus every cell touching one. Separable: one pass per axis.
+    pub fn morph_count(&self, bits: &[u64], erode: bool) -> u64 {
+        let [_, ny, nz] = self.n;
+        let wpr = self.wpr;
+        let op = |a: u64, b: u64| if erode { a & b } else { a | b };
+        // Along x, inside and across the words of a row.
+        let mut a: Vec<u64> = (0..bits.len())
+            .map(|i| {
+                let w = bits[i];
+                let k = i % wpr;
+                let next = if k + 1 < wpr { bits[i + 1] } else { 0 };
+                let prev = if k > 0 { bits[i - 1] } else { 0 };
+                op(op(w, (w >> 1) | (next << 63)), (w << 1) | (prev >> 63))
+            })
+            .collect();
+        // Along y, then z (outside the grid reads as empty).
+        let mut b = vec![0u64; a.len()];
+        let passes: &[(usize, usize)] = if self.plane.is_some() {
+            &[(wpr, ny)]
+        } else {
+            &[(wpr, ny), (wpr * ny, nz)]
+        };
+        for &(stride, len) in passes {
+            for (i, out) in b.iter_mut().enumerate() {
+                let pos = (i / stride) % len;
+                let up = if pos + 1 < len { a[i + stride] } else { 0 };
+                let down = if pos > 0 { a[i - stride] } else { 0 };
+                *out = op(op(a[i], up), down);
+            }
+            std::mem::swap(&mut a, &mut b);
+        }
+        a.iter().map(|w| w.count_ones() as u64).sum()
+    }
+
+    /// Occupied cells of the grid of `2h` (cell `(i, j, k)` of it is the union of cells
+    /// `(2i + a, 2j + b, 2k + c)`: the corner index is even), from the fine bitset.
+    pub fn coarse_count(&self, bits: &[u64]) -> u64 {
+        let [_, ny, nz] = self.n;
+        let wpr = self.wpr;
+        let (zstep, zs) = if self.plane.is_some() { (1, 1) } else { (2, 2) };
+        let mut count = 0u64;
+        for iz in (0..nz).step_by(zstep) {
+            for iy in (0..ny).step_by(2) {
+                for k in 0..wpr {
+                    let mut w = 0u64;
+                    for dz in 0..zs.min(nz - iz) {
+                        for dy in 0..2.min(ny - iy) {
+                            w |= bits[((iz + dz) * ny + iy + dy) * wpr + k];
+                        }
+                    }
+                    count += ((w | (w >> 1)) & 0x5555_5555_5555_5555).count_ones() as u64;
+                }
+            }
+        }
+        count
+    }
+}
+
+/// Saturating hit counts per cell as a thermometer code: `at_least[k]` has the cells hit
+/// at least `k + 1` times (k = 0, 1, 2).
+#[derive(Clone, Debug)]
+pub(crate) struct Hits {
+    pub at_least: [Vec<u64>; 3],
+}
+
+impl Hits {
+    /// No hits on `grid`.
+    pub fn new(grid: &Grid) -> Hits {
+        Hits {
+            at_least: [grid.empty(), grid.empty(), grid.empty()],
+        }
+    }
+
+    /// One more hit in cell `i`.
+    #[inline(always)]
+    pub fn hit(&mut self, i: usize) {
+        let [a, b, c] = &mut self.at_least;
+        if !Grid::set(a, i) && !Grid::set(b, i) {
+            Grid::set(c, i);
+        }
+    }
+
+    /// Adds `other`'s hits (saturating at 3).
+    pub fn add(&mut self, other: &Hits) {
+        let [a1, a2, a3] = &mut self.at_least;
+        let [b1, b2, b3] = &other.at_least;
+        for w in 0..a1.len() {
+            let (x1, x2, x3) = (a1[w], a2[w], a3[w]);
+            let (y1, y2, y3) = (b1[w], b2[w], b3[w]);
+            a1[w] = x1 | y1;
+            a2[w] = x2 | y2 | (x1 & y1);
+            a3[w] = x3 | y3 | (x2 & y1) | (x1 & y2);
+        }
+    }
+
+    /// Occupied cells (hit at least once).
+    pub fn occupied(&self) -> &[u64] {
+        &self.at_least[0]
+    }
+
+    /// Cells hit exactly once and exactly twice.
+    pub fn singles_doubles(&self) -> (u64, u64) {
+        let [a, b, c] = &self.at_least;
+        let (mut f1, mut f2) = (0u64, 0u64);
+        for w in 0..a.len() {
+            f1 += (a[w] & !b[w]).count_ones() as u64;
+            f2 += (b[w] & !c[w]).count_ones() as u64;
+        }
+        (f1, f2)
+    }
+}
+
 /// Bit indices of the set bits, in order.
 pub(crate) fn set_bits(bits: &[u64]) -> impl Iterator<Item = usize> + '_ {
     bits.iter().enumerate().flat_map(|(wi, &w)| {
@@ -419,6 +537,48 @@ mod tests {
         let x = 63 + big.i0[0];
         let s = big.scan(&fill(&big, &[[x, 0, 0], [x + 1, 0, 0]]));
         assert_eq!((s.occupied, s.exposed, s.boundary), (2, 10, 2));
+    }
+
+    #[test]
+    fn erosion_dilation_and_coarse_counts() {
+        let g = grid3(None);
+        // A 3 × 3 × 3 block: one inner cell, 5³ cells in its dilation, and on cells of 2
+        // (block from −1 to 1 meets coarse cells −1 and 0 per axis) 8 coarse cells.
+        let mut cells = Vec::new();
+        for x in -1..=1 {
+            for y in -1..=1 {
+                for z in -1..=1 {
+                    cells.push([x, y, z]);
+                }
+            }
+        }
+        let bits = fill(&g, &cells);
+        assert_eq!(g.morph_count(&bits, true), 1);
+        assert_eq!(g.morph_count(&bits, false), 125);
+        assert_eq!(g.coarse_count(&bits), 8);
+        // One cell: no inner cell, 27 in the dilation, one coarse cell.
+        let one = fill(&g, &[[0, 0, 0]]);
+        assert_eq!(g.morph_count(&one, true), 0);
+        assert_eq!(g.morph_count(&one, false), 27);
+        assert_eq!(g.coarse_count(&one), 1);
+        // In a plane: a 3 × 3 square has one inner pixel and 25 in its dilation.
+        let pl = PlaneFrame {
+            o: Vec3::zeros(),
+            u: Vec3::x(),
+            v: Vec3::z(),
+            n: Vec3::y(),
+        };
+        let g = grid3(Some(pl));
+        let mut sq = Vec::new();
+        for x in 0..3 {
+            for y in 0..3 {
+                sq.push([x, y, 0]);
+            }
+        }
+        let bits = fill(&g, &sq);
+        assert_eq!(g.morph_count(&bits, true), 1);
+        assert_eq!(g.morph_count(&bits, false), 25);
+        assert_eq!(g.coarse_count(&bits), 4);
     }
 
     #[test]

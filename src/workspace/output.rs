@@ -85,3 +85,47 @@ impl WorkspaceResult {
         crate::io::write_atomic(path, self.voxels_csv().as_bytes())
     }
 }
+
+/// The text summary of a run's measure: headline, interval (or lower bound and the
+/// samples needed), the voxel-bias and under-sampling terms.
+pub fn summary_lines(r: &WorkspaceResult) -> Vec<String> {
+    let (what, unit) = if r.planar {
+        ("area", "m²")
+    } else {
+        ("volume", "m³")
+    };
+    let e = &r.estimate;
+    let mut out = Vec::new();
+    match e.interval {
+        [Some(lo), Some(hi)] => out.push(format!(
+            "{what}: {:.4} {unit}, 95 % interval [{lo:.4}, {hi:.4}] (±{:.2} %)",
+            e.measure,
+            100.0 * e.rel_half_width()
+        )),
+        [lo, _] => out.push(format!(
+            "{what}: lower bound {:.4} {unit} (too few samples for an interval: {:.1} per occupied voxel; about {} samples needed)",
+            lo.unwrap_or(0.0),
+            e.samples_per_cell,
+            e.samples_needed.unwrap_or(0)
+        )),
+    }
+    out.push(format!(
+        "pooled occupancy {:.4} {unit}, voxel-size bias {:.4}, corrected {:.4} (replicate spread {:.4}), under-sampling still to come {}",
+        e.raw,
+        e.voxel_bias,
+        e.corrected,
+        e.stderr,
+        e.remaining
+            .map_or("unknown".to_string(), |g| format!("≤ {g:.4}"))
+    ));
+    if let (Some(d), Some(x)) = (r.dexterous_interval, &r.extras) {
+        out.push(format!(
+            "dexterous {what}: ≥ {:.4} {unit} ({} voxels reach {} of {} orientation bins; a lower bound)",
+            d[0].unwrap_or(0.0),
+            x.dexterous_voxels,
+            x.dexterous_min_bins,
+            x.orientation_bins
+        ));
+    }
+    out
+}

@@ -1,31 +1,28 @@
-//! The volume pass: `R` independent replicates of `n` joint-space samples each, forward
-//! kinematics of the tool link only, occupancy bitsets per replicate; then the statistics
-//! across replicates.
+//! The volume pass: `R` independent replicates, advanced together one doubling of the
+//! sample budget at a time (a *stage*); forward kinematics of the tool origin eight
+//! configurations at a time ([`ToolChain::positions`], `f64` SIMD lanes); occupancy
+//! bitsets. After each stage the counts that [`super::estimate`] needs.
 //!
-//! Each replicate measures on its own grid, shifted by a uniform random offset in
-//! `[0, 2h)` per axis: the expected occupancy over the offset is then exactly the measure
-//! of `W ⊕ cell`, and the luck of the lattice position enters the replicate spread
-//! instead of a hidden bias. Every sample also marks the common, unshifted grid that
-//! pools all replicates (boundary voxels, per-voxel statistics, CSV).
+//! Every sample marks three grids:
+//! - its replicate's own grid, shifted by a uniform random offset in `[0, 2h)` per axis
+//!   drawn from `(seed, r)`: the replicates' corrected measures are independent, lattice
+//!   position included, and their spread is the noise scale of the estimate;
+//! - the pooled *estimation* grid, shifted by an offset drawn from the seed: all samples of
+//!   all replicates, for the headline (a fixed, unshifted grid would carry a repeatable
+//!   lattice bias: −31 pixels on the 2R disc at 2 cm);
+//! - the common grid anchored at the origin, which pools all samples for the outputs
+//!   (boundary voxels, per-voxel statistics, CSV), unchanged from before.
 //!
-//! Per replicate `r` and checkpoint `n_k = 2^k` (cell measure `c = h³`, or `h²` for a
-//! planar workspace):
-//! - the raw estimate `M_r`: occupied cells × `c`;
-//! - the first-order voxel bias `B_r = E_r c / 2`, `E_r` the exposed faces (edges) of the
-//!   occupied set — see `docs/workspace.md`: at full coverage the occupied cells are those
-//!   that meet the workspace `W`, whose measure is `|W ⊕ cell| ≈ |W| + (h/2) ∮ ‖n‖₁ dS`,
-//!   and the staircase surface `E h^(D−1)` estimates `∮ ‖n‖₁ dS`;
-//! - the bias-corrected estimate `M_r − B_r`;
-//! - the Richardson estimate `2 M_r(h) − M_r(2h)` (the same samples on cells of `2h`).
-//!
-//! Each estimate is reported as the mean over replicates with standard error `sd / √R`:
-//! the replicates are independent and identically distributed, so that error bar is exact
-//! for the estimator at `n` samples per replicate (its remaining *bias* is reported apart).
+//! Replicate `r`'s stream starts where the previous stage left it, so stage `k` uses
+//! exactly the first `2^k` samples of every stream: the result depends on the seed only,
+//! not on the thread count or on how the budget was reached (fixed or adaptive).
 
-use super::grid::{Grid, Scan};
+use super::estimate::Stage;
+use super::grid::{Grid, Hits};
 use super::sampler::{derive_seed, JointBox, QStream, RandomStream, SobolStream};
 use super::Sampling;
 use crate::data::Data;
+use crate::kinematics::batch::{lanes_in_range, Lanes, ToolChain, LANES};
 use crate::kinematics::{forward_kinematics, frame_placement};
 use crate::model::Model;
 use crate::spatial::Vec3;
@@ -40,32 +37,72 @@ pub(crate) struct Ctx<'a> {
     pub model: &'a Model,
     pub tool: usize,
     pub jb: JointBox,
-    /// The common (unshifted) grid of the pooled occupancy.
+    /// The common (unshifted) grid of the outputs.
     pub grid: Grid,
+    /// The pooled estimation grid (shifted by an offset drawn from the seed).
+    pub est: Grid,
     pub sampling: Sampling,
     pub seed: u64,
-    /// Whether each replicate measures on a randomly shifted grid.
+    /// Whether the replicate and estimation grids are randomly shifted.
     pub shift: bool,
     /// Centre and radius of the reach bound.
     pub center: Vec3,
     pub radius: f64,
+    /// Batched FK of the tool origin.
+    pub chain: ToolChain,
+    /// Whether to use it (otherwise the scalar FK, one configuration at a time).
+    pub batched: bool,
 }
 
-/// Counts at one checkpoint of one replicate.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Check {
-    /// Scan of the replicate's occupancy.
-    pub scan: Scan,
-    /// Occupied cells of `2h`.
-    pub coarse: u64,
+/// A grid like `ctx.grid`, shifted by a uniform offset in `[0, 2h)` per axis drawn from
+/// `(seed, stream)` (or unshifted when shifts are off).
+pub(crate) fn shifted_grid(
+    grid: &Grid,
+    center: &Vec3,
+    radius: f64,
+    seed: u64,
+    stream: u64,
+    shift: bool,
+) -> Grid {
+    if !shift {
+        return grid.clone();
+    }
+    let h = grid.h;
+    let s = [0u64, 1, 2].map(|k| {
+        let x = derive_seed(seed, stream, 7000 + k);
+        2.0 * h * ((x >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0))
+    });
+    Grid::new(h, center, radius, grid.plane, s)
+        .expect("a shifted grid is no larger than the common one, give or take two cells")
 }
 
-/// One replicate's results.
-#[derive(Clone, Debug)]
+/// A replicate's stream.
+enum Stream {
+    Random(RandomStream),
+    Sobol(SobolStream),
+}
+
+impl QStream for Stream {
+    #[inline(always)]
+    fn next_q(&mut self, b: &JointBox, q: &mut [f64]) {
+        match self {
+            Stream::Random(s) => s.next_q(b, q),
+            Stream::Sobol(s) => s.next_q(b, q),
+        }
+    }
+}
+
+/// One replicate between stages.
 pub(crate) struct Replicate {
-    pub index: usize,
-    /// Counts at each checkpoint.
-    pub checks: Vec<Check>,
+    stream: Stream,
+    /// Samples drawn so far.
+    done: u64,
+    /// Its own shifted grid and hit counts.
+    grid: Grid,
+    hits: Hits,
+    /// Its hits on the pooled estimation grid, and its samples on the common grid.
+    est_hits: Hits,
+    common_bits: Vec<u64>,
     pub lo: Vec3,
     pub hi: Vec3,
     pub outside: u64,
@@ -73,215 +110,165 @@ pub(crate) struct Replicate {
 }
 
 impl Replicate {
-    /// Counts after all samples.
-    pub fn last(&self) -> &Check {
-        self.checks.last().expect("at least one checkpoint")
+    /// Replicate `r` of `ctx`, before its first sample.
+    pub fn new(ctx: &Ctx, r: usize) -> Self {
+        let d = ctx.model.nv;
+        let stream = match ctx.sampling {
+            Sampling::Random => Stream::Random(RandomStream::new(ctx.seed, r as u64, d, 0)),
+            Sampling::Sobol => Stream::Sobol(SobolStream::new(ctx.seed, r as u64, d, 0)),
+        };
+        let grid = shifted_grid(
+            &ctx.grid,
+            &ctx.center,
+            ctx.radius,
+            ctx.seed,
+            r as u64,
+            ctx.shift,
+        );
+        Replicate {
+            stream,
+            done: 0,
+            hits: Hits::new(&grid),
+            grid,
+            est_hits: Hits::new(&ctx.est),
+            common_bits: ctx.grid.empty(),
+            lo: Vec3::repeat(f64::INFINITY),
+            hi: Vec3::repeat(f64::NEG_INFINITY),
+            outside: 0,
+            max_off_plane: 0.0,
+        }
     }
-}
 
-/// The grid replicate `r` measures on: shifted by a uniform offset in `[0, 2h)` per axis
-/// drawn from `(seed, r)`, or the common grid.
-pub(crate) fn replicate_grid(ctx: &Ctx, r: usize) -> Grid {
-    if !ctx.shift {
-        return ctx.grid.clone();
+    /// Marks tool point `p` on the three grids.
+    #[inline(always)]
+    fn mark(&mut self, ctx: &Ctx, p: &Vec3) {
+        self.lo = self.lo.inf(p);
+        self.hi = self.hi.sup(p);
+        let (c, d) = ctx.grid.coords(p);
+        self.max_off_plane = self.max_off_plane.max(d.abs());
+        match ctx.grid.locate(&c) {
+            Some(i) => {
+                Grid::set(&mut self.common_bits, i);
+            }
+            None => self.outside += 1,
+        }
+        if let Some(i) = ctx.est.locate(&c) {
+            self.est_hits.hit(i);
+        }
+        if let Some(i) = self.grid.locate(&c) {
+            self.hits.hit(i);
+        }
     }
-    let h = ctx.grid.h;
-    let shift = [0u64, 1, 2].map(|k| {
-        let x = derive_seed(ctx.seed, r as u64, 7000 + k);
-        2.0 * h * ((x >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0))
-    });
-    Grid::new(h, &ctx.center, ctx.radius, ctx.grid.plane, shift)
-        .expect("a shifted grid is no larger than the common one, give or take two cells")
-}
 
-/// Runs replicate `index`'s stream through forward kinematics: the replicate's own
-/// occupancy (on its grid and on the grid of `2h`) and the common-grid occupancy that
-/// is pooled across replicates.
-fn run_stream<S: QStream>(
-    ctx: &Ctx,
-    mut stream: S,
-    index: usize,
-    checkpoints: &[u64],
-    pb: &ProgressBar,
-) -> (Replicate, Vec<u64>) {
-    let model = ctx.model;
-    let common = &ctx.grid;
-    let grid = replicate_grid(ctx, index);
-    let coarse = grid.coarse();
-    let mut data = Data::new(model);
-    let mut q = vec![0.0; model.nv];
-    let mut bits = grid.empty();
-    let mut coarse_bits = coarse.empty();
-    let mut pooled = common.empty();
-    let mut checks = Vec::with_capacity(checkpoints.len());
-    let (mut coarse_count, mut outside, mut max_off) = (0u64, 0u64, 0.0f64);
-    let mut lo = Vec3::repeat(f64::INFINITY);
-    let mut hi = Vec3::repeat(f64::NEG_INFINITY);
-    let mut done = 0u64;
-    for &cp in checkpoints {
-        while done < cp {
-            let end = cp.min((done / PROGRESS_BLOCK + 1) * PROGRESS_BLOCK);
-            for _ in done..end {
-                stream.next_q(&ctx.jb, &mut q);
-                forward_kinematics(model, &mut data, &q);
-                let p = frame_placement(model, &data, ctx.tool).trans;
-                lo = lo.inf(&p);
-                hi = hi.sup(&p);
-                let (c, d) = grid.coords(&p);
-                max_off = max_off.max(d.abs());
-                match common.locate(&c) {
-                    Some(i) => {
-                        Grid::set(&mut pooled, i);
-                    }
-                    None => outside += 1,
+    /// Draws samples until `to`, eight at a time.
+    #[allow(clippy::needless_range_loop)] // lanes index the configuration and output arrays
+    fn advance(&mut self, ctx: &Ctx, to: u64, pb: &ProgressBar) {
+        let model = ctx.model;
+        let nq = model.nv;
+        let mut q = vec![[0.0; LANES]; nq];
+        let mut row = vec![0.0; nq];
+        let mut out: [Lanes; 3] = [[0.0; LANES]; 3];
+        let mut data: Option<Data> = None;
+        let mut since = 0u64;
+        while self.done < to {
+            let m = (to - self.done).min(LANES as u64) as usize;
+            for l in 0..LANES {
+                if l < m {
+                    self.stream.next_q(&ctx.jb, &mut row);
                 }
-                if let Some(l) = grid.locate_local(&c) {
-                    Grid::set(&mut bits, grid.index(l));
-                    coarse_count += Grid::set(
-                        &mut coarse_bits,
-                        coarse.index([l[0] / 2, l[1] / 2, l[2] / 2]),
-                    ) as u64;
+                // Spare lanes repeat the last configuration; their results are dropped.
+                for (k, v) in row.iter().enumerate() {
+                    q[k][l] = *v;
                 }
             }
-            pb.inc(end - done);
-            done = end;
-        }
-        checks.push(Check {
-            scan: grid.scan(&bits),
-            coarse: coarse_count,
-        });
-    }
-    (
-        Replicate {
-            index,
-            checks,
-            lo,
-            hi,
-            outside,
-            max_off_plane: max_off,
-        },
-        pooled,
-    )
-}
-
-/// Replicate `r` from sample 0 to the last checkpoint.
-fn run_replicate(
-    ctx: &Ctx,
-    r: usize,
-    checkpoints: &[u64],
-    pb: &ProgressBar,
-) -> (Replicate, Vec<u64>) {
-    let d = ctx.model.nv;
-    match ctx.sampling {
-        Sampling::Random => {
-            let s = RandomStream::new(ctx.seed, r as u64, d, 0);
-            run_stream(ctx, s, r, checkpoints, pb)
-        }
-        Sampling::Sobol => {
-            let s = SobolStream::new(ctx.seed, r as u64, d, 0);
-            run_stream(ctx, s, r, checkpoints, pb)
-        }
-    }
-}
-
-/// Runs every replicate (rayon, one task per replicate, each with its own `Data` and
-/// bitset). Returns the replicates in order and the union of their occupancies.
-pub(crate) fn run(
-    ctx: &Ctx,
-    replicates: usize,
-    checkpoints: &[u64],
-    pb: &ProgressBar,
-) -> (Vec<Replicate>, Vec<u64>) {
-    let (mut reps, union) = (0..replicates)
-        .into_par_iter()
-        .map(|r| {
-            let (rep, bits) = run_replicate(ctx, r, checkpoints, pb);
-            (vec![rep], Some(bits))
-        })
-        .reduce(
-            || (Vec::new(), None),
-            |(mut a, ab), (b, bb)| {
-                a.extend(b);
-                let u = match (ab, bb) {
-                    (Some(mut x), Some(y)) => {
-                        for (x, y) in x.iter_mut().zip(&y) {
-                            *x |= y;
-                        }
-                        Some(x)
+            if ctx.batched && lanes_in_range(&q) {
+                ctx.chain.positions(&q, &mut out);
+            } else {
+                let data = data.get_or_insert_with(|| Data::new(model));
+                for l in 0..m {
+                    for (k, v) in row.iter_mut().enumerate() {
+                        *v = q[k][l];
                     }
-                    (x, None) => x,
-                    (None, y) => y,
-                };
-                (a, u)
-            },
-        );
-    reps.sort_by_key(|r| r.index);
-    (reps, union.unwrap_or_else(|| ctx.grid.empty()))
+                    forward_kinematics(model, data, &row);
+                    let p = frame_placement(model, data, ctx.tool).trans;
+                    for a in 0..3 {
+                        out[a][l] = p[a];
+                    }
+                }
+            }
+            for l in 0..m {
+                self.mark(ctx, &Vec3::new(out[0][l], out[1][l], out[2][l]));
+            }
+            self.done += m as u64;
+            since += m as u64;
+            if since >= PROGRESS_BLOCK {
+                pb.inc(since);
+                since = 0;
+            }
+        }
+        pb.inc(since);
+    }
 }
 
-/// Mean and standard error (`sd / √n`, sample sd) of `x`.
-pub(crate) fn mean_stderr(x: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let mean = x.iter().sum::<f64>() / n;
-    if x.len() < 2 {
-        return (mean, f64::NAN);
-    }
-    let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    (mean, (var / n).sqrt())
+/// The estimate of one replicate on its own grid: corrected measure plus the unseen
+/// cells' central estimate (see [`super::estimate`]).
+fn replicate_estimate(grid: &Grid, hits: &Hits) -> f64 {
+    let s = grid.scan(hits.occupied());
+    let (f1, f2) = hits.singles_doubles();
+    let d = grid.dims();
+    let cells = s.occupied as f64 - 0.5 * s.exposed as f64 + (1 + d) as f64 * s.holes as f64;
+    let (_, mid, _) = super::estimate::unseen(f1, f2, s.holes, d);
+    (cells + mid) * grid.cell_measure()
 }
 
-/// Estimate of the growth still to come from the last three points of a series sampled
-/// at doubling sample counts, `Δ₂ ρ / (1 − ρ)`: the increments `Δ₁, Δ₂` of the last two
-/// doublings continued geometrically with ratio `ρ = max(Δ₂ / Δ₁, 2^(−1/D))`.
-///
-/// The floor is the corner-sliver law: a cell that meets the workspace only in a corner
-/// of depth `δ` holds a measure `∝ δ^D` of it, `δ` is uniform over such cells, so with a
-/// sample density bounded below the cells still missed after `n` samples decay like
-/// `n^(−1/D)` — more slowly than the bulk, which fills exponentially fast and would
-/// otherwise make the last ratio look small. `None` when the increments are not
-/// shrinking (coverage far from converged) — unless the last one is below `noise` (the
-/// standard error of the last point), where the ratio means nothing and the floor is used.
-pub(crate) fn remaining_growth(series: &[f64], dims: i32, noise: f64) -> Option<f64> {
-    let k = series.len();
-    if k < 3 {
-        return None;
+/// Advances every replicate to `per_replicate` samples (rayon, one task per replicate)
+/// and returns the stage's counts.
+pub(crate) fn run_stage(
+    ctx: &Ctx,
+    reps: &mut [Replicate],
+    per_replicate: u64,
+    pb: &ProgressBar,
+) -> Stage {
+    let replicate_estimates: Vec<f64> = reps
+        .par_iter_mut()
+        .map(|rep| {
+            rep.advance(ctx, per_replicate, pb);
+            replicate_estimate(&rep.grid, &rep.hits)
+        })
+        .collect();
+    let mut pooled = Hits::new(&ctx.est);
+    for r in reps.iter() {
+        pooled.add(&r.est_hits);
     }
-    let d1 = series[k - 2] - series[k - 3];
-    let d2 = (series[k - 1] - series[k - 2]).max(0.0);
-    if d2 == 0.0 {
-        return Some(0.0);
+    let union = pooled.occupied();
+    let scan = ctx.est.scan(union);
+    let (singles, doubles) = pooled.singles_doubles();
+    Stage {
+        samples: per_replicate * reps.len() as u64,
+        occupied: scan.occupied,
+        exposed: scan.exposed,
+        holes: scan.holes,
+        singles,
+        doubles,
+        inner: ctx.est.morph_count(union, true),
+        dilated: ctx.est.morph_count(union, false),
+        coarse: ctx.est.coarse_count(union),
+        replicate_estimates,
     }
-    let floor = 2f64.powf(-1.0 / dims as f64);
-    let rho = if d1 > d2 {
-        (d2 / d1).max(floor)
-    } else if d2 <= noise {
-        floor
-    } else {
-        return None;
-    };
-    Some(d2 * rho / (1.0 - rho))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn tail_extrapolation() {
-        // Increments halving: ρ = 1/2 is below the 2-D floor 2^(−1/2), which is used.
-        let r = remaining_growth(&[0.0, 4.0, 6.0], 2, 0.0).expect("shrinking");
-        let rho = 0.5f64.sqrt();
-        assert!((r - 2.0 * rho / (1.0 - rho)).abs() < 1e-12);
-        // Increments shrinking slowly: the measured ratio is used.
-        let r = remaining_growth(&[0.0, 1.0, 1.9], 3, 0.0).expect("shrinking");
-        assert!((r - 0.9 * 0.9 / 0.1).abs() < 1e-9);
-        // Growing: not converged, unless the last step is noise.
-        assert_eq!(remaining_growth(&[0.0, 1.0, 3.0], 3, 0.5), None);
-        assert!(remaining_growth(&[0.0, 0.1, 0.3], 3, 0.5).is_some());
-        assert_eq!(remaining_growth(&[0.0, 1.0, 1.0], 3, 0.0), Some(0.0));
-        assert_eq!(remaining_growth(&[1.0, 2.0], 3, 0.0), None);
-        let (m, se) = mean_stderr(&[1.0, 2.0, 3.0, 4.0]);
-        assert_eq!(m, 2.5);
-        assert!((se - (5.0f64 / 12.0).sqrt() / 1.0).abs() < 1e-12);
+/// Word-wise union of bitsets of `words` words.
+fn union_of<'a>(sets: impl Iterator<Item = &'a [u64]>, words: usize) -> Vec<u64> {
+    let mut u = vec![0u64; words];
+    for s in sets {
+        for (x, y) in u.iter_mut().zip(s) {
+            *x |= y;
+        }
     }
+    u
+}
+
+/// The union of every replicate's samples on the common grid.
+pub(crate) fn common_union(ctx: &Ctx, reps: &[Replicate]) -> Vec<u64> {
+    union_of(reps.iter().map(|r| &r.common_bits[..]), ctx.grid.words())
 }
