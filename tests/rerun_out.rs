@@ -705,11 +705,12 @@ fn cli_view_draws_the_obstacles_of_a_run() {
 fn workspace_picture_shows_the_boundary_the_section_and_the_robot() {
     let model = common::load("robots/ur5.urdf");
     let spec = Model::read_spec(&root().join("robots/ur5.urdf")).unwrap();
-    let h = 0.05;
+    // Enough samples per voxel that the picture uses the run's own grid.
+    let h = 0.08;
     let ws = sample_workspace(
         &model,
         &WorkspaceOptions {
-            samples: 1 << 16,
+            samples: 1 << 18,
             replicates: 2,
             voxel: h,
             extras: true,

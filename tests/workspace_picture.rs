@@ -184,3 +184,30 @@ fn box_sections_and_cutaway_are_the_voxel_layers_of_their_planes() {
     assert!(occ.cutaway_section(&real).triangles.is_empty());
     assert!(representative_pose(&model, &ws, &real).is_none());
 }
+
+#[test]
+fn coarsened_box_is_the_box_on_cells_twice_as_large() {
+    let (_, ws) = box_workspace();
+    let occ = Occupancy::from_workspace(&ws).unwrap();
+    // A solid box has no holes.
+    assert_eq!(occ.hole_fraction(), 0.0);
+    let c = occ.coarsened();
+    assert_eq!(c.h, 2.0 * H);
+    // x ∈ [0, 1]: cells 0–4 of 0.2 m; y ∈ [0, 0.8]: 0–3; z ∈ [0.2, 0.7]: [0.2, 0.4) to
+    // [0.6, 0.8), 1–3.
+    assert_eq!(c.count(), 5 * 4 * 3);
+    for (k, &o) in c.occupied.iter().enumerate() {
+        let l = [k % c.n[0], (k / c.n[0]) % c.n[1], k / (c.n[0] * c.n[1])];
+        let g: Vec<i64> = (0..3).map(|a| c.i0[a] + l[a] as i64).collect();
+        let inside = (0..5).contains(&g[0]) && (0..4).contains(&g[1]) && (1..4).contains(&g[2]);
+        assert_eq!(o, inside, "{g:?}");
+        if o {
+            assert!((c.value[k] - 1.0).abs() < 1e-6);
+        }
+    }
+    // Its surface is closed: 2 triangles per exposed face of 5 × 4 × 3 cells.
+    assert_eq!(
+        c.boundary_mesh().triangles.len(),
+        4 * (5 * 4 + 4 * 3 + 5 * 3)
+    );
+}

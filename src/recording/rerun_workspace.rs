@@ -34,6 +34,10 @@ use crate::workspace::WorkspaceResult;
 use rerun::{archetypes, RecordingStream};
 use std::path::Path;
 
+/// Above this many holes per occupied cell ([`Occupancy::hole_fraction`]) the occupancy
+/// is drawn on a coarser grid.
+pub const SPECKLE: f64 = 0.02;
+
 /// Entity of the kept samples (hidden in the blueprint).
 pub const POINTS: &str = "/world/workspace/points";
 /// Entity of the cut-away half of the boundary (hidden in the blueprint).
@@ -56,7 +60,17 @@ pub fn log_workspace_scene(
             None
         }
     };
-    let occ = Occupancy::from_workspace(ws);
+    let mut occ = Occupancy::from_workspace(ws);
+    // Too few samples for the voxel make a speckle of a surface: draw the grid coarsened
+    // until it is solid (at most four times).
+    let mut coarsened = 0;
+    while let Some(o) = occ
+        .as_ref()
+        .filter(|o| coarsened < 4 && o.hole_fraction() > SPECKLE)
+    {
+        occ = Some(o.coarsened());
+        coarsened += 1;
+    }
     if occ.is_none() {
         warnings.push(if ws.planar {
             "planar workspace: drawn as its sample points".to_string()
@@ -128,11 +142,21 @@ pub fn log_workspace_scene(
         log_mesh(&stream, "world/workspace/section", &section, 255, &color)?;
         let [u, v] = cut.across.map(|k| ["x", "y", "z"][k]);
         lines.push(format!(
-            "- **boundary**: the surface of the reachable set ({} occupied voxels of {} m, \
+            "- **boundary**: the surface of the reachable set ({} occupied voxels of {} m{}, \
              surface nets); the quarter {u} < {:.3} m, {v} < {:.3} m is cut away \
              (`{FRONT}`, hidden: switch it on in the blueprint panel)",
             occ.count(),
-            ws.voxel,
+            occ.h,
+            if coarsened > 0 {
+                format!(
+                    ", the run's {} m voxels merged by {}: too few samples per voxel for a \
+                     surface",
+                    ws.voxel,
+                    1 << coarsened
+                )
+            } else {
+                String::new()
+            },
             cut.base[cut.across[0]],
             cut.base[cut.across[1]],
         ));
@@ -321,9 +345,9 @@ fn log_legend(
     on_section[v] = cut.base[v];
     on_section[2] = cut.base[2] + 0.3 * r;
     let mut on_boundary = [0.0f64; 3];
-    on_boundary[u] = cut.base[u] + 0.45 * r;
-    on_boundary[v] = cut.base[v] - 0.75 * r;
-    on_boundary[2] = cut.base[2] + 0.45 * r;
+    on_boundary[u] = cut.base[u] + 0.75 * r;
+    on_boundary[v] = cut.base[v] - 0.15 * r;
+    on_boundary[2] = cut.base[2] + 0.6 * r;
     stream
         .log_static(
             "world/workspace/labels",
