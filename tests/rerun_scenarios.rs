@@ -1,8 +1,8 @@
 //! The `.rrd` of every bundled arm scenario (`armsim run SCENARIO --rerun FILE`), read back
 //! with armsim's test reader of `.rrd` files (tests/common/rrd.rs): a mesh or primitive
 //! archetype for every link that has a visual (the skeleton for a DH table, which has
-//! none), an entity for every obstacle of the
-//! scenario file, and a blueprint with a 3-D view framed from outside the robot. Needs the
+//! none), an entity for every obstacle of the scenario file, drawn once and labelled with
+//! its name, and a blueprint with a 3-D view framed from outside the robot. Needs the
 //! `rerun` feature (on by default).
 #![cfg(feature = "rerun")]
 
@@ -109,9 +109,21 @@ fn every_bundled_arm_scenario_rrd_draws_its_links_obstacles_and_a_3d_view() {
         // Every obstacle of the file is an entity with geometry.
         let obstacles = obstacle_names(&text);
         assert_eq!(obstacles.len(), out.scene.obstacles.len(), "{name}");
+        // Each once, labelled with its name: from the recording's obstacle markers
+        // (`world/obstacles/<name>/shape_<k>`), not a second time from the scene.
         for o in &obstacles {
             let e = path(&["world", "obstacles", o]).to_string();
-            assert!(drawn(&e), "{name}: obstacle {e} not drawn");
+            let shapes: Vec<&String> = c
+                .entities
+                .iter()
+                .filter(|x| x.starts_with(&format!("{e}/shape_")) && drawn(x))
+                .collect();
+            assert!(!shapes.is_empty(), "{name}: obstacle {e} not drawn");
+            assert!(!drawn(&e), "{name}: obstacle {e} drawn twice");
+            let labelled = shapes
+                .iter()
+                .any(|x| c.labels.get(*x).is_some_and(|l| l.contains(o)));
+            assert!(labelled, "{name}: obstacle {e} without its name");
         }
         // A blueprint with a 3-D view on `/world`, its eye outside the link origins' box.
         assert!(

@@ -129,7 +129,8 @@ pub fn log_recording_with(
     };
     let (stream, storage) = open(sink, &name)?;
     let (mut report, robot) = log_with(&stream, rec, spec, mesh_base, pre_warnings)?;
-    let scene = super::rerun_scene::log_obstacles(&stream, extras, &mut report.warnings)?;
+    let drawn: Vec<&str> = rec.obstacles.iter().map(|m| m.name.as_str()).collect();
+    let scene = super::rerun_scene::log_obstacles(&stream, extras, &drawn, &mut report.warnings)?;
     // Frame the robot (link origins over the motion, padded for the link bodies) and the
     // obstacles near it (a floor larger than the workspace does not push the camera away).
     let eye = robot.map(|(lo, hi)| {
