@@ -9,17 +9,15 @@ use armsim::data::Data;
 use armsim::dynamics::rnea;
 use armsim::model::Model;
 use armsim::recording::rerun_out::{
-    colormap, link_entity, log_recording, log_workspace, path, RerunError, RerunSink,
+    colormap, link_entity, log_recording, log_workspace, log_workspace_scene, path, RerunError,
+    RerunSink,
 };
 use armsim::recording::Header;
 use armsim::recording::{CollisionEvent, PointCloud, Recording, TorqueRow};
 use armsim::workspace::{sample_workspace, WorkspaceOptions};
-use rerun::components::{HalfSize3D, Position3D, RotationQuat, Translation3D};
-use rerun::external::re_log_encoding::rrd::DecoderApp;
-use rerun::log::{Chunk, LogMsg};
-use rerun::StoreKind;
-use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use common::rrd::decode;
+use std::collections::BTreeSet;
+use std::path::PathBuf;
 
 const FRAMES: usize = 30;
 
@@ -99,117 +97,6 @@ fn recording(model: &Model, name: &str) -> Recording {
         first_violation: None,
     });
     rec
-}
-
-/// A logged pose: translation and rotation `[x, y, z, w]`.
-type Pose = ([f32; 3], [f32; 4]);
-
-/// What an .rrd holds: per (entity, component) the temporal and static row counts.
-#[derive(Default)]
-struct Contents {
-    temporal: BTreeMap<(String, String), usize>,
-    statics: BTreeMap<(String, String), usize>,
-    entities: BTreeSet<String>,
-    blueprint_msgs: usize,
-    /// The 3-D view's eye: position and look target, from the blueprint.
-    eye: Option<([f32; 3], [f32; 3])>,
-    /// Query expressions of the blueprint's views.
-    view_queries: Vec<String>,
-    timelines: BTreeSet<String>,
-    /// Static mesh vertex positions per entity.
-    mesh_vertices: BTreeMap<String, Vec<[f32; 3]>>,
-    /// Static half sizes of boxes and ellipsoids per entity.
-    half_sizes: BTreeMap<String, Vec<[f32; 3]>>,
-    /// Temporal transforms per entity, in row order: translation and `[x, y, z, w]`.
-    poses: BTreeMap<String, Vec<Pose>>,
-}
-
-impl Contents {
-    fn rows(&self, entity: &str, component: &str) -> usize {
-        self.temporal
-            .get(&(entity.to_string(), component.to_string()))
-            .copied()
-            .unwrap_or(0)
-    }
-    fn has_static(&self, entity: &str, component: &str) -> bool {
-        self.statics
-            .contains_key(&(entity.to_string(), component.to_string()))
-    }
-}
-
-fn decode(p: &Path) -> Contents {
-    let bytes = std::fs::read(p).unwrap();
-    assert!(
-        bytes.len() > 1000,
-        "{}: only {} bytes",
-        p.display(),
-        bytes.len()
-    );
-    assert_eq!(&bytes[..4], b"RRF2", "rrd magic");
-    let msgs: Vec<LogMsg> = DecoderApp::decode_eager(std::io::BufReader::new(&bytes[..]))
-        .unwrap()
-        .collect::<Result<_, _>>()
-        .unwrap();
-    let mut c = Contents::default();
-    for m in msgs {
-        let LogMsg::ArrowMsg(store, arrow) = m else {
-            continue;
-        };
-        let chunk = Chunk::from_arrow_msg(&arrow).unwrap();
-        if store.kind() == StoreKind::Blueprint {
-            c.blueprint_msgs += 1;
-            let pos = chunk
-                .iter_component::<Position3D>("EyeControls3D:position".into())
-                .next();
-            let target = chunk
-                .iter_component::<Position3D>("EyeControls3D:look_target".into())
-                .next();
-            if let (Some(p), Some(t)) = (pos, target) {
-                c.eye = Some((p[0].0 .0, t[0].0 .0));
-            }
-            for q in chunk.iter_component::<rerun::blueprint::components::QueryExpression>(
-                "ViewContents:query".into(),
-            ) {
-                c.view_queries.extend(q.iter().map(|e| e.0.to_string()));
-            }
-            continue;
-        }
-        let ent = chunk.entity_path().to_string();
-        c.entities.insert(ent.clone());
-        for tl in chunk.timelines().keys() {
-            c.timelines.insert(tl.as_str().to_string());
-        }
-        if chunk.is_static() {
-            for row in chunk.iter_component::<Position3D>("Mesh3D:vertex_positions".into()) {
-                let v = c.mesh_vertices.entry(ent.clone()).or_default();
-                v.extend(row.iter().map(|p| p.0 .0));
-            }
-            for comp in ["Boxes3D:half_sizes", "Ellipsoids3D:half_sizes"] {
-                for row in chunk.iter_component::<HalfSize3D>(comp.into()) {
-                    let v = c.half_sizes.entry(ent.clone()).or_default();
-                    v.extend(row.iter().map(|h| h.0 .0));
-                }
-            }
-        } else {
-            let tr = chunk.iter_component::<Translation3D>("Transform3D:translation".into());
-            let qs = chunk.iter_component::<RotationQuat>("Transform3D:quaternion".into());
-            for (t, q) in tr.zip(qs) {
-                c.poses
-                    .entry(ent.clone())
-                    .or_default()
-                    .push((t[0].0 .0, q[0].0 .0));
-            }
-        }
-        for d in chunk.component_descriptors() {
-            let key = (ent.clone(), d.component.as_str().to_string());
-            if chunk.is_static() {
-                *c.statics.entry(key).or_default() += chunk.num_rows();
-            } else {
-                *c.temporal.entry(key).or_default() += chunk.num_rows();
-            }
-        }
-    }
-    c
 }
 
 fn check_model(rel: &str) {
@@ -694,13 +581,14 @@ fn cli_workspace_rerun() {
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let c = decode(&out);
-    // The robot at its neutral pose (one frame) inside the cloud.
+    // The robot at one pose inside the picture; the kept points on their own entity.
     assert_eq!(
         c.rows("/world/robot/wrist_3_link", "Transform3D:translation"),
         1
     );
-    assert_eq!(c.rows("/world/workspace/cloud_0", "Points3D:positions"), 1);
-    assert_eq!(c.rows("/world/workspace/cloud_0", "Points3D:colors"), 1);
+    assert!(c.has_static("/world/workspace/points", "Points3D:positions"));
+    assert!(c.has_static("/world/workspace/points", "Points3D:colors"));
+    assert!(c.has_static("/world/workspace/boundary/back", "Mesh3D:vertex_positions"));
     assert!(String::from_utf8_lossy(&o.stdout).contains("wrote"));
 
     // A missing directory fails before sampling, with the path in the message.
@@ -804,5 +692,131 @@ fn cli_view_draws_the_obstacles_of_a_run() {
         (y0 + 0.4).abs() < 1e-6 && (y1 + 0.2).abs() < 1e-6,
         "{y0} {y1}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The workspace picture of the UR5: the boundary surface (both halves of the cut) has
+/// its vertices between an occupied and an empty voxel centre of the run's own grid
+/// (`WorkspaceResult::is_occupied`), the section is exactly the occupied voxels of the
+/// layer through the base axis, coloured per vertex; the robot has a mesh on every link
+/// with a visual; the blueprint has a 3-D view whose eye is outside the workspace and
+/// hides the points and the front half.
+#[test]
+fn workspace_picture_shows_the_boundary_the_section_and_the_robot() {
+    let model = common::load("robots/ur5.urdf");
+    let spec = Model::read_spec(&root().join("robots/ur5.urdf")).unwrap();
+    // Enough samples per voxel that the picture uses the run's own grid.
+    let h = 0.08;
+    let ws = sample_workspace(
+        &model,
+        &WorkspaceOptions {
+            samples: 1 << 18,
+            replicates: 2,
+            voxel: h,
+            extras: true,
+            extras_samples: Some(1 << 14),
+            keep_points: 20_000,
+            quiet: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let dir = tmp_dir("ws_picture");
+    let out = dir.join("ws.rrd");
+    let report = log_workspace_scene(&model, &ws, &RerunSink::Save(out.clone())).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let c = decode(&out);
+
+    let occupied = |i: [i64; 3]| {
+        let p = i.map(|x| (x as f64 + 0.5) * h);
+        ws.is_occupied(&armsim::spatial::Vec3::new(p[0], p[1], p[2]))
+    };
+    let mut vertices = 0;
+    for half in ["back", "front"] {
+        let e = format!("/world/workspace/boundary/{half}");
+        assert!(c.has_static(&e, "Mesh3D:vertex_colors"), "{e}");
+        assert!(c.has_static(&e, "Mesh3D:triangle_indices"), "{e}");
+        for v in &c.mesh_vertices[&e] {
+            // The dual cube (8 voxel centres) whose centre is nearest holds the vertex.
+            let i0 = v.map(|x| (x as f64 / h).round() as i64 - 1);
+            let corners: Vec<bool> = (0..8)
+                .map(|b| occupied([i0[0] + (b & 1), i0[1] + (b >> 1 & 1), i0[2] + (b >> 2 & 1)]))
+                .collect();
+            assert!(
+                corners.iter().any(|&o| o) && corners.iter().any(|&o| !o),
+                "{e}: vertex {v:?} is not on the boundary"
+            );
+        }
+        vertices += c.mesh_vertices[&e].len();
+    }
+    // A closed surface around about `boundary_voxels` voxels: at least that many
+    // vertices, and of the same order.
+    let b = ws.boundary_voxels as usize;
+    assert!(vertices >= b / 2 && vertices <= 4 * b, "{vertices} vs {b}");
+
+    // The section: the half-planes through the UR5's base axis (world z) that bound the
+    // cut-away quarter x < 0, y < 0: y = 0 for x < 0 and x = 0 for y < 0, one square per
+    // occupied voxel of the layers j = 0 and i = 0, each on an occupied voxel.
+    let sec = "/world/workspace/section";
+    let sv = &c.mesh_vertices[sec];
+    assert!(c.has_static(sec, "Mesh3D:vertex_colors"));
+    let lo = ws.bbox[0].map(|x| (x / h).floor() as i64 - 1);
+    let hi = ws.bbox[1].map(|x| (x / h).floor() as i64 + 1);
+    let mut layers = 0;
+    for k in lo[2]..=hi[2] {
+        for m in lo[0].min(lo[1])..0 {
+            layers += occupied([m, 0, k]) as usize + occupied([0, m, k]) as usize;
+        }
+    }
+    assert!(layers > 100, "{layers}");
+    assert_eq!(sv.len(), 4 * layers);
+    for q in sv.chunks(4) {
+        let mean = |a: usize| q.iter().map(|v| v[a] as f64).sum::<f64>() / 4.0;
+        let cell = |a: usize| (mean(a) / h).floor() as i64;
+        if q.iter().all(|v| v[1] == 0.0) {
+            assert!(mean(0) < 0.0 && occupied([cell(0), 0, cell(2)]), "{q:?}");
+        } else {
+            assert!(q.iter().all(|v| v[0] == 0.0), "{q:?} off both planes");
+            assert!(mean(1) < 0.0 && occupied([0, cell(1), cell(2)]), "{q:?}");
+        }
+    }
+    // The robot stands in the cut-away quarter: its tool is there.
+    let tool = c.poses[&link_entity(&ws.tool).to_string()][0].0;
+    assert!(tool[0] < 0.0 && tool[1] < 0.0, "{tool:?}");
+
+    // The robot: a mesh on every link with a visual, at one pose.
+    for l in spec.links.iter().filter(|l| !l.visuals.is_empty()) {
+        let e = format!("{}/visual_0", link_entity(&l.name));
+        assert!(c.mesh_vertices.contains_key(&e), "{e}");
+    }
+    assert_eq!(c.poses[&link_entity("wrist_3_link").to_string()].len(), 1);
+
+    // The points, hidden; the colour scale explained.
+    assert!(c.has_static("/world/workspace/points", "Points3D:colors"));
+    assert_eq!(report.points, 20_000);
+    assert_eq!(
+        c.invisible,
+        BTreeSet::from([
+            "/world/workspace/points".to_string(),
+            "/world/workspace/boundary/front".to_string()
+        ])
+    );
+    let legend = &c.labels["/world/workspace/legend/labels"];
+    assert!(
+        legend.iter().any(|l| l.contains("manipulability")),
+        "{legend:?}"
+    );
+    assert!(c.has_static("/reports/workspace", "TextDocument:text"));
+
+    // A 3-D view, its eye outside the workspace's box, looking at a point inside it.
+    assert!(
+        c.view_classes.iter().any(|v| v == "3D"),
+        "{:?}",
+        c.view_classes
+    );
+    let (eye, target) = c.eye.expect("EyeControls3D");
+    let [blo, bhi] = ws.bbox;
+    assert!((0..3).any(|k| (eye[k] as f64) < blo[k] || (eye[k] as f64) > bhi[k]));
+    assert!((0..3).all(|k| (target[k] as f64) > blo[k] - 0.3 && (target[k] as f64) < bhi[k] + 0.3));
     let _ = std::fs::remove_dir_all(&dir);
 }

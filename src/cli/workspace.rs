@@ -45,8 +45,8 @@ pub struct WorkspaceArgs {
     /// Write the sampled tool points as CSV (atomically).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Write a Rerun file (.rrd): the robot at its neutral pose inside the sampled
-    /// tool points, coloured by manipulability.
+    /// Write a Rerun file (.rrd): the reachable boundary and a section through the
+    /// base coloured by manipulability, the robot inside, the sampled points hidden.
     #[arg(long)]
     pub rerun: Option<PathBuf>,
 }
@@ -201,44 +201,17 @@ fn check_output_dir(p: &std::path::Path) -> Result<(), String> {
     }
 }
 
-/// The robot at its neutral pose and the kept workspace samples (coloured by
-/// manipulability) as an .rrd file.
+/// The workspace picture as an .rrd file: the reachable boundary cut away in front of a
+/// section through the base, coloured by manipulability, the robot inside, the points
+/// hidden (see `recording::rerun_workspace`).
 fn workspace_rerun(
     model: &Model,
     r: &armsim::workspace::WorkspaceResult,
     path: &std::path::Path,
 ) -> Result<(), String> {
-    use armsim::recording::{rerun_out, Header, PointCloud, Recording};
-    let source = std::path::Path::new(&model.source);
-    let spec = Model::read_spec(source).map_err(|e| e.to_string())?;
-    let (mut header, robot_tf) =
-        Header::for_model(format!("{} workspace", model.name), source, model, &spec);
-    header.metadata = vec![
-        ("robot".into(), model.name.clone()),
-        ("model_source".into(), model.source.clone()),
-        ("workspace_tool".into(), r.tool.clone()),
-    ];
-    let mut data = Data::new(model);
-    let frame = robot_tf.frame_at(model, &mut data, 0.0, &model.neutral(), &[], &[]);
-    let cloud = PointCloud {
-        t: 0.0,
-        frame: "world".into(),
-        points: r.points.iter().map(|s| s.p.map(|x| x as f32)).collect(),
-        values: r.points.iter().map(|s| s.manipulability as f32).collect(),
-    };
-    let rec = Recording {
-        header,
-        frames: vec![frame],
-        clouds: vec![cloud],
-        ..Default::default()
-    };
-    let report = rerun_out::log_recording(
-        &rec,
-        Some(&spec),
-        None,
-        &rerun_out::RerunSink::Save(path.to_path_buf()),
-    )
-    .map_err(|e| e.to_string())?;
+    use armsim::recording::rerun_out;
+    let sink = rerun_out::RerunSink::Save(path.to_path_buf());
+    let report = rerun_out::log_workspace_scene(model, r, &sink).map_err(|e| e.to_string())?;
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }

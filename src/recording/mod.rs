@@ -29,9 +29,12 @@ pub mod rerun_out;
 #[cfg(feature = "rerun")]
 mod rerun_scene;
 pub mod rerun_sink;
+#[cfg(feature = "rerun")]
+mod rerun_workspace;
 pub mod ros2;
 pub mod tf;
 pub mod urdf_out;
+pub mod workspace_picture;
 
 use serde::{Deserialize, Serialize};
 

@@ -5,7 +5,9 @@
 //!
 //! Layout: the 3-D view (origin `world`) on the left, 3/5 of the width; on the right, tabs:
 //! a grid with one time series per joint torque, the joint positions, the text log and the
-//! reports (the plots only when the recording has them).
+//! reports (the plots only when the recording has them). A workspace picture has its own
+//! layout ([`send_workspace`]): the 3-D view beside the workspace report, and entities
+//! that are present but hidden (blueprint visibility, `EntityBehavior`).
 
 use super::rerun_out::{path, RerunError, APP_ID};
 use super::Recording;
@@ -28,12 +30,17 @@ impl Eye {
     /// A camera in front of, to the right of and above the box `(lo, hi)`, looking at its
     /// centre from far enough that the whole box is in view.
     pub fn framing(lo: [f64; 3], hi: [f64; 3]) -> Eye {
+        // From the right (-y) of a robot facing +x, a little in front of it, above.
+        Eye::framing_from(lo, hi, [0.7, -1.0, 0.6], 0.85)
+    }
+
+    /// A camera looking at the centre of the box `(lo, hi)` from direction `dir`, at
+    /// `distance` times the box's diagonal (at least 0.5 m of it).
+    pub fn framing_from(lo: [f64; 3], hi: [f64; 3], dir: [f64; 3], distance: f64) -> Eye {
         let c = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
         let d = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
-        // From the right (-y) of a robot facing +x, a little in front of it, above.
-        let dir = [0.7, -1.0, 0.6];
         let n = dir.iter().map(|x: &f64| x * x).sum::<f64>().sqrt();
-        let dist = 0.85 * d.max(0.5);
+        let dist = distance * d.max(0.5);
         Eye {
             position: [0, 1, 2].map(|k| (c[k] + dir[k] / n * dist) as f32),
             look_target: c.map(|x| x as f32),
@@ -49,6 +56,8 @@ enum Node {
         origin: String,
         contents: Vec<String>,
         eye: Option<Eye>,
+        /// Entities in the view but hidden (blueprint visibility, switchable in the viewer).
+        invisible: Vec<String>,
     },
     Container {
         kind: bc::ContainerKind,
@@ -65,6 +74,7 @@ fn view(class: &'static str, name: impl Into<String>, origin: impl Into<String>)
         origin: origin.into(),
         contents: vec!["+ $origin/**".to_string()],
         eye: None,
+        invisible: Vec::new(),
     }
 }
 
@@ -83,8 +93,17 @@ fn log_node(s: &RecordingStream, node: &Node) -> Result<(String, Uuid), RerunErr
             origin,
             contents,
             eye,
+            invisible,
         } => {
             let p = format!("view/{id}");
+            for e in invisible {
+                let ent = rerun::EntityPath::from(e.as_str());
+                s.log(
+                    bp::ViewContents::blueprint_base_visualizer_path_for_entity(id, &ent),
+                    &bp::EntityBehavior::new().with_visible(false),
+                )
+                .map_err(sdk)?;
+            }
             let queries: Vec<bc::QueryExpression> = contents
                 .iter()
                 .map(|q| bc::QueryExpression(q.as_str().into()))
@@ -142,6 +161,7 @@ fn layout(rec: &Recording, hidden: &[&str], eye: Option<Eye>) -> Node {
         origin: "/world".into(),
         contents,
         eye,
+        invisible: Vec::new(),
     };
     let mut tabs = Vec::new();
     let plots = rec.frames.len() >= 2;
@@ -191,13 +211,58 @@ pub fn send(
     hidden: &[&str],
     eye: Option<Eye>,
 ) -> Result<(), RerunError> {
+    send_layout(stream, &layout(rec, hidden, eye))
+}
+
+/// The layout of a workspace picture: the 3-D view named `title` (without the entities
+/// in `hidden`, with those in `invisible` present but switched off, camera `eye`) beside
+/// the workspace report (`/reports/workspace`) and the text log.
+pub fn send_workspace(
+    stream: &RecordingStream,
+    title: &str,
+    hidden: &[&str],
+    invisible: &[&str],
+    eye: Eye,
+) -> Result<(), RerunError> {
+    let mut contents = vec!["+ $origin/**".to_string()];
+    contents.extend(hidden.iter().map(|h| format!("- {h}")));
+    let scene = Node::View {
+        class: "3D",
+        name: title.to_string(),
+        origin: "/world".into(),
+        contents,
+        eye: Some(eye),
+        invisible: invisible.iter().map(|s| s.to_string()).collect(),
+    };
+    let side = Node::Container {
+        kind: bc::ContainerKind::Tabs,
+        name: None,
+        children: vec![
+            view("TextDocument", "workspace", "/reports/workspace"),
+            view("TextLog", "log", "/log"),
+        ],
+        shares: Vec::new(),
+    };
+    send_layout(
+        stream,
+        &Node::Container {
+            kind: bc::ContainerKind::Horizontal,
+            name: None,
+            children: vec![scene, side],
+            shares: vec![3.0, 1.0],
+        },
+    )
+}
+
+/// Sends the blueprint whose root is `root` and makes it the active and default one.
+fn send_layout(stream: &RecordingStream, root: &Node) -> Result<(), RerunError> {
     let (bps, storage) = RecordingStreamBuilder::new(APP_ID)
         .recording_id(RecordingId::random())
         .blueprint()
         .memory()
         .map_err(sdk)?;
     bps.set_time_sequence("blueprint", 0);
-    let (_, root) = log_node(&bps, &layout(rec, hidden, eye))?;
+    let (_, root) = log_node(&bps, root)?;
     bps.log(
         "viewport",
         &bp::ViewportBlueprint::new()

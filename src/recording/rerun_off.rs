@@ -32,3 +32,12 @@ pub fn log_recording_with(
 pub fn log_workspace(_cloud: &PointCloud, _sink: &RerunSink) -> Result<RerunReport, RerunError> {
     Err(RerunError::NotBuilt)
 }
+
+/// Refuses: this build has no Rerun SDK.
+pub fn log_workspace_scene(
+    _model: &crate::model::Model,
+    _ws: &crate::workspace::WorkspaceResult,
+    _sink: &RerunSink,
+) -> Result<RerunReport, RerunError> {
+    Err(RerunError::NotBuilt)
+}

@@ -12,6 +12,7 @@
 //! | `world/obstacles/<name>`                 | scene obstacles ([`SceneExtras`]), static          |
 //! | `world/tool_path`                        | the tool link's origin over time (static strip)    |
 //! | `world/workspace/cloud_<i>`              | point cloud coloured by its value (viridis)        |
+//! | `world/workspace/…`, `reports/workspace` | the workspace picture (`rerun_workspace`)          |
 //! | `world/obstacles/<name>/shape_<k>`       | the scene's obstacles (static; `rerun_obstacles`)  |
 //! | `plots/torque/<joint>`                   | joint torque (or force), per frame                 |
 //! | `plots/torque/<joint>/upper_limit` / `lower_limit` | `±` effort limit (constant line)         |
@@ -49,8 +50,9 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 pub use super::rerun_sink::*;
+pub use super::rerun_workspace::log_workspace_scene;
 
-fn sdk(e: impl std::fmt::Display) -> RerunError {
+pub(super) fn sdk(e: impl std::fmt::Display) -> RerunError {
     RerunError::Sdk(e.to_string())
 }
 
@@ -127,7 +129,8 @@ pub fn log_recording_with(
     };
     let (stream, storage) = open(sink, &name)?;
     let (mut report, robot) = log_with(&stream, rec, spec, mesh_base, pre_warnings)?;
-    let scene = super::rerun_scene::log_obstacles(&stream, extras, &mut report.warnings)?;
+    let drawn: Vec<&str> = rec.obstacles.iter().map(|m| m.name.as_str()).collect();
+    let scene = super::rerun_scene::log_obstacles(&stream, extras, &drawn, &mut report.warnings)?;
     // Frame the robot (link origins over the motion, padded for the link bodies) and the
     // obstacles near it (a floor larger than the workspace does not push the camera away).
     let eye = robot.map(|(lo, hi)| {
@@ -166,7 +169,7 @@ pub fn log_workspace(cloud: &PointCloud, sink: &RerunSink) -> Result<RerunReport
     log_recording(&rec, None, None, sink)
 }
 
-fn check_sink(sink: &RerunSink) -> Result<(), RerunError> {
+pub(super) fn check_sink(sink: &RerunSink) -> Result<(), RerunError> {
     if let RerunSink::Save(p) = sink {
         let out = |msg: String| RerunError::Output {
             path: p.clone(),
@@ -189,9 +192,9 @@ fn check_sink(sink: &RerunSink) -> Result<(), RerunError> {
     Ok(())
 }
 
-type Storage = Option<rerun::sink::MemorySinkStorage>;
+pub(super) type Storage = Option<rerun::sink::MemorySinkStorage>;
 
-fn open(sink: &RerunSink, name: &str) -> Result<(RecordingStream, Storage), RerunError> {
+pub(super) fn open(sink: &RerunSink, name: &str) -> Result<(RecordingStream, Storage), RerunError> {
     let b = RecordingStreamBuilder::new(APP_ID)
         .enabled(true)
         .recording_name(name);
@@ -209,7 +212,7 @@ fn open(sink: &RerunSink, name: &str) -> Result<(RecordingStream, Storage), Reru
     })
 }
 
-fn finish(
+pub(super) fn finish(
     stream: &RecordingStream,
     storage: Storage,
     sink: &RerunSink,
@@ -381,7 +384,7 @@ pub fn log_to_stream(
     log_with(stream, rec, spec, mesh_base, Vec::new()).map(|r| r.0)
 }
 
-fn log_with(
+pub(super) fn log_with(
     stream: &RecordingStream,
     rec: &Recording,
     spec: Option<&ModelSpec>,

@@ -25,17 +25,21 @@ pub fn grow(b: &mut Option<Bounds>, p: &Vec3) {
     }
 }
 
-/// Logs the obstacles of `extras`; returns their world bounds. A mesh obstacle that
-/// cannot be found or read is skipped with a warning.
+/// Logs the obstacles of `extras`, except those named in `drawn` (already drawn, with
+/// their labels, from the recording's obstacle markers: drawing them twice would make
+/// two coincident surfaces flicker); returns the world bounds of all of them. A mesh
+/// obstacle that cannot be found or read is skipped with a warning.
 pub fn log_obstacles(
     stream: &RecordingStream,
     extras: &SceneExtras,
+    drawn: &[&str],
     warnings: &mut Vec<String>,
 ) -> Result<Option<Bounds>, RerunError> {
     let mut bounds = None;
     let color = rerun::Color::from_rgb(OBSTACLE[0], OBSTACLE[1], OBSTACLE[2]);
     for (name, g) in &extras.obstacles {
         let ent = path(&["world", "obstacles", name]);
+        let skip = drawn.contains(&name.as_str());
         if let Shape::Mesh { uri, scale } = &g.shape {
             let loaded = resolve_uri(uri, extras.obstacle_dir.as_deref())
                 .map_err(|e| e.0)
@@ -60,6 +64,9 @@ pub fn log_obstacles(
                     [p.x as f32, p.y as f32, p.z as f32]
                 })
                 .collect();
+            if skip {
+                continue;
+            }
             let normals = vertex_normals(&pts, &m.triangles);
             stream
                 .log_static(
@@ -70,7 +77,7 @@ pub fn log_obstacles(
                         .with_albedo_factor(color.to_array()),
                 )
                 .map_err(|e| RerunError::Sdk(e.to_string()))?;
-        } else if log_primitive(stream, ent, g, color)? {
+        } else if skip || log_primitive(stream, ent, g, color)? {
             for c in corners(&g.shape) {
                 grow(&mut bounds, &g.origin.act_point(&c));
             }

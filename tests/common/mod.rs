@@ -1,6 +1,9 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+#[cfg(feature = "rerun")]
+pub mod rrd;
+
 use armsim::model::Model;
 use armsim::spatial::{Mat3, Se3, Vec3};
 use std::path::PathBuf;
