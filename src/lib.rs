@@ -22,6 +22,7 @@ pub mod dynamics;
 pub mod fastmath;
 pub mod io;
 pub mod kinematics;
+pub mod machines;
 pub mod mechanism;
 pub mod model;
 pub mod planning;

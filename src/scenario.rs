@@ -176,6 +176,7 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
     match kind {
         "linkage" => crate::mechanism::scenario::run(path, &text),
         "torsional" => crate::drivetrain::scenario::run(path, &text),
+        "gear_train" => crate::machines::gears::train_scenario::run(path, &text),
         "arm" => crate::arm::run(path, &text, opts).map(|o| o.report),
         other => Err(ScenarioError::new(
             &file,
@@ -211,6 +212,9 @@ pub fn check(file: &str, text: &str) -> Result<(), ScenarioError> {
         }
         Some(toml::Value::String(k)) if k == "torsional" => {
             crate::drivetrain::scenario::parse(file, text).map(drop)
+        }
+        Some(toml::Value::String(k)) if k == "gear_train" => {
+            crate::machines::gears::train_scenario::parse(file, text).map(drop)
         }
         None => crate::arm::load(Path::new(file), text).map(drop),
         Some(toml::Value::String(k)) if k == "arm" => {

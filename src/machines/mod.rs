@@ -1,0 +1,11 @@
+//! The textbook's machines beyond arms and linkages (TEXTBOOK_SYSTEMS_2): gear trains and
+//! gear geometry, cams, friction and efficiency. Each topic is a library module with its
+//! scenario `kind`; they share exact arithmetic ([`rational`]) and error location
+//! ([`spans`]).
+//!
+//! - [`gears`]: gear trains (`kind = "gear_train"`, Willis' method, torques with mesh
+//!   losses, coaxiality and assembly).
+
+pub mod gears;
+pub mod rational;
+pub mod spans;
