@@ -203,7 +203,7 @@ fn answer_section_trains_match_the_book() {
         "kind = \"bevel\"\nsign = -1",
     );
     let c = other.train.body("C").unwrap();
-    let r = Ratio::ONE.div(other.speeds.map[c][0]).unwrap().unwrap();
+    let r = Ratio::ONE.over(other.speeds.map[c][0]).unwrap().unwrap();
     assert_eq!(
         r,
         Ratio::new(-1, 3).unwrap(),

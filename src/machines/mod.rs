@@ -4,7 +4,8 @@
 //! ([`spans`]).
 //!
 //! - [`gears`]: gear trains (`kind = "gear_train"`, Willis' method, torques with mesh
-//!   losses, coaxiality and assembly).
+//!   losses, coaxiality and assembly) and gear geometry (`kind = "gear_pair"`, involute
+//!   spur/helical, internal, rack, crossed helical, worm and bevel pairs).
 
 pub mod gears;
 pub mod rational;

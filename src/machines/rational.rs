@@ -72,7 +72,7 @@ impl Ratio {
     }
 
     /// `self + o`.
-    pub fn add(self, o: Ratio) -> Result<Ratio, Overflow> {
+    pub fn plus(self, o: Ratio) -> Result<Ratio, Overflow> {
         let g = gcd(self.den, o.den).max(1);
         let a = self.num.checked_mul(o.den / g).ok_or(Overflow)?;
         let b = o.num.checked_mul(self.den / g).ok_or(Overflow)?;
@@ -81,12 +81,12 @@ impl Ratio {
     }
 
     /// `self − o`.
-    pub fn sub(self, o: Ratio) -> Result<Ratio, Overflow> {
-        self.add(o.neg())
+    pub fn minus(self, o: Ratio) -> Result<Ratio, Overflow> {
+        self.plus(o.negated())
     }
 
     /// `−self`.
-    pub fn neg(self) -> Ratio {
+    pub fn negated(self) -> Ratio {
         Ratio {
             num: -self.num,
             den: self.den,
@@ -94,7 +94,7 @@ impl Ratio {
     }
 
     /// `self × o`.
-    pub fn mul(self, o: Ratio) -> Result<Ratio, Overflow> {
+    pub fn times(self, o: Ratio) -> Result<Ratio, Overflow> {
         let g1 = gcd(self.num, o.den).max(1);
         let g2 = gcd(o.num, self.den).max(1);
         let n = (self.num / g1).checked_mul(o.num / g2).ok_or(Overflow)?;
@@ -103,11 +103,11 @@ impl Ratio {
     }
 
     /// `self / o`; `None` when `o = 0`.
-    pub fn div(self, o: Ratio) -> Result<Option<Ratio>, Overflow> {
+    pub fn over(self, o: Ratio) -> Result<Option<Ratio>, Overflow> {
         if o.is_zero() {
             return Ok(None);
         }
-        self.mul(Ratio {
+        self.times(Ratio {
             num: o.den * o.num.signum(),
             den: o.num.abs(),
         })
@@ -137,15 +137,16 @@ pub fn null_space(rows: &[Vec<Ratio>], ncols: usize) -> Result<(Vec<Vec<Ratio>>,
             continue;
         };
         m.swap(r, p);
-        let inv = Ratio::ONE.div(m[r][c])?.ok_or(Overflow)?;
-        for k in 0..ncols {
-            m[r][k] = m[r][k].mul(inv)?;
+        let inv = Ratio::ONE.over(m[r][c])?.ok_or(Overflow)?;
+        for x in m[r].iter_mut() {
+            *x = x.times(inv)?;
         }
-        for i in 0..m.len() {
-            if i != r && !m[i][c].is_zero() {
-                let f = m[i][c];
-                for k in 0..ncols {
-                    m[i][k] = m[i][k].sub(f.mul(m[r][k])?)?;
+        let pivot = m[r].clone();
+        for (i, row) in m.iter_mut().enumerate() {
+            if i != r && !row[c].is_zero() {
+                let f = row[c];
+                for (x, p) in row.iter_mut().zip(&pivot) {
+                    *x = x.minus(f.times(*p)?)?;
                 }
             }
         }
@@ -160,7 +161,7 @@ pub fn null_space(rows: &[Vec<Ratio>], ncols: usize) -> Result<(Vec<Vec<Ratio>>,
         let mut v = vec![Ratio::ZERO; ncols];
         v[free] = Ratio::ONE;
         for (row, &pc) in pivots.iter().enumerate() {
-            v[pc] = m[row][free].neg();
+            v[pc] = m[row][free].negated();
         }
         basis.push(v);
     }
@@ -184,15 +185,16 @@ pub fn solve(a: &[Vec<Ratio>], b: &[Ratio]) -> Result<Option<Vec<Ratio>>, Overfl
             return Ok(None);
         };
         m.swap(c, p);
-        let inv = Ratio::ONE.div(m[c][c])?.ok_or(Overflow)?;
-        for k in c..=n {
-            m[c][k] = m[c][k].mul(inv)?;
+        let inv = Ratio::ONE.over(m[c][c])?.ok_or(Overflow)?;
+        for x in m[c][c..].iter_mut() {
+            *x = x.times(inv)?;
         }
-        for i in 0..n {
-            if i != c && !m[i][c].is_zero() {
-                let f = m[i][c];
-                for k in c..=n {
-                    m[i][k] = m[i][k].sub(f.mul(m[c][k])?)?;
+        let pivot = m[c].clone();
+        for (i, row) in m.iter_mut().enumerate() {
+            if i != c && !row[c].is_zero() {
+                let f = row[c];
+                for (x, p) in row[c..].iter_mut().zip(&pivot[c..]) {
+                    *x = x.minus(f.times(*p)?)?;
                 }
             }
         }

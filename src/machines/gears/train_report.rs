@@ -78,7 +78,7 @@ fn ratio_to(sc: &TrainScenario, b: usize) -> Option<Ratio> {
     if sc.speeds.inputs.len() != 1 {
         return None;
     }
-    Ratio::ONE.div(sc.speeds.map[b][0]).ok().flatten()
+    Ratio::ONE.over(sc.speeds.map[b][0]).ok().flatten()
 }
 
 /// Efficiency of a load case: power out over power in (members with a torque).
@@ -254,7 +254,7 @@ fn mesh_json(
         let f = t.mesh_frame(e)?;
         let [a, b] = m.gears;
         let base = Ratio::new(t.z(b) as i128, t.z(a) as i128).unwrap_or(Ratio::ZERO);
-        let rel = f.sign.map(|s| if s < 0 { base.neg() } else { base });
+        let rel = f.sign.map(|s| if s < 0 { base.negated() } else { base });
         let planets = f.carrier.map_or(1, |c| t.bodies[c].planets);
         let mut v = json!({
             "gears": [t.gears[a].name, t.gears[b].name],

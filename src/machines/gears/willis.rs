@@ -187,7 +187,7 @@ pub fn speeds(
             let mut s = Ratio::ZERO;
             for (j, cj) in c.iter().enumerate() {
                 s = s
-                    .add(kin.basis[j][b].mul(*cj).map_err(overflow)?)
+                    .plus(kin.basis[j][b].times(*cj).map_err(overflow)?)
                     .map_err(overflow)?;
             }
             row[i] = s;
@@ -225,11 +225,11 @@ pub fn relative_ratio(
         return Ok(None);
     };
     let r = v[a]
-        .div(v[b])
+        .over(v[b])
         .map_err(overflow)?
         .ok_or_else(|| overflow(Overflow))?;
     for w in &basis {
-        if w[a] != r.mul(w[b]).map_err(overflow)? {
+        if w[a] != r.times(w[b]).map_err(overflow)? {
             return Ok(None);
         }
     }
