@@ -5,8 +5,11 @@
 //!
 //! - [`gears`]: gear trains (`kind = "gear_train"`, Willis' method, torques with mesh
 //!   losses, coaxiality and assembly) and gear geometry (`kind = "gear_pair"`, involute
-//!   spur/helical, internal, rack, crossed helical, worm and bevel pairs).
+//!   spur/helical, internal, rack, crossed helical, worm and bevel pairs);
+//! - [`cam`]: disc cams (`kind = "cam"`, follower laws, profiles, curvature, pressure
+//!   angle, base radius and offset by search).
 
+pub mod cam;
 pub mod gears;
 pub mod rational;
 pub mod spans;
