@@ -179,6 +179,7 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
         "gear_train" => crate::machines::gears::train_scenario::run(path, &text),
         "gear_pair" => crate::machines::gears::pair_scenario::run(path, &text),
         "cam" => crate::machines::cam::scenario::run(path, &text),
+        "friction" => crate::machines::friction::scenario::run(path, &text),
         "arm" => crate::arm::run(path, &text, opts).map(|o| o.report),
         other => Err(ScenarioError::new(
             &file,
@@ -223,6 +224,9 @@ pub fn check(file: &str, text: &str) -> Result<(), ScenarioError> {
         }
         Some(toml::Value::String(k)) if k == "cam" => {
             crate::machines::cam::scenario::parse(file, text).map(drop)
+        }
+        Some(toml::Value::String(k)) if k == "friction" => {
+            crate::machines::friction::scenario::parse(file, text)
         }
         None => crate::arm::load(Path::new(file), text).map(drop),
         Some(toml::Value::String(k)) if k == "arm" => {

@@ -7,9 +7,11 @@
 //!   losses, coaxiality and assembly) and gear geometry (`kind = "gear_pair"`, involute
 //!   spur/helical, internal, rack, crossed helical, worm and bevel pairs);
 //! - [`cam`]: disc cams (`kind = "cam"`, follower laws, profiles, curvature, pressure
-//!   angle, base radius and offset by search).
+//!   angle, base radius and offset by search);
+//! - [`friction`]: friction elements and efficiency (`kind = "friction"`).
 
 pub mod cam;
+pub mod friction;
 pub mod gears;
 pub mod rational;
 pub mod spans;
