@@ -48,6 +48,7 @@ pub mod fastmath;
 pub mod io;
 pub mod kinematics;
 pub mod linalg;
+pub mod machines;
 pub mod mechanism;
 pub mod model;
 pub mod planning;

@@ -27,6 +27,14 @@ pub enum Kind {
     Linkage,
     /// `kind = "torsional"`.
     Torsional,
+    /// `kind = "gear_train"`.
+    GearTrain,
+    /// `kind = "gear_pair"`.
+    GearPair,
+    /// `kind = "cam"`.
+    Cam,
+    /// `kind = "friction"`.
+    Friction,
 }
 
 /// Parses `text` as TOML (refusing an empty file) and reads its `kind`.
@@ -48,6 +56,10 @@ pub fn kind(file: &str, text: &str) -> Result<Kind, ScenarioError> {
             "arm" => Ok(Kind::Arm),
             "linkage" => Ok(Kind::Linkage),
             "torsional" => Ok(Kind::Torsional),
+            "gear_train" => Ok(Kind::GearTrain),
+            "gear_pair" => Ok(Kind::GearPair),
+            "cam" => Ok(Kind::Cam),
+            "friction" => Ok(Kind::Friction),
             other => Err(kind_error(format!(
                 "unknown scenario kind '{other}' (expected \"arm\", \"linkage\" or \"torsional\")"
             ))),
@@ -71,6 +83,10 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
     match kind(&file, &text)? {
         Kind::Linkage => crate::mechanism::scenario::run(path, &text),
         Kind::Torsional => crate::drivetrain::scenario::run(path, &text),
+        Kind::GearTrain => crate::machines::gears::train_scenario::run(path, &text),
+        Kind::GearPair => crate::machines::gears::pair_scenario::run(path, &text),
+        Kind::Cam => crate::machines::cam::scenario::run(path, &text),
+        Kind::Friction => crate::machines::friction::scenario::run(path, &text),
         Kind::Arm => crate::arm::run(path, &text, opts).map(|o| o.report),
     }
 }
@@ -83,6 +99,10 @@ pub fn check(file: &str, text: &str) -> Result<(), ScenarioError> {
     match kind(file, text)? {
         Kind::Linkage => crate::mechanism::scenario::parse(file, text).map(drop),
         Kind::Torsional => crate::drivetrain::scenario::parse(file, text).map(drop),
+        Kind::GearTrain => crate::machines::gears::train_scenario::parse(file, text).map(drop),
+        Kind::GearPair => crate::machines::gears::pair_scenario::parse(file, text).map(drop),
+        Kind::Cam => crate::machines::cam::scenario::parse(file, text).map(drop),
+        Kind::Friction => crate::machines::friction::scenario::parse(file, text),
         Kind::Arm => crate::arm::load(Path::new(file), text).map(drop),
     }
 }

@@ -4,7 +4,6 @@
 
 use super::scenario::need_rerun;
 use super::{link_id, load, print_json, ModelArgs};
-use armsim::data::Data;
 use armsim::model::Model;
 use serde_json::json;
 use std::path::PathBuf;

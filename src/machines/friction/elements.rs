@@ -1,0 +1,195 @@
+//! Friction elements (TEXTBOOK_SYSTEMS_2 §4): closed forms for inclines, slides, screws,
+//! wedges, journals, pivots and collars, rolling resistance, band brakes and belts, with
+//! efficiency, reverse efficiency and self-locking. SI units (N, m, rad) unless a name
+//! says otherwise.
+
+/// Friction angle `φ = atan f`.
+pub fn friction_angle(f: f64) -> f64 {
+    f.atan()
+}
+
+/// Screw raising a load `q` (square thread: `half_angle = 0`; V/trapezoid:
+/// `f' = f/cos(half_angle)`), pitch `p`, mean diameter `dm`, collar torque `collar`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Screw {
+    /// Lead angle `λ = atan(p/(π dm))`.
+    pub lead_angle: f64,
+    /// Thread friction angle `φ' = atan(f')`.
+    pub friction_angle: f64,
+    /// Thread torque `Q dm/2 tan(λ + φ')`.
+    pub thread_torque: f64,
+    /// Total torque (thread + collar).
+    pub torque: f64,
+    /// `η = Q p/(2π M)`.
+    pub efficiency: f64,
+    /// Lowering efficiency of the thread `tan(λ − φ')/tan λ` (≤ 0: self-locking).
+    pub reverse_efficiency: f64,
+    /// `λ ≤ φ'`.
+    pub self_locking: bool,
+}
+
+/// See [`Screw`].
+pub fn screw(q: f64, p: f64, dm: f64, f: f64, half_angle: f64, collar: f64) -> Screw {
+    let lam = (p / (std::f64::consts::PI * dm)).atan();
+    let phi = (f / half_angle.cos()).atan();
+    let mt = q * dm / 2.0 * (lam + phi).tan();
+    let m = mt + collar;
+    Screw {
+        lead_angle: lam,
+        friction_angle: phi,
+        thread_torque: mt,
+        torque: m,
+        efficiency: q * p / (2.0 * std::f64::consts::PI * m),
+        reverse_efficiency: (lam - phi).tan() / lam.tan(),
+        self_locking: lam <= phi,
+    }
+}
+
+/// The load a screw raises with torque `m` (no collar): `Q = M/((dm/2) tan(λ + φ'))`.
+pub fn screw_load(m: f64, p: f64, dm: f64, f: f64, half_angle: f64) -> f64 {
+    let lam = (p / (std::f64::consts::PI * dm)).atan();
+    let phi = (f / half_angle.cos()).atan();
+    m / (dm / 2.0 * (lam + phi).tan())
+}
+
+/// Collar (flat annulus, radii `r1 > r2`) torque: uniform wear `f Q (R1 + R2)/2`, new
+/// (uniform pressure) `(2/3) f Q (R1³ − R2³)/(R1² − R2²)`; a solid pivot is `r2 = 0`.
+pub fn collar_torque(f: f64, q: f64, r1: f64, r2: f64, worn: bool) -> f64 {
+    if worn {
+        f * q * (r1 + r2) / 2.0
+    } else {
+        2.0 / 3.0 * f * q * (r1.powi(3) - r2.powi(3)) / (r1 * r1 - r2 * r2)
+    }
+}
+
+/// Inclined plane (angle `a`), force at `beta` to the vertical... pushed horizontally:
+/// up `Q tan(a + φ)`, down `Q tan(a − φ)`, efficiency `tan a/tan(a + φ)`, reverse
+/// `tan(a − φ)/tan a`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Incline {
+    /// Force to push up.
+    pub up: f64,
+    /// Force to hold/push down (negative: must pull back).
+    pub down: f64,
+    /// Efficiency raising.
+    pub efficiency: f64,
+    /// Reverse efficiency.
+    pub reverse_efficiency: f64,
+    /// `a ≤ φ`.
+    pub self_locking: bool,
+}
+
+/// A horizontal push on an incline of angle `a` with friction `f`.
+pub fn incline(q: f64, a: f64, f: f64) -> Incline {
+    let phi = friction_angle(f);
+    Incline {
+        up: q * (a + phi).tan(),
+        down: q * (a - phi).tan(),
+        efficiency: a.tan() / (a + phi).tan(),
+        reverse_efficiency: (a - phi).tan() / a.tan(),
+        self_locking: a <= phi,
+    }
+}
+
+/// Wedge (angle `a`, friction angles `φ1`, `φ2` on its faces): drive-in
+/// `Q[tan φ1 + tan(a + φ2)]`, pull-out `Q[tan φ1 + tan(φ2 − a)]`, self-locking if
+/// `a ≤ φ1 + φ2`.
+pub fn wedge(q: f64, a: f64, f1: f64, f2: f64) -> (f64, f64, bool) {
+    let (p1, p2) = (friction_angle(f1), friction_angle(f2));
+    (
+        q * (p1.tan() + (a + p2).tan()),
+        q * (p1.tan() + (p2 - a).tan()),
+        a <= p1 + p2,
+    )
+}
+
+/// Equivalent friction coefficient of a slide: flat `f`, V-groove `f/cos β`, worn
+/// cylinder `π f/2`, new cylinder `4 f/π`.
+pub fn slide_coefficient(f: f64, kind: &str, beta: f64) -> Option<f64> {
+    Some(match kind {
+        "flat" => f,
+        "v_groove" => f / beta.cos(),
+        "worn_cylinder" => std::f64::consts::PI * f / 2.0,
+        "new_cylinder" => 4.0 * f / std::f64::consts::PI,
+        _ => return None,
+    })
+}
+
+/// Rolling: a load `Q` on wheels of diameter `d1` on axles `d2` (journal friction `f`,
+/// rolling resistance arm `k`): `P = Q (f d2 + 2k)/d1`; on free rollers between two
+/// surfaces (`k1`, `k2`): `P = (k1 + k2) Q/d`.
+pub fn rolling_on_axles(q: f64, d1: f64, d2: f64, f: f64, k: f64) -> f64 {
+    q * (f * d2 + 2.0 * k) / d1
+}
+
+/// Free rollers of diameter `d` between surfaces with arms `k1`, `k2`.
+pub fn free_rollers(q: f64, d: f64, k1: f64, k2: f64) -> f64 {
+    (k1 + k2) * q / d
+}
+
+/// Band brake: tensions and the lever force. `e = e^{fβ}` (given or computed), drum
+/// radius `r`, braking torque from a weight `G` on arm `l` (`M = G l`), lever arms `a`
+/// (tight side, differential) and `b`, lever length `big_l`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BandBrake {
+    /// Slack-side tension.
+    pub s2: f64,
+    /// Tight-side tension `S2 e^{fβ}`.
+    pub s1: f64,
+    /// Braking force `S1 − S2`.
+    pub force: f64,
+    /// Lever force.
+    pub lever_force: f64,
+    /// Differential brake locks itself: `e^{fβ} ≥ b/a`.
+    pub self_locking: bool,
+}
+
+/// Simple band brake: the slack end on the lever at arm `a` from the pivot (lever `L`),
+/// braking torque `m` on a drum of radius `r`: `S2 = F/(e − 1)`, `Q = S2 a/L`.
+pub fn simple_band_brake(m: f64, r: f64, e: f64, a: f64, big_l: f64) -> BandBrake {
+    let force = m / r;
+    let s2 = force / (e - 1.0);
+    BandBrake {
+        s2,
+        s1: s2 * e,
+        force,
+        lever_force: s2 * a / big_l,
+        self_locking: false,
+    }
+}
+
+/// Differential band brake: slack end at arm `b`, tight end at arm `a` on the other
+/// side: `Q L = S2 b − S1 a`, so `S2 = F/(e − 1)`, `Q = S2 (b − a e)/L`;
+/// self-locking when `e ≥ b/a`.
+pub fn differential_band_brake(m: f64, r: f64, e: f64, a: f64, b: f64, big_l: f64) -> BandBrake {
+    let force = m / r;
+    let s2 = force / (e - 1.0);
+    BandBrake {
+        s2,
+        s1: s2 * e,
+        force,
+        lever_force: s2 * (b - a * e) / big_l,
+        self_locking: e >= b / a,
+    }
+}
+
+/// Belt transmitting power `w` at speed `v` with `e = e^{fα}`: useful pull `P = W/v`,
+/// `S1 = P e/(e − 1)`, `S2 = P/(e − 1)`, initial tension `(S1 + S2)/2`, shaft load
+/// `S1 + S2` (parallel strands).
+pub fn belt(w: f64, v: f64, e: f64) -> [f64; 5] {
+    let p = w / v;
+    let s1 = p * e / (e - 1.0);
+    let s2 = p / (e - 1.0);
+    [p, s1, s2, (s1 + s2) / 2.0, s1 + s2]
+}
+
+/// Series `Π η_i` and parallel `Σ N_i η_i / Σ N_i` efficiency.
+pub fn series(etas: &[f64]) -> f64 {
+    etas.iter().product()
+}
+
+/// See [`series`].
+pub fn parallel(powers: &[f64], etas: &[f64]) -> f64 {
+    let n: f64 = powers.iter().sum();
+    powers.iter().zip(etas).map(|(p, e)| p * e).sum::<f64>() / n
+}

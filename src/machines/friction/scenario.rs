@@ -1,0 +1,235 @@
+//! `kind = "friction"` scenario files (format in `docs/machines.md`): a list of
+//! `[[element]]` tables (screw, slide, rolling, wedge, incline, journal, collar, belt),
+//! each computed by [`super::elements`]; torques of the elements add up, and a shaft
+//! speed turns the total into a friction power.
+
+use super::elements as el;
+use crate::diag::LocatedError as ScenarioError;
+use crate::machines::spans::{in_range, Ctx};
+use crate::report::Report;
+use serde::Deserialize;
+use serde_json::{json, Value};
+use std::f64::consts::PI;
+use std::fmt::Write;
+use std::path::Path;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileSpec {
+    #[allow(dead_code)]
+    kind: String,
+    name: Option<String>,
+    #[allow(dead_code)]
+    description: Option<String>,
+    speed_rpm: Option<f64>,
+    #[serde(default)]
+    element: Vec<Spanned<Element>>,
+}
+
+#[derive(Deserialize, Default, Clone)]
+#[serde(deny_unknown_fields)]
+struct Element {
+    label: Option<String>,
+    #[serde(rename = "type")]
+    kind: String,
+    load: Option<f64>,
+    friction: Option<f64>,
+    friction_faces: Option<[f64; 2]>,
+    pitch: Option<f64>,
+    diameters: Option<[f64; 2]>,
+    thread_angle_deg: Option<f64>,
+    collar_friction: Option<f64>,
+    collar_diameters: Option<[f64; 2]>,
+    #[serde(default)]
+    new: bool,
+    handle_force: Option<f64>,
+    handle_length: Option<f64>,
+    slide: Option<String>,
+    groove_angle_deg: Option<f64>,
+    wheel_diameter: Option<f64>,
+    axle_diameter: Option<f64>,
+    rolling_arms: Option<[f64; 2]>,
+    angle_deg: Option<f64>,
+    diameter: Option<f64>,
+    fit_factor: Option<f64>,
+    count: Option<f64>,
+    power: Option<f64>,
+    speed: Option<f64>,
+    euler_factor: Option<f64>,
+    wrap_deg: Option<f64>,
+}
+
+/// Runs a friction scenario.
+pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
+    let file = path.display().to_string();
+    compute(&file, text)
+}
+
+/// Parses and checks (the computation is closed-form, so this is the run itself).
+pub fn parse(file: &str, text: &str) -> Result<(), ScenarioError> {
+    compute(file, text).map(drop)
+}
+
+fn compute(file: &str, text: &str) -> Result<Report, ScenarioError> {
+    let cx = Ctx::new(file, text);
+    let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
+    if f.element.is_empty() {
+        return Err(cx.top(
+            "kind",
+            "a friction file needs at least one [[element]] table",
+        ));
+    }
+    if let Some(n) = f.speed_rpm {
+        if !in_range(n, 0.0, 1e7) {
+            return Err(cx.top("speed_rpm", "must be a speed ≥ 0"));
+        }
+    }
+    let name = f.name.clone().unwrap_or_else(|| {
+        Path::new(file)
+            .file_stem()
+            .map_or("friction".into(), |s| s.to_string_lossy().into_owned())
+    });
+    let mut text_out = format!("Friction '{name}'\n");
+    let mut out = Vec::new();
+    let mut total = 0.0;
+    for (i, s) in f.element.iter().enumerate() {
+        let (v, torque) = element(&cx, i, s)?;
+        let _ = writeln!(text_out, "[{}] {}", v["label"].as_str().unwrap_or(""), v);
+        total += torque;
+        out.push(v);
+    }
+    let mut json =
+        json!({ "scenario": name, "kind": "friction", "elements": out, "total_torque_Nm": total });
+    if let Some(n) = f.speed_rpm {
+        json["speed_rpm"] = json!(n);
+        json["friction_power_W"] = json!(total * n * PI / 30.0);
+        let _ = writeln!(
+            text_out,
+            "Total friction torque {total:.4} N m, power {:.4} W at {n} rpm",
+            total * n * PI / 30.0
+        );
+    } else {
+        let _ = writeln!(text_out, "Total friction torque {total:.4} N m");
+    }
+    Ok(Report {
+        json,
+        text: text_out,
+    })
+}
+
+/// One element: its JSON and its friction torque (N m, 0 when it has none).
+fn element(cx: &Ctx, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), ScenarioError> {
+    let e = s.get_ref();
+    let err = |k: &str, m: String| cx.field(s.span(), k, format!("element[{i}].{k}"), m);
+    let need = |k: &str, v: Option<f64>, lo: f64, hi: f64| -> Result<f64, ScenarioError> {
+        match v {
+            Some(x) if in_range(x, lo, hi) => Ok(x),
+            Some(x) => Err(err(k, format!("must be in [{lo}, {hi}], got {x}"))),
+            None => Err(err(k, format!("missing (a '{}' element needs it)", e.kind))),
+        }
+    };
+    let label = e
+        .label
+        .clone()
+        .unwrap_or_else(|| format!("{} {}", e.kind, i + 1));
+    let (v, torque) = match e.kind.as_str() {
+        "screw" => {
+            let p = need("pitch", e.pitch, 1e-9, 1e3)?;
+            let [d_out, d_in] = e.diameters.ok_or_else(|| err("diameters", "missing: [outer, root] thread diameters (m)".into()))?;
+            if !(in_range(d_in, 1e-9, 1e3) && d_out > d_in) {
+                return Err(err("diameters", format!("expected [outer, root] with outer > root > 0, got [{d_out}, {d_in}]")));
+            }
+            let dm = (d_out + d_in) / 2.0;
+            let fr = need("friction", e.friction, 0.0, 2.0)?;
+            let half = e.thread_angle_deg.map_or(Ok(0.0), |a| need("thread_angle_deg", Some(a), 0.0, 120.0))?.to_radians() / 2.0;
+            if let (Some(force), None) = (e.handle_force, e.load) {
+                let l = need("handle_length", e.handle_length, 1e-9, 1e3)?;
+                let force = need("handle_force", Some(force), 1e-9, 1e12)?;
+                let q = el::screw_load(force * l, p, dm, fr, half);
+                let sc = el::screw(q, p, dm, fr, half, 0.0);
+                (json!({"label": label, "type": "screw", "load_N": q, "lead_angle_deg": sc.lead_angle.to_degrees(),
+                    "friction_angle_deg": sc.friction_angle.to_degrees(), "torque_Nm": sc.torque, "efficiency": sc.efficiency,
+                    "reverse_efficiency": sc.reverse_efficiency, "self_locking": sc.self_locking}), 0.0)
+            } else {
+                let q = need("load", e.load, 0.0, 1e12)?;
+                let collar = match (e.collar_friction, e.collar_diameters) {
+                    (Some(f1), Some([a, b])) if a > b && b >= 0.0 => el::collar_torque(need("collar_friction", Some(f1), 0.0, 2.0)?, q, a / 2.0, b / 2.0, !e.new),
+                    (None, None) => 0.0,
+                    _ => return Err(err("collar_diameters", "give collar_friction and collar_diameters = [outer, inner] together".into())),
+                };
+                let sc = el::screw(q, p, dm, fr, half, collar);
+                let mut v = json!({"label": label, "type": "screw", "load_N": q, "lead_angle_deg": sc.lead_angle.to_degrees(),
+                    "friction_angle_deg": sc.friction_angle.to_degrees(), "thread_torque_Nm": sc.thread_torque,
+                    "collar_torque_Nm": collar, "torque_Nm": sc.torque, "efficiency": sc.efficiency,
+                    "reverse_efficiency": sc.reverse_efficiency, "self_locking": sc.self_locking});
+                if let Some(fh) = e.handle_force {
+                    v["handle_length_m"] = json!(sc.torque / need("handle_force", Some(fh), 1e-9, 1e12)?);
+                }
+                (v, 0.0)
+            }
+        }
+        "slide" => {
+            let q = need("load", e.load, 0.0, 1e12)?;
+            let fr = need("friction", e.friction, 0.0, 2.0)?;
+            let kind = e.slide.clone().unwrap_or_else(|| "flat".into());
+            let beta = e.groove_angle_deg.unwrap_or(0.0).to_radians();
+            let fe = el::slide_coefficient(fr, &kind, beta).ok_or_else(|| err("slide", format!("unknown slide '{kind}' (flat, v_groove, worn_cylinder, new_cylinder)")))?;
+            (json!({"label": label, "type": "slide", "slide": kind, "equivalent_friction": fe, "force_N": fe * q}), 0.0)
+        }
+        "rolling" => {
+            let q = need("load", e.load, 0.0, 1e12)?;
+            let [k1, k2] = e.rolling_arms.ok_or_else(|| err("rolling_arms", "missing: [k1, k2] rolling-resistance arms (m)".into()))?;
+            let p = match (e.wheel_diameter, e.axle_diameter) {
+                (Some(d1), Some(d2)) => el::rolling_on_axles(q, need("wheel_diameter", Some(d1), 1e-9, 1e3)?, d2, need("friction", e.friction, 0.0, 2.0)?, k1),
+                (Some(d), None) => el::free_rollers(q, need("wheel_diameter", Some(d), 1e-9, 1e3)?, k1, k2),
+                _ => return Err(err("wheel_diameter", "missing: wheel_diameter (and axle_diameter for wheels on axles)".into())),
+            };
+            (json!({"label": label, "type": "rolling", "force_N": p}), 0.0)
+        }
+        "wedge" => {
+            let q = need("load", e.load, 0.0, 1e12)?;
+            let a = need("angle_deg", e.angle_deg, 0.0, 89.0)?.to_radians();
+            let [f1, f2] = e.friction_faces.ok_or_else(|| err("friction_faces", "missing: [f1, f2]".into()))?;
+            let (drive, pull, lock) = el::wedge(q, a, f1, f2);
+            (json!({"label": label, "type": "wedge", "drive_in_N": drive, "pull_out_N": pull, "self_locking": lock}), 0.0)
+        }
+        "incline" => {
+            let q = need("load", e.load, 0.0, 1e12)?;
+            let a = need("angle_deg", e.angle_deg, 0.0, 89.0)?.to_radians();
+            let inc = el::incline(q, a, need("friction", e.friction, 0.0, 2.0)?);
+            (json!({"label": label, "type": "incline", "push_up_N": inc.up, "push_down_N": inc.down,
+                "efficiency": inc.efficiency, "reverse_efficiency": inc.reverse_efficiency, "self_locking": inc.self_locking}), 0.0)
+        }
+        "journal" => {
+            let q = need("load", e.load, 0.0, 1e12)?;
+            let r = need("diameter", e.diameter, 1e-9, 1e3)? / 2.0;
+            let lam = e.fit_factor.map_or(Ok(1.0), |x| need("fit_factor", Some(x), 0.5, 2.0))?;
+            let n = e.count.map_or(Ok(1.0), |x| need("count", Some(x), 1.0, 1e6))?;
+            let m = lam * need("friction", e.friction, 0.0, 2.0)? * q * r;
+            (json!({"label": label, "type": "journal", "friction_circle_m": m / q.max(1e-300), "torque_Nm": m, "count": n, "total_torque_Nm": m * n}), m * n)
+        }
+        "collar" => {
+            let q = need("load", e.load, 0.0, 1e12)?;
+            let [a, b] = e.diameters.ok_or_else(|| err("diameters", "missing: [outer, inner] (inner 0 for a solid pivot)".into()))?;
+            if !(a > b && b >= 0.0 && a.is_finite()) {
+                return Err(err("diameters", "expected [outer, inner] with outer > inner ≥ 0".into()));
+            }
+            let m = el::collar_torque(need("friction", e.friction, 0.0, 2.0)?, q, a / 2.0, b / 2.0, !e.new);
+            (json!({"label": label, "type": "collar", "torque_Nm": m}), m)
+        }
+        "belt" => {
+            let w = need("power", e.power, 0.0, 1e12)?;
+            let v = need("speed", e.speed, 1e-9, 1e6)?;
+            let ef = match (e.euler_factor, e.friction, e.wrap_deg) {
+                (Some(x), None, None) => need("euler_factor", Some(x), 1.0 + 1e-9, 1e6)?,
+                (None, Some(fr), Some(wr)) => (need("friction", Some(fr), 1e-9, 2.0)? * need("wrap_deg", Some(wr), 1e-3, 3600.0)?.to_radians()).exp(),
+                _ => return Err(err("euler_factor", "give euler_factor = e^(f α), or friction and wrap_deg".into())),
+            };
+            let [p, s1, s2, s0, load] = el::belt(w, v, ef);
+            (json!({"label": label, "type": "belt", "euler_factor": ef, "pull_N": p, "tight_N": s1, "slack_N": s2, "initial_tension_N": s0, "shaft_load_N": load}), 0.0)
+        }
+        other => return Err(err("type", format!("unknown element type '{other}' (screw, slide, rolling, wedge, incline, journal, collar, belt)"))),
+    };
+    Ok((v, torque))
+}

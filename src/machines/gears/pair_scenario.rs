@@ -1,0 +1,372 @@
+//! `kind = "gear_pair"` scenario files (format in `docs/machines.md`): one or more
+//! `[[pair]]` tables — external, internal or rack pairs (spur or helical), crossed
+//! helical, worm and bevel pairs — each computed by [`super::pair`] or
+//! [`super::spatial`] and reported with its checks and tooth profiles.
+
+use super::pair::{validate, PairKind, PairSpec};
+use super::pair_report::{report, PairCase, PairScenario, SpatialCase};
+use crate::diag::LocatedError as ScenarioError;
+use crate::machines::spans::{in_range, Ctx};
+use crate::report::Report;
+use serde::Deserialize;
+use std::path::Path;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileSpec {
+    #[allow(dead_code)]
+    kind: String,
+    name: Option<String>,
+    #[allow(dead_code)]
+    description: Option<String>,
+    module: Option<f64>,
+    pressure_angle_deg: Option<f64>,
+    addendum: Option<f64>,
+    clearance: Option<f64>,
+    #[serde(default)]
+    pair: Vec<Spanned<PairTable>>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct PairTable {
+    label: Option<String>,
+    #[serde(rename = "type")]
+    kind: Option<String>,
+    module: Option<f64>,
+    teeth: Option<Vec<i64>>,
+    pressure_angle_deg: Option<f64>,
+    addendum: Option<f64>,
+    clearance: Option<f64>,
+    shift: Option<toml::Value>,
+    helix_angle_deg: Option<f64>,
+    #[serde(default)]
+    find_helix_angle: bool,
+    face_width: Option<f64>,
+    centre_distance: Option<f64>,
+    rack_withdrawal: Option<f64>,
+    helix_angles_deg: Option<[f64; 2]>,
+    speed: Option<f64>,
+    diameter_factor: Option<f64>,
+    speed_rpm: Option<f64>,
+    friction: Option<f64>,
+    shaft_angle_deg: Option<f64>,
+    profile_points: Option<i64>,
+    ratio: Option<f64>,
+}
+
+/// Runs a gear-pair scenario.
+pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
+    Ok(report(&parse(&path.display().to_string(), text)?))
+}
+
+/// Parses and checks `text` (the contents of `file`).
+pub fn parse(file: &str, text: &str) -> Result<PairScenario, ScenarioError> {
+    let cx = Ctx::new(file, text);
+    let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
+    if f.pair.is_empty() {
+        return Err(cx.top("kind", "a gear_pair file needs at least one [[pair]] table"));
+    }
+    if f.pair.len() > 100 {
+        return Err(cx.at(f.pair[100].span(), "pair", "at most 100 pairs"));
+    }
+    let mut cases = Vec::new();
+    for (i, s) in f.pair.iter().enumerate() {
+        cases.push(case(&cx, &f, i, s)?);
+    }
+    Ok(PairScenario {
+        name: f.name.clone().unwrap_or_else(|| {
+            Path::new(file)
+                .file_stem()
+                .map_or("gear_pair".into(), |s| s.to_string_lossy().into_owned())
+        }),
+        cases,
+    })
+}
+
+fn case(
+    cx: &Ctx,
+    f: &FileSpec,
+    i: usize,
+    s: &Spanned<PairTable>,
+) -> Result<PairCase, ScenarioError> {
+    let p = s.get_ref();
+    let err =
+        |field: &str, msg: String| cx.field(s.span(), field, format!("pair[{i}].{field}"), msg);
+    let kind = p.kind.clone().unwrap_or_else(|| "external".into());
+    let label = p.label.clone().unwrap_or_else(|| format!("pair {}", i + 1));
+    let module = p
+        .module
+        .or(f.module)
+        .ok_or_else(|| err("module", "a module is needed (here or at the top)".into()))?;
+    if !in_range(module, 1e-6, 1e6) {
+        return Err(err(
+            "module",
+            format!("must be a positive module (mm), got {module}"),
+        ));
+    }
+    let alpha_deg = p
+        .pressure_angle_deg
+        .or(f.pressure_angle_deg)
+        .unwrap_or(20.0);
+    let alpha = alpha_deg.to_radians();
+    let ha = p.addendum.or(f.addendum).unwrap_or(1.0);
+    let c = p.clearance.or(f.clearance).unwrap_or(0.25);
+    let need = |key: &str, v: bool| -> Result<(), ScenarioError> {
+        if v {
+            Ok(())
+        } else {
+            Err(err(key, format!("is not used by pairs of type '{kind}'")))
+        }
+    };
+    let points = match p.profile_points {
+        None => 12,
+        Some(n) if (2..=1000).contains(&n) => n as usize,
+        Some(n) => return Err(err("profile_points", format!("expected 2 … 1000, got {n}"))),
+    };
+    need("ratio", p.ratio.is_none() || kind == "design")?;
+    if kind == "design" {
+        need("teeth", p.teeth.is_none())?;
+        let a = p.centre_distance.ok_or_else(|| {
+            err(
+                "centre_distance",
+                "missing: the design starts from the centre distance".into(),
+            )
+        })?;
+        let i = p
+            .ratio
+            .ok_or_else(|| err("ratio", "missing: the speed ratio z2/z1 ≥ 1".into()))?;
+        if !in_range(i, 1.0, 100.0) {
+            return Err(err("ratio", format!("must be in [1, 100], got {i}")));
+        }
+        if !in_range(a, 3.0 * module, 1e7) {
+            return Err(err(
+                "centre_distance",
+                "must be a positive distance of at least 3 modules (mm)".into(),
+            ));
+        }
+        if !in_range(alpha_deg, 5.0, 45.0) {
+            return Err(err(
+                "pressure_angle_deg",
+                "must be between 5° and 45°".into(),
+            ));
+        }
+        if super::design::design(a, module, alpha, i, ha, c).is_none() {
+            return Err(err(
+                "centre_distance",
+                "no pair fits: the standard centre distance of the tooth counts exceeds A".into(),
+            ));
+        }
+        return Ok(PairCase {
+            label,
+            kind,
+            spec: None,
+            spatial: Some(SpatialCase::Design {
+                a,
+                m: module,
+                alpha,
+                i,
+                ha,
+                c,
+            }),
+            points,
+        });
+    }
+    let teeth: Vec<u32> = match &p.teeth {
+        Some(t) if t.iter().all(|z| (1..=100_000).contains(z)) => {
+            t.iter().map(|&z| z as u32).collect()
+        }
+        Some(_) => {
+            return Err(err(
+                "teeth",
+                "tooth counts must be whole numbers 1 … 100000".into(),
+            ))
+        }
+        None => return Err(err("teeth", "missing: teeth = [z1, z2]".into())),
+    };
+    let n_teeth = if kind == "rack" { 1 } else { 2 };
+    if teeth.len() != n_teeth {
+        return Err(err(
+            "teeth",
+            format!(
+                "a '{kind}' pair takes {n_teeth} tooth count{}",
+                if n_teeth == 1 { "" } else { "s" }
+            ),
+        ));
+    }
+    let planar = matches!(kind.as_str(), "external" | "internal" | "rack");
+    need(
+        "helix_angles_deg",
+        p.helix_angles_deg.is_none() || kind == "crossed",
+    )?;
+    need(
+        "diameter_factor",
+        p.diameter_factor.is_none() || kind == "worm",
+    )?;
+    need("speed_rpm", p.speed_rpm.is_none() || kind == "worm")?;
+    need("friction", p.friction.is_none() || kind == "worm")?;
+    need("speed", p.speed.is_none() || kind == "crossed")?;
+    need(
+        "shaft_angle_deg",
+        p.shaft_angle_deg.is_none() || kind == "bevel",
+    )?;
+    need(
+        "rack_withdrawal",
+        p.rack_withdrawal.is_none() || kind == "rack",
+    )?;
+    need("shift", p.shift.is_none() || planar)?;
+    need("helix_angle_deg", p.helix_angle_deg.is_none() || planar)?;
+    let finite = |key: &str, v: Option<f64>| -> Result<(), ScenarioError> {
+        match v {
+            Some(x) if !x.is_finite() => Err(err(key, "not a finite number".into())),
+            _ => Ok(()),
+        }
+    };
+    for (k, v) in [
+        ("speed", p.speed),
+        ("speed_rpm", p.speed_rpm),
+        ("rack_withdrawal", p.rack_withdrawal),
+    ] {
+        finite(k, v)?;
+    }
+    if planar {
+        let pk = match kind.as_str() {
+            "internal" => PairKind::Internal,
+            "rack" => PairKind::Rack,
+            _ => PairKind::External,
+        };
+        let z2 = if pk == PairKind::Rack { 0 } else { teeth[1] };
+        let shift = match &p.shift {
+            None => [0.0, 0.0],
+            Some(toml::Value::String(s)) if s == "no_undercut" => {
+                let zmin = super::pair::z_min_book(
+                    ha,
+                    alpha,
+                    p.helix_angle_deg.unwrap_or(0.0).to_radians(),
+                );
+                [
+                    (zmin - teeth[0] as f64) / zmin,
+                    if pk == PairKind::External {
+                        (zmin - z2 as f64) / zmin
+                    } else {
+                        0.0
+                    },
+                ]
+            }
+            Some(toml::Value::Array(a))
+                if a.len() == 2 || (pk == PairKind::Rack && a.len() == 1) =>
+            {
+                let mut x = [0.0; 2];
+                for (k, v) in a.iter().enumerate() {
+                    x[k] = v
+                        .as_float()
+                        .or(v.as_integer().map(|n| n as f64))
+                        .ok_or_else(|| err("shift", "expected numbers".into()))?;
+                }
+                x
+            }
+            Some(_) => {
+                return Err(err(
+                    "shift",
+                    "expected [x1, x2] ([x] for a rack) or \"no_undercut\"".into(),
+                ))
+            }
+        };
+        let mut helix = p.helix_angle_deg.unwrap_or(0.0).to_radians();
+        if p.find_helix_angle {
+            let a = p
+                .centre_distance
+                .ok_or_else(|| err("find_helix_angle", "needs a centre_distance".into()))?;
+            if pk != PairKind::External || p.helix_angle_deg.is_some() {
+                return Err(err(
+                    "find_helix_angle",
+                    "only for an external pair without helix_angle_deg".into(),
+                ));
+            }
+            let cosb = module * (teeth[0] + teeth[1]) as f64 / (2.0 * a);
+            if !(cosb > 0.0 && cosb <= 1.0) {
+                return Err(err(
+                    "centre_distance",
+                    format!("no helix angle fits: cos β = m (z1 + z2)/(2A) = {cosb:.4} > 1"),
+                ));
+            }
+            helix = cosb.acos();
+        }
+        let mut x = shift;
+        if pk == PairKind::Rack {
+            x[1] = p.rack_withdrawal.unwrap_or(0.0) / module;
+        }
+        let spec = PairSpec {
+            kind: pk,
+            module,
+            teeth: [teeth[0], z2],
+            pressure_angle: alpha,
+            addendum: ha,
+            clearance: c,
+            shift: x,
+            helix,
+            face_width: p.face_width,
+            centre_distance: if p.find_helix_angle {
+                None
+            } else {
+                p.centre_distance
+            },
+        };
+        validate(&spec).map_err(|(k, m)| err(k, m))?;
+        return Ok(PairCase {
+            label,
+            kind,
+            spec: Some(spec),
+            spatial: None,
+            points,
+        });
+    }
+    let spatial = match kind.as_str() {
+        "crossed" => {
+            let b = p.helix_angles_deg.ok_or_else(|| err("helix_angles_deg", "missing: [β1, β2] in degrees".into()))?;
+            if b.iter().any(|x| !in_range(x.abs(), 0.0, 85.0)) {
+                return Err(err("helix_angles_deg", "each must be within ±85°".into()));
+            }
+            SpatialCase::Crossed { mn: module, z: [teeth[0], teeth[1]], beta: [b[0].to_radians(), b[1].to_radians()], omega1: p.speed }
+        }
+        "worm" => {
+            let q = p.diameter_factor.ok_or_else(|| err("diameter_factor", "missing: q = d1/m".into()))?;
+            if !in_range(q, 0.5, 1000.0) {
+                return Err(err("diameter_factor", "must be in [0.5, 1000]".into()));
+            }
+            if let Some(fr) = p.friction {
+                if !in_range(fr, 0.0, 2.0) {
+                    return Err(err("friction", "must be in [0, 2]".into()));
+                }
+            }
+            SpatialCase::Worm { m: module, starts: teeth[0], q, z2: teeth[1], alpha, n1: p.speed_rpm, f: p.friction }
+        }
+        "bevel" => {
+            let sigma = p.shaft_angle_deg.unwrap_or(90.0);
+            if !in_range(sigma, 1.0, 179.0) {
+                return Err(err("shaft_angle_deg", "must be in [1°, 179°]".into()));
+            }
+            SpatialCase::Bevel { m: module, z: [teeth[0], teeth[1]], sigma: sigma.to_radians(), alpha, ha, c }
+        }
+        other => {
+            return Err(err(
+                "type",
+                format!("unknown pair type '{other}' (expected external, internal, rack, crossed, worm, bevel or design)"),
+            ))
+        }
+    };
+    if !in_range(alpha_deg, 1.0, 45.0) {
+        return Err(err(
+            "pressure_angle_deg",
+            "must be between 1° and 45°".into(),
+        ));
+    }
+    Ok(PairCase {
+        label,
+        kind,
+        spec: None,
+        spatial: Some(spatial),
+        points,
+    })
+}

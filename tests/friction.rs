@@ -1,0 +1,242 @@
+//! Friction and efficiency (TEXTBOOK_SYSTEMS_2 §4): the published checkpoints through
+//! `armsim run --json` on the bundled scenarios, independent routes (Euler's belt law by
+//! integrating `dS/dθ = f S`, the screw as an incline of angle λ, the collar torques by
+//! integrating the pressure over the annulus), and the broken files.
+
+use armsim::machines::friction::elements::{collar_torque, incline, parallel, screw, series};
+use serde_json::Value;
+use std::path::PathBuf;
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn run_json(rel: &str) -> Value {
+    let o = Command::new(env!("CARGO_BIN_EXE_armsim"))
+        .current_dir(root())
+        .args(["run", rel, "--json"])
+        .output()
+        .expect("run armsim");
+    assert!(
+        o.status.success(),
+        "{rel}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).expect("JSON")
+}
+
+fn g(v: &Value, i: usize, k: &str) -> f64 {
+    v["elements"][i][k]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{k}"))
+}
+
+fn close(a: f64, b: f64, tol: f64, what: &str) {
+    assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
+}
+
+#[test]
+fn fr2_square_thread_jack_lifts_18640_newtons_and_locks() {
+    let v = run_json("scenarios/friction_fr2_square_thread_jack.toml");
+    close(g(&v, 0, "load_N"), 18640.0, 5.0, "Q");
+    close(g(&v, 0, "lead_angle_deg"), 2.43, 0.005, "λ");
+    close(g(&v, 0, "friction_angle_deg"), 5.71, 0.005, "φ");
+    assert_eq!(v["elements"][0]["self_locking"], true);
+}
+
+#[test]
+fn fr3_sliding_and_rolling_forces() {
+    let v = run_json("scenarios/friction_fr3_sliding_rolling.toml");
+    close(g(&v, 0, "force_N"), 1000.0, 1e-9, "a");
+    close(g(&v, 1, "force_N"), 1414.2, 0.05, "b");
+    close(g(&v, 2, "force_N"), 420.0, 1e-9, "c");
+    close(g(&v, 3, "force_N"), 20.0, 1e-9, "d");
+}
+
+#[test]
+fn fr5_trapezoid_jack_torque_and_efficiency() {
+    let v = run_json("scenarios/friction_fr5_trapezoid_jack.toml");
+    close(g(&v, 0, "lead_angle_deg"), 3.17, 0.005, "λ");
+    close(g(&v, 0, "friction_angle_deg"), 7.08, 0.005, "φ'");
+    close(g(&v, 0, "thread_torque_Nm"), 41.6, 0.05, "thread");
+    close(g(&v, 0, "collar_torque_Nm"), 54.0, 1e-9, "collar");
+    close(g(&v, 0, "torque_Nm"), 95.6, 0.05, "M");
+    close(g(&v, 0, "efficiency"), 0.133, 0.0005, "η");
+    close(g(&v, 0, "handle_length_m"), 0.48, 0.005, "l");
+}
+
+#[test]
+fn crane_165_friction_torque_and_power() {
+    let v = run_json("scenarios/friction_165_crane.toml");
+    close(g(&v, 0, "torque_Nm"), 392.7, 0.05, "journal");
+    close(g(&v, 1, "torque_Nm"), 133.3, 0.05, "pivot");
+    close(v["total_torque_Nm"].as_f64().unwrap(), 918.7, 0.05, "total");
+    close(v["friction_power_W"].as_f64().unwrap(), 289.0, 0.5, "power");
+}
+
+#[test]
+fn wedge_173_and_belt_176() {
+    let v = run_json("scenarios/friction_173_176_wedge_belt.toml");
+    close(g(&v, 0, "pull_out_N"), 84100.0, 50.0, "wedge");
+    assert_eq!(v["elements"][0]["self_locking"], true);
+    close(g(&v, 1, "initial_tension_N"), 2250.0, 1e-9, "S0");
+    close(g(&v, 1, "shaft_load_N"), 4500.0, 1e-9, "shaft");
+    close(g(&v, 1, "tight_N"), 3000.0, 1e-9, "S1");
+}
+
+#[test]
+fn euler_belt_law_matches_integrating_the_band_equilibrium() {
+    // dS/dθ = f S along the wrap (RK4), from the slack to the tight side.
+    let (f, wrap) = (0.3_f64, 2.5_f64);
+    let n = 1000;
+    let h = wrap / n as f64;
+    let mut s = 1.0_f64;
+    for _ in 0..n {
+        let k1 = f * s;
+        let k2 = f * (s + h * k1 / 2.0);
+        let k3 = f * (s + h * k2 / 2.0);
+        let k4 = f * (s + h * k3);
+        s += h * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
+    }
+    let [_, s1, s2, ..] = armsim::machines::friction::elements::belt(1000.0, 5.0, (f * wrap).exp());
+    close(s1 / s2, s, 1e-10, "S1/S2 = e^(f α)");
+}
+
+#[test]
+fn screw_is_an_incline_of_its_lead_angle() {
+    for (p, dm, f) in [
+        (0.003, 0.0225, 0.1),
+        (0.008, 0.046, 0.05),
+        (0.02, 0.03, 0.2),
+    ] {
+        let sc = screw(1000.0, p, dm, f, 0.0, 0.0);
+        let inc = incline(1000.0, sc.lead_angle, f);
+        close(sc.efficiency, inc.efficiency, 1e-12, "η");
+        close(
+            sc.reverse_efficiency,
+            inc.reverse_efficiency,
+            1e-12,
+            "reverse η",
+        );
+        assert_eq!(sc.self_locking, inc.self_locking);
+        assert_eq!(sc.self_locking, sc.reverse_efficiency <= 0.0);
+        // Thread torque = horizontal push on the incline × mean radius.
+        close(sc.thread_torque, inc.up * dm / 2.0, 1e-9, "M");
+    }
+    close(series(&[0.9, 0.8]), 0.72, 1e-15, "series");
+    close(parallel(&[1.0, 3.0], &[0.8, 0.6]), 0.65, 1e-15, "parallel");
+}
+
+#[test]
+fn collar_torques_match_integrating_the_pressure() {
+    // Uniform pressure p = Q/(π(R1² − R2²)); uniform wear p r = const.
+    let (f, q, r1, r2) = (0.15_f64, 1000.0_f64, 0.04_f64, 0.02_f64);
+    let n = 20000;
+    let dr = (r1 - r2) / n as f64;
+    let (mut new, mut worn) = (0.0, 0.0);
+    let c = q / (2.0 * std::f64::consts::PI * (r1 - r2));
+    for k in 0..n {
+        let r = r2 + (k as f64 + 0.5) * dr;
+        new += f * q / (std::f64::consts::PI * (r1 * r1 - r2 * r2))
+            * 2.0
+            * std::f64::consts::PI
+            * r
+            * r
+            * dr;
+        worn += f * (c / r) * 2.0 * std::f64::consts::PI * r * r * dr;
+    }
+    close(collar_torque(f, q, r1, r2, false), new, 1e-6, "new");
+    close(collar_torque(f, q, r1, r2, true), worn, 1e-6, "worn");
+}
+
+const BROKEN: &[(&str, usize, &str, &str)] = &[
+    (
+        "friction_unknown_key.toml",
+        6,
+        "element.lod",
+        "unknown field `lod`",
+    ),
+    (
+        "friction_no_elements.toml",
+        2,
+        "kind",
+        "at least one [[element]]",
+    ),
+    (
+        "friction_unknown_type.toml",
+        5,
+        "element[0].type",
+        "unknown element type 'clutch'",
+    ),
+    (
+        "friction_missing_load.toml",
+        4,
+        "element[0].load",
+        "missing",
+    ),
+    (
+        "friction_negative_friction.toml",
+        7,
+        "element[0].friction",
+        "must be in [0, 2]",
+    ),
+    (
+        "friction_screw_diameters.toml",
+        8,
+        "element[0].diameters",
+        "outer > root",
+    ),
+    (
+        "friction_collar_half_given.toml",
+        4,
+        "element[0].collar_diameters",
+        "together",
+    ),
+    (
+        "friction_bad_slide.toml",
+        6,
+        "element[0].slide",
+        "unknown slide 'dovetail'",
+    ),
+    (
+        "friction_belt_without_euler.toml",
+        4,
+        "element[0].euler_factor",
+        "euler_factor",
+    ),
+    (
+        "friction_wedge_angle.toml",
+        7,
+        "element[0].angle_deg",
+        "must be in [0, 89]",
+    ),
+    ("friction_bad_speed.toml", 3, "speed_rpm", "≥ 0"),
+];
+
+#[test]
+fn broken_friction_scenarios_give_located_errors() {
+    let dir = root().join("tests/broken_scenarios");
+    for (file, line, key, msg) in BROKEN {
+        let path = dir.join(file);
+        let e = match armsim::scenario::run_file(&path) {
+            Ok(_) => panic!("{file}: expected an error"),
+            Err(e) => e,
+        };
+        assert_eq!(e.line, Some(*line), "{file}: {e}");
+        assert_eq!(e.key, *key, "{file}: {e}");
+        assert!(e.message.contains(msg), "{file}: {e}");
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            armsim::scenario::check(file, &text).is_err(),
+            "{file}: check passes"
+        );
+    }
+    let listed: Vec<&str> = BROKEN.iter().map(|b| b.0).collect();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let name = entry.unwrap().file_name().into_string().unwrap();
+        if name.starts_with("friction_") {
+            assert!(listed.contains(&name.as_str()), "{name} is not checked");
+        }
+    }
+}

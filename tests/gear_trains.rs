@@ -1,0 +1,551 @@
+//! Gear trains (TEXTBOOK_SYSTEMS_2 §1): every published checkpoint through `armsim run
+//! --json` on its bundled scenario, and independent routes — the pitch-point velocity
+//! check of the graphical method, closed-form planetary efficiencies, the mobility count
+//! against the null-space dimension — plus the broken files.
+
+use armsim::machines::gears::torques::solve_torques;
+use armsim::machines::gears::train_scenario::parse;
+use armsim::machines::gears::willis::relative_ratio;
+use armsim::machines::rational::Ratio;
+use serde_json::Value;
+use std::path::PathBuf;
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn run_json(rel: &str) -> Value {
+    let o = Command::new(env!("CARGO_BIN_EXE_armsim"))
+        .current_dir(root())
+        .args(["run", rel, "--json"])
+        .output()
+        .expect("run armsim");
+    assert!(
+        o.status.success(),
+        "{rel}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).expect("JSON")
+}
+
+fn member<'a>(v: &'a Value, name: &str) -> &'a Value {
+    v["members"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["name"] == name)
+        .unwrap_or_else(|| panic!("no member {name}"))
+}
+
+fn speed(v: &Value, name: &str) -> f64 {
+    member(v, name)["speed"].as_f64().unwrap()
+}
+
+fn close(a: f64, b: f64, tol: f64, what: &str) {
+    assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
+}
+
+fn scenario(rel: &str) -> armsim::machines::gears::train_report::TrainScenario {
+    let text = std::fs::read_to_string(root().join(rel)).unwrap();
+    parse(rel, &text).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn with(rel: &str, from: &str, to: &str) -> armsim::machines::gears::train_report::TrainScenario {
+    let text = std::fs::read_to_string(root().join(rel)).unwrap();
+    assert!(text.contains(from), "{rel} has no '{from}'");
+    let text = text.replacen(from, to, 1);
+    parse(rel, &text).unwrap_or_else(|e| panic!("{e}"))
+}
+
+// ---------------------------------------------------------------------------------------
+// Published checkpoints.
+
+#[test]
+fn gt1_coaxiality_gives_z5_100_and_n5_minus_10_rpm() {
+    let v = run_json("scenarios/gear_train_gt1_compound_internal.toml");
+    assert_eq!(v["derived_teeth"][0]["gear"], "5");
+    assert_eq!(v["derived_teeth"][0]["teeth"], 100);
+    assert_eq!(v["transmission"]["gear_ratio"]["exact"], "-33");
+    close(speed(&v, "5"), -10.0, 1e-12, "n5");
+    assert_eq!(v["classification"], "ordinary");
+    // The book's graphical check: v1 = ω1 r1 = 330·π/30·0.08 = 2.76 m/s ("2.7").
+    close(330.0 * std::f64::consts::PI / 30.0 * 0.08, 2.76, 0.01, "v1");
+}
+
+#[test]
+fn gt3_differential_carrier_turns_at_51_8_per_second() {
+    let v = run_json("scenarios/gear_train_gt3_differential.toml");
+    assert_eq!(v["mobility"]["structural"], 2);
+    assert_eq!(v["mobility"]["kinematic"], 2);
+    assert_eq!(v["classification"], "differential");
+    assert_eq!(v["willis"][0]["ratio"]["exact"], "-62/99");
+    close(
+        v["willis"][0]["ratio"]["value"].as_f64().unwrap(),
+        -0.6263,
+        5e-5,
+        "i13C",
+    );
+    let wc = speed(&v, "C");
+    assert!((wc - 51.8).abs() <= 0.02 * 51.8, "wC = {wc}");
+    close(
+        wc,
+        (150.0 - 62.0 / 99.0 * 105.0) / (1.0 + 62.0 / 99.0),
+        1e-9,
+        "closed form",
+    );
+}
+
+#[test]
+fn gt4_high_ratio_differential_is_exactly_9112() {
+    let v = run_json("scenarios/gear_train_gt4_high_ratio_differential.toml");
+    assert_eq!(v["transmission"]["gear_ratio"]["exact"], "9112");
+    assert_eq!(member(&v, "C")["ratio_from_input"]["exact"], "9112");
+    close(speed(&v, "C"), 1.0, 1e-9, "carrier");
+    // The bevel side gears average: wC = (w2 + w4)/2.
+    close(
+        speed(&v, "C"),
+        (speed(&v, "2") + speed(&v, "4")) / 2.0,
+        1e-9,
+        "average",
+    );
+    // Such a differential locks itself: the carrier cannot drive gear 1 back.
+    assert_eq!(v["transmission"]["self_locking"], true);
+}
+
+#[test]
+fn gt5_planetary_torques_and_pin_loads() {
+    let v = run_json("scenarios/gear_train_gt5_planetary_torques_112.toml");
+    close(
+        member(&v, "1")["torque_Nm"].as_f64().unwrap(),
+        -40.0,
+        1e-9,
+        "112 M1",
+    );
+    close(
+        v["load"]["planet_bearings"][0]["load_N"].as_f64().unwrap(),
+        500.0,
+        1e-9,
+        "112 R_B",
+    );
+    let v = run_json("scenarios/gear_train_gt5_planetary_torques_122.toml");
+    close(
+        member(&v, "C")["torque_Nm"].as_f64().unwrap().abs(),
+        80.0,
+        1e-9,
+        "122 M_C",
+    );
+    close(
+        v["load"]["planet_bearings"][0]["load_N"].as_f64().unwrap(),
+        200.0,
+        1e-9,
+        "122 R_B",
+    );
+    let v = run_json("scenarios/gear_train_gt5_planetary_torques_123.toml");
+    close(
+        member(&v, "1")["torque_Nm"].as_f64().unwrap().abs(),
+        8.6,
+        0.05,
+        "123 |M1|",
+    );
+    close(
+        v["load"]["planet_bearings"][0]["load_N"].as_f64().unwrap(),
+        200.0,
+        1e-9,
+        "123 R_B",
+    );
+    assert_eq!(v["transmission"]["gear_ratio"]["exact"], "-13/2");
+}
+
+#[test]
+fn problem_148_and_147_reduced_torques() {
+    // 148: M_C = 40 N m reduced to gear 1 of the 122 train is 10 N m.
+    let sc = scenario("scenarios/gear_train_gt5_planetary_torques_122.toml");
+    let om = sc.omega();
+    let c = sc.train.body("C").unwrap();
+    let one = sc.train.body("1").unwrap();
+    let t = solve_torques(&sc.train, &om, &[(c, 40.0)], &[one]).unwrap();
+    close(t.body[one].abs(), 10.0, 1e-9, "148");
+    let v = run_json("scenarios/gear_train_147_worm.toml");
+    close(
+        member(&v, "1")["torque_Nm"].as_f64().unwrap().abs(),
+        2.0,
+        1e-12,
+        "147",
+    );
+    assert_eq!(member(&v, "2")["sense_defined"], false);
+}
+
+#[test]
+fn answer_section_trains_match_the_book() {
+    let v = run_json("scenarios/gear_train_235_worm_bevel.toml");
+    assert_eq!(
+        v["transmission"]["gear_ratio"]["value"]
+            .as_f64()
+            .unwrap()
+            .abs(),
+        720.0
+    );
+    close(speed(&v, "5").abs(), 2.0, 1e-12, "235 n5");
+    let z: Vec<u64> = v["derived_teeth"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["teeth"].as_u64().unwrap())
+        .collect();
+    assert_eq!(z, [48, 48]);
+
+    let v = run_json("scenarios/gear_train_238_bevel_planetary.toml");
+    assert_eq!(v["transmission"]["gear_ratio"]["exact"], "7/3");
+    let other = with(
+        "scenarios/gear_train_238_bevel_planetary.toml",
+        "kind = \"bevel\"\nsign = 1",
+        "kind = \"bevel\"\nsign = -1",
+    );
+    let c = other.train.body("C").unwrap();
+    let r = Ratio::ONE.over(other.speeds.map[c][0]).unwrap().unwrap();
+    assert_eq!(
+        r,
+        Ratio::new(-1, 3).unwrap(),
+        "238, planet on the other side"
+    );
+
+    let v = run_json("scenarios/gear_train_240_triple_planet.toml");
+    close(speed(&v, "C"), -195.0, 1e-9, "240 nC");
+    close(speed(&v, "4"), -60.0, 1e-9, "240 n4");
+    assert_eq!(v["willis"][0]["ratio"]["exact"], "13");
+
+    let v = run_json("scenarios/gear_train_282_carrier_speed.toml");
+    close(speed(&v, "C"), -10.0, 1e-12, "282");
+
+    let v = run_json("scenarios/gear_train_247_fan.toml");
+    assert_eq!(v["derived_teeth"][0]["teeth"], 30);
+    close(speed(&v, "C"), 1856.25, 1e-9, "247 nC");
+    close(speed(&v, "2"), 4950.0, 1e-9, "247 n2");
+
+    let v = run_json("scenarios/gear_train_248_planetary.toml");
+    close(speed(&v, "C"), 40.0, 1e-12, "248 nC");
+    let v = run_json("scenarios/gear_train_248_stop_carrier.toml");
+    close(speed(&v, "3"), -60.0, 1e-12, "248 n3 stops C");
+
+    let v = run_json("scenarios/gear_train_250_compound_planet.toml");
+    close(speed(&v, "C"), 100.0, 1e-12, "250 nC");
+    close(speed(&v, "2"), -300.0, 1e-12, "250 n2");
+    let kinds: Vec<&str> = v["checks"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["kind"].as_str().unwrap())
+        .collect();
+    assert!(
+        kinds.contains(&"assembly") && kinds.contains(&"neighbours"),
+        "{kinds:?}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------
+// Independent routes.
+
+/// The graphical method: with every axis placed (central gears on the main axis, each
+/// planet at its arm on the carrier), the two gears of every mesh have the same velocity
+/// at their pitch point.
+#[test]
+fn pitch_points_have_equal_velocities_in_every_planetary_mesh() {
+    for rel in [
+        "scenarios/gear_train_gt3_differential.toml",
+        "scenarios/gear_train_gt5_planetary_torques_112.toml",
+        "scenarios/gear_train_gt5_planetary_torques_123.toml",
+        "scenarios/gear_train_240_triple_planet.toml",
+        "scenarios/gear_train_247_fan.toml",
+        "scenarios/gear_train_250_compound_planet.toml",
+    ] {
+        let sc = scenario(rel);
+        let t = &sc.train;
+        let w = &sc.speeds.values;
+        // Axis positions (mm): the main axis at the origin, planets at (arm, 0).
+        let arm = |b: usize| armsim::machines::gears::assembly::planet_arm(t, b).unwrap();
+        let centre = |b: usize| {
+            if t.bodies[b].carrier.is_some() {
+                (arm(b), 0.0)
+            } else {
+                (0.0, 0.0)
+            }
+        };
+        let vel = |b: usize, p: (f64, f64)| {
+            let o = centre(b);
+            let (mut vx, mut vy) = (-w[b] * (p.1 - o.1), w[b] * (p.0 - o.0));
+            if let Some(c) = t.bodies[b].carrier {
+                vx += -w[c] * o.1;
+                vy += w[c] * o.0;
+            }
+            (vx, vy)
+        };
+        for m in &t.meshes {
+            let [a, b] = m.gears;
+            let (ba, bb) = (t.gears[a].body, t.gears[b].body);
+            // Pitch point on the line of centres.
+            let (planet_gear, other) = if t.bodies[ba].carrier.is_some() {
+                (a, b)
+            } else {
+                (b, a)
+            };
+            let pb = t.gears[planet_gear].body;
+            let rp = t.radius(planet_gear).unwrap();
+            let x = if t.gears[other].internal {
+                arm(pb) + rp
+            } else {
+                arm(pb) - rp
+            };
+            let p = (x, 0.0);
+            let (va, vb) = (vel(ba, p), vel(bb, p));
+            let scale = w.iter().fold(1.0_f64, |s, v| s.max(v.abs())) * 1000.0;
+            assert!(
+                (va.0 - vb.0).abs() + (va.1 - vb.1).abs() <= 1e-12 * scale,
+                "{rel}: mesh {}–{}: {va:?} vs {vb:?}",
+                t.gears[a].name,
+                t.gears[b].name
+            );
+        }
+    }
+}
+
+#[test]
+fn simple_planetary_efficiency_matches_the_relative_power_formula() {
+    // Sun 1 drives, ring 3 fixed, carrier out; eta per mesh, eta0 = eta² through both.
+    let eta: f64 = 0.97;
+    let sc = with(
+        "scenarios/gear_train_gt5_planetary_torques_112.toml",
+        "output = \"C\"",
+        "output = \"C\"\nmesh_efficiency = 0.97",
+    );
+    let t = &sc.train;
+    let om = sc.omega();
+    let (one, c) = (t.body("1").unwrap(), t.body("C").unwrap());
+    let three = t.body("3").unwrap();
+    let i13 = relative_ratio(t, one, three, c).unwrap().unwrap().to_f64();
+    close(i13, -56.0 / 16.0, 1e-12, "i13C");
+    let eta0 = eta * eta;
+    let expected = (1.0 - i13 * eta0) / (1.0 - i13);
+    let fwd = solve_torques(t, &om, &[(c, -1.0)], &[one]).unwrap();
+    let got = -fwd.body[c] * om[c] / (fwd.body[one] * om[one]);
+    close(got, expected, 1e-12, "forward");
+    assert!(fwd.converged);
+    // Reverse (carrier drives the sun): the relative power flows the other way.
+    let k = 56.0 / 16.0;
+    let rev = solve_torques(t, &om, &[(one, -1.0)], &[c]).unwrap();
+    let got = -rev.body[one] * om[one] / (rev.body[c] * om[c]);
+    close(got, (1.0 + k) / (1.0 + k / eta0), 1e-12, "reverse");
+}
+
+#[test]
+fn ordinary_train_efficiency_is_the_product_of_its_meshes() {
+    let sc = with(
+        "scenarios/gear_train_gt1_compound_internal.toml",
+        "output = \"5\"",
+        "output = \"5\"\nmesh_efficiency = 0.98",
+    );
+    let t = &sc.train;
+    let om = sc.omega();
+    let (one, five) = (t.body("1").unwrap(), t.body("5").unwrap());
+    let fwd = solve_torques(t, &om, &[(five, 1.0)], &[one]).unwrap();
+    let eta = -fwd.body[five] * om[five] / (fwd.body[one] * om[one]);
+    close(eta, 0.98_f64.powi(4), 1e-12, "series");
+    // Ideal torques follow the ratio: M1 = −M5/i15.
+    let ideal = solve_torques(
+        &scenario("scenarios/gear_train_gt1_compound_internal.toml").train,
+        &om,
+        &[(five, 1.0)],
+        &[one],
+    )
+    .unwrap();
+    close(ideal.body[one], 1.0 / 33.0, 1e-12, "ideal M1");
+}
+
+#[test]
+fn mobility_count_equals_the_null_space_dimension() {
+    for entry in std::fs::read_dir(root().join("scenarios")).unwrap() {
+        let p = entry.unwrap().path();
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        if !name.starts_with("gear_train_") {
+            continue;
+        }
+        let sc = scenario(&format!("scenarios/{name}"));
+        let (w, ..) = sc.train.structural_mobility();
+        assert_eq!(w, sc.kin.dof() as i64, "{name}");
+        // Willis' relation holds for every mesh with the solved speeds.
+        for e in 0..sc.train.meshes.len() {
+            let f = sc.train.mesh_frame(e).unwrap();
+            let [ga, gb] = sc.train.meshes[e].gears;
+            let wh = f.carrier.map_or(0.0, |h| sc.speeds.values[h]);
+            let s = f.sign.unwrap_or(1) as f64;
+            let lhs = sc.train.z(ga) as f64 * (sc.speeds.values[f.bodies[0]] - wh);
+            let rhs = s * sc.train.z(gb) as f64 * (sc.speeds.values[f.bodies[1]] - wh);
+            assert!(
+                (lhs - rhs).abs() <= 1e-9 * (1.0 + lhs.abs()),
+                "{name} mesh {e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn reflected_inertia_is_the_kinetic_energy_referred_to_the_input() {
+    // Planetary 112 with inertias: sun 0.01, planet 0.02 (3 kg), carrier 0.5 kg m².
+    let text =
+        std::fs::read_to_string(root().join("scenarios/gear_train_gt5_planetary_torques_112.toml"))
+            .unwrap();
+    let text = text
+        .replacen(
+            "name = \"1\"\nteeth = 16",
+            "name = \"1\"\nteeth = 16\ninertia = 0.01",
+            1,
+        )
+        .replacen(
+            "teeth = 20\ncarrier = \"C\"",
+            "teeth = 20\ncarrier = \"C\"\ninertia = 0.02\nmass = 3.0",
+            1,
+        )
+        .replacen(
+            "[[carrier]]\nname = \"C\"",
+            "[[carrier]]\nname = \"C\"\ninertia = 0.5",
+            1,
+        );
+    let dir = std::env::temp_dir().join(format!("armsim_gt_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("inertia.toml");
+    std::fs::write(&f, text).unwrap();
+    let v = run_json(f.to_str().unwrap());
+    // ω2/ω1 = −2.5/4.5, ωC/ω1 = 1/4.5; planet orbit radius 0.36 m.
+    let (r2, rc) = (-180.0 / 450.0, 1.0 / 4.5);
+    let expected = 0.01 + 0.02 * r2 * r2 + 3.0 * 0.36 * 0.36 * rc * rc + 0.5 * rc * rc;
+    close(
+        v["transmission"]["inertia_input_side"].as_f64().unwrap(),
+        expected,
+        1e-12,
+        "J_in",
+    );
+    close(
+        v["transmission"]["inertia_output_side"].as_f64().unwrap(),
+        expected * 4.5 * 4.5,
+        1e-10,
+        "J_out",
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+// ---------------------------------------------------------------------------------------
+// Broken files.
+
+const BROKEN: &[(&str, usize, &str, &str)] = &[
+    (
+        "gear_train_unknown_key.toml",
+        6,
+        "gear.teth",
+        "unknown field `teth`",
+    ),
+    (
+        "gear_train_not_coaxial.toml",
+        39,
+        "mesh[1].gears",
+        "(A = 24 mm and 23.5 mm): violated",
+    ),
+    (
+        "gear_train_assembly.toml",
+        33,
+        "carrier[0].planets",
+        "cannot be equally spaced",
+    ),
+    (
+        "gear_train_neighbours.toml",
+        33,
+        "carrier[0].planets",
+        "neighbouring planets collide",
+    ),
+    (
+        "gear_train_too_few_inputs.toml",
+        42,
+        "input[0].member",
+        "give 2 input speeds, not 1",
+    ),
+    (
+        "gear_train_bevel_without_sign.toml",
+        38,
+        "mesh[1].sign",
+        "needs `sign = 1` or `-1`",
+    ),
+    (
+        "gear_train_unknown_gear.toml",
+        13,
+        "mesh[0].gears",
+        "'9' is not a [[gear]]",
+    ),
+    (
+        "gear_train_missing_teeth.toml",
+        8,
+        "gear[1].teeth",
+        "tooth count of '2' is missing",
+    ),
+    (
+        "gear_train_two_internal.toml",
+        15,
+        "mesh[0].gears",
+        "two internal gears",
+    ),
+    (
+        "gear_train_bad_sign.toml",
+        15,
+        "mesh[0].sign",
+        "must be 1 or -1",
+    ),
+    (
+        "gear_train_unknown_carrier.toml",
+        11,
+        "gear[1].carrier",
+        "'X' is not a [[carrier]]",
+    ),
+    (
+        "gear_train_fixed_input.toml",
+        29,
+        "input[0].member",
+        "'1' is fixed",
+    ),
+    (
+        "gear_train_modules_differ.toml",
+        15,
+        "mesh[0].gears",
+        "modules differ",
+    ),
+    (
+        "gear_train_bad_speed_unit.toml",
+        3,
+        "speed_unit",
+        "expected \"rpm\" or \"rad/s\"",
+    ),
+];
+
+#[test]
+fn broken_gear_train_scenarios_give_located_errors() {
+    let dir = root().join("tests/broken_scenarios");
+    for (file, line, key, msg) in BROKEN {
+        let path = dir.join(file);
+        let e = match armsim::scenario::run_file(&path) {
+            Ok(_) => panic!("{file}: expected an error"),
+            Err(e) => e,
+        };
+        assert_eq!(e.line, Some(*line), "{file}: {e}");
+        assert_eq!(e.key, *key, "{file}: {e}");
+        assert!(e.message.contains(msg), "{file}: {e}");
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            armsim::scenario::check(file, &text).is_err(),
+            "{file}: check passes"
+        );
+    }
+    let listed: Vec<&str> = BROKEN.iter().map(|b| b.0).collect();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let name = entry.unwrap().file_name().into_string().unwrap();
+        if name.starts_with("gear_train_") {
+            assert!(listed.contains(&name.as_str()), "{name} is not checked");
+        }
+    }
+}
