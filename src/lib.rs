@@ -27,6 +27,7 @@ pub mod model;
 pub mod planning;
 pub mod recording;
 pub mod scenario;
+pub mod scenario_kit;
 pub mod sim;
 pub mod spatial;
 pub mod tradeoffs;

@@ -177,6 +177,9 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
         "linkage" => crate::mechanism::scenario::run(path, &text),
         "torsional" => crate::drivetrain::scenario::run(path, &text),
         "arm" => crate::arm::run(path, &text, opts).map(|o| o.report),
+        "synthesis" => {
+            crate::mechanism::synthesis_scenario::run(path, &text, opts.out_dir.as_deref())
+        }
         other => Err(ScenarioError::new(
             &file,
             line_of_key(&text, "kind"),
@@ -211,6 +214,9 @@ pub fn check(file: &str, text: &str) -> Result<(), ScenarioError> {
         }
         Some(toml::Value::String(k)) if k == "torsional" => {
             crate::drivetrain::scenario::parse(file, text).map(drop)
+        }
+        Some(toml::Value::String(k)) if k == "synthesis" => {
+            crate::mechanism::synthesis_scenario::parse(file, text).map(drop)
         }
         None => crate::arm::load(Path::new(file), text).map(drop),
         Some(toml::Value::String(k)) if k == "arm" => {

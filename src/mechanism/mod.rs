@@ -26,6 +26,9 @@
 //! - [`machine_motion`]: `J ω̇ = M_d(ω) − M_load` from rest;
 //! - [`spatial_loop`]: frame-coincidence constraints on the tree model and Newton
 //!   projection onto them;
+//! - [`synthesis`], [`synthesis_check`], [`synthesis_scenario`]: limit-position,
+//!   time-ratio and Freudenstein synthesis, checked by the linkage solver
+//!   (`kind = "synthesis"`);
 //! - [`catalog`]: standard linkages (slider-crank, four-bar, Scotch yoke) built in code;
 //! - [`scenario`] and [`report`]: `kind = "linkage"` scenario files and their output.
 
@@ -46,6 +49,9 @@ pub mod report;
 pub mod scenario;
 pub mod spatial_loop;
 pub mod sweep;
+pub mod synthesis;
+pub mod synthesis_check;
+pub mod synthesis_scenario;
 pub mod virtual_power;
 
 pub use linalg::MinNormSolve;
