@@ -180,6 +180,9 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
         "synthesis" => {
             crate::mechanism::synthesis_scenario::run(path, &text, opts.out_dir.as_deref())
         }
+        "flywheel" => {
+            crate::mechanism::flywheel_scenario::run(path, &text, opts.out_dir.as_deref())
+        }
         other => Err(ScenarioError::new(
             &file,
             line_of_key(&text, "kind"),
@@ -217,6 +220,9 @@ pub fn check(file: &str, text: &str) -> Result<(), ScenarioError> {
         }
         Some(toml::Value::String(k)) if k == "synthesis" => {
             crate::mechanism::synthesis_scenario::parse(file, text).map(drop)
+        }
+        Some(toml::Value::String(k)) if k == "flywheel" => {
+            crate::mechanism::flywheel_scenario::parse(file, text).map(drop)
         }
         None => crate::arm::load(Path::new(file), text).map(drop),
         Some(toml::Value::String(k)) if k == "arm" => {

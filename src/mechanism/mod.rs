@@ -23,6 +23,8 @@
 //! - [`virtual_power`]: the driving effort from `Σ F·v + M ω = 0`;
 //! - [`balancing`]: rotor correction masses, slider-crank counterweights, shaking force;
 //! - [`flywheel`]: energy fluctuation and flywheel inertia;
+//! - [`flywheel_design`], [`flywheel_scenario`]: turning-moment diagrams, speed band,
+//!   rim, time check, work stroke and overload (`kind = "flywheel"`);
 //! - [`machine_motion`]: `J ω̇ = M_d(ω) − M_load` from rest;
 //! - [`spatial_loop`]: frame-coincidence constraints on the tree model and Newton
 //!   projection onto them;
@@ -37,6 +39,8 @@ pub mod branch;
 pub mod catalog;
 pub mod constraints;
 pub mod flywheel;
+pub mod flywheel_design;
+pub mod flywheel_scenario;
 pub mod fourbar;
 pub mod kinetostatics;
 pub mod linalg;
