@@ -186,6 +186,9 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
         "flexible_rotor" => {
             crate::drivetrain::rotor_scenario::run(path, &text, opts.out_dir.as_deref())
         }
+        "isolation" => {
+            crate::drivetrain::isolation_scenario::run(path, &text, opts.out_dir.as_deref())
+        }
         other => Err(ScenarioError::new(
             &file,
             line_of_key(&text, "kind"),
@@ -229,6 +232,9 @@ pub fn check(file: &str, text: &str) -> Result<(), ScenarioError> {
         }
         Some(toml::Value::String(k)) if k == "flexible_rotor" => {
             crate::drivetrain::rotor_scenario::parse(file, text).map(drop)
+        }
+        Some(toml::Value::String(k)) if k == "isolation" => {
+            crate::drivetrain::isolation_scenario::parse(file, text).map(drop)
         }
         None => crate::arm::load(Path::new(file), text).map(drop),
         Some(toml::Value::String(k)) if k == "arm" => {

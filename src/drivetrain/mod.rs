@@ -17,6 +17,8 @@
 //! - [`flexible_rotor`], [`rotor_transfer`], [`rotor_balancing`], [`rotor_scenario`]:
 //!   bending of a flexible rotor (a continuous drivetrain): finite elements checked by
 //!   transfer matrices, unbalance response, modal balancing (`kind = "flexible_rotor"`);
+//! - [`isolation`], [`isolation_scenario`]: 1-DOF mounts, transmissibility, isolator
+//!   selection, shock mounts and the dynamic absorber (`kind = "isolation"`);
 //! - [`scenario`]: `kind = "torsional"` scenario files for `armsim run`.
 //!
 //! ```
@@ -36,6 +38,8 @@ pub mod forced;
 pub mod gear;
 pub mod holzer;
 pub mod identify;
+pub mod isolation;
+pub mod isolation_scenario;
 pub mod lr;
 pub mod modes;
 pub mod rotor_balancing;
