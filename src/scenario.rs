@@ -189,6 +189,9 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
         "isolation" => {
             crate::drivetrain::isolation_scenario::run(path, &text, opts.out_dir.as_deref())
         }
+        "centrodes" => {
+            crate::mechanism::centrode_scenario::run(path, &text, opts.out_dir.as_deref())
+        }
         other => Err(ScenarioError::new(
             &file,
             line_of_key(&text, "kind"),
@@ -235,6 +238,9 @@ pub fn check(file: &str, text: &str) -> Result<(), ScenarioError> {
         }
         Some(toml::Value::String(k)) if k == "isolation" => {
             crate::drivetrain::isolation_scenario::parse(file, text).map(drop)
+        }
+        Some(toml::Value::String(k)) if k == "centrodes" => {
+            crate::mechanism::centrode_scenario::parse(file, text).map(drop)
         }
         None => crate::arm::load(Path::new(file), text).map(drop),
         Some(toml::Value::String(k)) if k == "arm" => {

@@ -31,12 +31,16 @@
 //! - [`synthesis`], [`synthesis_check`], [`synthesis_scenario`]: limit-position,
 //!   time-ratio and Freudenstein synthesis, checked by the linkage solver
 //!   (`kind = "synthesis"`);
+//! - [`centrode`], [`centrode_scenario`]: instant centres and the fixed and moving
+//!   centrodes along a tracked sweep (`kind = "centrodes"`);
 //! - [`catalog`]: standard linkages (slider-crank, four-bar, Scotch yoke) built in code;
 //! - [`scenario`] and [`report`]: `kind = "linkage"` scenario files and their output.
 
 pub mod balancing;
 pub mod branch;
 pub mod catalog;
+pub mod centrode;
+pub mod centrode_scenario;
 pub mod constraints;
 pub mod flywheel;
 pub mod flywheel_design;
