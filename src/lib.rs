@@ -56,6 +56,7 @@ pub mod recording;
 pub mod report;
 pub mod robot;
 pub mod scenario;
+pub mod scenario_kit;
 pub mod sim;
 pub mod spatial;
 pub mod tradeoffs;

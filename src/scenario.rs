@@ -35,7 +35,20 @@ pub enum Kind {
     Cam,
     /// `kind = "friction"`.
     Friction,
+    /// `kind = "synthesis"`.
+    Synthesis,
+    /// `kind = "flywheel"`.
+    Flywheel,
+    /// `kind = "flexible_rotor"`.
+    FlexibleRotor,
+    /// `kind = "isolation"`.
+    Isolation,
+    /// `kind = "centrodes"`.
+    Centrodes,
 }
+
+/// Every `kind` name, for the messages.
+const KINDS: &str = "\"arm\", \"linkage\", \"torsional\", \"gear_train\", \"gear_pair\", \"cam\", \"friction\", \"synthesis\", \"flywheel\", \"flexible_rotor\", \"isolation\" or \"centrodes\"";
 
 /// Parses `text` as TOML (refusing an empty file) and reads its `kind`.
 pub fn kind(file: &str, text: &str) -> Result<Kind, ScenarioError> {
@@ -60,13 +73,16 @@ pub fn kind(file: &str, text: &str) -> Result<Kind, ScenarioError> {
             "gear_pair" => Ok(Kind::GearPair),
             "cam" => Ok(Kind::Cam),
             "friction" => Ok(Kind::Friction),
+            "synthesis" => Ok(Kind::Synthesis),
+            "flywheel" => Ok(Kind::Flywheel),
+            "flexible_rotor" => Ok(Kind::FlexibleRotor),
+            "isolation" => Ok(Kind::Isolation),
+            "centrodes" => Ok(Kind::Centrodes),
             other => Err(kind_error(format!(
-                "unknown scenario kind '{other}' (expected \"arm\", \"linkage\" or \"torsional\")"
+                "unknown scenario kind '{other}' (expected {KINDS})"
             ))),
         },
-        Some(_) => Err(kind_error(
-            "expected a string: \"arm\", \"linkage\" or \"torsional\"".into(),
-        )),
+        Some(_) => Err(kind_error(format!("expected a string: {KINDS}"))),
     }
 }
 
@@ -87,6 +103,21 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
         Kind::GearPair => crate::machines::gears::pair_scenario::run(path, &text),
         Kind::Cam => crate::machines::cam::scenario::run(path, &text),
         Kind::Friction => crate::machines::friction::scenario::run(path, &text),
+        Kind::Synthesis => {
+            crate::mechanism::synthesis_scenario::run(path, &text, opts.out_dir.as_deref())
+        }
+        Kind::Flywheel => {
+            crate::mechanism::flywheel_scenario::run(path, &text, opts.out_dir.as_deref())
+        }
+        Kind::FlexibleRotor => {
+            crate::drivetrain::rotor_scenario::run(path, &text, opts.out_dir.as_deref())
+        }
+        Kind::Isolation => {
+            crate::drivetrain::isolation_scenario::run(path, &text, opts.out_dir.as_deref())
+        }
+        Kind::Centrodes => {
+            crate::mechanism::centrode_scenario::run(path, &text, opts.out_dir.as_deref())
+        }
         Kind::Arm => crate::arm::run(path, &text, opts).map(|o| o.report),
     }
 }
@@ -103,6 +134,11 @@ pub fn check(file: &str, text: &str) -> Result<(), ScenarioError> {
         Kind::GearPair => crate::machines::gears::pair_scenario::parse(file, text).map(drop),
         Kind::Cam => crate::machines::cam::scenario::parse(file, text).map(drop),
         Kind::Friction => crate::machines::friction::scenario::parse(file, text),
+        Kind::Synthesis => crate::mechanism::synthesis_scenario::parse(file, text).map(drop),
+        Kind::Flywheel => crate::mechanism::flywheel_scenario::parse(file, text).map(drop),
+        Kind::FlexibleRotor => crate::drivetrain::rotor_scenario::parse(file, text).map(drop),
+        Kind::Isolation => crate::drivetrain::isolation_scenario::parse(file, text).map(drop),
+        Kind::Centrodes => crate::mechanism::centrode_scenario::parse(file, text).map(drop),
         Kind::Arm => crate::arm::load(Path::new(file), text).map(drop),
     }
 }

@@ -14,6 +14,11 @@
 //! - [`holzer`]: Holzer transfer matrices, residual torque, node-count bisection;
 //! - [`lr`]: Rutishauser's LR iteration (a second eigenvalue route);
 //! - [`absorber`]: tuned absorber and Lanchester damper closed forms;
+//! - [`flexible_rotor`], [`rotor_transfer`], [`rotor_balancing`], [`rotor_scenario`]:
+//!   bending of a flexible rotor (a continuous drivetrain): finite elements checked by
+//!   transfer matrices, unbalance response, modal balancing (`kind = "flexible_rotor"`);
+//! - [`isolation`], [`isolation_scenario`]: 1-DOF mounts, transmissibility, isolator
+//!   selection, shock mounts and the dynamic absorber (`kind = "isolation"`);
 //! - [`scenario`]: `kind = "torsional"` scenario files for `armsim run`.
 //!
 //! ```
@@ -28,12 +33,18 @@
 pub mod absorber;
 pub mod chain;
 pub mod damped;
+pub mod flexible_rotor;
 pub mod forced;
 pub mod gear;
 pub mod holzer;
 pub mod identify;
+pub mod isolation;
+pub mod isolation_scenario;
 pub mod lr;
 pub mod modes;
+pub mod rotor_balancing;
+pub mod rotor_scenario;
+pub mod rotor_transfer;
 pub mod scenario;
 pub mod time;
 

@@ -23,17 +23,28 @@
 //! - [`virtual_power`]: the driving effort from `Σ F·v + M ω = 0`;
 //! - [`balancing`]: rotor correction masses, slider-crank counterweights, shaking force;
 //! - [`flywheel`]: energy fluctuation and flywheel inertia;
+//! - [`flywheel_design`], [`flywheel_scenario`]: turning-moment diagrams, speed band,
+//!   rim, time check, work stroke and overload (`kind = "flywheel"`);
 //! - [`machine_motion`]: `J ω̇ = M_d(ω) − M_load` from rest;
 //! - [`spatial_loop`]: frame-coincidence constraints on the tree model and Newton
 //!   projection onto them;
+//! - [`synthesis`], [`synthesis_check`], [`synthesis_scenario`]: limit-position,
+//!   time-ratio and Freudenstein synthesis, checked by the linkage solver
+//!   (`kind = "synthesis"`);
+//! - [`centrode`], [`centrode_scenario`]: instant centres and the fixed and moving
+//!   centrodes along a tracked sweep (`kind = "centrodes"`);
 //! - [`catalog`]: standard linkages (slider-crank, four-bar, Scotch yoke) built in code;
 //! - [`scenario`] and [`report`]: `kind = "linkage"` scenario files and their output.
 
 pub mod balancing;
 pub mod branch;
 pub mod catalog;
+pub mod centrode;
+pub mod centrode_scenario;
 pub mod constraints;
 pub mod flywheel;
+pub mod flywheel_design;
+pub mod flywheel_scenario;
 pub mod fourbar;
 pub mod kinetostatics;
 pub mod linalg;
@@ -46,6 +57,9 @@ pub mod report;
 pub mod scenario;
 pub mod spatial_loop;
 pub mod sweep;
+pub mod synthesis;
+pub mod synthesis_check;
+pub mod synthesis_scenario;
 pub mod virtual_power;
 
 pub use linalg::MinNormSolve;

@@ -1,0 +1,283 @@
+//! `kind = "centrodes"` scenarios (format in `docs/centrodes.md`): the fixed and moving
+//! centrodes of a four-bar's coupler or a slider-crank's rod, traced by the linkage
+//! solver over a turn of the crank ([`super::centrode`]), with Kennedy's construction as
+//! the check and the rolling (equal arc length) condition.
+
+use super::catalog;
+use super::centrode::{arc_lengths, centrodes, line_intersection};
+use super::position::NewtonOptions;
+use super::sweep::{sweep, SweepOptions};
+use super::Vec2;
+use crate::diag::LocatedError as ScenarioError;
+use crate::report::Report;
+use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::tradeoffs::plot::{Panel, Series, PALETTE};
+use serde::Deserialize;
+use serde_json::{json, Value};
+use std::fmt::Write;
+use std::path::Path;
+use toml::Spanned;
+
+type F = Spanned<f64>;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct File {
+    #[allow(dead_code)]
+    kind: String,
+    name: Option<String>,
+    #[allow(dead_code)]
+    description: Option<String>,
+    four_bar: Option<FourBarIn>,
+    slider_crank: Option<SliderCrankIn>,
+    step_deg: Option<F>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FourBarIn {
+    frame: F,
+    crank: F,
+    coupler: F,
+    rocker: F,
+    assembly: Option<Spanned<i64>>,
+    start_deg: Option<F>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SliderCrankIn {
+    crank: F,
+    rod: F,
+    offset: Option<F>,
+    start_deg: Option<F>,
+}
+
+/// A parsed centrode scenario.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    /// Its name.
+    pub name: String,
+    /// `(g, a, b, c, mode, start)` or `None` for a slider-crank.
+    four_bar: Option<(f64, f64, f64, f64, f64, f64)>,
+    slider_crank: Option<(f64, f64, f64, f64)>,
+    step: f64,
+}
+
+/// Parses and validates `text` (the contents of `file`).
+pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
+    let ctx = Ctx::new(file, text);
+    let f: File = ctx.parse()?;
+    let step = f
+        .step_deg
+        .as_ref()
+        .map(|s| ctx.between(s, "step_deg", 0.001, 90.0))
+        .transpose()?
+        .unwrap_or(1.0)
+        .to_radians();
+    let four_bar = match &f.four_bar {
+        None => None,
+        Some(fb) => {
+            let mode = match &fb.assembly {
+                None => 1.0,
+                Some(m) if *m.get_ref() == 1 || *m.get_ref() == -1 => *m.get_ref() as f64,
+                Some(m) => {
+                    return Err(ctx.at(
+                        m.span(),
+                        "four_bar.assembly",
+                        "must be 1 or -1 (the sign of (D − B) × (C − B))",
+                    ))
+                }
+            };
+            Some((
+                ctx.positive(&fb.frame, "four_bar.frame")?,
+                ctx.positive(&fb.crank, "four_bar.crank")?,
+                ctx.positive(&fb.coupler, "four_bar.coupler")?,
+                ctx.positive(&fb.rocker, "four_bar.rocker")?,
+                mode,
+                fb.start_deg
+                    .as_ref()
+                    .map(|s| ctx.finite(s, "four_bar.start_deg"))
+                    .transpose()?
+                    .unwrap_or(45.0)
+                    .to_radians(),
+            ))
+        }
+    };
+    let slider_crank = match &f.slider_crank {
+        None => None,
+        Some(s) => Some((
+            ctx.positive(&s.crank, "slider_crank.crank")?,
+            ctx.positive(&s.rod, "slider_crank.rod")?,
+            s.offset
+                .as_ref()
+                .map(|o| ctx.finite(o, "slider_crank.offset"))
+                .transpose()?
+                .unwrap_or(0.0),
+            s.start_deg
+                .as_ref()
+                .map(|x| ctx.finite(x, "slider_crank.start_deg"))
+                .transpose()?
+                .unwrap_or(45.0)
+                .to_radians(),
+        )),
+    };
+    match (&four_bar, &slider_crank) {
+        (Some(_), Some(_)) => Err(ctx.section(
+            "slider_crank",
+            "give either [four_bar] or [slider_crank], not both",
+        )),
+        (None, None) => Err(ScenarioError::new(
+            file,
+            Some(1),
+            "file",
+            "no mechanism: add [four_bar] or [slider_crank]",
+        )),
+        _ => Ok(Scenario {
+            name: scenario_name(f.name.as_deref(), file),
+            four_bar,
+            slider_crank,
+            step,
+        }),
+    }
+}
+
+/// Runs a centrode scenario; plots go to `out_dir` when given.
+pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
+    let file = path.display().to_string();
+    let sc = parse(&file, text)?;
+    report(&Ctx::new(&file, text), &sc, out_dir)
+}
+
+fn pt(p: Option<Vec2>) -> Value {
+    p.map_or(Value::Null, |p| json!([p.x, p.y]))
+}
+
+/// Computes the report of a parsed scenario.
+pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
+    let (l, guess, start, section) = if let Some((g, a, b, c, mode, s0)) = sc.four_bar {
+        let l = catalog::four_bar(g, a, b, c);
+        let q = catalog::four_bar_guess(&l, (g, a, b, c), s0, mode).ok_or_else(|| {
+            ctx.section(
+                "four_bar",
+                format!(
+                    "the four-bar does not close at the start angle {:.3}°",
+                    s0.to_degrees()
+                ),
+            )
+        })?;
+        (l, q, s0, "four_bar")
+    } else {
+        let (r, rod, e, s0) = sc.slider_crank.expect("one mechanism");
+        if r + e.abs() > rod * (1.0 + 1e-12) {
+            return Err(ctx.section(
+                "slider_crank",
+                "the crank cannot turn fully (crank + |offset| > rod)",
+            ));
+        }
+        let l = catalog::slider_crank(r, rod, e);
+        let q = catalog::slider_crank_guess(&l, r, rod, e, s0, 1.0);
+        (l, q, s0, "slider_crank")
+    };
+    let opts = SweepOptions {
+        from: 0.0,
+        to: std::f64::consts::TAU,
+        step: sc.step,
+        assemble_at: start,
+        newton: NewtonOptions::default(),
+    };
+    let sw = sweep(&l, &guess, &opts)
+        .map_err(|e| ctx.section(section, format!("the linkage solver: {e}")))?;
+    let body = 1; // the coupler (four-bar BC) or the rod (slider-crank BC)
+    let pts = centrodes(&l, body, &sw.samples);
+    // Kennedy: the crank line A–B meets the rocker line D–C (or the normal to the slide
+    // at C) in the coupler's instant centre.
+    let mut kennedy_err = 0.0f64;
+    for (st, p) in sw.samples.iter().zip(&pts) {
+        let pos = |n: &str| {
+            let (bb, lp) = l.find_point(n).expect("catalog point");
+            l.point_position(&st.q, bb, &lp)
+        };
+        let (a, b, c) = (Vec2::zeros(), pos("B"), pos("C"));
+        let other = if sc.four_bar.is_some() {
+            l.ground[1].1
+        } else {
+            c + Vec2::new(0.0, 1.0)
+        };
+        if let (Some(k), Some(f)) = (line_intersection(a, b, other, c), p.fixed) {
+            if k.norm() < 1e3 * l.length_scale() {
+                kennedy_err = kennedy_err.max((k - f).norm());
+            }
+        }
+    }
+    let (af, am) = arc_lengths(&pts);
+    let infinite: Vec<f64> = pts
+        .iter()
+        .filter(|p| p.fixed.is_none())
+        .map(|p| p.input.to_degrees())
+        .collect();
+    let mut text = format!("centrodes: {} ({})\n", sc.name, l.name);
+    writeln!(
+        text,
+        "  {} positions over a turn; instant centre at infinity at {:?}°",
+        pts.len(),
+        infinite
+    )
+    .ok();
+    writeln!(text, "  Kennedy's construction agrees within {kennedy_err:.3e}; arc lengths fixed {af:.6}, moving {am:.6} (finite runs)").ok();
+    let j = json!({
+        "kind": "centrodes", "name": sc.name, "mechanism": section,
+        "link": l.links[body].name,
+        "input_deg": pts.iter().map(|p| p.input.to_degrees()).collect::<Vec<_>>(),
+        "fixed": pts.iter().map(|p| pt(p.fixed)).collect::<Vec<_>>(),
+        "moving": pts.iter().map(|p| pt(p.moving)).collect::<Vec<_>>(),
+        "at_infinity_deg": infinite,
+        "kennedy_max_error": kennedy_err,
+        "arc_length_fixed": af, "arc_length_moving": am,
+        "stopped": sw.stopped.as_ref().map(|e| e.to_string()),
+    });
+    if let Some(e) = &sw.stopped {
+        writeln!(text, "  the sweep stopped: {e}").ok();
+    }
+    let clip = 20.0 * l.length_scale();
+    let series =
+        |f: &dyn Fn(&super::centrode::CentrePoint) -> Option<Vec2>, label: &str, k: usize| Series {
+            label: label.into(),
+            points: pts
+                .iter()
+                .filter_map(f)
+                .filter(|p| p.norm() < clip)
+                .map(|p| (p.x, p.y))
+                .collect(),
+            color: PALETTE[k],
+            dashed: false,
+        };
+    let panels = vec![
+        Panel {
+            title: "fixed centrode (ground frame)".into(),
+            x_desc: "x".into(),
+            y_desc: "y".into(),
+            series: vec![series(&|p| p.fixed, "fixed", 0)],
+            ..Default::default()
+        },
+        Panel {
+            title: "moving centrode (link frame)".into(),
+            x_desc: "x".into(),
+            y_desc: "y".into(),
+            series: vec![series(&|p| p.moving, "moving", 1)],
+            ..Default::default()
+        },
+    ];
+    if let Some(p) = write_plot(
+        out_dir,
+        &format!("{}_centrodes", sc.name),
+        &sc.name,
+        &panels,
+        2,
+    )
+    .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
+    {
+        writeln!(text, "plot: {}", p.display()).ok();
+    }
+    Ok(Report { json: j, text })
+}

@@ -1,0 +1,168 @@
+//! Reading the textbook-machine scenario kinds (`synthesis`, `flywheel`,
+//! `flexible_rotor`, `isolation`): a typed TOML read whose errors name the file, the line
+//! and the key; checks of spanned numbers; and the PNG plots these kinds write into
+//! `armsim run --out DIR`.
+//!
+//! The kinds deserialise into `#[serde(deny_unknown_fields)]` structs whose numbers are
+//! `toml::Spanned`, so a value that parses but is out of range is still reported at its
+//! line.
+
+use crate::diag::{line_at, LocatedError as ScenarioError};
+use crate::tradeoffs::plot::{render_panels, Panel};
+use serde::de::DeserializeOwned;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+/// Error builder bound to one scenario file.
+pub struct Ctx<'a> {
+    /// The file name used in messages.
+    pub file: String,
+    /// Its text.
+    pub text: &'a str,
+}
+
+impl<'a> Ctx<'a> {
+    /// A builder for `text`, the contents of `file`.
+    pub fn new(file: &str, text: &'a str) -> Self {
+        Self {
+            file: file.to_string(),
+            text,
+        }
+    }
+
+    /// Deserialises the whole file (unknown keys, wrong types and missing keys located).
+    pub fn parse<T: DeserializeOwned>(&self) -> Result<T, ScenarioError> {
+        toml::from_str(self.text).map_err(|e| ScenarioError::from_toml(&self.file, self.text, &e))
+    }
+
+    /// An error at the line of byte `span.start`.
+    pub fn at(
+        &self,
+        span: Range<usize>,
+        key: impl Into<String>,
+        msg: impl Into<String>,
+    ) -> ScenarioError {
+        ScenarioError::new(&self.file, Some(line_at(self.text, span.start)), key, msg)
+    }
+
+    /// An error at the line of the `[name]` or `[[name]]` header (the first line when
+    /// there is none).
+    pub fn section(&self, name: &str, msg: impl Into<String>) -> ScenarioError {
+        let (a, b) = (format!("[{name}]"), format!("[[{name}]]"));
+        let line = self
+            .text
+            .lines()
+            .position(|l| {
+                let t = l.trim_start();
+                t.starts_with(&a) || t.starts_with(&b)
+            })
+            .map_or(1, |i| i + 1);
+        ScenarioError::new(&self.file, Some(line), name, msg)
+    }
+
+    /// A finite number.
+    pub fn finite(&self, v: &Spanned<f64>, key: &str) -> Result<f64, ScenarioError> {
+        let x = *v.get_ref();
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.at(v.span(), key, "must be a finite number"))
+        }
+    }
+
+    /// A finite number `> 0`.
+    pub fn positive(&self, v: &Spanned<f64>, key: &str) -> Result<f64, ScenarioError> {
+        let x = self.finite(v, key)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.at(v.span(), key, format!("must be positive, got {x}")))
+        }
+    }
+
+    /// A finite number `≥ 0`.
+    pub fn non_negative(&self, v: &Spanned<f64>, key: &str) -> Result<f64, ScenarioError> {
+        let x = self.finite(v, key)?;
+        if x >= 0.0 {
+            Ok(x)
+        } else {
+            Err(self.at(v.span(), key, format!("must not be negative, got {x}")))
+        }
+    }
+
+    /// A finite number in the open interval `(lo, hi)`.
+    pub fn between(
+        &self,
+        v: &Spanned<f64>,
+        key: &str,
+        lo: f64,
+        hi: f64,
+    ) -> Result<f64, ScenarioError> {
+        let x = self.finite(v, key)?;
+        if x > lo && x < hi {
+            Ok(x)
+        } else {
+            Err(self.at(
+                v.span(),
+                key,
+                format!("must lie strictly between {lo} and {hi}, got {x}"),
+            ))
+        }
+    }
+
+    /// Every element finite; the key of element `i` is `key[i]`.
+    pub fn finite_list(
+        &self,
+        v: &Spanned<Vec<Spanned<f64>>>,
+        key: &str,
+    ) -> Result<Vec<f64>, ScenarioError> {
+        v.get_ref()
+            .iter()
+            .enumerate()
+            .map(|(i, x)| self.finite(x, &format!("{key}[{i}]")))
+            .collect()
+    }
+}
+
+/// Writes `panels` under `title` as `<dir>/<stem>.png` (atomically) when `dir` is given;
+/// returns the path written.
+pub fn write_plot(
+    dir: Option<&Path>,
+    stem: &str,
+    title: &str,
+    panels: &[Panel],
+    cols: usize,
+) -> Result<Option<PathBuf>, String> {
+    let Some(dir) = dir else {
+        return Ok(None);
+    };
+    if panels.is_empty() {
+        return Ok(None);
+    }
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
+    let bytes = render_panels(title, panels, cols, (640, 420))?;
+    let safe: String = stem
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let path = dir.join(format!("{safe}.png"));
+    crate::io::write_atomic(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(Some(path))
+}
+
+/// The scenario's name: its `name` key, else the file stem.
+pub fn scenario_name(name: Option<&str>, file: &str) -> String {
+    name.map(str::to_string).unwrap_or_else(|| {
+        Path::new(file)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scenario".into())
+    })
+}
