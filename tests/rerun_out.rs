@@ -439,9 +439,10 @@ fn geometry_from_the_embedded_urdf() {
         FRAMES
     );
 
-    // A broken description is a warning, not an error.
+    // A broken description (malformed XML: a nameless link only warns, as in urdfdom) is a
+    // warning, not an error.
     let mut broken = rec.clone();
-    broken.header.robot_description = Some("<robot name='x'><link/></robot>".into());
+    broken.header.robot_description = Some("<robot name='x'><link name='a'></robot>".into());
     let out3 = dir.join("broken.rrd");
     let r3 = log_recording(&broken, None, None, &RerunSink::Save(out3)).unwrap();
     assert!(r3.warnings[0].contains("robot description not usable"));
