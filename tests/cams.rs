@@ -9,26 +9,9 @@ use armsim::machines::cam::laws::{Law, Motion};
 use armsim::machines::cam::profile::{min_prime_radius, pressure_angle_numeric, sample, Follower};
 use serde_json::Value;
 use std::f64::consts::PI;
-use std::path::PathBuf;
-use std::process::Command;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn run_json(rel: &str) -> Value {
-    let o = Command::new(env!("CARGO_BIN_EXE_armsim"))
-        .current_dir(root())
-        .args(["run", rel, "--json"])
-        .output()
-        .expect("run armsim");
-    assert!(
-        o.status.success(),
-        "{rel}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("JSON")
-}
+mod common;
+use common::{root, run_json};
 
 fn at(v: &Value, key: &str, deg: usize) -> f64 {
     v["samples"][key][deg].as_f64().unwrap()

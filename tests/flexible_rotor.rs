@@ -8,26 +8,9 @@ use armsim::drivetrain::flexible_rotor::{
 };
 use armsim::drivetrain::rotor_transfer::critical_speeds;
 use serde_json::Value;
-use std::path::PathBuf;
-use std::process::Command;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn run_json(rel: &str) -> Value {
-    let o = Command::new(env!("CARGO_BIN_EXE_armsim"))
-        .current_dir(root())
-        .args(["run", rel, "--json"])
-        .output()
-        .expect("run armsim");
-    assert!(
-        o.status.success(),
-        "{rel}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("JSON")
-}
+mod common;
+use common::{root, run_json};
 
 fn close(a: &Value, b: f64, tol: f64, what: &str) {
     let a = a

@@ -5,26 +5,9 @@
 
 use armsim::machines::friction::elements::{collar_torque, incline, parallel, screw, series};
 use serde_json::Value;
-use std::path::PathBuf;
-use std::process::Command;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn run_json(rel: &str) -> Value {
-    let o = Command::new(env!("CARGO_BIN_EXE_armsim"))
-        .current_dir(root())
-        .args(["run", rel, "--json"])
-        .output()
-        .expect("run armsim");
-    assert!(
-        o.status.success(),
-        "{rel}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("JSON")
-}
+mod common;
+use common::{root, run_json};
 
 fn g(v: &Value, i: usize, k: &str) -> f64 {
     v["elements"][i][k]

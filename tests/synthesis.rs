@@ -8,26 +8,9 @@ use armsim::mechanism::fourbar;
 use armsim::mechanism::synthesis::{self as syn, Function, FunctionMap};
 use armsim::mechanism::synthesis_check::structural_error;
 use serde_json::Value;
-use std::path::PathBuf;
-use std::process::Command;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn run_json(rel: &str) -> Value {
-    let o = Command::new(env!("CARGO_BIN_EXE_armsim"))
-        .current_dir(root())
-        .args(["run", rel, "--json"])
-        .output()
-        .expect("run armsim");
-    assert!(
-        o.status.success(),
-        "{rel}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("JSON")
-}
+mod common;
+use common::{root, run_json};
 
 fn close(a: &Value, b: f64, tol: f64, what: &str) {
     let a = a

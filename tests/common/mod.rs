@@ -8,6 +8,27 @@ use armsim::model::Model;
 use armsim::spatial::{Mat3, Se3, Vec3};
 use std::path::PathBuf;
 
+/// The crate's root folder (where the tests run `armsim`).
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `armsim run REL --json` from the crate root, parsed; fails the test on a non-zero exit
+/// with the program's standard error.
+pub fn run_json(rel: &str) -> serde_json::Value {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_armsim"))
+        .current_dir(root())
+        .args(["run", rel, "--json"])
+        .output()
+        .expect("run armsim");
+    assert!(
+        o.status.success(),
+        "{rel}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).expect("JSON")
+}
+
 /// Asserts that `listed` names exactly the files `tests/broken_scenarios/<prefix>*.toml`
 /// (in any order), so that a broken scenario added there cannot go untested.
 pub fn assert_lists_every_broken_scenario(prefix: &str, listed: &[&str]) {
