@@ -7,7 +7,7 @@
 use serde_json::Value;
 
 mod common;
-use common::{root, run_json};
+use common::run_json;
 
 fn points(v: &Value) -> Vec<(f64, f64)> {
     v.as_array()
@@ -139,21 +139,5 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
 
 #[test]
 fn broken_centrode_scenarios_give_located_errors() {
-    let dir = root().join("tests/broken_scenarios");
-    for (file, line, key, msg) in BROKEN {
-        let path = dir.join(file);
-        let e = armsim::scenario::run_file(&path)
-            .err()
-            .unwrap_or_else(|| panic!("{file}: expected an error"));
-        assert_eq!(e.line, Some(*line), "{file}: {e}");
-        assert_eq!(e.key, *key, "{file}: {e}");
-        assert!(e.message.contains(msg), "{file}: {e}");
-    }
-    let listed: Vec<&str> = BROKEN.iter().map(|b| b.0).collect();
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let name = entry.unwrap().file_name().into_string().unwrap();
-        if name.starts_with("centrodes_") {
-            assert!(listed.contains(&name.as_str()), "{name} is not checked");
-        }
-    }
+    common::assert_broken_scenarios("centrodes_", BROKEN, common::CheckSays::NotAsked);
 }

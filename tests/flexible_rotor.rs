@@ -10,7 +10,7 @@ use armsim::drivetrain::rotor_transfer::critical_speeds;
 use serde_json::Value;
 
 mod common;
-use common::{root, run_json};
+use common::run_json;
 
 fn close(a: &Value, b: f64, tol: f64, what: &str) {
     let a = a
@@ -265,27 +265,5 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
 
 #[test]
 fn broken_flexible_rotor_scenarios_give_located_errors() {
-    let dir = root().join("tests/broken_scenarios");
-    for (file, line, key, msg) in BROKEN {
-        let path = dir.join(file);
-        let e = armsim::scenario::run_file(&path)
-            .err()
-            .unwrap_or_else(|| panic!("{file}: expected an error"));
-        assert_eq!(e.line, Some(*line), "{file}: {e}");
-        assert_eq!(e.key, *key, "{file}: {e}");
-        assert!(e.message.contains(msg), "{file}: {e}");
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert_eq!(
-            armsim::scenario::check(file, &text).err().map(|e| e.key),
-            Some(key.to_string()),
-            "{file}"
-        );
-    }
-    let listed: Vec<&str> = BROKEN.iter().map(|b| b.0).collect();
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let name = entry.unwrap().file_name().into_string().unwrap();
-        if name.starts_with("flexible_rotor_") {
-            assert!(listed.contains(&name.as_str()), "{name} is not checked");
-        }
-    }
+    common::assert_broken_scenarios("flexible_rotor_", BROKEN, common::CheckSays::SameKey);
 }

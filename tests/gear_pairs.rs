@@ -13,7 +13,7 @@ use serde_json::Value;
 use std::f64::consts::PI;
 
 mod common;
-use common::{root, run_json};
+use common::run_json;
 
 fn f(v: &Value, path: &str) -> f64 {
     let mut x = v;
@@ -534,27 +534,5 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
 
 #[test]
 fn broken_gear_pair_scenarios_give_located_errors() {
-    let dir = root().join("tests/broken_scenarios");
-    for (file, line, key, msg) in BROKEN {
-        let path = dir.join(file);
-        let e = match armsim::scenario::run_file(&path) {
-            Ok(_) => panic!("{file}: expected an error"),
-            Err(e) => e,
-        };
-        assert_eq!(e.line, Some(*line), "{file}: {e}");
-        assert_eq!(e.key, *key, "{file}: {e}");
-        assert!(e.message.contains(msg), "{file}: {e}");
-        let text = std::fs::read_to_string(&path).unwrap();
-        assert!(
-            armsim::scenario::check(file, &text).is_err(),
-            "{file}: check passes"
-        );
-    }
-    let listed: Vec<&str> = BROKEN.iter().map(|b| b.0).collect();
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let name = entry.unwrap().file_name().into_string().unwrap();
-        if name.starts_with("gear_pair_") {
-            assert!(listed.contains(&name.as_str()), "{name} is not checked");
-        }
-    }
+    common::assert_broken_scenarios("gear_pair_", BROKEN, common::CheckSays::Refuses);
 }

@@ -29,6 +29,52 @@ pub fn run_json(rel: &str) -> serde_json::Value {
     serde_json::from_slice(&o.stdout).expect("JSON")
 }
 
+/// What [`armsim::scenario::check`] (parsing and validation, no run) must say of a broken
+/// scenario that `armsim run` refuses.
+pub enum CheckSays<'a> {
+    /// It refuses the file at the same key.
+    SameKey,
+    /// It refuses the file.
+    Refuses,
+    /// It refuses the file unless the error is one the run finds (these keys).
+    RefusesUnlessRunKey(&'a [&'a str]),
+    /// Nothing asked: the errors are found by the run.
+    NotAsked,
+}
+
+/// Checks the broken scenarios `tests/broken_scenarios/<prefix>*.toml`: each entry
+/// `(file, line, key, message part)` fails `armsim run` with that location and message,
+/// `scenario::check` says what `check` asks, and every file of the prefix is listed.
+pub fn assert_broken_scenarios(
+    prefix: &str,
+    broken: &[(&str, usize, &str, &str)],
+    check: CheckSays,
+) {
+    let dir = root().join("tests/broken_scenarios");
+    for (file, line, key, msg) in broken {
+        let path = dir.join(file);
+        let e = armsim::scenario::run_file(&path)
+            .err()
+            .unwrap_or_else(|| panic!("{file}: expected an error"));
+        assert_eq!(e.line, Some(*line), "{file}: {e}");
+        assert_eq!(e.key, *key, "{file}: {e}");
+        assert!(e.message.contains(msg), "{file}: {e}");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let checked = armsim::scenario::check(file, &text).err().map(|e| e.key);
+        match check {
+            CheckSays::SameKey => assert_eq!(checked, Some(key.to_string()), "{file}: check"),
+            CheckSays::Refuses => assert!(checked.is_some(), "{file}: check passes"),
+            CheckSays::RefusesUnlessRunKey(keys) => assert!(
+                checked.is_some() || keys.contains(key),
+                "{file}: check passes"
+            ),
+            CheckSays::NotAsked => {}
+        }
+    }
+    let listed: Vec<&str> = broken.iter().map(|b| b.0).collect();
+    assert_lists_every_broken_scenario(prefix, &listed);
+}
+
 /// Asserts that `listed` names exactly the files `tests/broken_scenarios/<prefix>*.toml`
 /// (in any order), so that a broken scenario added there cannot go untested.
 pub fn assert_lists_every_broken_scenario(prefix: &str, listed: &[&str]) {
