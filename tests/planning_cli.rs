@@ -57,6 +57,13 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
+/// Scene and request files of Panda `table_pick` problem 0001 (solved by the straight edge).
+fn table_pick_0001() -> (String, String) {
+    let dir = bench().join("panda/table_pick");
+    let file = |f: &str| dir.join(f).display().to_string();
+    (file("scene0001.yaml"), file("request0001.yaml"))
+}
+
 fn f64s(v: &Value) -> Vec<f64> {
     v.as_array()
         .unwrap()
@@ -211,16 +218,16 @@ fn plan_gives_the_same_paths_on_one_and_two_threads_and_over_passes() {
 fn plan_out_writes_the_file_and_nothing_to_stdout() {
     let d = scratch("out");
     let out = d.join("plan.json");
-    let dir = bench().join("panda/table_pick");
+    let (scene, request) = table_pick_0001();
     let o = armsim(&[
         "plan",
         PANDA,
         "--srdf",
         PANDA_SRDF,
         "--moveit-scene",
-        dir.join("scene0001.yaml").to_str().unwrap(),
+        &scene,
         "--moveit-request",
-        dir.join("request0001.yaml").to_str().unwrap(),
+        &request,
         "--json",
         "--out",
         out.to_str().unwrap(),
@@ -236,14 +243,14 @@ fn plan_out_writes_the_file_and_nothing_to_stdout() {
 
 #[test]
 fn plan_without_srdf_says_how_it_chose_the_self_pairs() {
-    let dir = bench().join("panda/table_pick");
+    let (scene, request) = table_pick_0001();
     let o = armsim(&[
         "plan",
         PANDA,
         "--moveit-scene",
-        dir.join("scene0001.yaml").to_str().unwrap(),
+        &scene,
         "--moveit-request",
-        dir.join("request0001.yaml").to_str().unwrap(),
+        &request,
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let err = String::from_utf8_lossy(&o.stderr);
@@ -351,16 +358,16 @@ fn plan_bad_inputs_fail_with_file_and_line_and_write_nothing() {
 fn plan_time_limit_reaches_the_planner() {
     // Problem 0001 is solved by the straight edge: any limit leaves it solved; the JSON
     // echoes the limit.
-    let dir = bench().join("panda/table_pick");
+    let (scene, request) = table_pick_0001();
     let v = json(&[
         "plan",
         PANDA,
         "--srdf",
         PANDA_SRDF,
         "--moveit-scene",
-        dir.join("scene0001.yaml").to_str().unwrap(),
+        &scene,
         "--moveit-request",
-        dir.join("request0001.yaml").to_str().unwrap(),
+        &request,
         "--time-limit-ms",
         "250",
         "--no-simplify",
