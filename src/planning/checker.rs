@@ -218,8 +218,6 @@ impl Checker {
         for (k, lane) in s.q.iter_mut().enumerate() {
             *lane = L::splat(q[k]);
         }
-        s.speed.iter_mut().for_each(|v| *v = 0.0);
-        s.link_speed.iter_mut().for_each(|v| *v = 0.0);
         let mut qs = std::mem::take(&mut s.q);
         let (hit, _) = self.dispatch_lanes(&qs, L::splat(0.0), s);
         std::mem::swap(&mut s.q, &mut qs);
