@@ -374,20 +374,17 @@ fn log_doc(
     ws: &WorkspaceResult,
     lines: &[String],
 ) -> Result<(), RerunError> {
-    let (what, unit) = if ws.planar {
-        ("area", "m²")
-    } else {
-        ("volume", "m³")
-    };
+    // The estimate as `armsim workspace` prints it (interval, or a lower bound when
+    // under-sampled).
+    let estimate: String = crate::workspace::summary_lines(ws)
+        .iter()
+        .map(|l| format!("- {l}\n"))
+        .collect();
     let mut md = format!(
-        "# {} workspace\n\nTool link `{}`. Reachable {what} {:.4} ± {:.4} {unit} (standard \
-         error), bias-corrected {:.4} {unit}; {} samples in {} replicates, voxel {} m; {} \
-         occupied voxels, {} on the boundary.\n\n## In the 3-D view\n\n",
+        "# {} workspace\n\nTool link `{}`; {} samples in {} replicates, voxel {} m; {} \
+         occupied voxels, {} on the boundary.\n\n{estimate}\n## In the 3-D view\n\n",
         model.name,
         ws.tool,
-        ws.measure(),
-        ws.measure_stderr(),
-        ws.bias.corrected,
         ws.samples,
         ws.replicates,
         ws.voxel,
