@@ -210,6 +210,56 @@ fn same_seed_gives_bitwise_identical_paths_across_planners_and_queries() {
 }
 
 #[test]
+fn every_instruction_set_gives_bitwise_identical_paths() {
+    use armsim::planning::checker::Isa;
+    let robot = Robot::load("ur5");
+    let best = planner(&robot, &[], PlanOptions::default()).checker.isa();
+    let isas: Vec<Isa> = [Isa::Baseline, Isa::Avx2, Isa::Avx512Vl]
+        .into_iter()
+        .filter(|&i| i <= best)
+        .collect();
+    let mut searched = 0;
+    for p in problems(&robot, "bookshelf_small")
+        .iter()
+        .filter(|p| p.valid)
+        .take(10)
+    {
+        let results: Vec<PlanResult> = isas
+            .iter()
+            .map(|&isa| {
+                let mut pl = planner(&robot, &p.obstacles, PlanOptions::default());
+                pl.checker.limit_isa(isa);
+                assert_eq!(pl.checker.isa(), isa);
+                pl.plan(&p.start, &p.goal)
+            })
+            .collect();
+        let bits =
+            |r: &PlanResult| -> Vec<u64> { r.path.iter().flatten().map(|x| x.to_bits()).collect() };
+        for (r, isa) in results.iter().zip(&isas).skip(1) {
+            assert_eq!(
+                r.status, results[0].status,
+                "bookshelf_small {} {isa:?}",
+                p.id
+            );
+            assert_eq!(
+                r.iterations, results[0].iterations,
+                "bookshelf_small {} {isa:?}",
+                p.id
+            );
+            assert_eq!(
+                bits(r),
+                bits(&results[0]),
+                "bookshelf_small {} {isa:?}",
+                p.id
+            );
+        }
+        searched += usize::from(results[0].iterations > 0);
+    }
+    assert!(searched >= 3, "only {searched} problems needed a search");
+    eprintln!("instruction sets compared: {isas:?}");
+}
+
+#[test]
 fn different_seeds_explore_differently() {
     let robot = Robot::load("panda");
     let mut differ = 0;

@@ -343,6 +343,9 @@ fn plan_bad_inputs_fail_with_file_and_line_and_write_nothing() {
         ("--threads", "0"),
         ("--passes", "0"),
         ("--time-limit-ms", "-5"),
+        ("--range", "0"),
+        ("--range", "-1"),
+        ("--range", "NaN"),
     ] {
         fails_with(&[&["plan", PANDA, flag, value][..], &one].concat(), flag);
     }
@@ -375,9 +378,55 @@ fn plan_time_limit_reaches_the_planner() {
     ]);
     assert_eq!(v["time_limit_ms"], 250.0);
     assert_eq!(v["simplify"], false);
+    assert_eq!(v["range"], 1.0);
     let r = &v["results"][0];
     assert_eq!(r["status"], "solved");
     assert_eq!(r["cost"], r["cost_initial"]);
+}
+
+#[test]
+fn plan_range_reaches_the_planner() {
+    // The UR5 box folder at VAMP's UR5 range (1.5) and at the default (1): the JSON echoes
+    // the range, every valid problem is solved either way, and the searches differ.
+    let dir = scene_dir("ur5", "box");
+    let srdf = "robots/spherized/ur5.srdf";
+    let ur5 = "robots/spherized/ur5_spherized.urdf";
+    let base = [
+        "plan",
+        ur5,
+        "--srdf",
+        srdf,
+        "--moveit-dir",
+        &dir,
+        "--no-simplify",
+        "--json",
+    ];
+    let iterations = |range: Option<&str>| -> (Value, Vec<u64>) {
+        let mut args = base.to_vec();
+        if let Some(r) = range {
+            args.extend(["--range", r]);
+        }
+        let v = json(&args);
+        let it = v["results"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|r| r["status"] == "solved")
+            .map(|r| r["iterations"].as_u64().unwrap())
+            .collect();
+        (v, it)
+    };
+    let (v1, it1) = iterations(None);
+    let (v15, it15) = iterations(Some("1.5"));
+    assert_eq!(v1["range"], 1.0);
+    assert_eq!(v15["range"], 1.5);
+    assert_eq!(it1.len(), it15.len(), "solved counts differ");
+    assert!(it1.len() >= 90, "only {} solved", it1.len());
+    let differ = it1.iter().zip(&it15).filter(|(a, b)| a != b).count();
+    assert!(
+        differ >= 10,
+        "only {differ} searches changed with the range"
+    );
 }
 
 /// The impossible block problem of `plan_common::panda_wall_problem` as MoveIt files.

@@ -36,7 +36,9 @@ for robot in "${robots[@]}"; do
   echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo; echo "VAMP: bash $BENCH/vamp/anchor.sh $robot ${dirs[*]} -- $passes"
   bash "$BENCH/vamp/anchor.sh" "$robot" "${dirs[@]}" -- "$passes" | awk '/^\| scene/{n++} /^$/{if(n)done=1} n==1&&!done' | tee "$out/vamp_$robot.md"
-  args=("$ARMSIM" plan "$ROOT/robots/spherized/${robot}_spherized.urdf" --srdf "$ROOT/robots/spherized/$robot.srdf")
+  # VAMP's per-robot RRT-Connect range (vamp/constants.py ROBOT_RRT_RANGES).
+  case "$robot" in ur5) range=1.5 ;; *) range=1.0 ;; esac
+  args=("$ARMSIM" plan "$ROOT/robots/spherized/${robot}_spherized.urdf" --srdf "$ROOT/robots/spherized/$robot.srdf" --range "$range")
   for d in "${dirs[@]}"; do args+=(--moveit-dir "$d"); done
   args+=(--passes "$passes")
   echo; echo "armsim: ${args[*]#$ROOT/}"

@@ -37,6 +37,8 @@ pub struct PlannerSettings {
     pub time_limit: Duration,
     /// Shortcut and smooth the paths.
     pub simplify: bool,
+    /// Longest RRT-Connect step (joint-space distance).
+    pub range: f64,
     /// Overshoot of the sphere cover (m).
     pub max_overshoot: f64,
     /// The SRDF's disabled pairs, when one is given (with its path for the report).
@@ -127,6 +129,7 @@ impl ScenePlanners {
         };
         opts.spheres.package_path = scene.package_paths.explicit.clone();
         opts.spheres.max_overshoot = settings.max_overshoot;
+        opts.rrt.range = settings.range as f32;
         opts.check.clearance = SMOOTHING_ROOM;
         match &settings.srdf {
             Some((path, _)) => notes.push(format!("planner: self pairs from the SRDF {path}")),

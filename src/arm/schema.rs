@@ -275,6 +275,8 @@ pub struct PlannerSec {
     pub time_limit_ms: Option<Spanned<f64>>,
     /// Shortcut and smooth the path (default true).
     pub simplify: Option<bool>,
+    /// Longest RRT-Connect step in joint space (rad; default 1).
+    pub range: Option<Spanned<f64>>,
     /// Largest overshoot of the spheres covering the robot's collision primitives and
     /// meshes (m; default 0.01). Mesh covers need about `area / δ²` spheres: a coarser
     /// cover plans faster (the parry check of the motion still uses the exact meshes).

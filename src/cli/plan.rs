@@ -60,6 +60,10 @@ pub struct PlanArgs {
     /// Wall-clock limit of each search, in milliseconds (simplification not counted).
     #[arg(long, allow_negative_numbers = true)]
     pub time_limit_ms: Option<f64>,
+    /// Longest RRT-Connect step in joint space (default 1; VAMP uses 1 for the Panda and
+    /// 1.5 for the UR5).
+    #[arg(long, allow_negative_numbers = true)]
+    pub range: Option<f64>,
     /// Return the first path found, without shortcutting and smoothing.
     #[arg(long)]
     pub no_simplify: bool,
@@ -153,6 +157,7 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
         passes: a.passes,
         threads: a.threads,
         time_limit_ms: a.time_limit_ms,
+        range: f64::from(opts.rrt.range),
     };
     let text = if a.json {
         plan_report::json(&header, &outcomes)
@@ -185,12 +190,22 @@ fn plan_options(a: &PlanArgs) -> Result<PlanOptions, String> {
             ))
         }
     };
-    Ok(PlanOptions {
+    let mut opts = PlanOptions {
         seed: a.seed.unwrap_or(0),
         time_limit,
         simplify: !a.no_simplify,
         ..Default::default()
-    })
+    };
+    match a.range {
+        None => {}
+        Some(r) if r.is_finite() && r > 0.0 && r <= 100.0 => opts.rrt.range = r as f32,
+        Some(r) => {
+            return Err(format!(
+                "--range: expected a positive joint-space distance (at most 100), got {r}"
+            ))
+        }
+    }
+    Ok(opts)
 }
 
 /// The problem files the arguments name, as (scene label, id, scene, request).

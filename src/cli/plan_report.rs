@@ -40,6 +40,8 @@ pub struct ReportHeader<'a> {
     pub threads: usize,
     /// Time limit per search.
     pub time_limit_ms: Option<f64>,
+    /// Longest RRT-Connect step.
+    pub range: f64,
 }
 
 /// Median (the mean of the two middle values for an even count; NaN when empty).
@@ -186,6 +188,7 @@ pub fn json(h: &ReportHeader, outcomes: &[Outcome]) -> String {
         "simplify": h.simplify,
         "passes": h.passes,
         "time_limit_ms": h.time_limit_ms,
+        "range": h.range,
         "results": results,
         "summary": scenes,
     });
@@ -220,11 +223,12 @@ pub fn text(h: &ReportHeader, outcomes: &[Outcome]) -> String {
         .map_or("none".to_string(), |ms| format!("{ms} ms"));
     let _ = writeln!(
         t,
-        "armsim plan: {} ({} joints: {}), seed {}, simplify {}, time limit {limit}, {} pass(es), {} thread(s)",
+        "armsim plan: {} ({} joints: {}), seed {}, range {}, simplify {}, time limit {limit}, {} pass(es), {} thread(s)",
         h.model.name,
         h.model.nv,
         h.model.dof_names().join(" "),
         h.seed,
+        h.range,
         if h.simplify { "on" } else { "off" },
         h.passes,
         h.threads

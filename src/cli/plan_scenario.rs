@@ -45,6 +45,9 @@ pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, Stri
     if a.no_simplify {
         settings.simplify = false;
     }
+    if a.range.is_some() {
+        settings.range = f64::from(opts.rrt.range);
+    }
     if let Some(p) = &a.srdf {
         let (pairs, warnings) =
             srdf::load_disabled_pairs(p, &scene.model).map_err(|e| e.to_string())?;
@@ -56,6 +59,7 @@ pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, Stri
     let seed = settings.seed;
     let time_limit_ms = settings.time_limit.as_secs_f64() * 1e3;
     let simplify = settings.simplify;
+    let range = settings.range;
     let mut outcomes: Vec<Outcome> = Vec::new();
     let mut times: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
     for pass in 0..a.passes {
@@ -98,6 +102,7 @@ pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, Stri
         passes: a.passes,
         threads: 1,
         time_limit_ms: Some(time_limit_ms),
+        range,
     };
     Ok(if a.json {
         plan_report::json(&header, &outcomes)

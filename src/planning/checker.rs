@@ -31,13 +31,15 @@
 //! real. Near obstacles the subdivision goes deep only where it has to.
 //!
 //! **Dispatch.** The entry points run an AVX2+FMA copy of the code when the CPU has them
-//! (detected once at construction) and the baseline SSE2 copy otherwise; both are the same
-//! source, inlined into two `#[target_feature]` wrappers.
+//! (detected once at construction), an AVX-512 VL build of that copy when the CPU has those
+//! too, and the baseline SSE2 copy otherwise; all are the same source, inlined into
+//! `#[target_feature]` wrappers.
 
 use super::environment::Environment;
 use super::lanes::{Mask, P3m, Pose, PoseM, L, N, P3};
+pub use super::simd::Isa;
 #[cfg(target_arch = "x86_64")]
-use super::simd::{Avx2, Sse2};
+use super::simd::{avx512vl_detected, Avx2, Sse2};
 use super::simd::{Scalar, Simd, W};
 use super::spheres::{LinkSpheres, SphereModel};
 use crate::model::{Model, WORLD};
@@ -145,6 +147,9 @@ pub struct Checker {
     pub opts: CheckOptions,
     #[cfg(target_arch = "x86_64")]
     avx2: Option<Avx2>,
+    /// The AVX2 code runs in its AVX-512 VL instantiation (see [`super::simd`]).
+    #[cfg(target_arch = "x86_64")]
+    avx512vl: bool,
 }
 
 impl Checker {
@@ -183,7 +188,37 @@ impl Checker {
             opts,
             #[cfg(target_arch = "x86_64")]
             avx2: Avx2::detect(),
+            #[cfg(target_arch = "x86_64")]
+            avx512vl: avx512vl_detected() && Avx2::detect().is_some(),
         }
+    }
+
+    /// The instruction set the checks run on (the best the CPU has, unless limited).
+    pub fn isa(&self) -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            match (self.avx2, self.avx512vl) {
+                (Some(_), true) => Isa::Avx512Vl,
+                (Some(_), false) => Isa::Avx2,
+                (None, _) => Isa::Baseline,
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        Isa::Baseline
+    }
+
+    /// Runs the checks on at most `max` (to compare instruction sets, or to reproduce a
+    /// baseline run). Every instruction set gives the same answers.
+    pub fn limit_isa(&mut self, max: Isa) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if max < Isa::Avx2 {
+                self.avx2 = None;
+            }
+            self.avx512vl &= max >= Isa::Avx512Vl && self.avx2.is_some();
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = max;
     }
 
     /// Number of coordinates.
@@ -230,8 +265,15 @@ impl Checker {
         #[cfg(target_arch = "x86_64")]
         {
             if let Some(tok) = self.avx2 {
-                // SAFETY: the token proves the CPU has AVX2 and FMA.
-                return unsafe { edge_free_avx2(self, tok, a, b, mode, s) };
+                // SAFETY: the token proves the CPU has AVX2 and FMA; `avx512vl` was
+                // detected at construction.
+                return unsafe {
+                    if self.avx512vl {
+                        edge_free_avx512vl(self, tok, a, b, mode, s)
+                    } else {
+                        edge_free_avx2(self, tok, a, b, mode, s)
+                    }
+                };
             }
             self.edge_free_impl(Sse2::new(), a, b, mode, s)
         }
@@ -243,8 +285,14 @@ impl Checker {
         #[cfg(target_arch = "x86_64")]
         {
             if let Some(tok) = self.avx2 {
-                // SAFETY: the token proves the CPU has AVX2 and FMA.
-                return unsafe { lanes_hit_avx2(self, tok, q, h, s) };
+                // SAFETY: as in `edge_free`.
+                return unsafe {
+                    if self.avx512vl {
+                        lanes_hit_avx512vl(self, tok, q, h, s)
+                    } else {
+                        lanes_hit_avx2(self, tok, q, h, s)
+                    }
+                };
             }
             self.lanes_hit::<_, false>(Sse2::new(), q, h, s)
         }
@@ -809,6 +857,31 @@ unsafe fn edge_free_avx2(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn lanes_hit_avx2(
+    c: &Checker,
+    tok: Avx2,
+    q: &[L],
+    h: L,
+    s: &mut CheckScratch,
+) -> (Mask, Mask) {
+    c.lanes_hit::<_, false>(tok, q, h, s)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+unsafe fn edge_free_avx512vl(
+    c: &Checker,
+    tok: Avx2,
+    a: &[f32],
+    b: &[f32],
+    mode: EdgeMode,
+    s: &mut CheckScratch,
+) -> bool {
+    c.edge_free_impl(tok, a, b, mode, s)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+unsafe fn lanes_hit_avx512vl(
     c: &Checker,
     tok: Avx2,
     q: &[L],

@@ -1,11 +1,17 @@
 //! Deterministic samples of the joint box: the Halton sequence (low discrepancy, one prime
 //! base per coordinate) with a seeded Cranley–Patterson shift, or a seeded xorshift
 //! generator. The same seed gives the same samples on every machine and thread count.
+//!
+//! The Halton bases start at 3, not 2, as VAMP's do (`vamp/random/halton.hh`): with seed 0
+//! both planners then draw the same sample sequence, so their iteration counts compare
+//! directly. Base 2 would also put the first coordinate's first samples at the exact middle
+//! and quarters of its range, where symmetric joint limits (±π) place the arm in its most
+//! aligned poses.
 
 use crate::model::Model;
 
-/// The first primes, one Halton base per coordinate.
-const PRIMES: [u32; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53];
+/// The odd primes, one Halton base per coordinate (VAMP's bases).
+const PRIMES: [u32; 16] = [3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59];
 
 /// xorshift64* (Vigna): a small seeded generator, the same on every platform.
 #[derive(Clone, Debug)]
@@ -143,14 +149,29 @@ mod tests {
     }
 
     #[test]
-    fn halton_in_2d_fills_every_cell_of_a_4x9_grid_within_36_samples() {
+    fn halton_in_2d_fills_every_cell_of_a_9x5_grid_within_45_samples() {
+        // Bases 3 and 5: any 3^i × 5^j consecutive samples hit each cell of that grid once.
         let mut s = Sampler::new(SamplerKind::Halton, &[0.0, 0.0], &[1.0, 1.0], 0);
-        let mut seen = [[false; 9]; 4];
+        let mut seen = [[0u32; 5]; 9];
         let mut q = [0.0f32; 2];
-        for _ in 0..36 {
+        for _ in 0..45 {
             s.next(&mut q);
-            seen[(q[0] * 4.0) as usize][(q[1] * 9.0) as usize] = true;
+            seen[(q[0] * 9.0) as usize][(q[1] * 5.0) as usize] += 1;
         }
-        assert!(seen.iter().flatten().all(|&x| x));
+        assert!(seen.iter().flatten().all(|&x| x == 1), "{seen:?}");
+    }
+
+    #[test]
+    fn halton_starts_with_vamps_first_samples() {
+        // VAMP's Halton (bases 3, 5) starts at (1/3, 1/5), (2/3, 2/5), (1/9, 3/5).
+        let mut s = Sampler::new(SamplerKind::Halton, &[0.0, 0.0], &[1.0, 1.0], 0);
+        let mut q = [0.0f32; 2];
+        for want in [[1.0 / 3.0, 0.2], [2.0 / 3.0, 0.4], [1.0 / 9.0, 0.6]] {
+            s.next(&mut q);
+            assert!(
+                (q[0] - want[0]).abs() < 1e-6 && (q[1] - want[1]).abs() < 1e-6,
+                "{q:?}"
+            );
+        }
     }
 }

@@ -260,6 +260,17 @@ pub(super) fn planner_settings(
         Some(t) if finite_pos(*t.get_ref()) => *t.get_ref(),
         Some(t) => return Err(cx.at(t.span(), "planner.max_overshoot", "must be positive")),
     };
+    let range = match p.and_then(|p| p.range.as_ref()) {
+        None => 1.0,
+        Some(t) if finite_pos(*t.get_ref()) && *t.get_ref() <= 100.0 => *t.get_ref(),
+        Some(t) => {
+            return Err(cx.at(
+                t.span(),
+                "planner.range",
+                "must be a positive joint-space distance (at most 100)",
+            ))
+        }
+    };
     let srdf = match p.and_then(|p| p.srdf.as_ref()) {
         None => None,
         Some(f) => {
@@ -274,6 +285,7 @@ pub(super) fn planner_settings(
         seed: p.and_then(|p| p.seed).unwrap_or(0),
         time_limit: std::time::Duration::from_secs_f64(ms / 1e3),
         simplify: p.and_then(|p| p.simplify).unwrap_or(true),
+        range,
         max_overshoot,
         srdf,
     }))
