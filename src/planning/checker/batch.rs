@@ -1,0 +1,297 @@
+//! One batch of eight configurations: link bounds and spheres against the obstacles, then
+//! the self pairs, with the inflation of a continuous check (see the parent module's docs).
+
+use super::motion::point_speed;
+use super::{CheckScratch, Checker, CLEARANCE_RAMP};
+use crate::model::WORLD;
+use crate::planning::lanes::{Mask, Pose, L, P3};
+use crate::planning::simd::{Simd, W};
+use crate::planning::spheres::LinkSpheres;
+
+impl Checker {
+    /// Collision masks `(exact, inflated)` of eight configurations `q` (one `L` per
+    /// coordinate): `exact` with the spheres as they are, `inflated` with sphere `i` grown by
+    /// `max(speed_i · h − tol, 0)` per lane. Returns at the first exact hit (the masks are
+    /// then partial). Without `MOVING` (configurations, discrete edges) nothing is inflated
+    /// and the inflation is not even computed: `inflated == exact`.
+    ///
+    /// Every body is placed first (base to tip), then the link groups meet the obstacles
+    /// from the tip back to the base, as VAMP orders them: the hand and the distal links are
+    /// the likeliest to hit, so a colliding batch ends early. Self pairs come last.
+    #[inline(always)]
+    pub(crate) fn lanes_hit<S: Simd, const MOVING: bool>(
+        &self,
+        tok: S,
+        q: &[L],
+        h: L,
+        s: &mut CheckScratch,
+    ) -> (Mask, Mask) {
+        let sm = &self.spheres;
+        let h = tok.load(&h);
+        let (mut exact, mut inflated): (Mask, Mask) = (0, 0);
+        let pad = if s.keep_clearance {
+            self.clearance(tok, q, s)
+        } else {
+            tok.splat(0.0)
+        };
+        for bi in 0..self.bodies.len() {
+            let pose = self.body_pose(tok, bi, q, &s.poses);
+            s.poses[bi] = pose.store();
+            if MOVING {
+                let (w, v) = self.body_twist(tok, bi, &pose, s);
+                s.twist[bi] = [w.store(), v.store()];
+            }
+        }
+        for g in (0..sm.links.len()).rev() {
+            let ls = &sm.links[g];
+            s.placed[g] = false;
+            let pose = self.stored_pose(tok, ls.body, s);
+            let bc = pose.act(tok, &ls.bound.center);
+            s.bounds[g] = bc.store();
+            let mut br = tok.splat(ls.bound.radius) + pad;
+            if MOVING {
+                let bi_g = self.bound_inflation(tok, g, &bc, h, s);
+                s.bound_infl[g] = S::store(bi_g);
+                br = br + bi_g;
+            }
+            for &o in &self.reachable[g] {
+                let ob = &self.env.obstacles[o];
+                if ob.near(tok, &bc, br) == 0 || ob.overlaps(tok, &bc, br) == 0 {
+                    continue;
+                }
+                self.place_spheres::<S, MOVING>(tok, g, &pose, h, s);
+                for i in ls.first..ls.end {
+                    let r = tok.splat(sm.spheres[i].radius) + pad;
+                    let c = P3::load(tok, &s.centers[i]);
+                    if MOVING {
+                        let m = ob.overlaps(tok, &c, r + tok.load(&s.infl[i]));
+                        if m != 0 {
+                            inflated |= m;
+                            exact |= ob.overlaps(tok, &c, r);
+                        }
+                    } else {
+                        exact |= ob.overlaps(tok, &c, r);
+                    }
+                }
+                if exact != 0 {
+                    return (exact, if MOVING { inflated } else { exact });
+                }
+            }
+        }
+        for &(ga, gb) in &self.self_pairs {
+            let (e, i) = self.pair_hit::<S, MOVING>(tok, ga, gb, h, s);
+            exact |= e;
+            inflated |= i;
+            if exact != 0 {
+                break;
+            }
+        }
+        (exact, if MOVING { inflated } else { exact })
+    }
+
+    /// The clearance demanded of each lane: the full [`CheckOptions::clearance`] farther
+    /// than [`CLEARANCE_RAMP`] from both ends of the path, less in proportion nearer.
+    #[inline(always)]
+    pub(super) fn clearance<S: Simd>(&self, tok: S, q: &[L], s: &CheckScratch) -> W<S> {
+        let nv = self.nv();
+        let full = tok.splat(self.opts.clearance);
+        if s.ends.len() != 2 * nv {
+            return full;
+        }
+        let (mut ds, mut dg) = (tok.splat(0.0), tok.splat(0.0));
+        for (k, qk) in q.iter().enumerate().take(nv) {
+            let x = tok.load(qk);
+            let a = x - tok.splat(s.ends[k]);
+            let b = x - tok.splat(s.ends[nv + k]);
+            ds = a.mul_add(a, ds);
+            dg = b.mul_add(b, dg);
+        }
+        let near = ds.min(dg).sqrt() * tok.splat(1.0 / CLEARANCE_RAMP);
+        full * near.min(tok.splat(1.0))
+    }
+
+    /// Computes the world centres of group `g`'s spheres (once per batch).
+    #[inline(always)]
+    pub(super) fn place_spheres<S: Simd, const MOVING: bool>(
+        &self,
+        tok: S,
+        g: usize,
+        pose: &Pose<S>,
+        h: W<S>,
+        s: &mut CheckScratch,
+    ) {
+        if s.placed[g] {
+            return;
+        }
+        let ls = &self.spheres.links[g];
+        if !MOVING {
+            for i in ls.first..ls.end {
+                s.centers[i] = pose.act(tok, &self.spheres.spheres[i].center).store();
+            }
+            s.placed[g] = true;
+            return;
+        }
+        // No closures here: they would not inherit the caller's target features.
+        let tw = if ls.body != WORLD {
+            let t = &s.twist[ls.body];
+            Some((P3::load(tok, &t[0]), P3::load(tok, &t[1])))
+        } else {
+            None
+        };
+        for i in ls.first..ls.end {
+            let c = pose.act(tok, &self.spheres.spheres[i].center);
+            s.centers[i] = c.store();
+            let speed = match &tw {
+                Some((w, v)) => Some(point_speed(w, v, &pose.t, &c)),
+                None => None,
+            };
+            s.infl[i] = S::store(self.inflation(tok, s.speed[i], speed, h, s.l1));
+        }
+        s.placed[g] = true;
+    }
+
+    /// The inflation `max(speed · h − tol, 0)` of a point whose speed bound over the edge is
+    /// `v` (per unit of the edge parameter) and whose speed at the check point is `now`:
+    /// within `h` of it the speed is at most `now + ½ M h` with `M = 3 ‖Δ‖₁ v` (see the
+    /// module docs), and never more than `v`.
+    #[inline(always)]
+    pub(super) fn inflation<S: Simd>(
+        &self,
+        tok: S,
+        v: f32,
+        now: Option<W<S>>,
+        h: W<S>,
+        l1: f32,
+    ) -> W<S> {
+        let bound = tok.splat(v);
+        let speed = match now {
+            Some(now) => bound.min(now + tok.splat(1.5 * l1 * v) * h),
+            None => bound,
+        };
+        (speed * h - tok.splat(self.opts.tolerance)).max(tok.splat(0.0))
+    }
+
+    /// Inflation of group `g`'s bounding sphere centred at `bc`: its points move at most at
+    /// `|v_bc| + |ω| R`.
+    #[inline(always)]
+    pub(super) fn bound_inflation<S: Simd>(
+        &self,
+        tok: S,
+        g: usize,
+        bc: &P3<S>,
+        h: W<S>,
+        s: &CheckScratch,
+    ) -> W<S> {
+        // No closures here: they would not inherit the caller's target features.
+        let ls = &self.spheres.links[g];
+        let now = if ls.body != WORLD {
+            let t = &s.twist[ls.body];
+            let (w, v) = (P3::load(tok, &t[0]), P3::load(tok, &t[1]));
+            let o = P3::load(tok, &s.poses[ls.body].t);
+            Some(
+                point_speed(&w, &v, &o, bc)
+                    + W::norm2(w.x, w.y, w.z).sqrt() * tok.splat(ls.bound.radius),
+            )
+        } else {
+            None
+        };
+        self.inflation(tok, s.link_speed[g], now, h, s.l1)
+    }
+
+    /// Masks `(exact, inflated)` where link groups `ga` and `gb` overlap (bounding spheres
+    /// first).
+    #[inline(always)]
+    pub(super) fn pair_hit<S: Simd, const MOVING: bool>(
+        &self,
+        tok: S,
+        ga: usize,
+        gb: usize,
+        h: W<S>,
+        s: &mut CheckScratch,
+    ) -> (Mask, Mask) {
+        let sm = &self.spheres;
+        let (la, lb) = (&sm.links[ga], &sm.links[gb]);
+        let ca = P3::load(tok, &s.bounds[ga]);
+        let cb = P3::load(tok, &s.bounds[gb]);
+        let mut rr = tok.splat(la.bound.radius + lb.bound.radius);
+        if MOVING {
+            rr = rr + tok.load(&s.bound_infl[ga]) + tok.load(&s.bound_infl[gb]);
+        }
+        if ca.dist2(&cb).lt(rr * rr) == 0 {
+            return (0, 0);
+        }
+        for (g, body) in [(ga, la.body), (gb, lb.body)] {
+            if !s.placed[g] {
+                let pose = self.stored_pose(tok, body, s);
+                self.place_spheres::<S, MOVING>(tok, g, &pose, h, s);
+            }
+        }
+        if !MOVING {
+            return (self.pair_spheres_hit(tok, la, lb, ca, cb, s), 0);
+        }
+        let (mut exact, mut inflated) = (0, 0);
+        // Each sphere of the group with more spheres against the other group's bound first.
+        let (la, lb, cb, gb) = if la.end - la.first >= lb.end - lb.first {
+            (la, lb, cb, gb)
+        } else {
+            (lb, la, ca, ga)
+        };
+        let rb = tok.splat(lb.bound.radius) + tok.load(&s.bound_infl[gb]);
+        for i in la.first..la.end {
+            let ri = tok.splat(sm.spheres[i].radius);
+            let ei = tok.load(&s.infl[i]);
+            let ci = P3::load(tok, &s.centers[i]);
+            let reach = ri + ei + rb;
+            if ci.dist2(&cb).lt(reach * reach) == 0 {
+                continue;
+            }
+            for j in lb.first..lb.end {
+                let cj = P3::load(tok, &s.centers[j]);
+                let r = ri + tok.splat(sm.spheres[j].radius);
+                let d2 = ci.dist2(&cj);
+                let rinf = r + ei + tok.load(&s.infl[j]);
+                let m = d2.lt(rinf * rinf);
+                if m != 0 {
+                    inflated |= m;
+                    exact |= d2.lt(r * r);
+                }
+            }
+        }
+        (exact, inflated)
+    }
+
+    /// Mask of the lanes where a sphere of `la` touches one of `lb` (no inflation): each
+    /// sphere of the group with more spheres against the other group's bound first.
+    #[inline(always)]
+    pub(super) fn pair_spheres_hit<S: Simd>(
+        &self,
+        tok: S,
+        la: &LinkSpheres,
+        lb: &LinkSpheres,
+        ca: P3<S>,
+        cb: P3<S>,
+        s: &CheckScratch,
+    ) -> Mask {
+        let sm = &self.spheres;
+        let (la, lb, cb) = if la.end - la.first >= lb.end - lb.first {
+            (la, lb, cb)
+        } else {
+            (lb, la, ca)
+        };
+        let rb = tok.splat(lb.bound.radius);
+        let mut hit = 0;
+        for i in la.first..la.end {
+            let ri = tok.splat(sm.spheres[i].radius);
+            let ci = P3::load(tok, &s.centers[i]);
+            let reach = ri + rb;
+            if ci.dist2(&cb).lt(reach * reach) == 0 {
+                continue;
+            }
+            for j in lb.first..lb.end {
+                let r = ri + tok.splat(sm.spheres[j].radius);
+                hit |= ci.dist2(&P3::load(tok, &s.centers[j])).lt(r * r);
+            }
+        }
+        hit
+    }
+}

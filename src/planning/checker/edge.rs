@@ -1,0 +1,159 @@
+//! The edge checks: the coarse pass in rake order, the refinement of intervals whose
+//! inflated check failed, and the per-edge speed bounds (see the parent module's docs).
+
+use super::{CheckScratch, Checker, EdgeMode};
+use crate::planning::lanes::{Mask, L, N};
+use crate::planning::simd::Simd;
+
+impl Checker {
+    #[inline(always)]
+    pub(super) fn edge_free_impl<S: Simd>(
+        &self,
+        tok: S,
+        a: &[f32],
+        b: &[f32],
+        mode: EdgeMode,
+        s: &mut CheckScratch,
+    ) -> bool {
+        let continuous = mode == EdgeMode::Continuous;
+        let nv = self.nv();
+        let mut dist2 = 0.0f32;
+        for k in 0..nv {
+            dist2 += (b[k] - a[k]) * (b[k] - a[k]);
+        }
+        if continuous {
+            self.edge_speeds(a, b, s);
+        }
+        s.moving = continuous;
+        let res = if continuous {
+            self.opts.resolution
+        } else {
+            self.opts.search_resolution
+        };
+        let n = ((dist2.sqrt() * res).ceil() as usize).max(1);
+        let h0 = if continuous { 0.5 / n as f32 } else { 0.0 };
+        let m = n.div_ceil(N);
+        let mut qs = std::mem::take(&mut s.q);
+        s.stack.clear();
+        let mut ok = true;
+        // Coarse pass in rake order; an exact hit ends it, inflated-only hits wait.
+        for i in 0..m {
+            let mut t = [0.0f32; N];
+            let mut valid: Mask = 0;
+            for (l, tl) in t.iter_mut().enumerate() {
+                let k = l * m + i;
+                valid |= Mask::from(k < n) << l;
+                // Continuous: interval centres; discrete: the points k/n, k = 1..n (the end
+                // included, the start being a node already checked).
+                *tl = (k.min(n - 1) as f32 + if continuous { 0.5 } else { 1.0 }) / n as f32;
+            }
+            let (exact, inflated) = self.lerp_lanes_hit(tok, a, b, &t, &[h0; N], &mut qs, s);
+            if exact & valid != 0 {
+                ok = false;
+                break;
+            }
+            for (l, &tl) in t.iter().enumerate() {
+                if inflated & valid & (1 << l) != 0 {
+                    s.stack.push((tl, h0));
+                }
+            }
+        }
+        ok = ok && self.refine(tok, a, b, &mut qs, s);
+        std::mem::swap(&mut s.q, &mut qs);
+        s.moving = false;
+        ok
+    }
+
+    /// Works through the stack of intervals `(t, h)` whose inflated check failed but whose
+    /// centre is free: their two halves are checked with half the inflation, eight at a
+    /// time. False on a real (exact) hit.
+    #[inline(always)]
+    pub(super) fn refine<S: Simd>(
+        &self,
+        tok: S,
+        a: &[f32],
+        b: &[f32],
+        qs: &mut [L],
+        s: &mut CheckScratch,
+    ) -> bool {
+        while !s.stack.is_empty() {
+            let mut t = [0.0f32; N];
+            let mut h = [0.0f32; N];
+            let mut lanes = 0;
+            while lanes + 2 <= N && !s.stack.is_empty() {
+                let (tc, hc) = s.stack.pop().unwrap_or_default();
+                let hh = 0.5 * hc;
+                if hh < 1e-7 {
+                    // Subdivided to nothing without an exact hit: refuse, conservatively.
+                    return false;
+                }
+                t[lanes] = tc - hh;
+                t[lanes + 1] = tc + hh;
+                h[lanes] = hh;
+                h[lanes + 1] = hh;
+                lanes += 2;
+            }
+            for l in lanes..N {
+                t[l] = t[0];
+                h[l] = h[0];
+            }
+            let (exact, inflated) = self.lerp_lanes_hit(tok, a, b, &t, &h, qs, s);
+            if exact != 0 {
+                return false;
+            }
+            for l in 0..lanes {
+                if inflated & (1 << l) != 0 {
+                    s.stack.push((t[l], h[l]));
+                }
+            }
+        }
+        true
+    }
+
+    /// Per-sphere and per-link speed bounds `v = Σ_k |b_k − a_k| ρ_k` of the edge.
+    #[inline(always)]
+    pub(super) fn edge_speeds(&self, a: &[f32], b: &[f32], s: &mut CheckScratch) {
+        let nv = self.nv();
+        let sm = &self.spheres;
+        for (i, v) in s.speed.iter_mut().enumerate() {
+            let rho = &sm.rho[i * nv..(i + 1) * nv];
+            *v = (0..nv).map(|k| (b[k] - a[k]).abs() * rho[k]).sum();
+        }
+        for (g, v) in s.link_speed.iter_mut().enumerate() {
+            let rho = &sm.link_rho[g * nv..(g + 1) * nv];
+            *v = (0..nv).map(|k| (b[k] - a[k]).abs() * rho[k]).sum();
+        }
+        s.l1 = 0.0;
+        for (d, body) in s.body_delta.iter_mut().zip(&self.bodies) {
+            *d = body.mult * (b[body.q_index] - a[body.q_index]);
+            s.l1 += d.abs();
+        }
+    }
+
+    /// Hits at `a + t (b − a)` per lane, spheres inflated for half-widths `h`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn lerp_lanes_hit<S: Simd>(
+        &self,
+        tok: S,
+        a: &[f32],
+        b: &[f32],
+        t: &[f32; N],
+        h: &[f32; N],
+        qs: &mut [L],
+        s: &mut CheckScratch,
+    ) -> (Mask, Mask) {
+        for (k, lane) in qs.iter_mut().enumerate() {
+            let d = b[k] - a[k];
+            for (x, &tl) in lane.0.iter_mut().zip(t) {
+                *x = a[k] + tl * d;
+            }
+        }
+        s.batches += 1;
+        if s.moving {
+            self.lanes_hit::<S, true>(tok, qs, L(*h), s)
+        } else {
+            self.lanes_hit::<S, false>(tok, qs, L(*h), s)
+        }
+    }
+}

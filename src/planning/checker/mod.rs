@@ -1,0 +1,393 @@
+//! The vectorised collision checker: eight configurations at once, forward kinematics of
+//! the sphere centres and sphere–obstacle and sphere–sphere tests in f32 lanes.
+//!
+//! **Configurations.** [`Checker::lanes_hit`] computes the body poses for eight
+//! configurations (one per lane) down the tree, places each link's bounding sphere, tests it
+//! against each obstacle, and only where a lane overlaps tests the link's own spheres; then
+//! the enabled self-collision link pairs, bounding spheres first. The result is the mask
+//! of lanes in collision.
+//!
+//! **Edges, continuously.** An edge `a → b` is cut into `n = ⌈‖b − a‖ · resolution⌉`
+//! intervals of half-width `h = 1/(2n)` in the parameter `t`. The check at an interval's
+//! centre with every sphere inflated by `e_s = v_s h − tol` covers the whole interval: by
+//! the motion bound of [`super::spheres`], over the interval no centre moves further than
+//! `v_s h` from where it was checked, with `v_s = Σ_k |b_k − a_k| ρ_{s,k}`; so nothing
+//! penetrates by more than `tol`.
+//!
+//! **Tighter, at the check point.** Along the edge (`q = a + tΔ`) a centre moves with
+//! `c' = Σ_k Δ_k ω̂_k × (c − o_k)`, and `|c''| ≤ 3 ‖Δ‖₁ v_s`: differentiating, `|ω̂_k'| ≤ ‖Δ‖₁`,
+//! `|c − o_k| ≤ ρ_{s,k}`, `|c'| ≤ v_s` and `|o_k'| ≤ v_s`. So within `h` of the check point
+//! the centre moves at most `(|c'(t_c)| + ½ · 3 ‖Δ‖₁ v_s h) h`; the checker takes the smaller
+//! of this and `v_s h`. `c'(t_c)` comes from the bodies' twists per unit `t`, propagated
+//! with the poses (`ω_i = ω_p + Δ_i z_i`, `v_i = v_p + ω_p × (o_i − o_p)`); a link's bound
+//! moves at most at `|v_bc| + |ω| R`. On the Panda problems this cuts the batches of the
+//! continuous checks by 2.4× (median 181 → 76 per query).
+//!
+//! Intervals are visited in *rake* order (lane `ℓ` takes
+//! intervals `ℓm, ℓm + 1, …`, `m = ⌈n/8⌉`), so a collision anywhere on the edge shows up in
+//! the first batches. An interval whose inflated check fails is checked exactly at its
+//! centre (a hit there is a real collision: the edge is invalid); otherwise it is split
+//! into two halves with half the inflation, until the inflation is gone, when a hit is
+//! real. Near obstacles the subdivision goes deep only where it has to.
+//!
+//! **Dispatch.** The entry points run an AVX2+FMA copy of the code when the CPU has them
+//! (detected once at construction), an AVX-512 VL build of that copy when the CPU has those
+//! too, and the baseline SSE2 copy otherwise; all are the same source, inlined into
+//! `#[target_feature]` wrappers.
+
+mod batch;
+mod edge;
+mod motion;
+
+use crate::model::{Model, WORLD};
+use crate::planning::environment::Environment;
+use crate::planning::lanes::{Mask, P3m, PoseM, L, P3};
+pub use crate::planning::simd::Isa;
+#[cfg(target_arch = "x86_64")]
+use crate::planning::simd::{avx512vl_detected, Avx2, Sse2};
+use crate::planning::simd::{Scalar, Simd};
+use crate::planning::spheres::SphereModel;
+
+/// One body of the kinematic tree in f32.
+#[derive(Clone, Copy, Debug)]
+struct Body {
+    parent: usize,
+    rot: [[f32; 3]; 3],
+    rot_identity: bool,
+    trans: [f32; 3],
+    axis: usize,
+    revolute: bool,
+    q_index: usize,
+    mult: f32,
+    offset: f32,
+}
+
+/// How an edge is checked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeMode {
+    /// Continuously: nothing penetrates by more than the tolerance anywhere on the edge.
+    Continuous,
+    /// At points only (`search_resolution` per unit), as sampling planners usually do:
+    /// fast, but the edge may graze an obstacle between two points.
+    Discrete,
+}
+
+/// Joint-space distance from the path's ends over which the demanded clearance grows from
+/// zero to its full value (rad).
+pub const CLEARANCE_RAMP: f32 = 0.3;
+
+/// Settings of the checker.
+#[derive(Clone, Copy, Debug)]
+pub struct CheckOptions {
+    /// Edge intervals per unit of joint-space distance (the coarse level; finer where
+    /// needed).
+    pub resolution: f32,
+    /// Points per unit of joint-space distance of the discrete checks
+    /// ([`EdgeMode::Discrete`]). The planner searches with them and then checks the path's
+    /// edges continuously, so they only need to turn away most colliding edges: 16 (half
+    /// VAMP's 32) cuts the Panda and UR5 medians by 13–18 % with the same success.
+    pub search_resolution: f32,
+    /// Penetration the continuous check allows (m); the exact checks allow none.
+    pub tolerance: f32,
+    /// Distance from the obstacles that checks made with [`CheckScratch::keep_clearance`]
+    /// set demand (m), ramped down near the path's ends ([`CLEARANCE_RAMP`]): the simplifier
+    /// keeps it so that a smooth curve through the simplified waypoints has room to cut
+    /// corners. Zero by default (MotionBenchMaker semantics).
+    pub clearance: f32,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        Self {
+            resolution: 32.0,
+            search_resolution: 16.0,
+            tolerance: 5e-5,
+            clearance: 0.0,
+        }
+    }
+}
+
+/// Reusable buffers of one thread's checks (no allocation once warm).
+#[derive(Clone, Debug, Default)]
+pub struct CheckScratch {
+    poses: Vec<PoseM>,
+    centers: Vec<P3m>,
+    bounds: Vec<P3m>,
+    placed: Vec<bool>,
+    /// Per body, its world twist `(ω, v)` per unit of the edge parameter.
+    twist: Vec<[P3m; 2]>,
+    /// Per sphere and per group bound, the inflation of the current batch.
+    infl: Vec<L>,
+    bound_infl: Vec<L>,
+    /// Per body, its coordinate's change over the edge (mimic multiplier included).
+    body_delta: Vec<f32>,
+    /// `Σ |body_delta|`.
+    l1: f32,
+    /// Whether a continuous edge check is under way (twists and speeds are set).
+    moving: bool,
+    /// Whether the obstacle checks demand [`CheckOptions::clearance`].
+    pub keep_clearance: bool,
+    /// The path's start and goal (`2 nv`): the clearance demanded of a configuration grows
+    /// from zero at them to the full value [`CLEARANCE_RAMP`] away (joint-space distance),
+    /// since a task puts the arm close to the obstacles there on purpose (a pick, a place).
+    pub ends: Vec<f32>,
+    speed: Vec<f32>,
+    link_speed: Vec<f32>,
+    stack: Vec<(f32, f32)>,
+    q: Vec<L>,
+    /// Edge checks done.
+    pub edges: u64,
+    /// Batches of eight configurations checked.
+    pub batches: u64,
+}
+
+/// The robot's spheres, the obstacles, the self-collision pairs and the f32 kinematics.
+#[derive(Clone, Debug)]
+pub struct Checker {
+    bodies: Vec<Body>,
+    /// The robot's spheres.
+    pub spheres: SphereModel,
+    /// The obstacles.
+    pub env: Environment,
+    /// Link-group pairs checked for self-collision.
+    pub self_pairs: Vec<(usize, usize)>,
+    /// Per link group, the obstacles its bounding sphere can ever reach.
+    reachable: Vec<Vec<usize>>,
+    /// Settings.
+    pub opts: CheckOptions,
+    #[cfg(target_arch = "x86_64")]
+    avx2: Option<Avx2>,
+    /// The AVX2 code runs in its AVX-512 VL instantiation (see [`super::simd`]).
+    #[cfg(target_arch = "x86_64")]
+    avx512vl: bool,
+}
+
+impl Checker {
+    /// A checker for `model` with its sphere model, obstacles and self pairs.
+    pub fn new(
+        model: &Model,
+        spheres: SphereModel,
+        env: Environment,
+        self_pairs: Vec<(usize, usize)>,
+        opts: CheckOptions,
+    ) -> Checker {
+        let f = |x: f64| x as f32;
+        let bodies = (0..model.nbodies())
+            .map(|i| {
+                let p = &model.placement[i];
+                Body {
+                    parent: model.parent[i],
+                    rot: [0, 1, 2].map(|r| [0, 1, 2].map(|c| f(p.rot[(r, c)]))),
+                    rot_identity: model.placement_identity[i],
+                    trans: [f(p.trans.x), f(p.trans.y), f(p.trans.z)],
+                    axis: model.kind[i].axis_index(),
+                    revolute: model.kind[i].is_revolute(),
+                    q_index: model.q_index[i],
+                    mult: f(model.q_mult[i]),
+                    offset: f(model.q_offset[i]),
+                }
+            })
+            .collect();
+        let reachable = reachable_obstacles(model, &spheres, &env, opts.clearance);
+        Checker {
+            bodies,
+            spheres,
+            env,
+            self_pairs,
+            reachable,
+            opts,
+            #[cfg(target_arch = "x86_64")]
+            avx2: Avx2::detect(),
+            #[cfg(target_arch = "x86_64")]
+            avx512vl: avx512vl_detected() && Avx2::detect().is_some(),
+        }
+    }
+
+    /// The instruction set the checks run on (the best the CPU has, unless limited).
+    pub fn isa(&self) -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            match (self.avx2, self.avx512vl) {
+                (Some(_), true) => Isa::Avx512Vl,
+                (Some(_), false) => Isa::Avx2,
+                (None, _) => Isa::Baseline,
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        Isa::Baseline
+    }
+
+    /// Runs the checks on at most `max` (to compare instruction sets, or to reproduce a
+    /// baseline run). Every instruction set gives the same answers.
+    pub fn limit_isa(&mut self, max: Isa) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if max < Isa::Avx2 {
+                self.avx2 = None;
+            }
+            self.avx512vl &= max >= Isa::Avx512Vl && self.avx2.is_some();
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = max;
+    }
+
+    /// Number of coordinates.
+    pub fn nv(&self) -> usize {
+        self.spheres.nv
+    }
+
+    /// Fresh scratch buffers sized for this checker.
+    pub fn scratch(&self) -> CheckScratch {
+        let mut s = CheckScratch {
+            poses: vec![PoseM::default(); self.bodies.len()],
+            centers: vec![P3m::default(); self.spheres.len()],
+            bounds: vec![P3m::default(); self.spheres.links.len()],
+            placed: vec![false; self.spheres.links.len()],
+            twist: vec![[P3m::default(); 2]; self.bodies.len()],
+            infl: vec![L::splat(0.0); self.spheres.len()],
+            bound_infl: vec![L::splat(0.0); self.spheres.links.len()],
+            body_delta: vec![0.0; self.bodies.len()],
+            ends: Vec::with_capacity(2 * self.nv()),
+            speed: vec![0.0; self.spheres.len()],
+            link_speed: vec![0.0; self.spheres.links.len()],
+            stack: Vec::with_capacity(256),
+            q: vec![L::splat(0.0); self.nv()],
+            ..Default::default()
+        };
+        s.stack.clear();
+        s
+    }
+
+    /// Whether configuration `q` is free (exact spheres, no inflation).
+    pub fn config_free(&self, q: &[f32], s: &mut CheckScratch) -> bool {
+        for (k, lane) in s.q.iter_mut().enumerate() {
+            *lane = L::splat(q[k]);
+        }
+        let mut qs = std::mem::take(&mut s.q);
+        let (hit, _) = self.dispatch_lanes(&qs, L::splat(0.0), s);
+        std::mem::swap(&mut s.q, &mut qs);
+        hit == 0
+    }
+
+    /// Whether the straight edge `a → b` is free, continuously (see the module docs).
+    pub fn edge_free(&self, a: &[f32], b: &[f32], mode: EdgeMode, s: &mut CheckScratch) -> bool {
+        s.edges += 1;
+        #[cfg(target_arch = "x86_64")]
+        {
+            if let Some(tok) = self.avx2 {
+                // SAFETY: the token proves the CPU has AVX2 and FMA; `avx512vl` was
+                // detected at construction.
+                return unsafe {
+                    if self.avx512vl {
+                        edge_free_avx512vl(self, tok, a, b, mode, s)
+                    } else {
+                        edge_free_avx2(self, tok, a, b, mode, s)
+                    }
+                };
+            }
+            self.edge_free_impl(Sse2::new(), a, b, mode, s)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.edge_free_impl(Scalar, a, b, mode, s)
+    }
+
+    fn dispatch_lanes(&self, q: &[L], h: L, s: &mut CheckScratch) -> (Mask, Mask) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if let Some(tok) = self.avx2 {
+                // SAFETY: as in `edge_free`.
+                return unsafe {
+                    if self.avx512vl {
+                        lanes_hit_avx512vl(self, tok, q, h, s)
+                    } else {
+                        lanes_hit_avx2(self, tok, q, h, s)
+                    }
+                };
+            }
+            self.lanes_hit::<_, false>(Sse2::new(), q, h, s)
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.lanes_hit::<_, false>(Scalar, q, h, s)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn edge_free_avx2(
+    c: &Checker,
+    tok: Avx2,
+    a: &[f32],
+    b: &[f32],
+    mode: EdgeMode,
+    s: &mut CheckScratch,
+) -> bool {
+    c.edge_free_impl(tok, a, b, mode, s)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn lanes_hit_avx2(
+    c: &Checker,
+    tok: Avx2,
+    q: &[L],
+    h: L,
+    s: &mut CheckScratch,
+) -> (Mask, Mask) {
+    c.lanes_hit::<_, false>(tok, q, h, s)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+unsafe fn edge_free_avx512vl(
+    c: &Checker,
+    tok: Avx2,
+    a: &[f32],
+    b: &[f32],
+    mode: EdgeMode,
+    s: &mut CheckScratch,
+) -> bool {
+    c.edge_free_impl(tok, a, b, mode, s)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+unsafe fn lanes_hit_avx512vl(
+    c: &Checker,
+    tok: Avx2,
+    q: &[L],
+    h: L,
+    s: &mut CheckScratch,
+) -> (Mask, Mask) {
+    c.lanes_hit::<_, false>(tok, q, h, s)
+}
+
+/// Per link group, the obstacles within reach of its bounding sphere in any configuration:
+/// the group's bound swept about the first movable body's origin (a sphere of radius
+/// `|o − c| + r` around the chain root). Groups on the world are tested statically.
+fn reachable_obstacles(
+    model: &Model,
+    sm: &SphereModel,
+    env: &Environment,
+    clearance: f32,
+) -> Vec<Vec<usize>> {
+    let centers = sm.world_centers(model, &vec![0.0; model.nv]);
+    sm.links
+        .iter()
+        .map(|ls| {
+            (0..env.len())
+                .filter(|&o| {
+                    if ls.body != WORLD {
+                        return true;
+                    }
+                    // A fixed link: does any of its spheres touch the obstacle at all?
+                    let ob = &env.obstacles[o];
+                    (ls.first..ls.end).any(|i| {
+                        let c = centers[i];
+                        let p = P3::splat(Scalar, &[c.x as f32, c.y as f32, c.z as f32]);
+                        ob.overlaps(Scalar, &p, Scalar.splat(sm.spheres[i].radius + clearance)) != 0
+                    })
+                })
+                .collect()
+        })
+        .collect()
+}

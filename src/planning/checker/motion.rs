@@ -1,0 +1,151 @@
+//! Forward kinematics of the bodies in eight lanes, their twists along an edge, and the
+//! small vector helpers the speed bounds use.
+
+use super::{CheckScratch, Checker};
+use crate::model::WORLD;
+use crate::planning::lanes::{Pose, PoseM, L, P3};
+use crate::planning::simd::{Simd, W};
+
+impl Checker {
+    /// World twist `(ω, v)` of body `i` per unit of the edge parameter: `ω = ω_p + Δ_i z_i`
+    /// (revolute), `v = v_p + ω_p × (o_i − o_p)` (`+ Δ_i z_i` if prismatic).
+    #[inline(always)]
+    pub(super) fn body_twist<S: Simd>(
+        &self,
+        tok: S,
+        i: usize,
+        pose: &Pose<S>,
+        s: &CheckScratch,
+    ) -> (P3<S>, P3<S>) {
+        let b = &self.bodies[i];
+        let zero = P3::splat(tok, &[0.0; 3]);
+        let (wp, vp, op) = if b.parent == WORLD {
+            (zero, zero, zero)
+        } else {
+            let t = &s.twist[b.parent];
+            (
+                P3::load(tok, &t[0]),
+                P3::load(tok, &t[1]),
+                P3::load(tok, &s.poses[b.parent].t),
+            )
+        };
+        let d = tok.splat(s.body_delta[i]);
+        let k = b.axis;
+        let z = P3 {
+            x: pose.r[0][k] * d,
+            y: pose.r[1][k] * d,
+            z: pose.r[2][k] * d,
+        };
+        let c = cross(&wp, &sub(&pose.t, &op));
+        let mut v = P3 {
+            x: vp.x + c.x,
+            y: vp.y + c.y,
+            z: vp.z + c.z,
+        };
+        let w = if b.revolute {
+            P3 {
+                x: wp.x + z.x,
+                y: wp.y + z.y,
+                z: wp.z + z.z,
+            }
+        } else {
+            v = P3 {
+                x: v.x + z.x,
+                y: v.y + z.y,
+                z: v.z + z.z,
+            };
+            wp
+        };
+        (w, v)
+    }
+
+    /// The pose of body `b` (or the world) stored by this batch.
+    #[inline(always)]
+    pub(super) fn stored_pose<S: Simd>(&self, tok: S, b: usize, s: &CheckScratch) -> Pose<S> {
+        if b == WORLD {
+            let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+            Pose::splat(tok, &identity, &[0.0; 3])
+        } else {
+            Pose::load(tok, &s.poses[b])
+        }
+    }
+
+    /// `oM_parent · placement · J(q)` of body `i` in every lane.
+    #[inline(always)]
+    pub(super) fn body_pose<S: Simd>(&self, tok: S, i: usize, q: &[L], poses: &[PoseM]) -> Pose<S> {
+        let b = &self.bodies[i];
+        let qi = tok
+            .load(&q[b.q_index])
+            .mul_add(tok.splat(b.mult), tok.splat(b.offset));
+        let mut out = if b.parent == WORLD {
+            Pose::splat(tok, &b.rot, &b.trans)
+        } else {
+            let p = Pose::load(tok, &poses[b.parent]);
+            let t = p.act(tok, &b.trans);
+            let r = if b.rot_identity {
+                p.r
+            } else {
+                let mut r = p.r;
+                for (row, rr) in r.iter_mut().enumerate() {
+                    for (col, x) in rr.iter_mut().enumerate() {
+                        *x = p.r[row][0].mul_add(
+                            tok.splat(b.rot[0][col]),
+                            p.r[row][1].mul_add(
+                                tok.splat(b.rot[1][col]),
+                                p.r[row][2] * tok.splat(b.rot[2][col]),
+                            ),
+                        );
+                    }
+                }
+                r
+            };
+            Pose { r, t }
+        };
+        if b.revolute {
+            let (sn, cs) = qi.sin_cos();
+            let (ci, cj) = match b.axis {
+                0 => (1, 2),
+                1 => (2, 0),
+                _ => (0, 1),
+            };
+            for row in 0..3 {
+                let (x, y) = (out.r[row][ci], out.r[row][cj]);
+                out.r[row][ci] = cs.mul_add(x, sn * y);
+                out.r[row][cj] = cs.mul_add(y, -(sn * x));
+            }
+        } else {
+            let k = b.axis;
+            out.t.x = out.r[0][k].mul_add(qi, out.t.x);
+            out.t.y = out.r[1][k].mul_add(qi, out.t.y);
+            out.t.z = out.r[2][k].mul_add(qi, out.t.z);
+        }
+        out
+    }
+}
+
+/// `a − b`.
+#[inline(always)]
+pub(super) fn sub<S: Simd>(a: &P3<S>, b: &P3<S>) -> P3<S> {
+    P3 {
+        x: a.x - b.x,
+        y: a.y - b.y,
+        z: a.z - b.z,
+    }
+}
+
+/// `a × b`.
+#[inline(always)]
+pub(super) fn cross<S: Simd>(a: &P3<S>, b: &P3<S>) -> P3<S> {
+    P3 {
+        x: a.y * b.z - a.z * b.y,
+        y: a.z * b.x - a.x * b.z,
+        z: a.x * b.y - a.y * b.x,
+    }
+}
+
+/// `|v + ω × (c − o)|`: the speed of point `c` on a body with twist `(ω, v)` at origin `o`.
+#[inline(always)]
+pub(super) fn point_speed<S: Simd>(w: &P3<S>, v: &P3<S>, o: &P3<S>, c: &P3<S>) -> W<S> {
+    let r = cross(w, &sub(c, o));
+    W::norm2(v.x + r.x, v.y + r.y, v.z + r.z).sqrt()
+}
