@@ -260,6 +260,56 @@ fn every_instruction_set_gives_bitwise_identical_paths() {
 }
 
 #[test]
+fn body_clusters_change_no_verdict_of_configurations_or_edges() {
+    use armsim::planning::checker::EdgeMode;
+    use armsim::planning::sampler::{Sampler, SamplerKind};
+    let robot = Robot::load("ur5");
+    for scene in ["table_pick", "bookshelf_small", "box"] {
+        let p = problems(&robot, scene)
+            .into_iter()
+            .find(|p| p.valid)
+            .unwrap();
+        let fast = planner(&robot, &p.obstacles, PlanOptions::default()).checker;
+        // The UR5's hand: eleven groups on the last body (gripper, sensor, flange).
+        assert_eq!(fast.clusters().iter().map(|c| c.len()).max(), Some(11));
+        let mut plain = fast.clone();
+        plain.without_clusters();
+        assert!(plain.clusters().is_empty());
+        let (lo, hi): (Vec<f32>, Vec<f32>) = (0..robot.model.nv)
+            .map(|k| (robot.model.lower[k] as f32, robot.model.upper[k] as f32))
+            .unzip();
+        let mut sampler = Sampler::new(SamplerKind::Random, &lo, &hi, 3);
+        let (mut sa, mut sb) = (fast.scratch(), plain.scratch());
+        let (mut a, mut b) = (vec![0.0f32; lo.len()], vec![0.0f32; lo.len()]);
+        let mut hits = [0usize; 3];
+        for i in 0..3000 {
+            sampler.next(&mut a);
+            let free = fast.config_free(&a, &mut sa);
+            assert_eq!(free, plain.config_free(&a, &mut sb), "{scene}: config {i}");
+            hits[0] += usize::from(!free);
+            if i % 6 == 0 {
+                sampler.next(&mut b);
+                for (k, x) in b.iter_mut().enumerate() {
+                    *x = a[k] + 0.3 * (*x - a[k]);
+                }
+                for (mode, n) in [(EdgeMode::Discrete, 1), (EdgeMode::Continuous, 2)] {
+                    let f = fast.edge_free(&a, &b, mode, &mut sa);
+                    assert_eq!(
+                        f,
+                        plain.edge_free(&a, &b, mode, &mut sb),
+                        "{scene}: edge {i}"
+                    );
+                    hits[n] += usize::from(!f);
+                }
+            }
+        }
+        // Both verdicts occur often enough for the comparison to mean something.
+        assert!(hits.iter().all(|&h| h > 20), "{scene}: {hits:?}");
+        assert!(hits[0] < 2900, "{scene}: {hits:?}");
+    }
+}
+
+#[test]
 fn different_seeds_explore_differently() {
     let robot = Robot::load("panda");
     let mut differ = 0;

@@ -46,6 +46,12 @@ impl Checker {
             let ls = &sm.links[g];
             s.placed[g] = false;
             let pose = self.stored_pose(tok, ls.body, s);
+            let cluster = self.clusters.of[g];
+            if let Some(c) = cluster {
+                if g + 1 == self.clusters.list[c].groups.end {
+                    self.cluster_near::<S, MOVING>(tok, c, &pose, pad, h, s);
+                }
+            }
             let bc = pose.act(tok, &ls.bound.center);
             s.bounds[g] = bc.store();
             let mut br = tok.splat(ls.bound.radius) + pad;
@@ -55,6 +61,9 @@ impl Checker {
                 br = br + bi_g;
             }
             for &o in &self.reachable[g] {
+                if cluster.is_some() && !s.near[o] {
+                    continue;
+                }
                 let ob = &self.env.obstacles[o];
                 if ob.near(tok, &bc, br) == 0 || ob.overlaps(tok, &bc, br) == 0 {
                     continue;
@@ -78,15 +87,69 @@ impl Checker {
                 }
             }
         }
-        for &(ga, gb) in &self.self_pairs {
-            let (e, i) = self.pair_hit::<S, MOVING>(tok, ga, gb, h, s);
-            exact |= e;
-            inflated |= i;
-            if exact != 0 {
-                break;
+        'runs: for run in &self.clusters.runs {
+            if let Some(c) = run.cluster {
+                if !self.group_meets_cluster::<S, MOVING>(tok, run.group, c, s) {
+                    continue;
+                }
+            }
+            for &(ga, gb) in &self.self_pairs[run.pairs.clone()] {
+                let (e, i) = self.pair_hit::<S, MOVING>(tok, ga, gb, h, s);
+                exact |= e;
+                inflated |= i;
+                if exact != 0 {
+                    break 'runs;
+                }
             }
         }
         (exact, if MOVING { inflated } else { exact })
+    }
+
+    /// Places cluster `c`'s sphere (body pose `pose`) and marks in `s.near` the obstacles
+    /// it may touch, inflated as the batch demands.
+    #[inline(always)]
+    fn cluster_near<S: Simd, const MOVING: bool>(
+        &self,
+        tok: S,
+        c: usize,
+        pose: &Pose<S>,
+        pad: W<S>,
+        h: W<S>,
+        s: &mut CheckScratch,
+    ) {
+        let cl = &self.clusters.list[c];
+        let body = self.spheres.links[cl.groups.start].body;
+        let cc = pose.act(tok, &cl.bound.center);
+        s.cluster_bounds[c] = cc.store();
+        let mut r = tok.splat(cl.bound.radius) + pad;
+        if MOVING {
+            let e = self.ball_inflation(tok, body, &cc, cl.bound.radius, s.cluster_speed[c], h, s);
+            s.cluster_infl[c] = S::store(e);
+            r = r + e;
+        }
+        for &o in &cl.reachable {
+            let ob = &self.env.obstacles[o];
+            s.near[o] = ob.near(tok, &cc, r) != 0 && ob.overlaps(tok, &cc, r) != 0;
+        }
+    }
+
+    /// Whether group `g`'s bound may touch cluster `c`'s sphere (both inflated when moving).
+    #[inline(always)]
+    fn group_meets_cluster<S: Simd, const MOVING: bool>(
+        &self,
+        tok: S,
+        g: usize,
+        c: usize,
+        s: &CheckScratch,
+    ) -> bool {
+        let ca = P3::load(tok, &s.bounds[g]);
+        let cb = P3::load(tok, &s.cluster_bounds[c]);
+        let mut rr =
+            tok.splat(self.spheres.links[g].bound.radius + self.clusters.list[c].bound.radius);
+        if MOVING {
+            rr = rr + tok.load(&s.bound_infl[g]) + tok.load(&s.cluster_infl[c]);
+        }
+        ca.dist2(&cb).lt(rr * rr) != 0
     }
 
     /// The clearance demanded of each lane: the full [`CheckOptions::clearance`] farther
@@ -182,20 +245,35 @@ impl Checker {
         h: W<S>,
         s: &CheckScratch,
     ) -> W<S> {
-        // No closures here: they would not inherit the caller's target features.
         let ls = &self.spheres.links[g];
-        let now = if ls.body != WORLD {
-            let t = &s.twist[ls.body];
+        self.ball_inflation(tok, ls.body, bc, ls.bound.radius, s.link_speed[g], h, s)
+    }
+
+    /// Inflation of a ball of radius `radius` centred at `bc` on `body`, whose points move
+    /// at most at `cap` over the edge: at the check point they move at most at
+    /// `|v_bc| + |ω| R`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn ball_inflation<S: Simd>(
+        &self,
+        tok: S,
+        body: usize,
+        bc: &P3<S>,
+        radius: f32,
+        cap: f32,
+        h: W<S>,
+        s: &CheckScratch,
+    ) -> W<S> {
+        // No closures here: they would not inherit the caller's target features.
+        let now = if body != WORLD {
+            let t = &s.twist[body];
             let (w, v) = (P3::load(tok, &t[0]), P3::load(tok, &t[1]));
-            let o = P3::load(tok, &s.poses[ls.body].t);
-            Some(
-                point_speed(&w, &v, &o, bc)
-                    + W::norm2(w.x, w.y, w.z).sqrt() * tok.splat(ls.bound.radius),
-            )
+            let o = P3::load(tok, &s.poses[body].t);
+            Some(point_speed(&w, &v, &o, bc) + W::norm2(w.x, w.y, w.z).sqrt() * tok.splat(radius))
         } else {
             None
         };
-        self.inflation(tok, s.link_speed[g], now, h, s.l1)
+        self.inflation(tok, cap, now, h, s.l1)
     }
 
     /// Masks `(exact, inflated)` where link groups `ga` and `gb` overlap (bounding spheres

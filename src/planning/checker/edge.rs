@@ -123,6 +123,9 @@ impl Checker {
             let rho = &sm.link_rho[g * nv..(g + 1) * nv];
             *v = (0..nv).map(|k| (b[k] - a[k]).abs() * rho[k]).sum();
         }
+        for (c, v) in self.clusters.list.iter().zip(&mut s.cluster_speed) {
+            *v = (0..nv).map(|k| (b[k] - a[k]).abs() * c.rho[k]).sum();
+        }
         s.l1 = 0.0;
         for (d, body) in s.body_delta.iter_mut().zip(&self.bodies) {
             *d = body.mult * (b[body.q_index] - a[body.q_index]);

@@ -36,6 +36,7 @@
 //! `#[target_feature]` wrappers.
 
 mod batch;
+mod clusters;
 mod edge;
 mod motion;
 
@@ -133,6 +134,12 @@ pub struct CheckScratch {
     pub ends: Vec<f32>,
     speed: Vec<f32>,
     link_speed: Vec<f32>,
+    /// Per cluster: its sphere's centre, inflation and speed cap in this batch.
+    cluster_bounds: Vec<P3m>,
+    cluster_infl: Vec<L>,
+    cluster_speed: Vec<f32>,
+    /// Per obstacle: whether the cluster being checked may touch it.
+    near: Vec<bool>,
     stack: Vec<(f32, f32)>,
     q: Vec<L>,
     /// Edge checks done.
@@ -153,6 +160,8 @@ pub struct Checker {
     pub self_pairs: Vec<(usize, usize)>,
     /// Per link group, the obstacles its bounding sphere can ever reach.
     reachable: Vec<Vec<usize>>,
+    /// Groups sharing a body, behind one sphere (see [`clusters`]).
+    clusters: clusters::Clusters,
     /// Settings.
     pub opts: CheckOptions,
     #[cfg(target_arch = "x86_64")]
@@ -189,10 +198,20 @@ impl Checker {
             })
             .collect();
         let reachable = reachable_obstacles(model, &spheres, &env, opts.clearance);
+        // Ordered by group, so that a group's pairs with the groups of one body (a cluster)
+        // are consecutive. The verdicts do not depend on the order.
+        let mut self_pairs: Vec<(usize, usize)> = self_pairs
+            .iter()
+            .map(|&(a, b)| (a.min(b), a.max(b)))
+            .collect();
+        self_pairs.sort_unstable();
+        self_pairs.dedup();
+        let clusters = clusters::Clusters::new(&spheres, &reachable, &self_pairs);
         Checker {
             bodies,
             spheres,
             env,
+            clusters,
             self_pairs,
             reachable,
             opts,
@@ -231,6 +250,21 @@ impl Checker {
         let _ = max;
     }
 
+    /// Checks every link group and self pair on its own, without the body clusters'
+    /// early outs (see [`clusters`]): slower, with the same verdicts (to compare them).
+    pub fn without_clusters(&mut self) {
+        self.clusters = clusters::Clusters::none(self.spheres.links.len(), &self.self_pairs);
+    }
+
+    /// The body clusters' groups (index ranges into the sphere model's groups).
+    pub fn clusters(&self) -> Vec<std::ops::Range<usize>> {
+        self.clusters
+            .list
+            .iter()
+            .map(|c| c.groups.clone())
+            .collect()
+    }
+
     /// Number of coordinates.
     pub fn nv(&self) -> usize {
         self.spheres.nv
@@ -250,6 +284,10 @@ impl Checker {
             ends: Vec::with_capacity(2 * self.nv()),
             speed: vec![0.0; self.spheres.len()],
             link_speed: vec![0.0; self.spheres.links.len()],
+            cluster_bounds: vec![P3m::default(); self.clusters.list.len()],
+            cluster_infl: vec![L::splat(0.0); self.clusters.list.len()],
+            cluster_speed: vec![0.0; self.clusters.list.len()],
+            near: vec![false; self.env.len()],
             stack: Vec::with_capacity(256),
             q: vec![L::splat(0.0); self.nv()],
             ..Default::default()
