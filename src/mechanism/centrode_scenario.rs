@@ -305,6 +305,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             x_desc: "x".into(),
             y_desc: "y".into(),
             series: vec![series(&|p| p.fixed, "fixed", 0)],
+            equal_aspect: true,
             ..Default::default()
         },
         Panel {
@@ -312,6 +313,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             x_desc: "x".into(),
             y_desc: "y".into(),
             series: vec![series(&|p| p.moving, "moving", 1)],
+            equal_aspect: true,
             ..Default::default()
         },
     ];

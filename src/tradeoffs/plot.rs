@@ -62,6 +62,9 @@ pub struct Panel {
     /// Draw earlier solid lines wider, so that coinciding lines stay visible (a coloured
     /// core inside a coloured rim).
     pub layered: bool,
+    /// One data unit is as long on both axes (shapes: profiles, gears, centrodes); the
+    /// shorter range is widened about its middle. Linear axes only.
+    pub equal_aspect: bool,
 }
 
 /// Legend corner.
@@ -248,8 +251,8 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
         .flat_map(|s| s.points.iter().map(|q| q.0))
         .chain(p.flags.iter().map(|f| f.x))
         .filter_map(|x| tf(p.log_x, x));
-    let (x0, x1) = range(xs, 0.04);
-    let (y0, mut y1) = match p.y_range {
+    let (mut x0, mut x1) = range(xs, 0.04);
+    let (mut y0, mut y1) = match p.y_range {
         Some((a, b)) => (tf(p.log_y, a).unwrap_or(0.0), tf(p.log_y, b).unwrap_or(1.0)),
         None => range(
             p.series
@@ -258,6 +261,20 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
             0.06,
         ),
     };
+    if p.equal_aspect && !p.log_x && !p.log_y {
+        // The plotting area: the panel less margins, label areas and caption.
+        let (w, h) = area.dim_in_pixel();
+        let pw = (w as f64 - 20.0 - 70.0).max(1.0);
+        let ph = (h as f64 - 20.0 - 40.0 - 26.0).max(1.0);
+        let (sx, sy) = ((x1 - x0) / pw, (y1 - y0) / ph);
+        if sx > sy {
+            let (c, half) = ((y0 + y1) / 2.0, sx * ph / 2.0);
+            (y0, y1) = (c - half, c + half);
+        } else {
+            let (c, half) = ((x0 + x1) / 2.0, sy * pw / 2.0);
+            (x0, x1) = (c - half, c + half);
+        }
+    }
     y1 += p.headroom * (y1 - y0);
     // Room for the rows of crosses above the data.
     let lanes = p.flags.iter().map(|f| f.lane + 1).max().unwrap_or(0);

@@ -212,6 +212,7 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
             },
             headroom: 0.0,
             layered: true,
+            equal_aspect: false,
         }
     };
     let energy_panels: Vec<Panel> = st.cases.iter().map(|c| integ_panel(c, false)).collect();
