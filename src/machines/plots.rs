@@ -5,7 +5,7 @@
 //! and written atomically as `<out>/<name>_cam.png` / `<name>_gears.png` by
 //! [`crate::scenario_kit::write_plot`] when `armsim run --out DIR` is given.
 
-use crate::tradeoffs::plot::{Panel, Series, PALETTE};
+use crate::trajectory::panels::{Panel, Series, PALETTE};
 use serde_json::Value;
 
 fn nums(v: &Value) -> Vec<f64> {
