@@ -51,7 +51,12 @@ fn flywheel_156_four_times_the_speed_divides_the_fluctuation_by_16() {
     let fast = run_json("scenarios/flywheel_156_speed_fast.toml");
     // δ = 0.02 at ω and δ = 1/800 at 4ω need the same flywheel: J = ΔE/(ω² δ) = 4π.
     close(&base["cycle"]["flywheel_inertia"], 4.0 * PI, 1e-9, "J at ω");
-    close(&fast["cycle"]["flywheel_inertia"], 4.0 * PI, 1e-9, "J at 4ω");
+    close(
+        &fast["cycle"]["flywheel_inertia"],
+        4.0 * PI,
+        1e-9,
+        "J at 4ω",
+    );
     // The time-domain run of that J at 4ω holds δ = 1/800 (book).
     close(
         &fast["cycle"]["time_check"]["speed_fluctuation"],

@@ -297,3 +297,169 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
 fn broken_friction_scenarios_give_located_errors() {
     common::assert_broken_scenarios("friction_", BROKEN, common::CheckSays::Refuses);
 }
+
+#[test]
+fn drag_link_four_bar_with_friction_circles_pays_its_load_plus_the_friction() {
+    let v = run_json("scenarios/four_bar_drag_link_friction.toml");
+    let f = &v["kinetostatics"]["friction"];
+    assert_eq!(f["all_converged"], true);
+    close(
+        f["friction_circle_radius"].as_f64().unwrap(),
+        1e-3,
+        1e-15,
+        "ρ = f r",
+    );
+    // Energy per turn: the driver's work is the load's 20 · 2π plus the friction's.
+    let wd = f["work_per_turn"]["driver"].as_f64().unwrap();
+    let wf = f["work_per_turn"]["friction"].as_f64().unwrap();
+    let useful = 40.0 * std::f64::consts::PI;
+    close(wd - wf, useful, 1e-6 * useful, "W_d − W_f = load work");
+    let eta = f["cycle_efficiency"].as_f64().unwrap();
+    close(eta, useful / wd, 1e-9, "η = W_load/W_d");
+    assert!(eta > 0.98 && eta < 1.0, "η {eta}");
+    assert!(f["min_efficiency"].as_f64().unwrap() <= eta);
+    // At every reported input the driver pays the ideal effort plus the friction power.
+    for a in f["at"].as_array().unwrap() {
+        let (d0, d) = (
+            a["driving_ideal"].as_f64().unwrap(),
+            a["driving"].as_f64().unwrap(),
+        );
+        close(
+            (d - d0) * 10.0,
+            a["friction_power"].as_f64().unwrap(),
+            1e-9,
+            "N_f",
+        );
+        assert!(d > d0);
+    }
+}
+
+mod friction_circles {
+    //! Linkage efficiency with friction circles: a crank against a tip force (closed form
+    //! η = r/(r + ρ)) and a slider-crank over a turn, where the driver's extra power must
+    //! equal the friction's loss (virtual power, no joint forces) at every position.
+    use armsim::mechanism::catalog;
+    use armsim::mechanism::friction_circle::{solve_with_friction, JointFriction};
+    use armsim::mechanism::kinetostatics::{Loads, PointForce};
+    use armsim::mechanism::linkage::{Driver, Link, Linkage, GROUND};
+    use armsim::mechanism::position::NewtonOptions;
+    use armsim::mechanism::sweep::{sweep, SweepOptions};
+    use armsim::mechanism::virtual_power::driving_effort;
+    use armsim::mechanism::Vec2;
+    use nalgebra::DVector;
+
+    #[test]
+    fn crank_against_a_tip_force_has_efficiency_r_over_r_plus_rho() {
+        let (r, f, pin, force) = (0.2_f64, 0.15_f64, 0.01_f64, 500.0_f64);
+        let l = Linkage::with_shared_pins(
+            "crank",
+            vec![("A".into(), Vec2::zeros())],
+            vec![Link::binary("AB", "A", "B", r)],
+            Vec::new(),
+            Driver::Angle {
+                link: 0,
+                relative_to: GROUND,
+            },
+        );
+        let omega = 3.0;
+        for th in [0.3_f64, 1.7, 4.0] {
+            let q = DVector::from_vec(vec![0.0, 0.0, th]);
+            let qd = DVector::from_vec(vec![0.0, 0.0, omega]);
+            let qdd = DVector::zeros(3);
+            // The tip force opposes the tip's motion.
+            let loads = Loads {
+                forces: vec![PointForce {
+                    link: 0,
+                    p: Vec2::new(r, 0.0),
+                    force: Vec2::new(th.sin(), -th.cos()) * force,
+                }],
+                ..Default::default()
+            };
+            let fr = [JointFriction {
+                joint: 0,
+                coefficient: f,
+                pin_radius: pin,
+            }];
+            let w = solve_with_friction(&l, &q, &qd, &qdd, &loads, omega, &fr, 1e-12, 50);
+            assert!(w.converged);
+            let rho = f * pin;
+            assert!((w.ideal.driving - force * r).abs() < 1e-9);
+            assert!(
+                (w.real.driving - force * (r + rho)).abs() < 1e-9,
+                "{}",
+                w.real.driving
+            );
+            let eta = w.efficiency.unwrap();
+            assert!((eta - r / (r + rho)).abs() < 1e-12, "η {eta}");
+        }
+    }
+
+    #[test]
+    fn slider_crank_friction_power_is_the_drivers_extra_power_over_a_turn() {
+        let (r, rod) = (0.1, 0.35);
+        let mut l = catalog::slider_crank(r, rod, 0.0);
+        l.links[0] = l.links[0]
+            .clone()
+            .with_mass(2.0, Vec2::new(r / 2.0, 0.0), 2e-3);
+        l.links[1] = l.links[1]
+            .clone()
+            .with_mass(3.0, Vec2::new(rod / 2.0, 0.0), 3e-2);
+        l.links[2] = l.links[2].clone().with_mass(4.0, Vec2::zeros(), 0.0);
+        let guess = catalog::slider_crank_guess(&l, r, rod, 0.0, 0.3, 1.0);
+        let opts = SweepOptions {
+            from: 0.0,
+            to: std::f64::consts::TAU,
+            step: 5f64.to_radians(),
+            assemble_at: 0.3,
+            newton: NewtonOptions::default(),
+        };
+        let sw = sweep(&l, &guess, &opts).unwrap();
+        let fr: Vec<JointFriction> = (0..l.joints.len())
+            .map(|j| JointFriction {
+                joint: j,
+                coefficient: 0.1,
+                pin_radius: 0.015,
+            })
+            .collect();
+        let loads = Loads {
+            gravity: Vec2::new(0.0, -9.81),
+            forces: vec![PointForce {
+                link: 2,
+                p: Vec2::zeros(),
+                force: Vec2::new(-800.0, 0.0),
+            }],
+            ..Default::default()
+        };
+        let speed = 20.0;
+        let (mut wd, mut wf) = (0.0, 0.0);
+        for st in &sw.samples {
+            let (qd, qdd) = (st.qd(speed), st.qdd(speed, 0.0));
+            let w = solve_with_friction(&l, &st.q, &qd, &qdd, &loads, speed, &fr, 1e-12, 100);
+            assert!(w.converged, "at {}", st.s);
+            assert!(w.friction_power >= 0.0);
+            // Ideal constraints do no work: the driver pays exactly the friction loss.
+            let extra = (w.real.driving - w.ideal.driving) * speed;
+            assert!(
+                (extra - w.friction_power).abs() <= 1e-8 * w.friction_power.max(1.0),
+                "at {}: {extra} vs {}",
+                st.s,
+                w.friction_power
+            );
+            // Virtual power with the friction loads as applied loads: the same driving.
+            let mut all = loads.clone();
+            all.forces.extend(w.friction_loads.forces.iter().cloned());
+            all.torques.extend(w.friction_loads.torques.iter().copied());
+            let vp = driving_effort(&l, &st.q, &qd, &qdd, &all, speed).unwrap();
+            assert!((vp - w.real.driving).abs() < 1e-8 * vp.abs().max(1.0));
+            if let Some(eta) = w.efficiency {
+                assert!(eta < 1.0, "η {eta}");
+            }
+            wd += w.driving_power;
+            wf += w.friction_power;
+        }
+        // Over the turn (uniform speed: equal time steps) the kinetic energy returns and
+        // the load force does no net work: the driver's work is all friction.
+        let eta_cycle = 1.0 - wf / wd;
+        assert!(eta_cycle.abs() < 0.05, "cycle: W_d {wd}, W_f {wf}");
+    }
+}
