@@ -43,7 +43,8 @@ enum Cmd {
     /// Time one algorithm (median ns per call over random states inside the limits).
     Bench(cli::inspect::BenchArgs),
     /// Measure the trade-offs report: IK tolerance × method, integrator step × method,
-    /// dynamics formulations vs DOF, workspace samples × scheme, cost of each effect.
+    /// dynamics formulations vs DOF, workspace samples × scheme, cost of each effect,
+    /// flexible-rotor elements × critical-speed error.
     /// Writes DIR/tradeoffs.md, DIR/tradeoffs.json and the plots (DIR/*.png).
     Tradeoffs(cli::scenario::TradeoffsArgs),
     /// Plan collision-free motions (RRT-Connect on the robot's collision spheres) for MoveIt

@@ -100,8 +100,10 @@ pub fn run_file_with(path: &Path, opts: &crate::arm::RunOptions) -> Result<Repor
         Kind::Linkage => crate::mechanism::scenario::run(path, &text),
         Kind::Torsional => crate::drivetrain::scenario::run(path, &text),
         Kind::GearTrain => crate::machines::gears::train_scenario::run(path, &text),
-        Kind::GearPair => crate::machines::gears::pair_scenario::run(path, &text),
-        Kind::Cam => crate::machines::cam::scenario::run(path, &text),
+        Kind::GearPair => {
+            crate::machines::gears::pair_scenario::run(path, &text, opts.out_dir.as_deref())
+        }
+        Kind::Cam => crate::machines::cam::scenario::run(path, &text, opts.out_dir.as_deref()),
         Kind::Friction => crate::machines::friction::scenario::run(path, &text),
         Kind::Synthesis => {
             crate::mechanism::synthesis_scenario::run(path, &text, opts.out_dir.as_deref())

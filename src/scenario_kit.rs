@@ -8,7 +8,7 @@
 //! line.
 
 use crate::diag::{line_at, LocatedError as ScenarioError};
-use crate::tradeoffs::plot::{render_panels, Panel};
+use crate::trajectory::panels::{render_panels, Panel};
 use serde::de::DeserializeOwned;
 use std::ops::Range;
 use std::path::{Path, PathBuf};

@@ -737,6 +737,18 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
     ),
     ("arm_truncated.toml", 6, "task.type", "invalid basic string"),
     (
+        "arm_gear_train_unknown_joint.toml",
+        8,
+        "rotor_inertia.gear_train.shoulder",
+        "no joint 'shoulder' in the model (joints: joint1, joint2)",
+    ),
+    (
+        "arm_gear_train_without_output.toml",
+        8,
+        "rotor_inertia.gear_train.joint1",
+        "must name its output member",
+    ),
+    (
         "arm_unknown_effect.toml",
         3,
         "effects",

@@ -79,6 +79,51 @@ fn isosceles_slider_crank_273_has_cardan_circles() {
     assert!(v["kennedy_max_error"].as_f64().unwrap() < 1e-12);
 }
 
+#[test]
+fn isosceles_slotted_lever_274_has_circles_a_25_and_b_50() {
+    let v = run_json("scenarios/centrodes_isosceles_slotted_lever_274.toml");
+    assert_eq!(v["mechanism"], "slotted_lever");
+    assert_eq!(v["link"], "block");
+    let r = 0.025;
+    let input: Vec<f64> = v["input_deg"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let mut n = 0;
+    for (k, phi) in input.iter().enumerate() {
+        let (f, m) = (&v["fixed"][k], &v["moving"][k]);
+        if f.is_null() {
+            continue;
+        }
+        n += 1;
+        let (x, y) = (f[0].as_f64().unwrap(), f[1].as_f64().unwrap());
+        // Closed form: P = 2A − B, the point of the circle (A, AB) opposite the pin.
+        let p = phi.to_radians();
+        assert!(
+            (x + r * p.cos()).abs() < 1e-9 && (y + r * p.sin()).abs() < 1e-9,
+            "fixed at {phi}°: ({x}, {y})"
+        );
+        let (u, w) = (m[0].as_f64().unwrap(), m[1].as_f64().unwrap());
+        assert!(
+            (u.hypot(w) - 2.0 * r).abs() < 1e-9,
+            "moving: circle (B, 2r)"
+        );
+    }
+    assert!(n >= 355, "{n} finite points");
+    assert!(v["kennedy_max_error"].as_f64().unwrap() < 1e-12);
+    // Rolling: over one crank turn the fixed circle (radius r), inside the moving one
+    // (radius 2r), is rolled on once, and half the moving circle: both arcs 2π r.
+    let (af, am) = (
+        v["arc_length_fixed"].as_f64().unwrap(),
+        v["arc_length_moving"].as_f64().unwrap(),
+    );
+    let full = 2.0 * std::f64::consts::PI * r;
+    assert!((af - full).abs() < 2e-2 * full, "fixed arc {af}");
+    assert!((af - am).abs() < 1e-3 * af, "rolling: {af} vs {am}");
+}
+
 const BROKEN: &[(&str, usize, &str, &str)] = &[
     (
         "centrodes_bad_assembly.toml",
@@ -111,6 +156,12 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "must be positive",
     ),
     ("centrodes_no_mechanism.toml", 1, "file", "no mechanism"),
+    (
+        "centrodes_slotted_lever_at_pivot.toml",
+        4,
+        "slotted_lever",
+        "on the lever pivot",
+    ),
     (
         "centrodes_two_mechanisms.toml",
         9,

@@ -46,6 +46,27 @@ fn flywheel_139_needs_6_kg_m2_and_0_06_on_the_motor_shaft() {
 }
 
 #[test]
+fn flywheel_156_four_times_the_speed_divides_the_fluctuation_by_16() {
+    let base = run_json("scenarios/flywheel_156_speed_base.toml");
+    let fast = run_json("scenarios/flywheel_156_speed_fast.toml");
+    // δ = 0.02 at ω and δ = 1/800 at 4ω need the same flywheel: J = ΔE/(ω² δ) = 4π.
+    close(&base["cycle"]["flywheel_inertia"], 4.0 * PI, 1e-9, "J at ω");
+    close(
+        &fast["cycle"]["flywheel_inertia"],
+        4.0 * PI,
+        1e-9,
+        "J at 4ω",
+    );
+    // The time-domain run of that J at 4ω holds δ = 1/800 (book).
+    close(
+        &fast["cycle"]["time_check"]["speed_fluctuation"],
+        1.0 / 800.0,
+        2e-6,
+        "δ by RK4",
+    );
+}
+
+#[test]
 fn flywheel_158_stroke_integral_closed_form_and_time_run() {
     let v = run_json("scenarios/flywheel_158.toml");
     let s = &v["stroke"];

@@ -435,3 +435,47 @@ fn scenario_inputs_reach_the_arm_loader() {
         assert_eq!(missing, expect_missing, "{}: {e}", p.display());
     }
 }
+
+#[test]
+fn scenario_seeds_and_dictionary_cover_every_scenario_kind() {
+    // The kinds as the dispatcher lists them when it refuses an unknown one.
+    let e = armsim::scenario::check(h::scenario_file(), "kind = \"no_such_kind\"\n")
+        .expect_err("an unknown kind is refused");
+    let kinds: Vec<String> = e
+        .message
+        .split('"')
+        .skip(1)
+        .step_by(2)
+        .filter(|k| *k != "no_such_kind")
+        .map(str::to_string)
+        .collect();
+    assert!(kinds.len() >= 12, "kinds listed: {kinds:?} in '{e}'");
+    let t = TARGETS
+        .iter()
+        .find(|t| t.name == "scenario_loader")
+        .unwrap();
+    let tokens = t.tokens();
+    let seeds = t.inputs();
+    for k in &kinds {
+        let token = format!("\"{k}\"").into_bytes();
+        assert!(tokens.contains(&token), "dictionary lacks the kind {k}");
+        let line = format!("kind = \"{k}\"");
+        let (mut valid, mut broken) = (0, 0);
+        for p in &seeds {
+            let text = String::from_utf8_lossy(&read(p)).into_owned();
+            if !text.lines().any(|l| l.trim() == line) {
+                continue;
+            }
+            if p.starts_with(root().join("tests/broken_scenarios")) {
+                broken += 1;
+            } else if armsim::scenario::check(h::scenario_file(), &text).is_ok() {
+                valid += 1;
+            }
+        }
+        // Arm seeds mostly leave `kind` out (their broken files are counted elsewhere).
+        assert!(valid >= 1 || k == "arm", "{k}: no valid seed");
+        if k != "arm" {
+            assert!(broken >= 10, "{k}: {broken} broken seeds");
+        }
+    }
+}

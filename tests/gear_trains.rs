@@ -419,6 +419,63 @@ fn reflected_inertia_is_the_kinetic_energy_referred_to_the_input() {
 // ---------------------------------------------------------------------------------------
 // Broken files.
 
+#[test]
+fn a_planetary_train_is_an_arm_joints_transmission() {
+    // Closed forms (scenarios/gear_train_joint_planetary.toml): N = 1 + 80/20 = 5,
+    // η = (1 + 4 · 0.98 · 0.99)/5, J = J1 + JC/N² + 4 (J2 (1/3)² + m2 a²/N²).
+    let n = 5.0;
+    let eta = (1.0 + 4.0 * 0.98 * 0.99) / 5.0;
+    let j = 2e-5 + 4e-4 / 25.0 + 4.0 * (3e-5 / 9.0 + 0.05 * 0.025f64.powi(2) / 25.0);
+    let v = run_json("scenarios/planar_2r_geared_shoulder.toml");
+    let t = &v["transmissions"][0];
+    assert_eq!(t["joint"], "joint1");
+    assert_eq!(
+        (t["input"].as_str(), t["output"].as_str()),
+        (Some("1"), Some("C"))
+    );
+    close(t["gear_ratio"].as_f64().unwrap(), n, 1e-12, "N");
+    close(t["efficiency_forward"].as_f64().unwrap(), eta, 1e-12, "η");
+    close(t["inertia_input_side"].as_f64().unwrap(), j, 1e-15, "J");
+    assert_eq!(t["self_locking"], false);
+    // The arm's dynamics use them: the rotor effect's armature (I_m + J) N² on the mass
+    // matrix diagonal, and the motor torque τ/(N η) when driving.
+    let path = common::root().join("scenarios/planar_2r_geared_shoulder.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let scene = armsim::arm::load(&path, &text).unwrap();
+    let r = scene.effects.rotor.as_ref().unwrap();
+    assert_eq!(r.gear_ratio, vec![n, 20.0]);
+    close(r.efficiency[0], eta, 1e-12, "rotor η");
+    close(r.inertia[0], 1e-4 + j, 1e-15, "rotor I_m + J");
+    let mut d = armsim::data::Data::new(&scene.model);
+    let q = [0.3, -0.7];
+    let with = armsim::dynamics::mass_matrix(&scene.model, &mut d, &scene.effects, &q).clone();
+    let without = armsim::dynamics::mass_matrix(
+        &scene.model,
+        &mut d,
+        &armsim::dynamics::Effects::default(),
+        &q,
+    )
+    .clone();
+    close(
+        with[(0, 0)] - without[(0, 0)],
+        (1e-4 + j) * n * n,
+        1e-12,
+        "armature",
+    );
+    close(
+        with[(1, 1)] - without[(1, 1)],
+        5e-5 * 400.0,
+        1e-12,
+        "elbow armature",
+    );
+    close(
+        r.motor_torque(0, 10.0, 1.0),
+        10.0 / (n * eta),
+        1e-12,
+        "motor torque",
+    );
+}
+
 const BROKEN: &[(&str, usize, &str, &str)] = &[
     (
         "gear_train_unknown_key.toml",

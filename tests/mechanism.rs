@@ -1431,6 +1431,24 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "rotor_balance.radii",
         "has 3 values",
     ),
+    (
+        "linkage_friction_coefficient.toml",
+        37,
+        "kinetostatics.friction_coefficient",
+        "must be in [0, 1], got 1.5",
+    ),
+    (
+        "linkage_pin_radius_without_friction.toml",
+        37,
+        "kinetostatics.pin_radius",
+        "needs friction_coefficient",
+    ),
+    (
+        "linkage_negative_pin_radius.toml",
+        38,
+        "kinetostatics.pin_radius",
+        "must be a radius ≥ 0",
+    ),
 ];
 
 #[test]

@@ -221,6 +221,39 @@ fn effects_are_all_measured_against_the_bare_model() {
 }
 
 /// The image links `![…](file)` of a Markdown text.
+#[test]
+fn rotor_elements_converge_at_fourth_order_to_the_closed_form_and_the_transfer_matrices() {
+    let st = &tiny().rotor;
+    assert_eq!(st.cases.len(), 2);
+    // The closed form of FX-3: ω1 = 283.6 rad/s, ω_n = n² ω1.
+    let u = &st.cases[0];
+    assert!((u.reference[0] - 283.6).abs() < 0.1, "{}", u.reference[0]);
+    assert!((u.reference[2] / u.reference[0] - 9.0).abs() < 1e-12);
+    for c in &st.cases {
+        for k in 0..3 {
+            let errs: Vec<f64> = c.rows.iter().map(|r| r.relative_error[k]).collect();
+            assert!(
+                errs.windows(2).all(|w| w[1] < w[0] || w[1] < 1e-10),
+                "{} mode {}: errors do not fall: {errs:?}",
+                c.name,
+                k + 1
+            );
+            // Finite elements are stiff: they over-estimate, and reach 1e-4 by 16.
+            let last = c.rows.last().unwrap();
+            assert!(last.omega[k] > c.reference[k] * (1.0 - 1e-10));
+            assert!(errs[errs.len() - 1] < 1e-3, "{}: {errs:?}", c.name);
+        }
+    }
+    // h⁴: the fitted slope of mode 1's error against elements is −4 on the uniform shaft;
+    // the stepped rotor's few tiny-mode meshes are still pre-asymptotic (steeper).
+    let s_uniform = st.cases[0].slope[0].expect("a slope");
+    assert!((s_uniform + 4.0).abs() < 0.3, "uniform slope {s_uniform}");
+    let s_stepped = st.cases[1].slope[0].expect("a slope");
+    assert!(s_stepped < -3.5, "stepped slope {s_stepped}");
+    let md = armsim::tradeoffs::rotor_report::reading(st);
+    assert!(md.contains("h⁴"), "{md}");
+}
+
 fn image_links(md: &str) -> Vec<String> {
     md.match_indices("![")
         .filter_map(|(i, _)| {
@@ -240,6 +273,7 @@ fn check_report_dir(dir: &Path) {
         "Dynamics formulations",
         "Workspace sampling",
         "Effects",
+        "Flexible rotor",
     ]
     .iter()
     .enumerate()
@@ -250,12 +284,8 @@ fn check_report_dir(dir: &Path) {
             i + 1
         );
     }
-    assert_eq!(
-        md.matches("\n## ").count(),
-        5,
-        "exactly five study sections"
-    );
-    assert_eq!(md.matches("**Reading.**").count(), 5, "a reading per study");
+    assert_eq!(md.matches("\n## ").count(), 6, "exactly six study sections");
+    assert_eq!(md.matches("**Reading.**").count(), 6, "a reading per study");
     for key in [
         "| CPU |",
         "| cores |",
@@ -281,6 +311,7 @@ fn check_report_dir(dir: &Path) {
         "formulations",
         "workspace",
         "effects",
+        "rotor",
         "machine",
     ] {
         assert!(json.get(k).is_some(), "json lacks {k}");
@@ -288,7 +319,7 @@ fn check_report_dir(dir: &Path) {
 }
 
 #[test]
-fn report_files_have_five_sections_readings_and_existing_plots() {
+fn report_files_have_six_sections_readings_and_existing_plots() {
     let r = tiny();
     let dir = temp_dir("lib");
     let written = report::write(r, &dir).expect("writes");
@@ -298,7 +329,7 @@ fn report_files_have_five_sections_readings_and_existing_plots() {
             .iter()
             .filter(|p| p.extension().is_some_and(|e| e == "png"))
             .count()
-            >= 5
+            >= 6
     );
     check_report_dir(&dir);
     // The readings quote the measured numbers.

@@ -88,6 +88,9 @@ pub struct RotorSec {
     pub inertia: Option<PerJoint>,
     pub gear_ratio: Option<PerJoint>,
     pub efficiency: Option<PerJoint>,
+    /// Joint name → `kind = "gear_train"` file (relative to the scenario): the joint's
+    /// ratio, efficiency and added inertia come from the train.
+    pub gear_train: Option<Spanned<std::collections::BTreeMap<String, Spanned<String>>>>,
 }
 
 /// `[joint_elasticity]`.

@@ -7,7 +7,7 @@ use super::isolation as iso;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
 use crate::scenario_kit::{scenario_name, write_plot, Ctx};
-use crate::tradeoffs::plot::{Panel, Series, PALETTE};
+use crate::trajectory::panels::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::f64::consts::PI;

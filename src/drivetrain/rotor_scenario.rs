@@ -9,7 +9,7 @@ use super::rotor_transfer::critical_speeds;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
 use crate::scenario_kit::{scenario_name, write_plot, Ctx};
-use crate::tradeoffs::plot::{Panel, Series, PALETTE};
+use crate::trajectory::panels::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::json;
 use std::f64::consts::PI;

@@ -8,10 +8,12 @@
 //!   spur/helical, internal, rack, crossed helical, worm and bevel pairs);
 //! - [`cam`]: disc cams (`kind = "cam"`, follower laws, profiles, curvature, pressure
 //!   angle, base radius and offset by search);
-//! - [`friction`]: friction elements and efficiency (`kind = "friction"`).
+//! - [`friction`]: friction elements and efficiency (`kind = "friction"`);
+//! - [`plots`]: the cam and gear-pair pictures written with `armsim run --out DIR`.
 
 pub mod cam;
 pub mod friction;
 pub mod gears;
+pub mod plots;
 pub mod rational;
 pub mod spans;

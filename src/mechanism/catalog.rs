@@ -139,3 +139,47 @@ pub fn scotch_yoke_guess(l: &Linkage, r: f64, phi: f64) -> DVector<f64> {
     l.coordinates_from_points(&pts(&[("B", b), ("Y", Vec2::new(b.x, 0.0))]), &[])
         .expect("every link has a guessed point")
 }
+
+/// Crank and slotted lever (oscillating slider): crank `AB` (length `r`) about
+/// `A = (0, 0)`; the lever pivots at ground `C = (g, 0)` and its slot is the lever's x
+/// axis through `C`; the block (point `B` at its origin) turns on the crank pin `B` and
+/// slides in the slot (a prismatic joint: it turns with the lever). `r < g`: the lever
+/// swings (quick return); `r > g`: it turns (Whitworth); `r = g`: the isosceles case,
+/// the lever turning at half the crank's speed.
+pub fn slotted_lever(g: f64, r: f64) -> Linkage {
+    Linkage::with_shared_pins(
+        format!("slotted lever AB={r} AC={g}"),
+        vec![("A".into(), Vec2::zeros()), ("C".into(), Vec2::new(g, 0.0))],
+        vec![
+            Link::binary("AB", "A", "B", r),
+            Link::new("block", vec![("B".into(), Vec2::zeros())]),
+            Link::new("lever", vec![("C".into(), Vec2::zeros())]),
+        ],
+        vec![Slider {
+            name: "B".into(),
+            link: 1,
+            p: Vec2::zeros(),
+            guide: 2,
+            through: Vec2::zeros(),
+            dir: Vec2::new(1.0, 0.0),
+            prismatic: Some(0.0),
+        }],
+        Driver::Angle {
+            link: 0,
+            relative_to: GROUND,
+        },
+    )
+}
+
+/// A guess for [`slotted_lever`] at crank angle `phi` (`None` where the pin is on the
+/// lever pivot and the slot's direction is not defined).
+pub fn slotted_lever_guess(l: &Linkage, g: f64, r: f64, phi: f64) -> Option<DVector<f64>> {
+    let b = Vec2::new(r * phi.cos(), r * phi.sin());
+    let d = b - Vec2::new(g, 0.0);
+    if d.norm() <= 1e-9 * (g + r) {
+        return None;
+    }
+    let th = d.y.atan2(d.x);
+    l.coordinates_from_points(&pts(&[("B", b)]), &[0.0, th, th])
+        .ok()
+}

@@ -1,5 +1,6 @@
 //! `kind = "centrodes"` scenarios (format in `docs/centrodes.md`): the fixed and moving
-//! centrodes of a four-bar's coupler or a slider-crank's rod, traced by the linkage
+//! centrodes of a four-bar's coupler, a slider-crank's rod or a slotted lever's block,
+//! traced by the linkage
 //! solver over a turn of the crank ([`super::centrode`]), with Kennedy's construction as
 //! the check and the rolling (equal arc length) condition.
 
@@ -11,7 +12,7 @@ use super::Vec2;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
 use crate::scenario_kit::{scenario_name, write_plot, Ctx};
-use crate::tradeoffs::plot::{Panel, Series, PALETTE};
+use crate::trajectory::panels::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::fmt::Write;
@@ -30,7 +31,16 @@ struct File {
     description: Option<String>,
     four_bar: Option<FourBarIn>,
     slider_crank: Option<SliderCrankIn>,
+    slotted_lever: Option<SlottedLeverIn>,
     step_deg: Option<F>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SlottedLeverIn {
+    frame: F,
+    crank: F,
+    start_deg: Option<F>,
 }
 
 #[derive(Deserialize)]
@@ -61,6 +71,8 @@ pub struct Scenario {
     /// `(g, a, b, c, mode, start)` or `None` for a slider-crank.
     four_bar: Option<(f64, f64, f64, f64, f64, f64)>,
     slider_crank: Option<(f64, f64, f64, f64)>,
+    /// `(g, r, start)`.
+    slotted_lever: Option<(f64, f64, f64)>,
     step: f64,
 }
 
@@ -122,23 +134,42 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
                 .to_radians(),
         )),
     };
-    match (&four_bar, &slider_crank) {
-        (Some(_), Some(_)) => Err(ctx.section(
-            "slider_crank",
-            "give either [four_bar] or [slider_crank], not both",
+    let slotted_lever = match &f.slotted_lever {
+        None => None,
+        Some(s) => Some((
+            ctx.positive(&s.frame, "slotted_lever.frame")?,
+            ctx.positive(&s.crank, "slotted_lever.crank")?,
+            s.start_deg
+                .as_ref()
+                .map(|x| ctx.finite(x, "slotted_lever.start_deg"))
+                .transpose()?
+                .unwrap_or(45.0)
+                .to_radians(),
         )),
-        (None, None) => Err(ScenarioError::new(
+    };
+    let given = [
+        ("four_bar", four_bar.is_some()),
+        ("slider_crank", slider_crank.is_some()),
+        ("slotted_lever", slotted_lever.is_some()),
+    ];
+    match given.iter().filter(|g| g.1).count() {
+        0 => Err(ScenarioError::new(
             file,
             Some(1),
             "file",
-            "no mechanism: add [four_bar] or [slider_crank]",
+            "no mechanism: add [four_bar], [slider_crank] or [slotted_lever]",
         )),
-        _ => Ok(Scenario {
+        1 => Ok(Scenario {
             name: scenario_name(f.name.as_deref(), file),
             four_bar,
             slider_crank,
+            slotted_lever,
             step,
         }),
+        _ => Err(ctx.section(
+            given.iter().rev().find(|g| g.1).map_or("file", |g| g.0),
+            "more than one mechanism: give one of [four_bar], [slider_crank] and [slotted_lever], not both",
+        )),
     }
 }
 
@@ -167,6 +198,15 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             )
         })?;
         (l, q, s0, "four_bar")
+    } else if let Some((g, r, s0)) = sc.slotted_lever {
+        let l = catalog::slotted_lever(g, r);
+        let q = catalog::slotted_lever_guess(&l, g, r, s0).ok_or_else(|| {
+            ctx.section(
+                "slotted_lever",
+                "at the start angle the crank pin is on the lever pivot: pick another start_deg",
+            )
+        })?;
+        (l, q, s0, "slotted_lever")
     } else {
         let (r, rod, e, s0) = sc.slider_crank.expect("one mechanism");
         if r + e.abs() > rod * (1.0 + 1e-12) {
@@ -188,21 +228,28 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
     };
     let sw = sweep(&l, &guess, &opts)
         .map_err(|e| ctx.section(section, format!("the linkage solver: {e}")))?;
-    let body = 1; // the coupler (four-bar BC) or the rod (slider-crank BC)
+    // The coupler (four-bar BC), the rod (slider-crank BC) or the block (slotted lever).
+    let body = 1;
     let pts = centrodes(&l, body, &sw.samples);
     // Kennedy: the crank line A–B meets the rocker line D–C (or the normal to the slide
-    // at C) in the coupler's instant centre.
+    // at C, or the normal to the slot through the lever pivot C) in the link's instant
+    // centre.
     let mut kennedy_err = 0.0f64;
     for (st, p) in sw.samples.iter().zip(&pts) {
         let pos = |n: &str| {
             let (bb, lp) = l.find_point(n).expect("catalog point");
             l.point_position(&st.q, bb, &lp)
         };
-        let (a, b, c) = (Vec2::zeros(), pos("B"), pos("C"));
-        let other = if sc.four_bar.is_some() {
-            l.ground[1].1
+        let (a, b) = (Vec2::zeros(), pos("B"));
+        let (c, other) = if sc.four_bar.is_some() {
+            (pos("C"), l.ground[1].1)
+        } else if sc.slotted_lever.is_some() {
+            let c = l.ground[1].1;
+            let th = st.q[3 * 2 + 2];
+            (c, c + Vec2::new(-th.sin(), th.cos()))
         } else {
-            c + Vec2::new(0.0, 1.0)
+            let c = pos("C");
+            (c, c + Vec2::new(0.0, 1.0))
         };
         if let (Some(k), Some(f)) = (line_intersection(a, b, other, c), p.fixed) {
             if k.norm() < 1e3 * l.length_scale() {
@@ -258,6 +305,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             x_desc: "x".into(),
             y_desc: "y".into(),
             series: vec![series(&|p| p.fixed, "fixed", 0)],
+            equal_aspect: true,
             ..Default::default()
         },
         Panel {
@@ -265,6 +313,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             x_desc: "x".into(),
             y_desc: "y".into(),
             series: vec![series(&|p| p.moving, "moving", 1)],
+            equal_aspect: true,
             ..Default::default()
         },
     ];

@@ -46,6 +46,8 @@ pub mod flywheel;
 pub mod flywheel_design;
 pub mod flywheel_scenario;
 pub mod fourbar;
+pub mod friction_circle;
+pub mod friction_report;
 pub mod kinetostatics;
 pub mod linalg;
 pub mod linkage;

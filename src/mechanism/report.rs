@@ -781,10 +781,24 @@ fn mechanism(
                     .and_then(|(k, v)| v.map(|v| (v - k.driving).abs()))
             })
             .fold(0.0, f64::max);
-        json.insert(
-            "kinetostatics".into(),
-            json!({"at": kat, "max_virtual_power_difference": max_diff}),
-        );
+        let mut kj = json!({"at": kat, "max_virtual_power_difference": max_diff});
+        if let Some(fc) = k.friction {
+            let samples: Vec<super::friction_report::Sample> = rows
+                .iter()
+                .map(|r| (r.st.s, &r.st.q, &r.qd, &r.qdd))
+                .collect();
+            kj["friction"] = super::friction_report::report(
+                l,
+                &samples,
+                &k.loads,
+                m.speed,
+                fc,
+                &k.report_at,
+                full_turn,
+                text,
+            );
+        }
+        json.insert("kinetostatics".into(), kj);
         let _ = writeln!(text, "  largest difference between the two driving-effort methods over the sweep: {max_diff:.2e}");
         if full_turn {
             drive_series = Some(

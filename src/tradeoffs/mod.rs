@@ -1,4 +1,4 @@
-//! The trade-offs report (`armsim tradeoffs`): five measured studies of what accuracy,
+//! The trade-offs report (`armsim tradeoffs`): six measured studies of what accuracy,
 //! robustness and features cost in time, each a table, at least one plot and a reading of
 //! the numbers, written as `tradeoffs.md` plus PNGs.
 //!
@@ -11,6 +11,8 @@
 //! - [`formulations`]: RNEA, CRBA + Cholesky, ABA and the Lagrange forms against DOF;
 //! - [`workspace`]: samples × random/Sobol' against workspace closed forms;
 //! - [`effects`]: the cost of each physical effect against the bare rigid model;
+//! - [`rotor`]: finite elements against critical-speed error on two flexible rotors
+//!   (closed form, exact transfer matrices), written by [`rotor_report`];
 //!
 //! and [`report`] (Markdown and file output) and [`plot`] (plotters charts) turn the
 //! results into the report. Timings are medians over rounds (the machines are shared):
@@ -22,6 +24,8 @@ pub mod ik;
 pub mod integrators;
 pub mod plot;
 pub mod report;
+pub mod rotor;
+pub mod rotor_report;
 pub mod workspace;
 
 use serde::Serialize;
@@ -283,13 +287,15 @@ pub struct Report {
     pub workspace: workspace::WorkspaceStudy,
     /// Study 5.
     pub effects: effects::EffectStudy,
+    /// Study 6.
+    pub rotor: rotor::RotorStudy,
     /// Wall time of each study (s).
     pub study_seconds: Vec<(String, f64)>,
     /// Wall time of all studies (s).
     pub total_seconds: f64,
 }
 
-/// Runs the five studies at the sizes of `opts.mode`.
+/// Runs the six studies at the sizes of `opts.mode`.
 pub fn run(opts: &Options) -> Result<Report, String> {
     let start = Instant::now();
     let mut machine = MachineInfo::probe();
@@ -315,6 +321,9 @@ pub fn run(opts: &Options) -> Result<Report, String> {
     let t = Instant::now();
     let effects = effects::run(opts, &effects::EffectConfig::for_mode(opts.mode))?;
     timed("effects", t);
+    let t = Instant::now();
+    let rotor = rotor::run(opts, &rotor::RotorConfig::for_mode(opts.mode))?;
+    timed("rotor", t);
     machine.load_end = load_average();
     Ok(Report {
         mode: opts.mode,
@@ -324,6 +333,7 @@ pub fn run(opts: &Options) -> Result<Report, String> {
         formulations,
         workspace,
         effects,
+        rotor,
         study_seconds,
         total_seconds: start.elapsed().as_secs_f64(),
     })

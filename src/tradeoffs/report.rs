@@ -212,6 +212,7 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
             },
             headroom: 0.0,
             layered: true,
+            equal_aspect: false,
         }
     };
     let energy_panels: Vec<Panel> = st.cases.iter().map(|c| integ_panel(c, false)).collect();
@@ -403,6 +404,10 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
             (1000, 520),
         )?,
     ));
+    out.push((
+        "rotor_error.png".to_string(),
+        super::rotor_report::png(&r.rotor)?,
+    ));
     Ok(out)
 }
 
@@ -463,12 +468,13 @@ pub fn markdown(r: &Report) -> String {
         r.total_seconds,
         per.join(", ")
     );
-    let _ = writeln!(s, "Contents: [1. IK](#1-inverse-kinematics-tolerance--method) · [2. Integrators](#2-integrators-step-size--method) · [3. Dynamics formulations](#3-dynamics-formulations-time-vs-dof) · [4. Workspace sampling](#4-workspace-sampling-samples--scheme) · [5. Effects](#5-effects-cost-of-each-effect)\n");
+    let _ = writeln!(s, "Contents: [1. IK](#1-inverse-kinematics-tolerance--method) · [2. Integrators](#2-integrators-step-size--method) · [3. Dynamics formulations](#3-dynamics-formulations-time-vs-dof) · [4. Workspace sampling](#4-workspace-sampling-samples--scheme) · [5. Effects](#5-effects-cost-of-each-effect) · [6. Flexible rotor](#6-flexible-rotor-elements--critical-speed-error)\n");
     ik_section(&mut s, r);
     integrator_section(&mut s, r);
     formulation_section(&mut s, r);
     workspace_section(&mut s, r);
     effects_section(&mut s, r);
+    super::rotor_report::section(&mut s, &r.rotor);
     s
 }
 

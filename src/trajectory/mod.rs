@@ -14,7 +14,9 @@
 //! - [`check_torques`] (`torque_check.rs`): peak / RMS torque, peak speed and power, margins
 //!   and the first violation time of every limit along any trajectory, with a text table,
 //!   JSON rows and a PNG/SVG plot (`plot.rs`), whose axis labels come from [`ticks`]
-//!   (nice tick positions, labels with a common power of ten).
+//!   (nice tick positions, labels with a common power of ten);
+//! - [`panels`] (`panels.rs`): line panels and bar charts shared by the trade-offs report
+//!   and the machine scenarios' pictures.
 //!
 //! Also [`TimeScaled`] (uniform slow-down of any trajectory), [`LinearPath`] and
 //! [`SplinePath`] (paths for TOPP), and [`AsReference`] (any trajectory as the simulator's
@@ -26,6 +28,7 @@
 
 mod cartesian;
 mod min_jerk;
+pub mod panels;
 pub(crate) mod plot;
 mod quintic;
 pub mod ticks;

@@ -65,7 +65,7 @@ pub(super) fn report_json(cx: &OutputContext, p: Parts) -> Value {
         .and_then(Value::as_bool)
         .unwrap_or(true);
     let ok = torque.ok && collision_free;
-    json!({
+    let mut j = json!({
         "scenario": scene.name,
         "file": scene.file,
         "description": scene.description,
@@ -101,7 +101,11 @@ pub(super) fn report_json(cx: &OutputContext, p: Parts) -> Value {
         "timings": timings,
         "warnings": warnings,
         "outputs": outputs,
-    })
+    });
+    if !scene.transmissions.is_empty() {
+        j["transmissions"] = serde_json::to_value(&scene.transmissions).expect("serialise");
+    }
+    j
 }
 
 pub(super) fn summary(scene: &Scene, plan: &Plan, torque: &TorqueReport, j: &Value) -> String {

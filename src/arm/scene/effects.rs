@@ -92,7 +92,7 @@ pub(super) fn named(
 pub(super) fn build(sx: &Sections, named: &[&'static str]) -> Result<Built, ScenarioError> {
     let mut effects = Effects::default();
     gravity_and_friction(sx, named, &mut effects)?;
-    rotor_inertia(sx, named, &mut effects)?;
+    let transmissions = rotor_inertia(sx, named, &mut effects)?;
     joint_elasticity(sx, named, &mut effects)?;
     let (payload_masses, payload_inertia) = payload(sx, named, &mut effects)?;
     let cx = &sx.cx;
@@ -101,11 +101,17 @@ pub(super) fn build(sx: &Sections, named: &[&'static str]) -> Result<Built, Scen
     effects
         .validate(model)
         .map_err(|e| cx.at(file.effects.span(), "effects", e))?;
-    Ok((effects, payload_masses, payload_inertia))
+    Ok((effects, payload_masses, payload_inertia, transmissions))
 }
 
-/// The effects, the payload masses of a sweep, the payload inertia on its link.
-pub(super) type Built = (Effects, Vec<f64>, Option<(usize, Inertia)>);
+/// The effects, the payload masses of a sweep, the payload inertia on its link, the
+/// joints' gear trains.
+pub(super) type Built = (
+    Effects,
+    Vec<f64>,
+    Option<(usize, Inertia)>,
+    Vec<super::transmission::JointTransmission>,
+);
 
 fn gravity_and_friction(
     sx: &Sections,
@@ -186,12 +192,13 @@ fn rotor_inertia(
     sx: &Sections,
     named: &[&str],
     effects: &mut Effects,
-) -> Result<(), ScenarioError> {
+) -> Result<Vec<super::transmission::JointTransmission>, ScenarioError> {
     let cx = &sx.cx;
     let file = sx.file;
     let model = sx.model;
     let names = &sx.names;
     let has = |e: &str| named.contains(&e);
+    let mut trains = Vec::new();
     if has("rotor_inertia") {
         let mut r = Rotor::from_model(model, 1.0);
         if let Some(sec) = &file.rotor_inertia {
@@ -226,6 +233,9 @@ fn rotor_inertia(
                     *dst = vals;
                 }
             }
+            if let Some(g) = &s.gear_train {
+                trains = super::transmission::apply(sx, g, &mut r)?;
+            }
         }
         if r.inertia.iter().all(|x| *x == 0.0) {
             let span = file
@@ -241,7 +251,7 @@ fn rotor_inertia(
         }
         effects.rotor = Some(r);
     }
-    Ok(())
+    Ok(trains)
 }
 
 fn joint_elasticity(

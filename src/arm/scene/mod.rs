@@ -15,6 +15,7 @@ mod obstacles;
 mod outputs;
 mod simulation;
 mod task;
+pub mod transmission;
 
 use super::schema::*;
 use crate::collision::resolve::PackagePaths;
@@ -145,6 +146,8 @@ pub struct Scene {
     /// Payload masses of a sweep (one entry without a sweep); empty without payload.
     pub payload_masses: Vec<f64>,
     pub payload_inertia: Option<(usize, Inertia)>,
+    /// Joints whose rotor ratio, efficiency and added inertia come from a gear train.
+    pub transmissions: Vec<transmission::JointTransmission>,
     pub contact: Option<ContactScene>,
     pub q0: Vec<f64>,
     /// Planning limits (velocity scaled).
@@ -397,7 +400,7 @@ pub fn build_with(
         base: ms.base,
         base_inv: ms.base.inverse(),
     };
-    let (effects, payload_masses, payload_inertia) = effects::build(&sx, &named)?;
+    let (effects, payload_masses, payload_inertia, transmissions) = effects::build(&sx, &named)?;
     let (lower, upper) = limits::position_limits(&sx)?;
     let rate = limits::rate_limits(&sx)?;
     let q0 = limits::initial(&sx, &lower, &upper)?;
@@ -436,6 +439,7 @@ pub fn build_with(
         effects,
         payload_masses,
         payload_inertia,
+        transmissions,
         contact,
         q0,
         limits: rate.limits,

@@ -1,5 +1,6 @@
 //! Friction elements (TEXTBOOK_SYSTEMS_2 §4): closed forms for inclines, slides, screws,
-//! wedges, journals, pivots and collars, rolling resistance, band brakes and belts, with
+//! wedges, journals, pivots and collars, rolling resistance, band brakes (simple,
+//! differential, summing) and belts, with
 //! efficiency, reverse efficiency and self-locking. SI units (N, m, rad) unless a name
 //! says otherwise.
 
@@ -127,50 +128,61 @@ pub fn free_rollers(q: f64, d: f64, k1: f64, k2: f64) -> f64 {
     (k1 + k2) * q / d
 }
 
-/// Band brake: tensions and the lever force. `e = e^{fβ}` (given or computed), drum
-/// radius `r`, braking torque from a weight `G` on arm `l` (`M = G l`), lever arms `a`
-/// (tight side, differential) and `b`, lever length `big_l`.
+/// What fixes a band brake's tensions: the moment `G l` of the lever load about the
+/// lever pivot, or the braking force `F = S1 − S2` at the drum rim.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BrakeGiven {
+    /// `G l` (N m).
+    LeverMoment(f64),
+    /// `F` (N).
+    BrakingForce(f64),
+}
+
+/// A band brake: the band wraps the drum with `e = e^{fβ}` (Euler: tight side
+/// `S1 = S2 e`); its slack end sits on the lever at arm `b` (`slack_arm`) from the pivot,
+/// its tight end at arm `a` (`tight_arm`) on the other side (a differential brake; `a = 0`
+/// is the simple brake, the tight end at the pivot; `a < 0` puts it on the slack end's
+/// side, a summing brake). Lever equilibrium about the pivot: `G l = S2 b − S1 a`, so
+/// `S2 = G l/(b − a e)`, braking force `F = S2 (e − 1)`. Self-locking (no lever load
+/// needed) when `b − a e ≤ 0`, i.e. `e ≥ b/a`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BandBrake {
-    /// Slack-side tension.
+    /// Slack-side tension `S2`.
     pub s2: f64,
-    /// Tight-side tension `S2 e^{fβ}`.
+    /// Tight-side tension `S1 = S2 e`.
     pub s1: f64,
-    /// Braking force `S1 − S2`.
+    /// Braking force at the rim `F = S1 − S2`.
     pub force: f64,
-    /// Lever force.
-    pub lever_force: f64,
-    /// Differential brake locks itself: `e^{fβ} ≥ b/a`.
+    /// Lever moment `G l = S2 b − S1 a` (≤ 0 when self-locking).
+    pub lever_moment: f64,
+    /// `b − a e ≤ 0`: the band pulls the lever on by itself.
     pub self_locking: bool,
+    /// `b − a e` (N m per N of slack tension): how far from locking.
+    pub locking_margin: f64,
+    /// `d ln F/d ln f` at a fixed lever moment: `fβ [e/(e − 1) + a e/(b − a e)]` (1 %
+    /// more friction gives about this many % more braking force; large near locking).
+    pub friction_sensitivity: f64,
 }
 
-/// Simple band brake: the slack end on the lever at arm `a` from the pivot (lever `L`),
-/// braking torque `m` on a drum of radius `r`: `S2 = F/(e − 1)`, `Q = S2 a/L`.
-pub fn simple_band_brake(m: f64, r: f64, e: f64, a: f64, big_l: f64) -> BandBrake {
-    let force = m / r;
-    let s2 = force / (e - 1.0);
-    BandBrake {
+/// See [`BandBrake`]. `None` when the lever moment is given but the brake self-locks
+/// (the lever moment then does not fix the tensions).
+pub fn band_brake(e: f64, tight_arm: f64, slack_arm: f64, given: BrakeGiven) -> Option<BandBrake> {
+    let margin = slack_arm - tight_arm * e;
+    let locking = margin <= 0.0;
+    let s2 = match given {
+        BrakeGiven::LeverMoment(_) if locking => return None,
+        BrakeGiven::LeverMoment(m) => m / margin,
+        BrakeGiven::BrakingForce(f) => f / (e - 1.0),
+    };
+    Some(BandBrake {
         s2,
         s1: s2 * e,
-        force,
-        lever_force: s2 * a / big_l,
-        self_locking: false,
-    }
-}
-
-/// Differential band brake: slack end at arm `b`, tight end at arm `a` on the other
-/// side: `Q L = S2 b − S1 a`, so `S2 = F/(e − 1)`, `Q = S2 (b − a e)/L`;
-/// self-locking when `e ≥ b/a`.
-pub fn differential_band_brake(m: f64, r: f64, e: f64, a: f64, b: f64, big_l: f64) -> BandBrake {
-    let force = m / r;
-    let s2 = force / (e - 1.0);
-    BandBrake {
-        s2,
-        s1: s2 * e,
-        force,
-        lever_force: s2 * (b - a * e) / big_l,
-        self_locking: e >= b / a,
-    }
+        force: s2 * (e - 1.0),
+        lever_moment: s2 * margin,
+        self_locking: locking,
+        locking_margin: margin,
+        friction_sensitivity: e.ln() * (e / (e - 1.0) + tight_arm * e / margin),
+    })
 }
 
 /// Belt transmitting power `w` at speed `v` with `e = e^{fα}`: useful pull `P = W/v`,

@@ -1,5 +1,6 @@
 //! `kind = "friction"` scenario files (format in `docs/machines.md`): a list of
-//! `[[element]]` tables (screw, slide, rolling, wedge, incline, journal, collar, belt),
+//! `[[element]]` tables (screw, slide, rolling, wedge, incline, journal, collar, belt,
+//! band brake),
 //! each computed by [`super::elements`]; torques of the elements add up, and a shaft
 //! speed turns the total into a friction power.
 
@@ -58,6 +59,13 @@ struct Element {
     speed: Option<f64>,
     euler_factor: Option<f64>,
     wrap_deg: Option<f64>,
+    lever_load: Option<f64>,
+    lever_arm: Option<f64>,
+    braking_torque: Option<f64>,
+    slack_arm: Option<f64>,
+    tight_arm: Option<f64>,
+    drum_diameter: Option<f64>,
+    load_drum_diameter: Option<f64>,
 }
 
 /// Runs a friction scenario.
@@ -221,15 +229,75 @@ fn element(cx: &Ctx, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), Sce
         "belt" => {
             let w = need("power", e.power, 0.0, 1e12)?;
             let v = need("speed", e.speed, 1e-9, 1e6)?;
-            let ef = match (e.euler_factor, e.friction, e.wrap_deg) {
-                (Some(x), None, None) => need("euler_factor", Some(x), 1.0 + 1e-9, 1e6)?,
-                (None, Some(fr), Some(wr)) => (need("friction", Some(fr), 1e-9, 2.0)? * need("wrap_deg", Some(wr), 1e-3, 3600.0)?.to_radians()).exp(),
-                _ => return Err(err("euler_factor", "give euler_factor = e^(f α), or friction and wrap_deg".into())),
-            };
+            let ef = euler_factor(e, &need, &err)?;
             let [p, s1, s2, s0, load] = el::belt(w, v, ef);
             (json!({"label": label, "type": "belt", "euler_factor": ef, "pull_N": p, "tight_N": s1, "slack_N": s2, "initial_tension_N": s0, "shaft_load_N": load}), 0.0)
         }
-        other => return Err(err("type", format!("unknown element type '{other}' (screw, slide, rolling, wedge, incline, journal, collar, belt)"))),
+        "band_brake" => (band_brake(e, label, &need, &err)?, 0.0),
+        other => return Err(err("type", format!("unknown element type '{other}' (screw, slide, rolling, wedge, incline, journal, collar, belt, band_brake)"))),
     };
     Ok((v, torque))
+}
+
+type Need<'a> = dyn Fn(&str, Option<f64>, f64, f64) -> Result<f64, ScenarioError> + 'a;
+type Err<'a> = dyn Fn(&str, String) -> ScenarioError + 'a;
+
+/// `e^{fα}`: `euler_factor`, or `friction` and `wrap_deg`.
+fn euler_factor(e: &Element, need: &Need, err: &Err) -> Result<f64, ScenarioError> {
+    match (e.euler_factor, e.friction, e.wrap_deg) {
+        (Some(x), None, None) => need("euler_factor", Some(x), 1.0 + 1e-9, 1e6),
+        (None, Some(fr), Some(wr)) => Ok((need("friction", Some(fr), 1e-9, 2.0)?
+            * need("wrap_deg", Some(wr), 1e-3, 3600.0)?.to_radians())
+        .exp()),
+        _ => Err(err(
+            "euler_factor",
+            "give euler_factor = e^(f α), or friction and wrap_deg".into(),
+        )),
+    }
+}
+
+/// A band brake (FR-4): lever load and arm (or the braking torque wanted), the band's
+/// arms on the lever, the drum, optionally the drum of the load held.
+fn band_brake(e: &Element, label: String, need: &Need, err: &Err) -> Result<Value, ScenarioError> {
+    let ef = euler_factor(e, need, err)?;
+    let r = need("drum_diameter", e.drum_diameter, 1e-9, 1e3)? / 2.0;
+    let b = need("slack_arm", e.slack_arm, 1e-9, 1e3)?;
+    let a = e
+        .tight_arm
+        .map_or(Ok(0.0), |x| need("tight_arm", Some(x), -1e3, 1e3))?;
+    let given = match (e.lever_load, e.braking_torque) {
+        (Some(g), None) => el::BrakeGiven::LeverMoment(
+            need("lever_load", Some(g), 0.0, 1e12)? * need("lever_arm", e.lever_arm, 1e-9, 1e3)?,
+        ),
+        (None, Some(m)) => {
+            el::BrakeGiven::BrakingForce(need("braking_torque", Some(m), 0.0, 1e12)? / r)
+        }
+        _ => {
+            return Err(err(
+                "lever_load",
+                "give lever_load (with lever_arm) or braking_torque, one of the two".into(),
+            ))
+        }
+    };
+    let mut v = json!({"label": label, "type": "band_brake", "euler_factor": ef,
+        "brake": if a == 0.0 { "simple" } else if a > 0.0 { "differential" } else { "summing" },
+        "locking_margin_m": b - a * ef, "self_locking": b - a * ef <= 0.0});
+    let Some(bb) = el::band_brake(ef, a, b, given) else {
+        // Self-locking with a lever load given: the tensions are set by the drum.
+        return Ok(v);
+    };
+    v["slack_N"] = json!(bb.s2);
+    v["tight_N"] = json!(bb.s1);
+    v["braking_force_N"] = json!(bb.force);
+    v["braking_torque_Nm"] = json!(bb.force * r);
+    v["lever_moment_Nm"] = json!(bb.lever_moment);
+    v["friction_sensitivity"] = json!(bb.friction_sensitivity);
+    if let Some(l) = e.lever_arm {
+        v["lever_load_N"] = json!(bb.lever_moment / need("lever_arm", Some(l), 1e-9, 1e3)?);
+    }
+    if let Some(d) = e.load_drum_diameter {
+        v["load_held_N"] =
+            json!(bb.force * r / (need("load_drum_diameter", Some(d), 1e-9, 1e3)? / 2.0));
+    }
+    Ok(v)
 }

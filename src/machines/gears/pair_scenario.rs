@@ -9,6 +9,7 @@ use crate::diag::LocatedError as ScenarioError;
 use crate::machines::spans::{in_range, Ctx};
 use crate::report::Report;
 use serde::Deserialize;
+use std::fmt::Write;
 use std::path::Path;
 use toml::Spanned;
 
@@ -57,8 +58,23 @@ struct PairTable {
 }
 
 /// Runs a gear-pair scenario.
-pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
-    Ok(report(&parse(&path.display().to_string(), text)?))
+pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
+    let file = path.display().to_string();
+    let sc = parse(&file, text)?;
+    let mut r = report(&sc);
+    let panels = crate::machines::plots::pair_panels(&r.json);
+    if let Some(p) = crate::scenario_kit::write_plot(
+        out_dir,
+        &format!("{}_gears", sc.name),
+        &sc.name,
+        &panels,
+        2,
+    )
+    .map_err(|m| ScenarioError::new(&file, None, "plot", m))?
+    {
+        let _ = writeln!(r.text, "plot: {}", p.display());
+    }
+    Ok(r)
 }
 
 /// Parses and checks `text` (the contents of `file`).

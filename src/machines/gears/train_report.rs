@@ -319,21 +319,40 @@ fn load_json(sc: &TrainScenario, l: &Torques, omega: &[f64], text: &mut String) 
     })
 }
 
-fn transmission(
-    sc: &TrainScenario,
-    o: usize,
-    omega: &[f64],
-    text: &mut String,
-) -> Result<Value, TrainError> {
+/// The train between its single input and its `output` as a transmission (an arm
+/// joint's gearbox): ratio, efficiencies, self-locking and inertia referred to the input.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Transmission {
+    /// Input member (the motor side).
+    pub input: String,
+    /// Output member (the joint side).
+    pub output: String,
+    /// `N = ω_in/ω_out` (signed).
+    pub gear_ratio: f64,
+    /// `N` exactly.
+    pub gear_ratio_exact: String,
+    /// Power out over power in, the input driving.
+    pub efficiency_forward: f64,
+    /// The output driving (0 when it cannot).
+    pub efficiency_reverse: f64,
+    /// The output cannot drive the input.
+    pub self_locking: bool,
+    /// `Σ J_b (ω_b/ω_in)²` (kg m²), planets counted `n` times with their orbiting mass.
+    pub inertia_input_side: f64,
+}
+
+/// See [`Transmission`]; needs one degree of freedom and an output that turns.
+pub fn transmission_of(sc: &TrainScenario, o: usize) -> Result<Transmission, TrainError> {
     let t = &sc.train;
+    let omega = sc.omega();
     let i = sc.speeds.inputs[0];
     let ratio = ratio_to(sc, o)
         .ok_or_else(|| TrainError::new(Element::Train, "output", "the output does not turn"))?;
     let sgn = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
-    let fwd = solve_torques(t, omega, &[(o, -sgn(omega[o]))], &[i])?;
-    let rev = solve_torques(t, omega, &[(i, -sgn(omega[i]))], &[o])?;
-    let ef = efficiency_of(&fwd, omega).unwrap_or(0.0);
-    let er = efficiency_of(&rev, omega);
+    let fwd = solve_torques(t, &omega, &[(o, -sgn(omega[o]))], &[i])?;
+    let rev = solve_torques(t, &omega, &[(i, -sgn(omega[i]))], &[o])?;
+    let ef = efficiency_of(&fwd, &omega).unwrap_or(0.0);
+    let er = efficiency_of(&rev, &omega);
     // Reverse drive: the output must deliver power for the input's load to move.
     let er_val = er.filter(|_| rev.body[o] * omega[o] > 0.0).unwrap_or(0.0);
     let locking = er_val <= 0.0 || !rev.converged;
@@ -351,21 +370,45 @@ fn transmission(
             j_in += copies * m * (arm / 1000.0).powi(2) * rc * rc;
         }
     }
-    let n = ratio.to_f64();
+    Ok(Transmission {
+        input: t.bodies[i].name.clone(),
+        output: t.bodies[o].name.clone(),
+        gear_ratio: ratio.to_f64(),
+        gear_ratio_exact: ratio.to_string(),
+        efficiency_forward: ef,
+        efficiency_reverse: er_val,
+        self_locking: locking,
+        inertia_input_side: j_in,
+    })
+}
+
+fn transmission(
+    sc: &TrainScenario,
+    o: usize,
+    _omega: &[f64],
+    text: &mut String,
+) -> Result<Value, TrainError> {
+    let tr = transmission_of(sc, o)?;
+    let (n, ef, er_val, j_in) = (
+        tr.gear_ratio,
+        tr.efficiency_forward,
+        tr.efficiency_reverse,
+        tr.inertia_input_side,
+    );
     let _ = writeln!(
         text,
-        "\nTransmission '{}' → '{}': i = ω_in/ω_out = {ratio} = {n:.6}; efficiency {ef:.6} forward, {er_val:.6} reverse{}; inertia referred to the input {j_in:.6e} kg m² (to the output {:.6e})",
-        t.bodies[i].name, t.bodies[o].name,
-        if locking { " (self-locking: the output cannot drive the input)" } else { "" },
+        "\nTransmission '{}' → '{}': i = ω_in/ω_out = {} = {n:.6}; efficiency {ef:.6} forward, {er_val:.6} reverse{}; inertia referred to the input {j_in:.6e} kg m² (to the output {:.6e})",
+        tr.input, tr.output, tr.gear_ratio_exact,
+        if tr.self_locking { " (self-locking: the output cannot drive the input)" } else { "" },
         j_in * n * n
     );
     Ok(json!({
-        "input": t.bodies[i].name,
-        "output": t.bodies[o].name,
-        "gear_ratio": ratio_json(Some(ratio)),
+        "input": tr.input,
+        "output": tr.output,
+        "gear_ratio": { "value": n, "exact": tr.gear_ratio_exact },
         "efficiency_forward": ef,
         "efficiency_reverse": er_val,
-        "self_locking": locking,
+        "self_locking": tr.self_locking,
         "inertia_input_side": j_in,
         "inertia_output_side": j_in * n * n,
         "rotor_inertia": { "gear_ratio": n.abs(), "efficiency": ef },

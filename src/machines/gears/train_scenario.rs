@@ -112,6 +112,45 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
     report(&sc).map_err(|e| locate_plain(&path.display().to_string(), text, &e))
 }
 
+/// A gear-train file as an arm joint's transmission ([`super::train_report::Transmission`]):
+/// the file must name its `output` and have one degree of freedom.
+pub fn transmission_from_file(
+    path: &Path,
+) -> Result<super::train_report::Transmission, ScenarioError> {
+    let file = path.display().to_string();
+    let text = crate::io::read_input_string(path)
+        .map_err(|e| ScenarioError::new(&file, None, "file", format!("cannot read: {e}")))?;
+    let kind = toml::from_str::<toml::Table>(&text)
+        .ok()
+        .and_then(|t| t.get("kind").and_then(|k| k.as_str().map(str::to_string)));
+    if kind.as_deref() != Some("gear_train") {
+        return Err(ScenarioError::new(
+            &file,
+            None,
+            "kind",
+            "a joint's transmission must be a kind = \"gear_train\" file",
+        ));
+    }
+    let sc = parse(&file, &text)?;
+    let Some(o) = sc.output else {
+        return Err(ScenarioError::new(
+            &file,
+            None,
+            "output",
+            "a joint's gear train must name its output member (the joint side)",
+        ));
+    };
+    if sc.speeds.inputs.len() != 1 {
+        return Err(ScenarioError::new(
+            &file,
+            None,
+            "input",
+            "a joint's gear train needs one input (the motor): one degree of freedom",
+        ));
+    }
+    super::train_report::transmission_of(&sc, o).map_err(|e| locate_plain(&file, &text, &e))
+}
+
 /// An error found while reporting (no spans at hand): at the top of the file.
 fn locate_plain(file: &str, _text: &str, e: &TrainError) -> ScenarioError {
     ScenarioError::new(file, None, e.field, e.message.clone())

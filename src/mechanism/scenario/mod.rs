@@ -124,6 +124,8 @@ struct SweepSpec {
 #[serde(deny_unknown_fields)]
 struct KinetoSpec {
     gravity: Option<[f64; 2]>,
+    friction_coefficient: Option<f64>,
+    pin_radius: Option<f64>,
     #[serde(default)]
     report_at_deg: Vec<f64>,
     #[serde(default)]
@@ -186,6 +188,8 @@ struct MachineSpec {
 pub struct KinetostaticsScenario {
     /// Loads (gravity included).
     pub loads: Loads,
+    /// Joint friction `(coefficient, pin radius)` in every joint (friction circles).
+    pub friction: Option<(f64, f64)>,
     /// Inputs (rad or m) at which the text report lists the joint forces.
     pub report_at: Vec<f64>,
 }
@@ -560,8 +564,37 @@ fn parse_kineto(
             out.torques.push((link, t));
         }
     }
+    let friction = match (ks.friction_coefficient, ks.pin_radius) {
+        (None, None) => None,
+        (Some(f), r) if (0.0..=1.0).contains(&f) => {
+            let r = r.unwrap_or(0.0);
+            if !(r.is_finite() && r >= 0.0) {
+                return Err(cx.err(
+                    cx.key_line(&span, "pin_radius"),
+                    "kinetostatics.pin_radius",
+                    format!("must be a radius ≥ 0 (m), got {r}"),
+                ));
+            }
+            Some((f, r))
+        }
+        (Some(f), _) => {
+            return Err(cx.err(
+                cx.key_line(&span, "friction_coefficient"),
+                "kinetostatics.friction_coefficient",
+                format!("must be in [0, 1], got {f}"),
+            ))
+        }
+        (None, Some(_)) => {
+            return Err(cx.err(
+                cx.key_line(&span, "pin_radius"),
+                "kinetostatics.pin_radius",
+                "a pin radius needs friction_coefficient (the friction circle is f r)",
+            ))
+        }
+    };
     Ok(KinetostaticsScenario {
         loads: out,
+        friction,
         report_at,
     })
 }
