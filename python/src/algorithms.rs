@@ -47,7 +47,7 @@ pub fn frame_jacobian<'py>(
     kinematics::frame_jacobian(m, d, f, e, jac);
     let mut out = vec![0.0; 6 * m.nv];
     matrix_row_major(jac, &mut out);
-    Ok(PyArray1::from_vec(py, out).reshape([6, m.nv])?)
+    PyArray1::from_vec(py, out).reshape([6, m.nv])
 }
 
 /// Inverse dynamics `τ = M(q) a + C(q, v) v + g(q)` with the model's gravity.
@@ -106,7 +106,7 @@ pub fn crba<'py>(
     let mass = dyn_calls::crba(m, &mut data.data, q.slice());
     let mut out = vec![0.0; m.nv * m.nv];
     matrix_row_major(mass, &mut out);
-    Ok(PyArray1::from_vec(py, out).reshape([m.nv, m.nv])?)
+    PyArray1::from_vec(py, out).reshape([m.nv, m.nv])
 }
 
 /// Generalised gravity torques `g(q)`.

@@ -237,7 +237,7 @@ impl PyData {
             &kinematics::frame_placement(&self.model, &self.data, f),
             &mut out,
         );
-        Ok(PyArray1::from_slice(py, &out).reshape([4, 4])?)
+        PyArray1::from_slice(py, &out).reshape([4, 4])
     }
 
     /// The last `rnea` result.

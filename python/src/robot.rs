@@ -96,7 +96,7 @@ impl PyRobot {
         let p = self.robot.pose(q.slice(), FrameId(f)).map_err(to_err)?;
         let mut out = [0.0; 16];
         se3_to_4x4(&p, &mut out);
-        Ok(PyArray1::from_slice(py, &out).reshape([4, 4])?)
+        PyArray1::from_slice(py, &out).reshape([4, 4])
     }
 
     /// The 6×nv Jacobian of `frame` at `q` ("world_aligned", "local" or "world").
@@ -118,7 +118,7 @@ impl PyRobot {
             .map_err(to_err)?;
         let mut out = vec![0.0; 6 * n];
         matrix_row_major(j, &mut out);
-        Ok(PyArray1::from_vec(py, out).reshape([6, n])?)
+        PyArray1::from_vec(py, out).reshape([6, n])
     }
 
     /// Inverse dynamics with the model's gravity (`v`, `a` default to zeros).
@@ -173,7 +173,7 @@ impl PyRobot {
         let m = self.robot.crba(q.slice()).map_err(to_err)?;
         let mut out = vec![0.0; n * n];
         matrix_row_major(m, &mut out);
-        Ok(PyArray1::from_vec(py, out).reshape([n, n])?)
+        PyArray1::from_vec(py, out).reshape([n, n])
     }
 
     /// Gravity torques `g(q)`.

@@ -95,6 +95,9 @@ pub fn workspace_json<'py>(
     ))
 }
 
+/// Two arrays (configurations and poses).
+type Pair<'py> = (Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyArrayDyn<f64>>);
+
 fn splitmix(x: u64) -> u64 {
     let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -114,7 +117,7 @@ pub fn sample_poses<'py>(
     seed: u64,
     frame: Option<&Bound<'py, PyAny>>,
     start: u64,
-) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyArrayDyn<f64>>)> {
+) -> PyResult<Pair<'py>> {
     let m = &*model.model;
     let nv = m.nv;
     let f = match frame {
