@@ -4,8 +4,9 @@ Python loop over pin.rnea). Prints a Markdown table (BENCHMARKS.md, "From Python
 
     python python/bench/bench_vs_pin.py [--calls 20000] [--batch 20000]
 
-Per-call figures are the best of 7 repeats of `calls` calls (ns per call, Python call
-overhead included on both sides); same random state for both libraries.
+Per-call figures: 11 rounds of `calls` calls, armsim and pin alternating round by round;
+the best ns per call of each side and the median of the per-round ratios (Python call
+overhead included on both sides; the same random state for both libraries).
 """
 
 from __future__ import annotations
@@ -26,8 +27,15 @@ ROBOTS = [("ur5", "ur5.urdf", "tool0"), ("panda", "panda.urdf", "panda_link8"),
           ("iiwa14", "iiwa14.urdf", None)]
 
 
-def best_ns(fn, calls: int) -> float:
-    return min(timeit.repeat(fn, number=calls, repeat=7)) / calls * 1e9
+def paired(f_am, f_pin, calls: int, repeats: int = 11):
+    """Best time per call of each (ns) and the median of the per-round ratios: the two
+    sides alternate round by round, so both see the same machine load."""
+    t_am, t_pin = [], []
+    for _ in range(repeats):
+        t_am.append(timeit.timeit(f_am, number=calls) / calls * 1e9)
+        t_pin.append(timeit.timeit(f_pin, number=calls) / calls * 1e9)
+    ratio = float(np.median(np.array(t_am) / np.array(t_pin)))
+    return min(t_am), min(t_pin), ratio
 
 
 def pin_q(am_model, pm, q):
@@ -57,13 +65,13 @@ def bench_robot(name, file, frame, calls, batch, rng):
     assert np.allclose(am.rnea(m, d, q, v, a), pin.rnea(pm, pd, pq, v, a), atol=1e-9)
     ref = pin.ReferenceFrame.LOCAL
     rows = []
-    rows.append(("rnea", best_ns(lambda: am.rnea(m, d, q, v, a), calls),
-                 best_ns(lambda: pin.rnea(pm, pd, pq, v, a), calls)))
-    rows.append(("forward_kinematics", best_ns(lambda: am.forward_kinematics(m, d, q), calls),
-                 best_ns(lambda: pin.forwardKinematics(pm, pd, pq), calls)))
+    rows.append(("rnea", *paired(lambda: am.rnea(m, d, q, v, a),
+                                 lambda: pin.rnea(pm, pd, pq, v, a), calls)))
+    rows.append(("forward_kinematics", *paired(lambda: am.forward_kinematics(m, d, q),
+                                               lambda: pin.forwardKinematics(pm, pd, pq), calls)))
     rows.append(("frame_jacobian (local)",
-                 best_ns(lambda: am.frame_jacobian(m, d, q, fid, "local"), calls),
-                 best_ns(lambda: pin.computeFrameJacobian(pm, pd, pq, pf, ref), calls)))
+                 *paired(lambda: am.frame_jacobian(m, d, q, fid, "local"),
+                         lambda: pin.computeFrameJacobian(pm, pd, pq, pf, ref), calls)))
     Q = np.ascontiguousarray(rng.uniform(lo, hi, size=(batch, m.nv)))
     V, A = rng.normal(size=(batch, m.nv)), rng.normal(size=(batch, m.nv))
     PQ = np.array([pin_q(m, pm, x) for x in Q])
@@ -85,13 +93,13 @@ def main():
     rng = np.random.default_rng(0)
     print(f"armsim (Python, abi3 wheel) vs pin {pin.__version__}; Python {platform.python_version()}, "
           f"{os.cpu_count()} CPUs, rayon threads = {os.environ.get('RAYON_NUM_THREADS', 'all')}\n")
-    print("| robot | nv | call | armsim ns | pin ns | armsim / pin |")
-    print("|---|---|---|---|---|---|")
+    print("| robot | nv | call | armsim ns (best) | pin ns (best) | best / best | median of paired rounds |")
+    print("|---|---|---|---|---|---|---|")
     batches = []
     for name, file, frame in ROBOTS:
         rname, nv, rows, thr = bench_robot(name, file, frame, args.calls, args.batch, rng)
-        for call, t_am, t_pin in rows:
-            print(f"| {rname} | {nv} | {call} | {t_am:.0f} | {t_pin:.0f} | {t_am / t_pin:.2f}× |")
+        for call, t_am, t_pin, ratio in rows:
+            print(f"| {rname} | {nv} | {call} | {t_am:.0f} | {t_pin:.0f} | {t_am / t_pin:.2f}× | {ratio:.2f}× |")
         batches.append((rname, nv, thr))
     print(f"\n| robot | nv | am.rnea_batch (N = {args.batch}) states/s | Python loop over pin.rnea states/s | speed-up |")
     print("|---|---|---|---|---|")

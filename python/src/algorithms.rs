@@ -3,12 +3,12 @@
 //! are checked (lengths, NaN, frame, data of this model) before any Rust algorithm runs.
 
 use crate::args::{self, vector};
-use crate::convert::matrix_row_major;
+use crate::convert::matrix_to_numpy;
 use crate::dyn_calls;
 use crate::errors::err;
 use crate::model::{PyData, PyModel};
 use armsim::kinematics;
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
 /// Forward kinematics at `q`: every frame's placement is updated in `data`.
@@ -28,26 +28,27 @@ pub fn forward_kinematics(
 /// The 6×nv Jacobian of `frame` at `q` (rows: linear x y z, angular x y z), in
 /// `reference` = "world_aligned" (LOCAL_WORLD_ALIGNED), "local" or "world".
 #[pyfunction]
-#[pyo3(signature = (model, data, q, frame, reference="world_aligned"))]
+#[pyo3(signature = (model, data, q, frame, reference=None))]
 pub fn frame_jacobian<'py>(
     py: Python<'py>,
     model: &PyModel,
     data: &mut PyData,
     q: &Bound<'py, PyAny>,
     frame: &Bound<'py, PyAny>,
-    reference: &str,
+    reference: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     data.check_model(model)?;
     let m = &*model.model;
     let q = vector(q, "q", m.nv)?;
     let f = args::frame(m, frame)?;
-    let e = args::expressed(reference)?;
+    let e = match reference {
+        Some(r) => args::expressed_obj(r)?,
+        None => armsim::Expressed::WorldAligned,
+    };
     let PyData { data: d, jac, .. } = data;
     kinematics::compute_joint_jacobians(m, d, q.slice());
     kinematics::frame_jacobian(m, d, f, e, jac);
-    let mut out = vec![0.0; 6 * m.nv];
-    matrix_row_major(jac, &mut out);
-    PyArray1::from_vec(py, out).reshape([6, m.nv])
+    Ok(matrix_to_numpy(py, jac))
 }
 
 /// Inverse dynamics `τ = M(q) a + C(q, v) v + g(q)` with the model's gravity.
@@ -104,9 +105,7 @@ pub fn crba<'py>(
     let m = &*model.model;
     let q = vector(q, "q", m.nv)?;
     let mass = dyn_calls::crba(m, &mut data.data, q.slice());
-    let mut out = vec![0.0; m.nv * m.nv];
-    matrix_row_major(mass, &mut out);
-    PyArray1::from_vec(py, out).reshape([m.nv, m.nv])
+    Ok(matrix_to_numpy(py, mass))
 }
 
 /// Generalised gravity torques `g(q)`.

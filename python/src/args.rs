@@ -4,19 +4,26 @@
 
 use crate::errors::err;
 use armsim::{Expressed, Model};
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
-/// A 1-D argument: a borrowed numpy array or an owned copy.
+/// A 1-D argument: a contiguous float64 numpy array read in place, or an owned copy.
+///
+/// The in-place read skips numpy's borrow registry (it costs more than the small
+/// algorithms): the functions that take a `Vector` hold the GIL from reading to the end of
+/// the computation and never write into an argument, so no Rust borrow can alias it and
+/// Python code cannot run in between.
 pub enum Vector<'py> {
-    Array(PyReadonlyArray1<'py, f64>),
+    Array(Bound<'py, PyArray1<f64>>),
     Owned(Vec<f64>),
 }
 
 impl Vector<'_> {
     pub fn slice(&self) -> &[f64] {
         match self {
-            Vector::Array(a) => a.as_slice().expect("checked contiguous"),
+            // SAFETY: contiguous (checked at construction); see the type's comment for
+            // why nothing mutates the array while the slice lives.
+            Vector::Array(a) => unsafe { a.as_slice().expect("checked contiguous") },
             Vector::Owned(v) => v,
         }
     }
@@ -29,9 +36,9 @@ fn first_bad(x: &[f64]) -> Option<usize> {
 
 /// Reads `obj` as a vector of `n` finite values called `what`.
 pub fn vector<'py>(obj: &Bound<'py, PyAny>, what: &str, n: usize) -> PyResult<Vector<'py>> {
-    let v = match obj.extract::<PyReadonlyArray1<'py, f64>>() {
-        Ok(a) if a.is_c_contiguous() => Vector::Array(a),
-        Ok(a) => Vector::Owned(a.as_array().to_vec()),
+    let v = match obj.cast::<PyArray1<f64>>() {
+        Ok(a) if a.is_c_contiguous() => Vector::Array(a.clone()),
+        Ok(a) => Vector::Owned(a.readonly().as_array().to_vec()),
         Err(_) => Vector::Owned(obj.extract::<Vec<f64>>().map_err(|_| {
             err(format!(
                 "{what}: expected a 1-D sequence of {n} floats, got {}",
@@ -170,8 +177,34 @@ pub fn frame_by_name(model: &Model, name: &str) -> PyResult<usize> {
     })
 }
 
+/// [`expressed`] on a Python string, comparing with interned constants first (reading
+/// a `str` costs an allocation under the abi3 API of Python 3.9).
+pub fn expressed_obj(obj: &Bound<'_, PyAny>) -> PyResult<Expressed> {
+    let py = obj.py();
+    let known = [
+        (pyo3::intern!(py, "world_aligned"), Expressed::WorldAligned),
+        (pyo3::intern!(py, "local"), Expressed::Local),
+        (pyo3::intern!(py, "world"), Expressed::World),
+    ];
+    for (s, e) in &known {
+        if obj.is(s) {
+            return Ok(*e);
+        }
+    }
+    let s: String = obj
+        .extract()
+        .map_err(|_| err("reference: expected a string"))?;
+    expressed(&s)
+}
+
 /// `"world_aligned"` (`"local_world_aligned"`), `"local"` or `"world"`.
 pub fn expressed(s: &str) -> PyResult<Expressed> {
+    match s {
+        "world_aligned" => return Ok(Expressed::WorldAligned),
+        "local" => return Ok(Expressed::Local),
+        "world" => return Ok(Expressed::World),
+        _ => {}
+    }
     match s.to_ascii_lowercase().replace('-', "_").as_str() {
         "world_aligned" | "local_world_aligned" => Ok(Expressed::WorldAligned),
         "local" => Ok(Expressed::Local),

@@ -50,3 +50,27 @@ pub fn matrix_row_major(m: &armsim::nalgebra::DMatrix<f64>, out: &mut [f64]) {
         }
     }
 }
+
+/// A new C-ordered `rows × cols` numpy array holding `m` (nalgebra is column-major).
+pub fn matrix_to_numpy<'py>(
+    py: pyo3::Python<'py>,
+    m: &armsim::nalgebra::DMatrix<f64>,
+) -> pyo3::Bound<'py, numpy::PyArray2<f64>> {
+    use numpy::PyArrayMethods;
+    // SAFETY: a fresh array, written in full below before Python sees it.
+    let arr = unsafe { numpy::PyArray2::<f64>::new(py, [m.nrows(), m.ncols()], false) };
+    let out = unsafe { arr.as_slice_mut().expect("fresh C-ordered array") };
+    matrix_row_major(m, out);
+    arr
+}
+
+/// A new 4×4 numpy array holding the placement `p`.
+pub fn se3_to_numpy<'py>(py: pyo3::Python<'py>, p: &Se3) -> pyo3::Bound<'py, numpy::PyArray2<f64>> {
+    use numpy::PyArrayMethods;
+    // SAFETY: as in `matrix_to_numpy`.
+    let arr = unsafe { numpy::PyArray2::<f64>::new(py, [4, 4], false) };
+    se3_to_4x4(p, unsafe {
+        arr.as_slice_mut().expect("fresh C-ordered array")
+    });
+    arr
+}

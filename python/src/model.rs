@@ -2,12 +2,12 @@
 //! and `armsim.Data` (the reusable workspace of one model).
 
 use crate::args;
-use crate::convert::se3_to_4x4;
+use crate::convert::se3_to_numpy;
 use crate::errors::{err, require_file};
 use armsim::model::LoadOptions;
 use armsim::nalgebra::DMatrix;
 use armsim::{kinematics, Data, Model, Vec3};
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 use std::sync::Arc;
@@ -232,12 +232,10 @@ impl PyData {
         frame: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let f = args::frame(&self.model, frame)?;
-        let mut out = [0.0; 16];
-        se3_to_4x4(
+        Ok(se3_to_numpy(
+            py,
             &kinematics::frame_placement(&self.model, &self.data, f),
-            &mut out,
-        );
-        PyArray1::from_slice(py, &out).reshape([4, 4])
+        ))
     }
 
     /// The last `rnea` result.

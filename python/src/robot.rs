@@ -2,12 +2,12 @@
 //! gravity, ik by frame name or id; the default frame is the last link).
 
 use crate::args::{self, vector};
-use crate::convert::{check_pose, matrix_row_major, se3_from_4x4, se3_to_4x4};
+use crate::convert::{check_pose, matrix_to_numpy, se3_from_4x4, se3_to_numpy};
 use crate::errors::err;
 use crate::ik::{self, IkResult};
 use crate::model::PyModel;
 use armsim::{FrameId, Robot};
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
+use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::Arc;
@@ -94,9 +94,7 @@ impl PyRobot {
         let f = self.frame(frame)?;
         let q = vector(q, "q", self.nv())?;
         let p = self.robot.pose(q.slice(), FrameId(f)).map_err(to_err)?;
-        let mut out = [0.0; 16];
-        se3_to_4x4(&p, &mut out);
-        PyArray1::from_slice(py, &out).reshape([4, 4])
+        Ok(se3_to_numpy(py, &p))
     }
 
     /// The 6×nv Jacobian of `frame` at `q` ("world_aligned", "local" or "world").
@@ -116,9 +114,7 @@ impl PyRobot {
             .robot
             .jacobian(q.slice(), FrameId(f), e)
             .map_err(to_err)?;
-        let mut out = vec![0.0; 6 * n];
-        matrix_row_major(j, &mut out);
-        PyArray1::from_vec(py, out).reshape([6, n])
+        Ok(matrix_to_numpy(py, j))
     }
 
     /// Inverse dynamics with the model's gravity (`v`, `a` default to zeros).
@@ -171,9 +167,7 @@ impl PyRobot {
         let n = self.nv();
         let q = vector(q, "q", n)?;
         let m = self.robot.crba(q.slice()).map_err(to_err)?;
-        let mut out = vec![0.0; n * n];
-        matrix_row_major(m, &mut out);
-        PyArray1::from_vec(py, out).reshape([n, n])
+        Ok(matrix_to_numpy(py, m))
     }
 
     /// Gravity torques `g(q)`.
