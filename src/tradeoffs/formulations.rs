@@ -146,9 +146,9 @@ fn agreement(model: &Model, states: usize, seed: u64, trace: bool, energy: bool)
     for s in 0..states.min(STATES) {
         let r = s * nv..(s + 1) * nv;
         let (q, v, a) = (&qs[r.clone()], &vs[r.clone()], &as_[r]);
-        let tau = rnea(model, &mut data, q, v, a, &g, None).to_vec();
-        let qdd_aba = aba(model, &mut data, q, v, &tau, &g, None).to_vec();
-        let qdd_crba = match forward_dynamics_crba(model, &mut data, q, v, &tau, &g) {
+        let tau = rnea(model, &mut data, q, v, a).to_vec();
+        let qdd_aba = aba(model, &mut data, q, v, &tau).to_vec();
+        let qdd_crba = match forward_dynamics_crba(model, &mut data, q, v, &tau) {
             Ok(x) => x.to_vec(),
             Err(_) => vec![f64::NAN; nv],
         };
@@ -194,8 +194,6 @@ pub fn run(opts: &Options, cfg: &FormulationConfig) -> Result<FormulationStudy, 
                 &qs[r.clone()],
                 &vs[r.clone()],
                 &as_[r.clone()],
-                &g,
-                None,
             );
             taus[r].copy_from_slice(t);
         }
@@ -212,8 +210,6 @@ pub fn run(opts: &Options, cfg: &FormulationConfig) -> Result<FormulationStudy, 
                 black_box(&qs[r.clone()]),
                 &vs[r.clone()],
                 &as_[r],
-                &g,
-                None,
             );
             black_box(&data.tau);
         }));
@@ -225,7 +221,6 @@ pub fn run(opts: &Options, cfg: &FormulationConfig) -> Result<FormulationStudy, 
                 black_box(&qs[r.clone()]),
                 &vs[r.clone()],
                 &taus[r],
-                &g,
             ));
         }));
         ns[2] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
@@ -236,8 +231,6 @@ pub fn run(opts: &Options, cfg: &FormulationConfig) -> Result<FormulationStudy, 
                 black_box(&qs[r.clone()]),
                 &vs[r.clone()],
                 &taus[r],
-                &g,
-                None,
             );
             black_box(&data.qdd);
         }));
