@@ -61,6 +61,16 @@ impl<'a> Ctx<'a> {
         ScenarioError::new(&self.file, Some(line), name, msg)
     }
 
+    /// `Ok` when at least one of the sections is `present`, else `msg` at line 1 of the
+    /// file (a file that asks for nothing).
+    pub fn any_section(&self, present: &[bool], msg: &str) -> Result<(), ScenarioError> {
+        if present.iter().any(|p| *p) {
+            Ok(())
+        } else {
+            Err(ScenarioError::new(&self.file, Some(1), "file", msg))
+        }
+    }
+
     /// A finite number.
     pub fn finite(&self, v: &Spanned<f64>, key: &str) -> Result<f64, ScenarioError> {
         let x = *v.get_ref();
@@ -108,6 +118,42 @@ impl<'a> Ctx<'a> {
                 key,
                 format!("must lie strictly between {lo} and {hi}, got {x}"),
             ))
+        }
+    }
+
+    /// An optional number `> 0` (`None` when absent).
+    pub fn positive_opt(
+        &self,
+        v: Option<&Spanned<f64>>,
+        key: &str,
+    ) -> Result<Option<f64>, ScenarioError> {
+        v.map(|v| self.positive(v, key)).transpose()
+    }
+
+    /// An optional number `≥ 0`, `default` when absent.
+    pub fn non_negative_or(
+        &self,
+        v: Option<&Spanned<f64>>,
+        key: &str,
+        default: f64,
+    ) -> Result<f64, ScenarioError> {
+        Ok(v.map(|v| self.non_negative(v, key))
+            .transpose()?
+            .unwrap_or(default))
+    }
+
+    /// An optional count in `1..=max`, `default` when absent.
+    pub fn count(
+        &self,
+        v: Option<&Spanned<usize>>,
+        key: &str,
+        default: usize,
+        max: usize,
+    ) -> Result<usize, ScenarioError> {
+        match v {
+            None => Ok(default),
+            Some(p) if (1..=max).contains(p.get_ref()) => Ok(*p.get_ref()),
+            Some(p) => Err(self.at(p.span(), key, format!("must lie in 1..={max}"))),
         }
     }
 
