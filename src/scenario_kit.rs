@@ -142,18 +142,22 @@ impl<'a> Ctx<'a> {
             .unwrap_or(default))
     }
 
-    /// An optional count in `1..=max`, `default` when absent.
+    /// An optional count in `range`, `default` when absent.
     pub fn count(
         &self,
         v: Option<&Spanned<usize>>,
         key: &str,
         default: usize,
-        max: usize,
+        range: std::ops::RangeInclusive<usize>,
     ) -> Result<usize, ScenarioError> {
         match v {
             None => Ok(default),
-            Some(p) if (1..=max).contains(p.get_ref()) => Ok(*p.get_ref()),
-            Some(p) => Err(self.at(p.span(), key, format!("must lie in 1..={max}"))),
+            Some(p) if range.contains(p.get_ref()) => Ok(*p.get_ref()),
+            Some(p) => Err(self.at(
+                p.span(),
+                key,
+                format!("must lie in {}..={}", range.start(), range.end()),
+            )),
         }
     }
 

@@ -183,12 +183,12 @@ fn parse_cycle(ctx: &Ctx, c: &CycleIn) -> Result<Cycle, ScenarioError> {
     }
     let (omega, delta) = cycle_speed(ctx, c)?;
     let machine = ctx.non_negative_or(c.machine_inertia.as_ref(), "cycle.machine_inertia", 0.0)?;
-    let points = ctx.count(c.points.as_ref(), "cycle.points", 3600, MAX_POINTS)?;
+    let points = ctx.count(c.points.as_ref(), "cycle.points", 3600, 1..=MAX_POINTS)?;
     let periods = ctx.count(
         c.time_check_periods.as_ref(),
         "cycle.time_check_periods",
         3,
-        MAX_PERIODS,
+        1..=MAX_PERIODS,
     )?;
     let transfer = ctx.positive_opt(c.transfer_speed.as_ref(), "cycle.transfer_speed")?;
     let rho = ctx
