@@ -207,6 +207,25 @@ pub fn write_plot(
     Ok(Some(path))
 }
 
+/// The finished report of a scenario with plots: writes `panels` as
+/// `<out_dir>/<name>_<suffix>.png` (see [`write_plot`]), names the file in the text, and
+/// returns the JSON and the text; a plot that cannot be written is an error at key `plot`.
+pub fn finish_with_plot(
+    ctx: &Ctx,
+    out_dir: Option<&Path>,
+    (name, suffix): (&str, &str),
+    (panels, cols): (&[Panel], usize),
+    json: serde_json::Value,
+    mut text: String,
+) -> Result<crate::report::Report, ScenarioError> {
+    let written = write_plot(out_dir, &format!("{name}_{suffix}"), name, panels, cols)
+        .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?;
+    if let Some(p) = written {
+        text.push_str(&format!("plot: {}\n", p.display()));
+    }
+    Ok(crate::report::Report { json, text })
+}
+
 /// The scenario's name: its `name` key, else the file stem.
 pub fn scenario_name(name: Option<&str>, file: &str) -> String {
     name.map(str::to_string).unwrap_or_else(|| {

@@ -6,7 +6,7 @@
 use super::isolation as iso;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::tradeoffs::plot::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -550,16 +550,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         });
         j["absorber"] = v;
     }
-    if let Some(p) = write_plot(
-        out_dir,
-        &format!("{}_isolation", sc.name),
-        &sc.name,
-        &panels,
-        1,
-    )
-    .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "isolation"), (&panels, 1), j, text)
 }

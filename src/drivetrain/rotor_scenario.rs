@@ -10,7 +10,7 @@ use super::rotor_balancing::{modal_amplification, modal_balance};
 use super::rotor_transfer::critical_speeds;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::tradeoffs::plot::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -542,10 +542,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         j["modal_balancing"] = json!({ "mode": target + 1, "other_modes": others.iter().map(|o| o + 1).collect::<Vec<_>>(), "rigid_body": rigid, "planes": planes, "masses": x,
             "force_sum": x.iter().sum::<f64>(), "moment_sum": x.iter().zip(planes).map(|(a, b)| a * b).sum::<f64>() });
     }
-    if let Some(p) = write_plot(out_dir, &format!("{}_rotor", sc.name), &sc.name, &panels, 1)
-        .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "rotor"), (&panels, 1), j, text)
 }

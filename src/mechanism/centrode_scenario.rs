@@ -10,7 +10,7 @@ use super::sweep::{sweep, SweepOptions};
 use super::Vec2;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::tradeoffs::plot::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -268,16 +268,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             ..Default::default()
         },
     ];
-    if let Some(p) = write_plot(
-        out_dir,
-        &format!("{}_centrodes", sc.name),
-        &sc.name,
-        &panels,
-        2,
-    )
-    .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "centrodes"), (&panels, 2), j, text)
 }

@@ -7,7 +7,7 @@ use super::flywheel_design::{self as fd, Torque};
 use super::machine_motion::Characteristic;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::tradeoffs::plot::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -542,16 +542,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         writeln!(text, "overload: |M_d − M_c| = {:.4} N m, ε ≤ {eps} rad/s²: J ≥ {jt:.5} kg m², flywheel {jf:.5} kg m²", (d - l).abs()).ok();
         j["overload"] = json!({ "required_inertia": jt, "machine_inertia": machine, "flywheel_inertia": jf, "gd2": 4.0 * fd::G * jf });
     }
-    if let Some(p) = write_plot(
-        out_dir,
-        &format!("{}_flywheel", sc.name),
-        &sc.name,
-        &panels,
-        1,
-    )
-    .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "flywheel"), (&panels, 1), j, text)
 }

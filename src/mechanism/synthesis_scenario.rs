@@ -9,7 +9,7 @@ use super::synthesis_check::{self as chk, RockerTrack};
 use super::Vec2;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::tradeoffs::plot::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -697,16 +697,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
     if let Some(s) = &sc.function {
         j["function"] = function_json(ctx, s, &mut text, &mut panels)?;
     }
-    if let Some(p) = write_plot(
-        out_dir,
-        &format!("{}_synthesis", sc.name),
-        &sc.name,
-        &panels,
-        1,
-    )
-    .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "synthesis"), (&panels, 1), j, text)
 }
