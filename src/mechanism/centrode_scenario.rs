@@ -4,14 +4,16 @@
 //! the check and the rolling (equal arc length) condition.
 
 use super::catalog;
-use super::centrode::{arc_lengths, centrodes, line_intersection};
+use super::centrode::{arc_lengths, centrodes, line_intersection, CentrePoint};
+use super::linkage::Linkage;
 use super::position::NewtonOptions;
-use super::sweep::{sweep, SweepOptions};
+use super::sweep::{sweep, State, SweepOptions};
 use super::Vec2;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::tradeoffs::plot::{Panel, Series, PALETTE};
+use nalgebra::DVector;
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::fmt::Write;
@@ -153,9 +155,13 @@ fn pt(p: Option<Vec2>) -> Value {
     p.map_or(Value::Null, |p| json!([p.x, p.y]))
 }
 
-/// Computes the report of a parsed scenario.
-pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
-    let (l, guess, start, section) = if let Some((g, a, b, c, mode, s0)) = sc.four_bar {
+/// The mechanism assembled at its start angle: the linkage, the assembled coordinates,
+/// the start angle and the section it came from.
+fn assemble(
+    ctx: &Ctx,
+    sc: &Scenario,
+) -> Result<(Linkage, DVector<f64>, f64, &'static str), ScenarioError> {
+    if let Some((g, a, b, c, mode, s0)) = sc.four_bar {
         let l = catalog::four_bar(g, a, b, c);
         let q = catalog::four_bar_guess(&l, (g, a, b, c), s0, mode).ok_or_else(|| {
             ctx.section(
@@ -166,7 +172,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
                 ),
             )
         })?;
-        (l, q, s0, "four_bar")
+        Ok((l, q, s0, "four_bar"))
     } else {
         let (r, rod, e, s0) = sc.slider_crank.expect("one mechanism");
         if r + e.abs() > rod * (1.0 + 1e-12) {
@@ -177,8 +183,39 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         }
         let l = catalog::slider_crank(r, rod, e);
         let q = catalog::slider_crank_guess(&l, r, rod, e, s0, 1.0);
-        (l, q, s0, "slider_crank")
-    };
+        Ok((l, q, s0, "slider_crank"))
+    }
+}
+
+/// The largest distance between the fixed centrode and Kennedy's instant centre over
+/// the sweep (points farther than 1000 link lengths left out).
+fn kennedy_error(l: &Linkage, four_bar: bool, samples: &[State], pts: &[CentrePoint]) -> f64 {
+    // Kennedy: the crank line A–B meets the rocker line D–C (or the normal to the slide
+    // at C) in the coupler's instant centre.
+    let mut kennedy_err = 0.0f64;
+    for (st, p) in samples.iter().zip(pts) {
+        let pos = |n: &str| {
+            let (bb, lp) = l.find_point(n).expect("catalog point");
+            l.point_position(&st.q, bb, &lp)
+        };
+        let (a, b, c) = (Vec2::zeros(), pos("B"), pos("C"));
+        let other = if four_bar {
+            l.ground[1].1
+        } else {
+            c + Vec2::new(0.0, 1.0)
+        };
+        if let (Some(k), Some(f)) = (line_intersection(a, b, other, c), p.fixed) {
+            if k.norm() < 1e3 * l.length_scale() {
+                kennedy_err = kennedy_err.max((k - f).norm());
+            }
+        }
+    }
+    kennedy_err
+}
+
+/// Computes the report of a parsed scenario.
+pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
+    let (l, guess, start, section) = assemble(ctx, sc)?;
     let opts = SweepOptions {
         from: 0.0,
         to: std::f64::consts::TAU,
@@ -190,26 +227,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         .map_err(|e| ctx.section(section, format!("the linkage solver: {e}")))?;
     let body = 1; // the coupler (four-bar BC) or the rod (slider-crank BC)
     let pts = centrodes(&l, body, &sw.samples);
-    // Kennedy: the crank line A–B meets the rocker line D–C (or the normal to the slide
-    // at C) in the coupler's instant centre.
-    let mut kennedy_err = 0.0f64;
-    for (st, p) in sw.samples.iter().zip(&pts) {
-        let pos = |n: &str| {
-            let (bb, lp) = l.find_point(n).expect("catalog point");
-            l.point_position(&st.q, bb, &lp)
-        };
-        let (a, b, c) = (Vec2::zeros(), pos("B"), pos("C"));
-        let other = if sc.four_bar.is_some() {
-            l.ground[1].1
-        } else {
-            c + Vec2::new(0.0, 1.0)
-        };
-        if let (Some(k), Some(f)) = (line_intersection(a, b, other, c), p.fixed) {
-            if k.norm() < 1e3 * l.length_scale() {
-                kennedy_err = kennedy_err.max((k - f).norm());
-            }
-        }
-    }
+    let kennedy_err = kennedy_error(&l, sc.four_bar.is_some(), &sw.samples, &pts);
     let (af, am) = arc_lengths(&pts);
     let infinite: Vec<f64> = pts
         .iter()
@@ -268,16 +286,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             ..Default::default()
         },
     ];
-    if let Some(p) = write_plot(
-        out_dir,
-        &format!("{}_centrodes", sc.name),
-        &sc.name,
-        &panels,
-        2,
-    )
-    .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "centrodes"), (&panels, 2), j, text)
 }

@@ -240,8 +240,11 @@ fn range(vals: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
     (lo - p, hi + p)
 }
 
-fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+/// The panel's axis ranges in plot coordinates (log axes transformed), with head room
+/// for the rows of crosses above the data: `((x0, x1), (y0, y1), (base, step))`, the
+/// crosses of lane `k` at `base + k step`.
+#[allow(clippy::type_complexity)]
+fn panel_ranges(p: &Panel) -> ((f64, f64), (f64, f64), (f64, f64)) {
     let xs = p
         .series
         .iter()
@@ -265,6 +268,22 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
     if lanes > 0 {
         y1 += (0.06 + 0.05 * lanes as f64) * (y1 - y0);
     }
+    ((x0, x1), (y0, y1), (base, step))
+}
+
+fn legend_position(l: Legend) -> SeriesLabelPosition {
+    match l {
+        Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
+        Legend::UpperRight => SeriesLabelPosition::UpperRight,
+        Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
+        Legend::LowerRight => SeriesLabelPosition::LowerRight,
+        Legend::MiddleRight => SeriesLabelPosition::MiddleRight,
+    }
+}
+
+fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+    let ((x0, x1), (y0, y1), (base, step)) = panel_ranges(p);
     let mut chart = ChartBuilder::on(area)
         .caption(&p.title, ("sans-serif", 16))
         .margin(10)
@@ -357,13 +376,7 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
     }
     chart
         .configure_series_labels()
-        .position(match p.legend {
-            Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
-            Legend::UpperRight => SeriesLabelPosition::UpperRight,
-            Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
-            Legend::LowerRight => SeriesLabelPosition::LowerRight,
-            Legend::MiddleRight => SeriesLabelPosition::MiddleRight,
-        })
+        .position(legend_position(p.legend))
         .background_style(WHITE.mix(0.85))
         .border_style(RGBColor(160, 160, 160))
         .label_font(("sans-serif", 12))
