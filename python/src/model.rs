@@ -209,16 +209,27 @@ impl PyData {
         PyData { model, data, jac }
     }
 
-    /// Refuses a workspace built for another model.
-    pub fn check_model(&self, model: &PyModel) -> PyResult<()> {
+    /// Refuses a workspace whose sizes do not fit `model` (built for another robot); a
+    /// workspace of the same structure (the same model before `gravity` was set, or the
+    /// same file loaded again) is adopted.
+    pub fn check_model(&mut self, model: &PyModel) -> PyResult<()> {
         if Arc::ptr_eq(&self.model, &model.model) {
-            Ok(())
-        } else {
-            Err(err(format!(
-                "data was created by another model than '{}': use model.create_data()",
-                model.model.name
-            )))
+            return Ok(());
         }
+        let (a, b) = (&*self.model, &*model.model);
+        if a.nv == b.nv && a.nbodies() == b.nbodies() && a.links.len() == b.links.len() {
+            self.model = Arc::clone(&model.model);
+            return Ok(());
+        }
+        Err(err(format!(
+            "data was created for '{}' ({} coordinates, {} frames), not for '{}' ({}, {}): use model.create_data()",
+            a.name,
+            a.nv,
+            a.links.len(),
+            b.name,
+            b.nv,
+            b.links.len()
+        )))
     }
 }
 
