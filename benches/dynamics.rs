@@ -19,7 +19,6 @@ fn dynamics_benches(c: &mut Criterion) {
         let qs = random_states(&model, 0x5eed);
         let vs = random_unit_states(nv, 0x5eee);
         let ws = random_unit_states(nv, 0x5eef);
-        let g = model.gravity;
         let mut data = Data::new(&model);
         let mut g_ = c.benchmark_group(model.name.clone());
         let mut k = 0usize;
@@ -36,8 +35,6 @@ fn dynamics_benches(c: &mut Criterion) {
                     black_box(&qs[s.clone()]),
                     &vs[s.clone()],
                     &ws[s],
-                    &g,
-                    None,
                 );
             })
         });
@@ -60,8 +57,6 @@ fn dynamics_benches(c: &mut Criterion) {
                     black_box(&qs[s.clone()]),
                     &vs[s.clone()],
                     &ws[s],
-                    &g,
-                    None,
                 );
             })
         });

@@ -46,9 +46,8 @@ pub fn main() -> Result<(), armsim::RobotError> {
     );
 
     // The same inverse dynamics through the low-level API (what the facade calls).
-    let g = robot.gravity();
     let (model, data) = robot.model_data();
-    let low = dynamics::rnea(model, data, &q, &v, &[0.0; 6], &g, None);
+    let low = dynamics::rnea(model, data, &q, &v, &[0.0; 6]);
     assert_eq!(low, tau.as_slice());
     println!("low-level rnea agrees bit for bit");
     Ok(())

@@ -37,7 +37,7 @@ fn run(model_path: &str, target: &str) -> Result<(), String> {
         let q: Vec<f64> = (0..n).map(|i| q0[i] + 0.5 * ph(i).sin()).collect();
         let qd: Vec<f64> = (0..n).map(|i| 0.5 * w * ph(i).cos()).collect();
         let qdd: Vec<f64> = (0..n).map(|i| -0.5 * w * w * ph(i).sin()).collect();
-        let tau = rnea(&model, &mut data, &q, &qd, &qdd, &model.gravity, None).to_vec();
+        let tau = rnea(&model, &mut data, &q, &qd, &qdd).to_vec();
         rec.frames
             .push(robot_tf.frame_at(&model, &mut data, t, &q, &qd, &tau));
     }

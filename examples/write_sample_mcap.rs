@@ -51,7 +51,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .map(|k| mid[k] + 0.4 * (t + k as f64).sin())
             .collect();
         let qd: Vec<f64> = (0..n).map(|k| 0.4 * (t + k as f64).cos()).collect();
-        let tau = gravity_torque(&model, &mut data, &q, &model.gravity).to_vec();
+        let tau = gravity_torque(&model, &mut data, &q).to_vec();
         for (p, x) in peak.iter_mut().zip(&tau) {
             *p = p.max(x.abs());
         }

@@ -82,13 +82,13 @@ pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
                 }
                 Algo::Jacobians => kinematics::compute_joint_jacobians(model, data, q),
                 Algo::Rnea => {
-                    dynamics::rnea(model, data, q, &vs[s.clone()], &ws[s], &g, None);
+                    dynamics::rnea(model, data, q, &vs[s.clone()], &ws[s]);
                 }
                 Algo::Crba => {
                     dynamics::crba(model, data, q);
                 }
                 Algo::Aba => {
-                    dynamics::aba(model, data, q, &vs[s.clone()], &ws[s], &g, None);
+                    dynamics::aba(model, data, q, &vs[s.clone()], &ws[s]);
                 }
                 Algo::Lagrange => {
                     black_box(dynamics::lagrange_trace(

@@ -281,16 +281,7 @@ impl Robot {
         self.check("q", q)?;
         self.check("v", v)?;
         self.check("a", a)?;
-        let g = self.model.gravity;
-        Ok(dynamics::rnea(
-            &self.model,
-            &mut self.data,
-            q,
-            v,
-            a,
-            &g,
-            None,
-        ))
+        Ok(dynamics::rnea(&self.model, &mut self.data, q, v, a))
     }
 
     /// [`Robot::rnea`] with external wrenches, one per body in the body frame.
@@ -311,23 +302,20 @@ impl Robot {
                 got: f_ext.len(),
             });
         }
-        let g = self.model.gravity;
-        Ok(dynamics::rnea(
+        Ok(dynamics::rnea_with_forces(
             &self.model,
             &mut self.data,
             q,
             v,
             a,
-            &g,
-            Some(f_ext),
+            f_ext,
         ))
     }
 
     /// The gravity torques `g(q)`.
     pub fn gravity_torque(&mut self, q: &[f64]) -> Result<&[f64], RobotError> {
         self.check("q", q)?;
-        let g = self.model.gravity;
-        Ok(dynamics::gravity_torque(&self.model, &mut self.data, q, &g))
+        Ok(dynamics::gravity_torque(&self.model, &mut self.data, q))
     }
 
     /// The joint-space mass matrix `M(q)` (CRBA).
@@ -342,14 +330,12 @@ impl Robot {
         self.check("q", q)?;
         self.check("v", v)?;
         self.check("tau", tau)?;
-        let g = self.model.gravity;
         Ok(dynamics::forward_dynamics(
             &self.model,
             &mut self.data,
             q,
             v,
             tau,
-            &g,
         )?)
     }
 

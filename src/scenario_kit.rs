@@ -61,6 +61,16 @@ impl<'a> Ctx<'a> {
         ScenarioError::new(&self.file, Some(line), name, msg)
     }
 
+    /// `Ok` when at least one of the sections is `present`, else `msg` at line 1 of the
+    /// file (a file that asks for nothing).
+    pub fn any_section(&self, present: &[bool], msg: &str) -> Result<(), ScenarioError> {
+        if present.iter().any(|p| *p) {
+            Ok(())
+        } else {
+            Err(ScenarioError::new(&self.file, Some(1), "file", msg))
+        }
+    }
+
     /// A finite number.
     pub fn finite(&self, v: &Spanned<f64>, key: &str) -> Result<f64, ScenarioError> {
         let x = *v.get_ref();
@@ -111,6 +121,46 @@ impl<'a> Ctx<'a> {
         }
     }
 
+    /// An optional number `> 0` (`None` when absent).
+    pub fn positive_opt(
+        &self,
+        v: Option<&Spanned<f64>>,
+        key: &str,
+    ) -> Result<Option<f64>, ScenarioError> {
+        v.map(|v| self.positive(v, key)).transpose()
+    }
+
+    /// An optional number `≥ 0`, `default` when absent.
+    pub fn non_negative_or(
+        &self,
+        v: Option<&Spanned<f64>>,
+        key: &str,
+        default: f64,
+    ) -> Result<f64, ScenarioError> {
+        Ok(v.map(|v| self.non_negative(v, key))
+            .transpose()?
+            .unwrap_or(default))
+    }
+
+    /// An optional count in `range`, `default` when absent.
+    pub fn count(
+        &self,
+        v: Option<&Spanned<usize>>,
+        key: &str,
+        default: usize,
+        range: std::ops::RangeInclusive<usize>,
+    ) -> Result<usize, ScenarioError> {
+        match v {
+            None => Ok(default),
+            Some(p) if range.contains(p.get_ref()) => Ok(*p.get_ref()),
+            Some(p) => Err(self.at(
+                p.span(),
+                key,
+                format!("must lie in {}..={}", range.start(), range.end()),
+            )),
+        }
+    }
+
     /// Every element finite; the key of element `i` is `key[i]`.
     pub fn finite_list(
         &self,
@@ -155,6 +205,25 @@ pub fn write_plot(
     let path = dir.join(format!("{safe}.png"));
     crate::io::write_atomic(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(Some(path))
+}
+
+/// The finished report of a scenario with plots: writes `panels` as
+/// `<out_dir>/<name>_<suffix>.png` (see [`write_plot`]), names the file in the text, and
+/// returns the JSON and the text; a plot that cannot be written is an error at key `plot`.
+pub fn finish_with_plot(
+    ctx: &Ctx,
+    out_dir: Option<&Path>,
+    (name, suffix): (&str, &str),
+    (panels, cols): (&[Panel], usize),
+    json: serde_json::Value,
+    mut text: String,
+) -> Result<crate::report::Report, ScenarioError> {
+    let written = write_plot(out_dir, &format!("{name}_{suffix}"), name, panels, cols)
+        .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?;
+    if let Some(p) = written {
+        text.push_str(&format!("plot: {}\n", p.display()));
+    }
+    Ok(crate::report::Report { json, text })
 }
 
 /// The scenario's name: its `name` key, else the file stem.

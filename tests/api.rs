@@ -84,8 +84,7 @@ fn facade_agrees_with_the_low_level_calls_bit_for_bit() {
     let high = robot.pose(&Q, robot.frame("tool0").unwrap()).unwrap();
     assert_eq!(low.trans, high.trans);
     assert_eq!(low.rot, high.rot);
-    let g = model.gravity;
-    let low = dynamics::rnea(&model, &mut data, &Q, &V, &A, &g, None).to_vec();
+    let low = dynamics::rnea(&model, &mut data, &Q, &V, &A).to_vec();
     assert_eq!(low, robot.rnea(&Q, &V, &A).unwrap());
     let ke_low = dynamics::kinetic_energy(&model, &mut data, &Q, &V);
     let m = robot.crba(&Q).unwrap().clone();

@@ -90,6 +90,7 @@ fn torque_check_agrees_with_an_independent_rnea_recomputation() {
     let viscous = [2.0, 2.0, 1.5, 0.5, 0.5, 0.5];
     let coulomb = [3.0, 3.0, 2.0, 1.0, 1.0, 1.0];
     let g = Vec3::new(0.0, 0.0, -9.81);
+    assert_eq!((loaded.gravity, bare.gravity), (g, g));
     let traj = &out.plan.trajectory;
     let rep = &out.torque;
     let n = 6;
@@ -107,7 +108,7 @@ fn torque_check_agrees_with_an_independent_rnea_recomputation() {
             (_, true) => during += 1,
             _ => after += 1,
         }
-        let tau = rnea(model, &mut data, &q, &qd, &qdd, &g, None).to_vec();
+        let tau = rnea(model, &mut data, &q, &qd, &qdd).to_vec();
         for j in 0..n {
             let expect = tau[j] + friction(qd[j], viscous[j], coulomb[j]);
             worst = worst.max((expect - rep.torque(k, j)).abs());
@@ -122,8 +123,8 @@ fn torque_check_agrees_with_an_independent_rnea_recomputation() {
     // torque differs from the bare arm's by about m g × lever arm (> 1 N m here).
     let k = rep.t.iter().position(|&t| t > attach + 1e-3).unwrap();
     traj.sample(rep.t[k], &mut q, &mut qd, &mut qdd);
-    let with = rnea(&loaded, &mut data, &q, &qd, &qdd, &g, None)[1];
-    let without = rnea(&bare, &mut data, &q, &qd, &qdd, &g, None)[1];
+    let with = rnea(&loaded, &mut data, &q, &qd, &qdd)[1];
+    let without = rnea(&bare, &mut data, &q, &qd, &qdd)[1];
     assert!((with - without).abs() > 1.0, "{with} {without}");
     assert!(checked > 300, "{checked} samples");
     assert!(worst < 1e-9, "largest torque difference {worst:e} N m");
@@ -158,14 +159,14 @@ fn violations_are_flagged_exactly_where_the_recomputation_exceeds() {
     );
     let model = Model::build(spec).unwrap().0;
     let mut data = Data::new(&model);
-    let g = Vec3::new(0.0, 0.0, -9.81);
+    assert_eq!(model.gravity, Vec3::new(0.0, 0.0, -9.81));
     let n = model.nv;
     let rep = &out.torque;
     let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut first: Vec<Option<usize>> = vec![None; n];
     for (k, &t) in rep.t.iter().enumerate() {
         out.plan.trajectory.sample(t, &mut q, &mut qd, &mut qdd);
-        let tau = rnea(&model, &mut data, &q, &qd, &qdd, &g, None);
+        let tau = rnea(&model, &mut data, &q, &qd, &qdd);
         for j in 0..n {
             assert!((tau[j] - rep.torque(k, j)).abs() < 1e-9);
             if first[j].is_none() && tau[j].abs() > model.effort_limit[j] {

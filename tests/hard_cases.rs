@@ -550,7 +550,7 @@ fn rel_err(a: &[f64], b: &[f64]) -> f64 {
 #[test]
 fn two_hundred_joint_chain_with_a_1e6_mass_taper() {
     let n = 200;
-    let m = tapered_chain(n, 1e-6);
+    let mut m = tapered_chain(n, 1e-6);
     let uniform = Model::build(armsim::model::chain::chain_spec(n)).unwrap().0;
     assert!((m.inertia[n - 1].mass - 1e-6).abs() < 1e-18 && m.inertia[0].mass == 1.0);
     let mut d = Data::new(&m);
@@ -584,13 +584,13 @@ fn two_hundred_joint_chain_with_a_1e6_mass_taper() {
 
     // CRBA columns against RNEA(q, 0, e_j) without gravity.
     let z = vec![0.0; n];
-    let zero_g = Vec3::zeros();
+    m.gravity = Vec3::zeros();
     let mnorm = mass.norm();
     let (mut worst, mut worst_col) = (0.0f64, 0.0f64);
     for j in 0..n {
         let mut e = z.clone();
         e[j] = 1.0;
-        let col = dynamics::rnea(&m, &mut d, &q, &z, &e, &zero_g, None).to_vec();
+        let col = dynamics::rnea(&m, &mut d, &q, &z, &e).to_vec();
         let diff = (0..n)
             .map(|i| (col[i] - mass[(i, j)]).powi(2))
             .sum::<f64>()
@@ -611,12 +611,12 @@ fn two_hundred_joint_chain_with_a_1e6_mass_taper() {
     let scaled = DMatrix::from_fn(n, n, |i, j| mass[(i, j)] * dinv[i] * dinv[j]);
     let (smin, smax) = sym_eigen_extremes(&scaled);
     let cond_s = smax / smin;
-    let g = Vec3::new(0.0, 0.0, -9.81);
+    m.gravity = Vec3::new(0.0, 0.0, -9.81);
     let qd = common::rand_vec(&mut rng, n, 1.0);
     let a = common::rand_vec(&mut rng, n, 1.0);
-    let tau = dynamics::rnea(&m, &mut d, &q, &qd, &a, &g, None).to_vec();
-    let a_aba = dynamics::aba(&m, &mut d, &q, &qd, &tau, &g, None).to_vec();
-    let a_chol = dynamics::forward_dynamics_crba(&m, &mut d, &q, &qd, &tau, &g)
+    let tau = dynamics::rnea(&m, &mut d, &q, &qd, &a).to_vec();
+    let a_aba = dynamics::aba(&m, &mut d, &q, &qd, &tau).to_vec();
+    let a_chol = dynamics::forward_dynamics_crba(&m, &mut d, &q, &qd, &tau)
         .unwrap()
         .to_vec();
     let tol = cond_s * EPS * n as f64;
@@ -1044,7 +1044,7 @@ fn massless_intermediate_links_keep_m_positive_definite_and_the_algorithms_agree
     // The loader accepts it, even in strict mode (no warning either).
     let loaded = Model::load_checked(&path, true);
     let _ = std::fs::remove_file(&path);
-    let (m, warnings) = loaded.expect("strict load");
+    let (mut m, warnings) = loaded.expect("strict load");
     assert!(warnings.is_empty());
     assert_eq!(m.nv, 6);
     let zero_mass: Vec<usize> = (0..m.nbodies())
@@ -1056,7 +1056,9 @@ fn massless_intermediate_links_keep_m_positive_definite_and_the_algorithms_agree
         "bodies of l2, l3, l5 are massless"
     );
     let mut d = Data::new(&m);
-    let g = Vec3::new(0.0, 0.0, -9.81);
+    m.gravity = Vec3::new(0.0, 0.0, -9.81);
+    let mut nog = m.clone();
+    nog.gravity = Vec3::zeros();
     let mut rng = <rand::rngs::SmallRng as rand::SeedableRng>::seed_from_u64(6);
     let (mut worst_cond, mut worst) = (0.0f64, [0.0f64; 4]);
     for _ in 0..50 {
@@ -1073,8 +1075,8 @@ fn massless_intermediate_links_keep_m_positive_definite_and_the_algorithms_agree
         );
         worst_cond = worst_cond.max(cond);
         // RNEA = M a + h.
-        let tau = dynamics::rnea(&m, &mut d, &q, &qd, &a, &g, None).to_vec();
-        let h = dynamics::bias(&m, &mut d, &q, &qd, &g).to_vec();
+        let tau = dynamics::rnea(&m, &mut d, &q, &qd, &a).to_vec();
+        let h = dynamics::bias(&m, &mut d, &q, &qd).to_vec();
         let ma: Vec<f64> = (0..6)
             .map(|i| (0..6).map(|j| mass[(i, j)] * a[j]).sum::<f64>() + h[i])
             .collect();
@@ -1084,15 +1086,15 @@ fn massless_intermediate_links_keep_m_positive_definite_and_the_algorithms_agree
         for j in 0..6 {
             let mut e = z.clone();
             e[j] = 1.0;
-            let col = dynamics::rnea(&m, &mut d, &q, &z, &e, &Vec3::zeros(), None).to_vec();
+            let col = dynamics::rnea(&nog, &mut d, &q, &z, &e).to_vec();
             let mc: Vec<f64> = (0..6).map(|i| mass[(i, j)]).collect();
             worst[1] = worst[1].max(
                 rel_err(&col, &mc) * mc.iter().map(|x| x * x).sum::<f64>().sqrt() / mass.norm(),
             );
         }
         // ABA(RNEA(a)) = a and CRBA + Cholesky = ABA.
-        let a_aba = dynamics::aba(&m, &mut d, &q, &qd, &tau, &g, None).to_vec();
-        let a_chol = dynamics::forward_dynamics_crba(&m, &mut d, &q, &qd, &tau, &g)
+        let a_aba = dynamics::aba(&m, &mut d, &q, &qd, &tau).to_vec();
+        let a_chol = dynamics::forward_dynamics_crba(&m, &mut d, &q, &qd, &tau)
             .expect("SPD")
             .to_vec();
         worst[2] = worst[2].max(rel_err(&a_aba, &a) / (cond * EPS));
@@ -1390,6 +1392,8 @@ fn energy_trace(
     let g = Vec3::new(0.0, 0.0, -9.81);
     let mut sim = Simulator::new(m, Effects::gravity(g)).unwrap();
     let mut d = Data::new(m);
+    let mut with_g = m.clone();
+    with_g.gravity = g;
     let mut out = Vec::with_capacity(steps + 1);
     sim.run(
         q0,
@@ -1398,7 +1402,7 @@ fn energy_trace(
         |s| {
             let e = dynamics::kinetic_energy(m, &mut d, s.q, s.qd)
                 + dynamics::potential_energy(m, &mut d, s.q, &g);
-            let gq = dynamics::gravity_torque(m, &mut d, s.q, &g).to_vec();
+            let gq = dynamics::gravity_torque(&with_g, &mut d, s.q).to_vec();
             let tq = dynamics::kinetic_energy_gradient(m, &mut d, s.q, s.qd);
             let p = gq
                 .iter()

@@ -141,16 +141,20 @@ fn kinematics_hot_paths_do_not_allocate() {
         };
         let g = Vec3::new(0.0, 0.0, -9.81);
         let mut thdd = vec![0.0; n];
+        let f_ext = vec![armsim::spatial::Force::new(Vec3::x(), Vec3::y()); model.nbodies()];
         let before = allocs();
         for _ in 0..100 {
-            dynamics::rnea(&model, &mut data, &q, &qd, &qd, &g, None);
-            dynamics::bias(&model, &mut data, &q, &qd, &g);
-            dynamics::gravity_torque(&model, &mut data, &q, &g);
+            dynamics::rnea(&model, &mut data, &q, &qd, &qd);
+            dynamics::rnea_with_forces(&model, &mut data, &q, &qd, &qd, &f_ext);
+            dynamics::bias(&model, &mut data, &q, &qd);
+            dynamics::gravity_torque(&model, &mut data, &q);
             dynamics::crba(&model, &mut data, &q);
             if !model.has_mimic {
-                dynamics::aba(&model, &mut data, &q, &qd, &qd, &g, None);
+                dynamics::aba(&model, &mut data, &q, &qd, &qd);
+                dynamics::aba_with_forces(&model, &mut data, &q, &qd, &qd, &f_ext);
             }
-            let _ = dynamics::forward_dynamics_crba(&model, &mut data, &q, &qd, &qd, &g);
+            let _ = dynamics::forward_dynamics(&model, &mut data, &q, &qd, &qd);
+            let _ = dynamics::forward_dynamics_crba(&model, &mut data, &q, &qd, &qd);
             dynamics::inverse_dynamics(&model, &mut data, &all, &q, &qd, &qd);
             dynamics::mass_matrix(&model, &mut data, &all, &q);
             let _ = dynamics::forward_dynamics_with(&model, &mut data, &all, &q, &qd, &qd);

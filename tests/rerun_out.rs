@@ -54,7 +54,7 @@ fn recording(model: &Model, name: &str) -> Recording {
         let qdd: Vec<f64> = (0..n)
             .map(|i| -0.4 * w * w * (w * t + i as f64).sin())
             .collect();
-        let tau = rnea(model, &mut data, &q, &qd, &qdd, &model.gravity, None).to_vec();
+        let tau = rnea(model, &mut data, &q, &qd, &qdd).to_vec();
         rec.frames
             .push(robot_tf.frame_at(model, &mut data, t, &q, &qd, &tau));
     }

@@ -495,6 +495,8 @@ fn verify(
 ) -> [f64; 3] {
     let n = m.nv;
     let mut d = Data::new(m);
+    let mut with_g = m.clone();
+    with_g.gravity = g.unwrap_or_else(Vec3::zeros);
     let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut r = [0.0f64; 3];
     for i in 0..=k {
@@ -504,15 +506,7 @@ fn verify(
             &mut qd,
             &mut qdd,
         );
-        let tau = rnea(
-            m,
-            &mut d,
-            &q,
-            &qd,
-            &qdd,
-            &g.unwrap_or_else(Vec3::zeros),
-            None,
-        );
+        let tau = rnea(&with_g, &mut d, &q, &qd, &qdd);
         for j in 0..n {
             r[0] = r[0].max(qd[j].abs() / lim.velocity[j]);
             r[1] = r[1].max(qdd[j].abs() / lim.acceleration[j]);
@@ -675,8 +669,8 @@ fn topp_case(name: &str, m: &Model, w: &[Vec<f64>], lim: &JointLimits, torque_jo
     let z = vec![0.0; n];
     for i in 0..=4000 {
         tp.sample(tp.duration() * i as f64 / 4000.0, &mut q, &mut qd, &mut qdd);
-        let tau = rnea(m, &mut d, &q, &qd, &qdd, &m.gravity, None).to_vec();
-        let gq = rnea(m, &mut d, &q, &z, &z, &m.gravity, None).to_vec();
+        let tau = rnea(m, &mut d, &q, &qd, &qdd).to_vec();
+        let gq = rnea(m, &mut d, &q, &z, &z).to_vec();
         for j in 0..n {
             peak[j] = peak[j].max(tau[j].abs());
             stat[j] = stat[j].max(gq[j].abs());
@@ -758,7 +752,7 @@ fn topp_with_friction_and_rotor_meets_the_limits() {
     };
     // Exact torque with friction and armature, by hand around RNEA.
     let torque = |d: &mut Data, q: &[f64], qd: &[f64], qdd: &[f64]| -> Vec<f64> {
-        let tau = rnea(&m, d, q, qd, qdd, &m.gravity, None).to_vec();
+        let tau = rnea(&m, d, q, qd, qdd).to_vec();
         (0..2)
             .map(|j| {
                 let v = qd[j];
@@ -898,7 +892,7 @@ fn torque_check_agrees_with_an_independent_recomputation() {
     );
     for (k, &t) in rep.t.iter().enumerate() {
         traj.sample(t, &mut q, &mut qd, &mut qdd);
-        let tau = rnea(&m, &mut d, &q, &qd, &qdd, &m.gravity, None).to_vec();
+        let tau = rnea(&m, &mut d, &q, &qd, &qdd).to_vec();
         for j in 0..n {
             let v = qd[j];
             let f = fr.viscous[j] * v

@@ -275,8 +275,19 @@ fn url_id(url: &str) -> &str {
 /// Positions and triangles (position indices) of one COLLADA geometry.
 type Geom = (Vec<[f64; 3]>, Vec<[usize; 3]>);
 
-/// Reads one `<mesh>` into positions and triangles (position indices).
-fn dae_geometry(mesh: &roxmltree::Node, gid: &str) -> Result<Geom, String> {
+/// A `<mesh>`'s float sources (id → values and stride) and its `<vertices>` (id → the
+/// id of their POSITION source).
+#[allow(clippy::type_complexity)]
+fn dae_sources<'a>(
+    mesh: &roxmltree::Node<'a, '_>,
+    gid: &str,
+) -> Result<
+    (
+        HashMap<&'a str, (Vec<f64>, usize)>,
+        HashMap<&'a str, &'a str>,
+    ),
+    String,
+> {
     // Sources: id → (values, stride).
     let mut sources: HashMap<&str, (Vec<f64>, usize)> = HashMap::new();
     for s in mesh.children().filter(|c| is(c, "source")) {
@@ -306,6 +317,12 @@ fn dae_geometry(mesh: &roxmltree::Node, gid: &str) -> Result<Geom, String> {
             );
         }
     }
+    Ok((sources, vertices_pos))
+}
+
+/// Reads one `<mesh>` into positions and triangles (position indices).
+fn dae_geometry(mesh: &roxmltree::Node, gid: &str) -> Result<Geom, String> {
+    let (sources, vertices_pos) = dae_sources(mesh, gid)?;
     let mut positions: Vec<[f64; 3]> = Vec::new();
     let mut base_of: HashMap<&str, usize> = HashMap::new();
     let mut tris: Vec<[usize; 3]> = Vec::new();

@@ -6,7 +6,7 @@
 use super::isolation as iso;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::trajectory::panels::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -154,167 +154,201 @@ fn list(ctx: &Ctx, v: &FList, key: &str, lo: f64) -> Result<Vec<f64>, ScenarioEr
         .collect()
 }
 
+/// The `[mount]` section: mass, stiffness and damping.
+fn parse_mount(ctx: &Ctx, m: &MountIn) -> Result<(f64, f64, Damping), ScenarioError> {
+    let mass = ctx.positive(&m.mass, "mount.mass")?;
+    let c = ctx.positive(&m.stiffness, "mount.stiffness")?;
+    let d = match (&m.damping, &m.damping_ratio, &m.loss_factor) {
+        (None, None, None) => Damping::Viscous(0.0),
+        (Some(b), None, None) => {
+            Damping::Viscous(ctx.non_negative(b, "mount.damping")? / (2.0 * (c * mass).sqrt()))
+        }
+        (None, Some(e), None) => Damping::Viscous(ctx.non_negative(e, "mount.damping_ratio")?),
+        (None, None, Some(e)) => Damping::Hysteretic(ctx.non_negative(e, "mount.loss_factor")?),
+        _ => {
+            return Err(ctx.section(
+                "mount",
+                "give at most one of `damping`, `damping_ratio`, `loss_factor`",
+            ))
+        }
+    };
+    Ok((mass, c, d))
+}
+
+/// The `[excitation]` section: speed, which load (0 force, 1 unbalance, 2 base motion) and its size.
+fn parse_excitation(
+    ctx: &Ctx,
+    e: &ExcitationIn,
+    has_mount: bool,
+) -> Result<(f64, usize, f64), ScenarioError> {
+    if !has_mount {
+        return Err(ctx.section("excitation", "needs a [mount]"));
+    }
+    let w = speed(
+        ctx,
+        "excitation",
+        e.speed_rpm.as_ref(),
+        e.frequency.as_ref(),
+    )?;
+    let loads = [
+        ("force", &e.force),
+        ("unbalance", &e.unbalance),
+        ("base_amplitude", &e.base_amplitude),
+    ];
+    let given: Vec<usize> = (0..3).filter(|&i| loads[i].1.is_some()).collect();
+    if given.len() != 1 {
+        return Err(ctx.section(
+            "excitation",
+            "give exactly one of `force` (N), `unbalance` (kg m) or `base_amplitude` (m)",
+        ));
+    }
+    let k = given[0];
+    let v = loads[k]
+        .1
+        .as_ref()
+        .map(|v| ctx.positive(v, &format!("excitation.{}", loads[k].0)))
+        .transpose()?
+        .unwrap_or(0.0);
+    Ok((w, k, v))
+}
+
+/// The `[curves]` section: damping ratios, frequency ratios, hysteretic or not.
+fn parse_curves(ctx: &Ctx, c: &CurvesIn) -> Result<(Vec<f64>, Vec<f64>, bool), ScenarioError> {
+    Ok((
+        list(ctx, &c.damping_ratios, "curves.damping_ratios", 0.0)?,
+        c.frequency_ratios
+            .as_ref()
+            .map(|v| list(ctx, v, "curves.frequency_ratios", 0.0))
+            .transpose()?
+            .unwrap_or_default(),
+        c.hysteretic.unwrap_or(false),
+    ))
+}
+
+/// The `[selection]` section: mass, speed, largest transmissibility, damping ratio.
+fn parse_selection(ctx: &Ctx, s: &SelectionIn) -> Result<(f64, f64, f64, f64), ScenarioError> {
+    let m = ctx.positive(&s.mass, "selection.mass")?;
+    let w = speed(ctx, "selection", s.speed_rpm.as_ref(), s.frequency.as_ref())?;
+    let tr = ctx.between(
+        &s.max_transmissibility,
+        "selection.max_transmissibility",
+        0.0,
+        1.0,
+    )?;
+    let eps = s
+        .damping_ratio
+        .as_ref()
+        .map(|v| ctx.non_negative(v, "selection.damping_ratio"))
+        .transpose()?
+        .unwrap_or(0.0);
+    if iso::required_ratio(tr, eps).is_none() {
+        return Err(ctx.at(
+            s.max_transmissibility.span(),
+            "selection.max_transmissibility",
+            "no frequency ratio reaches it with this damping",
+        ));
+    }
+    Ok((m, w, tr, eps))
+}
+
+/// The `[impact]` section: mass, stiffness, damping ratio and impact velocity.
+fn parse_impact(ctx: &Ctx, i: &ImpactIn) -> Result<(f64, f64, f64, f64), ScenarioError> {
+    let m = ctx.positive(&i.mass, "impact.mass")?;
+    let c = ctx.positive(&i.stiffness, "impact.stiffness")?;
+    let eps = ctx.between(&i.damping_ratio, "impact.damping_ratio", 0.0, 1.0)?;
+    let v =
+        match (&i.velocity, &i.striking_mass, &i.striking_velocity) {
+            (Some(v), None, None) => ctx.positive(v, "impact.velocity")?,
+            (None, Some(m1), Some(v1)) => {
+                let lam = i
+                    .restitution
+                    .as_ref()
+                    .map(|l| ctx.non_negative(l, "impact.restitution"))
+                    .transpose()?
+                    .unwrap_or(0.0);
+                if lam > 1.0 {
+                    return Err(ctx.at(
+                        i.restitution.as_ref().map(|l| l.span()).unwrap_or(0..0),
+                        "impact.restitution",
+                        "must lie in [0, 1]",
+                    ));
+                }
+                iso::impact_velocity(
+                    ctx.positive(m1, "impact.striking_mass")?,
+                    ctx.positive(v1, "impact.striking_velocity")?,
+                    m,
+                    lam,
+                )
+            }
+            _ => return Err(ctx.section(
+                "impact",
+                "give `velocity`, or `striking_mass` and `striking_velocity` (with `restitution`)",
+            )),
+        };
+    Ok((m, c, eps, v))
+}
+
+/// The `[absorber]` section: mass ratio, tuning, damping ratio, frequency ratios.
+fn parse_absorber(ctx: &Ctx, a: &AbsorberIn) -> Result<AbsorberSpec, ScenarioError> {
+    Ok((
+        ctx.positive(&a.mass_ratio, "absorber.mass_ratio")?,
+        a.tuning
+            .as_ref()
+            .map(|v| ctx.positive(v, "absorber.tuning"))
+            .transpose()?,
+        a.damping_ratio
+            .as_ref()
+            .map(|v| ctx.non_negative(v, "absorber.damping_ratio"))
+            .transpose()?,
+        a.frequency_ratios
+            .as_ref()
+            .map(|v| list(ctx, v, "absorber.frequency_ratios", 0.0))
+            .transpose()?
+            .unwrap_or_default(),
+    ))
+}
+
 /// Parses and validates `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     let ctx = Ctx::new(file, text);
     let f: File = ctx.parse()?;
-    if f.mount.is_none()
-        && f.excitation.is_none()
-        && f.curves.is_none()
-        && f.selection.is_none()
-        && f.impact.is_none()
-        && f.absorber.is_none()
-    {
-        return Err(ScenarioError::new(
-            file,
-            Some(1),
-            "file",
-            "nothing to compute: add [mount], [curves], [selection], [impact] or [absorber]",
-        ));
-    }
-    let mount = match &f.mount {
-        None => None,
-        Some(m) => {
-            let mass = ctx.positive(&m.mass, "mount.mass")?;
-            let c = ctx.positive(&m.stiffness, "mount.stiffness")?;
-            let d = match (&m.damping, &m.damping_ratio, &m.loss_factor) {
-                (None, None, None) => Damping::Viscous(0.0),
-                (Some(b), None, None) => Damping::Viscous(
-                    ctx.non_negative(b, "mount.damping")? / (2.0 * (c * mass).sqrt()),
-                ),
-                (None, Some(e), None) => {
-                    Damping::Viscous(ctx.non_negative(e, "mount.damping_ratio")?)
-                }
-                (None, None, Some(e)) => {
-                    Damping::Hysteretic(ctx.non_negative(e, "mount.loss_factor")?)
-                }
-                _ => {
-                    return Err(ctx.section(
-                        "mount",
-                        "give at most one of `damping`, `damping_ratio`, `loss_factor`",
-                    ))
-                }
-            };
-            Some((mass, c, d))
-        }
-    };
-    let excitation = match &f.excitation {
-        None => None,
-        Some(e) => {
-            if mount.is_none() {
-                return Err(ctx.section("excitation", "needs a [mount]"));
-            }
-            let w = speed(
-                &ctx,
-                "excitation",
-                e.speed_rpm.as_ref(),
-                e.frequency.as_ref(),
-            )?;
-            let loads = [
-                ("force", &e.force),
-                ("unbalance", &e.unbalance),
-                ("base_amplitude", &e.base_amplitude),
-            ];
-            let given: Vec<usize> = (0..3).filter(|&i| loads[i].1.is_some()).collect();
-            if given.len() != 1 {
-                return Err(ctx.section(
-                    "excitation",
-                    "give exactly one of `force` (N), `unbalance` (kg m) or `base_amplitude` (m)",
-                ));
-            }
-            let k = given[0];
-            let v = loads[k]
-                .1
-                .as_ref()
-                .map(|v| ctx.positive(v, &format!("excitation.{}", loads[k].0)))
-                .transpose()?
-                .unwrap_or(0.0);
-            Some((w, k, v))
-        }
-    };
-    let curves = match &f.curves {
-        None => None,
-        Some(c) => Some((
-            list(&ctx, &c.damping_ratios, "curves.damping_ratios", 0.0)?,
-            c.frequency_ratios
-                .as_ref()
-                .map(|v| list(&ctx, v, "curves.frequency_ratios", 0.0))
-                .transpose()?
-                .unwrap_or_default(),
-            c.hysteretic.unwrap_or(false),
-        )),
-    };
-    let selection = match &f.selection {
-        None => None,
-        Some(s) => {
-            let m = ctx.positive(&s.mass, "selection.mass")?;
-            let w = speed(
-                &ctx,
-                "selection",
-                s.speed_rpm.as_ref(),
-                s.frequency.as_ref(),
-            )?;
-            let tr = ctx.between(
-                &s.max_transmissibility,
-                "selection.max_transmissibility",
-                0.0,
-                1.0,
-            )?;
-            let eps = s
-                .damping_ratio
-                .as_ref()
-                .map(|v| ctx.non_negative(v, "selection.damping_ratio"))
-                .transpose()?
-                .unwrap_or(0.0);
-            if iso::required_ratio(tr, eps).is_none() {
-                return Err(ctx.at(
-                    s.max_transmissibility.span(),
-                    "selection.max_transmissibility",
-                    "no frequency ratio reaches it with this damping",
-                ));
-            }
-            Some((m, w, tr, eps))
-        }
-    };
-    let impact = match &f.impact {
-        None => None,
-        Some(i) => {
-            let m = ctx.positive(&i.mass, "impact.mass")?;
-            let c = ctx.positive(&i.stiffness, "impact.stiffness")?;
-            let eps = ctx.between(&i.damping_ratio, "impact.damping_ratio", 0.0, 1.0)?;
-            let v = match (&i.velocity, &i.striking_mass, &i.striking_velocity) {
-                (Some(v), None, None) => ctx.positive(v, "impact.velocity")?,
-                (None, Some(m1), Some(v1)) => {
-                    let lam = i.restitution.as_ref().map(|l| ctx.non_negative(l, "impact.restitution")).transpose()?.unwrap_or(0.0);
-                    if lam > 1.0 {
-                        return Err(ctx.at(i.restitution.as_ref().map(|l| l.span()).unwrap_or(0..0), "impact.restitution", "must lie in [0, 1]"));
-                    }
-                    iso::impact_velocity(ctx.positive(m1, "impact.striking_mass")?, ctx.positive(v1, "impact.striking_velocity")?, m, lam)
-                }
-                _ => return Err(ctx.section("impact", "give `velocity`, or `striking_mass` and `striking_velocity` (with `restitution`)")),
-            };
-            Some((m, c, eps, v))
-        }
-    };
-    let absorber = match &f.absorber {
-        None => None,
-        Some(a) => Some((
-            ctx.positive(&a.mass_ratio, "absorber.mass_ratio")?,
-            a.tuning
-                .as_ref()
-                .map(|v| ctx.positive(v, "absorber.tuning"))
-                .transpose()?,
-            a.damping_ratio
-                .as_ref()
-                .map(|v| ctx.non_negative(v, "absorber.damping_ratio"))
-                .transpose()?,
-            a.frequency_ratios
-                .as_ref()
-                .map(|v| list(&ctx, v, "absorber.frequency_ratios", 0.0))
-                .transpose()?
-                .unwrap_or_default(),
-        )),
-    };
+    ctx.any_section(
+        &[
+            f.mount.is_some(),
+            f.excitation.is_some(),
+            f.curves.is_some(),
+            f.selection.is_some(),
+            f.impact.is_some(),
+            f.absorber.is_some(),
+        ],
+        "nothing to compute: add [mount], [curves], [selection], [impact] or [absorber]",
+    )?;
+    let mount = f.mount.as_ref().map(|x| parse_mount(&ctx, x)).transpose()?;
+    let excitation = f
+        .excitation
+        .as_ref()
+        .map(|x| parse_excitation(&ctx, x, mount.is_some()))
+        .transpose()?;
+    let curves = f
+        .curves
+        .as_ref()
+        .map(|x| parse_curves(&ctx, x))
+        .transpose()?;
+    let selection = f
+        .selection
+        .as_ref()
+        .map(|x| parse_selection(&ctx, x))
+        .transpose()?;
+    let impact = f
+        .impact
+        .as_ref()
+        .map(|x| parse_impact(&ctx, x))
+        .transpose()?;
+    let absorber = f
+        .absorber
+        .as_ref()
+        .map(|x| parse_absorber(&ctx, x))
+        .transpose()?;
     Ok(Scenario {
         name: scenario_name(f.name.as_deref(), file),
         mount,
@@ -516,16 +550,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         });
         j["absorber"] = v;
     }
-    if let Some(p) = write_plot(
-        out_dir,
-        &format!("{}_isolation", sc.name),
-        &sc.name,
-        &panels,
-        1,
-    )
-    .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "isolation"), (&panels, 1), j, text)
 }

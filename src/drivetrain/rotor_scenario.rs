@@ -3,15 +3,17 @@
 //! limit, the unbalance response over speeds with each mode's amplification, and N / N + 2
 //! plane modal balancing.
 
-use super::flexible_rotor::{fe_modes, unbalance_response, Bearing, Disc, Rotor, Segment};
+use super::flexible_rotor::{
+    fe_modes, unbalance_response, Bearing, Disc, Rotor, RotorMode, Segment,
+};
 use super::rotor_balancing::{modal_amplification, modal_balance};
 use super::rotor_transfer::critical_speeds;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::trajectory::panels::{Panel, Series, PALETTE};
 use serde::Deserialize;
-use serde_json::json;
+use serde_json::{json, Value};
 use std::f64::consts::PI;
 use std::fmt::Write;
 use std::path::Path;
@@ -172,6 +174,140 @@ fn segment(
     }
 }
 
+/// A position along the shaft `[0, len]` (rounding outside by 1e-12 relative is clamped).
+fn on_shaft(ctx: &Ctx, v: &F, key: String, len: f64) -> Result<f64, ScenarioError> {
+    let x = ctx.finite(v, &key)?;
+    if !(-1e-12 * len..=len * (1.0 + 1e-12)).contains(&x) {
+        return Err(ctx.at(
+            v.span(),
+            key,
+            format!("{x} lies outside the shaft [0, {len}]"),
+        ));
+    }
+    Ok(x.clamp(0.0, len))
+}
+
+/// The `[[discs]]`: position, mass, unbalance and its phase.
+fn parse_discs(ctx: &Ctx, discs: &[Spanned<DiscIn>], len: f64) -> Result<Vec<Disc>, ScenarioError> {
+    let mut out = Vec::new();
+    for (i, d) in discs.iter().enumerate() {
+        let k = format!("discs[{i}]");
+        let v = d.get_ref();
+        out.push(Disc {
+            at: on_shaft(ctx, &v.at, format!("{k}.at"), len)?,
+            mass: ctx.non_negative(&v.mass, &format!("{k}.mass"))?,
+            unbalance: ctx.non_negative_or(v.unbalance.as_ref(), &format!("{k}.unbalance"), 0.0)?,
+            phase: v
+                .phase_deg
+                .as_ref()
+                .map(|p| ctx.finite(p, &format!("{k}.phase_deg")))
+                .transpose()?
+                .unwrap_or(0.0)
+                .to_radians(),
+        });
+    }
+    Ok(out)
+}
+
+/// The `[[bearings]]`: position and stiffness (none: rigid).
+fn parse_bearings(
+    ctx: &Ctx,
+    bearings: &[Spanned<BearingIn>],
+    len: f64,
+) -> Result<Vec<Bearing>, ScenarioError> {
+    let mut out = Vec::new();
+    for (i, b) in bearings.iter().enumerate() {
+        let k = format!("bearings[{i}]");
+        let v = b.get_ref();
+        out.push(Bearing {
+            at: on_shaft(ctx, &v.at, format!("{k}.at"), len)?,
+            stiffness: ctx.positive_opt(v.stiffness.as_ref(), &format!("{k}.stiffness"))?,
+        });
+    }
+    Ok(out)
+}
+
+/// The `[response]` speeds, rad/s.
+fn response_speeds(ctx: &Ctx, r: &ResponseIn) -> Result<Vec<f64>, ScenarioError> {
+    let v = r.speeds_rpm.get_ref();
+    if v.is_empty() || v.len() > MAX_SPEEDS {
+        return Err(ctx.at(
+            r.speeds_rpm.span(),
+            "response.speeds_rpm",
+            format!("needs 1..={MAX_SPEEDS} speeds"),
+        ));
+    }
+    v.iter()
+        .enumerate()
+        .map(|(i, s)| {
+            ctx.positive(s, &format!("response.speeds_rpm[{i}]"))
+                .map(|n| n * PI / 30.0)
+        })
+        .collect()
+}
+
+/// The `[modal_balancing]` section: planes, target mode, other modes kept, rigid-body
+/// conditions, modal unbalance.
+fn parse_balancing(
+    ctx: &Ctx,
+    b: &BalancingIn,
+    modes: usize,
+    len: f64,
+) -> Result<Balancing, ScenarioError> {
+    let planes = b
+        .planes
+        .get_ref()
+        .iter()
+        .enumerate()
+        .map(|(i, p)| on_shaft(ctx, p, format!("modal_balancing.planes[{i}]"), len))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mode = *b.mode.get_ref();
+    let check_mode = |m: usize, span: std::ops::Range<usize>, key: &str| {
+        if m == 0 || m > modes {
+            Err(ctx.at(
+                span,
+                key,
+                format!("mode {m} is not among the {modes} computed (analysis.modes)"),
+            ))
+        } else {
+            Ok(m - 1)
+        }
+    };
+    let target = check_mode(mode, b.mode.span(), "modal_balancing.mode")?;
+    let mut others = Vec::new();
+    if let Some(o) = &b.other_modes {
+        for (i, m) in o.get_ref().iter().enumerate() {
+            let k = format!("modal_balancing.other_modes[{i}]");
+            let j = check_mode(*m.get_ref(), m.span(), &k)?;
+            if j == target || others.contains(&j) {
+                return Err(ctx.at(m.span(), k, "repeats a mode"));
+            }
+            others.push(j);
+        }
+    }
+    let rigid = b.rigid_body.unwrap_or(true);
+    let need = 1 + others.len() + if rigid { 2 } else { 0 };
+    if planes.len() != need {
+        return Err(ctx.at(
+            b.planes.span(),
+            "modal_balancing.planes",
+            format!(
+                "{} planes given, {need} needed (the mode, {} other modes{})",
+                planes.len(),
+                others.len(),
+                if rigid { ", force and moment" } else { "" }
+            ),
+        ));
+    }
+    let au = b
+        .modal_unbalance
+        .as_ref()
+        .map(|v| ctx.finite(v, "modal_balancing.modal_unbalance"))
+        .transpose()?
+        .unwrap_or(1.0);
+    Ok((planes, target, others, rigid, au))
+}
+
 /// Parses and validates `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     let ctx = Ctx::new(file, text);
@@ -204,52 +340,8 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         .map(|(i, s)| segment(&ctx, s, i, (e, rho)))
         .collect::<Result<Vec<_>, _>>()?;
     let len: f64 = segments.iter().map(|s| s.length).sum();
-    let on_shaft = |v: &F, key: String| -> Result<f64, ScenarioError> {
-        let x = ctx.finite(v, &key)?;
-        if !(-1e-12 * len..=len * (1.0 + 1e-12)).contains(&x) {
-            return Err(ctx.at(
-                v.span(),
-                key,
-                format!("{x} lies outside the shaft [0, {len}]"),
-            ));
-        }
-        Ok(x.clamp(0.0, len))
-    };
-    let mut discs = Vec::new();
-    for (i, d) in f.discs.iter().enumerate() {
-        let k = format!("discs[{i}]");
-        let v = d.get_ref();
-        discs.push(Disc {
-            at: on_shaft(&v.at, format!("{k}.at"))?,
-            mass: ctx.non_negative(&v.mass, &format!("{k}.mass"))?,
-            unbalance: v
-                .unbalance
-                .as_ref()
-                .map(|u| ctx.non_negative(u, &format!("{k}.unbalance")))
-                .transpose()?
-                .unwrap_or(0.0),
-            phase: v
-                .phase_deg
-                .as_ref()
-                .map(|p| ctx.finite(p, &format!("{k}.phase_deg")))
-                .transpose()?
-                .unwrap_or(0.0)
-                .to_radians(),
-        });
-    }
-    let mut bearings = Vec::new();
-    for (i, b) in f.bearings.get_ref().iter().enumerate() {
-        let k = format!("bearings[{i}]");
-        let v = b.get_ref();
-        bearings.push(Bearing {
-            at: on_shaft(&v.at, format!("{k}.at"))?,
-            stiffness: v
-                .stiffness
-                .as_ref()
-                .map(|s| ctx.positive(s, &format!("{k}.stiffness")))
-                .transpose()?,
-        });
-    }
+    let discs = parse_discs(&ctx, &f.discs, len)?;
+    let bearings = parse_bearings(&ctx, f.bearings.get_ref(), len)?;
     let rigid = bearings.iter().filter(|b| b.stiffness.is_none()).count();
     if bearings.len() < 2 && rigid < 2 {
         return Err(ctx.at(
@@ -259,28 +351,18 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         ));
     }
     let an = f.analysis.as_ref();
-    let modes = match an.and_then(|a| a.modes.as_ref()) {
-        None => 3,
-        Some(m) if (1..=MAX_MODES).contains(m.get_ref()) => *m.get_ref(),
-        Some(m) => {
-            return Err(ctx.at(
-                m.span(),
-                "analysis.modes",
-                format!("must lie in 1..={MAX_MODES}"),
-            ))
-        }
-    };
-    let elements = match an.and_then(|a| a.elements.as_ref()) {
-        None => 60,
-        Some(m) if (2..=MAX_ELEMENTS).contains(m.get_ref()) => *m.get_ref(),
-        Some(m) => {
-            return Err(ctx.at(
-                m.span(),
-                "analysis.elements",
-                format!("must lie in 2..={MAX_ELEMENTS}"),
-            ))
-        }
-    };
+    let modes = ctx.count(
+        an.and_then(|a| a.modes.as_ref()),
+        "analysis.modes",
+        3,
+        1..=MAX_MODES,
+    )?;
+    let elements = ctx.count(
+        an.and_then(|a| a.elements.as_ref()),
+        "analysis.elements",
+        60,
+        2..=MAX_ELEMENTS,
+    )?;
     let max_speed = an
         .and_then(|a| a.max_speed_rpm.as_ref())
         .map(|v| ctx.positive(v, "analysis.max_speed_rpm"))
@@ -288,23 +370,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         .map(|n| n * PI / 30.0);
     let speeds = match &f.response {
         None => Vec::new(),
-        Some(r) => {
-            let v = r.speeds_rpm.get_ref();
-            if v.is_empty() || v.len() > MAX_SPEEDS {
-                return Err(ctx.at(
-                    r.speeds_rpm.span(),
-                    "response.speeds_rpm",
-                    format!("needs 1..={MAX_SPEEDS} speeds"),
-                ));
-            }
-            v.iter()
-                .enumerate()
-                .map(|(i, s)| {
-                    ctx.positive(s, &format!("response.speeds_rpm[{i}]"))
-                        .map(|n| n * PI / 30.0)
-                })
-                .collect::<Result<Vec<_>, _>>()?
-        }
+        Some(r) => response_speeds(&ctx, r)?,
     };
     let rotor = Rotor {
         segments,
@@ -314,63 +380,11 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     if fe_modes(&rotor, elements, 1).is_none() {
         return Err(ctx.section("shaft", "the rotor has no positive-definite mass matrix"));
     }
-    let balancing = match &f.modal_balancing {
-        None => None,
-        Some(b) => {
-            let planes = b
-                .planes
-                .get_ref()
-                .iter()
-                .enumerate()
-                .map(|(i, p)| on_shaft(p, format!("modal_balancing.planes[{i}]")))
-                .collect::<Result<Vec<_>, _>>()?;
-            let mode = *b.mode.get_ref();
-            let check_mode = |m: usize, span: std::ops::Range<usize>, key: &str| {
-                if m == 0 || m > modes {
-                    Err(ctx.at(
-                        span,
-                        key,
-                        format!("mode {m} is not among the {modes} computed (analysis.modes)"),
-                    ))
-                } else {
-                    Ok(m - 1)
-                }
-            };
-            let target = check_mode(mode, b.mode.span(), "modal_balancing.mode")?;
-            let mut others = Vec::new();
-            if let Some(o) = &b.other_modes {
-                for (i, m) in o.get_ref().iter().enumerate() {
-                    let k = format!("modal_balancing.other_modes[{i}]");
-                    let j = check_mode(*m.get_ref(), m.span(), &k)?;
-                    if j == target || others.contains(&j) {
-                        return Err(ctx.at(m.span(), k, "repeats a mode"));
-                    }
-                    others.push(j);
-                }
-            }
-            let rigid = b.rigid_body.unwrap_or(true);
-            let need = 1 + others.len() + if rigid { 2 } else { 0 };
-            if planes.len() != need {
-                return Err(ctx.at(
-                    b.planes.span(),
-                    "modal_balancing.planes",
-                    format!(
-                        "{} planes given, {need} needed (the mode, {} other modes{})",
-                        planes.len(),
-                        others.len(),
-                        if rigid { ", force and moment" } else { "" }
-                    ),
-                ));
-            }
-            let au = b
-                .modal_unbalance
-                .as_ref()
-                .map(|v| ctx.finite(v, "modal_balancing.modal_unbalance"))
-                .transpose()?
-                .unwrap_or(1.0);
-            Some((planes, target, others, rigid, au))
-        }
-    };
+    let balancing = f
+        .modal_balancing
+        .as_ref()
+        .map(|b| parse_balancing(&ctx, b, modes, len))
+        .transpose()?;
     Ok(Scenario {
         name: scenario_name(f.name.as_deref(), file),
         rotor,
@@ -380,6 +394,64 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         speeds,
         balancing,
     })
+}
+
+/// The unbalance response at the scenario's speeds: one JSON row per speed (largest
+/// deflection, at the discs, modal amplification; `critical` where the solve is singular),
+/// a text line and the response plot.
+fn unbalance_rows(
+    sc: &Scenario,
+    fe: &[RotorMode],
+    text: &mut String,
+    panels: &mut Vec<Panel>,
+) -> Value {
+    let mut rows = Vec::new();
+    let mut peak = Vec::new();
+    for &w in &sc.speeds {
+        let Some((x, amp)) = unbalance_response(&sc.rotor, sc.elements, w) else {
+            rows.push(json!({ "speed_rpm": w * 30.0 / PI, "critical": true }));
+            continue;
+        };
+        let at_discs: Vec<f64> = sc
+            .rotor
+            .discs
+            .iter()
+            .map(|d| {
+                let k = x
+                    .iter()
+                    .enumerate()
+                    .min_by(|a, b| (a.1 - d.at).abs().total_cmp(&(b.1 - d.at).abs()))
+                    .map(|(i, _)| i)
+                    .unwrap_or(0);
+                amp[k]
+            })
+            .collect();
+        let maxa = amp.iter().fold(0.0f64, |m, v| m.max(*v));
+        peak.push((w * 30.0 / PI, maxa));
+        rows.push(json!({ "speed_rpm": w * 30.0 / PI, "max_amplitude": maxa, "at_discs": at_discs,
+                          "amplification": fe.iter().map(|m| modal_amplification(m.omega, w)).collect::<Vec<_>>() }));
+    }
+    writeln!(
+        text,
+        "  unbalance response at {} speeds (largest deflection {:.4e} m)",
+        sc.speeds.len(),
+        peak.iter().fold(0.0f64, |m, p| m.max(p.1))
+    )
+    .ok();
+    panels.push(Panel {
+        title: "unbalance response".into(),
+        x_desc: "speed (rpm)".into(),
+        y_desc: "largest deflection (m)".into(),
+        log_y: true,
+        series: vec![Series {
+            label: "direct solve".into(),
+            points: peak,
+            color: PALETTE[0],
+            dashed: false,
+        }],
+        ..Default::default()
+    });
+    json!(rows)
 }
 
 /// Computes the report of a parsed scenario.
@@ -456,53 +528,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         ..Default::default()
     }];
     if !sc.speeds.is_empty() {
-        let mut rows = Vec::new();
-        let mut peak = Vec::new();
-        for &w in &sc.speeds {
-            let Some((x, amp)) = unbalance_response(&sc.rotor, sc.elements, w) else {
-                rows.push(json!({ "speed_rpm": w * 30.0 / PI, "critical": true }));
-                continue;
-            };
-            let at_discs: Vec<f64> = sc
-                .rotor
-                .discs
-                .iter()
-                .map(|d| {
-                    let k = x
-                        .iter()
-                        .enumerate()
-                        .min_by(|a, b| (a.1 - d.at).abs().total_cmp(&(b.1 - d.at).abs()))
-                        .map(|(i, _)| i)
-                        .unwrap_or(0);
-                    amp[k]
-                })
-                .collect();
-            let maxa = amp.iter().fold(0.0f64, |m, v| m.max(*v));
-            peak.push((w * 30.0 / PI, maxa));
-            rows.push(json!({ "speed_rpm": w * 30.0 / PI, "max_amplitude": maxa, "at_discs": at_discs,
-                              "amplification": fe.iter().map(|m| modal_amplification(m.omega, w)).collect::<Vec<_>>() }));
-        }
-        writeln!(
-            text,
-            "  unbalance response at {} speeds (largest deflection {:.4e} m)",
-            sc.speeds.len(),
-            peak.iter().fold(0.0f64, |m, p| m.max(p.1))
-        )
-        .ok();
-        panels.push(Panel {
-            title: "unbalance response".into(),
-            x_desc: "speed (rpm)".into(),
-            y_desc: "largest deflection (m)".into(),
-            log_y: true,
-            series: vec![Series {
-                label: "direct solve".into(),
-                points: peak,
-                color: PALETTE[0],
-                dashed: false,
-            }],
-            ..Default::default()
-        });
-        j["response"] = json!(rows);
+        j["response"] = unbalance_rows(sc, &fe, &mut text, &mut panels);
     }
     if let Some((planes, target, others, rigid, au)) = &sc.balancing {
         let x = modal_balance(&fe, planes, *target, others, *rigid, *au).ok_or_else(|| ctx.section("modal_balancing", "the balancing equations are singular (a plane at a node of a mode, or two planes at one place)"))?;
@@ -516,10 +542,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         j["modal_balancing"] = json!({ "mode": target + 1, "other_modes": others.iter().map(|o| o + 1).collect::<Vec<_>>(), "rigid_body": rigid, "planes": planes, "masses": x,
             "force_sum": x.iter().sum::<f64>(), "moment_sum": x.iter().zip(planes).map(|(a, b)| a * b).sum::<f64>() });
     }
-    if let Some(p) = write_plot(out_dir, &format!("{}_rotor", sc.name), &sc.name, &panels, 1)
-        .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "rotor"), (&panels, 1), j, text)
 }

@@ -8,13 +8,16 @@
 //! 3. forward: `a'_i = ⁱX_λ a_λ + c_i` (`a_0 = −g`), `q̈_i = D_i⁻¹(u_i − U_iᵀ a'_i)`,
 //!    `a_i = a'_i + S_i q̈_i`.
 //!
+//! Armature (`model.armature`, plus the rotor effect's) is added to `D_i`.
+//!
 //! Every body must be driven by its own coordinate (no mimic joints: with those, forward
 //! dynamics goes through the projected mass matrix, see [`super::forward_dynamics`]).
 
+use super::terms::Terms;
 use crate::data::Data;
 use crate::kinematics::{body_q, body_rate, joint_motion, joint_transform};
 use crate::model::{Model, WORLD};
-use crate::spatial::{skew, Force, InertiaO, Mat3, Motion, Se3, Vec3};
+use crate::spatial::{skew, Force, Mat3, Motion, Se3, Vec3};
 use nalgebra::{Matrix6, Vector6};
 
 #[inline(always)]
@@ -58,33 +61,43 @@ pub fn inertia_to_parent(x: &Se3, i: &Matrix6<f64>) -> Matrix6<f64> {
     out
 }
 
-/// Forward dynamics into `data.qdd` (also returned). Panics if the model has mimic joints.
-pub fn aba<'a>(
+/// Forward dynamics `q̈` by ABA into `data.qdd` (also returned), with the model's gravity
+/// and armature, as Pinocchio's `aba(model, data, q, v, tau)`. No check of the result
+/// (see [`super::forward_dynamics`] for the checked dispatcher). Panics if the model has
+/// mimic joints.
+pub fn aba<'a>(model: &Model, data: &'a mut Data, q: &[f64], v: &[f64], tau: &[f64]) -> &'a [f64] {
+    aba_impl(model, data, q, v, tau, &Terms::of_model(model))
+}
+
+/// [`aba`] with external forces: one wrench per body (`model.nbodies()`), body frame.
+pub fn aba_with_forces<'a>(
     model: &Model,
     data: &'a mut Data,
     q: &[f64],
-    qd: &[f64],
+    v: &[f64],
     tau: &[f64],
-    gravity: &Vec3,
-    f_ext: Option<&[Force]>,
+    f_ext: &[Force],
 ) -> &'a [f64] {
-    aba_impl(model, data, q, qd, tau, Some(gravity), f_ext, None, None)
+    assert_eq!(
+        f_ext.len(),
+        model.nbodies(),
+        "f_ext needs one wrench per body"
+    );
+    aba_impl(model, data, q, v, tau, &Terms::with_forces(model, f_ext))
 }
 
-/// [`aba`] with gravity optional, an optional payload inertia on one body and optional
-/// rotor armature `I_m N²` per coordinate (added to `D_i`, RBDA §7.3 with rotor inertia).
-#[allow(clippy::too_many_arguments)]
+/// [`aba`] with the additions in `terms` (gravity optional, forces, a payload inertia on
+/// one body, rotor armature `I_m N²` on top of the model's: added to `D_i`, RBDA §7.3
+/// with rotor inertia).
 pub(crate) fn aba_impl<'a>(
     model: &Model,
     data: &'a mut Data,
     q: &[f64],
     qd: &[f64],
     tau: &[f64],
-    gravity: Option<&Vec3>,
-    f_ext: Option<&[Force]>,
-    payload: Option<(usize, &InertiaO)>,
-    armature: Option<&[f64]>,
+    terms: &Terms<'_>,
 ) -> &'a [f64] {
+    let (f_ext, payload) = (terms.f_ext, terms.payload);
     let nv = model.nv;
     assert!(
         q.len() == nv && qd.len() == nv && tau.len() == nv,
@@ -128,10 +141,7 @@ pub(crate) fn aba_impl<'a>(
         let kind = model.kind[i];
         let s = kind.axis_index() + if kind.is_revolute() { 3 } else { 0 };
         let u_col: Vector6<f64> = data.ia[i].column(s).into_owned();
-        let d = match armature {
-            Some(arm) => u_col[s] + arm[model.q_index[i]],
-            None => u_col[s],
-        };
+        let d = u_col[s] + terms.armature(model, model.q_index[i]);
         let d_inv = 1.0 / d;
         // Body coordinate θ = m q + o: its generalised force is τ / m.
         let u = tau[model.q_index[i]] / model.q_mult[i] - data.pa[i][s];
@@ -149,7 +159,7 @@ pub(crate) fn aba_impl<'a>(
             data.pa[parent] += fp;
         }
     }
-    let a0 = gravity.map(|g| Motion::new(-g, Vec3::zeros()));
+    let a0 = terms.gravity.map(|g| Motion::new(-g, Vec3::zeros()));
     for i in 0..nb {
         let li = data.li_m_i[i];
         let parent = model.parent[i];

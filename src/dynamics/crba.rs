@@ -10,7 +10,8 @@
 //! structured path ([`AxisX`]): moving a force costs 14 multiplications instead of 24, and
 //! moving a composite inertia about a third of the general cost. Composite inertias are in
 //! origin form ([`InertiaO`]). Mimic joints: entries are scaled by both bodies'
-//! multipliers and summed onto the independent coordinates (`Gᵀ M G`).
+//! multipliers and summed onto the independent coordinates (`Gᵀ M G`). The armature
+//! (`model.armature`) is added to the diagonal.
 
 use super::rnea::project;
 use crate::data::Data;
@@ -35,12 +36,14 @@ fn inertia_times_axis(y: &InertiaO, kind: BodyKind) -> Force {
 /// Mean body depth above which the ancestor walk runs in world coordinates.
 pub const WORLD_WALK_DEPTH: f64 = 8.0;
 
-/// Mass matrix into `data.mass` (full, symmetric), also returned.
+/// Mass matrix `M(q)` into `data.mass` (full, symmetric), also returned; `model.armature`
+/// is on its diagonal, as in Pinocchio's `crba`.
 pub fn crba<'a>(model: &Model, data: &'a mut Data, q: &[f64]) -> &'a DMatrix<f64> {
     crba_impl(model, data, q, None)
 }
 
-/// [`crba`] with an optional extra inertia (payload, body coordinates) on one body.
+/// [`crba`] with an optional extra inertia (payload, body coordinates) on one body (the
+/// model's armature included; a rotor effect's is the caller's to add).
 pub(crate) fn crba_impl<'a>(
     model: &Model,
     data: &'a mut Data,
@@ -123,6 +126,11 @@ pub(crate) fn crba_impl<'a>(
             let v = m[c * n + r] + m[r * n + c];
             m[c * n + r] = v;
             m[r * n + c] = v;
+        }
+    }
+    for (k, ia) in model.armature.iter().enumerate() {
+        if *ia != 0.0 {
+            m[k * n + k] += ia;
         }
     }
     &data.mass

@@ -12,8 +12,10 @@
 //!   zero friction at rest so a static torque check is not biased. The price is a creep
 //!   velocity of order `ε` under loads below stiction; `ε = 1e-3` rad/s by default.
 //! - **Rotor and gear** (per coordinate): reflected rotor inertia (armature) `I_m N²` on the
-//!   mass-matrix diagonal (the rotors' gyroscopic coupling is neglected, as in the usual
-//!   armature model); motor torque `τ_m = τ/(N η)` when the motor drives (`τ q̇ ≥ 0`) and
+//!   mass-matrix diagonal, on top of the model's own `model.armature` (which every
+//!   algorithm includes; the loaders leave it zero and put the file's `motor_inertia` and
+//!   `gear_ratio` here, so a rotor is counted once) (the rotors' gyroscopic coupling is
+//!   neglected, as in the usual armature model); motor torque `τ_m = τ/(N η)` when the motor drives (`τ q̇ ≥ 0`) and
 //!   `τ η / N` when it is back-driven.
 //! - **Elasticity** (Spong's reduced flexible-joint model, the two-mass torsional chain in
 //!   each joint): link side `M(q) q̈ + h(q, q̇) = τ_s`, motor side `B θ̈ + τ_s = τ_m`, with
@@ -21,12 +23,13 @@
 //! - **Payload**: a rigid body fixed to a link, added to that body's inertia.
 //! - **External wrenches**: force and moment at a link's origin, in world axes.
 
-use super::aba::aba_impl;
 use super::crba::crba_impl;
+use super::forward::{forward, Applied, Method};
 use super::rnea::rnea_impl;
+use super::terms::Terms;
 use crate::data::{Data, EffectSet};
 use crate::kinematics::forward_kinematics;
-use crate::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
+use crate::linalg::SingularMassMatrix;
 use crate::model::{Model, WORLD};
 use crate::spatial::{Force, Inertia, InertiaO, Vec3};
 use nalgebra::DMatrix;
@@ -285,7 +288,7 @@ fn positive(x: &f64) -> bool {
 }
 
 /// Fills `data.f_ext` (body frames) from the wrenches; needs `data.o_m_i` current.
-fn gather_wrenches(model: &Model, data: &mut Data, wrenches: &[ExternalWrench]) {
+pub(super) fn gather_wrenches(model: &Model, data: &mut Data, wrenches: &[ExternalWrench]) {
     for f in data.f_ext.iter_mut() {
         *f = Force::zero();
     }
@@ -330,16 +333,15 @@ pub fn inverse_dynamics<'a>(
         data.effect_runs.payload += 1;
         p.on_body()
     });
-    rnea_impl(
-        model,
-        data,
-        q,
-        qd,
-        qdd,
-        effects.gravity.as_ref(),
-        f_ext.as_deref(),
+    // The rotor's armature is added below, after friction (the order the reported
+    // torques were always summed in).
+    let terms = Terms {
+        gravity: effects.gravity.as_ref(),
+        f_ext: f_ext.as_deref(),
         payload,
-    );
+        rotor_armature: None,
+    };
+    rnea_impl(model, data, q, qd, qdd, &terms);
     if let Some(f) = f_ext {
         data.f_ext = f;
     }
@@ -358,7 +360,8 @@ pub fn inverse_dynamics<'a>(
     &data.tau
 }
 
-/// Mass matrix with the payload and the rotor armature when they are included.
+/// Mass matrix with the payload and the rotor armature when they are included (on top of
+/// `model.armature`, which is always there).
 pub fn mass_matrix<'a>(
     model: &Model,
     data: &'a mut Data,
@@ -380,8 +383,9 @@ pub fn mass_matrix<'a>(
     &data.mass
 }
 
-/// Forward dynamics with `effects` (rigid joints): `q̈` into `data.qdd`. ABA when every
-/// body has its own coordinate, otherwise the projected mass matrix and Cholesky.
+/// Forward dynamics with `effects` (rigid joints): `q̈` into `data.qdd`, through the one
+/// dispatcher of [`super::forward_dynamics`] (ABA, or CRBA + Cholesky with mimic joints;
+/// a non-finite `q̈` is an error).
 pub fn forward_dynamics_with<'a>(
     model: &Model,
     data: &'a mut Data,
@@ -391,140 +395,14 @@ pub fn forward_dynamics_with<'a>(
     tau: &[f64],
 ) -> Result<&'a [f64], SingularMassMatrix> {
     data.effects_used = effects.set();
-    let parts = Parts {
+    let applied = Applied {
         gravity: effects.gravity.as_ref(),
         friction: effects.friction.as_ref(),
         rotor: effects.rotor.as_ref(),
         payload: effects.payload.as_ref(),
         external: &effects.external,
     };
-    forward_core(model, data, &parts, q, qd, tau)
-}
-
-/// Forward dynamics of the rigid model with gravity only (none: `None`): the one
-/// ABA-or-CRBA dispatcher behind [`super::forward_dynamics`] and
-/// [`forward_dynamics_with`], with one NaN policy (a non-finite `q̈` from ABA is a
-/// [`SingularMassMatrix`], as a failed Cholesky pivot is).
-pub(crate) fn forward_rigid<'a>(
-    model: &Model,
-    data: &'a mut Data,
-    gravity: Option<&Vec3>,
-    q: &[f64],
-    qd: &[f64],
-    tau: &[f64],
-) -> Result<&'a [f64], SingularMassMatrix> {
-    let parts = Parts {
-        gravity,
-        friction: None,
-        rotor: None,
-        payload: None,
-        external: &[],
-    };
-    forward_core(model, data, &parts, q, qd, tau)
-}
-
-/// The effects forward dynamics acts on, borrowed (so callers can leave some out without
-/// cloning).
-struct Parts<'e> {
-    gravity: Option<&'e Vec3>,
-    friction: Option<&'e Friction>,
-    rotor: Option<&'e Rotor>,
-    payload: Option<&'e Payload>,
-    external: &'e [ExternalWrench],
-}
-
-fn forward_core<'a>(
-    model: &Model,
-    data: &'a mut Data,
-    e: &Parts<'_>,
-    q: &[f64],
-    qd: &[f64],
-    tau: &[f64],
-) -> Result<&'a [f64], SingularMassMatrix> {
-    // Net applied torque after friction.
-    let mut net = std::mem::take(&mut data.scratch_tau);
-    net.copy_from_slice(tau);
-    if let Some(fr) = e.friction {
-        data.effect_runs.friction += 1;
-        for k in 0..model.nv {
-            net[k] -= fr.torque(k, qd[k]);
-        }
-    }
-    let f_ext = if e.external.is_empty() {
-        None
-    } else {
-        data.effect_runs.external += 1;
-        forward_kinematics(model, data, q);
-        gather_wrenches(model, data, e.external);
-        Some(std::mem::take(&mut data.f_ext))
-    };
-    if e.gravity.is_some() {
-        data.effect_runs.gravity += 1;
-    }
-    let payload = e.payload.map(|p| {
-        data.effect_runs.payload += 1;
-        p.on_body()
-    });
-    let armature = e.rotor.map(|r| {
-        data.effect_runs.rotor += 1;
-        let mut a = std::mem::take(&mut data.scratch_nv2);
-        for (k, x) in a.iter_mut().enumerate() {
-            *x = r.armature(k);
-        }
-        a
-    });
-    let result = if !model.has_mimic {
-        aba_impl(
-            model,
-            data,
-            q,
-            qd,
-            &net,
-            e.gravity,
-            f_ext.as_deref(),
-            payload,
-            armature.as_deref(),
-        );
-        if data.qdd.iter().all(|x| x.is_finite()) {
-            Ok(())
-        } else {
-            let pivot = data.qdd.iter().position(|x| !x.is_finite()).unwrap_or(0);
-            Err(SingularMassMatrix { pivot, value: 0.0 })
-        }
-    } else {
-        let zero = std::mem::take(&mut data.scratch_nv);
-        rnea_impl(
-            model,
-            data,
-            q,
-            qd,
-            &zero,
-            e.gravity,
-            f_ext.as_deref(),
-            payload,
-        );
-        data.scratch_nv = zero;
-        for ((out, n), t) in data.qdd.iter_mut().zip(&net).zip(&data.tau) {
-            *out = n - t;
-        }
-        crba_impl(model, data, q, payload);
-        if let Some(a) = &armature {
-            for (k, ak) in a.iter().enumerate() {
-                data.mass[(k, k)] += ak;
-            }
-        }
-        data.chol.copy_from(&data.mass);
-        cholesky_in_place(&mut data.chol)
-            .map(|()| cholesky_solve_in_place(&data.chol, &mut data.qdd))
-    };
-    if let Some(a) = armature {
-        data.scratch_nv2 = a;
-    }
-    if let Some(f) = f_ext {
-        data.f_ext = f;
-    }
-    data.scratch_tau = net;
-    result.map(|()| &data.qdd[..])
+    forward(model, data, &applied, Method::Auto, q, qd, tau)
 }
 
 /// Flexible-joint forward dynamics (Spong's model, see the module docs). Link
@@ -560,14 +438,14 @@ pub fn elastic_forward_dynamics<'a>(
     if effects.friction.is_some() {
         data.effect_runs.friction += 1;
     }
-    let link_side = Parts {
+    let link_side = Applied {
         gravity: effects.gravity.as_ref(),
         friction: None,
         rotor: None,
         payload: effects.payload.as_ref(),
         external: &effects.external,
     };
-    let r = forward_core(model, data, &link_side, q, qd, &spring).map(|_| ());
+    let r = forward(model, data, &link_side, Method::Auto, q, qd, &spring).map(|_| ());
     data.effects_used = effects.set();
     data.scratch_spring = spring;
     r.map(|()| &data.qdd[..])

@@ -1,5 +1,5 @@
-//! Kinetic and potential energy: `T = ½ Σ v_iᵀ I_i v_i` (body velocities, body inertias)
-//! and `V = −Σ m_i gᵀ c_i` (world centres of mass); and the gradient `∂T/∂q` at fixed
+//! Kinetic and potential energy: `T = ½ Σ v_iᵀ I_i v_i + ½ Σ I_a,k q̇_k²` (body velocities,
+//! body inertias, the model's armature) and `V = −Σ m_i gᵀ c_i` (world centres of mass); and the gradient `∂T/∂q` at fixed
 //! `q̇` (the force a symplectic integrator needs for a configuration-dependent mass
 //! matrix); and both energies with the enabled effects ([`energies_with`]: rotor armature
 //! and payload included).
@@ -11,16 +11,24 @@ use crate::kinematics::{forward_kinematics, forward_kinematics_vel, frame_placem
 use crate::model::{Model, WORLD};
 use crate::spatial::{InertiaO, Vec3};
 
-/// Kinetic energy at `(q, q̇)`; updates placements and velocities in `data`.
+/// Kinetic energy at `(q, q̇)`, `½ q̇ᵀ M(q) q̇`: the bodies' plus the armature's
+/// `½ I_a,k q̇_k²`; updates placements and velocities in `data`.
 pub fn kinetic_energy(model: &Model, data: &mut Data, q: &[f64], qd: &[f64]) -> f64 {
     forward_kinematics_vel(model, data, q, qd);
-    (0..model.nbodies())
+    let bodies: f64 = (0..model.nbodies())
         .map(|i| {
             0.5 * model.inertia_o[i]
                 .mul_motion(&data.v[i])
                 .dot_motion(&data.v[i])
         })
-        .sum()
+        .sum();
+    let mut t = bodies;
+    for (ia, v) in model.armature.iter().zip(qd) {
+        if *ia != 0.0 {
+            t += 0.5 * ia * v * v;
+        }
+    }
+    t
 }
 
 /// Potential energy in gravity `g` at `q` (zero at the world origin); updates placements.

@@ -1,44 +1,203 @@
-//! Forward dynamics through the mass matrix: `M(q) q̈ = τ − h(q, q̇)` with `M` from
-//! [`super::crba`] and `h` from [`super::rnea`], solved by an in-place Cholesky
-//! factorisation `M = L Lᵀ` (no allocation). Works with mimic joints (it uses the
-//! projected `M` and `h`); [`forward_dynamics`] picks ABA when the model allows it.
+//! Forward dynamics `M(q) q̈ = τ − h(q, q̇)`: the one place that chooses the algorithm and
+//! the one NaN policy, for the model's own dynamics ([`forward_dynamics`],
+//! [`forward_dynamics_crba`]) and for the effect composition
+//! ([`super::forward_dynamics_with`], [`super::elastic_forward_dynamics`]).
+//!
+//! - ABA ([`super::aba`], O(n)) when every body has its own coordinate;
+//! - with mimic joints, or when asked for ([`forward_dynamics_crba`]), the projected mass
+//!   matrix from [`super::crba`] and the bias from [`super::rnea`], solved by an in-place
+//!   Cholesky factorisation `M = L Lᵀ` (no allocation).
+//!
+//! Either way a `q̈` with a NaN or an infinite entry is a [`SingularMassMatrix`] error: a
+//! failed Cholesky pivot reports that pivot and its value, a non-finite result the first
+//! non-finite coordinate (value 0).
 
-use super::{bias, crba};
+use super::aba::aba_impl;
+use super::crba::crba_impl;
+use super::effects::{gather_wrenches, ExternalWrench, Friction, Payload, Rotor};
+use super::rnea::rnea_impl;
+use super::terms::Terms;
 use crate::data::Data;
+use crate::kinematics::forward_kinematics;
 use crate::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
 use crate::model::Model;
 use crate::spatial::Vec3;
 
-/// `q̈` by CRBA + Cholesky into `data.qdd`.
-pub fn forward_dynamics_crba<'a>(
-    model: &Model,
-    data: &'a mut Data,
-    q: &[f64],
-    qd: &[f64],
-    tau: &[f64],
-    gravity: &Vec3,
-) -> Result<&'a [f64], SingularMassMatrix> {
-    bias(model, data, q, qd, gravity);
-    for ((out, t), h) in data.qdd.iter_mut().zip(tau).zip(&data.tau) {
-        *out = t - h;
-    }
-    crba(model, data, q);
-    data.chol.copy_from(&data.mass);
-    cholesky_in_place(&mut data.chol)?;
-    cholesky_solve_in_place(&data.chol, &mut data.qdd);
-    Ok(&data.qdd)
-}
-
-/// `q̈`: ABA when every body has its own coordinate, CRBA + Cholesky with mimic joints
-/// (the dispatcher of the effect-aware [`super::forward_dynamics_with`]; a non-finite
-/// result is an error either way).
+/// `q̈` into `data.qdd` with the model's gravity and armature: ABA when every body has its
+/// own coordinate, CRBA + Cholesky with mimic joints; a non-finite `q̈` is an error.
 pub fn forward_dynamics<'a>(
     model: &Model,
     data: &'a mut Data,
     q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+) -> Result<&'a [f64], SingularMassMatrix> {
+    forward(
+        model,
+        data,
+        &Applied::of_model(model),
+        Method::Auto,
+        q,
+        v,
+        tau,
+    )
+}
+
+/// [`forward_dynamics`] always through the mass matrix (CRBA + Cholesky), whatever the
+/// joints.
+pub fn forward_dynamics_crba<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+) -> Result<&'a [f64], SingularMassMatrix> {
+    forward(
+        model,
+        data,
+        &Applied::of_model(model),
+        Method::Crba,
+        q,
+        v,
+        tau,
+    )
+}
+
+/// The effects forward dynamics acts on, borrowed (so callers can leave some out without
+/// cloning).
+pub(crate) struct Applied<'e> {
+    pub gravity: Option<&'e Vec3>,
+    pub friction: Option<&'e Friction>,
+    pub rotor: Option<&'e Rotor>,
+    pub payload: Option<&'e Payload>,
+    pub external: &'e [ExternalWrench],
+}
+
+impl<'e> Applied<'e> {
+    /// The model's own gravity and nothing else.
+    fn of_model(model: &'e Model) -> Self {
+        Applied {
+            gravity: Some(&model.gravity),
+            friction: None,
+            rotor: None,
+            payload: None,
+            external: &[],
+        }
+    }
+}
+
+/// Which algorithm solves for `q̈`.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Method {
+    /// ABA unless the model has mimic joints.
+    Auto,
+    /// CRBA + Cholesky.
+    Crba,
+}
+
+/// `q̈` into `data.qdd` with the applied effects (see the module docs).
+pub(crate) fn forward<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    e: &Applied<'_>,
+    method: Method,
+    q: &[f64],
     qd: &[f64],
     tau: &[f64],
-    gravity: &Vec3,
 ) -> Result<&'a [f64], SingularMassMatrix> {
-    super::effects::forward_rigid(model, data, Some(gravity), q, qd, tau)
+    // Net applied torque after friction.
+    let mut net = std::mem::take(&mut data.scratch_tau);
+    net.copy_from_slice(tau);
+    if let Some(fr) = e.friction {
+        data.effect_runs.friction += 1;
+        for k in 0..model.nv {
+            net[k] -= fr.torque(k, qd[k]);
+        }
+    }
+    let f_ext = if e.external.is_empty() {
+        None
+    } else {
+        data.effect_runs.external += 1;
+        forward_kinematics(model, data, q);
+        gather_wrenches(model, data, e.external);
+        Some(std::mem::take(&mut data.f_ext))
+    };
+    if e.gravity.is_some() {
+        data.effect_runs.gravity += 1;
+    }
+    let payload = e.payload.map(|p| {
+        data.effect_runs.payload += 1;
+        p.on_body()
+    });
+    let armature = e.rotor.map(|r| {
+        data.effect_runs.rotor += 1;
+        let mut a = std::mem::take(&mut data.scratch_nv2);
+        for (k, x) in a.iter_mut().enumerate() {
+            *x = r.armature(k);
+        }
+        a
+    });
+    let terms = Terms {
+        gravity: e.gravity,
+        f_ext: f_ext.as_deref(),
+        payload,
+        rotor_armature: armature.as_deref(),
+    };
+    // The one choice of algorithm.
+    let solved = if method == Method::Auto && !model.has_mimic {
+        aba_impl(model, data, q, qd, &net, &terms);
+        Ok(())
+    } else {
+        crba_solve(model, data, q, qd, &net, &terms)
+    };
+    if let Some(a) = armature {
+        data.scratch_nv2 = a;
+    }
+    if let Some(f) = f_ext {
+        data.f_ext = f;
+    }
+    data.scratch_tau = net;
+    // The one NaN policy.
+    solved.and_then(|()| all_finite(&data.qdd))?;
+    Ok(&data.qdd)
+}
+
+/// `M q̈ = net − h` through CRBA and Cholesky, into `data.qdd`.
+fn crba_solve(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    qd: &[f64],
+    net: &[f64],
+    terms: &Terms<'_>,
+) -> Result<(), SingularMassMatrix> {
+    // h(q, q̇) = RNEA at q̈ = 0 (armature times zero adds nothing).
+    let zero = std::mem::take(&mut data.scratch_nv);
+    let bias_terms = Terms {
+        rotor_armature: None,
+        ..*terms
+    };
+    rnea_impl(model, data, q, qd, &zero, &bias_terms);
+    data.scratch_nv = zero;
+    for ((out, n), t) in data.qdd.iter_mut().zip(net).zip(&data.tau) {
+        *out = n - t;
+    }
+    crba_impl(model, data, q, terms.payload);
+    if let Some(a) = terms.rotor_armature {
+        for (k, ak) in a.iter().enumerate() {
+            data.mass[(k, k)] += ak;
+        }
+    }
+    data.chol.copy_from(&data.mass);
+    cholesky_in_place(&mut data.chol)?;
+    cholesky_solve_in_place(&data.chol, &mut data.qdd);
+    Ok(())
+}
+
+/// `Ok` when every entry of `qdd` is finite, else the first bad coordinate (value 0).
+fn all_finite(qdd: &[f64]) -> Result<(), SingularMassMatrix> {
+    match qdd.iter().position(|x| !x.is_finite()) {
+        None => Ok(()),
+        Some(pivot) => Err(SingularMassMatrix { pivot, value: 0.0 }),
+    }
 }

@@ -1,7 +1,17 @@
 //! Rigid-body dynamics: Newton–Euler (RNEA), the mass matrix (CRBA), forward dynamics
 //! (ABA, and CRBA + Cholesky), energies, the switchable effects, and the two Lagrange
 //! formulations (the textbook's trace form and the energy/Christoffel form) with the
-//! Coriolis matrix. Each algorithm is one file citing the equations it implements. The
+//! Coriolis matrix. Each algorithm is one file citing the equations it implements.
+//!
+//! The public signatures read like Pinocchio's: `rnea(&model, &mut data, q, v, a)`,
+//! `aba(&model, &mut data, q, v, tau)`, `crba(&model, &mut data, q)` take gravity
+//! (`model.gravity`) and the rotor armature (`model.armature`) from the model; the
+//! `*_with_forces` variants add one external wrench per body. [`forward_dynamics`] is the
+//! checked dispatcher (ABA, or CRBA + Cholesky with mimic joints). [`Effects`] composes
+//! switchable effects on top of the rigid model (its own gravity, friction, rotors,
+//! elasticity, payload, wrenches).
+//!
+//! The
 //! recursive algorithms and the effects write into [`crate::data::Data`] and allocate
 //! nothing per call; the Lagrange forms are slow O(n⁴)/O(n³) references and allocate.
 
@@ -13,10 +23,11 @@ mod forward;
 mod lagrange_energy;
 mod lagrange_trace;
 mod rnea;
+mod terms;
 
 pub use crate::data::{EffectRuns, EffectSet};
 pub use crate::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
-pub use aba::aba;
+pub use aba::{aba, aba_with_forces};
 pub use crba::crba;
 pub(crate) use crba::crba_impl;
 pub use effects::{
@@ -32,4 +43,5 @@ pub use lagrange_energy::{
 };
 pub use lagrange_trace::{lagrange_trace, mass_matrix_trace};
 pub(crate) use rnea::rnea_impl;
-pub use rnea::{bias, gravity_torque, rnea};
+pub use rnea::{bias, gravity_torque, rnea, rnea_with_forces};
+pub(crate) use terms::Terms;

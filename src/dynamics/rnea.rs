@@ -6,13 +6,16 @@
 //!   fictitious base acceleration), and `f_i = I_i a_i + v_i ×_f I_i v_i − f_i^ext`;
 //! - backward pass: `τ_i = S_iᵀ f_i`, `f_λ += ᵡX_i^* f_i`.
 //!
+//! Armature (`model.armature`, plus the rotor effect's) adds `I_a,k q̈_k` to `τ_k`.
+//!
 //! Mimic joints: a body driven by `q_k` through `θ = m q_k + o` adds `m S_iᵀ f_i` to `τ_k`
 //! (the projection `Gᵀ τ` onto the independent coordinates).
 
+use super::terms::Terms;
 use crate::data::Data;
 use crate::kinematics::{body_q, body_rate, joint_motion, joint_transform};
 use crate::model::{BodyKind, Model, WORLD};
-use crate::spatial::{Force, InertiaO, Motion, Vec3};
+use crate::spatial::{Force, Motion, Vec3};
 
 /// `S_iᵀ f` for a body whose joint moves about/along axis `kind`.
 #[inline(always)]
@@ -27,39 +30,48 @@ pub(crate) fn project(kind: BodyKind, f: &Force) -> f64 {
     }
 }
 
-/// Inverse dynamics into `data.tau` (also returned). `gravity` is the world gravity
-/// vector; `f_ext`, when given, holds one wrench per body in the body frame.
-pub fn rnea<'a>(
+/// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) q̇ + g(q)` into `data.tau` (also returned),
+/// with the model's gravity (`model.gravity`) and armature (`model.armature`), as
+/// Pinocchio's `rnea(model, data, q, v, a)`.
+pub fn rnea<'a>(model: &Model, data: &'a mut Data, q: &[f64], v: &[f64], a: &[f64]) -> &'a [f64] {
+    rnea_impl(model, data, q, v, a, &Terms::of_model(model))
+}
+
+/// [`rnea`] with external forces: `f_ext` holds one wrench per body (`model.nbodies()`),
+/// in the body frame; they are subtracted from the bodies' net forces.
+pub fn rnea_with_forces<'a>(
     model: &Model,
     data: &'a mut Data,
     q: &[f64],
-    qd: &[f64],
-    qdd: &[f64],
-    gravity: &Vec3,
-    f_ext: Option<&[Force]>,
+    v: &[f64],
+    a: &[f64],
+    f_ext: &[Force],
 ) -> &'a [f64] {
-    rnea_impl(model, data, q, qd, qdd, Some(gravity), f_ext, None)
+    assert_eq!(
+        f_ext.len(),
+        model.nbodies(),
+        "f_ext needs one wrench per body"
+    );
+    rnea_impl(model, data, q, v, a, &Terms::with_forces(model, f_ext))
 }
 
-/// [`rnea`] with gravity optional (`None`: the gravity code does not run) and an optional
-/// extra inertia (a payload, in body coordinates) on one body.
-#[allow(clippy::too_many_arguments)]
+/// [`rnea`] with the additions in `terms` (gravity optional: `None` skips the gravity
+/// code; forces; a payload; extra armature).
 pub(crate) fn rnea_impl<'a>(
     model: &Model,
     data: &'a mut Data,
     q: &[f64],
     qd: &[f64],
     qdd: &[f64],
-    gravity: Option<&Vec3>,
-    f_ext: Option<&[Force]>,
-    payload: Option<(usize, &InertiaO)>,
+    terms: &Terms<'_>,
 ) -> &'a [f64] {
     let nv = model.nv;
     assert!(
         q.len() == nv && qd.len() == nv && qdd.len() == nv,
         "q, qd, qdd need nv values"
     );
-    let a0 = gravity.map(|g| Motion::new(-g, Vec3::zeros()));
+    let (f_ext, payload) = (terms.f_ext, terms.payload);
+    let a0 = terms.gravity.map(|g| Motion::new(-g, Vec3::zeros()));
     for i in 0..model.nbodies() {
         let kind = model.kind[i];
         let li = joint_transform(&model.placement[i], kind, body_q(model, q, i));
@@ -109,33 +121,35 @@ pub(crate) fn rnea_impl<'a>(
             data.f[parent] = data.f[parent].add(&fp);
         }
     }
+    add_armature(model, terms, qdd, &mut data.tau);
     &data.tau
 }
 
-/// Bias forces `h(q, q̇) = C(q, q̇) q̇ + g(q)`: RNEA with `q̈ = 0`, into `data.tau`.
-pub fn bias<'a>(
-    model: &Model,
-    data: &'a mut Data,
-    q: &[f64],
-    qd: &[f64],
-    gravity: &Vec3,
-) -> &'a [f64] {
+/// `τ_k += I_a,k q̈_k` for the coordinates with armature (zero armature adds nothing, not
+/// even a signed zero).
+fn add_armature(model: &Model, terms: &Terms<'_>, qdd: &[f64], tau: &mut [f64]) {
+    for (k, (t, a)) in tau.iter_mut().zip(qdd).enumerate() {
+        let ia = terms.armature(model, k);
+        if ia != 0.0 {
+            *t += ia * a;
+        }
+    }
+}
+
+/// Bias forces `h(q, q̇) = C(q, q̇) q̇ + g(q)` (Pinocchio's `nle`): [`rnea`] with
+/// `q̈ = 0`, into `data.tau`.
+pub fn bias<'a>(model: &Model, data: &'a mut Data, q: &[f64], v: &[f64]) -> &'a [f64] {
     let zero = std::mem::take(&mut data.scratch_nv);
-    let tau = rnea(model, data, q, qd, &zero, gravity, None).len();
-    debug_assert_eq!(tau, model.nv);
+    rnea(model, data, q, v, &zero);
     data.scratch_nv = zero;
     &data.tau
 }
 
-/// Generalised gravity `g(q)`: RNEA with `q̇ = q̈ = 0`, into `data.tau`.
-pub fn gravity_torque<'a>(
-    model: &Model,
-    data: &'a mut Data,
-    q: &[f64],
-    gravity: &Vec3,
-) -> &'a [f64] {
+/// Generalised gravity `g(q)` with `model.gravity`: [`rnea`] with `q̇ = q̈ = 0`, into
+/// `data.tau`.
+pub fn gravity_torque<'a>(model: &Model, data: &'a mut Data, q: &[f64]) -> &'a [f64] {
     let zero = std::mem::take(&mut data.scratch_nv);
-    rnea(model, data, q, &zero, &zero, gravity, None);
+    rnea(model, data, q, &zero, &zero);
     data.scratch_nv = zero;
     &data.tau
 }

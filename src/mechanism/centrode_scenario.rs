@@ -5,14 +5,16 @@
 //! the check and the rolling (equal arc length) condition.
 
 use super::catalog;
-use super::centrode::{arc_lengths, centrodes, line_intersection};
+use super::centrode::{arc_lengths, centrodes, line_intersection, CentrePoint};
+use super::linkage::Linkage;
 use super::position::NewtonOptions;
-use super::sweep::{sweep, SweepOptions};
+use super::sweep::{sweep, State, SweepOptions};
 use super::Vec2;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::trajectory::panels::{Panel, Series, PALETTE};
+use nalgebra::DVector;
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::fmt::Write;
@@ -184,9 +186,13 @@ fn pt(p: Option<Vec2>) -> Value {
     p.map_or(Value::Null, |p| json!([p.x, p.y]))
 }
 
-/// Computes the report of a parsed scenario.
-pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
-    let (l, guess, start, section) = if let Some((g, a, b, c, mode, s0)) = sc.four_bar {
+/// The mechanism assembled at its start angle: the linkage, the assembled coordinates,
+/// the start angle and the section it came from.
+fn assemble(
+    ctx: &Ctx,
+    sc: &Scenario,
+) -> Result<(Linkage, DVector<f64>, f64, &'static str), ScenarioError> {
+    if let Some((g, a, b, c, mode, s0)) = sc.four_bar {
         let l = catalog::four_bar(g, a, b, c);
         let q = catalog::four_bar_guess(&l, (g, a, b, c), s0, mode).ok_or_else(|| {
             ctx.section(
@@ -197,7 +203,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
                 ),
             )
         })?;
-        (l, q, s0, "four_bar")
+        Ok((l, q, s0, "four_bar"))
     } else if let Some((g, r, s0)) = sc.slotted_lever {
         let l = catalog::slotted_lever(g, r);
         let q = catalog::slotted_lever_guess(&l, g, r, s0).ok_or_else(|| {
@@ -206,7 +212,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
                 "at the start angle the crank pin is on the lever pivot: pick another start_deg",
             )
         })?;
-        (l, q, s0, "slotted_lever")
+        Ok((l, q, s0, "slotted_lever"))
     } else {
         let (r, rod, e, s0) = sc.slider_crank.expect("one mechanism");
         if r + e.abs() > rod * (1.0 + 1e-12) {
@@ -217,25 +223,18 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         }
         let l = catalog::slider_crank(r, rod, e);
         let q = catalog::slider_crank_guess(&l, r, rod, e, s0, 1.0);
-        (l, q, s0, "slider_crank")
-    };
-    let opts = SweepOptions {
-        from: 0.0,
-        to: std::f64::consts::TAU,
-        step: sc.step,
-        assemble_at: start,
-        newton: NewtonOptions::default(),
-    };
-    let sw = sweep(&l, &guess, &opts)
-        .map_err(|e| ctx.section(section, format!("the linkage solver: {e}")))?;
-    // The coupler (four-bar BC), the rod (slider-crank BC) or the block (slotted lever).
-    let body = 1;
-    let pts = centrodes(&l, body, &sw.samples);
+        Ok((l, q, s0, "slider_crank"))
+    }
+}
+
+/// The largest distance between the fixed centrode and Kennedy's instant centre over
+/// the sweep (points farther than 1000 link lengths left out).
+fn kennedy_error(l: &Linkage, sc: &Scenario, samples: &[State], pts: &[CentrePoint]) -> f64 {
     // Kennedy: the crank line A–B meets the rocker line D–C (or the normal to the slide
     // at C, or the normal to the slot through the lever pivot C) in the link's instant
     // centre.
     let mut kennedy_err = 0.0f64;
-    for (st, p) in sw.samples.iter().zip(&pts) {
+    for (st, p) in samples.iter().zip(pts) {
         let pos = |n: &str| {
             let (bb, lp) = l.find_point(n).expect("catalog point");
             l.point_position(&st.q, bb, &lp)
@@ -257,6 +256,25 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             }
         }
     }
+    kennedy_err
+}
+
+/// Computes the report of a parsed scenario.
+pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
+    let (l, guess, start, section) = assemble(ctx, sc)?;
+    let opts = SweepOptions {
+        from: 0.0,
+        to: std::f64::consts::TAU,
+        step: sc.step,
+        assemble_at: start,
+        newton: NewtonOptions::default(),
+    };
+    let sw = sweep(&l, &guess, &opts)
+        .map_err(|e| ctx.section(section, format!("the linkage solver: {e}")))?;
+    // The coupler (four-bar BC), the rod (slider-crank BC) or the block (slotted lever).
+    let body = 1;
+    let pts = centrodes(&l, body, &sw.samples);
+    let kennedy_err = kennedy_error(&l, sc, &sw.samples, &pts);
     let (af, am) = arc_lengths(&pts);
     let infinite: Vec<f64> = pts
         .iter()
@@ -317,16 +335,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             ..Default::default()
         },
     ];
-    if let Some(p) = write_plot(
-        out_dir,
-        &format!("{}_centrodes", sc.name),
-        &sc.name,
-        &panels,
-        2,
-    )
-    .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "centrodes"), (&panels, 2), j, text)
 }

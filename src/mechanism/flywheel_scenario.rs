@@ -7,7 +7,7 @@ use super::flywheel_design::{self as fd, Torque};
 use super::machine_motion::Characteristic;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::trajectory::panels::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -181,90 +181,21 @@ fn parse_cycle(ctx: &Ctx, c: &CycleIn) -> Result<Cycle, ScenarioError> {
             "a constant drive without a load has no fluctuation: give `load` or `load_deg`",
         ));
     }
-    let omega = match (&c.speed, &c.speed_rpm, &c.speed_band) {
-        (Some(w), None, _) => Some(ctx.positive(w, "cycle.speed")?),
-        (None, Some(n), _) => Some(ctx.positive(n, "cycle.speed_rpm")? * PI / 30.0),
-        (Some(_), Some(n), _) => {
-            return Err(ctx.at(
-                n.span(),
-                "cycle.speed_rpm",
-                "give either `speed` or `speed_rpm`, not both",
-            ))
-        }
-        (None, None, _) => None,
-    };
-    let (omega, delta) = match (omega, &c.speed_fluctuation, &c.speed_band) {
-        (Some(w), Some(d), None) => (w, ctx.between(d, "cycle.speed_fluctuation", 0.0, 2.0)?),
-        (None, None, Some(b)) => {
-            let lo = ctx.positive(&b.get_ref()[0], "cycle.speed_band[0]")?;
-            let hi = ctx.positive(&b.get_ref()[1], "cycle.speed_band[1]")?;
-            if hi <= lo {
-                return Err(ctx.at(
-                    b.span(),
-                    "cycle.speed_band",
-                    "needs [lowest, highest] speed with lowest < highest",
-                ));
-            }
-            ((lo + hi) / 2.0, 2.0 * (hi - lo) / (hi + lo))
-        }
-        (_, _, Some(b)) => {
-            return Err(ctx.at(
-                b.span(),
-                "cycle.speed_band",
-                "give either `speed_band` or a speed with `speed_fluctuation`, not both",
-            ))
-        }
-        _ => {
-            return Err(ctx.section(
-                "cycle",
-                "missing: `speed` (or `speed_rpm`) with `speed_fluctuation`, or `speed_band`",
-            ))
-        }
-    };
-    let machine = c
-        .machine_inertia
-        .as_ref()
-        .map(|v| ctx.non_negative(v, "cycle.machine_inertia"))
-        .transpose()?
-        .unwrap_or(0.0);
-    let points = match &c.points {
-        None => 3600,
-        Some(p) if (1..=MAX_POINTS).contains(p.get_ref()) => *p.get_ref(),
-        Some(p) => {
-            return Err(ctx.at(
-                p.span(),
-                "cycle.points",
-                format!("must lie in 1..={MAX_POINTS}"),
-            ))
-        }
-    };
-    let periods = match &c.time_check_periods {
-        None => 3,
-        Some(p) if (1..=MAX_PERIODS).contains(p.get_ref()) => *p.get_ref(),
-        Some(p) => {
-            return Err(ctx.at(
-                p.span(),
-                "cycle.time_check_periods",
-                format!("must lie in 1..={MAX_PERIODS}"),
-            ))
-        }
-    };
-    let transfer = c
-        .transfer_speed
-        .as_ref()
-        .map(|v| ctx.positive(v, "cycle.transfer_speed"))
-        .transpose()?;
-    let rho = c
-        .density
-        .as_ref()
-        .map(|v| ctx.positive(v, "cycle.density"))
-        .transpose()?
+    let (omega, delta) = cycle_speed(ctx, c)?;
+    let machine = ctx.non_negative_or(c.machine_inertia.as_ref(), "cycle.machine_inertia", 0.0)?;
+    let points = ctx.count(c.points.as_ref(), "cycle.points", 3600, 1..=MAX_POINTS)?;
+    let periods = ctx.count(
+        c.time_check_periods.as_ref(),
+        "cycle.time_check_periods",
+        3,
+        1..=MAX_PERIODS,
+    )?;
+    let transfer = ctx.positive_opt(c.transfer_speed.as_ref(), "cycle.transfer_speed")?;
+    let rho = ctx
+        .positive_opt(c.density.as_ref(), "cycle.density")?
         .unwrap_or(7850.0);
-    let rim = c
-        .rim_diameter
-        .as_ref()
-        .map(|v| ctx.positive(v, "cycle.rim_diameter"))
-        .transpose()?
+    let rim = ctx
+        .positive_opt(c.rim_diameter.as_ref(), "cycle.rim_diameter")?
         .map(|d| (d, rho));
     Ok(Cycle {
         period,
@@ -280,112 +211,170 @@ fn parse_cycle(ctx: &Ctx, c: &CycleIn) -> Result<Cycle, ScenarioError> {
     })
 }
 
+/// The cycle's mean speed and fluctuation: `speed` (or `speed_rpm`) with
+/// `speed_fluctuation`, or a `speed_band`.
+fn cycle_speed(ctx: &Ctx, c: &CycleIn) -> Result<(f64, f64), ScenarioError> {
+    let omega = match (&c.speed, &c.speed_rpm, &c.speed_band) {
+        (Some(w), None, _) => Some(ctx.positive(w, "cycle.speed")?),
+        (None, Some(n), _) => Some(ctx.positive(n, "cycle.speed_rpm")? * PI / 30.0),
+        (Some(_), Some(n), _) => {
+            return Err(ctx.at(
+                n.span(),
+                "cycle.speed_rpm",
+                "give either `speed` or `speed_rpm`, not both",
+            ))
+        }
+        (None, None, _) => None,
+    };
+    match (omega, &c.speed_fluctuation, &c.speed_band) {
+        (Some(w), Some(d), None) => Ok((w, ctx.between(d, "cycle.speed_fluctuation", 0.0, 2.0)?)),
+        (None, None, Some(b)) => {
+            let lo = ctx.positive(&b.get_ref()[0], "cycle.speed_band[0]")?;
+            let hi = ctx.positive(&b.get_ref()[1], "cycle.speed_band[1]")?;
+            if hi <= lo {
+                return Err(ctx.at(
+                    b.span(),
+                    "cycle.speed_band",
+                    "needs [lowest, highest] speed with lowest < highest",
+                ));
+            }
+            Ok(((lo + hi) / 2.0, 2.0 * (hi - lo) / (hi + lo)))
+        }
+        (_, _, Some(b)) => Err(ctx.at(
+            b.span(),
+            "cycle.speed_band",
+            "give either `speed_band` or a speed with `speed_fluctuation`, not both",
+        )),
+        _ => Err(ctx.section(
+            "cycle",
+            "missing: `speed` (or `speed_rpm`) with `speed_fluctuation`, or `speed_band`",
+        )),
+    }
+}
+
 /// Parses and validates `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     let ctx = Ctx::new(file, text);
     let f: File = ctx.parse()?;
-    if f.cycle.is_none() && f.stroke.is_none() && f.overload.is_none() {
-        return Err(ScenarioError::new(
-            file,
-            Some(1),
-            "file",
-            "nothing to size: add [cycle], [stroke] or [overload]",
-        ));
-    }
-    let mut cycle = f.cycle.as_ref().map(|c| parse_cycle(&ctx, c)).transpose()?;
-    if let Some(c) = &mut cycle {
-        // No load: the constant that does the drive's work (a steady state).
-        if matches!(c.load, Torque::Constant(x) if x.is_nan()) {
-            let s = fd::size_cycle(
-                &c.drive,
-                &Torque::Constant(0.0),
-                c.period,
-                c.points,
-                (c.omega, c.delta),
-                0.0,
-            );
-            c.load = Torque::Constant(s.mean_drive);
-        }
-        let s = fd::size_cycle(
-            &c.drive,
-            &c.load,
-            c.period,
-            c.points,
-            (c.omega, c.delta),
-            c.machine,
-        );
-        let scale = s
-            .energy_fluctuation
-            .max(s.mean_drive.abs() * c.period)
-            .max(1e-300);
-        if s.cycle_work.abs() > 1e-6 * scale {
-            return Err(ctx.section("cycle", format!(
-                "the net work over a period is {:.6e} J, not zero: no steady state (leave out the load to use the drive's mean)",
-                s.cycle_work
-            )));
-        }
-    }
-    let stroke = match &f.stroke {
-        None => None,
-        Some(s) => {
-            let coeffs = ctx.finite_list(&s.drive, "stroke.drive")?;
-            if coeffs.is_empty() {
-                return Err(ctx.at(
-                    s.drive.span(),
-                    "stroke.drive",
-                    "needs the coefficients of M_d(ω) = Σ c_k ω^k",
-                ));
-            }
-            let load = ctx.finite(&s.load, "stroke.load")?;
-            let angle = ctx.positive(&s.angle_deg, "stroke.angle_deg")?.to_radians();
-            let b = s.speed_band.get_ref();
-            let band = [
-                ctx.positive(&b[0], "stroke.speed_band[0]")?,
-                ctx.positive(&b[1], "stroke.speed_band[1]")?,
-            ];
-            if band[0] >= band[1] {
-                return Err(ctx.at(
-                    s.speed_band.span(),
-                    "stroke.speed_band",
-                    "needs [lowest, highest] speed with lowest < highest",
-                ));
-            }
-            let machine = s
-                .machine_inertia
-                .as_ref()
-                .map(|v| ctx.non_negative(v, "stroke.machine_inertia"))
-                .transpose()?
-                .unwrap_or(0.0);
-            let drive = Characteristic(coeffs);
-            if fd::size_stroke(&drive, load, angle, band, machine).is_none() {
-                return Err(ctx.at(
-                    s.speed_band.span(),
-                    "stroke.speed_band",
-                    "the motor torque equals the load inside the band: the speed cannot cross it",
-                ));
-            }
-            Some((drive, load, angle, band, machine))
-        }
-    };
-    let overload = match &f.overload {
-        None => None,
-        Some(o) => Some((
-            ctx.finite(&o.drive, "overload.drive")?,
-            ctx.finite(&o.load, "overload.load")?,
-            ctx.positive(&o.max_deceleration, "overload.max_deceleration")?,
-            o.machine_inertia
-                .as_ref()
-                .map(|v| ctx.non_negative(v, "overload.machine_inertia"))
-                .transpose()?
-                .unwrap_or(0.0),
-        )),
-    };
+    ctx.any_section(
+        &[f.cycle.is_some(), f.stroke.is_some(), f.overload.is_some()],
+        "nothing to size: add [cycle], [stroke] or [overload]",
+    )?;
+    let cycle = f
+        .cycle
+        .as_ref()
+        .map(|c| steady_cycle(&ctx, parse_cycle(&ctx, c)?))
+        .transpose()?;
+    let stroke = f
+        .stroke
+        .as_ref()
+        .map(|s| parse_stroke(&ctx, s))
+        .transpose()?;
+    let overload = f
+        .overload
+        .as_ref()
+        .map(|o| parse_overload(&ctx, o))
+        .transpose()?;
     Ok(Scenario {
         name: scenario_name(f.name.as_deref(), file),
         cycle,
         stroke,
         overload,
     })
+}
+
+/// A cycle with its load set (none given: the constant that does the drive's work) and
+/// checked for a steady state (zero net work over a period).
+fn steady_cycle(ctx: &Ctx, mut c: Cycle) -> Result<Cycle, ScenarioError> {
+    if matches!(c.load, Torque::Constant(x) if x.is_nan()) {
+        let s = fd::size_cycle(
+            &c.drive,
+            &Torque::Constant(0.0),
+            c.period,
+            c.points,
+            (c.omega, c.delta),
+            0.0,
+        );
+        c.load = Torque::Constant(s.mean_drive);
+    }
+    let s = fd::size_cycle(
+        &c.drive,
+        &c.load,
+        c.period,
+        c.points,
+        (c.omega, c.delta),
+        c.machine,
+    );
+    let scale = s
+        .energy_fluctuation
+        .max(s.mean_drive.abs() * c.period)
+        .max(1e-300);
+    if s.cycle_work.abs() > 1e-6 * scale {
+        return Err(ctx.section("cycle", format!(
+            "the net work over a period is {:.6e} J, not zero: no steady state (leave out the load to use the drive's mean)",
+            s.cycle_work
+        )));
+    }
+    Ok(c)
+}
+
+/// The `[stroke]` section: drive characteristic, load, angle, speed band, machine inertia.
+#[allow(clippy::type_complexity)]
+fn parse_stroke(
+    ctx: &Ctx,
+    s: &StrokeIn,
+) -> Result<(Characteristic, f64, f64, [f64; 2], f64), ScenarioError> {
+    let coeffs = ctx.finite_list(&s.drive, "stroke.drive")?;
+    if coeffs.is_empty() {
+        return Err(ctx.at(
+            s.drive.span(),
+            "stroke.drive",
+            "needs the coefficients of M_d(ω) = Σ c_k ω^k",
+        ));
+    }
+    let load = ctx.finite(&s.load, "stroke.load")?;
+    let angle = ctx.positive(&s.angle_deg, "stroke.angle_deg")?.to_radians();
+    let b = s.speed_band.get_ref();
+    let band = [
+        ctx.positive(&b[0], "stroke.speed_band[0]")?,
+        ctx.positive(&b[1], "stroke.speed_band[1]")?,
+    ];
+    if band[0] >= band[1] {
+        return Err(ctx.at(
+            s.speed_band.span(),
+            "stroke.speed_band",
+            "needs [lowest, highest] speed with lowest < highest",
+        ));
+    }
+    let machine = s
+        .machine_inertia
+        .as_ref()
+        .map(|v| ctx.non_negative(v, "stroke.machine_inertia"))
+        .transpose()?
+        .unwrap_or(0.0);
+    let drive = Characteristic(coeffs);
+    if fd::size_stroke(&drive, load, angle, band, machine).is_none() {
+        return Err(ctx.at(
+            s.speed_band.span(),
+            "stroke.speed_band",
+            "the motor torque equals the load inside the band: the speed cannot cross it",
+        ));
+    }
+    Ok((drive, load, angle, band, machine))
+}
+
+/// The `[overload]` section: drive, load, largest deceleration, machine inertia.
+fn parse_overload(ctx: &Ctx, o: &OverloadIn) -> Result<(f64, f64, f64, f64), ScenarioError> {
+    Ok((
+        ctx.finite(&o.drive, "overload.drive")?,
+        ctx.finite(&o.load, "overload.load")?,
+        ctx.positive(&o.max_deceleration, "overload.max_deceleration")?,
+        o.machine_inertia
+            .as_ref()
+            .map(|v| ctx.non_negative(v, "overload.machine_inertia"))
+            .transpose()?
+            .unwrap_or(0.0),
+    ))
 }
 
 fn cycle_json(c: &Cycle, text: &mut String, panels: &mut Vec<Panel>) -> Value {
@@ -458,6 +447,12 @@ fn cycle_json(c: &Cycle, text: &mut String, panels: &mut Vec<Panel>) -> Value {
         }
         None => Value::Null,
     };
+    cycle_panels(c, &s, &tc, panels);
+    v
+}
+
+/// The cycle's plots: turning-moment diagram, energy over the period, time check.
+fn cycle_panels(c: &Cycle, s: &fd::CycleSizing, tc: &fd::TimeCheck, panels: &mut Vec<Panel>) {
     let every = (s.energy.len() / 300).max(1);
     let thin: Vec<(f64, f64)> = s
         .energy
@@ -520,7 +515,6 @@ fn cycle_json(c: &Cycle, text: &mut String, panels: &mut Vec<Panel>) -> Value {
         }],
         ..Default::default()
     });
-    v
 }
 
 /// Computes the report of a parsed scenario.
@@ -548,16 +542,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         writeln!(text, "overload: |M_d − M_c| = {:.4} N m, ε ≤ {eps} rad/s²: J ≥ {jt:.5} kg m², flywheel {jf:.5} kg m²", (d - l).abs()).ok();
         j["overload"] = json!({ "required_inertia": jt, "machine_inertia": machine, "flywheel_inertia": jf, "gd2": 4.0 * fd::G * jf });
     }
-    if let Some(p) = write_plot(
-        out_dir,
-        &format!("{}_flywheel", sc.name),
-        &sc.name,
-        &panels,
-        1,
-    )
-    .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "flywheel"), (&panels, 1), j, text)
 }

@@ -121,6 +121,72 @@ pub struct Kinetostatics {
     pub residual: f64,
 }
 
+/// The force of joint `k` from its multiplier rows starting at `r` (one on each body
+/// pair), adding its share to the shaking force and moment `shaking` when it holds a link
+/// to the ground; returns it and the number of rows it owns.
+fn joint_force(
+    l: &Linkage,
+    q: &DVector<f64>,
+    k: usize,
+    lambda: &DVector<f64>,
+    r: usize,
+    shaking: &mut (Vec2, f64),
+) -> (JointForce, usize) {
+    let j = &l.joints[k];
+    match j {
+        Joint::Revolute { name, a, pa, b, .. } => {
+            let f_on_a = Vec2::new(lambda[r], lambda[r + 1]);
+            let (on, by, f) = if *a == GROUND {
+                (*b, *a, -f_on_a)
+            } else {
+                (*a, *b, f_on_a)
+            };
+            if by == GROUND {
+                let at = l.point_position(q, *a, pa);
+                shaking.0 -= f;
+                shaking.1 -= cross(&at, &f);
+            }
+            let jf = JointForce {
+                joint: k,
+                name: name.clone(),
+                on,
+                by,
+                force: f,
+                couple: 0.0,
+            };
+            (jf, 2)
+        }
+        Joint::Slider(s) => {
+            let theta_g = if s.guide == GROUND {
+                0.0
+            } else {
+                q[3 * s.guide + 2]
+            };
+            let n = rotate(theta_g, &super::perp(&s.dir));
+            let f = n * lambda[r];
+            let couple = if s.prismatic.is_some() {
+                lambda[r + 1]
+            } else {
+                0.0
+            };
+            if s.guide == GROUND {
+                let at = l.point_position(q, s.link, &s.p);
+                shaking.0 -= f;
+                shaking.1 -= cross(&at, &f) + couple;
+            }
+            let jf = JointForce {
+                joint: k,
+                name: s.name.clone(),
+                on: s.link,
+                by: s.guide,
+                force: f,
+                couple,
+            };
+            (jf, 1 + usize::from(s.prismatic.is_some()))
+        }
+    }
+}
+
 /// Joint forces and driving effort for the motion `(q, q̇, q̈)` under `loads`.
 pub fn solve(l: &Linkage, q: &DVector<f64>, qdd: &DVector<f64>, loads: &Loads) -> Kinetostatics {
     let m = mass_diagonal(l);
@@ -129,81 +195,31 @@ pub fn solve(l: &Linkage, q: &DVector<f64>, qdd: &DVector<f64>, loads: &Loads) -
     let sol = min_norm_solve(&jt, &rhs, None);
     let lambda = sol.x;
     let mut joint_forces = Vec::with_capacity(l.joints.len());
-    let mut shaking_force = Vec2::zeros();
-    let mut shaking_moment = 0.0;
+    // Shaking force and moment on the ground.
+    let mut shaking = (Vec2::zeros(), 0.0);
     let owners = row_owners(l);
     let mut r = 0;
     let mut driving = 0.0;
     while r < owners.len() {
         match &owners[r] {
             RowOwner::Joint(k, _) => {
-                let j = &l.joints[*k];
-                match j {
-                    Joint::Revolute { name, a, pa, b, .. } => {
-                        let f_on_a = Vec2::new(lambda[r], lambda[r + 1]);
-                        let (on, by, f) = if *a == GROUND {
-                            (*b, *a, -f_on_a)
-                        } else {
-                            (*a, *b, f_on_a)
-                        };
-                        if by == GROUND {
-                            let at = l.point_position(q, *a, pa);
-                            shaking_force -= f;
-                            shaking_moment -= cross(&at, &f);
-                        }
-                        joint_forces.push(JointForce {
-                            joint: *k,
-                            name: name.clone(),
-                            on,
-                            by,
-                            force: f,
-                            couple: 0.0,
-                        });
-                        r += 2;
-                    }
-                    Joint::Slider(s) => {
-                        let theta_g = if s.guide == GROUND {
-                            0.0
-                        } else {
-                            q[3 * s.guide + 2]
-                        };
-                        let n = rotate(theta_g, &super::perp(&s.dir));
-                        let f = n * lambda[r];
-                        let couple = if s.prismatic.is_some() {
-                            lambda[r + 1]
-                        } else {
-                            0.0
-                        };
-                        if s.guide == GROUND {
-                            let at = l.point_position(q, s.link, &s.p);
-                            shaking_force -= f;
-                            shaking_moment -= cross(&at, &f) + couple;
-                        }
-                        joint_forces.push(JointForce {
-                            joint: *k,
-                            name: s.name.clone(),
-                            on: s.link,
-                            by: s.guide,
-                            force: f,
-                            couple,
-                        });
-                        r += 1 + usize::from(s.prismatic.is_some());
-                    }
-                }
+                let (jf, rows) = joint_force(l, q, *k, &lambda, r, &mut shaking);
+                joint_forces.push(jf);
+                r += rows;
             }
             RowOwner::Driver => {
                 driving = lambda[r];
                 match &l.driver {
                     Driver::Angle { relative_to, .. } => {
                         if *relative_to == GROUND {
-                            shaking_moment -= driving;
+                            shaking.1 -= driving;
                         }
                     }
                     Driver::Slide { link, p, dir, .. } => {
                         let f = dir * driving;
                         let at = l.point_position(q, *link, p);
-                        shaking_force -= f;
-                        shaking_moment -= cross(&at, &f);
+                        shaking.0 -= f;
+                        shaking.1 -= cross(&at, &f);
                     }
                 }
                 r += 1;
@@ -226,8 +242,8 @@ pub fn solve(l: &Linkage, q: &DVector<f64>, qdd: &DVector<f64>, loads: &Loads) -
         driving,
         joint_forces,
         inertia,
-        shaking_force,
-        shaking_moment,
+        shaking_force: shaking.0,
+        shaking_moment: shaking.1,
         rank: sol.rank,
         residual: sol.residual,
     }

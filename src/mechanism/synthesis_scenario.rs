@@ -9,7 +9,7 @@ use super::synthesis_check::{self as chk, RockerTrack};
 use super::Vec2;
 use crate::diag::LocatedError as ScenarioError;
 use crate::report::Report;
-use crate::scenario_kit::{scenario_name, write_plot, Ctx};
+use crate::scenario_kit::{finish_with_plot, scenario_name, Ctx};
 use crate::trajectory::panels::{Panel, Series, PALETTE};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -142,126 +142,141 @@ fn one_of<'a>(
     }
 }
 
+/// The `[crank_rocker]` section: rocker, frame, limit positions, and the pivot direction or the time ratio.
+fn parse_crank_rocker(ctx: &Ctx, s: &CrankRockerIn) -> Result<CrankRockerSpec, ScenarioError> {
+    let k = "crank_rocker";
+    let rocker = ctx.positive(&s.rocker, "crank_rocker.rocker")?;
+    let frame = ctx.positive(&s.frame, "crank_rocker.frame")?;
+    let lim = s.rocker_limits_deg.get_ref();
+    let limits = [
+        ctx.finite(&lim[0], "crank_rocker.rocker_limits_deg[0]")?
+            .to_radians(),
+        ctx.finite(&lim[1], "crank_rocker.rocker_limits_deg[1]")?
+            .to_radians(),
+    ];
+    if super::wrap_angle(limits[0] - limits[1]).abs() < 1e-9 {
+        return Err(ctx.at(
+            s.rocker_limits_deg.span(),
+            "crank_rocker.rocker_limits_deg",
+            "the two limit positions coincide",
+        ));
+    }
+    let (by_dir, v) = one_of(
+        ctx,
+        k,
+        ("pivot_direction_deg", s.pivot_direction_deg.as_ref()),
+        ("time_ratio", s.time_ratio.as_ref()),
+    )?;
+    let task = if by_dir {
+        let a = ctx
+            .finite(v, "crank_rocker.pivot_direction_deg")?
+            .to_radians();
+        CrankRockerTask::Pivot(Vec2::new(frame * a.cos(), frame * a.sin()))
+    } else {
+        let kr = ctx.finite(v, "crank_rocker.time_ratio")?;
+        if kr <= 1.0 {
+            return Err(ctx.at(
+                v.span(),
+                "crank_rocker.time_ratio",
+                format!("must exceed 1, got {kr}"),
+            ));
+        }
+        CrankRockerTask::TimeRatio(kr)
+    };
+    Ok(CrankRockerSpec {
+        rocker,
+        limits,
+        frame,
+        task,
+    })
+}
+
+/// The `[slider_crank]` section: stroke, time ratio, and the rod ratio (`Ok`) or the offset (`Err`).
+fn parse_slider_crank(
+    ctx: &Ctx,
+    s: &SliderCrankIn,
+) -> Result<(f64, f64, Result<f64, f64>), ScenarioError> {
+    let h = ctx.positive(&s.stroke, "slider_crank.stroke")?;
+    let k = ctx.finite(&s.time_ratio, "slider_crank.time_ratio")?;
+    if k < 1.0 {
+        return Err(ctx.at(
+            s.time_ratio.span(),
+            "slider_crank.time_ratio",
+            format!("must be at least 1, got {k}"),
+        ));
+    }
+    let (by_ratio, v) = one_of(
+        ctx,
+        "slider_crank",
+        ("rod_ratio", s.rod_ratio.as_ref()),
+        ("offset", s.offset.as_ref()),
+    )?;
+    let which = if by_ratio {
+        Ok(ctx.between(v, "slider_crank.rod_ratio", 0.0, 1.0)?)
+    } else {
+        Err(ctx.positive(v, "slider_crank.offset")?)
+    };
+    Ok((h, k, which))
+}
+
+/// The `[shaper]` section: stroke, frame, the time or velocity ratio (and which), rod.
+fn parse_shaper(
+    ctx: &Ctx,
+    s: &ShaperIn,
+) -> Result<(f64, f64, f64, bool, Option<f64>), ScenarioError> {
+    let h = ctx.positive(&s.stroke, "shaper.stroke")?;
+    let d = ctx.positive(&s.frame, "shaper.frame")?;
+    let (by_time, v) = one_of(
+        ctx,
+        "shaper",
+        ("time_ratio", s.time_ratio.as_ref()),
+        ("velocity_ratio", s.velocity_ratio.as_ref()),
+    )?;
+    let key = if by_time {
+        "shaper.time_ratio"
+    } else {
+        "shaper.velocity_ratio"
+    };
+    let k = ctx.finite(v, key)?;
+    if k <= 1.0 {
+        return Err(ctx.at(v.span(), key, format!("must exceed 1, got {k}")));
+    }
+    let rod = s
+        .rod
+        .as_ref()
+        .map(|r| ctx.positive(r, "shaper.rod"))
+        .transpose()?;
+    Ok((h, d, k, !by_time, rod))
+}
+
 /// Parses and validates `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     let ctx = Ctx::new(file, text);
     let f: File = ctx.parse()?;
-    if f.crank_rocker.is_none()
-        && f.slider_crank.is_none()
-        && f.shaper.is_none()
-        && f.function.is_none()
-    {
-        return Err(ScenarioError::new(
-            file,
-            Some(1),
-            "file",
-            "nothing to synthesise: add [crank_rocker], [slider_crank], [shaper] or [function]",
-        ));
-    }
-    let crank_rocker = match &f.crank_rocker {
-        None => None,
-        Some(s) => {
-            let k = "crank_rocker";
-            let rocker = ctx.positive(&s.rocker, "crank_rocker.rocker")?;
-            let frame = ctx.positive(&s.frame, "crank_rocker.frame")?;
-            let lim = s.rocker_limits_deg.get_ref();
-            let limits = [
-                ctx.finite(&lim[0], "crank_rocker.rocker_limits_deg[0]")?
-                    .to_radians(),
-                ctx.finite(&lim[1], "crank_rocker.rocker_limits_deg[1]")?
-                    .to_radians(),
-            ];
-            if super::wrap_angle(limits[0] - limits[1]).abs() < 1e-9 {
-                return Err(ctx.at(
-                    s.rocker_limits_deg.span(),
-                    "crank_rocker.rocker_limits_deg",
-                    "the two limit positions coincide",
-                ));
-            }
-            let (by_dir, v) = one_of(
-                &ctx,
-                k,
-                ("pivot_direction_deg", s.pivot_direction_deg.as_ref()),
-                ("time_ratio", s.time_ratio.as_ref()),
-            )?;
-            let task = if by_dir {
-                let a = ctx
-                    .finite(v, "crank_rocker.pivot_direction_deg")?
-                    .to_radians();
-                CrankRockerTask::Pivot(Vec2::new(frame * a.cos(), frame * a.sin()))
-            } else {
-                let kr = ctx.finite(v, "crank_rocker.time_ratio")?;
-                if kr <= 1.0 {
-                    return Err(ctx.at(
-                        v.span(),
-                        "crank_rocker.time_ratio",
-                        format!("must exceed 1, got {kr}"),
-                    ));
-                }
-                CrankRockerTask::TimeRatio(kr)
-            };
-            Some(CrankRockerSpec {
-                rocker,
-                limits,
-                frame,
-                task,
-            })
-        }
-    };
-    let slider_crank = match &f.slider_crank {
-        None => None,
-        Some(s) => {
-            let h = ctx.positive(&s.stroke, "slider_crank.stroke")?;
-            let k = ctx.finite(&s.time_ratio, "slider_crank.time_ratio")?;
-            if k < 1.0 {
-                return Err(ctx.at(
-                    s.time_ratio.span(),
-                    "slider_crank.time_ratio",
-                    format!("must be at least 1, got {k}"),
-                ));
-            }
-            let (by_ratio, v) = one_of(
-                &ctx,
-                "slider_crank",
-                ("rod_ratio", s.rod_ratio.as_ref()),
-                ("offset", s.offset.as_ref()),
-            )?;
-            let which = if by_ratio {
-                Ok(ctx.between(v, "slider_crank.rod_ratio", 0.0, 1.0)?)
-            } else {
-                Err(ctx.positive(v, "slider_crank.offset")?)
-            };
-            Some((h, k, which))
-        }
-    };
-    let shaper = match &f.shaper {
-        None => None,
-        Some(s) => {
-            let h = ctx.positive(&s.stroke, "shaper.stroke")?;
-            let d = ctx.positive(&s.frame, "shaper.frame")?;
-            let (by_time, v) = one_of(
-                &ctx,
-                "shaper",
-                ("time_ratio", s.time_ratio.as_ref()),
-                ("velocity_ratio", s.velocity_ratio.as_ref()),
-            )?;
-            let key = if by_time {
-                "shaper.time_ratio"
-            } else {
-                "shaper.velocity_ratio"
-            };
-            let k = ctx.finite(v, key)?;
-            if k <= 1.0 {
-                return Err(ctx.at(v.span(), key, format!("must exceed 1, got {k}")));
-            }
-            let rod = s
-                .rod
-                .as_ref()
-                .map(|r| ctx.positive(r, "shaper.rod"))
-                .transpose()?;
-            Some((h, d, k, !by_time, rod))
-        }
-    };
+    ctx.any_section(
+        &[
+            f.crank_rocker.is_some(),
+            f.slider_crank.is_some(),
+            f.shaper.is_some(),
+            f.function.is_some(),
+        ],
+        "nothing to synthesise: add [crank_rocker], [slider_crank], [shaper] or [function]",
+    )?;
+    let crank_rocker = f
+        .crank_rocker
+        .as_ref()
+        .map(|x| parse_crank_rocker(&ctx, x))
+        .transpose()?;
+    let slider_crank = f
+        .slider_crank
+        .as_ref()
+        .map(|x| parse_slider_crank(&ctx, x))
+        .transpose()?;
+    let shaper = f
+        .shaper
+        .as_ref()
+        .map(|x| parse_shaper(&ctx, x))
+        .transpose()?;
     let function = f
         .function
         .as_ref()
@@ -298,121 +313,8 @@ fn parse_function(ctx: &Ctx, s: &FunctionIn) -> Result<FunctionSpec, ScenarioErr
         }
     };
     match (&s.precision_deg, &s.function) {
-        (Some(p), None) => {
-            let pts = p.get_ref();
-            if pts.len() != 3 {
-                return Err(ctx.at(
-                    p.span(),
-                    "function.precision_deg",
-                    format!(
-                        "needs exactly three [crank, rocker] pairs, got {}",
-                        pts.len()
-                    ),
-                ));
-            }
-            let mut points = [(0.0, 0.0); 3];
-            for (i, pair) in pts.iter().enumerate() {
-                let k = format!("function.precision_deg[{i}]");
-                points[i] = (
-                    ctx.finite(&pair[0], &k)?.to_radians(),
-                    ctx.finite(&pair[1], &k)?.to_radians(),
-                );
-            }
-            Ok(FunctionSpec {
-                frame,
-                points,
-                map: None,
-                precision_x: Vec::new(),
-                samples,
-            })
-        }
-        (None, Some(name)) => {
-            let exp = s
-                .exponent
-                .as_ref()
-                .map(|e| ctx.finite(e, "function.exponent"))
-                .transpose()?;
-            let f = Function::from_name(name.get_ref(), exp).ok_or_else(|| {
-                ctx.at(
-                    name.span(),
-                    "function.function",
-                    format!(
-                        "unknown function '{}' (expected one of {}; `power` needs `exponent`)",
-                        name.get_ref(),
-                        Function::NAMES
-                    ),
-                )
-            })?;
-            fn need<'a>(
-                ctx: &Ctx,
-                v: &'a Option<Spanned<[F; 2]>>,
-                key: &str,
-            ) -> Result<&'a Spanned<[F; 2]>, ScenarioError> {
-                v.as_ref().ok_or_else(|| {
-                    ctx.section("function", format!("missing: `{key}` (with `function`)"))
-                })
-            }
-            let x = pair_deg(ctx, need(ctx, &s.x_range, "x_range")?, "function.x_range")?;
-            let phi = pair_deg(
-                ctx,
-                need(ctx, &s.crank_range_deg, "crank_range_deg")?,
-                "function.crank_range_deg",
-            )?;
-            let psi = pair_deg(
-                ctx,
-                need(ctx, &s.rocker_range_deg, "rocker_range_deg")?,
-                "function.rocker_range_deg",
-            )?;
-            let xr = s.x_range.as_ref().map(|v| v.span()).unwrap_or(0..0);
-            let (y0, y1) = (f.eval(x[0]), f.eval(x[1]));
-            if x[0] == x[1] || !y0.is_finite() || !y1.is_finite() || y0 == y1 {
-                return Err(ctx.at(
-                    xr,
-                    "function.x_range",
-                    format!(
-                        "the function must be finite and differ at the two ends (f = {y0}, {y1})"
-                    ),
-                ));
-            }
-            if phi[0] == phi[1] || psi[0] == psi[1] {
-                return Err(
-                    ctx.section("function", "the crank and rocker ranges must not be empty")
-                );
-            }
-            let map = FunctionMap {
-                f,
-                x,
-                phi: [phi[0].to_radians(), phi[1].to_radians()],
-                psi: [psi[0].to_radians(), psi[1].to_radians()],
-            };
-            let px = match &s.precision_x {
-                Some(p) => {
-                    let a = p.get_ref();
-                    let mut v = Vec::new();
-                    for (i, xi) in a.iter().enumerate() {
-                        v.push(ctx.finite(xi, &format!("function.precision_x[{i}]"))?);
-                    }
-                    v
-                }
-                None => syn::chebyshev_points(x[0], x[1], 3),
-            };
-            for (i, xi) in px.iter().enumerate() {
-                if !f.eval(*xi).is_finite() {
-                    return Err(ctx.section(
-                        "function",
-                        format!("f is not finite at precision point {i} (x = {xi})"),
-                    ));
-                }
-            }
-            let points = [0, 1, 2].map(|i| (map.phi_of(px[i]), map.psi_of(px[i])));
-            Ok(FunctionSpec {
-                frame,
-                points,
-                map: Some(map),
-                precision_x: px,
-                samples,
-            })
-        }
+        (Some(p), None) => function_by_points(ctx, p, frame, samples),
+        (None, Some(name)) => function_by_name(ctx, s, name, frame, samples),
         (Some(p), Some(_)) => Err(ctx.at(
             p.span(),
             "function.precision_deg",
@@ -423,6 +325,132 @@ fn parse_function(ctx: &Ctx, s: &FunctionIn) -> Result<FunctionSpec, ScenarioErr
             "missing: `precision_deg` (three crank/rocker pairs) or `function` with its ranges",
         )),
     }
+}
+
+/// `[function]` given by three precision points `[crank, rocker]` (degrees).
+fn function_by_points(
+    ctx: &Ctx,
+    p: &Spanned<Vec<[F; 2]>>,
+    frame: f64,
+    samples: usize,
+) -> Result<FunctionSpec, ScenarioError> {
+    let pts = p.get_ref();
+    if pts.len() != 3 {
+        return Err(ctx.at(
+            p.span(),
+            "function.precision_deg",
+            format!(
+                "needs exactly three [crank, rocker] pairs, got {}",
+                pts.len()
+            ),
+        ));
+    }
+    let mut points = [(0.0, 0.0); 3];
+    for (i, pair) in pts.iter().enumerate() {
+        let k = format!("function.precision_deg[{i}]");
+        points[i] = (
+            ctx.finite(&pair[0], &k)?.to_radians(),
+            ctx.finite(&pair[1], &k)?.to_radians(),
+        );
+    }
+    Ok(FunctionSpec {
+        frame,
+        points,
+        map: None,
+        precision_x: Vec::new(),
+        samples,
+    })
+}
+
+/// `[function]` given by a named function `y = f(x)` over `x_range`, mapped linearly to
+/// the crank and rocker ranges, with Chebyshev (or the given) precision points.
+fn function_by_name(
+    ctx: &Ctx,
+    s: &FunctionIn,
+    name: &Spanned<String>,
+    frame: f64,
+    samples: usize,
+) -> Result<FunctionSpec, ScenarioError> {
+    let exp = s
+        .exponent
+        .as_ref()
+        .map(|e| ctx.finite(e, "function.exponent"))
+        .transpose()?;
+    let f = Function::from_name(name.get_ref(), exp).ok_or_else(|| {
+        ctx.at(
+            name.span(),
+            "function.function",
+            format!(
+                "unknown function '{}' (expected one of {}; `power` needs `exponent`)",
+                name.get_ref(),
+                Function::NAMES
+            ),
+        )
+    })?;
+    fn need<'a>(
+        ctx: &Ctx,
+        v: &'a Option<Spanned<[F; 2]>>,
+        key: &str,
+    ) -> Result<&'a Spanned<[F; 2]>, ScenarioError> {
+        v.as_ref()
+            .ok_or_else(|| ctx.section("function", format!("missing: `{key}` (with `function`)")))
+    }
+    let x = pair_deg(ctx, need(ctx, &s.x_range, "x_range")?, "function.x_range")?;
+    let phi = pair_deg(
+        ctx,
+        need(ctx, &s.crank_range_deg, "crank_range_deg")?,
+        "function.crank_range_deg",
+    )?;
+    let psi = pair_deg(
+        ctx,
+        need(ctx, &s.rocker_range_deg, "rocker_range_deg")?,
+        "function.rocker_range_deg",
+    )?;
+    let xr = s.x_range.as_ref().map(|v| v.span()).unwrap_or(0..0);
+    let (y0, y1) = (f.eval(x[0]), f.eval(x[1]));
+    if x[0] == x[1] || !y0.is_finite() || !y1.is_finite() || y0 == y1 {
+        return Err(ctx.at(
+            xr,
+            "function.x_range",
+            format!("the function must be finite and differ at the two ends (f = {y0}, {y1})"),
+        ));
+    }
+    if phi[0] == phi[1] || psi[0] == psi[1] {
+        return Err(ctx.section("function", "the crank and rocker ranges must not be empty"));
+    }
+    let map = FunctionMap {
+        f,
+        x,
+        phi: [phi[0].to_radians(), phi[1].to_radians()],
+        psi: [psi[0].to_radians(), psi[1].to_radians()],
+    };
+    let px = match &s.precision_x {
+        Some(p) => {
+            let a = p.get_ref();
+            let mut v = Vec::new();
+            for (i, xi) in a.iter().enumerate() {
+                v.push(ctx.finite(xi, &format!("function.precision_x[{i}]"))?);
+            }
+            v
+        }
+        None => syn::chebyshev_points(x[0], x[1], 3),
+    };
+    for (i, xi) in px.iter().enumerate() {
+        if !f.eval(*xi).is_finite() {
+            return Err(ctx.section(
+                "function",
+                format!("f is not finite at precision point {i} (x = {xi})"),
+            ));
+        }
+    }
+    let points = [0, 1, 2].map(|i| (map.phi_of(px[i]), map.psi_of(px[i])));
+    Ok(FunctionSpec {
+        frame,
+        points,
+        map: Some(map),
+        precision_x: px,
+        samples,
+    })
 }
 
 fn crank_rocker_json(
@@ -669,16 +697,5 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
     if let Some(s) = &sc.function {
         j["function"] = function_json(ctx, s, &mut text, &mut panels)?;
     }
-    if let Some(p) = write_plot(
-        out_dir,
-        &format!("{}_synthesis", sc.name),
-        &sc.name,
-        &panels,
-        1,
-    )
-    .map_err(|m| ScenarioError::new(&ctx.file, None, "plot", m))?
-    {
-        writeln!(text, "plot: {}", p.display()).ok();
-    }
-    Ok(Report { json: j, text })
+    finish_with_plot(ctx, out_dir, (&sc.name, "synthesis"), (&panels, 1), j, text)
 }

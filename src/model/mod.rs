@@ -292,8 +292,16 @@ pub struct Model {
     pub velocity_limit: Vec<f64>,
     /// Effort limit per coordinate.
     pub effort_limit: Vec<f64>,
-    /// Gravity the file asks for (default `(0, 0, -9.81)`).
+    /// Gravity the file asks for (default `(0, 0, -9.81)`); every dynamics function that
+    /// does not take an [`Effects`](crate::dynamics::Effects) reads it, as in Pinocchio.
     pub gravity: Vec3,
+    /// Rotor armature per coordinate (kg m² for a revolute joint, kg for a prismatic one),
+    /// as Pinocchio's `model.armature`: RNEA adds `armature[k] q̈_k` to `τ_k`, CRBA adds it
+    /// to `M_kk`, ABA to the joint's articulated inertia, and the kinetic energy
+    /// `½ armature[k] q̇_k²`. Zero on load: the file's `motor_inertia` and `gear_ratio`
+    /// feed the switchable [`Rotor`](crate::dynamics::Rotor) effect instead, which adds
+    /// on top, so a rotor is never counted twice.
+    pub armature: Vec<f64>,
     /// URDF text of the model, when it came from one.
     pub urdf_text: Option<String>,
     link_index: HashMap<String, usize>,
@@ -630,6 +638,7 @@ impl Builder<'_> {
             velocity_limit: vec![0.0; nv],
             effort_limit: vec![0.0; nv],
             gravity: spec.gravity.unwrap_or(Vec3::new(0.0, 0.0, -9.81)),
+            armature: vec![0.0; nv],
             urdf_text: spec.urdf_text.clone(),
             link_index: HashMap::new(),
             joint_index: HashMap::new(),

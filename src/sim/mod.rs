@@ -799,7 +799,11 @@ impl<'m> Simulator<'m> {
         factor(&mut self.data, q)?;
         // C(qₙ, q̇ₙ) q̇ₙ: RNEA without gravity at zero acceleration.
         self.acc.fill(0.0);
-        dynamics::rnea_impl(model, &mut self.data, q, qd, &self.acc, None, None, payload);
+        let bare = dynamics::Terms {
+            payload,
+            ..Default::default()
+        };
+        dynamics::rnea_impl(model, &mut self.data, q, qd, &self.acc, &bare);
         self.se_c.copy_from_slice(&self.data.tau);
         for i in 0..n {
             self.se_w[i] = qd[i] + h * qdd[i];

@@ -146,9 +146,9 @@ fn agreement(model: &Model, states: usize, seed: u64, trace: bool, energy: bool)
     for s in 0..states.min(STATES) {
         let r = s * nv..(s + 1) * nv;
         let (q, v, a) = (&qs[r.clone()], &vs[r.clone()], &as_[r]);
-        let tau = rnea(model, &mut data, q, v, a, &g, None).to_vec();
-        let qdd_aba = aba(model, &mut data, q, v, &tau, &g, None).to_vec();
-        let qdd_crba = match forward_dynamics_crba(model, &mut data, q, v, &tau, &g) {
+        let tau = rnea(model, &mut data, q, v, a).to_vec();
+        let qdd_aba = aba(model, &mut data, q, v, &tau).to_vec();
+        let qdd_crba = match forward_dynamics_crba(model, &mut data, q, v, &tau) {
             Ok(x) => x.to_vec(),
             Err(_) => vec![f64::NAN; nv],
         };
@@ -170,6 +170,99 @@ fn agreement(model: &Model, states: usize, seed: u64, trace: bool, energy: bool)
     [d_abs, d_rel, rt, tr, en]
 }
 
+/// Median ns per call of RNEA, CRBA + Cholesky, ABA and (when asked) the two Lagrange
+/// forms on `model`, cycling over the same random states (τ from RNEA, so the forward
+/// methods solve for the same answer).
+fn timings(
+    model: &Model,
+    cfg: &FormulationConfig,
+    seed: u64,
+    trace: bool,
+    energy: bool,
+) -> [Option<Stats>; 5] {
+    let nv = model.nv;
+    let g = model.gravity;
+    let mut data = Data::new(model);
+    let qs = random_states(model, seed);
+    let vs = random_unit_states(nv, seed ^ 0x11);
+    let as_ = random_unit_states(nv, seed ^ 0x22);
+    // τ per state, so the forward methods solve for the same answer.
+    let mut taus = vec![0.0; STATES * nv];
+    for s in 0..STATES {
+        let r = s * nv..(s + 1) * nv;
+        let t = rnea(
+            model,
+            &mut data,
+            &qs[r.clone()],
+            &vs[r.clone()],
+            &as_[r.clone()],
+        );
+        taus[r].copy_from_slice(t);
+    }
+    // State `k mod STATES` of the flattened inputs.
+    let slice = |k: usize| (k % STATES) * nv..(k % STATES + 1) * nv;
+    let mut ns: [Option<Stats>; 5] = [None; 5];
+    ns[0] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
+        let r = slice(k);
+        rnea(
+            model,
+            &mut data,
+            black_box(&qs[r.clone()]),
+            &vs[r.clone()],
+            &as_[r],
+        );
+        black_box(&data.tau);
+    }));
+    ns[1] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
+        let r = slice(k);
+        let _ = black_box(forward_dynamics_crba(
+            model,
+            &mut data,
+            black_box(&qs[r.clone()]),
+            &vs[r.clone()],
+            &taus[r],
+        ));
+    }));
+    ns[2] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
+        let r = slice(k);
+        aba(
+            model,
+            &mut data,
+            black_box(&qs[r.clone()]),
+            &vs[r.clone()],
+            &taus[r],
+        );
+        black_box(&data.qdd);
+    }));
+    if trace {
+        ns[3] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
+            let r = slice(k);
+            black_box(lagrange_trace(
+                model,
+                &mut data,
+                black_box(&qs[r.clone()]),
+                &vs[r.clone()],
+                &as_[r],
+                &g,
+            ));
+        }));
+    }
+    if energy {
+        ns[4] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
+            let r = slice(k);
+            black_box(lagrange_energy(
+                model,
+                &mut data,
+                black_box(&qs[r.clone()]),
+                &vs[r.clone()],
+                &as_[r],
+                &g,
+            ));
+        }));
+    }
+    ns
+}
+
 /// Runs the study.
 pub fn run(opts: &Options, cfg: &FormulationConfig) -> Result<FormulationStudy, String> {
     let mut rows = Vec::new();
@@ -178,95 +271,9 @@ pub fn run(opts: &Options, cfg: &FormulationConfig) -> Result<FormulationStudy, 
         let model = Model::build(chain::chain_spec(n))
             .map_err(|e| e.to_string())?
             .0;
-        let nv = model.nv;
-        let g = model.gravity;
-        let mut data = Data::new(&model);
-        let qs = random_states(&model, opts.seed);
-        let vs = random_unit_states(nv, opts.seed ^ 0x11);
-        let as_ = random_unit_states(nv, opts.seed ^ 0x22);
-        // τ per state, so the forward methods solve for the same answer.
-        let mut taus = vec![0.0; STATES * nv];
-        for s in 0..STATES {
-            let r = s * nv..(s + 1) * nv;
-            let t = rnea(
-                &model,
-                &mut data,
-                &qs[r.clone()],
-                &vs[r.clone()],
-                &as_[r.clone()],
-                &g,
-                None,
-            );
-            taus[r].copy_from_slice(t);
-        }
-        // State `k mod STATES` of the flattened inputs.
-        let slice = |k: usize| (k % STATES) * nv..(k % STATES + 1) * nv;
         let trace = n <= cfg.max_dof_trace;
         let energy = n <= cfg.max_dof_energy;
-        let mut ns: [Option<Stats>; 5] = [None; 5];
-        ns[0] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
-            let r = slice(k);
-            rnea(
-                &model,
-                &mut data,
-                black_box(&qs[r.clone()]),
-                &vs[r.clone()],
-                &as_[r],
-                &g,
-                None,
-            );
-            black_box(&data.tau);
-        }));
-        ns[1] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
-            let r = slice(k);
-            let _ = black_box(forward_dynamics_crba(
-                &model,
-                &mut data,
-                black_box(&qs[r.clone()]),
-                &vs[r.clone()],
-                &taus[r],
-                &g,
-            ));
-        }));
-        ns[2] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
-            let r = slice(k);
-            aba(
-                &model,
-                &mut data,
-                black_box(&qs[r.clone()]),
-                &vs[r.clone()],
-                &taus[r],
-                &g,
-                None,
-            );
-            black_box(&data.qdd);
-        }));
-        if trace {
-            ns[3] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
-                let r = slice(k);
-                black_box(lagrange_trace(
-                    &model,
-                    &mut data,
-                    black_box(&qs[r.clone()]),
-                    &vs[r.clone()],
-                    &as_[r],
-                    &g,
-                ));
-            }));
-        }
-        if energy {
-            ns[4] = Some(time_calls(cfg.rounds, cfg.round_ns, |k| {
-                let r = slice(k);
-                black_box(lagrange_energy(
-                    &model,
-                    &mut data,
-                    black_box(&qs[r.clone()]),
-                    &vs[r.clone()],
-                    &as_[r],
-                    &g,
-                ));
-            }));
-        }
+        let ns = timings(&model, cfg, opts.seed, trace, energy);
         let [d_abs, d_rel, rt, tr, en] = agreement(
             &model,
             cfg.agreement_states,

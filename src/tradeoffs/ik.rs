@@ -159,20 +159,18 @@ fn finish(
     }
 }
 
-/// Runs the study on the UR5.
-pub fn run(opts: &Options, cfg: &IkConfig) -> Result<IkStudy, String> {
-    let model = super::bundled_robot("ur5.urdf")?;
-    let link_name = "tool0";
-    let link = model
-        .link_id(link_name)
-        .ok_or("ur5.urdf has no link 'tool0'")?;
-    let targets = random_targets(&model, link, cfg.targets, opts.seed);
-    let budget = Duration::from_secs_f64(cfg.budget_ms * 1e-3);
-    let mut data = Data::new(&model);
-    let mut rows = Vec::new();
-
-    // Numeric damped least squares.
-    let mut solver = IkSolver::new(&model);
+/// The numeric damped-least-squares rows, one per tolerance (median of the repeats per
+/// target).
+fn numeric_rows(
+    model: &Model,
+    link: usize,
+    targets: &[Se3],
+    budget: Duration,
+    opts: &Options,
+    cfg: &IkConfig,
+    rows: &mut Vec<IkRow>,
+) {
+    let mut solver = IkSolver::new(model);
     for &tol in &cfg.tolerances {
         opts.say(format!("ik: {NUMERIC}, tol {tol:.0e}"));
         let (mut times, mut res) = (Vec::new(), Vec::new());
@@ -186,10 +184,10 @@ pub fn run(opts: &Options, cfg: &IkConfig) -> Result<IkStudy, String> {
                 ..Default::default()
             };
             let mut reps = Vec::with_capacity(cfg.numeric_repeats.max(1));
-            let mut r = solver.solve(&model, link, t, None, &o);
+            let mut r = solver.solve(model, link, t, None, &o);
             reps.push(r.time_us);
             for _ in 1..cfg.numeric_repeats.max(1) {
-                r = solver.solve(&model, link, t, None, &o);
+                r = solver.solve(model, link, t, None, &o);
                 reps.push(r.time_us);
             }
             times.push(Stats::of(&reps).median);
@@ -201,9 +199,19 @@ pub fn run(opts: &Options, cfg: &IkConfig) -> Result<IkStudy, String> {
         }
         rows.push(finish(NUMERIC, tol, &times, &res, iters, restarts));
     }
+}
 
-    // QP steps, restarted from random configurations within the budget.
-    let mid = model.neutral();
+/// The QP rows, one per tolerance: QP steps from the middle of the limits, restarted from
+/// random configurations within the budget.
+fn qp_rows(
+    model: &Model,
+    link: usize,
+    targets: &[Se3],
+    (budget, mid): (Duration, &[f64]),
+    opts: &Options,
+    cfg: &IkConfig,
+    rows: &mut Vec<IkRow>,
+) {
     for &tol in &cfg.tolerances {
         opts.say(format!("ik: {QP}, tol {tol:.0e}"));
         let qo = QpIkOptions {
@@ -216,10 +224,10 @@ pub fn run(opts: &Options, cfg: &IkConfig) -> Result<IkStudy, String> {
         for (i, t) in targets.iter().enumerate() {
             let mut rng = SmallRng::seed_from_u64(opts.seed.wrapping_add(i as u64));
             let start = Instant::now();
-            let mut q0 = mid.clone();
+            let mut q0 = mid.to_vec();
             let mut attempt = 0;
             let best = loop {
-                let r = qp_ik(&model, link, t, &q0, &qo);
+                let r = qp_ik(model, link, t, &q0, &qo);
                 iters += r.iterations;
                 if r.status == IkStatus::Converged || start.elapsed() >= budget {
                     break r;
@@ -235,48 +243,75 @@ pub fn run(opts: &Options, cfg: &IkConfig) -> Result<IkStudy, String> {
         }
         rows.push(finish(QP, tol, &times, &res, iters, restarts));
     }
+}
 
-    // Analytic: timed once, judged against every tolerance.
+/// The analytic rows: each target solved (timed) once, the solution nearest the middle of
+/// the limits judged against every tolerance.
+fn analytic_rows(
+    model: &Model,
+    link: usize,
+    targets: &[Se3],
+    solver: &AnalyticSolver,
+    (mid, opts): (&[f64], &Options),
+    cfg: &IkConfig,
+    rows: &mut Vec<IkRow>,
+) {
+    let mut data = Data::new(model);
+    opts.say(format!("ik: {ANALYTIC}"));
+    let aopts = AnalyticOptions::default();
+    let mut times = Vec::new();
+    let mut errors = Vec::new(); // None: no solution
+    let mut reps = vec![0.0; cfg.analytic_repeats.max(1)];
+    for t in targets {
+        let mut sols = None;
+        for r in reps.iter_mut() {
+            let t0 = Instant::now();
+            let s = solver.solve(t, &aopts);
+            *r = t0.elapsed().as_secs_f64() * 1e6;
+            sols = Some(s);
+        }
+        times.push(Stats::of(&reps).median);
+        let err = match sols {
+            Some(Ok(s)) if !s.is_empty() => {
+                let dist =
+                    |q: &[f64]| -> f64 { q.iter().zip(mid).map(|(a, b)| (a - b).powi(2)).sum() };
+                let best = s
+                    .iter()
+                    .min_by(|a, b| dist(&a.q).total_cmp(&dist(&b.q)))
+                    .expect("non-empty");
+                Some(pose_errors(model, &mut data, link, &best.q, t))
+            }
+            _ => None,
+        };
+        errors.push(err);
+    }
+    for &tol in &cfg.tolerances {
+        let res: Vec<f64> = errors
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|e| *e <= tol)
+            .collect();
+        rows.push(finish(ANALYTIC, tol, &times, &res, 0, 0));
+    }
+}
+
+/// Runs the study on the UR5.
+pub fn run(opts: &Options, cfg: &IkConfig) -> Result<IkStudy, String> {
+    let model = super::bundled_robot("ur5.urdf")?;
+    let link_name = "tool0";
+    let link = model
+        .link_id(link_name)
+        .ok_or("ur5.urdf has no link 'tool0'")?;
+    let targets = random_targets(&model, link, cfg.targets, opts.seed);
+    let budget = Duration::from_secs_f64(cfg.budget_ms * 1e-3);
+    let mut rows = Vec::new();
+    numeric_rows(&model, link, &targets, budget, opts, cfg, &mut rows);
+    let mid = model.neutral();
+    qp_rows(&model, link, &targets, (budget, &mid), opts, cfg, &mut rows);
     let analytic = AnalyticSolver::new(&model, link).ok();
     if let Some(solver) = &analytic {
-        opts.say(format!("ik: {ANALYTIC}"));
-        let aopts = AnalyticOptions::default();
-        let mut times = Vec::new();
-        let mut errors = Vec::new(); // None: no solution
-        let mut reps = vec![0.0; cfg.analytic_repeats.max(1)];
-        for t in &targets {
-            let mut sols = None;
-            for r in reps.iter_mut() {
-                let t0 = Instant::now();
-                let s = solver.solve(t, &aopts);
-                *r = t0.elapsed().as_secs_f64() * 1e6;
-                sols = Some(s);
-            }
-            times.push(Stats::of(&reps).median);
-            let err = match sols {
-                Some(Ok(s)) if !s.is_empty() => {
-                    let dist = |q: &[f64]| -> f64 {
-                        q.iter().zip(&mid).map(|(a, b)| (a - b).powi(2)).sum()
-                    };
-                    let best = s
-                        .iter()
-                        .min_by(|a, b| dist(&a.q).total_cmp(&dist(&b.q)))
-                        .expect("non-empty");
-                    Some(pose_errors(&model, &mut data, link, &best.q, t))
-                }
-                _ => None,
-            };
-            errors.push(err);
-        }
-        for &tol in &cfg.tolerances {
-            let res: Vec<f64> = errors
-                .iter()
-                .flatten()
-                .copied()
-                .filter(|e| *e <= tol)
-                .collect();
-            rows.push(finish(ANALYTIC, tol, &times, &res, 0, 0));
-        }
+        analytic_rows(&model, link, &targets, solver, (&mid, opts), cfg, &mut rows);
     }
     Ok(IkStudy {
         robot: model.name.clone(),

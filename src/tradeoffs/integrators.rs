@@ -222,15 +222,10 @@ fn fastest_mode(model: &Model, q: &[f64], k: f64, b: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Runs the study on the iiwa 14.
-pub fn run(opts: &Options, cfg: &IntegratorConfig) -> Result<IntegratorStudy, String> {
-    let model = super::bundled_robot("iiwa14.urdf")?;
+/// The two cases: rigid joints with gravity, and undamped joint springs (with the
+/// fastest spring mode at `q0`).
+fn cases(model: &Model, q0: &[f64], cfg: &IntegratorConfig) -> Vec<(IntegratorCase, Effects)> {
     let n = model.nv;
-    let q0: Vec<f64> = [0.3, 0.6, -0.4, -1.2, 0.5, 0.8, 0.2]
-        .iter()
-        .copied()
-        .take(n)
-        .collect();
     let gravity = Effects::gravity(model.gravity);
     let elastic = Effects {
         elasticity: Some(Elasticity {
@@ -240,8 +235,8 @@ pub fn run(opts: &Options, cfg: &IntegratorConfig) -> Result<IntegratorStudy, St
         }),
         ..gravity.clone()
     };
-    let w = fastest_mode(&model, &q0, cfg.stiffness, cfg.motor_inertia);
-    let cases = vec![
+    let w = fastest_mode(model, q0, cfg.stiffness, cfg.motor_inertia);
+    vec![
         (
             IntegratorCase {
                 name: "rigid".into(),
@@ -261,7 +256,19 @@ pub fn run(opts: &Options, cfg: &IntegratorConfig) -> Result<IntegratorStudy, St
             },
             elastic,
         ),
-    ];
+    ]
+}
+
+/// Runs the study on the iiwa 14.
+pub fn run(opts: &Options, cfg: &IntegratorConfig) -> Result<IntegratorStudy, String> {
+    let model = super::bundled_robot("iiwa14.urdf")?;
+    let n = model.nv;
+    let q0: Vec<f64> = [0.3, 0.6, -0.4, -1.2, 0.5, 0.8, 0.2]
+        .iter()
+        .copied()
+        .take(n)
+        .collect();
+    let cases = cases(&model, &q0, cfg);
     let reference = Wave {
         q0: q0.clone(),
         amplitude: vec![0.3; n],

@@ -79,7 +79,23 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, String> {
 /// Every plot of the report as `(file name, PNG bytes)`.
 pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
     let mut out = Vec::new();
-    // 1. IK.
+    ik_plots(r, &mut out)?;
+    integrator_plots(r, &mut out)?;
+    formulation_plots(r, &mut out)?;
+    workspace_plots(r, &mut out)?;
+    effects_plots(r, &mut out)?;
+    out.push((
+        "rotor_error.png".to_string(),
+        super::rotor_report::png(&r.rotor)?,
+    ));
+    Ok(out)
+}
+
+/// Plots as `(file name, PNG bytes)`.
+type Plots = Vec<(String, Vec<u8>)>;
+
+/// The IK plots: solve time (median and p99) and success rate against tolerance.
+fn ik_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
     let methods = [NUMERIC, QP, ANALYTIC];
     let ik_series = |f: &dyn Fn(&super::ik::IkRow) -> f64| -> Vec<Series> {
         methods
@@ -159,63 +175,77 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
             (900, 480),
         )?,
     ));
+    Ok(())
+}
 
-    // 2. Integrators: energy error and tracking error vs dt, diverged runs flagged.
+/// One integrator panel of `case`: energy (or tracking) error against the step per method,
+/// diverged runs as crosses.
+fn integrator_panel(
+    st: &super::integrators::IntegratorStudy,
+    case: &super::integrators::IntegratorCase,
+    tracking: bool,
+) -> Panel {
+    let mut series = Vec::new();
+    let mut flags = Vec::new();
+    for (i, m) in METHODS.iter().enumerate() {
+        let cells = st.series(&case.name, m.as_str());
+        let pick = |c: &super::integrators::IntegratorCell| -> Outcome {
+            if tracking {
+                c.tracking.clone()
+            } else {
+                c.energy.clone()
+            }
+        };
+        series.push(Series {
+            label: m.as_str().into(),
+            points: cells
+                .iter()
+                .filter_map(|c| pick(c).value().map(|v| (c.dt, v)))
+                .collect(),
+            color: PALETTE[i],
+            dashed: false,
+        });
+        flags.extend(cells.iter().filter(|c| pick(c).diverged()).map(|c| Flag {
+            x: c.dt,
+            color: PALETTE[i],
+            lane: i,
+        }));
+    }
+    Panel {
+        title: format!("{} arm", case.name),
+        x_desc: "step dt (s)".into(),
+        y_desc: if tracking {
+            "max tracking error (rad)".into()
+        } else {
+            "max relative energy error".into()
+        },
+        log_x: true,
+        log_y: true,
+        series,
+        flags,
+        flag_label: "diverged".into(),
+        y_range: None,
+        // Errors grow with the step: the lower right is free for energy errors, the
+        // upper left for tracking errors (whose elastic floor fills the bottom).
+        legend: if tracking {
+            Legend::UpperLeft
+        } else {
+            Legend::LowerRight
+        },
+        headroom: 0.0,
+        layered: true,
+        equal_aspect: false,
+    }
+}
+
+/// The integrator plots: energy and tracking error against the step (diverged runs flagged), and tracking error against wall time.
+fn integrator_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
     let st = &r.integrators;
-    let integ_panel = |case: &super::integrators::IntegratorCase, tracking: bool| -> Panel {
-        let mut series = Vec::new();
-        let mut flags = Vec::new();
-        for (i, m) in METHODS.iter().enumerate() {
-            let cells = st.series(&case.name, m.as_str());
-            let pick = |c: &super::integrators::IntegratorCell| -> Outcome {
-                if tracking {
-                    c.tracking.clone()
-                } else {
-                    c.energy.clone()
-                }
-            };
-            series.push(Series {
-                label: m.as_str().into(),
-                points: cells
-                    .iter()
-                    .filter_map(|c| pick(c).value().map(|v| (c.dt, v)))
-                    .collect(),
-                color: PALETTE[i],
-                dashed: false,
-            });
-            flags.extend(cells.iter().filter(|c| pick(c).diverged()).map(|c| Flag {
-                x: c.dt,
-                color: PALETTE[i],
-                lane: i,
-            }));
-        }
-        Panel {
-            title: format!("{} arm", case.name),
-            x_desc: "step dt (s)".into(),
-            y_desc: if tracking {
-                "max tracking error (rad)".into()
-            } else {
-                "max relative energy error".into()
-            },
-            log_x: true,
-            log_y: true,
-            series,
-            flags,
-            flag_label: "diverged".into(),
-            y_range: None,
-            // Errors grow with the step: the lower right is free for energy errors, the
-            // upper left for tracking errors (whose elastic floor fills the bottom).
-            legend: if tracking {
-                Legend::UpperLeft
-            } else {
-                Legend::LowerRight
-            },
-            headroom: 0.0,
-            layered: true,
-            equal_aspect: false,
-        }
-    };
-    let energy_panels: Vec<Panel> = st.cases.iter().map(|c| integ_panel(c, false)).collect();
+    let energy_panels: Vec<Panel> = st
+        .cases
+        .iter()
+        .map(|c| integrator_panel(st, c, false))
+        .collect();
     out.push((
         "integrators_energy.png".to_string(),
         render_panels(
@@ -228,7 +258,11 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
             (700, 520),
         )?,
     ));
-    let tracking_panels: Vec<Panel> = st.cases.iter().map(|c| integ_panel(c, true)).collect();
+    let tracking_panels: Vec<Panel> = st
+        .cases
+        .iter()
+        .map(|c| integrator_panel(st, c, true))
+        .collect();
     out.push((
         "integrators_tracking.png".to_string(),
         render_panels(
@@ -281,8 +315,11 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
             (700, 520),
         )?,
     ));
+    Ok(())
+}
 
-    // 3. Formulations.
+/// The dynamics-formulation plot: time per call against DOF.
+fn formulation_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
     let fs = &r.formulations;
     out.push((
         "dynamics_time.png".to_string(),
@@ -310,8 +347,11 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
             (900, 600),
         )?,
     ));
+    Ok(())
+}
 
-    // 4. Workspace.
+/// The workspace plots: error against samples (random and Sobol') and the estimator's convergence.
+fn workspace_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
     let ws = &r.workspace;
     let ws_panels: Vec<Panel> = ws
         .cases
@@ -374,8 +414,11 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
         "workspace_convergence.png".to_string(),
         workspace_convergence_png(&ws.convergence)?,
     ));
+    Ok(())
+}
 
-    // 5. Effects.
+/// The effects plot: cost of each effect relative to the bare rigid model.
+fn effects_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
     let ef = &r.effects;
     let cats: Vec<String> = ef.rows.iter().map(|r| r.name.clone()).collect();
     out.push((
@@ -404,11 +447,7 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
             (1000, 520),
         )?,
     ));
-    out.push((
-        "rotor_error.png".to_string(),
-        super::rotor_report::png(&r.rotor)?,
-    ));
-    Ok(out)
+    Ok(())
 }
 
 /// The Markdown report.

@@ -143,6 +143,62 @@ pub fn check_torques(
     check_torques_switched(model, traj, effects, effects, (f64::NAN, f64::NAN), opts)
 }
 
+/// The effort and velocity limits (the options', else the model's), checked positive.
+fn limits(model: &Model, opts: &CheckOptions) -> Result<(Vec<f64>, Vec<f64>), TrajectoryError> {
+    let n = model.nv;
+    let effort = opts
+        .effort_limit
+        .clone()
+        .unwrap_or_else(|| model.effort_limit.clone());
+    let velocity = opts
+        .velocity_limit
+        .clone()
+        .unwrap_or_else(|| model.velocity_limit.clone());
+    for (what, v) in [("effort", &effort), ("velocity", &velocity)] {
+        if v.len() != n || v.iter().any(|x| x.is_nan() || *x <= 0.0) {
+            return Err(TrajectoryError::Invalid(format!(
+                "torque check: {what} limits must be {n} positive values"
+            )));
+        }
+    }
+    Ok((effort, velocity))
+}
+
+/// One joint's row from its accumulated samples.
+fn joint_check(
+    name: &str,
+    a: &Acc,
+    (effort, velocity): (f64, f64),
+    duration: f64,
+    step: f64,
+) -> JointCheck {
+    let rms = if duration > 0.0 {
+        (a.sq * step / duration).sqrt()
+    } else {
+        a.prev_tau.abs()
+    };
+    let first = match (a.first_torque, a.first_speed) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, y) => x.or(y),
+    };
+    JointCheck {
+        joint: name.to_string(),
+        peak_torque: a.peak,
+        rms_torque: rms,
+        peak_speed: a.speed,
+        peak_power: a.power,
+        limit: effort,
+        velocity_limit: velocity,
+        margin: 100.0 * (1.0 - a.peak / effort),
+        ok: first.is_none(),
+        first_violation_s: first,
+        velocity_margin: 100.0 * (1.0 - a.speed / velocity),
+        first_torque_violation_s: a.first_torque,
+        first_speed_violation_s: a.first_speed,
+        peak_torque_time_s: a.peak_t,
+    }
+}
+
 /// [`check_torques`] with `inside` at the samples with `window.0 ≤ t ≤ window.1` and
 /// `outside` elsewhere (a part grasped between two instants).
 pub fn check_torques_switched(
@@ -169,21 +225,7 @@ pub fn check_torques_switched(
         )));
     }
     effects.validate(model).map_err(TrajectoryError::Invalid)?;
-    let effort = opts
-        .effort_limit
-        .clone()
-        .unwrap_or_else(|| model.effort_limit.clone());
-    let velocity = opts
-        .velocity_limit
-        .clone()
-        .unwrap_or_else(|| model.velocity_limit.clone());
-    for (what, v) in [("effort", &effort), ("velocity", &velocity)] {
-        if v.len() != n || v.iter().any(|x| x.is_nan() || *x <= 0.0) {
-            return Err(TrajectoryError::Invalid(format!(
-                "torque check: {what} limits must be {n} positive values"
-            )));
-        }
-    }
+    let (effort, velocity) = limits(model, opts)?;
     let duration = traj.duration();
     let (intervals, step) = time_grid(duration, opts.dt);
     let ns = intervals + 1;
@@ -246,33 +288,7 @@ pub fn check_torques_switched(
     let joints: Vec<JointCheck> = acc
         .iter()
         .enumerate()
-        .map(|(j, a)| {
-            let rms = if duration > 0.0 {
-                (a.sq * step / duration).sqrt()
-            } else {
-                a.prev_tau.abs()
-            };
-            let first = match (a.first_torque, a.first_speed) {
-                (Some(x), Some(y)) => Some(x.min(y)),
-                (x, y) => x.or(y),
-            };
-            JointCheck {
-                joint: names[j].clone(),
-                peak_torque: a.peak,
-                rms_torque: rms,
-                peak_speed: a.speed,
-                peak_power: a.power,
-                limit: effort[j],
-                velocity_limit: velocity[j],
-                margin: 100.0 * (1.0 - a.peak / effort[j]),
-                ok: first.is_none(),
-                first_violation_s: first,
-                velocity_margin: 100.0 * (1.0 - a.speed / velocity[j]),
-                first_torque_violation_s: a.first_torque,
-                first_speed_violation_s: a.first_speed,
-                peak_torque_time_s: a.peak_t,
-            }
-        })
+        .map(|(j, a)| joint_check(&names[j], a, (effort[j], velocity[j]), duration, step))
         .collect();
     Ok(TorqueReport {
         ok: joints.iter().all(|r| r.ok),

@@ -10,7 +10,6 @@ use armsim::data::Data;
 use armsim::dynamics::gravity_torque;
 use armsim::kinematics::{forward_kinematics, update_frames};
 use armsim::model::{Model, ModelError};
-use armsim::spatial::Vec3;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -108,7 +107,7 @@ fn model(text: &str, file: &str) {
                 let q = q_inside(&m);
                 forward_kinematics(&m, &mut data, &q);
                 update_frames(&m, &mut data);
-                gravity_torque(&m, &mut data, &q, &Vec3::new(0.0, 0.0, -9.81));
+                gravity_torque(&m, &mut data, &q);
             }
             Err(e) => check_model_error(file, &e),
         }

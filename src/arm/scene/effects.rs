@@ -3,7 +3,7 @@
 //! joint elasticity, payload), checked per joint against the model.
 
 use super::model::link_by_name;
-use super::{get_f, per_joint, positive_all, Sections, EFFECT_NAMES};
+use super::{get_f, per_joint_checked, Sections, EFFECT_NAMES};
 use crate::arm::schema::*;
 use crate::diag::LocatedError as ScenarioError;
 use crate::dynamics::{Effects, Elasticity, Friction, Payload, Rotor};
@@ -141,29 +141,14 @@ fn gravity_and_friction(
         let mut f = Friction::from_model(model);
         if let Some(sec) = &file.friction {
             let s = sec.get_ref();
-            for (v, key, dst) in [
-                (&s.viscous, "friction.viscous", &mut f.viscous),
-                (&s.coulomb, "friction.coulomb", &mut f.coulomb),
-                (&s.stiction, "friction.stiction", &mut f.stiction),
-                (
-                    &s.stribeck_velocity,
-                    "friction.stribeck_velocity",
-                    &mut f.stribeck_velocity,
-                ),
-            ] {
-                if let Some(v) = v {
-                    let vals = per_joint(cx, v, key, names, dst)?;
-                    positive_all(
-                        cx,
-                        v,
-                        key,
-                        names,
-                        &vals,
-                        key != "friction.stribeck_velocity",
-                    )?;
-                    *dst = vals;
-                }
-            }
+            let read = |v: &Option<PerJoint>, key: &str, cur: &[f64], zero_ok: bool| {
+                per_joint_checked(cx, v.as_ref(), key, names, cur, zero_ok)
+            };
+            f.viscous = read(&s.viscous, "friction.viscous", &f.viscous, true)?;
+            f.coulomb = read(&s.coulomb, "friction.coulomb", &f.coulomb, true)?;
+            f.stiction = read(&s.stiction, "friction.stiction", &f.stiction, true)?;
+            let key = "friction.stribeck_velocity";
+            f.stribeck_velocity = read(&s.stribeck_velocity, key, &f.stribeck_velocity, false)?;
             // Stiction defaults to the Coulomb level when only that is given.
             if s.coulomb.is_some() && s.stiction.is_none() {
                 f.stiction = f.coulomb.clone();
@@ -203,34 +188,24 @@ fn rotor_inertia(
         let mut r = Rotor::from_model(model, 1.0);
         if let Some(sec) = &file.rotor_inertia {
             let s = sec.get_ref();
-            for (v, key, dst, zero_ok) in [
-                (&s.inertia, "rotor_inertia.inertia", &mut r.inertia, true),
-                (
-                    &s.gear_ratio,
-                    "rotor_inertia.gear_ratio",
-                    &mut r.gear_ratio,
-                    false,
-                ),
-                (
-                    &s.efficiency,
-                    "rotor_inertia.efficiency",
-                    &mut r.efficiency,
-                    false,
-                ),
-            ] {
-                if let Some(v) = v {
-                    let vals = per_joint(cx, v, key, names, dst)?;
-                    positive_all(cx, v, key, names, &vals, zero_ok)?;
-                    if key.ends_with("efficiency") {
-                        if let Some(k) = vals.iter().position(|e| *e > 1.0) {
-                            return Err(cx.at(
-                                v.span(),
-                                key,
-                                format!("joint {}: efficiency {} is above 1", names[k], vals[k]),
-                            ));
-                        }
-                    }
-                    *dst = vals;
+            let key = "rotor_inertia.inertia";
+            r.inertia = per_joint_checked(cx, s.inertia.as_ref(), key, names, &r.inertia, true)?;
+            let key = "rotor_inertia.gear_ratio";
+            r.gear_ratio =
+                per_joint_checked(cx, s.gear_ratio.as_ref(), key, names, &r.gear_ratio, false)?;
+            let key = "rotor_inertia.efficiency";
+            r.efficiency =
+                per_joint_checked(cx, s.efficiency.as_ref(), key, names, &r.efficiency, false)?;
+            if let Some(v) = &s.efficiency {
+                if let Some(k) = r.efficiency.iter().position(|e| *e > 1.0) {
+                    return Err(cx.at(
+                        v.span(),
+                        key,
+                        format!(
+                            "joint {}: efficiency {} is above 1",
+                            names[k], r.efficiency[k]
+                        ),
+                    ));
                 }
             }
             if let Some(g) = &s.gear_train {
@@ -269,29 +244,10 @@ fn joint_elasticity(
         let sec = file.joint_elasticity.as_ref().expect("checked above");
         let s = sec.get_ref();
         let zeros = vec![0.0; n];
-        let stiffness = per_joint(
-            cx,
-            &s.stiffness,
-            "joint_elasticity.stiffness",
-            names,
-            &zeros,
-        )?;
-        positive_all(
-            cx,
-            &s.stiffness,
-            "joint_elasticity.stiffness",
-            names,
-            &stiffness,
-            false,
-        )?;
-        let damping = match &s.damping {
-            Some(v) => {
-                let d = per_joint(cx, v, "joint_elasticity.damping", names, &zeros)?;
-                positive_all(cx, v, "joint_elasticity.damping", names, &d, true)?;
-                d
-            }
-            None => zeros.clone(),
-        };
+        let key = "joint_elasticity.stiffness";
+        let stiffness = per_joint_checked(cx, Some(&s.stiffness), key, names, &zeros, false)?;
+        let key = "joint_elasticity.damping";
+        let damping = per_joint_checked(cx, s.damping.as_ref(), key, names, &zeros, true)?;
         let from_rotor: Vec<f64> = match &effects.rotor {
             Some(r) => (0..n).map(|k| r.armature(k)).collect(),
             None => (0..n)
@@ -301,11 +257,10 @@ fn joint_elasticity(
                 })
                 .collect(),
         };
+        let key = "joint_elasticity.motor_inertia";
         let motor_inertia = match &s.motor_inertia {
-            Some(v) => {
-                let b = per_joint(cx, v, "joint_elasticity.motor_inertia", names, &from_rotor)?;
-                positive_all(cx, v, "joint_elasticity.motor_inertia", names, &b, false)?;
-                b
+            Some(_) => {
+                per_joint_checked(cx, s.motor_inertia.as_ref(), key, names, &from_rotor, false)?
             }
             None => {
                 if let Some(k) = from_rotor.iter().position(|b| *b <= 0.0) {

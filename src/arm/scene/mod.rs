@@ -320,6 +320,24 @@ fn closest<'a>(name: &str, names: &'a [String]) -> Option<&'a str> {
         .map(|(_, n)| n.as_str())
 }
 
+/// `v` read per joint ([`per_joint`], `default` where absent) and checked `> 0` (`≥ 0`
+/// with `allow_zero`); `default` itself when `v` is absent.
+fn per_joint_checked(
+    cx: &Ctx,
+    v: Option<&PerJoint>,
+    key: &str,
+    names: &[String],
+    default: &[f64],
+    allow_zero: bool,
+) -> Result<Vec<f64>, ScenarioError> {
+    let Some(v) = v else {
+        return Ok(default.to_vec());
+    };
+    let vals = per_joint(cx, v, key, names, default)?;
+    positive_all(cx, v, key, names, &vals, allow_zero)?;
+    Ok(vals)
+}
+
 fn positive_all(
     cx: &Ctx,
     v: &PerJoint,

@@ -126,6 +126,77 @@ fn compute(file: &str, text: &str) -> Result<Report, ScenarioError> {
     })
 }
 
+/// A required number checked against its range: `need(key, value, lo, hi)`.
+type Need<'a> = dyn Fn(&str, Option<f64>, f64, f64) -> Result<f64, ScenarioError> + 'a;
+
+/// A screw element: thread (and collar) torque, efficiencies and self-locking for a load,
+/// or the load a handle force lifts.
+fn screw(
+    e: &Element,
+    label: &str,
+    need: &Need,
+    err: &dyn Fn(&str, String) -> ScenarioError,
+) -> Result<Value, ScenarioError> {
+    let p = need("pitch", e.pitch, 1e-9, 1e3)?;
+    let [d_out, d_in] = e.diameters.ok_or_else(|| {
+        err(
+            "diameters",
+            "missing: [outer, root] thread diameters (m)".into(),
+        )
+    })?;
+    if !(in_range(d_in, 1e-9, 1e3) && d_out > d_in) {
+        return Err(err(
+            "diameters",
+            format!("expected [outer, root] with outer > root > 0, got [{d_out}, {d_in}]"),
+        ));
+    }
+    let dm = (d_out + d_in) / 2.0;
+    let fr = need("friction", e.friction, 0.0, 2.0)?;
+    let half = e
+        .thread_angle_deg
+        .map_or(Ok(0.0), |a| need("thread_angle_deg", Some(a), 0.0, 120.0))?
+        .to_radians()
+        / 2.0;
+    if let (Some(force), None) = (e.handle_force, e.load) {
+        let l = need("handle_length", e.handle_length, 1e-9, 1e3)?;
+        let force = need("handle_force", Some(force), 1e-9, 1e12)?;
+        let q = el::screw_load(force * l, p, dm, fr, half);
+        let sc = el::screw(q, p, dm, fr, half, 0.0);
+        Ok(
+            json!({"label": label, "type": "screw", "load_N": q, "lead_angle_deg": sc.lead_angle.to_degrees(),
+            "friction_angle_deg": sc.friction_angle.to_degrees(), "torque_Nm": sc.torque, "efficiency": sc.efficiency,
+            "reverse_efficiency": sc.reverse_efficiency, "self_locking": sc.self_locking}),
+        )
+    } else {
+        let q = need("load", e.load, 0.0, 1e12)?;
+        let collar = match (e.collar_friction, e.collar_diameters) {
+            (Some(f1), Some([a, b])) if a > b && b >= 0.0 => el::collar_torque(
+                need("collar_friction", Some(f1), 0.0, 2.0)?,
+                q,
+                a / 2.0,
+                b / 2.0,
+                !e.new,
+            ),
+            (None, None) => 0.0,
+            _ => {
+                return Err(err(
+                    "collar_diameters",
+                    "give collar_friction and collar_diameters = [outer, inner] together".into(),
+                ))
+            }
+        };
+        let sc = el::screw(q, p, dm, fr, half, collar);
+        let mut v = json!({"label": label, "type": "screw", "load_N": q, "lead_angle_deg": sc.lead_angle.to_degrees(),
+            "friction_angle_deg": sc.friction_angle.to_degrees(), "thread_torque_Nm": sc.thread_torque,
+            "collar_torque_Nm": collar, "torque_Nm": sc.torque, "efficiency": sc.efficiency,
+            "reverse_efficiency": sc.reverse_efficiency, "self_locking": sc.self_locking});
+        if let Some(fh) = e.handle_force {
+            v["handle_length_m"] = json!(sc.torque / need("handle_force", Some(fh), 1e-9, 1e12)?);
+        }
+        Ok(v)
+    }
+}
+
 /// One element: its JSON and its friction torque (N m, 0 when it has none).
 fn element(cx: &Ctx, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), ScenarioError> {
     let e = s.get_ref();
@@ -142,41 +213,7 @@ fn element(cx: &Ctx, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), Sce
         .clone()
         .unwrap_or_else(|| format!("{} {}", e.kind, i + 1));
     let (v, torque) = match e.kind.as_str() {
-        "screw" => {
-            let p = need("pitch", e.pitch, 1e-9, 1e3)?;
-            let [d_out, d_in] = e.diameters.ok_or_else(|| err("diameters", "missing: [outer, root] thread diameters (m)".into()))?;
-            if !(in_range(d_in, 1e-9, 1e3) && d_out > d_in) {
-                return Err(err("diameters", format!("expected [outer, root] with outer > root > 0, got [{d_out}, {d_in}]")));
-            }
-            let dm = (d_out + d_in) / 2.0;
-            let fr = need("friction", e.friction, 0.0, 2.0)?;
-            let half = e.thread_angle_deg.map_or(Ok(0.0), |a| need("thread_angle_deg", Some(a), 0.0, 120.0))?.to_radians() / 2.0;
-            if let (Some(force), None) = (e.handle_force, e.load) {
-                let l = need("handle_length", e.handle_length, 1e-9, 1e3)?;
-                let force = need("handle_force", Some(force), 1e-9, 1e12)?;
-                let q = el::screw_load(force * l, p, dm, fr, half);
-                let sc = el::screw(q, p, dm, fr, half, 0.0);
-                (json!({"label": label, "type": "screw", "load_N": q, "lead_angle_deg": sc.lead_angle.to_degrees(),
-                    "friction_angle_deg": sc.friction_angle.to_degrees(), "torque_Nm": sc.torque, "efficiency": sc.efficiency,
-                    "reverse_efficiency": sc.reverse_efficiency, "self_locking": sc.self_locking}), 0.0)
-            } else {
-                let q = need("load", e.load, 0.0, 1e12)?;
-                let collar = match (e.collar_friction, e.collar_diameters) {
-                    (Some(f1), Some([a, b])) if a > b && b >= 0.0 => el::collar_torque(need("collar_friction", Some(f1), 0.0, 2.0)?, q, a / 2.0, b / 2.0, !e.new),
-                    (None, None) => 0.0,
-                    _ => return Err(err("collar_diameters", "give collar_friction and collar_diameters = [outer, inner] together".into())),
-                };
-                let sc = el::screw(q, p, dm, fr, half, collar);
-                let mut v = json!({"label": label, "type": "screw", "load_N": q, "lead_angle_deg": sc.lead_angle.to_degrees(),
-                    "friction_angle_deg": sc.friction_angle.to_degrees(), "thread_torque_Nm": sc.thread_torque,
-                    "collar_torque_Nm": collar, "torque_Nm": sc.torque, "efficiency": sc.efficiency,
-                    "reverse_efficiency": sc.reverse_efficiency, "self_locking": sc.self_locking});
-                if let Some(fh) = e.handle_force {
-                    v["handle_length_m"] = json!(sc.torque / need("handle_force", Some(fh), 1e-9, 1e12)?);
-                }
-                (v, 0.0)
-            }
-        }
+        "screw" => (screw(e, &label, &need, &err)?, 0.0),
         "slide" => {
             let q = need("load", e.load, 0.0, 1e12)?;
             let fr = need("friction", e.friction, 0.0, 2.0)?;
@@ -239,7 +276,6 @@ fn element(cx: &Ctx, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), Sce
     Ok((v, torque))
 }
 
-type Need<'a> = dyn Fn(&str, Option<f64>, f64, f64) -> Result<f64, ScenarioError> + 'a;
 type Err<'a> = dyn Fn(&str, String) -> ScenarioError + 'a;
 
 /// `e^{fα}`: `euler_factor`, or `friction` and `wrap_deg`.

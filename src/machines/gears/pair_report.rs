@@ -3,9 +3,10 @@
 //! pointed teeth, interference), or the crossed/worm/bevel quantities, and one tooth
 //! profile per gear (involute flanks). JSON keys are listed in `docs/machines.md`.
 
+use super::design::Design;
 use super::involute::flank_points;
 use super::pair::{pair, withdrawal_for, GearGeometry, PairGeometry, PairKind, PairSpec};
-use super::spatial::{bevel, crossed, worm};
+use super::spatial::{bevel, crossed, worm, Worm};
 use crate::report::Report;
 use serde_json::{json, Value};
 use std::fmt::Write;
@@ -233,6 +234,61 @@ fn planar_json(c: &PairCase, spec: &PairSpec, g: &PairGeometry, text: &mut Strin
     v
 }
 
+/// A worm pair's text line and JSON.
+fn worm_json(c: &PairCase, w: &Worm, text: &mut String) -> Value {
+    let _ = writeln!(
+        text,
+        "\n[{}] worm: λ = {:.4}°, d = {:.3}/{:.3} mm, A = {:.3}, i = {}{}{}",
+        c.label,
+        deg(w.lead_angle),
+        w.diameters[0],
+        w.diameters[1],
+        w.centre_distance,
+        w.ratio,
+        w.speeds.map_or(String::new(), |(v1, vs)| format!(
+            ", v1 = {v1:.4} m/s, sliding {vs:.4} m/s"
+        )),
+        w.efficiency.map_or(String::new(), |e| format!(
+            ", efficiency {e:.4}, reverse {:.4}{}",
+            w.reverse_efficiency.unwrap_or(0.0),
+            if w.self_locking() == Some(true) {
+                " (self-locking)"
+            } else {
+                ""
+            }
+        ))
+    );
+    json!({
+        "label": c.label, "type": "worm",
+        "lead_angle_deg": deg(w.lead_angle), "diameters": w.diameters, "centre_distance": w.centre_distance,
+        "ratio": w.ratio, "pitch_line_speed": w.speeds.map(|s| s.0), "sliding_speed": w.speeds.map(|s| s.1),
+        "friction_angle_deg": w.friction_angle.map(deg), "efficiency": w.efficiency,
+        "reverse_efficiency": w.reverse_efficiency, "self_locking": w.self_locking(),
+    })
+}
+
+/// A designed pair's (centre distance `a`, module `m`, ratio `i`) text line and JSON.
+fn design_json(c: &PairCase, d: &Design, (a, m, i): (f64, f64, f64), text: &mut String) -> Value {
+    let g = &d.pair;
+    let _ = writeln!(
+        text,
+        "\n[{}] design for A = {a} mm, m = {m}, i = {i}: z = {:?}, αw = {:.4}°, x_t = {:.4} (λ = {:.4}, ν = {:.4}){}; balanced shifts x = [{:.4}, {:.4}] (specific sliding {:.3}/{:.3}), ε = {:.4}, s_a = {:.3}/{:.3} mm{}",
+        c.label, d.teeth, deg(d.alpha_w), d.total_shift, d.centre_factor, d.tip_reduction,
+        if d.feasible { "" } else { " (z1 + z2 < 34 − 17 x_t: infeasible)" },
+        d.shift[0], d.shift[1], d.sliding[0], d.sliding[1], g.eps_alpha, g.gears[0].s_tip, g.gears[1].s_tip,
+        if d.constraints_met { "" } else { "; CONSTRAINTS NOT MET (undercut, s_a ≥ 0.4 m, ε ≥ 1.1)" }
+    );
+    json!({
+        "label": c.label, "type": "design",
+        "teeth": d.teeth, "working_pressure_angle_deg": deg(d.alpha_w), "total_shift": d.total_shift,
+        "centre_factor": d.centre_factor, "tip_reduction": d.tip_reduction, "feasible": d.feasible,
+        "shift": d.shift, "specific_sliding": d.sliding, "constraints_met": d.constraints_met,
+        "centre_distance": g.centre_distance,
+        "contact_ratio": g.eps_alpha,
+        "gears": g.gears.iter().map(|gg| gear_json(gg, c.points)).collect::<Vec<_>>(),
+    })
+}
+
 fn spatial_json(c: &PairCase, s: &SpatialCase, text: &mut String) -> Value {
     match *s {
         SpatialCase::Crossed {
@@ -268,38 +324,7 @@ fn spatial_json(c: &PairCase, s: &SpatialCase, text: &mut String) -> Value {
             alpha,
             n1,
             f,
-        } => {
-            let w = worm(m, starts, q, z2, alpha, n1, f);
-            let _ = writeln!(
-                text,
-                "\n[{}] worm: λ = {:.4}°, d = {:.3}/{:.3} mm, A = {:.3}, i = {}{}{}",
-                c.label,
-                deg(w.lead_angle),
-                w.diameters[0],
-                w.diameters[1],
-                w.centre_distance,
-                w.ratio,
-                w.speeds.map_or(String::new(), |(v1, vs)| format!(
-                    ", v1 = {v1:.4} m/s, sliding {vs:.4} m/s"
-                )),
-                w.efficiency.map_or(String::new(), |e| format!(
-                    ", efficiency {e:.4}, reverse {:.4}{}",
-                    w.reverse_efficiency.unwrap_or(0.0),
-                    if w.self_locking() == Some(true) {
-                        " (self-locking)"
-                    } else {
-                        ""
-                    }
-                ))
-            );
-            json!({
-                "label": c.label, "type": "worm",
-                "lead_angle_deg": deg(w.lead_angle), "diameters": w.diameters, "centre_distance": w.centre_distance,
-                "ratio": w.ratio, "pitch_line_speed": w.speeds.map(|s| s.0), "sliding_speed": w.speeds.map(|s| s.1),
-                "friction_angle_deg": w.friction_angle.map(deg), "efficiency": w.efficiency,
-                "reverse_efficiency": w.reverse_efficiency, "self_locking": w.self_locking(),
-            })
-        }
+        } => worm_json(c, &worm(m, starts, q, z2, alpha, n1, f), text),
         SpatialCase::Design {
             a,
             m,
@@ -311,24 +336,7 @@ fn spatial_json(c: &PairCase, s: &SpatialCase, text: &mut String) -> Value {
             let Some(d) = super::design::design(a, m, alpha, i, ha, cl) else {
                 return Value::Null;
             };
-            let g = &d.pair;
-            let _ = writeln!(
-                text,
-                "\n[{}] design for A = {a} mm, m = {m}, i = {i}: z = {:?}, αw = {:.4}°, x_t = {:.4} (λ = {:.4}, ν = {:.4}){}; balanced shifts x = [{:.4}, {:.4}] (specific sliding {:.3}/{:.3}), ε = {:.4}, s_a = {:.3}/{:.3} mm{}",
-                c.label, d.teeth, deg(d.alpha_w), d.total_shift, d.centre_factor, d.tip_reduction,
-                if d.feasible { "" } else { " (z1 + z2 < 34 − 17 x_t: infeasible)" },
-                d.shift[0], d.shift[1], d.sliding[0], d.sliding[1], g.eps_alpha, g.gears[0].s_tip, g.gears[1].s_tip,
-                if d.constraints_met { "" } else { "; CONSTRAINTS NOT MET (undercut, s_a ≥ 0.4 m, ε ≥ 1.1)" }
-            );
-            json!({
-                "label": c.label, "type": "design",
-                "teeth": d.teeth, "working_pressure_angle_deg": deg(d.alpha_w), "total_shift": d.total_shift,
-                "centre_factor": d.centre_factor, "tip_reduction": d.tip_reduction, "feasible": d.feasible,
-                "shift": d.shift, "specific_sliding": d.sliding, "constraints_met": d.constraints_met,
-                "centre_distance": g.centre_distance,
-                "contact_ratio": g.eps_alpha,
-                "gears": g.gears.iter().map(|gg| gear_json(gg, c.points)).collect::<Vec<_>>(),
-            })
+            design_json(c, &d, (a, m, i), text)
         }
         SpatialCase::Bevel {
             m,

@@ -95,6 +95,98 @@ fn efficiency_of(tq: &Torques, omega: &[f64]) -> Option<f64> {
     (pin > 0.0).then(|| pout / pin)
 }
 
+/// Member `b`'s table row and JSON: kind, gears, speed, ratio from the input, and its
+/// torque and power under load.
+fn member_json(
+    sc: &TrainScenario,
+    b: usize,
+    omega: &[f64],
+    torque: Option<f64>,
+    text: &mut String,
+) -> Value {
+    let t = &sc.train;
+    let body = &t.bodies[b];
+    let gears: Vec<Value> = t
+        .gears_on(b)
+        .map(|g| json!({ "name": t.gears[g].name, "teeth": t.z(g), "internal": t.gears[g].internal }))
+        .collect();
+    let gl: Vec<String> = t
+        .gears_on(b)
+        .map(|g| format!("{}({})", t.gears[g].name, t.z(g)))
+        .collect();
+    let kind = if body.is_carrier {
+        "carrier"
+    } else if body.carrier.is_some() {
+        "planet"
+    } else {
+        "gear"
+    };
+    let r = ratio_to(sc, b);
+    let _ = writeln!(
+        text,
+        "{:<10} {:<8} {:<16} {:>14.6} {:>16} {:>12} {:>12}{}",
+        body.name,
+        if body.fixed { "fixed" } else { kind },
+        gl.join(" "),
+        sc.speeds.values[b],
+        r.map_or("—".into(), |r| format!("{:.6}", r.to_f64())),
+        torque.map_or("".into(), |x| format!("{x:.4}")),
+        torque.map_or("".into(), |x| format!("{:.3}", x * omega[b] + 0.0)),
+        if sc.kin.sense_defined[b] {
+            ""
+        } else {
+            "  (sense not defined: non-parallel axes)"
+        }
+    );
+    let mut m = json!({
+        "name": body.name,
+        "kind": kind,
+        "fixed": body.fixed,
+        "gears": gears,
+        "carrier": body.carrier.map(|c| t.bodies[c].name.clone()),
+        "speed": sc.speeds.values[b],
+        "speed_rad_s": omega[b],
+        "sense_defined": sc.kin.sense_defined[b],
+        "speed_per_input": sc.speeds.map[b].iter().map(|r| json!({"value": r.to_f64(), "exact": r.to_string()})).collect::<Vec<_>>(),
+        "ratio_from_input": ratio_json(r),
+    });
+    if let Some(c) = body.carrier {
+        m["speed_relative_to_carrier"] = json!(sc.speeds.values[b] - sc.speeds.values[c]);
+    }
+    if let Some(x) = torque {
+        m["torque_Nm"] = json!(x);
+        m["power_W"] = json!(x * omega[b]);
+    }
+    m
+}
+
+/// The Willis (relative) ratios asked for, as text lines and JSON.
+fn willis_json(sc: &TrainScenario, text: &mut String) -> Result<Vec<Value>, TrainError> {
+    let t = &sc.train;
+    let mut willis = Vec::new();
+    for q in &sc.willis {
+        let [a, b, h] = q.ids;
+        let r = relative_ratio(t, a, b, h)?;
+        let _ = writeln!(
+            text,
+            "Willis: i_{}{}^{} = (ω_{} − ω_{})/(ω_{} − ω_{}) = {}",
+            t.bodies[a].name,
+            t.bodies[b].name,
+            t.bodies[h].name,
+            t.bodies[a].name,
+            t.bodies[h].name,
+            t.bodies[b].name,
+            t.bodies[h].name,
+            r.map_or("—".into(), |r| format!("{r} = {:.6}", r.to_f64()))
+        );
+        willis.push(json!({
+            "from": t.bodies[a].name, "to": t.bodies[b].name, "carrier": t.bodies[h].name,
+            "ratio": ratio_json(r),
+        }));
+    }
+    Ok(willis)
+}
+
 /// The report (see the module docs).
 pub fn report(sc: &TrainScenario) -> Result<Report, TrainError> {
     let t = &sc.train;
@@ -132,83 +224,12 @@ pub fn report(sc: &TrainScenario) -> Result<Report, TrainError> {
         "power W"
     );
     let mut members = Vec::new();
-    for (b, body) in t.bodies.iter().enumerate() {
-        let gears: Vec<Value> = t
-            .gears_on(b)
-            .map(|g| json!({ "name": t.gears[g].name, "teeth": t.z(g), "internal": t.gears[g].internal }))
-            .collect();
-        let gl: Vec<String> = t
-            .gears_on(b)
-            .map(|g| format!("{}({})", t.gears[g].name, t.z(g)))
-            .collect();
-        let kind = if body.is_carrier {
-            "carrier"
-        } else if body.carrier.is_some() {
-            "planet"
-        } else {
-            "gear"
-        };
-        let r = ratio_to(sc, b);
+    for b in 0..t.bodies.len() {
         let torque = load.as_ref().map(|l| l.body[b]);
-        let _ = writeln!(
-            text,
-            "{:<10} {:<8} {:<16} {:>14.6} {:>16} {:>12} {:>12}{}",
-            body.name,
-            if body.fixed { "fixed" } else { kind },
-            gl.join(" "),
-            sc.speeds.values[b],
-            r.map_or("—".into(), |r| format!("{:.6}", r.to_f64())),
-            torque.map_or("".into(), |x| format!("{x:.4}")),
-            torque.map_or("".into(), |x| format!("{:.3}", x * omega[b] + 0.0)),
-            if sc.kin.sense_defined[b] {
-                ""
-            } else {
-                "  (sense not defined: non-parallel axes)"
-            }
-        );
-        let mut m = json!({
-            "name": body.name,
-            "kind": kind,
-            "fixed": body.fixed,
-            "gears": gears,
-            "carrier": body.carrier.map(|c| t.bodies[c].name.clone()),
-            "speed": sc.speeds.values[b],
-            "speed_rad_s": omega[b],
-            "sense_defined": sc.kin.sense_defined[b],
-            "speed_per_input": sc.speeds.map[b].iter().map(|r| json!({"value": r.to_f64(), "exact": r.to_string()})).collect::<Vec<_>>(),
-            "ratio_from_input": ratio_json(r),
-        });
-        if let Some(c) = body.carrier {
-            m["speed_relative_to_carrier"] = json!(sc.speeds.values[b] - sc.speeds.values[c]);
-        }
-        if let Some(x) = torque {
-            m["torque_Nm"] = json!(x);
-            m["power_W"] = json!(x * omega[b]);
-        }
-        members.push(m);
+        members.push(member_json(sc, b, &omega, torque, &mut text));
     }
     let meshes = mesh_json(sc, load.as_ref(), &mut text)?;
-    let mut willis = Vec::new();
-    for q in &sc.willis {
-        let [a, b, h] = q.ids;
-        let r = relative_ratio(t, a, b, h)?;
-        let _ = writeln!(
-            text,
-            "Willis: i_{}{}^{} = (ω_{} − ω_{})/(ω_{} − ω_{}) = {}",
-            t.bodies[a].name,
-            t.bodies[b].name,
-            t.bodies[h].name,
-            t.bodies[a].name,
-            t.bodies[h].name,
-            t.bodies[b].name,
-            t.bodies[h].name,
-            r.map_or("—".into(), |r| format!("{r} = {:.6}", r.to_f64()))
-        );
-        willis.push(json!({
-            "from": t.bodies[a].name, "to": t.bodies[b].name, "carrier": t.bodies[h].name,
-            "ratio": ratio_json(r),
-        }));
-    }
+    let willis = willis_json(sc, &mut text)?;
     if !sc.checks.is_empty() {
         let _ = writeln!(text, "\nChecks");
         for c in &sc.checks {

@@ -156,76 +156,14 @@ fn locate_plain(file: &str, _text: &str, e: &TrainError) -> ScenarioError {
     ScenarioError::new(file, None, e.field, e.message.clone())
 }
 
-/// Parses and checks `text` (the contents of `file`): the structure, tooth counts,
-/// coaxiality, assembly, mobility and the inputs.
-pub fn parse(file: &str, text: &str) -> Result<TrainScenario, ScenarioError> {
-    let cx = Ctx::new(file, text);
-    let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
-    let locate = |e: TrainError| -> ScenarioError {
-        let (table, i, span) = match e.element {
-            Element::Gear(i) => ("gear", i, f.gear.get(i).map(|s| s.span())),
-            Element::Carrier(i) => ("carrier", i, f.carrier.get(i).map(|s| s.span())),
-            Element::Mesh(i) => ("mesh", i, f.mesh.get(i).map(|s| s.span())),
-            Element::Input(i) => ("input", i, f.input.get(i).map(|s| s.span())),
-            Element::Torque(i) => ("torque", i, f.torque.get(i).map(|s| s.span())),
-            Element::Train => return cx.top(e.field, e.message),
-        };
-        match span {
-            Some(sp) => cx.field(sp, e.field, format!("{table}[{i}].{}", e.field), e.message),
-            None => cx.top(e.field, e.message),
-        }
-    };
-    let unit = match &f.speed_unit {
-        None => "rpm".to_string(),
-        Some(u) if u.get_ref() == "rpm" || u.get_ref() == "rad/s" => u.get_ref().clone(),
-        Some(u) => {
-            return Err(cx.at(
-                u.span(),
-                "speed_unit",
-                format!("expected \"rpm\" or \"rad/s\", got \"{}\"", u.get_ref()),
-            ))
-        }
-    };
-    if let Some(m) = &f.module {
-        if !in_range(*m.get_ref(), 1e-6, 1e6) {
-            return Err(cx.at(m.span(), "module", "must be a positive module (mm)"));
-        }
-    }
-    let default_eta = match &f.mesh_efficiency {
-        Some(e) if !in_range(*e.get_ref(), 1e-6, 1.0) => {
-            return Err(cx.at(e.span(), "mesh_efficiency", "must be in (0, 1]"))
-        }
-        Some(e) => *e.get_ref(),
-        None => 1.0,
-    };
-    if f.gear.is_empty() {
-        return Err(cx.top("kind", "a gear train needs [[gear]] tables"));
-    }
-    if f.gear.len() > MAX_GEARS {
-        return Err(locate(TrainError::new(
-            Element::Gear(MAX_GEARS),
-            "name",
-            format!("{} gears: at most {MAX_GEARS}", f.gear.len()),
-        )));
-    }
-    let train = build(&f, default_eta).map_err(&locate)?;
-    let mut train = train;
-    for (i, g) in f.coaxial.iter().enumerate() {
-        let mut group = Vec::new();
-        for n in g.get_ref() {
-            let b = train.body(n).ok_or_else(|| {
-                cx.at(
-                    g.span(),
-                    format!("coaxial[{i}]"),
-                    format!("'{n}' is not a body or carrier"),
-                )
-            })?;
-            group.push(b);
-        }
-        train.coaxial.push(group);
-    }
-    let (derived, mut checks) = resolve_teeth(&mut train).map_err(&locate)?;
-    checks.extend(planet_checks(&train).map_err(&locate)?);
+/// The `[[input]]` speeds and the `[[torque]]` loads, each on a member of the train (a
+/// member gets one input; inputs and fixed members take no given torque).
+#[allow(clippy::type_complexity)]
+fn inputs_and_torques(
+    cx: &Ctx,
+    f: &FileSpec,
+    train: &GearTrain,
+) -> Result<(Vec<(usize, f64)>, Vec<(usize, f64)>), ScenarioError> {
     let member = |name: &str, span, key: String| {
         train.body(name).ok_or_else(|| {
             cx.field(
@@ -271,6 +209,11 @@ pub fn parse(file: &str, text: &str) -> Result<TrainScenario, ScenarioError> {
         }
         torques.push((b, s.get_ref().torque));
     }
+    Ok((inputs, torques))
+}
+
+/// The `[[willis]]` queries: from, to and a carrier of the train.
+fn willis_queries(cx: &Ctx, f: &FileSpec, train: &GearTrain) -> Result<Vec<Query>, ScenarioError> {
     let mut willis = Vec::new();
     for (i, s) in f.willis.iter().enumerate() {
         let w = s.get_ref();
@@ -298,6 +241,100 @@ pub fn parse(file: &str, text: &str) -> Result<TrainScenario, ScenarioError> {
         }
         willis.push(Query { ids, index: i });
     }
+    Ok(willis)
+}
+
+/// The speed unit (`rpm` by default) and the default mesh efficiency (1), with the
+/// module checked when given.
+fn units(cx: &Ctx, f: &FileSpec) -> Result<(String, f64), ScenarioError> {
+    let unit = match &f.speed_unit {
+        None => "rpm".to_string(),
+        Some(u) if u.get_ref() == "rpm" || u.get_ref() == "rad/s" => u.get_ref().clone(),
+        Some(u) => {
+            return Err(cx.at(
+                u.span(),
+                "speed_unit",
+                format!("expected \"rpm\" or \"rad/s\", got \"{}\"", u.get_ref()),
+            ))
+        }
+    };
+    if let Some(m) = &f.module {
+        if !in_range(*m.get_ref(), 1e-6, 1e6) {
+            return Err(cx.at(m.span(), "module", "must be a positive module (mm)"));
+        }
+    }
+    let default_eta = match &f.mesh_efficiency {
+        Some(e) if !in_range(*e.get_ref(), 1e-6, 1.0) => {
+            return Err(cx.at(e.span(), "mesh_efficiency", "must be in (0, 1]"))
+        }
+        Some(e) => *e.get_ref(),
+        None => 1.0,
+    };
+    Ok((unit, default_eta))
+}
+
+/// The `coaxial` groups as body indices.
+fn coaxial_groups(
+    cx: &Ctx,
+    f: &FileSpec,
+    train: &GearTrain,
+) -> Result<Vec<Vec<usize>>, ScenarioError> {
+    let mut groups = Vec::new();
+    for (i, g) in f.coaxial.iter().enumerate() {
+        let mut group = Vec::new();
+        for n in g.get_ref() {
+            let b = train.body(n).ok_or_else(|| {
+                cx.at(
+                    g.span(),
+                    format!("coaxial[{i}]"),
+                    format!("'{n}' is not a body or carrier"),
+                )
+            })?;
+            group.push(b);
+        }
+        groups.push(group);
+    }
+    Ok(groups)
+}
+
+/// Parses and checks `text` (the contents of `file`): the structure, tooth counts,
+/// coaxiality, assembly, mobility and the inputs.
+pub fn parse(file: &str, text: &str) -> Result<TrainScenario, ScenarioError> {
+    let cx = Ctx::new(file, text);
+    let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
+    let locate = |e: TrainError| -> ScenarioError {
+        let (table, i, span) = match e.element {
+            Element::Gear(i) => ("gear", i, f.gear.get(i).map(|s| s.span())),
+            Element::Carrier(i) => ("carrier", i, f.carrier.get(i).map(|s| s.span())),
+            Element::Mesh(i) => ("mesh", i, f.mesh.get(i).map(|s| s.span())),
+            Element::Input(i) => ("input", i, f.input.get(i).map(|s| s.span())),
+            Element::Torque(i) => ("torque", i, f.torque.get(i).map(|s| s.span())),
+            Element::Train => return cx.top(e.field, e.message),
+        };
+        match span {
+            Some(sp) => cx.field(sp, e.field, format!("{table}[{i}].{}", e.field), e.message),
+            None => cx.top(e.field, e.message),
+        }
+    };
+    let (unit, default_eta) = units(&cx, &f)?;
+    if f.gear.is_empty() {
+        return Err(cx.top("kind", "a gear train needs [[gear]] tables"));
+    }
+    if f.gear.len() > MAX_GEARS {
+        return Err(locate(TrainError::new(
+            Element::Gear(MAX_GEARS),
+            "name",
+            format!("{} gears: at most {MAX_GEARS}", f.gear.len()),
+        )));
+    }
+    let train = build(&f, default_eta).map_err(&locate)?;
+    let mut train = train;
+    let groups = coaxial_groups(&cx, &f, &train)?;
+    train.coaxial.extend(groups);
+    let (derived, mut checks) = resolve_teeth(&mut train).map_err(&locate)?;
+    checks.extend(planet_checks(&train).map_err(&locate)?);
+    let (inputs, torques) = inputs_and_torques(&cx, &f, &train)?;
+    let willis = willis_queries(&cx, &f, &train)?;
     let output = match &f.output {
         None => None,
         Some(o) => Some(train.body(o.get_ref()).ok_or_else(|| {
@@ -351,8 +388,9 @@ pub fn parse(file: &str, text: &str) -> Result<TrainScenario, ScenarioError> {
     })
 }
 
-/// The train from the gear, carrier and mesh tables.
-fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
+/// The `[[gear]]` tables: the gears and the bodies they sit on (gears naming one body
+/// share it).
+fn gears_and_bodies(f: &FileSpec) -> Result<(Vec<Gear>, Vec<Body>), TrainError> {
     let mut bodies: Vec<Body> = Vec::new();
     let mut gears = Vec::new();
     for (i, s) in f.gear.iter().enumerate() {
@@ -424,6 +462,12 @@ fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
             mass: g.mass,
         });
     }
+    Ok((gears, bodies))
+}
+
+/// The train from the gear, carrier and mesh tables.
+fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
+    let (gears, mut bodies) = gears_and_bodies(f)?;
     let nbg = bodies.len();
     for (i, s) in f.carrier.iter().enumerate() {
         let c = s.get_ref();

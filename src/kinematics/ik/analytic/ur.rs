@@ -168,6 +168,10 @@ pub fn ur_ik(
 
 /// [`ur_ik`] with a seed (free joints at singularities take its values, wrapping stays
 /// closest to it) and the limits optional.
+// One closed-form derivation read top to bottom (shoulder, wrist, elbow roots) on the IK
+// hot path: the branches share a dozen intermediate sines, cosines and transforms, which
+// helper functions would have to pass back and forth.
+#[allow(clippy::too_many_lines)]
 pub fn ur_ik_with(
     params: &UrParams,
     target: &Se3,

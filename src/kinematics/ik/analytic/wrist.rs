@@ -210,6 +210,10 @@ pub fn wrist_ik(
 }
 
 /// [`wrist_ik`] with a seed and the limits optional (see [`super::ur_ik_with`]).
+// One closed-form derivation read top to bottom (shoulder, wrist, elbow roots) on the IK
+// hot path: the branches share a dozen intermediate sines, cosines and transforms, which
+// helper functions would have to pass back and forth.
+#[allow(clippy::too_many_lines)]
 pub fn wrist_ik_with(
     params: &WristParams,
     target: &Se3,

@@ -1,0 +1,105 @@
+"""armsim: robot-arm kinematics and dynamics (Rust) for Python.
+
+Pinocchio-style functions on ``Model``/``Data`` (``forward_kinematics``,
+``frame_jacobian``, ``rnea``, ``aba``, ``crba``, ``compute_generalized_gravity``), the
+``Robot`` facade, batches on ``(N, nq)`` arrays that run on all cores without the GIL,
+scenario runs and workspace sampling. ``armsim.distributed`` shards batch IK and
+workspace sampling into Ray tasks.
+"""
+
+from __future__ import annotations
+
+import json as _json
+import os as _os
+from typing import Any, Dict, Optional
+
+import numpy as _np
+
+from ._armsim import (  # noqa: F401  (re-exports)
+    IK_KEYWORDS,
+    ArmsimError,
+    Data,
+    IkResult,
+    Model,
+    Robot,
+    aba,
+    aba_batch,
+    compute_generalized_gravity,
+    crba,
+    fk_batch,
+    forward_kinematics,
+    frame_jacobian,
+    gravity_batch,
+    ik_batch,
+    jacobian_batch,
+    nonlinear_effects,
+    rnea,
+    rnea_batch,
+    sample_poses,
+)
+from . import _armsim
+
+__all__ = [
+    "ArmsimError", "Data", "IkResult", "Model", "Robot", "IK_KEYWORDS",
+    "forward_kinematics", "frame_jacobian", "rnea", "aba", "crba",
+    "compute_generalized_gravity", "gravity", "nonlinear_effects",
+    "rnea_batch", "aba_batch", "gravity_batch", "fk_batch", "jacobian_batch", "ik_batch",
+    "sample_poses", "run_scenario", "workspace",
+]
+
+#: Short name of :func:`compute_generalized_gravity`.
+gravity = compute_generalized_gravity
+
+
+def run_scenario(path: "str | _os.PathLike[str]", out_dir: Optional[str] = None,
+                 write_files: bool = True) -> Dict[str, Any]:
+    """Runs a scenario file (``armsim run``) and returns its JSON report as a dict.
+
+    Arm scenarios write their files (plots, report, MCAP) to ``out_dir`` (default: the
+    file's ``[outputs] dir`` or ``out/<name>``) unless ``write_files`` is false.
+    """
+    text = _armsim.run_scenario_json(_os.fspath(path),
+                                     None if out_dir is None else _os.fspath(out_dir),
+                                     write_files)
+    return _json.loads(text)
+
+
+def workspace(model: Model, samples: int = 1 << 16, seed: int = 0, voxel: float = 0.02,
+              tool: Optional[str] = None, sampling: str = "sobol", replicates: int = 8,
+              planar: Optional[bool] = None, extras: bool = True, keep_points: int = 1000,
+              target_rel_error: Optional[float] = None) -> Dict[str, Any]:
+    """Samples the reachable workspace of ``tool`` (default: the deepest link).
+
+    Returns a dict: ``estimate`` (m³, or m² when planar), ``interval`` (95 %; the upper
+    end is None when only a lower bound is known), ``interval_kind``, ``unit``,
+    ``planar``, ``points`` ``(k, 3)``, ``q`` ``(k, nv)``, ``manipulability`` ``(k,)``
+    (the first ``keep_points`` samples of the Jacobian pass) and ``report`` (the full
+    result, as ``armsim workspace --json``).
+    """
+    text, points, q, manip = _armsim.workspace_json(
+        model, samples, seed, voxel, tool, sampling, replicates, planar, extras,
+        keep_points, target_rel_error)
+    report = _json.loads(text)
+    planar_ = bool(report["planar"])
+    interval = report["area_interval_m2"] if planar_ else report["volume_interval_m3"]
+    return {
+        "estimate": report["area_m2"] if planar_ else report["volume_m3"],
+        "interval": tuple(interval) if interval is not None else (None, None),
+        "interval_kind": report["interval_kind"],
+        "unit": "m^2" if planar_ else "m^3",
+        "planar": planar_,
+        "points": points,
+        "q": q,
+        "manipulability": manip,
+        "report": report,
+    }
+
+
+def pose(rotation: Any = None, translation: Any = None) -> _np.ndarray:
+    """A 4×4 homogeneous transform from a 3×3 rotation and a translation."""
+    t = _np.eye(4)
+    if rotation is not None:
+        t[:3, :3] = _np.asarray(rotation, dtype=float)
+    if translation is not None:
+        t[:3, 3] = _np.asarray(translation, dtype=float)
+    return t

@@ -1,0 +1,142 @@
+//! The Pinocchio-style functions on `(model, data, ...)`: forward kinematics, frame
+//! Jacobians in three expressions, RNEA, ABA, CRBA, gravity and nonlinear effects. Inputs
+//! are checked (lengths, NaN, frame, data of this model) before any Rust algorithm runs.
+
+use crate::args::{self, vector};
+use crate::convert::matrix_to_numpy;
+use crate::dyn_calls;
+use crate::errors::err;
+use crate::model::{PyData, PyModel};
+use armsim::kinematics;
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+
+/// Forward kinematics at `q`: every frame's placement is updated in `data`.
+#[pyfunction]
+pub fn forward_kinematics(
+    model: &PyModel,
+    data: &mut PyData,
+    q: &Bound<'_, PyAny>,
+) -> PyResult<()> {
+    data.check_model(model)?;
+    let m = &*model.model;
+    let q = vector(q, "q", m.nv)?;
+    kinematics::forward_kinematics(m, &mut data.data, q.slice());
+    Ok(())
+}
+
+/// The 6×nv Jacobian of `frame` at `q` (rows: linear x y z, angular x y z), in
+/// `reference` = "world_aligned" (LOCAL_WORLD_ALIGNED), "local" or "world".
+#[pyfunction]
+#[pyo3(signature = (model, data, q, frame, reference=None))]
+pub fn frame_jacobian<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    data: &mut PyData,
+    q: &Bound<'py, PyAny>,
+    frame: &Bound<'py, PyAny>,
+    reference: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    data.check_model(model)?;
+    let m = &*model.model;
+    let q = vector(q, "q", m.nv)?;
+    let f = args::frame(m, frame)?;
+    let e = match reference {
+        Some(r) => args::expressed_obj(r)?,
+        None => armsim::Expressed::WorldAligned,
+    };
+    let PyData { data: d, jac, .. } = data;
+    kinematics::compute_joint_jacobians(m, d, q.slice());
+    kinematics::frame_jacobian(m, d, f, e, jac);
+    Ok(matrix_to_numpy(py, jac))
+}
+
+/// Inverse dynamics `τ = M(q) a + C(q, v) v + g(q)` with the model's gravity.
+#[pyfunction]
+pub fn rnea<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    data: &mut PyData,
+    q: &Bound<'py, PyAny>,
+    v: &Bound<'py, PyAny>,
+    a: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    data.check_model(model)?;
+    let m = &*model.model;
+    let (q, v, a) = (
+        vector(q, "q", m.nv)?,
+        vector(v, "v", m.nv)?,
+        vector(a, "a", m.nv)?,
+    );
+    let tau = dyn_calls::rnea(m, &mut data.data, q.slice(), v.slice(), a.slice());
+    Ok(PyArray1::from_slice(py, tau))
+}
+
+/// Forward dynamics `q̈` for torques `tau` with the model's gravity.
+#[pyfunction]
+pub fn aba<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    data: &mut PyData,
+    q: &Bound<'py, PyAny>,
+    v: &Bound<'py, PyAny>,
+    tau: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    data.check_model(model)?;
+    let m = &*model.model;
+    let (q, v, t) = (
+        vector(q, "q", m.nv)?,
+        vector(v, "v", m.nv)?,
+        vector(tau, "tau", m.nv)?,
+    );
+    let ddq = dyn_calls::aba(m, &mut data.data, q.slice(), v.slice(), t.slice()).map_err(err)?;
+    Ok(PyArray1::from_slice(py, ddq))
+}
+
+/// The joint-space mass matrix `M(q)` (full and symmetric).
+#[pyfunction]
+pub fn crba<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    data: &mut PyData,
+    q: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    data.check_model(model)?;
+    let m = &*model.model;
+    let q = vector(q, "q", m.nv)?;
+    let mass = dyn_calls::crba(m, &mut data.data, q.slice());
+    Ok(matrix_to_numpy(py, mass))
+}
+
+/// Generalised gravity torques `g(q)`.
+#[pyfunction]
+pub fn compute_generalized_gravity<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    data: &mut PyData,
+    q: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    data.check_model(model)?;
+    let m = &*model.model;
+    let q = vector(q, "q", m.nv)?;
+    Ok(PyArray1::from_slice(
+        py,
+        dyn_calls::gravity(m, &mut data.data, q.slice()),
+    ))
+}
+
+/// Nonlinear effects `h(q, v) = C(q, v) v + g(q)`.
+#[pyfunction]
+pub fn nonlinear_effects<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    data: &mut PyData,
+    q: &Bound<'py, PyAny>,
+    v: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    data.check_model(model)?;
+    let m = &*model.model;
+    let (q, v) = (vector(q, "q", m.nv)?, vector(v, "v", m.nv)?);
+    let h = dyn_calls::nonlinear_effects(m, &mut data.data, q.slice(), v.slice());
+    Ok(PyArray1::from_slice(py, h))
+}

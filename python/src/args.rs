@@ -1,0 +1,216 @@
+//! Arguments from Python: vectors and row batches as `f64` slices (numpy arrays are
+//! read in place; lists and other sequences are copied), checked for length and NaN
+//! before anything reaches the Rust algorithms, and frame / expression arguments.
+
+use crate::errors::err;
+use armsim::{Expressed, Model};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+/// A 1-D argument: a contiguous float64 numpy array read in place, or an owned copy.
+///
+/// The in-place read skips numpy's borrow registry (it costs more than the small
+/// algorithms): the functions that take a `Vector` hold the GIL from reading to the end of
+/// the computation and never write into an argument, so no Rust borrow can alias it and
+/// Python code cannot run in between.
+pub enum Vector<'py> {
+    Array(Bound<'py, PyArray1<f64>>),
+    Owned(Vec<f64>),
+}
+
+impl Vector<'_> {
+    pub fn slice(&self) -> &[f64] {
+        match self {
+            // SAFETY: contiguous (checked at construction); see the type's comment for
+            // why nothing mutates the array while the slice lives.
+            Vector::Array(a) => unsafe { a.as_slice().expect("checked contiguous") },
+            Vector::Owned(v) => v,
+        }
+    }
+}
+
+/// Index of the first non-finite value.
+fn first_bad(x: &[f64]) -> Option<usize> {
+    x.iter().position(|v| !v.is_finite())
+}
+
+/// Reads `obj` as a vector of `n` finite values called `what`.
+pub fn vector<'py>(obj: &Bound<'py, PyAny>, what: &str, n: usize) -> PyResult<Vector<'py>> {
+    let v = match obj.cast::<PyArray1<f64>>() {
+        Ok(a) if a.is_c_contiguous() => Vector::Array(a.clone()),
+        Ok(a) => Vector::Owned(a.readonly().as_array().to_vec()),
+        Err(_) => Vector::Owned(obj.extract::<Vec<f64>>().map_err(|_| {
+            err(format!(
+                "{what}: expected a 1-D sequence of {n} floats, got {}",
+                type_name(obj)
+            ))
+        })?),
+    };
+    let s = v.slice();
+    if s.len() != n {
+        return Err(err(format!(
+            "{what}: {} values for {n} coordinates",
+            s.len()
+        )));
+    }
+    if let Some(i) = first_bad(s) {
+        return Err(err(format!("{what}[{i}] is not finite ({})", s[i])));
+    }
+    Ok(v)
+}
+
+fn type_name(obj: &Bound<'_, PyAny>) -> String {
+    obj.get_type()
+        .name()
+        .map(|n| n.to_string())
+        .unwrap_or_else(|_| "?".into())
+}
+
+/// A row-major batch of `rows × cols` finite values (`cols` checked), as owned or
+/// borrowed data.
+pub struct Rows<'py> {
+    arr: Option<PyReadonlyArray2<'py, f64>>,
+    owned: Vec<f64>,
+    pub rows: usize,
+}
+
+impl Rows<'_> {
+    pub fn slice(&self) -> &[f64] {
+        match &self.arr {
+            Some(a) => a.as_slice().expect("checked contiguous"),
+            None => &self.owned,
+        }
+    }
+}
+
+/// Reads `obj` as an `(N, cols)` array of finite values called `what`.
+pub fn rows<'py>(obj: &Bound<'py, PyAny>, what: &str, cols: usize) -> PyResult<Rows<'py>> {
+    let a = obj.extract::<PyReadonlyArray2<'py, f64>>().map_err(|_| {
+        err(format!(
+            "{what}: expected a 2-D float64 numpy array of shape (N, {cols}), got {}",
+            type_name(obj)
+        ))
+    })?;
+    let shape = a.shape().to_vec();
+    if shape[1] != cols {
+        return Err(err(format!(
+            "{what}: shape ({}, {}), expected (N, {cols})",
+            shape[0], shape[1]
+        )));
+    }
+    let r = if a.is_c_contiguous() {
+        Rows {
+            arr: Some(a),
+            owned: Vec::new(),
+            rows: shape[0],
+        }
+    } else {
+        Rows {
+            owned: a.as_array().iter().copied().collect(),
+            arr: None,
+            rows: shape[0],
+        }
+    };
+    if let Some(i) = first_bad(r.slice()) {
+        return Err(err(format!(
+            "{what}[{}, {}] is not finite",
+            i / cols.max(1),
+            i % cols.max(1)
+        )));
+    }
+    Ok(r)
+}
+
+/// Reads `obj` as `(N, 4, 4)` homogeneous transforms (row-major per target).
+pub fn poses(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f64; 16]>> {
+    let a = obj.extract::<PyReadonlyArray3<'_, f64>>().map_err(|_| {
+        err(format!(
+            "{what}: expected a float64 numpy array of shape (N, 4, 4)"
+        ))
+    })?;
+    let shape = a.shape();
+    if shape[1] != 4 || shape[2] != 4 {
+        return Err(err(format!(
+            "{what}: shape ({}, {}, {}), expected (N, 4, 4)",
+            shape[0], shape[1], shape[2]
+        )));
+    }
+    let flat: Vec<f64> = a.as_array().iter().copied().collect();
+    flat.chunks(16)
+        .enumerate()
+        .map(|(i, c)| {
+            let mut t = [0.0; 16];
+            t.copy_from_slice(c);
+            crate::convert::check_pose(&t).map_err(|m| err(format!("{what}[{i}]: {m}")))?;
+            Ok(t)
+        })
+        .collect()
+}
+
+/// A frame given by index or name.
+pub fn frame(model: &Model, obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    if let Ok(i) = obj.extract::<i64>() {
+        if i < 0 || i as usize >= model.links.len() {
+            return Err(err(format!(
+                "frame index {i} does not exist ({} has {} frames)",
+                model.name,
+                model.links.len()
+            )));
+        }
+        return Ok(i as usize);
+    }
+    let name: String = obj
+        .extract()
+        .map_err(|_| err("frame: expected a frame index (int) or a frame name (str)"))?;
+    frame_by_name(model, &name)
+}
+
+/// The frame called `name`, or an error listing the frames.
+pub fn frame_by_name(model: &Model, name: &str) -> PyResult<usize> {
+    model.link_id(name).ok_or_else(|| {
+        let known: Vec<&str> = model.links.iter().map(|l| l.name.as_str()).collect();
+        err(format!(
+            "no frame '{name}' in {}; the frames are: {}",
+            model.name,
+            known.join(", ")
+        ))
+    })
+}
+
+/// [`expressed`] on a Python string, comparing with interned constants first (reading
+/// a `str` costs an allocation under the abi3 API of Python 3.9).
+pub fn expressed_obj(obj: &Bound<'_, PyAny>) -> PyResult<Expressed> {
+    let py = obj.py();
+    let known = [
+        (pyo3::intern!(py, "world_aligned"), Expressed::WorldAligned),
+        (pyo3::intern!(py, "local"), Expressed::Local),
+        (pyo3::intern!(py, "world"), Expressed::World),
+    ];
+    for (s, e) in &known {
+        if obj.is(s) {
+            return Ok(*e);
+        }
+    }
+    let s: String = obj
+        .extract()
+        .map_err(|_| err("reference: expected a string"))?;
+    expressed(&s)
+}
+
+/// `"world_aligned"` (`"local_world_aligned"`), `"local"` or `"world"`.
+pub fn expressed(s: &str) -> PyResult<Expressed> {
+    match s {
+        "world_aligned" => return Ok(Expressed::WorldAligned),
+        "local" => return Ok(Expressed::Local),
+        "world" => return Ok(Expressed::World),
+        _ => {}
+    }
+    match s.to_ascii_lowercase().replace('-', "_").as_str() {
+        "world_aligned" | "local_world_aligned" => Ok(Expressed::WorldAligned),
+        "local" => Ok(Expressed::Local),
+        "world" => Ok(Expressed::World),
+        _ => Err(err(format!(
+            "unknown reference frame '{s}': expected \"world_aligned\" (LOCAL_WORLD_ALIGNED), \"local\" or \"world\""
+        ))),
+    }
+}

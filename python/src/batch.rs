@@ -1,0 +1,266 @@
+//! Batches on `(N, nq)` arrays: RNEA, ABA, gravity, FK, Jacobians and IK. Inputs are
+//! checked under the GIL, then the rows run on rayon with the GIL released, one
+//! workspace per chunk of rows (nothing allocated per row except IK's answers).
+
+use crate::args::{self, rows};
+use crate::convert::{matrix_row_major, se3_from_4x4, se3_to_4x4};
+use crate::dyn_calls;
+use crate::errors::err;
+use crate::ik::{self, IkResult};
+use crate::model::PyModel;
+use armsim::nalgebra::DMatrix;
+use armsim::{kinematics, Data, FrameId, Model, Robot};
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
+
+/// Rows per rayon task (one `Data` each).
+const CHUNK: usize = 32;
+
+/// Runs `f(data, jac, row, out_row)` on every row in parallel; `out` has `width` values
+/// per row.
+fn par_rows<F>(model: &Model, n: usize, width: usize, f: F) -> Result<Vec<f64>, String>
+where
+    F: Fn(&mut Data, &mut DMatrix<f64>, usize, &mut [f64]) -> Result<(), String> + Sync,
+{
+    let mut out = vec![0.0; n * width];
+    if width == 0 {
+        return Ok(out);
+    }
+    out.par_chunks_mut(width * CHUNK)
+        .enumerate()
+        .try_for_each(|(c, chunk)| {
+            let mut d = Data::new(model);
+            let mut jac = DMatrix::zeros(6, model.nv);
+            for (r, row) in chunk.chunks_mut(width).enumerate() {
+                f(&mut d, &mut jac, c * CHUNK + r, row)?;
+            }
+            Ok::<(), String>(())
+        })?;
+    Ok(out)
+}
+
+pub(crate) fn shaped<'py>(
+    py: Python<'py>,
+    v: Vec<f64>,
+    dims: &[usize],
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    PyArray1::from_vec(py, v).reshape(dims)
+}
+
+fn same_rows(what: &[(&str, usize)]) -> PyResult<usize> {
+    let n = what[0].1;
+    for (name, m) in &what[1..] {
+        if *m != n {
+            return Err(err(format!(
+                "{name} has {m} rows but {} has {n}",
+                what[0].0
+            )));
+        }
+    }
+    Ok(n)
+}
+
+/// `τ` for every row of `(Q, V, A)`: an `(N, nv)` array.
+#[pyfunction]
+pub fn rnea_batch<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    q: &Bound<'py, PyAny>,
+    v: &Bound<'py, PyAny>,
+    a: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let m = &*model.model;
+    let nv = m.nv;
+    let (q, v, a) = (rows(q, "Q", nv)?, rows(v, "V", nv)?, rows(a, "A", nv)?);
+    let n = same_rows(&[("Q", q.rows), ("V", v.rows), ("A", a.rows)])?;
+    let (qs, vs, as_) = (q.slice(), v.slice(), a.slice());
+    let out = py
+        .detach(|| {
+            par_rows(m, n, nv, |d, _, i, row| {
+                let s = i * nv..(i + 1) * nv;
+                let t = dyn_calls::rnea(m, d, &qs[s.clone()], &vs[s.clone()], &as_[s]);
+                row.copy_from_slice(t);
+                Ok(())
+            })
+        })
+        .map_err(err)?;
+    shaped(py, out, &[n, nv])
+}
+
+/// `q̈` for every row of `(Q, V, TAU)`: an `(N, nv)` array.
+#[pyfunction]
+pub fn aba_batch<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    q: &Bound<'py, PyAny>,
+    v: &Bound<'py, PyAny>,
+    tau: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let m = &*model.model;
+    let nv = m.nv;
+    let (q, v, t) = (rows(q, "Q", nv)?, rows(v, "V", nv)?, rows(tau, "TAU", nv)?);
+    let n = same_rows(&[("Q", q.rows), ("V", v.rows), ("TAU", t.rows)])?;
+    let (qs, vs, ts) = (q.slice(), v.slice(), t.slice());
+    let out = py
+        .detach(|| {
+            par_rows(m, n, nv, |d, _, i, row| {
+                let s = i * nv..(i + 1) * nv;
+                let ddq = dyn_calls::aba(m, d, &qs[s.clone()], &vs[s.clone()], &ts[s])
+                    .map_err(|e| format!("row {i}: {e}"))?;
+                row.copy_from_slice(ddq);
+                Ok(())
+            })
+        })
+        .map_err(err)?;
+    shaped(py, out, &[n, nv])
+}
+
+/// `g(q)` for every row of `Q`: an `(N, nv)` array.
+#[pyfunction]
+pub fn gravity_batch<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    q: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let m = &*model.model;
+    let nv = m.nv;
+    let q = rows(q, "Q", nv)?;
+    let (n, qs) = (q.rows, q.slice());
+    let out = py
+        .detach(|| {
+            par_rows(m, n, nv, |d, _, i, row| {
+                row.copy_from_slice(dyn_calls::gravity(m, d, &qs[i * nv..(i + 1) * nv]));
+                Ok(())
+            })
+        })
+        .map_err(err)?;
+    shaped(py, out, &[n, nv])
+}
+
+/// The world placement of `frame` for every row of `Q`: an `(N, 4, 4)` array.
+#[pyfunction]
+pub fn fk_batch<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    q: &Bound<'py, PyAny>,
+    frame: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let m = &*model.model;
+    let nv = m.nv;
+    let f = args::frame(m, frame)?;
+    let q = rows(q, "Q", nv)?;
+    let (n, qs) = (q.rows, q.slice());
+    let out = py
+        .detach(|| {
+            par_rows(m, n, 16, |d, _, i, row| {
+                kinematics::forward_kinematics(m, d, &qs[i * nv..(i + 1) * nv]);
+                se3_to_4x4(&kinematics::frame_placement(m, d, f), row);
+                Ok(())
+            })
+        })
+        .map_err(err)?;
+    shaped(py, out, &[n, 4, 4])
+}
+
+/// The Jacobian of `frame` for every row of `Q`: an `(N, 6, nv)` array.
+#[pyfunction]
+#[pyo3(signature = (model, q, frame, reference="world_aligned"))]
+pub fn jacobian_batch<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    q: &Bound<'py, PyAny>,
+    frame: &Bound<'py, PyAny>,
+    reference: &str,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let m = &*model.model;
+    let nv = m.nv;
+    let f = args::frame(m, frame)?;
+    let e = args::expressed(reference)?;
+    let q = rows(q, "Q", nv)?;
+    let (n, qs) = (q.rows, q.slice());
+    let out = py
+        .detach(|| {
+            par_rows(m, n, 6 * nv, |d, jac, i, row| {
+                kinematics::compute_joint_jacobians(m, d, &qs[i * nv..(i + 1) * nv]);
+                kinematics::frame_jacobian(m, d, f, e, jac);
+                matrix_row_major(jac, row);
+                Ok(())
+            })
+        })
+        .map_err(err)?;
+    shaped(py, out, &[n, 6, nv])
+}
+
+/// IK for every target `(N, 4, 4)`; target `i` uses seed `seed + start + i`, so any
+/// split of the targets into shards (`start` = the shard's first index) gives the same
+/// answers. Returns a dict of arrays: `q (N, nv)`, `status`, `position_error`,
+/// `rotation_error`, `iterations`, `reason`.
+#[pyfunction]
+#[pyo3(signature = (model, frame, targets, q0=None, start=0, **kwargs))]
+pub fn ik_batch<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    frame: &Bound<'py, PyAny>,
+    targets: &Bound<'py, PyAny>,
+    q0: Option<&Bound<'py, PyAny>>,
+    start: u64,
+    kwargs: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let m = &*model.model;
+    let f = args::frame(m, frame)?;
+    let opts = ik::options(kwargs)?;
+    let targets = args::poses(targets, "targets")?;
+    let q0 = q0.map(|q| rows(q, "q0", m.nv)).transpose()?;
+    if let Some(q0) = &q0 {
+        same_rows(&[("targets", targets.len()), ("q0", q0.rows)])?;
+    }
+    let q0s = q0.as_ref().map(|r| r.slice());
+    let sols = py.detach(|| {
+        targets
+            .par_chunks(4)
+            .enumerate()
+            .flat_map_iter(|(c, chunk)| {
+                let mut robot = Robot::from_model(m.clone());
+                let mut o = opts.clone();
+                let out: Vec<_> = chunk
+                    .iter()
+                    .enumerate()
+                    .map(|(k, t)| {
+                        let i = c * 4 + k;
+                        o.seed = opts.seed.wrapping_add(start).wrapping_add(i as u64);
+                        let seed = q0s.map(|s| &s[i * m.nv..(i + 1) * m.nv]);
+                        robot.ik_from(FrameId(f), &se3_from_4x4(t), seed, &o)
+                    })
+                    .collect();
+                out
+            })
+            .collect::<Result<Vec<_>, _>>()
+    });
+    let sols = sols.map_err(err)?;
+    let n = sols.len();
+    let mut q = Vec::with_capacity(n * m.nv);
+    let d = PyDict::new(py);
+    let res: Vec<IkResult> = sols
+        .into_iter()
+        .map(|s| {
+            q.extend_from_slice(&s.q);
+            IkResult::new(py, s)
+        })
+        .collect();
+    d.set_item("q", shaped(py, q, &[n, m.nv])?)?;
+    d.set_item("status", PyList::new(py, res.iter().map(|r| r.status))?)?;
+    let col = |g: fn(&IkResult) -> f64| PyArray1::from_vec(py, res.iter().map(g).collect());
+    d.set_item("position_error", col(|r| r.position_error))?;
+    d.set_item("rotation_error", col(|r| r.rotation_error))?;
+    d.set_item(
+        "iterations",
+        PyArray1::from_vec(py, res.iter().map(|r| r.iterations as u64).collect()),
+    )?;
+    d.set_item(
+        "reason",
+        PyList::new(py, res.iter().map(|r| r.reason.clone()))?,
+    )?;
+    Ok(d)
+}

@@ -1,0 +1,48 @@
+//! The Python extension `armsim._armsim`: Pinocchio-style functions on `Model`/`Data`,
+//! the `Robot` facade, batches on rayon without the GIL, scenario runs and workspace
+//! sampling. The package `armsim` (python/armsim) re-exports it and adds the Python
+//! parts (report dicts, `armsim.distributed`).
+
+mod algorithms;
+mod args;
+mod batch;
+mod convert;
+mod dyn_calls;
+mod errors;
+mod ik;
+mod model;
+mod robot;
+mod tasks;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _armsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("ArmsimError", py.get_type::<errors::ArmsimError>())?;
+    m.add("IK_KEYWORDS", ik::IK_KEYWORDS)?;
+    m.add_class::<model::PyModel>()?;
+    m.add_class::<model::PyData>()?;
+    m.add_class::<robot::PyRobot>()?;
+    m.add_class::<ik::IkResult>()?;
+    m.add_function(wrap_pyfunction!(algorithms::forward_kinematics, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::frame_jacobian, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::rnea, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::aba, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::crba, m)?)?;
+    m.add_function(wrap_pyfunction!(
+        algorithms::compute_generalized_gravity,
+        m
+    )?)?;
+    m.add_function(wrap_pyfunction!(algorithms::nonlinear_effects, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::rnea_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::aba_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::gravity_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::fk_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::jacobian_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::ik_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(tasks::run_scenario_json, m)?)?;
+    m.add_function(wrap_pyfunction!(tasks::workspace_json, m)?)?;
+    m.add_function(wrap_pyfunction!(tasks::sample_poses, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,152 @@
+//! Whole jobs: running a scenario file to its report, workspace sampling (the estimate
+//! with its interval, and kept points), and counter-based configuration sampling whose
+//! sample `i` depends only on `(seed, i)`, so shards by index range reproduce one run.
+
+use crate::args;
+use crate::batch::shaped;
+use crate::convert::se3_to_4x4;
+use crate::errors::{err, require_file};
+use crate::model::PyModel;
+use armsim::workspace::{sample_workspace, Sampling, WorkspaceOptions};
+use armsim::{kinematics, Data};
+use numpy::{PyArray1, PyArrayDyn};
+use pyo3::prelude::*;
+use rayon::prelude::*;
+use std::path::PathBuf;
+
+/// Runs a scenario file; returns the report's JSON text (`armsim run --json`).
+#[pyfunction]
+#[pyo3(signature = (path, out_dir=None, write_files=true))]
+pub fn run_scenario_json(
+    py: Python<'_>,
+    path: PathBuf,
+    out_dir: Option<PathBuf>,
+    write_files: bool,
+) -> PyResult<String> {
+    require_file(&path)?;
+    let opts = armsim::arm::RunOptions {
+        out_dir,
+        write_files,
+        ..Default::default()
+    };
+    let report = py
+        .detach(|| armsim::scenario::run_file_with(&path, &opts))
+        .map_err(err)?;
+    serde_json::to_string(&report.json).map_err(err)
+}
+
+type WorkspaceOut<'py> = (
+    String,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArrayDyn<f64>>,
+    Bound<'py, PyArray1<f64>>,
+);
+
+/// Samples the reachable workspace; returns the result's JSON text and the kept points
+/// `(k, 3)`, their configurations `(k, nv)` and manipulabilities `(k,)`.
+#[pyfunction]
+#[pyo3(signature = (model, samples=1<<16, seed=0, voxel=0.02, tool=None, sampling="sobol", replicates=8, planar=None, extras=true, keep_points=1000, target_rel_error=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn workspace_json<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    samples: u64,
+    seed: u64,
+    voxel: f64,
+    tool: Option<String>,
+    sampling: &str,
+    replicates: usize,
+    planar: Option<bool>,
+    extras: bool,
+    keep_points: usize,
+    target_rel_error: Option<f64>,
+) -> PyResult<WorkspaceOut<'py>> {
+    if !(voxel.is_finite() && voxel > 0.0) {
+        return Err(err(format!(
+            "workspace: voxel {voxel} is not a positive length"
+        )));
+    }
+    let opts = WorkspaceOptions {
+        samples,
+        seed,
+        voxel,
+        tool,
+        sampling: sampling.parse::<Sampling>().map_err(err)?,
+        replicates,
+        planar,
+        extras: extras || keep_points > 0,
+        keep_points,
+        target_rel_error,
+        quiet: true,
+        ..Default::default()
+    };
+    let m = &*model.model;
+    let r = py.detach(|| sample_workspace(m, &opts)).map_err(err)?;
+    let json = serde_json::to_string(&r).map_err(err)?;
+    let k = r.points.len();
+    let pts: Vec<f64> = r.points.iter().flat_map(|p| p.p).collect();
+    let qs: Vec<f64> = r.points.iter().flat_map(|p| p.q.iter().copied()).collect();
+    let man: Vec<f64> = r.points.iter().map(|p| p.manipulability).collect();
+    Ok((
+        json,
+        shaped(py, pts, &[k, 3])?,
+        shaped(py, qs, &[k, m.nv])?,
+        PyArray1::from_vec(py, man),
+    ))
+}
+
+/// Two arrays (configurations and poses).
+type Pair<'py> = (Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyArrayDyn<f64>>);
+
+fn splitmix(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Uniform configurations `start .. start + n` of the stream `seed` inside the sampling
+/// box (joint limits; ±π for unlimited revolute joints), and the world placement of
+/// `frame` (default: the last link) at each: `(q (n, nv), poses (n, 4, 4))`.
+#[pyfunction]
+#[pyo3(signature = (model, n, seed=0, frame=None, start=0))]
+pub fn sample_poses<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    n: usize,
+    seed: u64,
+    frame: Option<&Bound<'py, PyAny>>,
+    start: u64,
+) -> PyResult<Pair<'py>> {
+    let m = &*model.model;
+    let nv = m.nv;
+    let f = match frame {
+        None => m.links.len() - 1,
+        Some(f) => args::frame(m, f)?,
+    };
+    let bounds: Vec<(f64, f64)> = (0..nv).map(|k| m.sampling_bounds(k)).collect();
+    let key = splitmix(seed);
+    let mut qs = vec![0.0; n * nv];
+    let mut poses = vec![0.0; n * 16];
+    py.detach(|| {
+        const CH: usize = 256;
+        qs.par_chunks_mut((nv * CH).max(1))
+            .zip(poses.par_chunks_mut(16 * CH))
+            .enumerate()
+            .for_each(|(c, (qc, pc))| {
+                let mut d = Data::new(m);
+                for (r, pose) in pc.chunks_mut(16).enumerate() {
+                    let i = start + (c * CH + r) as u64;
+                    let q = &mut qc[r * nv..(r + 1) * nv];
+                    for (k, x) in q.iter_mut().enumerate() {
+                        let u = (splitmix(key ^ (i * nv as u64 + k as u64)) >> 11) as f64
+                            * (1.0 / (1u64 << 53) as f64);
+                        *x = bounds[k].0 + u * (bounds[k].1 - bounds[k].0);
+                    }
+                    kinematics::forward_kinematics(m, &mut d, q);
+                    se3_to_4x4(&kinematics::frame_placement(m, &d, f), pose);
+                }
+            });
+    });
+    Ok((shaped(py, qs, &[n, nv])?, shaped(py, poses, &[n, 4, 4])?))
+}

@@ -1,0 +1,85 @@
+"""Broken inputs raise Python exceptions that name the problem; nothing crashes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import armsim as am
+from conftest import ROBOTS
+
+
+@pytest.fixture(scope="module")
+def ur5():
+    m = am.Model.from_file(ROBOTS / "ur5.urdf")
+    return m, m.create_data()
+
+
+def test_missing_file_is_file_not_found_naming_the_path(tmp_path):
+    path = tmp_path / "nope.urdf"
+    with pytest.raises(FileNotFoundError, match="nope.urdf: no such file"):
+        am.Model.from_file(path)
+    with pytest.raises(FileNotFoundError, match="nope.toml"):
+        am.run_scenario(tmp_path / "nope.toml")
+
+
+def test_broken_urdf_names_file_line_and_element(tmp_path):
+    text = (ROBOTS / "ur5.urdf").read_text()
+    lines = text.splitlines()
+    line = next(i for i, l in enumerate(lines) if '<joint name="elbow_joint" type=' in l) + 1
+    bad = tmp_path / "bad.urdf"
+    bad.write_text(text.replace('<child link="forearm_link"', '<child link="no_such_link"'))
+    with pytest.raises(am.ArmsimError) as e:
+        am.Model.from_file(bad)
+    msg = str(e.value)
+    assert f"bad.urdf:{line}: joint 'elbow_joint'" in msg and "no_such_link" in msg, msg
+    truncated = tmp_path / "cut.urdf"
+    truncated.write_text(text[: len(text) // 2])
+    with pytest.raises(am.ArmsimError, match="cut.urdf"):
+        am.Model.from_file(truncated)
+    assert issubclass(am.ArmsimError, ValueError)
+
+
+def test_wrong_length_q_is_refused(ur5):
+    m, d = ur5
+    with pytest.raises(am.ArmsimError, match="q: 5 values for 6 coordinates"):
+        am.forward_kinematics(m, d, np.zeros(5))
+    with pytest.raises(am.ArmsimError, match="v: 7 values for 6 coordinates"):
+        am.rnea(m, d, np.zeros(6), np.zeros(7), np.zeros(6))
+    with pytest.raises(am.ArmsimError, match=r"Q: shape \(4, 5\), expected \(N, 6\)"):
+        am.rnea_batch(m, np.zeros((4, 5)), np.zeros((4, 6)), np.zeros((4, 6)))
+    with pytest.raises(am.ArmsimError, match="V has 3 rows but Q has 4"):
+        am.rnea_batch(m, np.zeros((4, 6)), np.zeros((3, 6)), np.zeros((4, 6)))
+
+
+def test_nan_in_q_is_refused_with_its_index(ur5):
+    m, d = ur5
+    q = np.zeros(6)
+    q[2] = np.nan
+    with pytest.raises(am.ArmsimError, match=r"q\[2\] is not finite"):
+        am.rnea(m, d, q, np.zeros(6), np.zeros(6))
+    with pytest.raises(am.ArmsimError, match=r"q\[2\] is not finite"):
+        am.Robot(m).fk(q)
+    Q = np.zeros((5, 6))
+    Q[3, 1] = np.inf
+    with pytest.raises(am.ArmsimError, match=r"Q\[3, 1\] is not finite"):
+        am.fk_batch(m, Q, "tool0")
+
+
+def test_bad_frame_reference_target_and_data_are_refused(ur5):
+    m, d = ur5
+    with pytest.raises(am.ArmsimError, match="no frame 'hand'.*tool0"):
+        m.frame_id("hand")
+    with pytest.raises(am.ArmsimError, match="frame index 99 does not exist"):
+        d.frame_pose(99)
+    with pytest.raises(am.ArmsimError, match="unknown reference frame 'body'"):
+        am.frame_jacobian(m, d, m.neutral(), 3, "body")
+    with pytest.raises(am.ArmsimError, match="rotation is not orthonormal"):
+        am.Robot(m).ik(np.diag([2.0, 1.0, 1.0, 1.0]), "tool0")
+    panda = am.Model.from_file(ROBOTS / "panda.urdf")
+    with pytest.raises(am.ArmsimError, match="data was created for 'ur5'.*not for 'panda'"):
+        am.rnea(panda, d, np.zeros(panda.nv), np.zeros(panda.nv), np.zeros(panda.nv))
+    with pytest.raises(am.ArmsimError, match="unknown IK option 'tolerance'"):
+        am.Robot(m).ik(np.eye(4), "tool0", tolerance=1e-3)
+    with pytest.raises(am.ArmsimError, match="expected a 1-D sequence"):
+        am.rnea(m, d, "abc", np.zeros(6), np.zeros(6))
