@@ -22,6 +22,7 @@ pub mod ik;
 pub mod integrators;
 pub mod plot;
 pub mod report;
+mod report_plots;
 pub mod workspace;
 
 use serde::Serialize;
