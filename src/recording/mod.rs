@@ -18,6 +18,8 @@ pub mod obstacles;
 #[cfg(feature = "rerun")]
 mod rerun_blueprint;
 #[cfg(feature = "rerun")]
+mod rerun_geometry;
+#[cfg(feature = "rerun")]
 mod rerun_obstacles;
 #[cfg(feature = "rerun")]
 pub mod rerun_out;

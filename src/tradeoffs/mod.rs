@@ -24,6 +24,7 @@ pub mod ik;
 pub mod integrators;
 pub mod plot;
 pub mod report;
+mod report_plots;
 pub mod rotor;
 pub mod rotor_report;
 pub mod workspace;

@@ -87,10 +87,139 @@ pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, Sc
     Ok(r)
 }
 
-/// Parses and checks `text` (the contents of `file`).
-pub fn parse(file: &str, text: &str) -> Result<CamScenario, ScenarioError> {
-    let cx = Ctx::new(file, text);
-    let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
+/// A follower-side error at `follower.<key>`.
+type FollowerErr<'a> = dyn Fn(&str, String) -> ScenarioError + 'a;
+/// A required positive length of the follower table.
+type PositiveLen<'a> = dyn Fn(&str, Option<f64>) -> Result<f64, ScenarioError> + 'a;
+
+/// The follower an eccentric disc drives: a translating flat face, an oscillating flat
+/// face clear of the disc, or a translating knife/roller whose axis meets the disc.
+fn eccentric_follower(
+    fo: &FollowerSpec,
+    moving: &str,
+    (roller, es): (f64, &EccSpec),
+    ferr: &FollowerErr,
+    positive: &PositiveLen,
+) -> Result<EccentricFollower, ScenarioError> {
+    Ok(match (fo.kind.as_str(), moving) {
+        ("flat", "translating") => EccentricFollower::Flat,
+        ("flat", "oscillating") => {
+            let d = positive("pivot_distance", fo.pivot_distance)?;
+            let fo_ = fo.face_offset.ok_or_else(|| {
+                ferr(
+                    "face_offset",
+                    "missing: the face's distance from the pivot".into(),
+                )
+            })?;
+            if !in_range(fo_.abs(), 0.0, 1e7) || d <= es.eccentricity + es.radius {
+                return Err(ferr(
+                    "pivot_distance",
+                    "the pivot must lie outside the disc's reach (d > a + R)".into(),
+                ));
+            }
+            EccentricFollower::OscillatingFlat {
+                pivot: d,
+                face_offset: fo_,
+            }
+        }
+        (_, "translating") => {
+            if fo.offset.abs() + es.eccentricity >= es.radius + roller {
+                return Err(ferr(
+                    "offset",
+                    "the follower axis misses the disc (|e| + a ≥ R + r)".into(),
+                ));
+            }
+            EccentricFollower::Translating {
+                offset: fo.offset,
+                roller,
+            }
+        }
+        _ => {
+            return Err(ferr(
+                "motion",
+                "an eccentric cam drives a translating follower or an oscillating flat face".into(),
+            ))
+        }
+    })
+}
+
+/// The follower of a law cam: a translating flat face, a translating knife/roller (offset
+/// inside the base circle) or an oscillating arm that reaches the base circle.
+fn law_follower(
+    fo: &FollowerSpec,
+    moving: &str,
+    roller: f64,
+    ferr: &FollowerErr,
+    positive: &PositiveLen,
+) -> Result<Follower, ScenarioError> {
+    Ok(match (fo.kind.as_str(), moving) {
+        ("flat", "translating") => Follower::Flat {
+            rb: positive("base_radius", fo.base_radius)?,
+        },
+        ("flat", _) => {
+            return Err(ferr(
+                "motion",
+                "a flat face on a law cam must translate (oscillating flat faces: [eccentric])"
+                    .into(),
+            ))
+        }
+        (_, "translating") => {
+            let r0 = positive("base_radius", fo.base_radius)?;
+            if fo.offset.abs() >= r0 {
+                return Err(ferr(
+                    "offset",
+                    format!(
+                        "|e| = {} must be less than the base radius {r0}",
+                        fo.offset.abs()
+                    ),
+                ));
+            }
+            Follower::Translating {
+                offset: fo.offset,
+                roller,
+                r0,
+            }
+        }
+        _ => {
+            let arm = positive("arm", fo.arm)?;
+            let pivot = positive("pivot_distance", fo.pivot_distance)?;
+            let r0 = positive("base_radius", fo.base_radius)?;
+            if r0 <= (arm - pivot).abs() || r0 >= arm + pivot {
+                return Err(ferr(
+                    "base_radius",
+                    "the arm cannot reach the base circle (|l − d| < r0 < l + d)".into(),
+                ));
+            }
+            Follower::Oscillating {
+                arm,
+                pivot,
+                roller,
+                r0,
+            }
+        }
+    })
+}
+
+/// The `[limits]` pressure angles (rad), rise and return.
+fn pressure_limits(cx: &Ctx, l: &Spanned<LimitSpec>) -> Result<(f64, f64), ScenarioError> {
+    let ls = l.get_ref();
+    let a = ls.pressure_angle_deg;
+    let b = ls.return_pressure_angle_deg.unwrap_or(a);
+    for (k, v) in [("pressure_angle_deg", a), ("return_pressure_angle_deg", b)] {
+        if !in_range(v, 1.0, 89.0) {
+            return Err(cx.field(
+                l.span(),
+                k,
+                format!("limits.{k}"),
+                "must be between 1° and 89°",
+            ));
+        }
+    }
+    Ok((a.to_radians(), b.to_radians()))
+}
+
+/// The cam speed (rad/s, default 1) and the steps per turn (default 360).
+fn speed_and_steps(cx: &Ctx, f: &FileSpec) -> Result<(f64, usize), ScenarioError> {
     let omega = match &f.speed_rpm {
         None => 1.0,
         Some(n) if in_range(*n.get_ref(), 1e-9, 1e7) => n.get_ref() * std::f64::consts::PI / 30.0,
@@ -101,6 +230,14 @@ pub fn parse(file: &str, text: &str) -> Result<CamScenario, ScenarioError> {
         Some(n) if (8..=100_000).contains(n.get_ref()) => *n.get_ref() as usize,
         Some(n) => return Err(cx.at(n.span(), "steps", "expected 8 … 100000 steps per turn")),
     };
+    Ok((omega, steps))
+}
+
+/// Parses and checks `text` (the contents of `file`).
+pub fn parse(file: &str, text: &str) -> Result<CamScenario, ScenarioError> {
+    let cx = Ctx::new(file, text);
+    let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
+    let (omega, steps) = speed_and_steps(&cx, &f)?;
     let fs = &f.follower;
     let fo = fs.get_ref();
     let ferr = |k: &str, m: String| cx.field(fs.span(), k, format!("follower.{k}"), m);
@@ -163,45 +300,7 @@ pub fn parse(file: &str, text: &str) -> Result<CamScenario, ScenarioError> {
                     "must be positive and less than the disc radius (+ roller)",
                 ));
             }
-            let follower = match (fo.kind.as_str(), moving.as_str()) {
-                ("flat", "translating") => EccentricFollower::Flat,
-                ("flat", "oscillating") => {
-                    let d = positive("pivot_distance", fo.pivot_distance)?;
-                    let fo_ = fo.face_offset.ok_or_else(|| {
-                        ferr(
-                            "face_offset",
-                            "missing: the face's distance from the pivot".into(),
-                        )
-                    })?;
-                    if !in_range(fo_.abs(), 0.0, 1e7) || d <= es.eccentricity + es.radius {
-                        return Err(ferr(
-                            "pivot_distance",
-                            "the pivot must lie outside the disc's reach (d > a + R)".into(),
-                        ));
-                    }
-                    EccentricFollower::OscillatingFlat {
-                        pivot: d,
-                        face_offset: fo_,
-                    }
-                }
-                (_, "translating") => {
-                    if fo.offset.abs() + es.eccentricity >= es.radius + roller {
-                        return Err(ferr(
-                            "offset",
-                            "the follower axis misses the disc (|e| + a ≥ R + r)".into(),
-                        ));
-                    }
-                    EccentricFollower::Translating {
-                        offset: fo.offset,
-                        roller,
-                    }
-                }
-                _ => return Err(ferr(
-                    "motion",
-                    "an eccentric cam drives a translating follower or an oscillating flat face"
-                        .into(),
-                )),
-            };
+            let follower = eccentric_follower(fo, &moving, (roller, es), &ferr, &positive)?;
             Cam::Eccentric(Eccentric {
                 radius: es.radius,
                 eccentricity: es.eccentricity,
@@ -210,72 +309,15 @@ pub fn parse(file: &str, text: &str) -> Result<CamScenario, ScenarioError> {
         }
         (Some(ms), None) => {
             let m = motion(&cx, ms, &moving)?;
-            let follower = match (fo.kind.as_str(), moving.as_str()) {
-                ("flat", "translating") => Follower::Flat {
-                    rb: positive("base_radius", fo.base_radius)?,
-                },
-                ("flat", _) => return Err(ferr(
-                    "motion",
-                    "a flat face on a law cam must translate (oscillating flat faces: [eccentric])"
-                        .into(),
-                )),
-                (_, "translating") => {
-                    let r0 = positive("base_radius", fo.base_radius)?;
-                    if fo.offset.abs() >= r0 {
-                        return Err(ferr(
-                            "offset",
-                            format!(
-                                "|e| = {} must be less than the base radius {r0}",
-                                fo.offset.abs()
-                            ),
-                        ));
-                    }
-                    Follower::Translating {
-                        offset: fo.offset,
-                        roller,
-                        r0,
-                    }
-                }
-                _ => {
-                    let arm = positive("arm", fo.arm)?;
-                    let pivot = positive("pivot_distance", fo.pivot_distance)?;
-                    let r0 = positive("base_radius", fo.base_radius)?;
-                    if r0 <= (arm - pivot).abs() || r0 >= arm + pivot {
-                        return Err(ferr(
-                            "base_radius",
-                            "the arm cannot reach the base circle (|l − d| < r0 < l + d)".into(),
-                        ));
-                    }
-                    Follower::Oscillating {
-                        arm,
-                        pivot,
-                        roller,
-                        r0,
-                    }
-                }
-            };
+            let follower = law_follower(fo, &moving, roller, &ferr, &positive)?;
             Cam::Law(m, follower)
         }
     };
-    let limits = match &f.limits {
-        None => None,
-        Some(l) => {
-            let ls = l.get_ref();
-            let a = ls.pressure_angle_deg;
-            let b = ls.return_pressure_angle_deg.unwrap_or(a);
-            for (k, v) in [("pressure_angle_deg", a), ("return_pressure_angle_deg", b)] {
-                if !in_range(v, 1.0, 89.0) {
-                    return Err(cx.field(
-                        l.span(),
-                        k,
-                        format!("limits.{k}"),
-                        "must be between 1° and 89°",
-                    ));
-                }
-            }
-            Some((a.to_radians(), b.to_radians()))
-        }
-    };
+    let limits = f
+        .limits
+        .as_ref()
+        .map(|l| pressure_limits(&cx, l))
+        .transpose()?;
     Ok(CamScenario {
         name: f.name.clone().unwrap_or_else(|| {
             Path::new(file)
