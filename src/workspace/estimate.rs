@@ -237,8 +237,10 @@ pub(crate) fn estimate(stages: &[Stage], cm: f64, dims: i32) -> Estimate {
         e.interval = [Some(lower), Some(c + to_come + noise + so)];
         e.kind = IntervalKind::Interval;
     } else {
-        let lower = if lower.is_finite() { lower } else { e.inner };
-        e.interval = [Some(lower.max(0.0)), None];
+        let lower = if lower.is_finite() { lower } else { e.inner }.max(0.0);
+        e.interval = [Some(lower), None];
+        // Never below the lower bound (nor 0: the staircase term of a sparse closed
+        // occupancy can exceed its cells).
         e.measure = e.measure.max(lower);
         e.samples_needed = Some(samples_needed(last.samples, unhit));
     }
