@@ -383,8 +383,8 @@ fn stderr_bounds_the_spread_over_seeds() {
 }
 
 /// At equal N Sobol' covers faster. On the grid anchored at the origin (sampling effects
-/// alone) its shortfall from full coverage is well below random sampling's and its
-/// replicates agree far better; on shifted grids both intervals cover π.
+/// alone) its shortfall from full coverage is well below random sampling's; on shifted
+/// grids both intervals cover π.
 #[test]
 fn sobol_beats_random_at_equal_n() {
     let model = planar_2r();
@@ -430,9 +430,9 @@ fn sobol_beats_random_at_equal_n() {
     );
     // Measured: 0.0060 against 0.0100.
     assert!(d_sob >= 0.0 && d_sob < 0.7 * d_rnd);
-    // On the fixed grid the replicates differ by their sampling alone: a scrambled net
-    // covers the pixels far more evenly (measured: spread 20× smaller).
-    assert!(sob.measure_stderr() < 0.5 * rnd.measure_stderr());
+    // (The replicates' spread no longer shows it: each replicate's estimate is measured
+    // on its closed occupancy, which fills the sampling gaps that made random sampling's
+    // replicates disagree; the shortfall above is the sampling effect itself.)
     let (rnd, sob) = (run(Sampling::Random, true), run(Sampling::Sobol, true));
     let (e_rnd, e_sob) = (rnd.measure() - PI, sob.measure() - PI);
     eprintln!("shifted grids: headline − π: random {e_rnd:+.5}, Sobol' {e_sob:+.5}");

@@ -550,7 +550,7 @@ fn workspace_section(s: &mut String, r: &Report) {
     let _ = writeln!(
         s,
         "`sample_workspace` with {} replicates per estimate (N = replicates × 2^k samples), randomly shifted grids, \
-         {} rayon threads; the estimate is the headline (bias-corrected pooled occupancy plus the unseen boundary cells), \
+         {} rayon threads; the estimate is the headline (bias-corrected closed occupancy plus the boundary slivers still to come), \
          compared with the closed form. Its own error estimate: the 95 % interval (the band: its half-width; ∞ while only \
          a lower bound is given); σ is the replicates' spread. Each cell is the mean over independent seeds \
          (the band: their median); \"truth in finite band\" = how often the reported interval contained the truth, among the \

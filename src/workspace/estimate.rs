@@ -1,62 +1,72 @@
 //! The estimator and its interval, from the counts of the volume pass at each doubling
 //! of the sample budget (see `docs/workspace.md`, "The estimate and its interval").
 //!
-//! At every stage `k` (all samples so far, `N_k = R · 2^k`):
-//! - the **pooled corrected measure** `C_k = c · (O − E/2 + (1 + D) H)` on the pooled
-//!   estimation grid (all samples, one grid shifted by a seeded random offset): `O`
-//!   occupied cells, `E` exposed faces (the first-order voxel bias is `E c / 2`), `H`
-//!   isolated holes (empty cells whose face neighbours are all occupied, counted as
-//!   filled: a hole costs `1 + D` cells of `C` — itself and `2D` exposed faces);
-//! - the same on each replicate's own grid (its own samples, its own random shift): their
-//!   spread `s_R` is the noise scale of `C_k`, lattice position included;
-//! - Richardson's `2 O(h) − O(2h)` on the pooled grid: `|C − richardson|` is the scale of
-//!   what the first-order correction leaves (plus under-sampling while it lasts);
-//! - the inner cells (occupied with all `3^D − 1` neighbours occupied) and the dilated
-//!   occupancy: a lower and an upper bracket.
+//! At every stage `k` (all samples so far, `N_k = R · 2^k`), on the pooled estimation grid
+//! (all samples, one grid shifted by a seeded random offset):
+//! - the **closed occupancy**: the occupied cells plus the cells of their morphological
+//!   closing by the `3^D` cube that touch a sparsely hit cell (hit once or twice).
+//!   Joint-space sampling leaves low-density cells empty in the bulk and along the
+//!   boundary long after the occupied set has taken the workspace's shape; closing fills
+//!   them, never grows a digital half-space, and (restricted to sparse neighbourhoods)
+//!   leaves alone the concave corners that well-hit cells surround. Its cells that no
+//!   sample hit (the *unhit* fraction) measure how much of it is inferred;
+//! - the **corrected measure** `C_k = c · (O − E/2 + (1 + D) H)` of the closed occupancy:
+//!   `O` cells, `E` exposed faces (the first-order voxel bias is `E c / 2`), `H` isolated
+//!   holes (counted as filled);
+//! - Richardson's `2 O(h) − O(2h)` of the closed occupancy: `so = |C − richardson|` is the
+//!   scale of what the first-order correction leaves;
+//! - each replicate's `C` on its own grid (its own samples, its own random shift): their
+//!   spread is the noise scale `s` of the pooled `C` (one grid too, so the lattice noise
+//!   does not average out; the sampling noise makes it conservative).
 //!
-//! The under-sampling left at stage `K` is the boundary layer's unseen cells: cells that
-//! the workspace meets in a sliver, which samples rarely hit. Their number follows from
-//! the cells hit once and twice ([`unseen`], a Good–Turing / capture–recapture argument):
-//! at most `D f1` under independent sampling with a density bounded away from zero at the
-//! boundary, centrally `f1/α̂`; no useful lower bound (stratified Sobol' points, or a
-//! density that grows towards a fold of the workspace, leave fewer unseen cells than
-//! independent points would). Each unseen cell adds one cell to `C` when found. The
-//! headline is `V = C_K + c f1/α̂`; the interval
-//! `[C_K − t s − so, C_K + c D f1 + t s + so]`, with `s` the standard deviation of
-//! the replicates' own `V_r` and `t` Student's 97.5 % quantile for `R − 1` degrees of
-//! freedom (the pooled `V` is one grid, like each `V_r`, with more samples: `s` bounds
-//! its noise), `so = |C − richardson|`. While coverage has not converged (the doubling
-//! increments of `C` not shrinking by [`MAX_RATIO`], or fewer than [`MIN_PER_CELL`]
-//! samples per occupied cell) only a lower bound is given, with the samples that would
-//! be needed.
+//! What closing cannot fill are the boundary *slivers*, cells the workspace meets in a
+//! corner of depth `δ` (measure `∝ δ^D`): they are found like `n^(−1/D)`, so the
+//! increments of `C_k` shrink by `ρ = 2^(−1/D)` per doubling, and the growth still to come
+//! is the geometric [`tail`] `G = ΔC_K ρ / (1 − ρ)`. The headline is `V = C_K + G`, and,
+//! once fewer than [`INTERVAL_UNHIT`] of the closed cells are unhit, the 95 % interval is
+//! `[C_K − t s − so, C_K + U + t s + so]` (`t` Student's 97.5 % quantile for `R − 1`
+//! degrees of freedom), the slivers' bound `U = max(TAIL_SPAN · G, D f₁ c)` with `f₁` the
+//! boundary cells of the closed occupancy hit once (Good–Turing: a sliver of depth `δ`
+//! holds `∝ δ^D` of a cell, so `E f₀ ≤ D E f₁`; the increments alone are noisy when the
+//! cells are coarse). Before that only a lower bound is given, with the samples
+//! an interval would need; while more than [`TAIL_UNHIT`] of the closed cells are unhit
+//! (the bulk still filling, its increments not yet the slivers') the headline is `C_K`.
 
 use serde::Serialize;
-
-/// Samples per occupied cell below which no two-sided interval is given.
-pub(crate) const MIN_PER_CELL: f64 = 8.0;
-
-/// Increments must shrink at least by this ratio per doubling for convergence.
-const MAX_RATIO: f64 = 0.9;
 
 /// Counts of one stage.
 #[derive(Clone, Debug)]
 pub(crate) struct Stage {
     /// Total samples so far.
     pub samples: u64,
-    /// Pooled estimation grid: occupied, exposed faces, isolated holes, inner and dilated
-    /// cells, occupied cells of `2h`.
+    /// Pooled estimation grid: occupied cells, and the cells hit exactly once and twice.
     pub occupied: u64,
-    pub exposed: u64,
-    pub holes: u64,
-    pub inner: u64,
-    pub dilated: u64,
-    pub coarse: u64,
-    /// Cells of the pooled grid hit exactly once and exactly twice.
     pub singles: u64,
     pub doubles: u64,
-    /// Each replicate's estimate (corrected measure plus unseen cells) on its own grid.
+    /// Inner (eroded) and dilated occupancy of the pooled grid.
+    pub inner: u64,
+    pub dilated: u64,
+    /// The closing of the pooled occupancy: its scan, its occupied cells of `2h`, and its
+    /// cells that no sample hit.
+    pub closed: super::grid::Scan,
+    pub closed_coarse: u64,
+    pub closed_unhit: u64,
+    /// Boundary cells of the closed occupancy (occupied, with an empty face neighbour)
+    /// hit exactly once.
+    pub edge_singles: u64,
+    /// Each replicate's corrected measure of its closed occupancy, on its own grid.
     pub replicate_estimates: Vec<f64>,
 }
+
+/// Unhit fraction of the closed cells up to which the sliver tail is extrapolated.
+pub(crate) const TAIL_UNHIT: f64 = 0.25;
+
+/// Unhit fraction of the closed cells up to which a two-sided interval is given.
+pub(crate) const INTERVAL_UNHIT: f64 = 0.05;
+
+/// The interval's upper end allows this many times the extrapolated tail (a deficit
+/// falling like `n^(−1/(2D))` instead of `n^(−1/D)`, roughly).
+pub(crate) const TAIL_SPAN: f64 = 2.0;
 
 /// Whether the interval is two-sided.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -81,18 +91,21 @@ pub struct Estimate {
     pub interval: [Option<f64>; 2],
     /// Two-sided interval or lower bound.
     pub kind: IntervalKind,
-    /// Pooled corrected measure `C_K`.
+    /// Pooled corrected measure `C_K` of the closed occupancy.
     pub corrected: f64,
     /// Pooled Richardson measure.
     pub richardson: f64,
+    /// Fraction of the closed cells that no sample hit (filled by the closing).
+    pub unhit_fraction: f64,
     /// Pooled raw occupancy `O c`.
     pub raw: f64,
-    /// First-order voxel bias `E c / 2` of the pooled grid.
+    /// First-order voxel bias `E c / 2` of the closed occupancy.
     pub voxel_bias: f64,
-    /// The unseen cells' measure still to come, central estimate (`None` while coverage
-    /// has not converged).
+    /// The slivers' measure still to come, the extrapolated tail `G` (`None` while the
+    /// bulk is still filling).
     pub remaining: Option<f64>,
-    /// Its bounds `[0, D f₁ c]` (net of the isolated holes already filled).
+    /// Its bounds `[0, max(TAIL_SPAN G, D f₁ c)]` (`f₁` the boundary cells of the closed
+    /// occupancy hit once).
     pub remaining_bounds: Option<[f64; 2]>,
     /// Cells hit exactly once and exactly twice (pooled grid).
     pub singles: u64,
@@ -142,57 +155,38 @@ pub(crate) fn mean_sd(x: &[f64]) -> (f64, f64) {
     (mean, var.sqrt())
 }
 
-/// Pooled corrected measure of a stage.
-pub(crate) fn corrected(s: &Stage, cm: f64, dims: i32) -> f64 {
+/// Corrected measure `c (O − E/2 + (1 + D) H)` of a scanned occupancy.
+pub(crate) fn corrected_scan(s: &super::grid::Scan, cm: f64, dims: i32) -> f64 {
     (s.occupied as f64 - 0.5 * s.exposed as f64 + (1 + dims) as f64 * s.holes as f64) * cm
 }
 
-/// Remaining growth after the last of `series` (see the module docs): `None` when the
-/// increments are not shrinking by [`MAX_RATIO`] per doubling — unless the last one is
-/// within `noise` (the noise scale of one value), where the measured ratio means nothing
-/// and the corner-law floor is used.
-pub(crate) fn remaining_growth(series: &[f64], dims: i32, noise: f64) -> Option<f64> {
-    let k = series.len();
-    if k < 3 {
-        return None;
-    }
-    let d1 = series[k - 2] - series[k - 3];
-    let d2 = series[k - 1] - series[k - 2];
-    let scale = series[k - 1].abs().max(f64::MIN_POSITIVE);
-    if d2 <= 1e-9 * scale {
-        return Some(0.0);
-    }
-    let floor = 2f64.powf(-1.0 / dims as f64);
-    let rho = if d1 > 0.0 && d2 <= MAX_RATIO * d1 {
-        (d2 / d1).max(floor)
-    } else if d2 <= noise {
-        floor
-    } else {
-        return None;
-    };
-    Some(d2 * rho / (1.0 - rho))
+/// Pooled corrected measure of a stage (of its closed occupancy).
+pub(crate) fn corrected(s: &Stage, cm: f64, dims: i32) -> f64 {
+    corrected_scan(&s.closed, cm, dims)
 }
 
-/// Unseen cells of the workspace's boundary layer, from the cells hit once (`f1`) and
-/// twice (`f2`), net of the `holes` already counted as filled: `(low, central, high)`.
-///
-/// Cells cut by the boundary hold a fraction `φ` of a cell of the workspace; near
-/// `φ = 0` its distribution follows `P(φ < ε) ∝ ε^α`, with `α = 1/D` for cells cut near a
-/// corner, `1/2` near an edge, `1` across a face. With `λ ∝ φ` the expected hits, the
-/// counts are Poisson mixtures and `E f0 / E f1 = Γ(α)/Γ(1 + α) = 1/α`,
-/// `E f2 / E f1 = (1 + α)/2`: the unseen cells number between `f1` (`α = 1`) and `D f1`
-/// (`α = 1/D`), centrally `f1/α̂` with `α̂ = 2 f2/f1 − 1` clamped to `[1/D, 1]`. (The
-/// caller uses 0, not `f1`, as the low end: see the module docs.)
-pub(crate) fn unseen(f1: u64, f2: u64, holes: u64, dims: i32) -> (f64, f64, f64) {
-    let d = dims as f64;
-    let (f1, f2, h) = (f1 as f64, f2 as f64, holes as f64);
-    let alpha = if f1 > 0.0 {
-        (2.0 * f2 / f1 - 1.0).clamp(1.0 / d, 1.0)
-    } else {
-        1.0
-    };
-    let net = |x: f64| (x - h).max(0.0);
-    (net(f1), net(f1 / alpha), net(d * f1))
+/// The growth of `series` (the corrected measure after each doubling) still to come:
+/// the last increment continued geometrically with ratio `2^(−1/D)` (the slivers' law),
+/// `ΔC ρ / (1 − ρ)`; 0 before two stages or when the last increment is not positive.
+pub(crate) fn tail(series: &[f64], dims: i32) -> f64 {
+    let k = series.len();
+    if k < 2 {
+        return 0.0;
+    }
+    let d = (series[k - 1] - series[k - 2]).max(0.0);
+    let rho = 2f64.powf(-1.0 / dims as f64);
+    d * rho / (1.0 - rho)
+}
+
+/// Samples that would bring the unhit fraction of the closed cells from `unhit` (at
+/// `samples`) under [`INTERVAL_UNHIT`], reading it as the Poisson `e^(−λ)` of a cell's
+/// hits, with a margin of half as many again for the non-uniform density: at least two
+/// more doublings.
+fn samples_needed(samples: u64, unhit: f64) -> u64 {
+    let lambda = -unhit.clamp(1e-9, 0.999).ln();
+    let target = -INTERVAL_UNHIT.ln();
+    let need = 1.5 * samples as f64 * target / lambda;
+    need.max(4.0 * samples as f64).ceil() as u64
 }
 
 /// The estimate after the last of `stages` (cell measure `cm`, dimension `dims`).
@@ -201,56 +195,54 @@ pub(crate) fn estimate(stages: &[Stage], cm: f64, dims: i32) -> Estimate {
     let series: Vec<f64> = stages.iter().map(|s| corrected(s, cm, dims)).collect();
     let c = *series.last().expect("one stage");
     let raw = last.occupied as f64 * cm;
-    let rich = 2.0 * raw - last.coarse as f64 * cm * 2f64.powi(dims);
+    let rich =
+        2.0 * last.closed.occupied as f64 * cm - last.closed_coarse as f64 * cm * 2f64.powi(dims);
     let so = (c - rich).abs();
-    let (_, sd) = mean_sd(&last.replicate_estimates);
     let r = last.replicate_estimates.len();
-    let noise = t975(r.saturating_sub(1)) * sd;
+    let (_, sd) = mean_sd(&last.replicate_estimates);
+    // The pooled C is measured on one grid, like each replicate's: its lattice noise is
+    // that of one replicate, so the replicates' spread is not divided by √R.
+    let s = sd;
+    let noise = t975(r.saturating_sub(1)) * s;
+    let unhit = last.closed_unhit as f64 / last.closed.occupied.max(1) as f64;
     let per_cell = last.samples as f64 / last.occupied.max(1) as f64;
-    let inner = last.inner as f64 * cm;
-    let outer = last.dilated as f64 * cm;
-    let converged = remaining_growth(&series, dims, sd).is_some() && per_cell >= MIN_PER_CELL;
-    let (_, t_mid, t_hi) = unseen(last.singles, last.doubles, last.holes, dims);
-    let remaining = converged.then_some(t_mid * cm);
+    let in_tail = unhit <= TAIL_UNHIT && stages.len() >= 3;
+    let g = tail(&series, dims);
+    let two_sided = in_tail && unhit <= INTERVAL_UNHIT && noise.is_finite();
+    // The slivers still to come: the tail's span, or (Good–Turing) at most D cells per
+    // boundary cell hit once (a sliver of depth δ holds ∝ δ^D of a cell: E f0 ≤ D E f1).
+    let to_come = (TAIL_SPAN * g).max(dims as f64 * last.edge_singles as f64 * cm);
     let mut e = Estimate {
         samples: last.samples,
-        measure: c,
-        stderr: sd,
+        measure: if in_tail { c + g } else { c },
+        stderr: s,
         interval: [None, None],
         kind: IntervalKind::LowerBound,
         corrected: c,
         richardson: rich,
+        unhit_fraction: unhit,
         raw,
-        voxel_bias: 0.5 * last.exposed as f64 * cm,
-        remaining,
-        remaining_bounds: converged.then_some([0.0, t_hi * cm]),
+        voxel_bias: 0.5 * last.closed.exposed as f64 * cm,
+        remaining: in_tail.then_some(g),
+        remaining_bounds: in_tail.then_some([0.0, to_come]),
         singles: last.singles,
         doubles: last.doubles,
-        inner,
-        outer,
+        inner: last.inner as f64 * cm,
+        outer: last.dilated as f64 * cm,
         samples_per_cell: per_cell,
         samples_needed: None,
     };
-    match remaining {
-        Some(g) if noise.is_finite() => {
-            e.measure = c + g;
-            e.interval = [Some(c - noise - so), Some(c + t_hi * cm + noise + so)];
-            e.kind = IntervalKind::Interval;
-        }
-        _ => {
-            let lower = inner.max(if noise.is_finite() {
-                c - noise - so
-            } else {
-                f64::NEG_INFINITY
-            });
-            e.measure = c.max(lower);
-            e.interval = [Some(lower.max(0.0)), None];
-            // At least MIN_PER_CELL samples per cell of the largest plausible set (the
-            // dilated occupancy), and two more doublings than now.
-            let cells = (outer / cm).max(last.occupied as f64);
-            let need = (MIN_PER_CELL * 2.0 * cells).max(4.0 * last.samples as f64);
-            e.samples_needed = Some(need.ceil() as u64);
-        }
+    let lower = c - noise - so;
+    if two_sided {
+        e.interval = [Some(lower), Some(c + to_come + noise + so)];
+        e.kind = IntervalKind::Interval;
+    } else {
+        let lower = if lower.is_finite() { lower } else { e.inner }.max(0.0);
+        e.interval = [Some(lower), None];
+        // Never below the lower bound (nor 0: the staircase term of a sparse closed
+        // occupancy can exceed its cells).
+        e.measure = e.measure.max(lower);
+        e.samples_needed = Some(samples_needed(last.samples, unhit));
     }
     e
 }
@@ -261,26 +253,25 @@ mod tests {
 
     #[test]
     fn tail_extrapolation_and_quantiles() {
-        // Increments halving: ρ = 1/2 is below the 2-D floor 2^(−1/2), which is used.
-        let r = remaining_growth(&[0.0, 4.0, 6.0], 2, 0.0).expect("shrinking");
-        let rho = 0.5f64.sqrt();
-        assert!((r - 2.0 * rho / (1.0 - rho)).abs() < 1e-12);
-        // Shrinking more slowly than the floor: the measured ratio 0.85.
-        let r = remaining_growth(&[0.0, 1.0, 1.85], 3, 0.0).expect("shrinking");
-        assert!((r - 0.85 * 0.85 / 0.15).abs() < 1e-9);
-        // Not shrinking enough, or growing: not converged, unless the step is noise.
-        assert_eq!(remaining_growth(&[0.0, 1.0, 1.95], 3, 0.5), None);
-        assert_eq!(remaining_growth(&[0.0, 1.0, 3.0], 3, 0.5), None);
-        let floor = 2f64.powf(-1.0 / 3.0);
-        let r = remaining_growth(&[0.0, -0.1, 0.2], 3, 0.5).expect("noise");
-        assert!((r - 0.3 * floor / (1.0 - floor)).abs() < 1e-12);
-        assert_eq!(remaining_growth(&[0.0, 1.0, 1.0], 3, 0.0), Some(0.0));
-        assert_eq!(remaining_growth(&[1.0, 2.0], 3, 0.0), None);
-        // Pure corner slivers in 3-D (α = 1/3: f2/f1 = 2/3): 3 f1 unseen, bounds f1 and 3 f1;
-        // the holes already filled come off.
-        assert_eq!(unseen(300, 200, 0, 3), (300.0, 900.0, 900.0));
-        assert_eq!(unseen(300, 300, 100, 3), (200.0, 200.0, 800.0));
-        assert_eq!(unseen(0, 0, 0, 2), (0.0, 0.0, 0.0));
+        // Last increment 1 continued with ρ = 2^(−1/3): ρ/(1 − ρ) = 3.847….
+        let rho = 2f64.powf(-1.0 / 3.0);
+        assert!((tail(&[0.0, 5.0, 6.0], 3) - rho / (1.0 - rho)).abs() < 1e-12);
+        assert!((tail(&[0.0, 5.0, 6.0], 3) - 3.847_322).abs() < 1e-6);
+        // In a plane ρ = 2^(−1/2): 1 + √2 = 2.414… per unit increment; here 2.
+        assert!((tail(&[1.0, 3.0], 2) - 2.0 * (1.0 + 2f64.sqrt())).abs() < 1e-12);
+        // Shrinking measures or a single stage: nothing to come.
+        assert_eq!(tail(&[2.0, 1.0], 3), 0.0);
+        assert_eq!(tail(&[2.0], 3), 0.0);
+        // e^(−λ) = 0.9 (λ = 0.105): 0.05 needs λ = ln 20, 28.4 times as many samples, and
+        // half as many again: 42 650 after 1000.
+        let n = samples_needed(1000, 0.9) as f64;
+        assert!(
+            (n - 1500.0 * 20f64.ln() / (1.0 / 0.9f64).ln()).abs() <= 1.0,
+            "{n}"
+        );
+        assert!((n - 42_650.0).abs() < 1.0, "{n}");
+        // Close to the target: at least two more doublings.
+        assert_eq!(samples_needed(1000, 0.06), 4000);
         assert_eq!(t975(7), 2.365);
         assert!(t975(0).is_infinite());
         let (m, sd) = mean_sd(&[1.0, 2.0, 3.0, 4.0]);

@@ -343,8 +343,14 @@ impl Grid {
     /// Cells of the occupied set after an erosion (`erode`) or a dilation by the cube of
     /// `3^D` cells (26 neighbours in 3-D, 8 in a plane). The eroded set is the *inner*
     /// cells — occupied with every neighbour occupied — and the dilated set the occupied
-    /// cells plus every cell touching one. Separable: one pass per axis.
+    /// cells plus every cell touching one.
     pub fn morph_count(&self, bits: &[u64], erode: bool) -> u64 {
+        count_bits(&self.morph(bits, erode))
+    }
+
+    /// The erosion (`erode`) or dilation of the occupied set by the cube of `3^D` cells,
+    /// as a bitset. Separable: one pass per axis.
+    pub fn morph(&self, bits: &[u64], erode: bool) -> Vec<u64> {
         let [_, ny, nz] = self.n;
         let wpr = self.wpr;
         let op = |a: u64, b: u64| if erode { a & b } else { a | b };
@@ -374,9 +380,18 @@ impl Grid {
             }
             std::mem::swap(&mut a, &mut b);
         }
-        a.iter().map(|w| w.count_ones() as u64).sum()
+        a
     }
 
+    /// The morphological closing of the occupied set by the cube of `3^D` cells (a
+    /// dilation, then an erosion): the occupied cells plus the empty cells whose every
+    /// neighbour touches an occupied cell. It fills the cells that under-sampling leaves
+    /// empty in the bulk and along a boundary, and leaves a digital half-space (the cells
+    /// that meet `{x · n ≤ b}`) unchanged: it never adds a cell beyond the closing of the
+    /// true cells.
+    pub fn closing(&self, bits: &[u64]) -> Vec<u64> {
+        self.morph(&self.morph(bits, false), true)
+    }
     /// Occupied cells of the grid of `2h` (cell `(i, j, k)` of it is the union of cells
     /// `(2i + a, 2j + b, 2k + c)`: the corner index is even), from the fine bitset.
     pub fn coarse_count(&self, bits: &[u64]) -> u64 {
@@ -443,6 +458,34 @@ impl Hits {
         &self.at_least[0]
     }
 
+    /// The *closed occupancy*: the occupied cells plus the empty cells of their closing
+    /// ([`Grid::closing`]) that touch a cell hit only once or twice — cells left empty
+    /// where the sampling is sparse. An empty cell of the closing among well-hit cells
+    /// is not a sampling gap but the workspace's own shape (a concave boundary at the
+    /// voxel scale), and stays empty.
+    pub fn closed_occupancy(&self, grid: &Grid) -> Vec<u64> {
+        let [a, _, c] = &self.at_least;
+        let sparse: Vec<u64> = a.iter().zip(c).map(|(x, y)| x & !y).collect();
+        let near_sparse = grid.morph(&sparse, false);
+        let mut out = grid.closing(a);
+        for ((o, n), x) in out.iter_mut().zip(&near_sparse).zip(a) {
+            *o = x | (*o & n);
+        }
+        out
+    }
+
+    /// Cells of `mask` not hit, hit exactly once and exactly twice.
+    pub fn counts_in(&self, mask: &[u64]) -> [u64; 3] {
+        let [a, b, c] = &self.at_least;
+        let mut f = [0u64; 3];
+        for w in 0..a.len() {
+            f[0] += (mask[w] & !a[w]).count_ones() as u64;
+            f[1] += (mask[w] & a[w] & !b[w]).count_ones() as u64;
+            f[2] += (mask[w] & b[w] & !c[w]).count_ones() as u64;
+        }
+        f
+    }
+
     /// Cells hit exactly once and exactly twice.
     pub fn singles_doubles(&self) -> (u64, u64) {
         let [a, b, c] = &self.at_least;
@@ -453,6 +496,11 @@ impl Hits {
         }
         (f1, f2)
     }
+}
+
+/// Set bits of a bitset.
+pub(crate) fn count_bits(bits: &[u64]) -> u64 {
+    bits.iter().map(|w| w.count_ones() as u64).sum()
 }
 
 /// Bit indices of the set bits, in order.

@@ -488,8 +488,8 @@ fn coverage_warnings(
     let mut out = Vec::new();
     if e.kind == IntervalKind::LowerBound {
         out.push(format!(
-            "coverage has not converged ({:.1} samples per occupied voxel): the {} is only bounded below, by {:.4} {unit}; about {} samples (or a larger voxel) would give an interval",
-            e.samples_per_cell,
+            "coverage has not converged ({:.1} % of the closed voxels unhit): the {} is only bounded below, by {:.4} {unit}; about {} samples (or a larger voxel) would give an interval",
+            100.0 * e.unhit_fraction,
             if planar { "area" } else { "volume" },
             e.interval[0].unwrap_or(0.0),
             e.samples_needed.unwrap_or(0)
@@ -606,7 +606,7 @@ fn voxel_bias(
     h: f64,
     planar: bool,
 ) -> VoxelBias {
-    let exposed = last.exposed as f64;
+    let exposed = last.closed.exposed as f64;
     let second_order = (e.corrected - e.richardson).abs();
     VoxelBias {
         unit: if planar { "m2" } else { "m3" },
@@ -615,7 +615,7 @@ fn voxel_bias(
         bias: e.voxel_bias,
         corrected: e.corrected,
         corrected_stderr: e.stderr,
-        coarse: last.coarse as f64 * cm * 2f64.powi(dims),
+        coarse: last.closed_coarse as f64 * cm * 2f64.powi(dims),
         richardson: e.richardson,
         richardson_stderr: e.stderr,
         undersampling: e.remaining,
@@ -628,7 +628,7 @@ fn voxel_bias(
             e.interval[0].unwrap_or(0.0),
             e.interval[1].unwrap_or(f64::INFINITY),
         ],
-        isolated_holes: last.holes as f64,
+        isolated_holes: last.closed.holes as f64,
     }
 }
 

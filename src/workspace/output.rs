@@ -103,20 +103,21 @@ pub fn summary_lines(r: &WorkspaceResult) -> Vec<String> {
             100.0 * e.rel_half_width()
         )),
         [lo, _] => out.push(format!(
-            "{what}: lower bound {:.4} {unit} (too few samples for an interval: {:.1} per occupied voxel; about {} samples needed)",
+            "{what}: lower bound {:.4} {unit}, estimate {:.4} (too few samples for an interval: {:.1} % of the closed voxels unhit; about {} samples needed)",
             lo.unwrap_or(0.0),
-            e.samples_per_cell,
+            e.measure,
+            100.0 * e.unhit_fraction,
             e.samples_needed.unwrap_or(0)
         )),
     }
     out.push(format!(
-        "pooled occupancy {:.4} {unit}, voxel-size bias {:.4}, corrected {:.4} (replicate spread {:.4}), under-sampling still to come {}",
+        "pooled occupancy {:.4} {unit}, closed and voxel-bias corrected {:.4} (voxel-size bias {:.4}, replicate spread {:.4}), slivers still to come {}",
         e.raw,
-        e.voxel_bias,
         e.corrected,
+        e.voxel_bias,
         e.stderr,
         e.remaining
-            .map_or("unknown".to_string(), |g| format!("≤ {g:.4}"))
+            .map_or("unknown".to_string(), |g| format!("about {g:.4}"))
     ));
     if let (Some(d), Some(x)) = (r.dexterous_interval, &r.extras) {
         out.push(format!(

@@ -210,15 +210,11 @@ impl Replicate {
     }
 }
 
-/// The estimate of one replicate on its own grid: corrected measure plus the unseen
-/// cells' central estimate (see [`super::estimate`]).
+/// The estimate of one replicate on its own grid: the corrected measure of its closed
+/// occupancy (see [`super::estimate`]).
 fn replicate_estimate(grid: &Grid, hits: &Hits) -> f64 {
-    let s = grid.scan(hits.occupied());
-    let (f1, f2) = hits.singles_doubles();
-    let d = grid.dims();
-    let cells = s.occupied as f64 - 0.5 * s.exposed as f64 + (1 + d) as f64 * s.holes as f64;
-    let (_, mid, _) = super::estimate::unseen(f1, f2, s.holes, d);
-    (cells + mid) * grid.cell_measure()
+    let s = grid.scan(&hits.closed_occupancy(grid));
+    super::estimate::corrected_scan(&s, grid.cell_measure(), grid.dims())
 }
 
 /// Advances every replicate to `per_replicate` samples (rayon, one task per replicate)
@@ -241,18 +237,19 @@ pub(crate) fn run_stage(
         pooled.add(&r.est_hits);
     }
     let union = pooled.occupied();
-    let scan = ctx.est.scan(union);
     let (singles, doubles) = pooled.singles_doubles();
+    let closed_bits = pooled.closed_occupancy(&ctx.est);
     Stage {
         samples: per_replicate * reps.len() as u64,
-        occupied: scan.occupied,
-        exposed: scan.exposed,
-        holes: scan.holes,
+        occupied: super::grid::count_bits(union),
         singles,
         doubles,
         inner: ctx.est.morph_count(union, true),
         dilated: ctx.est.morph_count(union, false),
-        coarse: ctx.est.coarse_count(union),
+        closed: ctx.est.scan(&closed_bits),
+        closed_coarse: ctx.est.coarse_count(&closed_bits),
+        closed_unhit: pooled.counts_in(&closed_bits)[0],
+        edge_singles: pooled.counts_in(&ctx.est.boundary_bits(&closed_bits))[1],
         replicate_estimates,
     }
 }
