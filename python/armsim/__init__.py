@@ -33,6 +33,7 @@ from ._armsim import (  # noqa: F401  (re-exports)
     ik_batch,
     jacobian_batch,
     nonlinear_effects,
+    plan,
     rnea,
     rnea_batch,
     sample_poses,
@@ -44,7 +45,7 @@ __all__ = [
     "forward_kinematics", "frame_jacobian", "rnea", "aba", "crba",
     "compute_generalized_gravity", "gravity", "nonlinear_effects",
     "rnea_batch", "aba_batch", "gravity_batch", "fk_batch", "jacobian_batch", "ik_batch",
-    "sample_poses", "run_scenario", "workspace",
+    "sample_poses", "run_scenario", "workspace", "plan",
 ]
 
 #: Short name of :func:`compute_generalized_gravity`.

@@ -11,6 +11,7 @@ mod dyn_calls;
 mod errors;
 mod ik;
 mod model;
+mod plan;
 mod robot;
 mod tasks;
 
@@ -41,6 +42,7 @@ fn _armsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(batch::fk_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::jacobian_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::ik_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(plan::plan_py, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::run_scenario_json, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::workspace_json, m)?)?;
     m.add_function(wrap_pyfunction!(tasks::sample_poses, m)?)?;

@@ -49,6 +49,40 @@ impl PyRobot {
         }
     }
 
+    /// Plans a collision-free path (see `armsim.plan`): start and goal given or read from
+    /// a MoveIt request file, obstacles from a MoveIt scene file, self pairs from an SRDF.
+    #[pyo3(signature = (start=None, goal=None, scene=None, request=None, srdf=None, seed=0, time_limit_ms=1000.0, simplify=true, range=1.0))]
+    #[allow(clippy::too_many_arguments)]
+    fn plan<'py>(
+        &self,
+        py: Python<'py>,
+        start: Option<Bound<'py, PyAny>>,
+        goal: Option<Bound<'py, PyAny>>,
+        scene: Option<std::path::PathBuf>,
+        request: Option<std::path::PathBuf>,
+        srdf: Option<std::path::PathBuf>,
+        seed: u64,
+        time_limit_ms: f64,
+        simplify: bool,
+        range: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        crate::plan::plan(
+            py,
+            self.robot.model(),
+            crate::plan::PlanArgs {
+                start,
+                goal,
+                scene,
+                request,
+                srdf,
+                seed,
+                time_limit_ms,
+                simplify,
+                range,
+            },
+        )
+    }
+
     /// Loads a URDF or DH-table file.
     #[staticmethod]
     #[pyo3(signature = (path, strict=false, ignore_mimic=false))]
