@@ -4,8 +4,12 @@
 //! **Configurations.** [`Checker::lanes_hit`] computes the body poses for eight
 //! configurations (one per lane) down the tree, places each link's bounding sphere, tests it
 //! against each obstacle, and only where a lane overlaps tests the link's own spheres; then
-//! the enabled self-collision link pairs, bounding spheres first. The result is the mask
-//! of lanes in collision.
+//! the enabled self-collision link pairs, bounding spheres first. The groups one body
+//! carries (a hand with its fingers) share one more sphere, tested first ([`clusters`]).
+//! The result is the mask of lanes in collision.
+//!
+//! **Edges, discretely.** The search checks its edges at `search_resolution` points per
+//! unit ([`EdgeMode::Discrete`]); the path it returns is then checked continuously.
 //!
 //! **Edges, continuously.** An edge `a → b` is cut into `n = ⌈‖b − a‖ · resolution⌉`
 //! intervals of half-width `h = 1/(2n)` in the parameter `t`. The check at an interval's
