@@ -69,7 +69,6 @@ pub(super) fn rate_limits(sx: &Sections) -> Result<RateLimits, ScenarioError> {
     let file = sx.file;
     let model = sx.model;
     let names = &sx.names;
-    let n = sx.n;
     let lsec = file.limits.as_ref().map(|l| l.get_ref());
     let scale = match lsec.and_then(|l| l.velocity_scale.as_ref()) {
         None => 1.0,
@@ -82,24 +81,8 @@ pub(super) fn rate_limits(sx: &Sections) -> Result<RateLimits, ScenarioError> {
             ))
         }
     };
-    let mut velocity = model.velocity_limit.clone();
-    if let Some(v) = lsec.and_then(|l| l.velocity.as_ref()) {
-        let vals = per_joint(cx, v, "limits.velocity", names, &velocity)?;
-        positive_all(cx, v, "limits.velocity", names, &vals, false)?;
-        for k in 0..n {
-            if vals[k] > model.velocity_limit[k] {
-                return Err(cx.at(
-                    v.span(),
-                    "limits.velocity",
-                    format!(
-                        "joint {}: {} exceeds the model's velocity limit {}",
-                        names[k], vals[k], model.velocity_limit[k]
-                    ),
-                ));
-            }
-        }
-        velocity = vals;
-    }
+    let velocity_in = lsec.and_then(|l| l.velocity.as_ref());
+    let mut velocity = within_model(cx, velocity_in, "velocity", names, &model.velocity_limit)?;
     if let Some(k) = velocity.iter().position(|v| !v.is_finite()) {
         let span = file
             .limits
@@ -128,24 +111,8 @@ pub(super) fn rate_limits(sx: &Sections) -> Result<RateLimits, ScenarioError> {
         }
         None => default_acc,
     };
-    let mut effort = model.effort_limit.clone();
-    if let Some(v) = lsec.and_then(|l| l.effort.as_ref()) {
-        let vals = per_joint(cx, v, "limits.effort", names, &effort)?;
-        positive_all(cx, v, "limits.effort", names, &vals, false)?;
-        for k in 0..n {
-            if vals[k] > model.effort_limit[k] {
-                return Err(cx.at(
-                    v.span(),
-                    "limits.effort",
-                    format!(
-                        "joint {}: {} exceeds the model's effort limit {}",
-                        names[k], vals[k], model.effort_limit[k]
-                    ),
-                ));
-            }
-        }
-        effort = vals;
-    }
+    let effort_in = lsec.and_then(|l| l.effort.as_ref());
+    let effort = within_model(cx, effort_in, "effort", names, &model.effort_limit)?;
     let limits = JointLimits {
         velocity,
         acceleration,
@@ -229,4 +196,34 @@ pub(super) fn check_in_limits(
         }
     }
     Ok(())
+}
+
+/// `limits.<what>`: the model's limits, or the given positive values, none above the
+/// model's (a scenario may only be more careful than its robot).
+fn within_model(
+    cx: &Ctx,
+    given: Option<&PerJoint>,
+    what: &str,
+    names: &[String],
+    model_limit: &[f64],
+) -> Result<Vec<f64>, ScenarioError> {
+    let Some(v) = given else {
+        return Ok(model_limit.to_vec());
+    };
+    let key = format!("limits.{what}");
+    let vals = per_joint(cx, v, &key, names, model_limit)?;
+    positive_all(cx, v, &key, names, &vals, false)?;
+    for (k, (x, m)) in vals.iter().zip(model_limit).enumerate() {
+        if x > m {
+            return Err(cx.at(
+                v.span(),
+                &key,
+                format!(
+                    "joint {}: {x} exceeds the model's {what} limit {m}",
+                    names[k]
+                ),
+            ));
+        }
+    }
+    Ok(vals)
 }

@@ -353,55 +353,43 @@ impl Checker {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn edge_free_avx2(
-    c: &Checker,
-    tok: Avx2,
-    a: &[f32],
-    b: &[f32],
-    mode: EdgeMode,
-    s: &mut CheckScratch,
-) -> bool {
-    c.edge_free_impl(tok, a, b, mode, s)
+/// The entry points compiled for one instruction set: the shared generic code inlined into
+/// `#[target_feature]` wrappers (callers prove the features with the token and detection).
+macro_rules! isa_entry_points {
+    ($features:literal, $edge:ident, $lanes:ident) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $features)]
+        unsafe fn $edge(
+            c: &Checker,
+            tok: Avx2,
+            a: &[f32],
+            b: &[f32],
+            mode: EdgeMode,
+            s: &mut CheckScratch,
+        ) -> bool {
+            c.edge_free_impl(tok, a, b, mode, s)
+        }
+
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $features)]
+        unsafe fn $lanes(
+            c: &Checker,
+            tok: Avx2,
+            q: &[L],
+            h: L,
+            s: &mut CheckScratch,
+        ) -> (Mask, Mask) {
+            c.lanes_hit::<_, false>(tok, q, h, s)
+        }
+    };
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn lanes_hit_avx2(
-    c: &Checker,
-    tok: Avx2,
-    q: &[L],
-    h: L,
-    s: &mut CheckScratch,
-) -> (Mask, Mask) {
-    c.lanes_hit::<_, false>(tok, q, h, s)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-unsafe fn edge_free_avx512vl(
-    c: &Checker,
-    tok: Avx2,
-    a: &[f32],
-    b: &[f32],
-    mode: EdgeMode,
-    s: &mut CheckScratch,
-) -> bool {
-    c.edge_free_impl(tok, a, b, mode, s)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-unsafe fn lanes_hit_avx512vl(
-    c: &Checker,
-    tok: Avx2,
-    q: &[L],
-    h: L,
-    s: &mut CheckScratch,
-) -> (Mask, Mask) {
-    c.lanes_hit::<_, false>(tok, q, h, s)
-}
+isa_entry_points!("avx2,fma", edge_free_avx2, lanes_hit_avx2);
+isa_entry_points!(
+    "avx2,fma,avx512f,avx512vl",
+    edge_free_avx512vl,
+    lanes_hit_avx512vl
+);
 
 /// Per link group, the obstacles within reach of its bounding sphere in any configuration:
 /// the group's bound swept about the first movable body's origin (a sphere of radius
