@@ -235,3 +235,17 @@ pub fn scenario_name(name: Option<&str>, file: &str) -> String {
             .unwrap_or_else(|| "scenario".into())
     })
 }
+
+/// Runs one scenario kind: `parse` the file's text, then `report` on the result (plots to
+/// `out_dir` when given).
+pub fn parse_and_report<S>(
+    path: &Path,
+    text: &str,
+    out_dir: Option<&Path>,
+    parse: fn(&str, &str) -> Result<S, ScenarioError>,
+    report: fn(&Ctx, &S, Option<&Path>) -> Result<crate::report::Report, ScenarioError>,
+) -> Result<crate::report::Report, ScenarioError> {
+    let file = path.display().to_string();
+    let sc = parse(&file, text)?;
+    report(&Ctx::new(&file, text), &sc, out_dir)
+}

@@ -123,9 +123,7 @@ pub const MAX_SPEEDS: usize = 10_000;
 
 /// Runs a flexible-rotor scenario; plots go to `out_dir` when given.
 pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
-    let file = path.display().to_string();
-    let sc = parse(&file, text)?;
-    report(&Ctx::new(&file, text), &sc, out_dir)
+    crate::scenario_kit::parse_and_report(path, text, out_dir, parse, report)
 }
 
 fn segment(

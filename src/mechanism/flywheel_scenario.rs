@@ -104,9 +104,7 @@ pub const MAX_PERIODS: usize = 1000;
 
 /// Runs a flywheel scenario; plots go to `out_dir` when given.
 pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
-    let file = path.display().to_string();
-    let sc = parse(&file, text)?;
-    report(&Ctx::new(&file, text), &sc, out_dir)
+    crate::scenario_kit::parse_and_report(path, text, out_dir, parse, report)
 }
 
 fn table(

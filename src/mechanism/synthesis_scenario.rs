@@ -119,9 +119,7 @@ pub const MAX_SAMPLES: usize = 100_000;
 
 /// Runs a synthesis scenario; plots go to `out_dir` when given.
 pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
-    let file = path.display().to_string();
-    let sc = parse(&file, text)?;
-    report(&Ctx::new(&file, text), &sc, out_dir)
+    crate::scenario_kit::parse_and_report(path, text, out_dir, parse, report)
 }
 
 fn one_of<'a>(
