@@ -153,6 +153,15 @@ fn cm5_oscillating_flat_face_swing_and_pressure_angle() {
 #[test]
 fn problem_260_book_construction_radius() {
     let v = run_json("scenarios/cam_260_oscillating_knife.toml");
+    // s is the swing (rad): 30° for this cam.
+    assert_eq!(v["follower_motion"], "oscillating");
+    let s_max = v["samples"]["s"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|x| x.as_f64())
+        .fold(0.0, f64::max);
+    close(s_max, 30f64.to_radians(), 1e-9, "swing");
     close(
         v["summary"]["book_lowest_position_radius"]
             .as_f64()

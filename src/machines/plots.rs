@@ -62,13 +62,19 @@ pub fn cam_panels(j: &Value) -> Vec<Panel> {
             ..Default::default()
         });
     }
+    // An oscillating follower's s is its swing (rad); otherwise a length in the file's unit.
+    let u = if j["follower_motion"] == "oscillating" {
+        "rad"
+    } else {
+        "mm"
+    };
     for (k, (key, title, unit)) in [
-        ("s", "displacement s", "mm"),
-        ("face_angle_deg", "face angle", "deg"),
-        ("v", "velocity v", "mm/s"),
-        ("a", "acceleration a", "mm/s²"),
-        ("jerk", "jerk", "mm/s³"),
-        ("pressure_angle_deg", "pressure angle", "deg"),
+        ("s", "displacement s", u.to_string()),
+        ("face_angle_deg", "face angle", "deg".into()),
+        ("v", "velocity v", format!("{u}/s")),
+        ("a", "acceleration a", format!("{u}/s²")),
+        ("jerk", "jerk", format!("{u}/s³")),
+        ("pressure_angle_deg", "pressure angle", "deg".into()),
     ]
     .iter()
     .enumerate()
@@ -80,7 +86,7 @@ pub fn cam_panels(j: &Value) -> Vec<Panel> {
         out.push(Panel {
             title: (*title).into(),
             x_desc: "cam angle φ (deg)".into(),
-            y_desc: (*unit).into(),
+            y_desc: unit.clone(),
             series: vec![series(key, over_turn(&phi, &ys), k + 2)],
             ..Default::default()
         });

@@ -149,6 +149,8 @@ fn law_report(sc: &CamScenario, m: &Motion, f: &Follower, text: &mut String) -> 
         }
     }
     json!({
+        // What `s` measures: the follower's travel (translating, flat) or its swing in rad.
+        "follower_motion": if matches!(f, Follower::Oscillating { .. }) { "oscillating" } else { "translating" },
         "samples": {
             "phi_deg": phis.iter().map(|p| p.to_degrees()).collect::<Vec<_>>(),
             "s": samples.iter().map(|s| s.s[0]).collect::<Vec<_>>(),
