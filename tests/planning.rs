@@ -444,3 +444,80 @@ fn start_and_goal_outside_limits_or_of_wrong_length_are_invalid() {
     assert_eq!(r.status, PlanStatus::InvalidGoal);
     assert!(r.path.is_empty());
 }
+
+#[test]
+fn relative_pair_bound_covers_every_sphere_distance_change_along_an_edge() {
+    use armsim::planning::sampler::{Sampler, SamplerKind};
+    use armsim::planning::spheres::pair_rho;
+    for name in ["panda", "ur5"] {
+        let robot = Robot::load(name);
+        let checker = planner(&robot, &[], PlanOptions::default()).checker;
+        let (m, sm) = (&robot.model, &checker.spheres);
+        let nv = m.nv;
+        let (lo, hi): (Vec<f32>, Vec<f32>) = (0..nv)
+            .map(|k| (m.lower[k] as f32, m.upper[k] as f32))
+            .unzip();
+        let rel: Vec<Vec<f32>> = checker
+            .self_pairs
+            .iter()
+            .map(|&(a, b)| pair_rho(m, sm, a, b))
+            .collect();
+        let mut sampler = Sampler::new(SamplerKind::Random, &lo, &hi, 11);
+        let (mut a, mut b) = (vec![0.0f32; nv], vec![0.0f32; nv]);
+        let steps = 400;
+        let (mut worst, mut tighter) = (0.0f64, 0usize);
+        for _ in 0..20 {
+            sampler.next(&mut a);
+            sampler.next(&mut b);
+            let at = |t: f64| -> Vec<f64> {
+                (0..nv)
+                    .map(|k| a[k] as f64 + t * (b[k] - a[k]) as f64)
+                    .collect()
+            };
+            let speed = |rho: &[f32]| -> f64 {
+                (0..nv)
+                    .map(|k| ((b[k] - a[k]) as f64).abs() * rho[k] as f64)
+                    .sum()
+            };
+            let mut prev = sm.world_centers(m, &at(0.0));
+            for step in 1..=steps {
+                let next = sm.world_centers(m, &at(step as f64 / steps as f64));
+                for (p, &(ga, gb)) in checker.self_pairs.iter().enumerate() {
+                    let bound = speed(&rel[p]) / steps as f64;
+                    let (la, lb) = (&sm.links[ga], &sm.links[gb]);
+                    for i in la.first..la.end {
+                        for j in lb.first..lb.end {
+                            let d0 = (prev[i] - prev[j]).norm();
+                            let d1 = (next[i] - next[j]).norm();
+                            // The distance changes at most at the relative speed bound.
+                            assert!(
+                                (d1 - d0).abs() <= bound * (1.0 + 1e-4) + 1e-9,
+                                "{name}: pair {ga}-{gb}, spheres {i}-{j}: |Δd| {} > {bound}",
+                                (d1 - d0).abs()
+                            );
+                            if bound > 0.0 {
+                                worst = worst.max((d1 - d0).abs() / bound);
+                            }
+                        }
+                    }
+                }
+                prev = next;
+            }
+        }
+        // The bound is not loose to the point of meaning nothing: some sphere pair's
+        // distance changes at more than a tenth of it.
+        assert!(worst > 0.1, "{name}: worst ratio {worst}");
+        // And it is tighter than the two groups' world bounds summed for most pairs.
+        for (p, &(ga, gb)) in checker.self_pairs.iter().enumerate() {
+            let world: f32 = (0..nv)
+                .map(|k| sm.link_rho[ga * nv + k] + sm.link_rho[gb * nv + k])
+                .sum();
+            tighter += usize::from(rel[p].iter().sum::<f32>() < 0.7 * world);
+        }
+        assert!(
+            2 * tighter > checker.self_pairs.len(),
+            "{name}: {tighter} of {} pairs",
+            checker.self_pairs.len()
+        );
+    }
+}

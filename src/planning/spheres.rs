@@ -300,27 +300,81 @@ fn motion_bounds(model: &Model, links: &[LinkSpheres], spheres: &[Sphere]) -> Ve
     let nv = model.nv;
     let mut rho = vec![0.0f32; spheres.len() * nv];
     for ls in links {
-        if ls.body == WORLD {
-            continue;
-        }
         for s in ls.first..ls.end {
-            let c = spheres[s].center;
-            // |c − o_k|, bounded by the chain of placement lengths from k down to the body.
-            let mut reach =
-                ((c[0] as f64).powi(2) + (c[1] as f64).powi(2) + (c[2] as f64).powi(2)).sqrt();
-            let mut b = ls.body;
-            while b != WORLD {
-                let coef = if model.kind[b].is_revolute() {
-                    reach
-                } else {
-                    1.0
-                };
-                let k = model.q_index[b];
-                rho[s * nv + k] += (model.q_mult[b].abs() * coef * (1.0 + 1e-6)) as f32;
-                reach += model.placement[b].trans.norm();
-                b = model.parent[b];
-            }
+            let out = &mut rho[s * nv..(s + 1) * nv];
+            chain_rho(model, spheres[s].center, ls.body, WORLD, out);
         }
     }
     rho
+}
+
+/// Adds to `out[k]` the coefficients `ρ_k` of a point at `center` (body frame) on `body`,
+/// for the joints from `body` up to, not including, the joint of `stop` (an ancestor, or
+/// [`WORLD`] for the whole chain).
+fn chain_rho(model: &Model, center: [f32; 3], body: usize, stop: usize, out: &mut [f32]) {
+    let c = center.map(f64::from);
+    // |c − o_k|, bounded by the chain of placement lengths from k down to the body.
+    let mut reach = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+    let mut b = body;
+    while b != WORLD && b != stop {
+        let coef = if model.kind[b].is_revolute() {
+            reach
+        } else {
+            1.0
+        };
+        let k = model.q_index[b];
+        out[k] += (model.q_mult[b].abs() * coef * (1.0 + 1e-6)) as f32;
+        reach += model.placement[b].trans.norm();
+        b = model.parent[b];
+    }
+}
+
+/// The deepest body that is an ancestor of both `a` and `b` (itself included), or
+/// [`WORLD`].
+fn common_ancestor(model: &Model, a: usize, b: usize) -> usize {
+    let chain = |mut x: usize| {
+        let mut v = Vec::new();
+        while x != WORLD {
+            v.push(x);
+            x = model.parent[x];
+        }
+        v
+    };
+    let ca = chain(a);
+    chain(b)
+        .into_iter()
+        .find(|x| ca.contains(x))
+        .unwrap_or(WORLD)
+}
+
+/// Relative motion bound of link groups `ga` and `gb` (`nv` coefficients): along a
+/// straight joint-space segment, the distance between any point of one and any point of
+/// the other changes at most at `Σ_k |q̇_k| ρ_k`. Distances do not change under a rigid
+/// motion of both, so only the joints between their deepest common ancestor `C` and each
+/// group count: in `C`'s frame a point of `ga` moves with the joints `C → ga` alone, at
+/// most at the [`SphereModel::rho`] terms of those joints.
+pub fn pair_rho(model: &Model, sm: &SphereModel, ga: usize, gb: usize) -> Vec<f32> {
+    let nv = sm.nv;
+    let (la, lb) = (&sm.links[ga], &sm.links[gb]);
+    let common = if la.body == WORLD || lb.body == WORLD {
+        WORLD
+    } else {
+        common_ancestor(model, la.body, lb.body)
+    };
+    let mut total = vec![0.0f32; nv];
+    let mut one = vec![0.0f32; nv];
+    for ls in [la, lb] {
+        let mut worst = vec![0.0f32; nv];
+        for s in ls.first..ls.end {
+            one.fill(0.0);
+            chain_rho(model, sm.spheres[s].center, ls.body, common, &mut one);
+            for (w, &x) in worst.iter_mut().zip(&one) {
+                *w = w.max(x);
+            }
+        }
+        for (t, w) in total.iter_mut().zip(&worst) {
+            *t += w;
+        }
+    }
+    total
 }

@@ -93,8 +93,8 @@ impl Checker {
                     continue;
                 }
             }
-            for &(ga, gb) in &self.self_pairs[run.pairs.clone()] {
-                let (e, i) = self.pair_hit::<S, MOVING>(tok, ga, gb, h, s);
+            for p in run.pairs.clone() {
+                let (e, i) = self.pair_hit::<S, MOVING>(tok, p, h, s);
                 exact |= e;
                 inflated |= i;
                 if exact != 0 {
@@ -276,24 +276,32 @@ impl Checker {
         self.inflation(tok, cap, now, h, s.l1)
     }
 
-    /// Masks `(exact, inflated)` where link groups `ga` and `gb` overlap (bounding spheres
-    /// first).
+    /// Masks `(exact, inflated)` where the link groups of self pair `p` overlap (bounding
+    /// spheres first). Moving, a sphere pair is inflated by the smaller of its spheres'
+    /// inflations summed and the pair's relative bound `v_rel h − tol`
+    /// ([`crate::planning::spheres::pair_rho`]): both cover the interval.
     #[inline(always)]
     pub(super) fn pair_hit<S: Simd, const MOVING: bool>(
         &self,
         tok: S,
-        ga: usize,
-        gb: usize,
+        p: usize,
         h: W<S>,
         s: &mut CheckScratch,
     ) -> (Mask, Mask) {
+        let (ga, gb) = self.self_pairs[p];
         let sm = &self.spheres;
         let (la, lb) = (&sm.links[ga], &sm.links[gb]);
         let ca = P3::load(tok, &s.bounds[ga]);
         let cb = P3::load(tok, &s.bounds[gb]);
         let mut rr = tok.splat(la.bound.radius + lb.bound.radius);
+        let relative = if MOVING {
+            let rel = tok.splat(s.pair_speed[p]) * h - tok.splat(self.opts.tolerance);
+            rel.max(tok.splat(0.0))
+        } else {
+            tok.splat(0.0)
+        };
         if MOVING {
-            rr = rr + tok.load(&s.bound_infl[ga]) + tok.load(&s.bound_infl[gb]);
+            rr = rr + (tok.load(&s.bound_infl[ga]) + tok.load(&s.bound_infl[gb])).min(relative);
         }
         if ca.dist2(&cb).lt(rr * rr) == 0 {
             return (0, 0);
@@ -314,12 +322,13 @@ impl Checker {
         } else {
             (lb, la, ca, ga)
         };
-        let rb = tok.splat(lb.bound.radius) + tok.load(&s.bound_infl[gb]);
+        let rb = tok.splat(lb.bound.radius);
+        let eb = tok.load(&s.bound_infl[gb]);
         for i in la.first..la.end {
             let ri = tok.splat(sm.spheres[i].radius);
             let ei = tok.load(&s.infl[i]);
             let ci = P3::load(tok, &s.centers[i]);
-            let reach = ri + ei + rb;
+            let reach = ri + rb + (ei + eb).min(relative);
             if ci.dist2(&cb).lt(reach * reach) == 0 {
                 continue;
             }
@@ -327,7 +336,7 @@ impl Checker {
                 let cj = P3::load(tok, &s.centers[j]);
                 let r = ri + tok.splat(sm.spheres[j].radius);
                 let d2 = ci.dist2(&cj);
-                let rinf = r + ei + tok.load(&s.infl[j]);
+                let rinf = r + (ei + tok.load(&s.infl[j])).min(relative);
                 let m = d2.lt(rinf * rinf);
                 if m != 0 {
                     inflated |= m;

@@ -110,7 +110,7 @@ impl Checker {
         true
     }
 
-    /// Per-sphere and per-link speed bounds `v = Σ_k |b_k − a_k| ρ_k` of the edge.
+    /// Per-sphere, per-link and per-self-pair speed bounds `v = Σ_k |b_k − a_k| ρ_k` of the edge.
     #[inline(always)]
     pub(super) fn edge_speeds(&self, a: &[f32], b: &[f32], s: &mut CheckScratch) {
         let nv = self.nv();
@@ -121,6 +121,10 @@ impl Checker {
         }
         for (g, v) in s.link_speed.iter_mut().enumerate() {
             let rho = &sm.link_rho[g * nv..(g + 1) * nv];
+            *v = (0..nv).map(|k| (b[k] - a[k]).abs() * rho[k]).sum();
+        }
+        for (p, v) in s.pair_speed.iter_mut().enumerate() {
+            let rho = &self.pair_rho[p * nv..(p + 1) * nv];
             *v = (0..nv).map(|k| (b[k] - a[k]).abs() * rho[k]).sum();
         }
         for (c, v) in self.clusters.list.iter().zip(&mut s.cluster_speed) {

@@ -27,6 +27,15 @@
 //! moves at most at `|v_bc| + |ω| R`. On the Panda problems this cuts the batches of the
 //! continuous checks by 2.4× (median 181 → 76 per query).
 //!
+//! **Self pairs, relatively.** A rigid motion of both groups of a self pair changes no
+//! distance between them, so the joints below their deepest common ancestor do not count:
+//! a sphere pair is inflated by the smaller of its two spheres' inflations summed and the
+//! pair's relative bound `v_rel h − tol`, `v_rel = Σ_k |Δ_k| ρ^rel_k` over the joints from
+//! the common ancestor to each group ([`crate::planning::spheres::pair_rho`]). A hand
+//! against the forearm then moves only with the wrist joints, not the shoulder's long
+//! lever arms; with it, 16 intervals per unit (was 32) check the Panda and UR5 paths in
+//! fewer batches.
+//!
 //! Intervals are visited in *rake* order (lane `ℓ` takes
 //! intervals `ℓm, ℓm + 1, …`, `m = ⌈n/8⌉`), so a collision anywhere on the edge shows up in
 //! the first batches. An interval whose inflated check fails is checked exactly at its
@@ -51,7 +60,7 @@ pub use crate::planning::simd::Isa;
 #[cfg(target_arch = "x86_64")]
 use crate::planning::simd::{avx512vl_detected, Avx2, Sse2};
 use crate::planning::simd::{Scalar, Simd};
-use crate::planning::spheres::SphereModel;
+use crate::planning::spheres::{pair_rho, SphereModel};
 
 /// One body of the kinematic tree in f32.
 #[derive(Clone, Copy, Debug)]
@@ -104,7 +113,7 @@ pub struct CheckOptions {
 impl Default for CheckOptions {
     fn default() -> Self {
         Self {
-            resolution: 32.0,
+            resolution: 16.0,
             search_resolution: 16.0,
             tolerance: 5e-5,
             clearance: 0.0,
@@ -138,6 +147,8 @@ pub struct CheckScratch {
     pub ends: Vec<f32>,
     speed: Vec<f32>,
     link_speed: Vec<f32>,
+    /// Per self pair, its relative speed bound over the edge.
+    pair_speed: Vec<f32>,
     /// Per cluster: its sphere's centre, inflation and speed cap in this batch.
     cluster_bounds: Vec<P3m>,
     cluster_infl: Vec<L>,
@@ -162,6 +173,9 @@ pub struct Checker {
     pub env: Environment,
     /// Link-group pairs checked for self-collision.
     pub self_pairs: Vec<(usize, usize)>,
+    /// Per self pair, its relative motion bound per coordinate (`self_pairs.len() × nv`,
+    /// [`crate::planning::spheres::pair_rho`]).
+    pair_rho: Vec<f32>,
     /// Per link group, the obstacles its bounding sphere can ever reach.
     reachable: Vec<Vec<usize>>,
     /// Groups sharing a body, behind one sphere (see [`clusters`]).
@@ -210,6 +224,10 @@ impl Checker {
             .collect();
         self_pairs.sort_unstable();
         self_pairs.dedup();
+        let pair_rho = self_pairs
+            .iter()
+            .flat_map(|&(a, b)| pair_rho(model, &spheres, a, b))
+            .collect();
         let clusters = clusters::Clusters::new(&spheres, &reachable, &self_pairs);
         Checker {
             bodies,
@@ -217,6 +235,7 @@ impl Checker {
             env,
             clusters,
             self_pairs,
+            pair_rho,
             reachable,
             opts,
             #[cfg(target_arch = "x86_64")]
@@ -288,6 +307,7 @@ impl Checker {
             ends: Vec::with_capacity(2 * self.nv()),
             speed: vec![0.0; self.spheres.len()],
             link_speed: vec![0.0; self.spheres.links.len()],
+            pair_speed: vec![0.0; self.self_pairs.len()],
             cluster_bounds: vec![P3m::default(); self.clusters.list.len()],
             cluster_infl: vec![L::splat(0.0); self.clusters.list.len()],
             cluster_speed: vec![0.0; self.clusters.list.len()],
