@@ -521,3 +521,58 @@ fn relative_pair_bound_covers_every_sphere_distance_change_along_an_edge() {
         );
     }
 }
+
+#[test]
+fn continuous_edges_found_free_pass_a_dense_recheck_near_obstacles_and_self_contacts() {
+    use armsim::planning::checker::EdgeMode;
+    use armsim::planning::sampler::{Sampler, SamplerKind};
+    let scenes = [
+        ("panda", None),
+        ("ur5", None),
+        ("panda", Some("box")),
+        ("ur5", Some("bookshelf_small")),
+    ];
+    for (name, scene) in scenes {
+        let robot = Robot::load(name);
+        let obstacles = scene.map_or(Vec::new(), |sc| problems(&robot, sc)[0].obstacles.clone());
+        let checker = planner(&robot, &obstacles, PlanOptions::default()).checker;
+        let mut recheck = Recheck::new(&robot, &obstacles);
+        let nv = robot.model.nv;
+        let (lo, hi): (Vec<f32>, Vec<f32>) = (0..nv)
+            .map(|k| (robot.model.lower[k] as f32, robot.model.upper[k] as f32))
+            .unzip();
+        let mut sampler = Sampler::new(SamplerKind::Random, &lo, &hi, 5);
+        let mut s = checker.scratch();
+        let (mut a, mut b) = (vec![0.0f32; nv], vec![0.0f32; nv]);
+        let (mut free, mut hit, mut close) = (0, 0, 0);
+        while free < 400 {
+            sampler.next(&mut a);
+            if !checker.config_free(&a, &mut s) {
+                continue;
+            }
+            sampler.next(&mut b);
+            if !checker.edge_free(&a, &b, EdgeMode::Continuous, &mut s) {
+                hit += 1;
+                continue;
+            }
+            free += 1;
+            let path: Vec<Vec<f64>> = [&a, &b]
+                .iter()
+                .map(|q| q.iter().map(|&x| x as f64).collect())
+                .collect();
+            let rep = recheck.path(&path);
+            assert!(
+                rep.max_penetration <= MAX_PENETRATION,
+                "{name} {scene:?}: edge {free} penetrates by {:.3} mm",
+                rep.max_penetration * 1e3
+            );
+            close += usize::from(rep.max_penetration > -0.01);
+        }
+        // Edges the check turns away, and free ones passing within 1 cm of a contact, where
+        // the inflation and distance-rate bounds decide.
+        assert!(
+            hit > 10 && close > 10,
+            "{name} {scene:?}: {hit} hit, {close} close"
+        );
+    }
+}

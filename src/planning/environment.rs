@@ -154,10 +154,83 @@ impl EnvObstacle {
         }
     }
 
+    /// Lanes where a sphere of radius `r` at `c`, moving with velocity `vel` (per unit of
+    /// the edge parameter) and acceleration at most `2k`, may come within `r` of the
+    /// obstacle within `h` of now. The distance `D` to a convex solid is convex and `C¹`
+    /// outside it with a unit gradient `ĝ`, so `D'' ≥ ĝ·c'' ≥ −2k` and `D` stays above `r`
+    /// where `D ≥ r + |ĝ·vel| h + k h²`. With `e = D ĝ` (centre minus the nearest point)
+    /// the test is `D² ≥ (r + k h²) D + |e·vel| h`; inside (`D = 0`) it is a hit.
+    #[inline(always)]
+    pub fn rate_overlaps<S: Simd>(
+        &self,
+        tok: S,
+        c: &P3<S>,
+        vel: &P3<S>,
+        r: W<S>,
+        h: W<S>,
+        k: W<S>,
+    ) -> Mask {
+        let o = &self.center;
+        let d = [
+            c.x - tok.splat(o[0]),
+            c.y - tok.splat(o[1]),
+            c.z - tok.splat(o[2]),
+        ];
+        let world = [vel.x, vel.y, vel.z];
+        let local = |v: &[W<S>; 3], k: usize| {
+            let m = &self.rot_t[k];
+            tok.splat(m[0])
+                .mul_add(v[0], tok.splat(m[1]).mul_add(v[1], tok.splat(m[2]) * v[2]))
+        };
+        let (p, v) = (
+            [0, 1, 2].map(|i| local(&d, i)),
+            [0, 1, 2].map(|i| local(&world, i)),
+        );
+        let zero = tok.splat(0.0);
+        // `e` (centre minus nearest point, obstacle frame) and the surface's offset `s`
+        // from the point set `e` is measured to (a sphere's centre, a capsule's segment).
+        let (e, s) = match self.shape {
+            EnvShape::Sphere(rad) => (p, rad),
+            EnvShape::Capsule(rad, hl) => {
+                let z = p[2].max(tok.splat(-hl)).min(tok.splat(hl));
+                ([p[0], p[1], p[2] - z], rad)
+            }
+            EnvShape::Box(hb) => (
+                [0, 1, 2].map(|i| p[i] - p[i].max(tok.splat(-hb[i])).min(tok.splat(hb[i]))),
+                0.0,
+            ),
+            EnvShape::Cylinder(rad, hl) => {
+                let rho = p[0].mul_add(p[0], p[1] * p[1]).sqrt();
+                // Radial part scaled by (ρ − R)⁺/ρ; ρ = 0 lies inside radially.
+                let out = (rho - tok.splat(rad)).max(zero);
+                let scale = out * recip_or_zero(tok, rho);
+                let z = p[2] - p[2].max(tok.splat(-hl)).min(tok.splat(hl));
+                ([p[0] * scale, p[1] * scale, z], 0.0)
+            }
+        };
+        let len = W::norm2(e[0], e[1], e[2]).sqrt();
+        let dist = len - tok.splat(s);
+        let rate = (e[0] * v[0] + e[1] * v[1] + e[2] * v[2]).abs();
+        // D ≥ r + |ê·vel| h + k h², times |e| (> 0 wherever D > 0).
+        let lhs = (dist - r - k * h * h) * len;
+        let safe = (rate * h).lt(lhs) & zero.lt(dist);
+        !safe
+    }
+
     /// Lanes where the sphere `(c, r)` overlaps the obstacle's bounding sphere.
     #[inline(always)]
     pub fn near<S: Simd>(&self, tok: S, c: &P3<S>, r: W<S>) -> Mask {
         let rr = r + tok.splat(self.bound);
         c.dist2(&P3::splat(tok, &self.center)).lt(rr * rr)
     }
+}
+
+/// `1/x` where `x > 0`, else 0 (no division in the lane types: `x` is a length).
+#[inline(always)]
+fn recip_or_zero<S: Simd>(tok: S, x: W<S>) -> W<S> {
+    let mut l = S::store(x);
+    for v in &mut l.0 {
+        *v = if *v > 0.0 { 1.0 / *v } else { 0.0 };
+    }
+    tok.load(&l)
 }

@@ -1,7 +1,7 @@
 //! One batch of eight configurations: link bounds and spheres against the obstacles, then
 //! the self pairs, with the inflation of a continuous check (see the parent module's docs).
 
-use super::motion::point_speed;
+use super::motion::{point_speed, sub};
 use super::{CheckScratch, Checker, CLEARANCE_RAMP};
 use crate::model::WORLD;
 use crate::planning::lanes::{Mask, Pose, L, P3};
@@ -75,8 +75,12 @@ impl Checker {
                     if MOVING {
                         let m = ob.overlaps(tok, &c, r + tok.load(&s.infl[i]));
                         if m != 0 {
-                            inflated |= m;
                             exact |= ob.overlaps(tok, &c, r);
+                            // Failed inflated: try the rate of the distance.
+                            let vel = self.point_velocity(tok, ls.body, &c, s);
+                            let k = tok.splat(1.5 * s.l1 * s.speed[i]);
+                            let rt = r - tok.splat(self.opts.tolerance);
+                            inflated |= m & ob.rate_overlaps(tok, &c, &vel, rt, h, k);
                         }
                     } else {
                         exact |= ob.overlaps(tok, &c, r);
@@ -339,12 +343,55 @@ impl Checker {
                 let rinf = r + (ei + tok.load(&s.infl[j])).min(relative);
                 let m = d2.lt(rinf * rinf);
                 if m != 0 {
-                    inflated |= m;
                     exact |= d2.lt(r * r);
+                    inflated |= m & self.distance_rate_hit(tok, p, (i, j), (&ci, &cj), d2, h, s);
                 }
             }
         }
         (exact, inflated)
+    }
+
+    /// The lanes where spheres `i` and `j` of self pair `p` (centres `ci`, `cj`, squared
+    /// distance `d2`) may come closer than their radii less the tolerance within `h` of the
+    /// check point, by the rate of their distance `d`: `|d'| = |x·w|/d` at the check point
+    /// (`x = c_i − c_j`, `w` their relative velocity from the bodies' twists) and
+    /// `|d''| ≤ |x''| + |x'|²/d ≤ 3‖Δ‖₁ (v_i + v_j) + V²/(r − tol)`, with `V` the pair's
+    /// relative speed bound (in the common ancestor's frame, where `d` is the same) and
+    /// `d ≥ r − tol` until a first contact. So `d` stays above `r − tol` where
+    /// `d ≥ r − tol + |d'| h + ½ |d''| h²`, tested multiplied by `d`. Spheres moving side
+    /// by side (a tangential motion) pass with a second-order inflation.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn distance_rate_hit<S: Simd>(
+        &self,
+        tok: S,
+        p: usize,
+        (i, j): (usize, usize),
+        (ci, cj): (&P3<S>, &P3<S>),
+        d2: W<S>,
+        h: W<S>,
+        s: &CheckScratch,
+    ) -> Mask {
+        let sm = &self.spheres;
+        let (gi, gj) = self.self_pairs[p];
+        let (bi, bj) = if (sm.links[gi].first..sm.links[gi].end).contains(&i) {
+            (sm.links[gi].body, sm.links[gj].body)
+        } else {
+            (sm.links[gj].body, sm.links[gi].body)
+        };
+        let r = sm.spheres[i].radius + sm.spheres[j].radius - self.opts.tolerance;
+        if r <= 0.0 {
+            return Mask::MAX;
+        }
+        let v = s.pair_speed[p];
+        let k = 1.5 * s.l1 * (s.speed[i] + s.speed[j]) + 0.5 * v * v / r;
+        let vi = self.point_velocity(tok, bi, ci, s);
+        let vj = self.point_velocity(tok, bj, cj, s);
+        let x = sub(ci, cj);
+        let w = sub(&vi, &vj);
+        let xw = (x.x * w.x + x.y * w.y + x.z * w.z).abs();
+        let reach = tok.splat(r) + tok.splat(k) * h * h;
+        d2.lt(reach * d2.sqrt() + xw * h)
     }
 
     /// Mask of the lanes where a sphere of `la` touches one of `lb` (no inflation): each

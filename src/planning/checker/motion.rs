@@ -59,6 +59,29 @@ impl Checker {
         (w, v)
     }
 
+    /// World velocity per unit of the edge parameter of point `c` on body `b` (zero on the
+    /// world): `v + ω × (c − o)` from the body's twist.
+    #[inline(always)]
+    pub(super) fn point_velocity<S: Simd>(
+        &self,
+        tok: S,
+        b: usize,
+        c: &P3<S>,
+        s: &CheckScratch,
+    ) -> P3<S> {
+        if b == WORLD {
+            return P3::splat(tok, &[0.0; 3]);
+        }
+        let t = &s.twist[b];
+        let (w, v) = (P3::load(tok, &t[0]), P3::load(tok, &t[1]));
+        let r = cross(&w, &sub(c, &P3::load(tok, &s.poses[b].t)));
+        P3 {
+            x: v.x + r.x,
+            y: v.y + r.y,
+            z: v.z + r.z,
+        }
+    }
+
     /// The pose of body `b` (or the world) stored by this batch.
     #[inline(always)]
     pub(super) fn stored_pose<S: Simd>(&self, tok: S, b: usize, s: &CheckScratch) -> Pose<S> {
