@@ -249,71 +249,10 @@ pub fn topp<P: Path>(
         ..effects.clone()
     };
     let nn = opts.segments;
-    // Grid s_i = φ(i/N), φ(u) = u − β sin(2πu)/(2π): spacing (1 − β)/N at the ends.
-    let beta = opts.end_refinement;
-    let s: Vec<f64> = (0..=nn)
-        .map(|i| {
-            let u = i as f64 / nn as f64;
-            if i == nn {
-                1.0
-            } else {
-                u - beta * (2.0 * std::f64::consts::PI * u).sin() / (2.0 * std::f64::consts::PI)
-            }
-        })
-        .collect();
+    let s = refined_knots(nn, opts.end_refinement);
     let ds: Vec<f64> = s.windows(2).map(|w| w[1] - w[0]).collect();
-    let mut data = Data::new(model);
-    let zero = vec![0.0; n];
-    let mut q = vec![0.0; n];
-    let mut g = vec![0.0; n];
-    let mut grid = Grid {
-        dq: vec![0.0; (nn + 1) * n],
-        ddq: vec![0.0; (nn + 1) * n],
-        m: vec![0.0; (nn + 1) * n],
-        c: vec![0.0; (nn + 1) * n],
-        g: vec![0.0; (nn + 1) * n],
-    };
-    for (i, &si) in s.iter().enumerate() {
-        let r = i * n..(i + 1) * n;
-        path.eval(
-            si,
-            &mut q,
-            &mut grid.dq[r.clone()],
-            &mut grid.ddq[r.clone()],
-        );
-        if any_torque {
-            g.copy_from_slice(inverse_dynamics(model, &mut data, &rigid, &q, &zero, &zero));
-            let m = inverse_dynamics(model, &mut data, &rigid, &q, &zero, &grid.dq[r.clone()]);
-            for (k, x) in m.iter().enumerate() {
-                grid.m[i * n + k] = x - g[k];
-            }
-            let c = inverse_dynamics(
-                model,
-                &mut data,
-                &rigid,
-                &q,
-                &grid.dq[r.clone()],
-                &grid.ddq[r.clone()],
-            );
-            for (k, x) in c.iter().enumerate() {
-                grid.c[i * n + k] = x - g[k];
-            }
-            grid.g[r].copy_from_slice(&g);
-        }
-    }
-    // Static feasibility at the ends (at rest, τ = g).
-    for (i, at) in [(0, "start"), (nn, "end")] {
-        for j in 0..n {
-            let g = grid.g[i * n + j];
-            if torque_on[j] && g.abs() > limits.effort[j] {
-                return Err(TrajectoryError::Topp(format!(
-                    "at the {at} of the path the static torque of joint {} is {g:.4} N m, above \
-                     its effort limit {:.4}: the arm cannot even hold still there",
-                    names[j], limits.effort[j]
-                )));
-            }
-        }
-    }
+    let grid = sample_grid(model, &path, &s, any_torque.then_some(&rigid));
+    check_static_ends(&grid, nn, limits, &torque_on, &names)?;
 
     // Tightening (amount subtracted from each limit) per knot (velocity) and per interval
     // (acceleration, torque), and friction at the knots.
@@ -335,16 +274,7 @@ pub fn topp<P: Path>(
         let b: Vec<f64> = (0..=nn).map(|i| x[lay.b(i)].max(0.0)).collect();
         // `a` from `b` so that the rebuilt motion is exactly consistent.
         let a: Vec<f64> = (0..nn).map(|i| (b[i + 1] - b[i]) / (2.0 * ds[i])).collect();
-        let mut t = vec![0.0; nn + 1];
-        for i in 0..nn {
-            let sum = b[i].sqrt() + b[i + 1].sqrt();
-            if sum <= 0.0 {
-                return Err(TrajectoryError::Topp(format!(
-                    "the path speed is zero on interval {i}: the solution is degenerate"
-                )));
-            }
-            t[i + 1] = t[i] + 2.0 * ds[i] / sum;
-        }
+        let t = knot_times(&b, &ds)?;
         // Dense check with the exact dynamics (friction included).
         let report = checker.check(model, effects, &path, limits, &s, &b, &a, opts.check_points);
         stats.max_velocity_ratio = report.ratio[0];
@@ -352,19 +282,10 @@ pub fn topp<P: Path>(
         stats.max_torque_ratio = report.ratio[2];
         let worst = report.ratio.iter().copied().fold(0.0, f64::max);
         // Friction at the new speeds, for the next round; how much it moved.
-        let mut friction_moved = false;
-        if let Some(fr) = &effects.friction {
-            for i in 0..=nn {
-                let sd = b[i].sqrt();
-                for j in 0..n {
-                    let f = fr.torque(j, grid.dq[i * n + j] * sd);
-                    let lim = limits.effort[j];
-                    friction_moved |=
-                        torque_on[j] && (f - fric[i * n + j]).abs() > FRICTION_TOL * lim;
-                    fric[i * n + j] = f;
-                }
-            }
-        }
+        let friction_moved = match &effects.friction {
+            Some(fr) => update_friction(fr, &grid, &b, limits, &torque_on, &mut fric),
+            None => false,
+        };
         if worst <= 1.0 + opts.tolerance {
             stats.duration = t[nn];
             stats.wall_time_s = start.elapsed().as_secs_f64();
@@ -395,26 +316,172 @@ pub fn topp<P: Path>(
             friction_rounds += 1;
             continue;
         }
-        for i in 0..nn {
-            for j in 0..n {
-                let e = report.excess_v[i * n + j];
-                if e > 0.0 {
-                    let add = e + opts.margin * limits.velocity[j];
-                    tight_v[i * n + j] += add;
-                    tight_v[(i + 1) * n + j] += add;
-                }
-                let e = report.excess_a[i * n + j];
-                if e > 0.0 {
-                    tight_a[i * n + j] += e + opts.margin * limits.acceleration[j];
-                }
-                let e = report.excess_t[i * n + j];
-                if e > 0.0 && torque_on[j] {
-                    tight_t[i * n + j] += e + opts.margin * limits.effort[j];
-                }
+        tighten(
+            &report,
+            limits,
+            &torque_on,
+            opts.margin,
+            [&mut tight_v, &mut tight_a, &mut tight_t],
+        );
+    }
+    unreachable!("the loop returns on its last round")
+}
+
+/// The knots `s_i = φ(i/N)`, `φ(u) = u − β sin(2πu)/(2π)`: spacing `(1 − β)/N` at the
+/// ends, where the path starts and stops.
+fn refined_knots(nn: usize, beta: f64) -> Vec<f64> {
+    (0..=nn)
+        .map(|i| {
+            let u = i as f64 / nn as f64;
+            if i == nn {
+                1.0
+            } else {
+                u - beta * (2.0 * std::f64::consts::PI * u).sin() / (2.0 * std::f64::consts::PI)
+            }
+        })
+        .collect()
+}
+
+/// The path's derivatives at the knots and, with `rigid` effects (some joint has a
+/// torque limit), the dynamics along it: `τ = m(s) s̈ + c(s) ṡ² + g(s)`.
+fn sample_grid<P: Path>(model: &Model, path: &P, s: &[f64], rigid: Option<&Effects>) -> Grid {
+    let n = model.nv;
+    let len = s.len() * n;
+    let mut data = Data::new(model);
+    let zero = vec![0.0; n];
+    let mut q = vec![0.0; n];
+    let mut g = vec![0.0; n];
+    let mut grid = Grid {
+        dq: vec![0.0; len],
+        ddq: vec![0.0; len],
+        m: vec![0.0; len],
+        c: vec![0.0; len],
+        g: vec![0.0; len],
+    };
+    for (i, &si) in s.iter().enumerate() {
+        let r = i * n..(i + 1) * n;
+        path.eval(
+            si,
+            &mut q,
+            &mut grid.dq[r.clone()],
+            &mut grid.ddq[r.clone()],
+        );
+        if let Some(rigid) = rigid {
+            g.copy_from_slice(inverse_dynamics(model, &mut data, rigid, &q, &zero, &zero));
+            let m = inverse_dynamics(model, &mut data, rigid, &q, &zero, &grid.dq[r.clone()]);
+            for (k, x) in m.iter().enumerate() {
+                grid.m[i * n + k] = x - g[k];
+            }
+            let c = inverse_dynamics(
+                model,
+                &mut data,
+                rigid,
+                &q,
+                &grid.dq[r.clone()],
+                &grid.ddq[r.clone()],
+            );
+            for (k, x) in c.iter().enumerate() {
+                grid.c[i * n + k] = x - g[k];
+            }
+            grid.g[r].copy_from_slice(&g);
+        }
+    }
+    grid
+}
+
+/// Static feasibility at the ends (at rest, `τ = g`): the arm must be able to hold still.
+fn check_static_ends(
+    grid: &Grid,
+    nn: usize,
+    limits: &super::JointLimits,
+    torque_on: &[bool],
+    names: &[String],
+) -> Result<(), TrajectoryError> {
+    let n = torque_on.len();
+    for (i, at) in [(0, "start"), (nn, "end")] {
+        for j in 0..n {
+            let g = grid.g[i * n + j];
+            if torque_on[j] && g.abs() > limits.effort[j] {
+                return Err(TrajectoryError::Topp(format!(
+                    "at the {at} of the path the static torque of joint {} is {g:.4} N m, above \
+                     its effort limit {:.4}: the arm cannot even hold still there",
+                    names[j], limits.effort[j]
+                )));
             }
         }
     }
-    unreachable!("the loop returns on its last round")
+    Ok(())
+}
+
+/// The times at the knots from `b = ṡ²`: `Δt_i = 2 Δs_i / (√b_i + √b_{i+1})`.
+fn knot_times(b: &[f64], ds: &[f64]) -> Result<Vec<f64>, TrajectoryError> {
+    let nn = ds.len();
+    let mut t = vec![0.0; nn + 1];
+    for i in 0..nn {
+        let sum = b[i].sqrt() + b[i + 1].sqrt();
+        if sum <= 0.0 {
+            return Err(TrajectoryError::Topp(format!(
+                "the path speed is zero on interval {i}: the solution is degenerate"
+            )));
+        }
+        t[i + 1] = t[i] + 2.0 * ds[i] / sum;
+    }
+    Ok(t)
+}
+
+/// The friction torques at the knots at the speeds `√b` into `fric`; whether one moved
+/// by more than the tolerance (relative to its joint's effort limit).
+fn update_friction(
+    fr: &crate::dynamics::Friction,
+    grid: &Grid,
+    b: &[f64],
+    limits: &super::JointLimits,
+    torque_on: &[bool],
+    fric: &mut [f64],
+) -> bool {
+    let n = torque_on.len();
+    let mut friction_moved = false;
+    for (i, bi) in b.iter().enumerate() {
+        let sd = bi.sqrt();
+        for j in 0..n {
+            let f = fr.torque(j, grid.dq[i * n + j] * sd);
+            let lim = limits.effort[j];
+            friction_moved |= torque_on[j] && (f - fric[i * n + j]).abs() > FRICTION_TOL * lim;
+            fric[i * n + j] = f;
+        }
+    }
+    friction_moved
+}
+
+/// Tightens the limits where the dense check found an excess, by the excess plus a
+/// margin: velocity at both knots of an interval, acceleration and torque on it.
+fn tighten(
+    report: &CheckReport,
+    limits: &super::JointLimits,
+    torque_on: &[bool],
+    margin: f64,
+    [tight_v, tight_a, tight_t]: [&mut Vec<f64>; 3],
+) {
+    let n = torque_on.len();
+    let nn = tight_a.len() / n.max(1);
+    for i in 0..nn {
+        for j in 0..n {
+            let e = report.excess_v[i * n + j];
+            if e > 0.0 {
+                let add = e + margin * limits.velocity[j];
+                tight_v[i * n + j] += add;
+                tight_v[(i + 1) * n + j] += add;
+            }
+            let e = report.excess_a[i * n + j];
+            if e > 0.0 {
+                tight_a[i * n + j] += e + margin * limits.acceleration[j];
+            }
+            let e = report.excess_t[i * n + j];
+            if e > 0.0 && torque_on[j] {
+                tight_t[i * n + j] += e + margin * limits.effort[j];
+            }
+        }
+    }
 }
 
 /// Builds and solves the SOCP; returns `x`.
