@@ -143,13 +143,16 @@ impl CollisionModel {
                 let qp = (k > 0).then(|| qs[k - 1].as_ref());
                 let bracket = self.first_bracket(model, cd, qp, qk, opts, &mut checked);
                 if let Some(bracket) = bracket {
-                    let segment = qp.map(|qp| (qp, times[k - 1]));
+                    let segment = qp.map(|q_prev| Segment {
+                        q_prev,
+                        t_prev: times[k - 1],
+                        bracket,
+                    });
                     let hit = self.locate_collision(
                         model,
                         cd,
                         segment,
                         (qk, times[k], k),
-                        bracket,
                         opts,
                         &mut checked,
                     );
@@ -207,23 +210,26 @@ impl CollisionModel {
         self.first_collision(cd, scope).map(|_| (lo, 1.0))
     }
 
-    /// The first collision of sample `(qk, t_k, k)`: bisected within `(lo, hi)` to the
-    /// time tolerance along the segment from `(q_prev, t_prev)` (`None` for the first
-    /// sample, which collides as it is), with every colliding pair there.
+    /// The first collision of sample `(qk, t_k, k)`: bisected to the time tolerance
+    /// within the bracket of the segment that ends there (`None` for the first sample,
+    /// which collides as it is), with every colliding pair there.
     fn locate_collision(
         &self,
         model: &Model,
         cd: &mut CollisionData,
-        segment: Option<(&[f64], f64)>,
+        segment: Option<Segment>,
         (qk, t_k, k): (&[f64], f64, usize),
-        (mut lo, mut hi): (f64, f64),
         opts: &TrajectoryOptions,
         checked: &mut usize,
     ) -> TrajectoryCollision {
         let scope = opts.scope;
         let (time, last_free, q) = match segment {
             None => (t_k, None, qk.to_vec()),
-            Some((qp, t_prev)) => {
+            Some(Segment {
+                q_prev: qp,
+                t_prev,
+                bracket: (mut lo, mut hi),
+            }) => {
                 let dt = t_k - t_prev;
                 while (hi - lo) * dt > opts.time_tolerance {
                     let mid = 0.5 * (lo + hi);
@@ -285,6 +291,14 @@ impl CollisionModel {
             self_collision: slf,
         });
     }
+}
+
+/// The segment from the previous sample, and the bracket `(lo, hi)` of its parameter
+/// whose end collides.
+struct Segment<'a> {
+    q_prev: &'a [f64],
+    t_prev: f64,
+    bracket: (f64, f64),
 }
 
 /// Times and configurations of the same non-zero count, configurations of the model's

@@ -410,8 +410,8 @@ impl IkSolver {
                     mu *= 10.0;
                     continue;
                 }
-                for k in 0..model.nv {
-                    self.q_try[k] = q[k] + self.step[k];
+                for ((t, qk), s) in self.q_try.iter_mut().zip(q.iter()).zip(&self.step) {
+                    *t = qk + s;
                 }
                 let mut qt = std::mem::take(&mut self.q_try);
                 Self::project(model, &mut qt, opts.respect_limits);
