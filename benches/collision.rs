@@ -87,6 +87,46 @@ fn obstacles() -> Vec<Obstacle> {
     ]
 }
 
+/// A smooth free trajectory: 256 samples of a small sinusoidal motion around a pose
+/// clear of everything (checks every sample, no collision, distances recorded).
+fn free_trajectory(nv: usize) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let times: Vec<f64> = (0..STATES).map(|i| i as f64 * 0.01).collect();
+    let traj: Vec<Vec<f64>> = times
+        .iter()
+        .map(|t| {
+            let base = [1.57, -1.2, 1.0, -1.4, -1.57, 0.0];
+            (0..nv)
+                .map(|j| base[j] + 0.3 * (t + j as f64).sin())
+                .collect()
+        })
+        .collect();
+    (times, traj)
+}
+
+/// Checks that the trajectory is free and prints its minimum distances.
+fn report_free_trajectory(
+    model: &Model,
+    cm: &CollisionModel,
+    cd: &mut CollisionData,
+    times: &[f64],
+    traj: &[Vec<f64>],
+) {
+    let r = cm
+        .check_trajectory(model, cd, times, traj, &TrajectoryOptions::default())
+        .unwrap();
+    if let Some(c) = &r.first_collision {
+        panic!(
+            "the benchmark trajectory must be free: {:?} at t = {} (q = {:?})",
+            c.names, c.time, c.q
+        );
+    }
+    eprintln!(
+        "trajectory: min environment distance {:.4} m, min self distance {:.4} m",
+        r.min_environment.map_or(f64::NAN, |m| m.1.distance),
+        r.min_self.map_or(f64::NAN, |m| m.1.distance)
+    );
+}
+
 fn collision_benches(c: &mut Criterion) {
     let model = ur5_primitives();
     let opts = CollisionOptions {
@@ -133,38 +173,8 @@ fn collision_benches(c: &mut Criterion) {
             black_box(cm.min_distance(&mut cd, Scope::SelfCollision))
         })
     });
-    // A smooth free trajectory: 256 samples of a small sinusoidal motion around a pose
-    // clear of everything (checks every sample, no collision, distances recorded).
-    let times: Vec<f64> = (0..STATES).map(|i| i as f64 * 0.01).collect();
-    let traj: Vec<Vec<f64>> = times
-        .iter()
-        .map(|t| {
-            let base = [1.57, -1.2, 1.0, -1.4, -1.57, 0.0];
-            (0..nv)
-                .map(|j| base[j] + 0.3 * (t + j as f64).sin())
-                .collect()
-        })
-        .collect();
-    let r = cm
-        .check_trajectory(
-            &model,
-            &mut cd,
-            &times,
-            &traj,
-            &TrajectoryOptions::default(),
-        )
-        .unwrap();
-    if let Some(c) = &r.first_collision {
-        panic!(
-            "the benchmark trajectory must be free: {:?} at t = {} (q = {:?})",
-            c.names, c.time, c.q
-        );
-    }
-    eprintln!(
-        "trajectory: min environment distance {:.4} m, min self distance {:.4} m",
-        r.min_environment.map_or(f64::NAN, |m| m.1.distance),
-        r.min_self.map_or(f64::NAN, |m| m.1.distance)
-    );
+    let (times, traj) = free_trajectory(nv);
+    report_free_trajectory(&model, &cm, &mut cd, &times, &traj);
     // The same free configurations one at a time: no early exit, every pair tested.
     let mut k2 = 0usize;
     g.bench_function("free_update+first_collision", |b| {

@@ -143,36 +143,7 @@ fn bench(c: &mut Criterion) {
     let traj = &plan.trajectory;
     let start = Shifted { traj, t0: 0.0 };
     let h = contact_scene.simulation.as_ref().unwrap().dt;
-
-    // First pusher–box contact of the full scenario run.
-    let first_contact = {
-        let model = &contact_scene.model;
-        let stop: &dyn Fn() -> bool = &never;
-        let cs = contact_scene.contact.as_ref().unwrap();
-        let mut hook = ContactSim::new(
-            model,
-            contact_scene.base,
-            cs,
-            gravity_in_scene(&contact_scene),
-            h,
-            stop,
-        );
-        hook.place(&contact_scene.q0);
-        let mut sim = Simulator::new(model, contact_scene.effects.clone()).unwrap();
-        let steps = (traj.duration() / h).round() as usize;
-        sim.run_with_hook(
-            &contact_scene.q0,
-            &cfg(&contact_scene, None, steps, 1),
-            &start,
-            &mut hook,
-            |_| {},
-        )
-        .unwrap();
-        hook.report()
-            .first_contact_s
-            .expect("the pusher reaches the box")
-    };
-    let t_push = first_contact - 0.01;
+    let t_push = first_contact(&contact_scene, &start, traj.duration()) - 0.01;
     let push = Shifted { traj, t0: t_push };
     let mut q_push = vec![0.0; contact_scene.model.nv];
     let (mut a, mut b) = (q_push.clone(), q_push.clone());
@@ -182,7 +153,53 @@ fn bench(c: &mut Criterion) {
     g.sample_size(20)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));
+    effect_rows(&mut g, &start);
+    contact_rows(
+        &mut g,
+        &contact_scene,
+        h,
+        [(&contact_scene.q0, &start), (&q_push, &push)],
+    );
+    // Recording rows (1000-step runs: more time per sample).
+    g.measurement_time(Duration::from_secs(6));
+    recording_rows(&mut g, &start);
+    g.finish();
+}
 
+type Group<'a> = criterion::BenchmarkGroup<'a, criterion::measurement::WallTime>;
+
+/// The time of the first pusher–box contact of the full scenario run.
+fn first_contact(contact_scene: &Scene, start: &Shifted, duration: f64) -> f64 {
+    let h = contact_scene.simulation.as_ref().unwrap().dt;
+    let model = &contact_scene.model;
+    let stop: &dyn Fn() -> bool = &never;
+    let cs = contact_scene.contact.as_ref().unwrap();
+    let mut hook = ContactSim::new(
+        model,
+        contact_scene.base,
+        cs,
+        gravity_in_scene(contact_scene),
+        h,
+        stop,
+    );
+    hook.place(&contact_scene.q0);
+    let mut sim = Simulator::new(model, contact_scene.effects.clone()).unwrap();
+    let steps = (duration / h).round() as usize;
+    sim.run_with_hook(
+        &contact_scene.q0,
+        &cfg(contact_scene, None, steps, 1),
+        start,
+        &mut hook,
+        |_| {},
+    )
+    .unwrap();
+    hook.report()
+        .first_contact_s
+        .expect("the pusher reaches the box")
+}
+
+/// The rigid and elastic rows, one per effect set (and integrator, and audit off).
+fn effect_rows(g: &mut Group, start: &Shifted) {
     // Rigid and elastic rows: (label, effects named, integrator override, audit off).
     let rows: Vec<(&str, Vec<&str>, Option<Integrator>, bool)> = vec![
         ("bare", vec![], None, false),
@@ -213,7 +230,7 @@ fn bench(c: &mut Criterion) {
         let config = cfg(&sc, integrator, STEPS, usize::MAX);
         // One run outside the timing: it must not diverge, and the effect-run counters show
         // which effects' code ran (a left-out effect stays at 0).
-        sim.run_with_hook(&sc.q0, &config, &start, &mut NoHook, |_| {})
+        sim.run_with_hook(&sc.q0, &config, start, &mut NoHook, |_| {})
             .unwrap_or_else(|e| panic!("{label}: {e}"));
         eprintln!(
             "{label}: effect-run counters after one {STEPS}-step run {:?}",
@@ -225,9 +242,9 @@ fn bench(c: &mut Criterion) {
                 for _ in 0..iters {
                     let t = Instant::now();
                     let r = if audit_off {
-                        sim.run_with_hook(&sc.q0, &config, &start, &mut NoAudit, |_| {})
+                        sim.run_with_hook(&sc.q0, &config, start, &mut NoAudit, |_| {})
                     } else {
-                        sim.run_with_hook(&sc.q0, &config, &start, &mut NoHook, |_| {})
+                        sim.run_with_hook(&sc.q0, &config, start, &mut NoHook, |_| {})
                     };
                     total += t.elapsed();
                     assert_eq!(r.unwrap().steps, STEPS);
@@ -236,138 +253,129 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+}
 
-    // Contact rows.
+/// The contact rows: approaching the box, and pushing it.
+fn contact_rows(g: &mut Group, sc: &Scene, h: f64, runs: [(&Vec<f64>, &Shifted); 2]) {
+    let model = &sc.model;
+    let stop: &dyn Fn() -> bool = &never;
+    let grav = gravity_in_scene(sc);
+    let cs = sc.contact.as_ref().unwrap();
+    let mut sim = Simulator::new(model, sc.effects.clone()).unwrap();
+    let config = cfg(sc, None, STEPS, usize::MAX);
+    for (label, (q0, reference)) in ["contact, approach", "contact, pushing"]
+        .into_iter()
+        .zip(runs)
     {
-        let sc = &contact_scene;
-        let model = &sc.model;
-        let stop: &dyn Fn() -> bool = &never;
-        let grav = gravity_in_scene(sc);
-        let cs = sc.contact.as_ref().unwrap();
-        let mut sim = Simulator::new(model, sc.effects.clone()).unwrap();
-        let config = cfg(sc, None, STEPS, usize::MAX);
-        for (label, q0, reference) in [
-            ("contact, approach", &sc.q0, &start),
-            ("contact, pushing", &q_push, &push),
-        ] {
-            let mut hook = ContactSim::new(model, sc.base, cs, grav, h, stop);
-            hook.place(q0);
-            sim.run_with_hook(q0, &config, reference, &mut hook, |_| {})
-                .unwrap();
-            let r = hook.report();
-            eprintln!(
-                "{label}: {} steps in contact of {STEPS}, box moved {:.4} m, max force {:.2} N",
-                (r.contact_time_s / h).round(),
-                r.box_displacement_m,
-                r.max_contact_force_n
-            );
-            g.bench_function(label, |bch| {
-                bch.iter_custom(|iters| {
-                    let mut total = Duration::ZERO;
-                    for _ in 0..iters {
-                        let mut hook = ContactSim::new(model, sc.base, cs, grav, h, stop);
-                        hook.trace.reserve(STEPS + 2);
-                        hook.place(q0);
-                        let t = Instant::now();
-                        let r = sim.run_with_hook(q0, &config, reference, &mut hook, |_| {});
-                        total += t.elapsed();
-                        assert_eq!(r.unwrap().steps, STEPS);
-                    }
-                    total / STEPS as u32
-                })
-            });
-        }
-    }
-
-    // Recording rows (1000-step runs: more time per sample).
-    g.measurement_time(Duration::from_secs(6));
-    {
-        let sc = scene(&["gravity", "friction", "payload"]);
-        let model = &sc.model;
-        let mut sim = Simulator::new(model, sc.effects.clone()).unwrap();
-        let (header, robot_tf) = Header::for_model(&sc.name, &sc.model_path, model, &sc.spec);
-        let dir = std::env::temp_dir().join(format!("armsim-bench-rec-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let file = dir.join("ur5.mcap");
-        let mut data = Data::new(model);
-        for (label, every) in [
-            ("record: none", None),
-            ("record: every step (1 kHz)", Some(1)),
-            ("record: 100 Hz (every 10th step)", Some(10)),
-        ] {
-            let config = cfg(&sc, None, REC_STEPS, every.unwrap_or(usize::MAX));
-            g.bench_function(label, |bch| {
-                bch.iter_custom(|iters| {
-                    let mut total = Duration::ZERO;
-                    for _ in 0..iters {
-                        let r = if every.is_some() {
-                            // Creating and finishing the file are a fixed cost per run,
-                            // timed separately below.
-                            let mut w = McapWriter::create(&file, &header).unwrap();
-                            let t = Instant::now();
-                            let r = sim.run_with_hook(&sc.q0, &config, &start, &mut NoHook, |s| {
-                                let frame =
-                                    robot_tf.frame_at(model, &mut data, s.t, s.q, s.qd, s.tau);
-                                w.write_frame(&frame).unwrap();
-                            });
-                            total += t.elapsed();
-                            w.finish().unwrap();
-                            r
-                        } else {
-                            let t = Instant::now();
-                            let r = sim.run_with_hook(&sc.q0, &config, &start, &mut NoHook, |_| {});
-                            total += t.elapsed();
-                            r
-                        };
-                        assert_eq!(r.unwrap().steps, REC_STEPS);
-                    }
-                    total / REC_STEPS as u32
-                })
-            });
-        }
-        // One frame on its own (forward kinematics, tf, CDR encoding, chunk writing and
-        // compression as chunks fill): the marginal cost of a recorded sample, in a tight
-        // loop, so it does not depend on how the scheduler treats the file I/O of a run.
-        let qd0 = vec![0.1; model.nv];
-        let tau0 = vec![1.0; model.nv];
-        g.bench_function("record: one frame (frame_at + write_frame)", |bch| {
+        let mut hook = ContactSim::new(model, sc.base, cs, grav, h, stop);
+        hook.place(q0);
+        sim.run_with_hook(q0, &config, reference, &mut hook, |_| {})
+            .unwrap();
+        let r = hook.report();
+        eprintln!(
+            "{label}: {} steps in contact of {STEPS}, box moved {:.4} m, max force {:.2} N",
+            (r.contact_time_s / h).round(),
+            r.box_displacement_m,
+            r.max_contact_force_n
+        );
+        g.bench_function(label, |bch| {
             bch.iter_custom(|iters| {
                 let mut total = Duration::ZERO;
-                let mut left = iters;
-                while left > 0 {
-                    let k = left.min(10_000);
-                    let mut w = McapWriter::create(&file, &header).unwrap();
+                for _ in 0..iters {
+                    let mut hook = ContactSim::new(model, sc.base, cs, grav, h, stop);
+                    hook.trace.reserve(STEPS + 2);
+                    hook.place(q0);
                     let t = Instant::now();
-                    for i in 0..k {
-                        let frame = robot_tf.frame_at(
-                            model,
-                            &mut data,
-                            i as f64 * 1e-3,
-                            &sc.q0,
-                            &qd0,
-                            &tau0,
-                        );
-                        w.write_frame(&frame).unwrap();
-                    }
+                    let r = sim.run_with_hook(q0, &config, reference, &mut hook, |_| {});
                     total += t.elapsed();
-                    w.finish().unwrap();
-                    left -= k;
+                    assert_eq!(r.unwrap().steps, STEPS);
                 }
-                total
+                total / STEPS as u32
             })
         });
-        // The fixed cost per recorded run: create the file (metadata, robot description,
-        // static tf) and finish it (last chunk, summary, rename), no frames. Per file, not
-        // per step.
-        g.bench_function("record: file create + finish (per file)", |bch| {
-            bch.iter(|| {
-                let w = McapWriter::create(&file, &header).unwrap();
-                w.finish().unwrap()
-            })
-        });
-        let _ = std::fs::remove_dir_all(&dir);
     }
-    g.finish();
+}
+
+/// The recording rows: none, every step, every 10th step, one frame alone, and the fixed
+/// cost of a file.
+fn recording_rows(g: &mut Group, start: &Shifted) {
+    let sc = scene(&["gravity", "friction", "payload"]);
+    let model = &sc.model;
+    let mut sim = Simulator::new(model, sc.effects.clone()).unwrap();
+    let (header, robot_tf) = Header::for_model(&sc.name, &sc.model_path, model, &sc.spec);
+    let dir = std::env::temp_dir().join(format!("armsim-bench-rec-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("ur5.mcap");
+    let mut data = Data::new(model);
+    for (label, every) in [
+        ("record: none", None),
+        ("record: every step (1 kHz)", Some(1)),
+        ("record: 100 Hz (every 10th step)", Some(10)),
+    ] {
+        let config = cfg(&sc, None, REC_STEPS, every.unwrap_or(usize::MAX));
+        g.bench_function(label, |bch| {
+            bch.iter_custom(|iters| {
+                let mut total = Duration::ZERO;
+                for _ in 0..iters {
+                    let r = if every.is_some() {
+                        // Creating and finishing the file are a fixed cost per run,
+                        // timed separately below.
+                        let mut w = McapWriter::create(&file, &header).unwrap();
+                        let t = Instant::now();
+                        let r = sim.run_with_hook(&sc.q0, &config, start, &mut NoHook, |s| {
+                            let frame = robot_tf.frame_at(model, &mut data, s.t, s.q, s.qd, s.tau);
+                            w.write_frame(&frame).unwrap();
+                        });
+                        total += t.elapsed();
+                        w.finish().unwrap();
+                        r
+                    } else {
+                        let t = Instant::now();
+                        let r = sim.run_with_hook(&sc.q0, &config, start, &mut NoHook, |_| {});
+                        total += t.elapsed();
+                        r
+                    };
+                    assert_eq!(r.unwrap().steps, REC_STEPS);
+                }
+                total / REC_STEPS as u32
+            })
+        });
+    }
+    // One frame on its own (forward kinematics, tf, CDR encoding, chunk writing and
+    // compression as chunks fill): the marginal cost of a recorded sample, in a tight
+    // loop, so it does not depend on how the scheduler treats the file I/O of a run.
+    let qd0 = vec![0.1; model.nv];
+    let tau0 = vec![1.0; model.nv];
+    g.bench_function("record: one frame (frame_at + write_frame)", |bch| {
+        bch.iter_custom(|iters| {
+            let mut total = Duration::ZERO;
+            let mut left = iters;
+            while left > 0 {
+                let k = left.min(10_000);
+                let mut w = McapWriter::create(&file, &header).unwrap();
+                let t = Instant::now();
+                for i in 0..k {
+                    let frame =
+                        robot_tf.frame_at(model, &mut data, i as f64 * 1e-3, &sc.q0, &qd0, &tau0);
+                    w.write_frame(&frame).unwrap();
+                }
+                total += t.elapsed();
+                w.finish().unwrap();
+                left -= k;
+            }
+            total
+        })
+    });
+    // The fixed cost per recorded run: create the file (metadata, robot description,
+    // static tf) and finish it (last chunk, summary, rename), no frames. Per file, not
+    // per step.
+    g.bench_function("record: file create + finish (per file)", |bch| {
+        bch.iter(|| {
+            let w = McapWriter::create(&file, &header).unwrap();
+            w.finish().unwrap()
+        })
+    });
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 criterion_group!(benches, bench);

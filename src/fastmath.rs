@@ -8,14 +8,14 @@
 // The constants are quoted digit for digit from fdlibm and Cephes.
 #![allow(clippy::excessive_precision)]
 
-const FRAC_2_PI: f64 = std::f64::consts::FRAC_2_PI;
+pub(crate) const FRAC_2_PI: f64 = std::f64::consts::FRAC_2_PI;
 // fdlibm: pi/2 = PIO2_1 + PIO2_2 + PIO2_3 (33 + 33 + 53 bits).
-const PIO2_1: f64 = 1.570_796_326_734_125_614_17e+00;
-const PIO2_2: f64 = 6.077_100_506_303_965_976_60e-11;
-const PIO2_3: f64 = 2.022_266_248_711_166_455_80e-21;
+pub(crate) const PIO2_1: f64 = 1.570_796_326_734_125_614_17e+00;
+pub(crate) const PIO2_2: f64 = 6.077_100_506_303_965_976_60e-11;
+pub(crate) const PIO2_3: f64 = 2.022_266_248_711_166_455_80e-21;
 
 // Cephes sin.c coefficients.
-const S: [f64; 6] = [
+pub(crate) const S: [f64; 6] = [
     1.589_623_015_765_465_680_60e-10,
     -2.505_074_776_285_780_728_66e-8,
     2.755_731_362_138_572_452_13e-6,
@@ -23,7 +23,7 @@ const S: [f64; 6] = [
     8.333_333_333_322_118_588_78e-3,
     -1.666_666_666_666_663_072_95e-1,
 ];
-const C: [f64; 6] = [
+pub(crate) const C: [f64; 6] = [
     -1.135_853_652_138_768_173_00e-11,
     2.087_570_084_197_473_167_78e-9,
     -2.755_731_417_929_673_881_12e-7,

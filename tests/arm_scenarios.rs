@@ -444,6 +444,32 @@ fn mesh_uris(urdf: &str) -> Vec<String> {
         .collect()
 }
 
+/// The run's warnings about `package://ur5/` meshes.
+fn mesh_warnings(out: &arm::Outcome) -> Vec<String> {
+    out.report.json["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_str().unwrap().to_string())
+        .filter(|w| w.contains("package://ur5/"))
+        .collect()
+}
+
+/// How many meshes the scene's links name, each checked to be an absolute existing file.
+fn absolute_mesh_files(out: &arm::Outcome, how: &str) -> usize {
+    let mut n = 0;
+    for l in &out.scene.spec.links {
+        for g in l.visuals.iter().chain(&l.collisions) {
+            if let armsim::model::Shape::Mesh { uri, .. } = &g.shape {
+                let p = Path::new(uri);
+                assert!(p.is_absolute() && p.is_file(), "{how}: {uri}");
+                n += 1;
+            }
+        }
+    }
+    n
+}
+
 #[test]
 fn package_uris_resolve_through_package_paths_and_the_mcap_names_absolute_files() {
     // The UR5 with its meshes named package://ur5/... : robots/meshes is a directory
@@ -461,15 +487,6 @@ fn package_uris_resolve_through_package_paths_and_the_mcap_names_absolute_files(
             "tool = \"tool0\"",
             &format!("tool = \"tool0\"\npackage_path = [\"{p}\"]"),
         )
-    };
-    let mesh_warnings = |out: &arm::Outcome| -> Vec<String> {
-        out.report.json["warnings"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|w| w.as_str().unwrap().to_string())
-            .filter(|w| w.contains("package://ur5/"))
-            .collect()
     };
 
     // Nowhere to find the package: one warning per visual mesh, naming its URI; the
@@ -500,17 +517,7 @@ fn package_uris_resolve_through_package_paths_and_the_mcap_names_absolute_files(
             "{how}: {:?}",
             mesh_warnings(&out)
         );
-        let mut n = 0;
-        for l in &out.scene.spec.links {
-            for g in l.visuals.iter().chain(&l.collisions) {
-                if let armsim::model::Shape::Mesh { uri, .. } = &g.shape {
-                    let p = Path::new(uri);
-                    assert!(p.is_absolute() && p.is_file(), "{how}: {uri}");
-                    n += 1;
-                }
-            }
-        }
-        assert_eq!(n, 14, "{how}");
+        assert_eq!(absolute_mesh_files(&out, how), 14, "{how}");
         assert_eq!(
             out.report.json["collisions"]["first"]["pair"][0],
             "wrist_3_link"

@@ -382,8 +382,8 @@ fn a_closed_output_pipe_is_not_a_panic() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-#[test]
-fn ik_json_contract_numeric_and_analytic() {
+/// A reachable UR5 tool pose as `x,y,z,qw,qx,qy,qz`: FK of [`UR5_Q`] by the CLI.
+fn ur5_tool_target() -> String {
     // A reachable UR5 target: FK of a known configuration.
     let fk = json(&["fk", "robots/ur5.urdf", "--q", UR5_Q, "--json"]);
     let t = &fk["frames"]["tool0"];
@@ -407,7 +407,12 @@ fn ik_json_contract_numeric_and_analytic() {
         .collect();
     let m = nalgebra::Matrix3::from_fn(|i, j| r[i][j]);
     let q = nalgebra::UnitQuaternion::from_matrix(&m);
-    let target = format!("{},{},{},{},{},{},{}", p[0], p[1], p[2], q.w, q.i, q.j, q.k);
+    format!("{},{},{},{},{},{},{}", p[0], p[1], p[2], q.w, q.i, q.j, q.k)
+}
+
+#[test]
+fn ik_json_contract_numeric_and_analytic() {
+    let target = ur5_tool_target();
     for extra in [&[][..], &["--analytic"][..]] {
         let mut args = vec![
             "ik",
@@ -454,6 +459,11 @@ fn ik_json_contract_numeric_and_analytic() {
                 .all(|(a, b)| (a.as_f64().unwrap() - b).abs() < 1e-8)
         ));
     }
+}
+
+#[test]
+fn ik_targets_csv_gives_one_result_per_row_in_order() {
+    let target = ur5_tool_target();
     // A CSV of targets: one result per row, in order; a header row is skipped.
     let dir = std::env::temp_dir().join(format!("armsim-ik-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -477,6 +487,10 @@ fn ik_json_contract_numeric_and_analytic() {
     assert_eq!(res[0]["status"], "converged");
     assert_eq!(res[1]["status"], "unreachable");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn ik_bad_targets_and_unsupported_analytic_arms_are_refused() {
     fails_with(
         &[
             "ik",

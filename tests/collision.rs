@@ -339,6 +339,52 @@ fn capsule_box_matches_closed_form() {
     );
 }
 
+/// A random parry pose: translation within 0.8, rotation vector within 3.
+fn random_pose(rng: &mut rand::rngs::SmallRng) -> parry3d_f64::math::Pose {
+    use parry3d_f64::math::{Pose, Vector};
+    let t = random_point(rng, 0.8);
+    let w = random_point(rng, 3.0);
+    Pose::new(Vector::new(t[0], t[1], t[2]), Vector::new(w[0], w[1], w[2]))
+}
+
+/// The rotation matrix of a parry pose.
+fn rotation_of(p: &parry3d_f64::math::Pose) -> armsim::spatial::Mat3 {
+    let m = parry3d_f64::math::Matrix::from_quat(p.rotation);
+    armsim::spatial::Mat3::from_columns(&[
+        Vec3::new(m.x_axis.x, m.x_axis.y, m.x_axis.z),
+        Vec3::new(m.y_axis.x, m.y_axis.y, m.y_axis.z),
+        Vec3::new(m.z_axis.x, m.z_axis.y, m.z_axis.z),
+    ])
+}
+
+/// The distance between segments `p1 q1` and `p2 q2` by brute force: golden-section
+/// search along the first segment of the point-to-segment distance (a convex function).
+fn segment_segment_distance(
+    p1: parry3d_f64::math::Vector,
+    q1: parry3d_f64::math::Vector,
+    p2: parry3d_f64::math::Vector,
+    q2: parry3d_f64::math::Vector,
+) -> f64 {
+    use parry3d_f64::math::Vector;
+    let point_segment = |p: Vector, a: Vector, b: Vector| {
+        let d = b - a;
+        let t = ((p - a).dot(d) / d.dot(d)).clamp(0.0, 1.0);
+        (p - (a + d * t)).length()
+    };
+    let f = |s: f64| point_segment(p1 + (q1 - p1) * s, p2, q2);
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    for _ in 0..200 {
+        let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if f(m1) <= f(m2) {
+            hi = m2
+        } else {
+            lo = m1
+        }
+    }
+    f(0.5 * (lo + hi)).min(f(0.0)).min(f(1.0))
+}
+
 #[test]
 fn capsule_capsule_matches_closed_form_and_parry_gjk() {
     // Probe capsule along z (cylindrical part 1, r 0.1) centred at c; obstacle capsule
@@ -376,51 +422,20 @@ fn capsule_capsule_matches_closed_form_and_parry_gjk() {
     // search of the point-to-segment distance along the first axis, a convex function),
     // and against parry's GJK (whose distances are realised by points of the shapes, so
     // bound the true one from above).
-    use parry3d_f64::math::{Pose, Vector};
-    let pose = |rng: &mut rand::rngs::SmallRng| {
-        let t = random_point(rng, 0.8);
-        let w = random_point(rng, 3.0);
-        Pose::new(Vector::new(t[0], t[1], t[2]), Vector::new(w[0], w[1], w[2]))
-    };
-    let point_segment = |p: Vector, a: Vector, b: Vector| {
-        let d = b - a;
-        let t = ((p - a).dot(d) / d.dot(d)).clamp(0.0, 1.0);
-        (p - (a + d * t)).length()
-    };
-    let segment_segment = |p1: Vector, q1: Vector, p2: Vector, q2: Vector| {
-        let f = |s: f64| point_segment(p1 + (q1 - p1) * s, p2, q2);
-        let (mut lo, mut hi) = (0.0f64, 1.0f64);
-        let g = (5f64.sqrt() - 1.0) / 2.0;
-        for _ in 0..200 {
-            let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-            if f(m1) <= f(m2) {
-                hi = m2
-            } else {
-                lo = m1
-            }
-        }
-        f(0.5 * (lo + hi)).min(f(0.0)).min(f(1.0))
-    };
-    let rot = |p: &Pose| {
-        let m = parry3d_f64::math::Matrix::from_quat(p.rotation);
-        armsim::spatial::Mat3::from_columns(&[
-            Vec3::new(m.x_axis.x, m.x_axis.y, m.x_axis.z),
-            Vec3::new(m.y_axis.x, m.y_axis.y, m.y_axis.z),
-            Vec3::new(m.z_axis.x, m.z_axis.y, m.z_axis.z),
-        ])
-    };
+    use parry3d_f64::math::Vector;
     let (ha, ra, hb, rb) = (0.4, 0.1, 0.7, 0.15);
     let (mut compared, mut overlapping) = (0, 0);
     for _ in 0..300 {
-        let (pa, pb) = (pose(&mut rng), pose(&mut rng));
+        let (pa, pb) = (random_pose(&mut rng), random_pose(&mut rng));
         let z = |h: f64| Vector::new(0.0, 0.0, h);
-        let want = segment_segment(pa * z(-ha), pa * z(ha), pb * z(-hb), pb * z(hb)) - ra - rb;
+        let want =
+            segment_segment_distance(pa * z(-ha), pa * z(ha), pb * z(-hb), pb * z(hb)) - ra - rb;
         // The probe carries capsule a, turned in its link frame and moved by q.
         let mut m = probe_model(Shape::Capsule {
             radius: ra,
             length: 2.0 * ha,
         });
-        m.links[3].collisions[0].origin = Se3::new(rot(&pa), Vec3::zeros());
+        m.links[3].collisions[0].origin = Se3::new(rotation_of(&pa), Vec3::zeros());
         let ob = Obstacle::new(
             "b",
             Shape::Capsule {
@@ -428,7 +443,7 @@ fn capsule_capsule_matches_closed_form_and_parry_gjk() {
                 length: 2.0 * hb,
             },
             Se3::new(
-                rot(&pb),
+                rotation_of(&pb),
                 Vec3::new(pb.translation.x, pb.translation.y, pb.translation.z),
             ),
         );

@@ -35,141 +35,173 @@ fn check(name: &str, what: &str, got: f64, want: f64, scale: f64) {
     );
 }
 
-fn run(file: &str, golden: &str, ignore_mimic: bool) -> usize {
-    let root = env!("CARGO_MANIFEST_DIR");
-    let text = std::fs::read_to_string(format!("{root}/tools/pinocchio/golden/{golden}")).unwrap();
-    let g: Value = serde_json::from_str(&text).unwrap();
-    let opts = LoadOptions {
-        strict: false,
-        ignore_mimic,
-    };
-    let (mut m, _) = Model::load_with(format!("{root}/{file}"), &opts).unwrap();
-    assert_eq!(g["nv"].as_u64().unwrap() as usize, m.nv, "{golden}: nv");
-    // Pinocchio coordinate index (its joints with nv = 1, in idx_v order) -> ours, by name.
-    let names = m.dof_names();
-    let mut pin_joints: Vec<&Value> = g["joints"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|j| j["nv"].as_u64() == Some(1))
-        .collect();
-    pin_joints.sort_by_key(|j| j["idx_v"].as_u64());
-    let perm: Vec<usize> = pin_joints
-        .iter()
-        .map(|j| {
-            let n = j["name"].as_str().unwrap();
-            names
-                .iter()
-                .position(|x| x == n)
-                .unwrap_or_else(|| panic!("{golden}: joint {n} unknown"))
-        })
-        .collect();
-    let to_ours = |v: &[f64]| {
+/// A golden file, the model it was generated from (with its gravity), and Pinocchio's
+/// coordinate index (its joints with nv = 1, in idx_v order) mapped to ours by name.
+struct Golden {
+    g: Value,
+    m: Model,
+    perm: Vec<usize>,
+}
+
+impl Golden {
+    fn load(file: &str, golden: &str, ignore_mimic: bool) -> Self {
+        let root = env!("CARGO_MANIFEST_DIR");
+        let text =
+            std::fs::read_to_string(format!("{root}/tools/pinocchio/golden/{golden}")).unwrap();
+        let g: Value = serde_json::from_str(&text).unwrap();
+        let opts = LoadOptions {
+            strict: false,
+            ignore_mimic,
+        };
+        let (mut m, _) = Model::load_with(format!("{root}/{file}"), &opts).unwrap();
+        assert_eq!(g["nv"].as_u64().unwrap() as usize, m.nv, "{golden}: nv");
+        let names = m.dof_names();
+        let mut pin_joints: Vec<&Value> = g["joints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|j| j["nv"].as_u64() == Some(1))
+            .collect();
+        pin_joints.sort_by_key(|j| j["idx_v"].as_u64());
+        let perm: Vec<usize> = pin_joints
+            .iter()
+            .map(|j| {
+                let n = j["name"].as_str().unwrap();
+                names
+                    .iter()
+                    .position(|x| x == n)
+                    .unwrap_or_else(|| panic!("{golden}: joint {n} unknown"))
+            })
+            .collect();
+        // Pinocchio's gravity for this file goes on the model, which the dynamics read.
+        m.gravity = Vec3::from(<[f64; 3]>::try_from(vecf(&g["gravity"])).unwrap());
+        Golden { g, m, perm }
+    }
+
+    /// A vector in Pinocchio's coordinate order, in ours.
+    fn to_ours(&self, v: &[f64]) -> Vec<f64> {
         let mut out = vec![0.0; v.len()];
-        for (pi, &oi) in perm.iter().enumerate() {
+        for (pi, &oi) in self.perm.iter().enumerate() {
             out[oi] = v[pi];
         }
         out
-    };
-    // Pinocchio's gravity for this file goes on the model, which the dynamics read.
-    m.gravity = Vec3::from(<[f64; 3]>::try_from(vecf(&g["gravity"])).unwrap());
-    let mut d = Data::new(&m);
+    }
+}
+
+fn run(file: &str, golden: &str, ignore_mimic: bool) -> usize {
+    let gd = Golden::load(file, golden, ignore_mimic);
+    let mut d = Data::new(&gd.m);
     let mut checks = 0;
-    for (s, st) in g["states"].as_array().unwrap().iter().enumerate() {
+    for (s, st) in gd.g["states"].as_array().unwrap().iter().enumerate() {
         let name = format!("{golden} state {s}");
-        let q = to_ours(&vecf(&st["theta"]));
-        let (v, a, tau_in) = (
-            to_ours(&vecf(&st["v"])),
-            to_ours(&vecf(&st["a"])),
-            to_ours(&vecf(&st["tau_in"])),
-        );
-        // Link placements.
-        kinematics::forward_kinematics(&m, &mut d, &q);
-        kinematics::update_frames(&m, &mut d);
-        for (link, pose) in st["link_placements"].as_object().unwrap() {
-            let id = m
-                .link_id(link)
-                .unwrap_or_else(|| panic!("{name}: link {link}"));
-            let t = &d.o_m_f[id];
-            let r = mat(&pose["rotation"]);
-            let p = vecf(&pose["translation"]);
-            for i in 0..3 {
-                check(&name, &format!("{link} p[{i}]"), t.trans[i], p[i], 1.0);
-                for (j, rij) in r[i].iter().enumerate() {
-                    check(
-                        &name,
-                        &format!("{link} R[{i},{j}]"),
-                        t.rot[(i, j)],
-                        *rij,
-                        1.0,
-                    );
-                }
-                checks += 4;
-            }
-        }
-        // End-effector Jacobian (world-aligned) and, without mimic joints, world columns.
-        let ee = m.link_id(g["ee_link"].as_str().unwrap()).unwrap();
-        let mut j = DMatrix::zeros(6, m.nv);
-        kinematics::compute_joint_jacobians(&m, &mut d, &q);
-        kinematics::frame_jacobian(&m, &d, ee, Expressed::WorldAligned, &mut j);
-        let jp = mat(&st["J_ee_lwa"]);
-        for r in 0..6 {
-            for (pc, &oc) in perm.iter().enumerate() {
+        let q = gd.to_ours(&vecf(&st["theta"]));
+        checks += check_placements(&gd, &mut d, st, &q, &name);
+        checks += check_jacobians(&gd, &mut d, st, &q, &name);
+        checks += check_dynamics(&gd, &mut d, st, &q, &name);
+    }
+    checks
+}
+
+/// Every link's world placement against Pinocchio's; returns the number of checks.
+fn check_placements(gd: &Golden, d: &mut Data, st: &Value, q: &[f64], name: &str) -> usize {
+    let m = &gd.m;
+    let mut checks = 0;
+    kinematics::forward_kinematics(m, d, q);
+    kinematics::update_frames(m, d);
+    for (link, pose) in st["link_placements"].as_object().unwrap() {
+        let id = m
+            .link_id(link)
+            .unwrap_or_else(|| panic!("{name}: link {link}"));
+        let t = &d.o_m_f[id];
+        let r = mat(&pose["rotation"]);
+        let p = vecf(&pose["translation"]);
+        for i in 0..3 {
+            check(name, &format!("{link} p[{i}]"), t.trans[i], p[i], 1.0);
+            for (j, rij) in r[i].iter().enumerate() {
                 check(
-                    &name,
-                    &format!("J_ee[{r},{pc}]"),
-                    j[(r, oc)],
-                    jp[r][pc],
+                    name,
+                    &format!("{link} R[{i},{j}]"),
+                    t.rot[(i, j)],
+                    *rij,
                     1.0,
                 );
+            }
+            checks += 4;
+        }
+    }
+    checks
+}
+
+/// The end-effector Jacobian (world-aligned) and, without mimic joints, the world joint
+/// columns; returns the number of checks.
+fn check_jacobians(gd: &Golden, d: &mut Data, st: &Value, q: &[f64], name: &str) -> usize {
+    let (m, perm) = (&gd.m, &gd.perm);
+    let mut checks = 0;
+    let ee = m.link_id(gd.g["ee_link"].as_str().unwrap()).unwrap();
+    let mut j = DMatrix::zeros(6, m.nv);
+    kinematics::compute_joint_jacobians(m, d, q);
+    kinematics::frame_jacobian(m, d, ee, Expressed::WorldAligned, &mut j);
+    let jp = mat(&st["J_ee_lwa"]);
+    for r in 0..6 {
+        for (pc, &oc) in perm.iter().enumerate() {
+            check(name, &format!("J_ee[{r},{pc}]"), j[(r, oc)], jp[r][pc], 1.0);
+            checks += 1;
+        }
+    }
+    if !m.has_mimic {
+        let jw = mat(&st["J_world"]);
+        for (pc, &oc) in perm.iter().enumerate() {
+            let b = m.joints[m.dof_joints[oc]].body.unwrap();
+            let col = d.s_world[b].scale(m.q_mult[b]).to_array();
+            for r in 0..6 {
+                check(name, &format!("J_world[{r},{pc}]"), col[r], jw[r][pc], 1.0);
                 checks += 1;
             }
         }
-        if !m.has_mimic {
-            let jw = mat(&st["J_world"]);
-            for (pc, &oc) in perm.iter().enumerate() {
-                let b = m.joints[m.dof_joints[oc]].body.unwrap();
-                let col = d.s_world[b].scale(m.q_mult[b]).to_array();
-                for r in 0..6 {
-                    check(&name, &format!("J_world[{r},{pc}]"), col[r], jw[r][pc], 1.0);
-                    checks += 1;
-                }
-            }
-        }
-        // Dynamics.
-        let cmp = |what: &str, ours: &[f64], theirs: Vec<f64>| {
-            let theirs = to_ours(&theirs);
-            let scale = theirs.iter().fold(1.0f64, |acc, x| acc.max(x.abs()));
-            for k in 0..ours.len() {
-                check(&name, &format!("{what}[{k}]"), ours[k], theirs[k], scale);
-            }
-        };
-        let tau = dynamics::rnea(&m, &mut d, &q, &v, &a).to_vec();
-        cmp("rnea", &tau, vecf(&st["rnea"]));
-        let h = dynamics::bias(&m, &mut d, &q, &v).to_vec();
-        cmp("nle", &h, vecf(&st["nle"]));
-        let gq = dynamics::gravity_torque(&m, &mut d, &q).to_vec();
-        cmp("gravity", &gq, vecf(&st["gravity"]));
-        let mm = dynamics::crba(&m, &mut d, &q).clone();
-        let mp = mat(&st["M"]);
-        for (pi, &oi) in perm.iter().enumerate() {
-            for (pj, &oj) in perm.iter().enumerate() {
-                check(
-                    &name,
-                    &format!("M[{pi},{pj}]"),
-                    mm[(oi, oj)],
-                    mp[pi][pj],
-                    1.0,
-                );
-            }
-        }
-        if let Some(aba) = st.get("aba") {
-            let qdd = dynamics::aba(&m, &mut d, &q, &v, &tau_in).to_vec();
-            cmp("aba", &qdd, vecf(aba));
-        }
-        checks += 4 * m.nv + m.nv * m.nv;
     }
     checks
+}
+
+/// RNEA, the bias and gravity torques, the mass matrix and ABA; returns the number of
+/// checks.
+fn check_dynamics(gd: &Golden, d: &mut Data, st: &Value, q: &[f64], name: &str) -> usize {
+    let (m, perm) = (&gd.m, &gd.perm);
+    let (v, a, tau_in) = (
+        gd.to_ours(&vecf(&st["v"])),
+        gd.to_ours(&vecf(&st["a"])),
+        gd.to_ours(&vecf(&st["tau_in"])),
+    );
+    let cmp = |what: &str, ours: &[f64], theirs: Vec<f64>| {
+        let theirs = gd.to_ours(&theirs);
+        let scale = theirs.iter().fold(1.0f64, |acc, x| acc.max(x.abs()));
+        for k in 0..ours.len() {
+            check(name, &format!("{what}[{k}]"), ours[k], theirs[k], scale);
+        }
+    };
+    let tau = dynamics::rnea(m, d, q, &v, &a).to_vec();
+    cmp("rnea", &tau, vecf(&st["rnea"]));
+    let h = dynamics::bias(m, d, q, &v).to_vec();
+    cmp("nle", &h, vecf(&st["nle"]));
+    let gq = dynamics::gravity_torque(m, d, q).to_vec();
+    cmp("gravity", &gq, vecf(&st["gravity"]));
+    let mm = dynamics::crba(m, d, q).clone();
+    let mp = mat(&st["M"]);
+    for (pi, &oi) in perm.iter().enumerate() {
+        for (pj, &oj) in perm.iter().enumerate() {
+            check(
+                name,
+                &format!("M[{pi},{pj}]"),
+                mm[(oi, oj)],
+                mp[pi][pj],
+                1.0,
+            );
+        }
+    }
+    if let Some(aba) = st.get("aba") {
+        let qdd = dynamics::aba(m, d, q, &v, &tau_in).to_vec();
+        cmp("aba", &qdd, vecf(aba));
+    }
+    4 * m.nv + m.nv * m.nv
 }
 
 #[test]

@@ -64,6 +64,12 @@ use armsim::kinematics::{
     compute_joint_jacobians, forward_kinematics, frame_jacobian, frame_placement, manipulability,
     Expressed,
 };
+use armsim::mechanism::branch::sign;
+use armsim::mechanism::mobility::conditioning;
+use armsim::mechanism::motion::solve_velocity;
+use armsim::mechanism::position::{solve_position, NewtonOptions};
+use armsim::mechanism::sweep::{dead_centres, sweep, SweepOptions};
+use armsim::mechanism::{catalog, Driver, Vec2};
 use armsim::model::Model;
 use armsim::sim::{Controller, Hold, Integrator, Reference, SimConfig, SimError, Simulator};
 use armsim::spatial::{Se3, Vec3};
@@ -270,107 +276,115 @@ fn singular_poses_of_the_ur5_keep_dls_bounded_and_manipulability_vanishes_like_s
         eprintln!("[1] {name}: w at the singular pose {w0:.1e}");
         assert!(w0 < 1e-15 * c0, "{name}: w(0) = {w0:e}");
 
-        // DLS steps from 1e-6 rad off the singularity (σ_min ~ 1e-7), toward (a) a nearby
-        // reachable pose and (b) a target pushed 1e-3 (weighted) along the direction the
-        // nearly singular Jacobian cannot produce: its left singular vector of σ_min, taken
-        // in the solver's weighted coordinates (W^½ J, rotation rows × 0.5) and mapped back.
-        // An undamped Gauss–Newton step there would be ~1e-3/σ_min.
-        let q0 = family(1e-6);
-        let j0 = jac6(&m, &mut d, link, &q0);
-        let t0 = pose(&m, &mut d, link, &q0);
-        let mut wj = j0.clone();
-        for r in 3..6 {
-            for c in 0..6 {
-                wj[(r, c)] *= 0.5;
-            }
+        dls_near_singularity(&m, &mut d, link, name, &family(1e-6));
+    }
+}
+
+/// DLS steps from `q0`, 1e-6 rad off the singularity of family `name` (σ_min ~ 1e-7),
+/// toward (a) a nearby reachable pose and (b) a target pushed 1e-3 (weighted) along the
+/// direction the nearly singular Jacobian cannot produce: every step within its bound,
+/// none near an undamped step's size, and the solver converges (or, for the stretched
+/// elbow pushed outward, stops at the closest pose).
+fn dls_near_singularity(m: &Model, d: &mut Data, link: usize, name: &str, q0: &[f64]) {
+    // DLS steps from 1e-6 rad off the singularity (σ_min ~ 1e-7), toward (a) a nearby
+    // reachable pose and (b) a target pushed 1e-3 (weighted) along the direction the
+    // nearly singular Jacobian cannot produce: its left singular vector of σ_min, taken
+    // in the solver's weighted coordinates (W^½ J, rotation rows × 0.5) and mapped back.
+    // An undamped Gauss–Newton step there would be ~1e-3/σ_min.
+    let j0 = jac6(m, d, link, q0);
+    let t0 = pose(m, d, link, q0);
+    let mut wj = j0.clone();
+    for r in 3..6 {
+        for c in 0..6 {
+            wj[(r, c)] *= 0.5;
         }
-        let svd = wj.svd(true, false);
-        let imin = svd.singular_values.imin();
-        let sigma_min = svd.singular_values[imin];
-        let u: Vec<f64> = svd
-            .u
-            .as_ref()
-            .unwrap()
-            .column(imin)
-            .iter()
-            .enumerate()
-            .map(|(i, x)| if i < 3 { *x } else { x / 0.5 })
-            .collect();
-        let near: Vec<f64> = q0
-            .iter()
-            .enumerate()
-            .map(|(i, x)| x + if i % 2 == 0 { 0.05 } else { -0.05 })
-            .collect();
-        // The singular vector's sign is arbitrary: point its translation away from the
-        // shoulder, so that for the stretched elbow the target is 1 mm out of reach.
-        let shoulder = pose(&m, &mut d, m.link_id("upper_arm_link").unwrap(), &q0).trans;
-        let out = t0.trans - shoulder;
-        let sign = if Vec3::new(u[0], u[1], u[2]).dot(&out) < 0.0 {
-            -1.0
+    }
+    let svd = wj.svd(true, false);
+    let imin = svd.singular_values.imin();
+    let sigma_min = svd.singular_values[imin];
+    let u: Vec<f64> = svd
+        .u
+        .as_ref()
+        .unwrap()
+        .column(imin)
+        .iter()
+        .enumerate()
+        .map(|(i, x)| if i < 3 { *x } else { x / 0.5 })
+        .collect();
+    let near: Vec<f64> = q0
+        .iter()
+        .enumerate()
+        .map(|(i, x)| x + if i % 2 == 0 { 0.05 } else { -0.05 })
+        .collect();
+    // The singular vector's sign is arbitrary: point its translation away from the
+    // shoulder, so that for the stretched elbow the target is 1 mm out of reach.
+    let shoulder = pose(m, d, m.link_id("upper_arm_link").unwrap(), q0).trans;
+    let out = t0.trans - shoulder;
+    let sign = if Vec3::new(u[0], u[1], u[2]).dot(&out) < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    let u: Vec<f64> = u.iter().map(|x| x * sign).collect();
+    let reachable = name != "elbow q3 = ε";
+    let targets = [
+        ("near", pose(m, d, link, &near), true),
+        ("lost direction", displaced(&t0, &u, 1e-3), reachable),
+    ];
+    for (tname, t, reachable) in &targets {
+        let log = dls_steps(m, link, t, q0, 40);
+        assert!(log.finite, "{name}/{tname}: NaN iterate");
+        assert!(!log.steps.is_empty());
+        let mut worst: f64 = 0.0;
+        for (k, (s, b)) in log.steps.iter().zip(&log.bounds).enumerate() {
+            assert!(s <= b, "{name}/{tname}: step {k} {s:e} > bound {b:e}");
+            worst = worst.max(s / b);
+        }
+        let first = log.steps[0];
+        let gn = if *tname == "near" {
+            String::from("-")
         } else {
-            1.0
+            format!("{:.0e}", 1e-3 / sigma_min)
         };
-        let u: Vec<f64> = u.iter().map(|x| x * sign).collect();
-        let reachable = *name != "elbow q3 = ε";
-        let targets = [
-            ("near", pose(&m, &mut d, link, &near), true),
-            ("lost direction", displaced(&t0, &u, 1e-3), reachable),
-        ];
-        for (tname, t, reachable) in &targets {
-            let log = dls_steps(&m, link, t, &q0, 40);
-            assert!(log.finite, "{name}/{tname}: NaN iterate");
-            assert!(!log.steps.is_empty());
-            let mut worst: f64 = 0.0;
-            for (k, (s, b)) in log.steps.iter().zip(&log.bounds).enumerate() {
-                assert!(s <= b, "{name}/{tname}: step {k} {s:e} > bound {b:e}");
-                worst = worst.max(s / b);
-            }
-            let first = log.steps[0];
-            let gn = if *tname == "near" {
-                String::from("-")
-            } else {
-                format!("{:.0e}", 1e-3 / sigma_min)
-            };
-            // At the first iteration μ ≥ 1, so λ ≥ E = ½ ‖W^½ e‖² and the bound is < 1/√2.
-            assert!(
-                first <= std::f64::consts::FRAC_1_SQRT_2,
-                "first step {first}"
-            );
-            let largest = log.steps.iter().copied().fold(0.0, f64::max);
-            assert!(largest < 1.0, "{name}/{tname}: a step of {largest} rad");
-            let r = solve(&m, link, t, Some(&q0), long_budget());
+        // At the first iteration μ ≥ 1, so λ ≥ E = ½ ‖W^½ e‖² and the bound is < 1/√2.
+        assert!(
+            first <= std::f64::consts::FRAC_1_SQRT_2,
+            "first step {first}"
+        );
+        let largest = log.steps.iter().copied().fold(0.0, f64::max);
+        assert!(largest < 1.0, "{name}/{tname}: a step of {largest} rad");
+        let r = solve(m, link, t, Some(q0), long_budget());
+        eprintln!(
+            "[1] {name}/{tname}: σ_min = {sigma_min:.1e} (undamped step ~{gn} rad), {} steps, first |Δq| = {first:.3e} (≤ 1/√2), max |Δq|/bound = {worst:.3}, status {:?}, residual {:.1e} m / {:.1e} rad, {} iterations",
+            log.steps.len(),
+            r.status,
+            r.position_error,
+            r.rotation_error,
+            r.iterations
+        );
+        assert!(r.q.iter().all(|x| x.is_finite()));
+        if *reachable {
+            assert_eq!(r.status, IkStatus::Converged, "{name}/{tname}: {r:?}");
+        } else {
+            // The stretched elbow pushed 1e-3 (weighted) outward along the null direction
+            // of W^½ J, the normal of the reachable set's boundary: out of reach, and the
+            // closest weighted distance is the push, h (1 + O(h κ)), κ ~ 1/reach ~ 1/m.
+            let (wr, _) = weighted_error(m, d, link, t, &r.q, 0.5);
+            let (w_seed, _) = weighted_error(m, d, link, t, q0, 0.5);
             eprintln!(
-                "[1] {name}/{tname}: σ_min = {sigma_min:.1e} (undamped step ~{gn} rad), {} steps, first |Δq| = {first:.3e} (≤ 1/√2), max |Δq|/bound = {worst:.3}, status {:?}, residual {:.1e} m / {:.1e} rad, {} iterations",
-                log.steps.len(),
-                r.status,
-                r.position_error,
-                r.rotation_error,
-                r.iterations
+                "[1] {name}/{tname}: weighted residual {wr:.6e} vs the stretched pose's {w_seed:.6e} (ratio {:.6}), {} restarts",
+                wr / w_seed,
+                r.restarts
             );
-            assert!(r.q.iter().all(|x| x.is_finite()));
-            if *reachable {
-                assert_eq!(r.status, IkStatus::Converged, "{name}/{tname}: {r:?}");
-            } else {
-                // The stretched elbow pushed 1e-3 (weighted) outward along the null direction
-                // of W^½ J, the normal of the reachable set's boundary: out of reach, and the
-                // closest weighted distance is the push, h (1 + O(h κ)), κ ~ 1/reach ~ 1/m.
-                let (wr, _) = weighted_error(&m, &mut d, link, t, &r.q, 0.5);
-                let (w_seed, _) = weighted_error(&m, &mut d, link, t, &q0, 0.5);
-                eprintln!(
-                    "[1] {name}/{tname}: weighted residual {wr:.6e} vs the stretched pose's {w_seed:.6e} (ratio {:.6}), {} restarts",
-                    wr / w_seed,
-                    r.restarts
-                );
-                assert_eq!(r.status, IkStatus::Unreachable, "{name}/{tname}: {r:?}");
-                assert!(
-                    (w_seed / 1e-3 - 1.0).abs() < 1e-6,
-                    "the push has weighted length 1e-3"
-                );
-                assert!(
-                    wr <= w_seed && wr >= (1.0 - 1e-3) * w_seed,
-                    "{wr:e} vs {w_seed:e}"
-                );
-            }
+            assert_eq!(r.status, IkStatus::Unreachable, "{name}/{tname}: {r:?}");
+            assert!(
+                (w_seed / 1e-3 - 1.0).abs() < 1e-6,
+                "the push has weighted length 1e-3"
+            );
+            assert!(
+                wr <= w_seed && wr >= (1.0 - 1e-3) * w_seed,
+                "{wr:e} vs {w_seed:e}"
+            );
         }
     }
 }
@@ -665,8 +679,9 @@ fn fastest_mode(m: &Model, q: &[f64], k: &[f64], b: &[f64]) -> f64 {
     sym_eigen_extremes(&a).1.sqrt()
 }
 
-#[test]
-fn stiff_joint_springs_explicit_limits_and_the_implicit_integrator() {
+/// The planar 2R with stiff joint springs (k = 1e7 N m/rad, B = 1e-3 kg m²) under
+/// gravity, its start configuration, and its fastest mode there (rad/s).
+fn stiff_2r() -> (Model, Effects, Vec<f64>, f64) {
     let m = common::load("robots/planar_2r.toml");
     let n = m.nv;
     let (k, b) = (vec![1e7; n], vec![1e-3; n]);
@@ -680,8 +695,26 @@ fn stiff_joint_springs_explicit_limits_and_the_implicit_integrator() {
         ..Default::default()
     };
     let q0 = vec![-1.0, 0.6];
-    let hold = Hold(q0.clone());
     let omega = fastest_mode(&m, &q0, &k, &b);
+    (m, fx, q0, omega)
+}
+
+/// The number that follows `marker` in `text` (up to the next space).
+fn number_after(text: &str, marker: &str) -> f64 {
+    text.split(marker)
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn stiff_joint_springs_explicit_integrators_diverge_past_their_limits_with_a_hint() {
+    let (m, fx, q0, omega) = stiff_2r();
+    let hold = Hold(q0.clone());
     // Undamped modes are ±iω: symplectic Euler is stable for ω h < 2, classic RK4 on the
     // imaginary axis for ω h < 2√2 (|R(iy)|² = 1 − y⁶/72 + y⁸/576).
     let limits = [
@@ -730,24 +763,8 @@ fn stiff_joint_springs_explicit_limits_and_the_implicit_integrator() {
         );
         // The hint's fastest mode against the exact one, and its advice: the step it
         // suggests (the method's own limit, rounded down) is stable, and 3 % more is not.
-        let w_hint: f64 = hint
-            .split("≈ ")
-            .nth(1)
-            .unwrap()
-            .split(' ')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap();
-        let suggested: f64 = hint
-            .split("step below ")
-            .nth(1)
-            .unwrap()
-            .split(' ')
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap();
+        let w_hint = number_after(&hint, "≈ ");
+        let suggested = number_after(&hint, "step below ");
         let mut sim = Simulator::new(&m, fx.clone()).unwrap();
         let follow = sim.run(
             &q0,
@@ -784,6 +801,14 @@ fn stiff_joint_springs_explicit_limits_and_the_implicit_integrator() {
             "the hint's step is not the limit"
         );
     }
+}
+
+#[test]
+fn stiff_joint_springs_implicit_euler_is_stable_far_past_the_explicit_limits() {
+    let (m, fx, q0, omega) = stiff_2r();
+    let hold = Hold(q0.clone());
+    // The RK4 reference runs at half its stability limit, 2√2/ω.
+    let rk4_limit = 2.0 * 2f64.sqrt() / omega;
     // Implicit Euler at ω h = 100 (50× the symplectic limit) for 0.5 s: stable, no NaN,
     // energy does not grow, and the slow motion (a free double pendulum swing) agrees with
     // a fine RK4 reference to the method's O(h) accuracy.
@@ -798,7 +823,7 @@ fn stiff_joint_springs_explicit_limits_and_the_implicit_integrator() {
         .unwrap();
     let drift = r.energy.as_ref().unwrap().max_relative_drift;
     let mut sim = Simulator::new(&m, fx.clone()).unwrap();
-    let h_ref = 0.5 * limits[1].1;
+    let h_ref = 0.5 * rk4_limit;
     let reference = sim
         .run(&q0, &sim_cfg(h_ref, dur, Integrator::Rk4), &hold, |_| {})
         .unwrap();
@@ -816,25 +841,32 @@ fn stiff_joint_springs_explicit_limits_and_the_implicit_integrator() {
 // ---------------------------------------------------------------------------------------
 // 5. Linkages near dead centre.
 
+/// The slider-crank of the dead-centre cases: crank and rod lengths (m).
+const CRANK: f64 = 0.1;
+const ROD: f64 = 0.25;
+
+/// The slider position at crank angle `φ` (closed form).
+fn slider_x(phi: f64) -> f64 {
+    let (r, l) = (CRANK, ROD);
+    r * phi.cos() + (l * l - (r * phi.sin()).powi(2)).sqrt()
+}
+
+/// `dx/dφ` of [`slider_x`].
+fn slider_dx(phi: f64) -> f64 {
+    let (r, l) = (CRANK, ROD);
+    let s = r * phi.sin();
+    -s - s * r * phi.cos() / (l * l - s * s).sqrt()
+}
+
+fn all_finite(v: &nalgebra::DVector<f64>) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
 #[test]
-fn linkages_near_dead_centre() {
-    use armsim::mechanism::branch::sign;
-    use armsim::mechanism::mobility::conditioning;
-    use armsim::mechanism::motion::solve_velocity;
-    use armsim::mechanism::position::{solve_position, NewtonOptions};
-    use armsim::mechanism::sweep::{dead_centres, sweep, SweepOptions};
-    use armsim::mechanism::{catalog, Driver, Vec2};
-    use nalgebra::DVector;
-    let (r, l) = (0.1, 0.25);
+fn linkages_near_dead_centre_crank_driven_sweep_keeps_its_branch() {
+    let (r, l) = (CRANK, ROD);
     let sc = catalog::slider_crank(r, l, 0.0);
     let newton = NewtonOptions::default();
-    let x_of = |phi: f64| r * phi.cos() + (l * l - (r * phi.sin()).powi(2)).sqrt();
-    let dx_of = |phi: f64| {
-        let s = r * phi.sin();
-        -s - s * r * phi.cos() / (l * l - s * s).sqrt()
-    };
-    let finite = |v: &DVector<f64>| v.iter().all(|x| x.is_finite());
-
     // (a) Crank-driven sweep through the outer dead centre φ = 0 (crank and rod in line):
     // the crank-driven problem stays regular, the tracker keeps its branch (slider to the
     // right, one indicator sign throughout), and the slider's dead centre is found at
@@ -859,7 +891,7 @@ fn linkages_near_dead_centre() {
     assert!(sw.samples.iter().all(|st| st.s.abs() > 1e-4));
     for st in &sw.samples {
         assert!(
-            finite(&st.q) && finite(&st.dq) && finite(&st.ddq),
+            all_finite(&st.q) && all_finite(&st.dq) && all_finite(&st.ddq),
             "NaN at φ = {}",
             st.s
         );
@@ -872,7 +904,7 @@ fn linkages_near_dead_centre() {
             "left the branch at φ = {}",
             st.s
         );
-        worst_x = worst_x.max((xc - x_of(st.s)).abs());
+        worst_x = worst_x.max((xc - slider_x(st.s)).abs());
     }
     let dcs = dead_centres(&sw.tracker(&sc), &sw.samples);
     assert_eq!(dcs.len(), 1, "{dcs:?}");
@@ -890,13 +922,19 @@ fn linkages_near_dead_centre() {
         let xc = sc.point_position(&sol.q, 2, &Vec2::zeros()).x;
         let v = solve_velocity(&sc, &sol.q, 1.0, None);
         let vx = sc.point_velocity(&sol.q, &v.x, 2, &Vec2::zeros()).x;
-        assert!(finite(&sol.q) && finite(&v.x) && !conditioning(&sc, &sol.q).singular);
-        worst.0 = worst.0.max((xc - x_of(phi)).abs());
-        worst.1 = worst.1.max((vx - dx_of(phi)).abs());
+        assert!(all_finite(&sol.q) && all_finite(&v.x) && !conditioning(&sc, &sol.q).singular);
+        worst.0 = worst.0.max((xc - slider_x(phi)).abs());
+        worst.1 = worst.1.max((vx - slider_dx(phi)).abs());
     }
     eprintln!("[5] crank-driven at φ = 1e-3 … 1e-12: |x_C − closed form| ≤ {:.1e} m, |dx/dφ − closed form| ≤ {:.1e} m", worst.0, worst.1);
     assert!(worst.0 < 1e-14 && worst.1 < 1e-14);
+}
 
+#[test]
+fn linkages_near_dead_centre_slider_driven_near_toggle_is_accurate() {
+    let (r, l) = (CRANK, ROD);
+    let sc = catalog::slider_crank(r, l, 0.0);
+    let newton = NewtonOptions::default();
     // (b) Driven from the slider, x = r + l − δ is a near-toggle of the crank: the root is
     // nearly double, φ ≈ √(2 δ (r + l) / (r l)), and dφ/dx = 1/x'(φ) ~ δ^-½. Positions
     // must match the closed form to the conditioning (a residual ρ moves φ by ρ/|x'(φ)|);
@@ -917,15 +955,15 @@ fn linkages_near_dead_centre() {
         let phi_cf = 2.0 * (de * (2.0 * l - de) / (4.0 * r * x)).sqrt().asin();
         let g = catalog::slider_crank_guess(&sc, r, l, 0.0, 1.2 * phi_cf + 1e-3, 1.0);
         let sol = solve_position(&by_slider, &g, x, &newton).unwrap();
-        assert!(finite(&sol.q));
+        assert!(all_finite(&sol.q));
         let phi = sol.q[2];
-        let slope = dx_of(phi_cf).abs();
+        let slope = slider_dx(phi_cf).abs();
         let tol = 1e-13 / slope + 1e-12;
         let c = conditioning(&by_slider, &sol.q);
         let v = solve_velocity(&by_slider, &sol.q, 1.0, None);
-        assert!(finite(&v.x), "δ = {delta:e}: NaN velocity");
+        assert!(all_finite(&v.x), "δ = {delta:e}: NaN velocity");
         let rate = v.x[2];
-        let rate_cf = 1.0 / dx_of(phi_cf);
+        let rate_cf = 1.0 / slider_dx(phi_cf);
         let rate_err = (rate / rate_cf - 1.0).abs();
         eprintln!(
             "[5] slider-driven x = r + l − {delta:.0e}: φ = {phi:.6e} (closed form {phi_cf:.6e}, |Δφ| = {:.1e}, tolerance {tol:.1e}); cond(Φ_q) = {:.1e}{}; dφ/dx = {rate:.4e} vs {rate_cf:.4e} (rel. {rate_err:.1e}), solve residual {:.1e}",
@@ -949,7 +987,11 @@ fn linkages_near_dead_centre() {
             );
         }
     }
+}
 
+#[test]
+fn linkages_near_dead_centre_crank_rocker_finds_both_dead_centres() {
+    let newton = NewtonOptions::default();
     // (c) A crank-rocker four-bar (g, a, b, c) = (1.16, 0.42, 1.05, 0.74) over a full turn:
     // one branch throughout, and the rocker's two dead centres (toggles) where crank and
     // coupler line up, |AC| = b ± a, against the triangle closed form.
@@ -967,7 +1009,7 @@ fn linkages_near_dead_centre() {
     assert!(sw.stopped.is_none());
     let s0 = sign(sw.samples[0].indicators[0]);
     for st in &sw.samples {
-        assert!(finite(&st.q) && finite(&st.dq) && sign(st.indicators[0]) == s0);
+        assert!(all_finite(&st.q) && all_finite(&st.dq) && sign(st.indicators[0]) == s0);
     }
     let dcs = dead_centres(&sw.tracker(&fb), &sw.samples);
     assert_eq!(dcs.len(), 2, "{dcs:?}");
@@ -1128,7 +1170,7 @@ fn max_pose_diff(a: &Se3, b: &Se3) -> f64 {
 }
 
 #[test]
-fn angles_wrap_consistently_for_fk_ik_and_simulation() {
+fn angles_wrap_fk_is_2pi_periodic_to_rounding() {
     // (a) FK is 2π-periodic. q + 2πk is not exactly representable: compare FK(x) for
     // x = fl(q + 2πk) against FK(x − 2πk) with the reduction done exactly, which isolates
     // the library's own argument reduction; and report the naive FK(q + 2πk) − FK(q),
@@ -1169,7 +1211,10 @@ fn angles_wrap_consistently_for_fk_ik_and_simulation() {
         eprintln!("[7] {file}: FK(q + 2πk) vs FK of the exactly reduced angle ≤ {exact_worst:.1e} (|k| ≤ 2e4); naive FK(q + 2πk) − FK(q) ≤ {naive_1e3:.1e} for |k| ≤ 1e3, ≤ {naive_worst:.1e} for 2e4, within the argument's own rounding ≤ {naive_bound:.1e} rad × 1 m");
         assert!(exact_worst < 1e-12, "{file}: {exact_worst:e}");
     }
+}
 
+#[test]
+fn angles_wrap_ik_of_a_continuous_joint_target_lands_within_pi() {
     // (b) IK of a continuous-joint target: the planar 2R (continuous joints), target from
     // q* = (π − 1e-3 + 14π, 0.8), seeded across the cut at −π + 0.05: the answer is inside
     // [−π, π] and equal to q* modulo 2π (same elbow branch as the seed).
@@ -1197,7 +1242,11 @@ fn angles_wrap_consistently_for_fk_ik_and_simulation() {
     assert!(r.q.iter().all(|x| x.abs() <= std::f64::consts::PI));
     // Position error ≤ 1e-12 m with a ≥ 0.1 m Jacobian singular value: angles to ~1e-11.
     assert!(e1.abs() < 1e-10 && e2.abs() < 1e-10);
+}
 
+#[test]
+fn angles_wrap_simulation_spins_across_pi_without_jumps() {
+    let m = common::load("robots/planar_2r.toml");
     // (c) Simulation across ±π: the first joint of the 2R driven by computed torque along
     // q_d(t) = ω t (three turns), without gravity; the state is not wrapped, so q is
     // continuous (no 2π jumps between samples), tracks the ramp, and the energy balance
@@ -1256,7 +1305,11 @@ fn angles_wrap_consistently_for_fk_ik_and_simulation() {
     // The audit integrates τ q̇ by the trapezoid rule on the grid: relative error
     // ~ (ω h)²/12 with the controller's ω ~ 20 rad/s, h = 1e-4: ~3e-6.
     assert!(audit.max_relative_drift < 1e-5);
+}
 
+#[test]
+fn angles_wrap_free_motion_swings_over_the_top_without_jumps() {
+    let m = common::load("robots/planar_2r.toml");
     // (d) Free motion across ±π: the 2R released near upright under gravity (q1 = π/2 is
     // straight up) falls and swings over the top; nothing is wrapped and energy is
     // conserved (RK4, no work done).

@@ -10,6 +10,7 @@ mod plan_common;
 use armsim::data::Data;
 use armsim::dynamics;
 use armsim::kinematics::{self, Expressed};
+use armsim::model::Model;
 use armsim::planning::checker::EdgeMode;
 use armsim::planning::rrt::RrtOptions;
 use armsim::planning::{PlanOptions, PlanStatus, Planner};
@@ -68,114 +69,143 @@ fn kinematics_hot_paths_do_not_allocate() {
     ] {
         let model = common::load(file);
         let mut data = Data::new(&model);
-        let mut j = DMatrix::zeros(6, model.nv);
         let q = model.neutral();
         let qd: Vec<f64> = (0..model.nv).map(|k| 0.1 * k as f64 - 0.2).collect();
-        let tool = model.links.len() - 1;
-        let before = allocs();
-        for _ in 0..100 {
-            kinematics::forward_kinematics(&model, &mut data, &q);
-            kinematics::update_frames(&model, &mut data);
-            kinematics::forward_kinematics_acc(&model, &mut data, &q, &qd, &qd);
-            let _ = kinematics::frame_velocity(&model, &data, tool, Expressed::Local);
-            let _ = kinematics::frame_classical_acceleration(&model, &data, tool, Expressed::World);
-            kinematics::compute_joint_jacobians(&model, &mut data, &q);
-            for ex in [Expressed::World, Expressed::Local, Expressed::WorldAligned] {
-                kinematics::frame_jacobian(&model, &data, tool, ex, &mut j);
-            }
-            kinematics::compute_joint_jacobians_time_variation(&model, &mut data, &q, &qd);
-            kinematics::frame_jacobian_time_variation(
-                &model,
-                &data,
-                tool,
-                Expressed::WorldAligned,
-                &mut j,
-            );
-        }
-        let after = allocs();
-        assert_eq!(
-            after - before,
-            0,
-            "{file}: {} allocations in the hot loop",
-            after - before
-        );
+        assert_kinematics_allocate_nothing(file, &model, &mut data, &q, &qd);
         // Dynamics, bare and with every effect.
-        let tool = model
-            .links
-            .iter()
-            .position(|l| l.body == model.nbodies() - 1)
-            .unwrap();
-        let n = model.nv;
-        let all = dynamics::Effects {
-            gravity: Some(Vec3::new(0.0, 0.0, -9.81)),
-            friction: Some(dynamics::Friction {
-                viscous: vec![0.1; n],
-                coulomb: vec![0.2; n],
-                stiction: vec![0.3; n],
-                stribeck_velocity: vec![0.1; n],
-                smoothing: 1e-3,
-            }),
-            rotor: Some(dynamics::Rotor {
-                inertia: vec![1e-4; n],
-                gear_ratio: vec![50.0; n],
-                efficiency: vec![0.9; n],
-            }),
-            elasticity: Some(dynamics::Elasticity {
-                stiffness: vec![1e4; n],
-                damping: vec![1.0; n],
-                motor_inertia: vec![0.25; n],
-            }),
-            payload: Some(
-                dynamics::Payload::new(
-                    &model,
-                    tool,
-                    Inertia::new(1.0, Vec3::new(0.0, 0.0, 0.05), Mat3::identity() * 1e-3),
-                )
-                .unwrap(),
-            ),
-            external: vec![dynamics::ExternalWrench {
-                link: tool,
-                force: Vec3::new(1.0, 2.0, 3.0),
-                moment: Vec3::zeros(),
-            }],
-        };
-        let g = Vec3::new(0.0, 0.0, -9.81);
-        let mut thdd = vec![0.0; n];
-        let f_ext = vec![armsim::spatial::Force::new(Vec3::x(), Vec3::y()); model.nbodies()];
-        let before = allocs();
-        for _ in 0..100 {
-            dynamics::rnea(&model, &mut data, &q, &qd, &qd);
-            dynamics::rnea_with_forces(&model, &mut data, &q, &qd, &qd, &f_ext);
-            dynamics::bias(&model, &mut data, &q, &qd);
-            dynamics::gravity_torque(&model, &mut data, &q);
-            dynamics::crba(&model, &mut data, &q);
-            if !model.has_mimic {
-                dynamics::aba(&model, &mut data, &q, &qd, &qd);
-                dynamics::aba_with_forces(&model, &mut data, &q, &qd, &qd, &f_ext);
-            }
-            let _ = dynamics::forward_dynamics(&model, &mut data, &q, &qd, &qd);
-            let _ = dynamics::forward_dynamics_crba(&model, &mut data, &q, &qd, &qd);
-            dynamics::inverse_dynamics(&model, &mut data, &all, &q, &qd, &qd);
-            dynamics::mass_matrix(&model, &mut data, &all, &q);
-            let _ = dynamics::forward_dynamics_with(&model, &mut data, &all, &q, &qd, &qd);
-            let _ = dynamics::elastic_forward_dynamics(
-                &model, &mut data, &all, &q, &qd, &q, &qd, &qd, &mut thdd,
-            );
-            let _ = dynamics::kinetic_energy(&model, &mut data, &q, &qd)
-                + dynamics::potential_energy(&model, &mut data, &q, &g);
-        }
-        let after = allocs();
-        assert_eq!(
-            after - before,
-            0,
-            "{file}: {} allocations in the dynamics loop",
-            after - before
-        );
+        let after = assert_dynamics_allocate_nothing(file, &model, &mut data, &q, &qd);
         // The counter works: a Vec allocates.
         let v: Vec<f64> = Vec::with_capacity(8);
         assert!(allocs() > after);
         drop(v);
     }
+}
+
+/// FK, frame velocities and accelerations, and the frame Jacobians (and their time
+/// variation) at the last link, 100 times without an allocation.
+fn assert_kinematics_allocate_nothing(
+    file: &str,
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    qd: &[f64],
+) {
+    let tool = model.links.len() - 1;
+    let mut j = DMatrix::zeros(6, model.nv);
+    let before = allocs();
+    for _ in 0..100 {
+        kinematics::forward_kinematics(model, data, q);
+        kinematics::update_frames(model, data);
+        kinematics::forward_kinematics_acc(model, data, q, qd, qd);
+        let _ = kinematics::frame_velocity(model, data, tool, Expressed::Local);
+        let _ = kinematics::frame_classical_acceleration(model, data, tool, Expressed::World);
+        kinematics::compute_joint_jacobians(model, data, q);
+        for ex in [Expressed::World, Expressed::Local, Expressed::WorldAligned] {
+            kinematics::frame_jacobian(model, data, tool, ex, &mut j);
+        }
+        kinematics::compute_joint_jacobians_time_variation(model, data, q, qd);
+        kinematics::frame_jacobian_time_variation(
+            model,
+            data,
+            tool,
+            Expressed::WorldAligned,
+            &mut j,
+        );
+    }
+    let after = allocs();
+    assert_eq!(
+        after - before,
+        0,
+        "{file}: {} allocations in the hot loop",
+        after - before
+    );
+}
+
+/// Every effect at once on the link of the last body.
+fn every_effect(model: &Model) -> dynamics::Effects {
+    let tool = model
+        .links
+        .iter()
+        .position(|l| l.body == model.nbodies() - 1)
+        .unwrap();
+    let n = model.nv;
+    dynamics::Effects {
+        gravity: Some(Vec3::new(0.0, 0.0, -9.81)),
+        friction: Some(dynamics::Friction {
+            viscous: vec![0.1; n],
+            coulomb: vec![0.2; n],
+            stiction: vec![0.3; n],
+            stribeck_velocity: vec![0.1; n],
+            smoothing: 1e-3,
+        }),
+        rotor: Some(dynamics::Rotor {
+            inertia: vec![1e-4; n],
+            gear_ratio: vec![50.0; n],
+            efficiency: vec![0.9; n],
+        }),
+        elasticity: Some(dynamics::Elasticity {
+            stiffness: vec![1e4; n],
+            damping: vec![1.0; n],
+            motor_inertia: vec![0.25; n],
+        }),
+        payload: Some(
+            dynamics::Payload::new(
+                model,
+                tool,
+                Inertia::new(1.0, Vec3::new(0.0, 0.0, 0.05), Mat3::identity() * 1e-3),
+            )
+            .unwrap(),
+        ),
+        external: vec![dynamics::ExternalWrench {
+            link: tool,
+            force: Vec3::new(1.0, 2.0, 3.0),
+            moment: Vec3::zeros(),
+        }],
+    }
+}
+
+/// The dynamics, bare and with every effect, 100 times without an allocation; returns
+/// the allocation count after the loop.
+fn assert_dynamics_allocate_nothing(
+    file: &str,
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    qd: &[f64],
+) -> usize {
+    let n = model.nv;
+    let all = every_effect(model);
+    let g = Vec3::new(0.0, 0.0, -9.81);
+    let mut thdd = vec![0.0; n];
+    let f_ext = vec![armsim::spatial::Force::new(Vec3::x(), Vec3::y()); model.nbodies()];
+    let before = allocs();
+    for _ in 0..100 {
+        dynamics::rnea(model, data, q, qd, qd);
+        dynamics::rnea_with_forces(model, data, q, qd, qd, &f_ext);
+        dynamics::bias(model, data, q, qd);
+        dynamics::gravity_torque(model, data, q);
+        dynamics::crba(model, data, q);
+        if !model.has_mimic {
+            dynamics::aba(model, data, q, qd, qd);
+            dynamics::aba_with_forces(model, data, q, qd, qd, &f_ext);
+        }
+        let _ = dynamics::forward_dynamics(model, data, q, qd, qd);
+        let _ = dynamics::forward_dynamics_crba(model, data, q, qd, qd);
+        dynamics::inverse_dynamics(model, data, &all, q, qd, qd);
+        dynamics::mass_matrix(model, data, &all, q);
+        let _ = dynamics::forward_dynamics_with(model, data, &all, q, qd, qd);
+        let _ = dynamics::elastic_forward_dynamics(model, data, &all, q, qd, q, qd, qd, &mut thdd);
+        let _ = dynamics::kinetic_energy(model, data, q, qd)
+            + dynamics::potential_energy(model, data, q, &g);
+    }
+    let after = allocs();
+    assert_eq!(
+        after - before,
+        0,
+        "{file}: {} allocations in the dynamics loop",
+        after - before
+    );
+    after
 }
 
 /// Allocations made by `f`.

@@ -201,42 +201,13 @@ fn written_file_passes_the_mcap_crates_own_reader() {
     let mut joint_states = Vec::new();
     for m in mcap::MessageStream::new(&bytes).unwrap() {
         let m = m.unwrap();
-        let schema = m
-            .channel
-            .schema
-            .as_ref()
-            .expect("every channel has a schema");
-        assert_eq!(schema.encoding, "ros2msg");
-        assert_eq!(m.channel.message_encoding, "cdr");
-        let want_schema = match m.channel.topic.as_str() {
-            "/joint_states" => ros2::JointState::NAME,
-            "/tf" | "/tf_static" => ros2::TfMessage::NAME,
-            "/robot_description" => ros2::StringMsg::NAME,
-            "/armsim/workspace" => ros2::PointCloud2::NAME,
-            "/armsim/torque_check" | "/armsim/collisions" => ros2::DiagnosticArray::NAME,
-            t => panic!("unexpected topic {t}"),
-        };
-        assert_eq!(schema.name, want_schema);
-        assert!(
-            std::str::from_utf8(&schema.data).unwrap().contains("MSG: ")
-                || schema.name == ros2::StringMsg::NAME
-        );
-        assert!(m.log_time >= last_log, "log times decrease");
-        assert_eq!(m.publish_time, m.log_time);
+        check_message(&m, last_log);
         last_log = m.log_time;
-        assert_eq!(&m.data[..4], &[0, 1, 0, 0], "CDR little-endian header");
         if m.channel.topic == "/joint_states" {
             joint_states.push((
                 m.log_time,
                 ros2::decode::<ros2::JointState>(&m.data).unwrap(),
             ));
-        }
-        if m.channel.topic == "/robot_description" || m.channel.topic == "/tf_static" {
-            assert_eq!(
-                m.log_time, EPOCH,
-                "start-up messages are logged at the epoch"
-            );
-            assert!(m.channel.metadata["offered_qos_profiles"].contains("durability: 1"));
         }
         *counts.entry(m.channel.topic.clone()).or_default() += 1;
     }
@@ -264,8 +235,49 @@ fn written_file_passes_the_mcap_crates_own_reader() {
         assert_eq!(js.effort, f.tau);
     }
 
+    check_summary(&bytes, &rec);
+}
+
+/// One message: a ros2msg schema matching its topic, CDR with a little-endian header, log
+/// and publish times equal and not before `last_log`; start-up messages at the epoch
+/// with transient-local durability.
+fn check_message(m: &mcap::Message, last_log: u64) {
+    let schema = m
+        .channel
+        .schema
+        .as_ref()
+        .expect("every channel has a schema");
+    assert_eq!(schema.encoding, "ros2msg");
+    assert_eq!(m.channel.message_encoding, "cdr");
+    let want_schema = match m.channel.topic.as_str() {
+        "/joint_states" => ros2::JointState::NAME,
+        "/tf" | "/tf_static" => ros2::TfMessage::NAME,
+        "/robot_description" => ros2::StringMsg::NAME,
+        "/armsim/workspace" => ros2::PointCloud2::NAME,
+        "/armsim/torque_check" | "/armsim/collisions" => ros2::DiagnosticArray::NAME,
+        t => panic!("unexpected topic {t}"),
+    };
+    assert_eq!(schema.name, want_schema);
+    assert!(
+        std::str::from_utf8(&schema.data).unwrap().contains("MSG: ")
+            || schema.name == ros2::StringMsg::NAME
+    );
+    assert!(m.log_time >= last_log, "log times decrease");
+    assert_eq!(m.publish_time, m.log_time);
+    assert_eq!(&m.data[..4], &[0, 1, 0, 0], "CDR little-endian header");
+    if m.channel.topic == "/robot_description" || m.channel.topic == "/tf_static" {
+        assert_eq!(
+            m.log_time, EPOCH,
+            "start-up messages are logged at the epoch"
+        );
+        assert!(m.channel.metadata["offered_qos_profiles"].contains("durability: 1"));
+    }
+}
+
+/// The summary: statistics, zstd chunks, and the armsim metadata record.
+fn check_summary(bytes: &[u8], rec: &Recording) {
     // Summary: statistics, zstd chunks, the metadata record.
-    let summary = mcap::Summary::read(&bytes).unwrap().expect("a summary");
+    let summary = mcap::Summary::read(bytes).unwrap().expect("a summary");
     let stats = summary.stats.as_ref().unwrap();
     assert_eq!(stats.message_count, 107);
     assert_eq!(stats.channel_count, 7);
@@ -276,7 +288,7 @@ fn written_file_passes_the_mcap_crates_own_reader() {
         .iter()
         .all(|c| c.compression == "zstd"));
     assert_eq!(summary.metadata_indexes.len(), 1);
-    let meta = mcap::read::metadata(&bytes, &summary.metadata_indexes[0]).unwrap();
+    let meta = mcap::read::metadata(bytes, &summary.metadata_indexes[0]).unwrap();
     assert_eq!(meta.name, "armsim");
     assert_eq!(meta.metadata["name"], "ur5 wave");
     assert_eq!(meta.metadata["armsim_version"], env!("CARGO_PKG_VERSION"));

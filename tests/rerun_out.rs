@@ -10,12 +10,12 @@ use armsim::dynamics::rnea;
 use armsim::model::Model;
 use armsim::recording::rerun_out::{
     colormap, link_entity, log_recording, log_workspace, log_workspace_scene, path, RerunError,
-    RerunSink,
+    RerunReport, RerunSink,
 };
 use armsim::recording::Header;
 use armsim::recording::{CollisionEvent, PointCloud, Recording, TorqueRow};
 use armsim::workspace::{sample_workspace, WorkspaceOptions};
-use common::rrd::decode;
+use common::rrd::{decode, Contents};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
@@ -116,6 +116,15 @@ fn check_model(rel: &str) {
     assert_eq!(left.len(), 1, "{left:?}");
 
     let c = decode(&out);
+    check_view(&c);
+    check_link_poses(&c, &model, &rec, &report);
+    check_plots_and_events(&c, &rec, &report);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The blueprint frames the motion from outside it, hides the skeleton behind the drawn
+/// bodies, and there is only the `time` timeline.
+fn check_view(c: &Contents) {
     assert!(c.blueprint_msgs > 0, "blueprint stored");
     // The 3-D view's eye looks at a point inside the box of the link origins over the
     // motion, from outside it.
@@ -148,7 +157,11 @@ fn check_model(rel: &str) {
         BTreeSet::from(["time".to_string()]),
         "only the time timeline"
     );
+}
 
+/// Every link has an entity with one transform per frame (besides a `world` root), at
+/// the world placement forward kinematics gives (f32 precision).
+fn check_link_poses(c: &Contents, model: &Model, rec: &Recording, report: &RerunReport) {
     // Every link has an entity and (besides a `world` root) one transform per frame.
     let tf_links: BTreeSet<&str> = rec
         .header
@@ -171,14 +184,14 @@ fn check_model(rel: &str) {
     assert_eq!(tf_rows, FRAMES * tf_links.len());
 
     // The logged poses are the world placements of forward kinematics (f32 precision).
-    let mut data = Data::new(&model);
+    let mut data = Data::new(model);
     for (k, f) in rec.frames.iter().enumerate() {
-        armsim::kinematics::forward_kinematics(&model, &mut data, &f.q);
+        armsim::kinematics::forward_kinematics(model, &mut data, &f.q);
         for (li, l) in model.links.iter().enumerate() {
             let Some(poses) = c.poses.get(&link_entity(&l.name).to_string()) else {
                 continue;
             };
-            let m = armsim::kinematics::frame_placement(&model, &data, li);
+            let m = armsim::kinematics::frame_placement(model, &data, li);
             let (t, q) = poses[k];
             for (a, ta) in t.iter().enumerate() {
                 assert!(
@@ -199,7 +212,11 @@ fn check_model(rel: &str) {
     }
     assert_eq!(report.moving_links, tf_links.len());
     assert_eq!(report.frames, FRAMES);
+}
 
+/// Joint plots with their limit lines, the skeleton, tool path, cloud, collision markers
+/// and the torque report.
+fn check_plots_and_events(c: &Contents, rec: &Recording, report: &RerunReport) {
     // Joint plots: one torque and one position sample per frame, ± limit lines.
     for (k, j) in rec.header.joint_names.iter().enumerate() {
         let tau = path(&["plots", "torque", j]).to_string();
@@ -237,7 +254,6 @@ fn check_model(rel: &str) {
     }
     assert!(c.has_static("/reports/torque_check", "TextDocument:text"));
     assert!(report.tool.is_some());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -15,14 +15,15 @@
 //!   path when the timing is time-optimal.
 
 use super::planned::{smooth_path, ScenePlanners};
-use super::scene::{Scene, Step, Timing};
+use super::scene::{Scene, Step, TaskStep, Timing};
 use crate::diag::LocatedError as ScenarioError;
 use crate::dynamics::Effects;
 use crate::kinematics::ik::{IkOptions, IkSolver, IkStatus};
 use crate::model::Model;
+use crate::planning::Planner;
 use crate::trajectory::{
-    cartesian_line, topp, CartesianOptions, LinearPath, MinJerk, Quintic, ToppOptions, Trajectory,
-    Trapezoidal,
+    cartesian_line, topp, CartesianOptions, LinearPath, MinJerk, Quintic, ToppOptions,
+    ToppTrajectory, Trajectory, Trapezoidal,
 };
 use std::time::Duration;
 
@@ -131,258 +132,26 @@ enum Group {
     Dwell(Vec<f64>, f64, String),
 }
 
-/// Plans the scene's task from `scene.q0`.
+/// Plans the scene's task from `scene.q0`: the steps become motion groups (IK, planned
+/// paths, straight lines, dwells), then the groups are timed one after the other.
 pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
     let start = std::time::Instant::now();
     let model = &scene.model;
-    let err = |key: &str, line: Option<usize>, msg: String| {
-        ScenarioError::new(&scene.file, line, key, msg)
-    };
-    let mut ik = IkSolver::new(model);
-    let ik_opts = IkOptions {
-        tol_position: 1e-7,
-        tol_rotation: 1e-7,
-        max_restarts: 20,
-        time_budget: Duration::from_millis(500),
-        respect_limits: true,
-        position_only: scene.position_only,
-        ..Default::default()
-    };
-    let solve_ik = |ik: &mut IkSolver, target: &crate::spatial::Se3, seed: &[f64]| {
-        let r = ik.solve(model, scene.tool, target, Some(seed), &ik_opts);
-        if r.status != IkStatus::Converged {
-            return Err(format!(
-                "the tool pose is out of reach: IK {} (position error {:.3e} m, rotation error {:.3e} rad)",
-                r.status.as_str(),
-                r.position_error,
-                r.rotation_error
-            ));
-        }
-        Ok(r.q)
-    };
-    let grips = scene.steps.iter().any(|s| matches!(s.step, Step::Attach));
-    let mut carrying = false;
-    let mut planners: Option<ScenePlanners> = None;
-    let mut groups: Vec<Group> = Vec::new();
-    let mut q = scene.q0.clone();
-    let mut waypoints = vec![q.clone()];
-    let mut ik_solves = 0;
-    let mut pending: Vec<Vec<f64>> = vec![q.clone()];
-    let mut pending_keys: Vec<String> = Vec::new();
-    let flush = |groups: &mut Vec<Group>,
-                 pending: &mut Vec<Vec<f64>>,
-                 keys: &mut Vec<String>,
-                 q: &[f64]| {
-        if pending.len() > 1 {
-            groups.push(Group::Joint(std::mem::take(pending), std::mem::take(keys)));
-        }
-        *pending = vec![q.to_vec()];
-        keys.clear();
-    };
+    let mut grouper = Grouper::new(scene);
     for ts in &scene.steps {
-        match &ts.step {
-            Step::Joint(target) => {
-                q = target.clone();
-                if pending.last() != Some(&q) {
-                    pending.push(q.clone());
-                    pending_keys.push(ts.key.clone());
-                }
-            }
-            Step::Pose(target) => {
-                ik_solves += 1;
-                q = solve_ik(&mut ik, target, &q).map_err(|m| err(&ts.key, ts.line, m))?;
-                pending.push(q.clone());
-                pending_keys.push(ts.key.clone());
-            }
-            Step::Plan(target) => {
-                let goal = match target {
-                    Ok(g) => g.clone(),
-                    Err(pose) => {
-                        ik_solves += 1;
-                        solve_ik(&mut ik, pose, &q).map_err(|m| err(&ts.key, ts.line, m))?
-                    }
-                };
-                flush(&mut groups, &mut pending, &mut pending_keys, &q);
-                if planners.is_none() {
-                    let settings = scene
-                        .planner
-                        .as_ref()
-                        .ok_or_else(|| err(&ts.key, ts.line, "no planner settings".into()))?;
-                    planners = Some(
-                        ScenePlanners::new(scene, settings).map_err(|m| err("planner", None, m))?,
-                    );
-                }
-                let p = planners.as_mut().expect("built");
-                let path = p
-                    .plan(&ts.key, carrying, &q, &goal)
-                    .map_err(|m| err(&ts.key, ts.line, m))?;
-                q = goal;
-                groups.push(Group::Planned(path, carrying, ts.key.clone()));
-                pending = vec![q.clone()];
-            }
-            Step::Attach | Step::Detach => {
-                flush(&mut groups, &mut pending, &mut pending_keys, &q);
-                carrying = matches!(ts.step, Step::Attach);
-                groups.push(Group::Grip(carrying));
-            }
-            Step::Line(goal) => {
-                flush(&mut groups, &mut pending, &mut pending_keys, &q);
-                let mut opts = CartesianOptions {
-                    samples: scene.line_samples,
-                    max_linear_speed: scene.tool_speed,
-                    max_linear_acceleration: scene.tool_acceleration,
-                    joint_limits: Some(scene.limits.clone()),
-                    ..Default::default()
-                };
-                opts.ik.position_only = scene.position_only;
-                let mv = cartesian_line(model, scene.tool, &q, goal, &opts)
-                    .map_err(|e| err(&ts.key, ts.line, format!("straight line: {e}")))?;
-                ik_solves += scene.line_samples;
-                let mut qd = vec![0.0; model.nv];
-                let mut qdd = vec![0.0; model.nv];
-                mv.sample(mv.duration(), &mut q, &mut qd, &mut qdd);
-                groups.push(Group::Line(Box::new(mv), ts.key.clone()));
-                pending = vec![q.clone()];
-            }
-            Step::Dwell(d) => {
-                flush(&mut groups, &mut pending, &mut pending_keys, &q);
-                groups.push(Group::Dwell(q.clone(), *d, ts.key.clone()));
-            }
-        }
-        if let Some(k) =
-            (0..model.nv).find(|&k| q[k] < scene.lower[k] - 1e-9 || q[k] > scene.upper[k] + 1e-9)
-        {
-            return Err(err(
-                &ts.key,
-                ts.line,
-                format!(
-                    "the step ends with joint {} at {:.6}, outside its limits [{}, {}]",
-                    model.dof_names()[k],
-                    q[k],
-                    scene.lower[k],
-                    scene.upper[k]
-                ),
-            ));
-        }
-        waypoints.push(q.clone());
+        grouper.step(ts)?;
     }
-    flush(&mut groups, &mut pending, &mut pending_keys, &q);
-    if groups.is_empty() {
-        return Err(err(
-            "task",
-            None,
-            "the task does not move the arm (every step ends where the arm already is)".into(),
-        ));
-    }
-
-    // Timing.
-    let topp_opts = ToppOptions {
-        segments: scene.topp_segments,
-        ..Default::default()
-    };
-    let loaded = &scene.effects;
-    let free = Effects {
-        payload: None,
-        ..scene.effects.clone()
-    };
-    let mut tl = Timeline {
-        n: model.nv,
-        knots: vec![0.0],
-        pieces: Vec::new(),
-        infos: Vec::new(),
-    };
-    let mut carrying = !grips;
-    let (mut attach_t, mut detach_t) = (None, None);
-    let mut planned_paths = Vec::new();
-    let lim = &scene.limits;
-    for g in groups {
-        let fx = if carrying { loaded } else { &free };
-        match g {
-            Group::Joint(wps, keys) => {
-                let from = keys.join(", ");
-                let e = |x: crate::trajectory::TrajectoryError| {
-                    err(
-                        keys.first().map_or("task", |s| s.as_str()),
-                        None,
-                        format!("joint motion: {x}"),
-                    )
-                };
-                match scene.timing {
-                    Timing::Trapezoidal => tl.push(
-                        model,
-                        Box::new(Trapezoidal::new(&wps, lim).map_err(e)?),
-                        "joint",
-                        from,
-                    ),
-                    Timing::Quintic => tl.push(
-                        model,
-                        Box::new(Quintic::new(&wps, lim).map_err(e)?),
-                        "joint",
-                        from,
-                    ),
-                    Timing::MinimumJerk => tl.push(
-                        model,
-                        Box::new(MinJerk::new(&wps, lim).map_err(e)?),
-                        "joint",
-                        from,
-                    ),
-                    Timing::TimeOptimal => {
-                        for (i, w) in wps.windows(2).enumerate() {
-                            let path = LinearPath::new(w[0].clone(), w[1].clone()).map_err(e)?;
-                            let t = topp(model, path, lim, fx, &topp_opts).map_err(e)?;
-                            let key = keys.get(i).cloned().unwrap_or_default();
-                            tl.push(model, Box::new(t), "joint", key);
-                        }
-                    }
-                }
-            }
-            Group::Planned(path, with_part, key) => {
-                let planner = planners.as_mut().expect("built").planner(with_part);
-                let spline = smooth_path(planner, &path)
-                    .map_err(|m| err(&key, None, format!("planned motion: {m}")))?;
-                // A curved path's dense check may need more refinements (and accepts a
-                // 1e-6 relative excess); then a finer grid, once.
-                let mut opts = ToppOptions {
-                    max_refinements: 30,
-                    tolerance: 1e-6,
-                    ..topp_opts.clone()
-                };
-                let t = loop {
-                    match topp(model, spline.clone(), lim, fx, &opts) {
-                        Ok(t) => break t,
-                        Err(_) if opts.segments < 2 * topp_opts.segments => opts.segments *= 2,
-                        Err(x) => return Err(err(&key, None, format!("planned motion: {x}"))),
-                    }
-                };
-                tl.push(model, Box::new(t), "planned", key);
-                planned_paths.push(path);
-            }
-            Group::Grip(on) => {
-                carrying = on;
-                let t = *tl.knots.last().expect("non-empty");
-                if on {
-                    attach_t = Some(t);
-                } else {
-                    detach_t = Some(t);
-                }
-            }
-            Group::Line(mv, key) => {
-                if scene.timing == Timing::TimeOptimal {
-                    let path = mv.path().clone();
-                    let t = topp(model, path, lim, fx, &topp_opts)
-                        .map_err(|x| err(&key, None, format!("straight line: {x}")))?;
-                    tl.push(model, Box::new(t), "line", key);
-                } else {
-                    tl.push(model, mv, "line", key);
-                }
-            }
-            Group::Dwell(q, d, key) => {
-                tl.push(model, Box::new(Dwell { q, duration: d }), "dwell", key)
-            }
-        }
-    }
+    let Grouper {
+        groups,
+        waypoints,
+        ik_solves,
+        mut planners,
+        ..
+    } = grouper.finish()?;
+    let timed = time_groups(scene, groups, &mut planners)?;
+    let tl = timed.timeline;
     let end = *tl.knots.last().expect("non-empty");
-    let carry = attach_t.map(|a| (a, detach_t.unwrap_or(end)));
+    let carry = timed.attach_t.map(|a| (a, timed.detach_t.unwrap_or(end)));
     let planned_segments = planners
         .as_mut()
         .map_or_else(Vec::new, |p| std::mem::take(&mut p.results));
@@ -406,10 +175,388 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
         ik_solves,
         planning_time_s: start.elapsed().as_secs_f64(),
         carry,
-        planned_paths,
+        planned_paths: timed.planned_paths,
         planner,
         planned_segments,
     })
+}
+
+/// An error at a step (`key`, `line`) of the scene's file.
+fn step_err(scene: &Scene, key: &str, line: Option<usize>, msg: String) -> ScenarioError {
+    ScenarioError::new(&scene.file, line, key, msg)
+}
+
+/// Turns the task's steps into motion groups, in order: consecutive joint-space steps
+/// (joint targets and tool poses through IK) collect into one group; a planned path, a
+/// grip change, a straight line and a dwell each close it and stand alone.
+struct Grouper<'s> {
+    scene: &'s Scene,
+    ik: IkSolver,
+    ik_opts: IkOptions,
+    /// Whether the part is on the tool (between attach and detach).
+    carrying: bool,
+    /// Built at the first planned step.
+    planners: Option<ScenePlanners>,
+    groups: Vec<Group>,
+    /// The configuration so far.
+    q: Vec<f64>,
+    waypoints: Vec<Vec<f64>>,
+    ik_solves: usize,
+    /// The open joint-space group: its waypoints (from the configuration it starts at)
+    /// and the keys of the steps that added them.
+    pending: Vec<Vec<f64>>,
+    pending_keys: Vec<String>,
+}
+
+impl<'s> Grouper<'s> {
+    fn new(scene: &'s Scene) -> Self {
+        let q = scene.q0.clone();
+        Self {
+            scene,
+            ik: IkSolver::new(&scene.model),
+            ik_opts: IkOptions {
+                tol_position: 1e-7,
+                tol_rotation: 1e-7,
+                max_restarts: 20,
+                time_budget: Duration::from_millis(500),
+                respect_limits: true,
+                position_only: scene.position_only,
+                ..Default::default()
+            },
+            carrying: false,
+            planners: None,
+            groups: Vec::new(),
+            waypoints: vec![q.clone()],
+            ik_solves: 0,
+            pending: vec![q.clone()],
+            pending_keys: Vec::new(),
+            q,
+        }
+    }
+
+    /// Adds one step; the configuration it ends at must be within the joint limits.
+    fn step(&mut self, ts: &TaskStep) -> Result<(), ScenarioError> {
+        let scene = self.scene;
+        let err = |m: String| step_err(scene, &ts.key, ts.line, m);
+        match &ts.step {
+            Step::Joint(target) => {
+                self.q = target.clone();
+                if self.pending.last() != Some(&self.q) {
+                    self.pending.push(self.q.clone());
+                    self.pending_keys.push(ts.key.clone());
+                }
+            }
+            Step::Pose(target) => {
+                self.q = self.solve_ik(target).map_err(err)?;
+                self.pending.push(self.q.clone());
+                self.pending_keys.push(ts.key.clone());
+            }
+            Step::Plan(target) => self.plan_to(ts, target)?,
+            Step::Attach | Step::Detach => {
+                self.flush();
+                self.carrying = matches!(ts.step, Step::Attach);
+                self.groups.push(Group::Grip(self.carrying));
+            }
+            Step::Line(goal) => self.line_to(ts, goal)?,
+            Step::Dwell(d) => {
+                self.flush();
+                self.groups
+                    .push(Group::Dwell(self.q.clone(), *d, ts.key.clone()));
+            }
+        }
+        self.check_limits(ts)?;
+        self.waypoints.push(self.q.clone());
+        Ok(())
+    }
+
+    /// The configuration that puts the tool at `target`, seeded from the current one.
+    fn solve_ik(&mut self, target: &crate::spatial::Se3) -> Result<Vec<f64>, String> {
+        self.ik_solves += 1;
+        let scene = self.scene;
+        let r = self.ik.solve(
+            &scene.model,
+            scene.tool,
+            target,
+            Some(&self.q),
+            &self.ik_opts,
+        );
+        if r.status != IkStatus::Converged {
+            return Err(format!(
+                "the tool pose is out of reach: IK {} (position error {:.3e} m, rotation error {:.3e} rad)",
+                r.status.as_str(),
+                r.position_error,
+                r.rotation_error
+            ));
+        }
+        Ok(r.q)
+    }
+
+    /// Closes the open joint-space group (when it moves) and opens the next at `q`.
+    fn flush(&mut self) {
+        if self.pending.len() > 1 {
+            self.groups.push(Group::Joint(
+                std::mem::take(&mut self.pending),
+                std::mem::take(&mut self.pending_keys),
+            ));
+        }
+        self.pending = vec![self.q.clone()];
+        self.pending_keys.clear();
+    }
+
+    /// A planned path to a joint goal or a tool pose (through IK), with the part on the
+    /// tool when it is carried.
+    fn plan_to(
+        &mut self,
+        ts: &TaskStep,
+        target: &Result<Vec<f64>, crate::spatial::Se3>,
+    ) -> Result<(), ScenarioError> {
+        let scene = self.scene;
+        let err = |m: String| step_err(scene, &ts.key, ts.line, m);
+        let goal = match target {
+            Ok(g) => g.clone(),
+            Err(pose) => self.solve_ik(pose).map_err(err)?,
+        };
+        self.flush();
+        if self.planners.is_none() {
+            let settings = scene
+                .planner
+                .as_ref()
+                .ok_or_else(|| err("no planner settings".into()))?;
+            self.planners = Some(
+                ScenePlanners::new(scene, settings)
+                    .map_err(|m| step_err(scene, "planner", None, m))?,
+            );
+        }
+        let p = self.planners.as_mut().expect("built");
+        let path = p
+            .plan(&ts.key, self.carrying, &self.q, &goal)
+            .map_err(err)?;
+        self.q = goal;
+        self.groups
+            .push(Group::Planned(path, self.carrying, ts.key.clone()));
+        self.pending = vec![self.q.clone()];
+        Ok(())
+    }
+
+    /// A straight tool line to `goal` at the scene's tool speed; the arm ends where the
+    /// line ends.
+    fn line_to(&mut self, ts: &TaskStep, goal: &crate::spatial::Se3) -> Result<(), ScenarioError> {
+        let scene = self.scene;
+        let model = &scene.model;
+        self.flush();
+        let mut opts = CartesianOptions {
+            samples: scene.line_samples,
+            max_linear_speed: scene.tool_speed,
+            max_linear_acceleration: scene.tool_acceleration,
+            joint_limits: Some(scene.limits.clone()),
+            ..Default::default()
+        };
+        opts.ik.position_only = scene.position_only;
+        let mv = cartesian_line(model, scene.tool, &self.q, goal, &opts)
+            .map_err(|e| step_err(scene, &ts.key, ts.line, format!("straight line: {e}")))?;
+        self.ik_solves += scene.line_samples;
+        let mut qd = vec![0.0; model.nv];
+        let mut qdd = vec![0.0; model.nv];
+        mv.sample(mv.duration(), &mut self.q, &mut qd, &mut qdd);
+        self.groups.push(Group::Line(Box::new(mv), ts.key.clone()));
+        self.pending = vec![self.q.clone()];
+        Ok(())
+    }
+
+    /// The configuration a step ends at must lie within the joint limits.
+    fn check_limits(&self, ts: &TaskStep) -> Result<(), ScenarioError> {
+        let (scene, q) = (self.scene, &self.q);
+        let outside = (0..scene.model.nv)
+            .find(|&k| q[k] < scene.lower[k] - 1e-9 || q[k] > scene.upper[k] + 1e-9);
+        match outside {
+            Some(k) => Err(step_err(
+                scene,
+                &ts.key,
+                ts.line,
+                format!(
+                    "the step ends with joint {} at {:.6}, outside its limits [{}, {}]",
+                    scene.model.dof_names()[k],
+                    q[k],
+                    scene.lower[k],
+                    scene.upper[k]
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Closes the last group; a task that does not move the arm is an error.
+    fn finish(mut self) -> Result<Self, ScenarioError> {
+        self.flush();
+        if self.groups.is_empty() {
+            return Err(step_err(
+                self.scene,
+                "task",
+                None,
+                "the task does not move the arm (every step ends where the arm already is)".into(),
+            ));
+        }
+        Ok(self)
+    }
+}
+
+/// The timed groups: the timeline, the planned paths' via points, and when the part was
+/// grasped and released.
+struct Timed {
+    timeline: Timeline,
+    planned_paths: Vec<Vec<Vec<f64>>>,
+    attach_t: Option<f64>,
+    detach_t: Option<f64>,
+}
+
+/// Times the groups one after the other, each with the effects of its interval (the
+/// payload only while the part is held, or throughout when the task never grasps).
+fn time_groups(
+    scene: &Scene,
+    groups: Vec<Group>,
+    planners: &mut Option<ScenePlanners>,
+) -> Result<Timed, ScenarioError> {
+    let model = &scene.model;
+    let grips = scene.steps.iter().any(|s| matches!(s.step, Step::Attach));
+    let topp_opts = ToppOptions {
+        segments: scene.topp_segments,
+        ..Default::default()
+    };
+    let loaded = &scene.effects;
+    let free = Effects {
+        payload: None,
+        ..scene.effects.clone()
+    };
+    let mut tl = Timeline {
+        n: model.nv,
+        knots: vec![0.0],
+        pieces: Vec::new(),
+        infos: Vec::new(),
+    };
+    let mut carrying = !grips;
+    let (mut attach_t, mut detach_t) = (None, None);
+    let mut planned_paths = Vec::new();
+    let lim = &scene.limits;
+    for g in groups {
+        let fx = if carrying { loaded } else { &free };
+        match g {
+            Group::Joint(wps, keys) => {
+                time_joint_group(scene, &mut tl, &wps, &keys, fx, &topp_opts)?
+            }
+            Group::Planned(path, with_part, key) => {
+                let planner = planners.as_mut().expect("built").planner(with_part);
+                let t = time_planned(scene, planner, &path, fx, &topp_opts, &key)?;
+                tl.push(model, Box::new(t), "planned", key);
+                planned_paths.push(path);
+            }
+            Group::Grip(on) => {
+                carrying = on;
+                let t = *tl.knots.last().expect("non-empty");
+                if on {
+                    attach_t = Some(t);
+                } else {
+                    detach_t = Some(t);
+                }
+            }
+            Group::Line(mv, key) => {
+                if scene.timing == Timing::TimeOptimal {
+                    let path = mv.path().clone();
+                    let t = topp(model, path, lim, fx, &topp_opts)
+                        .map_err(|x| step_err(scene, &key, None, format!("straight line: {x}")))?;
+                    tl.push(model, Box::new(t), "line", key);
+                } else {
+                    tl.push(model, mv, "line", key);
+                }
+            }
+            Group::Dwell(q, d, key) => {
+                tl.push(model, Box::new(Dwell { q, duration: d }), "dwell", key)
+            }
+        }
+    }
+    Ok(Timed {
+        timeline: tl,
+        planned_paths,
+        attach_t,
+        detach_t,
+    })
+}
+
+/// A joint-space group through its waypoints, timed by the scene's profile as a whole,
+/// or by TOPP segment by segment when time-optimal.
+fn time_joint_group(
+    scene: &Scene,
+    tl: &mut Timeline,
+    wps: &[Vec<f64>],
+    keys: &[String],
+    fx: &Effects,
+    topp_opts: &ToppOptions,
+) -> Result<(), ScenarioError> {
+    let (model, lim) = (&scene.model, &scene.limits);
+    let from = keys.join(", ");
+    let e = |x: crate::trajectory::TrajectoryError| {
+        step_err(
+            scene,
+            keys.first().map_or("task", |s| s.as_str()),
+            None,
+            format!("joint motion: {x}"),
+        )
+    };
+    match scene.timing {
+        Timing::Trapezoidal => tl.push(
+            model,
+            Box::new(Trapezoidal::new(wps, lim).map_err(e)?),
+            "joint",
+            from,
+        ),
+        Timing::Quintic => tl.push(
+            model,
+            Box::new(Quintic::new(wps, lim).map_err(e)?),
+            "joint",
+            from,
+        ),
+        Timing::MinimumJerk => tl.push(
+            model,
+            Box::new(MinJerk::new(wps, lim).map_err(e)?),
+            "joint",
+            from,
+        ),
+        Timing::TimeOptimal => {
+            for (i, w) in wps.windows(2).enumerate() {
+                let path = LinearPath::new(w[0].clone(), w[1].clone()).map_err(e)?;
+                let t = topp(model, path, lim, fx, topp_opts).map_err(e)?;
+                let key = keys.get(i).cloned().unwrap_or_default();
+                tl.push(model, Box::new(t), "joint", key);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A planned path smoothed through its via points and timed by TOPP as one motion.
+fn time_planned(
+    scene: &Scene,
+    planner: &mut Planner,
+    path: &[Vec<f64>],
+    fx: &Effects,
+    topp_opts: &ToppOptions,
+    key: &str,
+) -> Result<ToppTrajectory<MinJerk>, ScenarioError> {
+    let spline = smooth_path(planner, path)
+        .map_err(|m| step_err(scene, key, None, format!("planned motion: {m}")))?;
+    // A curved path's dense check may need more refinements (and accepts a
+    // 1e-6 relative excess); then a finer grid, once.
+    let mut opts = ToppOptions {
+        max_refinements: 30,
+        tolerance: 1e-6,
+        ..topp_opts.clone()
+    };
+    loop {
+        match topp(&scene.model, spline.clone(), &scene.limits, fx, &opts) {
+            Ok(t) => return Ok(t),
+            Err(_) if opts.segments < 2 * topp_opts.segments => opts.segments *= 2,
+            Err(x) => return Err(step_err(scene, key, None, format!("planned motion: {x}"))),
+        }
+    }
 }
 
 /// The pieces being joined, with their start times and report entries.

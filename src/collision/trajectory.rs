@@ -130,45 +130,7 @@ impl CollisionModel {
         qs: &[Q],
         opts: &TrajectoryOptions,
     ) -> Result<TrajectoryReport, CollisionError> {
-        let bad = |m: String| Err(CollisionError::Trajectory(m));
-        if times.is_empty() || times.len() != qs.len() {
-            return bad(format!(
-                "{} times and {} configurations (need the same number, at least one)",
-                times.len(),
-                qs.len()
-            ));
-        }
-        for (k, q) in qs.iter().enumerate() {
-            let q = q.as_ref();
-            if q.len() != model.nv {
-                return bad(format!(
-                    "sample {k}: {} joint values, the model has {}",
-                    q.len(),
-                    model.nv
-                ));
-            }
-            if q.iter().any(|x| !x.is_finite()) || !times[k].is_finite() {
-                return bad(format!("sample {k}: non-finite value"));
-            }
-            if k > 0 && times[k] <= times[k - 1] {
-                return bad(format!(
-                    "sample {k}: time {} does not increase (previous {})",
-                    times[k],
-                    times[k - 1]
-                ));
-            }
-        }
-        if !(opts.time_tolerance.is_finite() && opts.time_tolerance > 0.0) {
-            return bad(format!(
-                "time_tolerance must be finite and positive, got {}",
-                opts.time_tolerance
-            ));
-        }
-        if let Some(h) = opts.max_step {
-            if !(h.is_finite() && h > 0.0) {
-                return bad(format!("max_step must be finite and positive, got {h}"));
-            }
-        }
+        check_inputs(model, times, qs, opts).map_err(CollisionError::Trajectory)?;
         let scope = opts.scope;
         let mut report = TrajectoryReport::default();
         if opts.distances {
@@ -178,72 +140,23 @@ impl CollisionModel {
         for k in 0..times.len() {
             let qk = qs[k].as_ref();
             if report.first_collision.is_none() {
-                // Bracket (lo, hi) in the segment parameter u.
-                let mut bracket: Option<(f64, f64)> = None;
-                let mut lo = 0.0;
-                if k > 0 {
-                    let qp = qs[k - 1].as_ref();
-                    if let Some(h) = opts.max_step {
-                        let dq = qp
-                            .iter()
-                            .zip(qk)
-                            .map(|(a, b)| (b - a).abs())
-                            .fold(0.0, f64::max);
-                        let m = (dq / h).ceil().max(1.0) as usize;
-                        for s in 1..m {
-                            let u = s as f64 / m as f64;
-                            checked += 1;
-                            if self.collides_at(model, cd, qp, qk, u, scope) {
-                                bracket = Some((lo, u));
-                                break;
-                            }
-                            lo = u;
-                        }
-                    }
-                }
-                if bracket.is_none() {
-                    self.update(model, cd, qk);
-                    checked += 1;
-                    if self.first_collision(cd, scope).is_some() {
-                        bracket = Some((lo, 1.0));
-                    }
-                }
-                if let Some((mut lo, mut hi)) = bracket {
-                    let (time, last_free, q) = if k == 0 {
-                        (times[0], None, qk.to_vec())
-                    } else {
-                        let qp = qs[k - 1].as_ref();
-                        let dt = times[k] - times[k - 1];
-                        while (hi - lo) * dt > opts.time_tolerance {
-                            let mid = 0.5 * (lo + hi);
-                            checked += 1;
-                            if self.collides_at(model, cd, qp, qk, mid, scope) {
-                                hi = mid;
-                            } else {
-                                lo = mid;
-                            }
-                        }
-                        let mut q = vec![0.0; model.nv];
-                        lerp_into(&mut q, qp, qk, hi);
-                        (times[k - 1] + hi * dt, Some(times[k - 1] + lo * dt), q)
-                    };
-                    self.update(model, cd, &q);
-                    let mut pairs = Vec::new();
-                    self.collisions(cd, scope, &mut pairs);
-                    let first = pairs
-                        .first()
-                        .map_or((Body::Link(0), Body::Link(0)), |p| (p.a, p.b));
-                    report.first_collision = Some(TrajectoryCollision {
-                        time,
-                        last_free,
-                        sample: k,
-                        names: (
-                            self.body_name(first.0).to_string(),
-                            self.body_name(first.1).to_string(),
-                        ),
-                        pairs,
-                        q,
+                let qp = (k > 0).then(|| qs[k - 1].as_ref());
+                let bracket = self.first_bracket(model, cd, qp, qk, opts, &mut checked);
+                if let Some(bracket) = bracket {
+                    let segment = qp.map(|q_prev| Segment {
+                        q_prev,
+                        t_prev: times[k - 1],
+                        bracket,
                     });
+                    let hit = self.locate_collision(
+                        model,
+                        cd,
+                        segment,
+                        (qk, times[k], k),
+                        opts,
+                        &mut checked,
+                    );
+                    report.first_collision = Some(hit);
                     // Back to the sample for the distances below.
                     self.update(model, cd, qk);
                 }
@@ -252,23 +165,7 @@ impl CollisionModel {
                 checked += 1;
             }
             if opts.distances {
-                let env = if scope == Scope::SelfCollision {
-                    None
-                } else {
-                    self.min_distance(cd, Scope::Environment)
-                };
-                let slf = if scope == Scope::Environment {
-                    None
-                } else {
-                    self.min_distance(cd, Scope::SelfCollision)
-                };
-                keep_min(&mut report.min_environment, times[k], env);
-                keep_min(&mut report.min_self, times[k], slf);
-                report.distances.push(DistanceSample {
-                    time: times[k],
-                    environment: env,
-                    self_collision: slf,
-                });
+                self.record_distances(cd, scope, times[k], &mut report);
             }
             if report.first_collision.is_some() && !opts.distances {
                 break;
@@ -277,4 +174,178 @@ impl CollisionModel {
         report.configurations_checked = checked;
         Ok(report)
     }
+
+    /// The first sub-interval `(lo, hi)` of segment `qp → qk` (in its parameter `u`) whose
+    /// end collides: the sub-steps of at most `max_step`, then the sample `qk` itself
+    /// (which is then placed). `None` when all are free.
+    fn first_bracket(
+        &self,
+        model: &Model,
+        cd: &mut CollisionData,
+        qp: Option<&[f64]>,
+        qk: &[f64],
+        opts: &TrajectoryOptions,
+        checked: &mut usize,
+    ) -> Option<(f64, f64)> {
+        let scope = opts.scope;
+        let mut lo = 0.0;
+        if let (Some(qp), Some(h)) = (qp, opts.max_step) {
+            let dq = qp
+                .iter()
+                .zip(qk)
+                .map(|(a, b)| (b - a).abs())
+                .fold(0.0, f64::max);
+            let m = (dq / h).ceil().max(1.0) as usize;
+            for s in 1..m {
+                let u = s as f64 / m as f64;
+                *checked += 1;
+                if self.collides_at(model, cd, qp, qk, u, scope) {
+                    return Some((lo, u));
+                }
+                lo = u;
+            }
+        }
+        self.update(model, cd, qk);
+        *checked += 1;
+        self.first_collision(cd, scope).map(|_| (lo, 1.0))
+    }
+
+    /// The first collision of sample `(qk, t_k, k)`: bisected to the time tolerance
+    /// within the bracket of the segment that ends there (`None` for the first sample,
+    /// which collides as it is), with every colliding pair there.
+    fn locate_collision(
+        &self,
+        model: &Model,
+        cd: &mut CollisionData,
+        segment: Option<Segment>,
+        (qk, t_k, k): (&[f64], f64, usize),
+        opts: &TrajectoryOptions,
+        checked: &mut usize,
+    ) -> TrajectoryCollision {
+        let scope = opts.scope;
+        let (time, last_free, q) = match segment {
+            None => (t_k, None, qk.to_vec()),
+            Some(Segment {
+                q_prev: qp,
+                t_prev,
+                bracket: (mut lo, mut hi),
+            }) => {
+                let dt = t_k - t_prev;
+                while (hi - lo) * dt > opts.time_tolerance {
+                    let mid = 0.5 * (lo + hi);
+                    *checked += 1;
+                    if self.collides_at(model, cd, qp, qk, mid, scope) {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                let mut q = vec![0.0; model.nv];
+                lerp_into(&mut q, qp, qk, hi);
+                (t_prev + hi * dt, Some(t_prev + lo * dt), q)
+            }
+        };
+        self.update(model, cd, &q);
+        let mut pairs = Vec::new();
+        self.collisions(cd, scope, &mut pairs);
+        let first = pairs
+            .first()
+            .map_or((Body::Link(0), Body::Link(0)), |p| (p.a, p.b));
+        TrajectoryCollision {
+            time,
+            last_free,
+            sample: k,
+            names: (
+                self.body_name(first.0).to_string(),
+                self.body_name(first.1).to_string(),
+            ),
+            pairs,
+            q,
+        }
+    }
+
+    /// The minimum distances of the placed sample at `time` (those of `scope`), kept in
+    /// the per-sample list and the running minima.
+    fn record_distances(
+        &self,
+        cd: &mut CollisionData,
+        scope: Scope,
+        time: f64,
+        report: &mut TrajectoryReport,
+    ) {
+        let env = if scope == Scope::SelfCollision {
+            None
+        } else {
+            self.min_distance(cd, Scope::Environment)
+        };
+        let slf = if scope == Scope::Environment {
+            None
+        } else {
+            self.min_distance(cd, Scope::SelfCollision)
+        };
+        keep_min(&mut report.min_environment, time, env);
+        keep_min(&mut report.min_self, time, slf);
+        report.distances.push(DistanceSample {
+            time,
+            environment: env,
+            self_collision: slf,
+        });
+    }
+}
+
+/// The segment from the previous sample, and the bracket `(lo, hi)` of its parameter
+/// whose end collides.
+struct Segment<'a> {
+    q_prev: &'a [f64],
+    t_prev: f64,
+    bracket: (f64, f64),
+}
+
+/// Times and configurations of the same non-zero count, configurations of the model's
+/// size, everything finite, times strictly increasing, and valid options.
+fn check_inputs<Q: AsRef<[f64]>>(
+    model: &Model,
+    times: &[f64],
+    qs: &[Q],
+    opts: &TrajectoryOptions,
+) -> Result<(), String> {
+    if times.is_empty() || times.len() != qs.len() {
+        return Err(format!(
+            "{} times and {} configurations (need the same number, at least one)",
+            times.len(),
+            qs.len()
+        ));
+    }
+    for (k, q) in qs.iter().enumerate() {
+        let q = q.as_ref();
+        if q.len() != model.nv {
+            return Err(format!(
+                "sample {k}: {} joint values, the model has {}",
+                q.len(),
+                model.nv
+            ));
+        }
+        if q.iter().any(|x| !x.is_finite()) || !times[k].is_finite() {
+            return Err(format!("sample {k}: non-finite value"));
+        }
+        if k > 0 && times[k] <= times[k - 1] {
+            return Err(format!(
+                "sample {k}: time {} does not increase (previous {})",
+                times[k],
+                times[k - 1]
+            ));
+        }
+    }
+    if !(opts.time_tolerance.is_finite() && opts.time_tolerance > 0.0) {
+        return Err(format!(
+            "time_tolerance must be finite and positive, got {}",
+            opts.time_tolerance
+        ));
+    }
+    if let Some(h) = opts.max_step {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!("max_step must be finite and positive, got {h}"));
+        }
+    }
+    Ok(())
 }

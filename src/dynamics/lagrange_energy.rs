@@ -175,10 +175,7 @@ pub fn lagrange_energy(
     gravity: &Vec3,
 ) -> Vec<f64> {
     let nv = model.nv;
-    assert!(
-        q.len() == nv && qd.len() == nv && qdd.len() == nv,
-        "q, qd, qdd need nv values"
-    );
+    assert_state_lengths(nv, q, qd, qdd);
     let mass = mass_matrix_energy(model, data, q);
     let c = coriolis_matrix(model, data, q, qd);
     let g = gravity_torque_energy(model, data, q, gravity);
@@ -190,4 +187,12 @@ pub fn lagrange_energy(
                 + g[i]
         })
         .collect()
+}
+
+/// `q`, `q̇` and `q̈` must each have `nv` values.
+pub(super) fn assert_state_lengths(nv: usize, q: &[f64], qd: &[f64], qdd: &[f64]) {
+    assert!(
+        q.len() == nv && qd.len() == nv && qdd.len() == nv,
+        "q, qd, qdd need nv values"
+    );
 }

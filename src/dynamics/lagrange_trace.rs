@@ -34,6 +34,7 @@
 //! (likewise `θ̈`) and the torques project as `τ[q_index_i] += q_mult_i τ_i`
 //! (`M = Gᵀ B G` for the mass matrix).
 
+use super::lagrange_energy::assert_state_lengths;
 use crate::data::Data;
 use crate::kinematics::{body_rate, compute_joint_jacobians};
 use crate::model::{Model, WORLD};
@@ -179,10 +180,7 @@ pub fn lagrange_trace(
     gravity: &Vec3,
 ) -> Vec<f64> {
     let nv = model.nv;
-    assert!(
-        q.len() == nv && qd.len() == nv && qdd.len() == nv,
-        "q, qd, qdd need nv values"
-    );
+    assert_state_lengths(nv, q, qd, qdd);
     let t = TraceTerms::compute(model, data, q, true, gravity);
     let nb = t.nb;
     let rate: Vec<f64> = (0..nb).map(|i| body_rate(model, qd, i)).collect();

@@ -255,173 +255,8 @@ fn build(dh: DhFile, file: &str, layout: &Layout) -> Result<ModelSpec, ModelErro
     let mut links = vec![LinkSpec::new("base_link")];
     let mut joints = Vec::with_capacity(dh.joint.len() + 1);
     for (i, row) in dh.joint.iter().enumerate() {
-        let n = i + 1;
-        let line = layout.joint_lines.get(i).copied();
-        let element = match &row.name {
-            Some(name) => format!("joint {n} ('{name}')"),
-            None => format!("joint {n}"),
-        };
-        let el = element.as_str();
-        let revolute = match row.jtype.as_str() {
-            "R" | "r" => true,
-            "P" | "p" => false,
-            other => {
-                return Err(ModelError::new(
-                    file,
-                    line,
-                    el,
-                    format!("'type': unknown joint type '{other}' (expected \"R\" or \"P\")"),
-                ))
-            }
-        };
-        let theta = one_of(
-            file,
-            line,
-            el,
-            ("theta", row.theta),
-            ("theta_deg", row.theta_deg),
-        )?
-        .unwrap_or(0.0);
-        let alpha = one_of(
-            file,
-            line,
-            el,
-            ("alpha", row.alpha),
-            ("alpha_deg", row.alpha_deg),
-        )?
-        .unwrap_or(0.0);
-        let d = row.d.unwrap_or(0.0);
-        let a = row.a.unwrap_or(0.0);
-        finite(file, line, el, "d", &[d])?;
-        finite(file, line, el, "a", &[a])?;
-        if !revolute && (row.lower_deg.is_some() || row.upper_deg.is_some()) {
-            return Err(ModelError::new(
-                file,
-                line,
-                el,
-                "'lower_deg'/'upper_deg' apply to revolute joints only; give 'lower'/'upper' in metres",
-            ));
-        }
-        let lower = one_of(
-            file,
-            line,
-            el,
-            ("lower", row.lower),
-            ("lower_deg", row.lower_deg),
-        )?;
-        let upper = one_of(
-            file,
-            line,
-            el,
-            ("upper", row.upper),
-            ("upper_deg", row.upper_deg),
-        )?;
-        let continuous = row.continuous.unwrap_or(false);
-        if continuous && !revolute {
-            return Err(ModelError::new(
-                file,
-                line,
-                el,
-                "'continuous': a prismatic joint cannot be continuous",
-            ));
-        }
-        if continuous && (lower.is_some() || upper.is_some()) {
-            return Err(ModelError::new(
-                file,
-                line,
-                el,
-                "'continuous': a continuous joint has no position limits",
-            ));
-        }
-        if let (Some(l), Some(u)) = (lower, upper) {
-            if l > u {
-                // Name the keys and values as written (degrees when given in degrees).
-                let show = |k: &str, rad: f64, deg: Option<f64>| match deg {
-                    Some(d) => format!("'{k}_deg' = {d}"),
-                    None => format!("'{k}' = {rad}"),
-                };
-                return Err(ModelError::new(
-                    file,
-                    line,
-                    el,
-                    format!(
-                        "lower limit {} is greater than upper limit {}",
-                        show("lower", l, row.lower_deg),
-                        show("upper", u, row.upper_deg)
-                    ),
-                ));
-            }
-        }
-        let (lower, upper) = match (lower, upper, continuous) {
-            (_, _, true) => (f64::NEG_INFINITY, f64::INFINITY),
-            (Some(l), Some(u), false) => (l, u),
-            _ => {
-                return Err(ModelError::new(
-                    file,
-                    line,
-                    el,
-                    "'lower'/'upper': position limits are required (or 'continuous = true' for an unlimited revolute joint)",
-                ))
-            }
-        };
-        let velocity = row.velocity.unwrap_or(f64::INFINITY);
-        let effort = row.effort.unwrap_or(f64::INFINITY);
-        for (k, v) in [("velocity", velocity), ("effort", effort)] {
-            if v.is_nan() || v < 0.0 {
-                return Err(ModelError::new(
-                    file,
-                    line,
-                    el,
-                    format!("'{k}': must be a non-negative number"),
-                ));
-            }
-        }
-        let jtype = match (revolute, continuous) {
-            (true, true) => JointType::Continuous,
-            (true, false) => JointType::Revolute,
-            (false, _) => JointType::Prismatic,
-        };
-        let parent = if i == 0 {
-            "base_link".to_string()
-        } else {
-            format!("link{i}")
-        };
-        let child = format!("link{n}");
-        let mut js = JointSpec::new(
-            row.name.clone().unwrap_or_else(|| format!("joint{n}")),
-            jtype,
-            parent,
-            &child,
-        );
-        // Offsets: theta for R (and d) or d for P (and theta) sit in the same Rz·Tz factor.
-        let rz_tz = Se3::from_rotation(rot_z(theta)).mul(&tz(d));
-        let rx = Se3::from_rotation(rot_x(alpha));
-        if modified {
-            js.origin = rx.mul(&tx(a)).mul(&rz_tz);
-        } else {
-            js.child_offset = rz_tz.mul(&tx(a)).mul(&rx);
-        }
-        js.limits = Limits {
-            lower,
-            upper,
-            velocity,
-            effort,
-        };
-        js.motor_inertia = row.motor_inertia.unwrap_or(0.0);
-        js.gear_ratio = row.gear_ratio.unwrap_or(1.0);
-        js.line = line;
-        joints.push(js);
-
-        let mut link = LinkSpec::new(child);
-        link.line = line;
-        let mass = row.mass.unwrap_or(0.0);
-        let com = row.com.unwrap_or([0.0; 3]);
-        let t = row.inertia.unwrap_or([0.0; 6]);
-        finite(file, line, el, "mass", &[mass])?;
-        finite(file, line, el, "com", &com)?;
-        finite(file, line, el, "inertia", &t)?;
-        let tensor = Mat3::new(t[0], t[3], t[4], t[3], t[1], t[5], t[4], t[5], t[2]);
-        link.inertial = Inertia::new(mass, Vec3::from(com), tensor);
+        let (joint, link) = dh_row(file, layout, i, row, modified)?;
+        joints.push(joint);
         links.push(link);
     }
     let n = dh.joint.len();
@@ -439,4 +274,198 @@ fn build(dh: DhFile, file: &str, layout: &Layout) -> Result<ModelSpec, ModelErro
         joints,
         urdf_text: None,
     })
+}
+
+/// Row `i` of the table: the joint from link `i` (`base_link` for the first) to link
+/// `i + 1`, placed by the convention's four factors, and that link's inertia.
+fn dh_row(
+    file: &str,
+    layout: &Layout,
+    i: usize,
+    row: &DhRow,
+    modified: bool,
+) -> Result<(JointSpec, LinkSpec), ModelError> {
+    let n = i + 1;
+    let line = layout.joint_lines.get(i).copied();
+    let element = match &row.name {
+        Some(name) => format!("joint {n} ('{name}')"),
+        None => format!("joint {n}"),
+    };
+    let el = element.as_str();
+    let revolute = match row.jtype.as_str() {
+        "R" | "r" => true,
+        "P" | "p" => false,
+        other => {
+            return Err(ModelError::new(
+                file,
+                line,
+                el,
+                format!("'type': unknown joint type '{other}' (expected \"R\" or \"P\")"),
+            ))
+        }
+    };
+    let theta = one_of(
+        file,
+        line,
+        el,
+        ("theta", row.theta),
+        ("theta_deg", row.theta_deg),
+    )?
+    .unwrap_or(0.0);
+    let alpha = one_of(
+        file,
+        line,
+        el,
+        ("alpha", row.alpha),
+        ("alpha_deg", row.alpha_deg),
+    )?
+    .unwrap_or(0.0);
+    let d = row.d.unwrap_or(0.0);
+    let a = row.a.unwrap_or(0.0);
+    finite(file, line, el, "d", &[d])?;
+    finite(file, line, el, "a", &[a])?;
+    let (jtype, limits) = dh_limits(file, line, el, row, revolute)?;
+    let parent = if i == 0 {
+        "base_link".to_string()
+    } else {
+        format!("link{i}")
+    };
+    let child = format!("link{n}");
+    let mut js = JointSpec::new(
+        row.name.clone().unwrap_or_else(|| format!("joint{n}")),
+        jtype,
+        parent,
+        &child,
+    );
+    // Offsets: theta for R (and d) or d for P (and theta) sit in the same Rz·Tz factor.
+    let rz_tz = Se3::from_rotation(rot_z(theta)).mul(&tz(d));
+    let rx = Se3::from_rotation(rot_x(alpha));
+    if modified {
+        js.origin = rx.mul(&tx(a)).mul(&rz_tz);
+    } else {
+        js.child_offset = rz_tz.mul(&tx(a)).mul(&rx);
+    }
+    js.limits = limits;
+    js.motor_inertia = row.motor_inertia.unwrap_or(0.0);
+    js.gear_ratio = row.gear_ratio.unwrap_or(1.0);
+    js.line = line;
+    let mut link = LinkSpec::new(child);
+    link.line = line;
+    let mass = row.mass.unwrap_or(0.0);
+    let com = row.com.unwrap_or([0.0; 3]);
+    let t = row.inertia.unwrap_or([0.0; 6]);
+    finite(file, line, el, "mass", &[mass])?;
+    finite(file, line, el, "com", &com)?;
+    finite(file, line, el, "inertia", &t)?;
+    let tensor = Mat3::new(t[0], t[3], t[4], t[3], t[1], t[5], t[4], t[5], t[2]);
+    link.inertial = Inertia::new(mass, Vec3::from(com), tensor);
+    Ok((js, link))
+}
+
+/// A row's joint type and limits: position limits (radians or degrees for a revolute
+/// joint, metres for a prismatic one) unless continuous, velocity and effort (unbounded
+/// by default).
+fn dh_limits(
+    file: &str,
+    line: Option<usize>,
+    el: &str,
+    row: &DhRow,
+    revolute: bool,
+) -> Result<(JointType, Limits), ModelError> {
+    if !revolute && (row.lower_deg.is_some() || row.upper_deg.is_some()) {
+        return Err(ModelError::new(
+            file,
+            line,
+            el,
+            "'lower_deg'/'upper_deg' apply to revolute joints only; give 'lower'/'upper' in metres",
+        ));
+    }
+    let lower = one_of(
+        file,
+        line,
+        el,
+        ("lower", row.lower),
+        ("lower_deg", row.lower_deg),
+    )?;
+    let upper = one_of(
+        file,
+        line,
+        el,
+        ("upper", row.upper),
+        ("upper_deg", row.upper_deg),
+    )?;
+    let continuous = row.continuous.unwrap_or(false);
+    if continuous && !revolute {
+        return Err(ModelError::new(
+            file,
+            line,
+            el,
+            "'continuous': a prismatic joint cannot be continuous",
+        ));
+    }
+    if continuous && (lower.is_some() || upper.is_some()) {
+        return Err(ModelError::new(
+            file,
+            line,
+            el,
+            "'continuous': a continuous joint has no position limits",
+        ));
+    }
+    if let (Some(l), Some(u)) = (lower, upper) {
+        if l > u {
+            // Name the keys and values as written (degrees when given in degrees).
+            let show = |k: &str, rad: f64, deg: Option<f64>| match deg {
+                Some(d) => format!("'{k}_deg' = {d}"),
+                None => format!("'{k}' = {rad}"),
+            };
+            return Err(ModelError::new(
+                file,
+                line,
+                el,
+                format!(
+                    "lower limit {} is greater than upper limit {}",
+                    show("lower", l, row.lower_deg),
+                    show("upper", u, row.upper_deg)
+                ),
+            ));
+        }
+    }
+    let (lower, upper) = match (lower, upper, continuous) {
+        (_, _, true) => (f64::NEG_INFINITY, f64::INFINITY),
+        (Some(l), Some(u), false) => (l, u),
+        _ => {
+            return Err(ModelError::new(
+                file,
+                line,
+                el,
+                "'lower'/'upper': position limits are required (or 'continuous = true' for an unlimited revolute joint)",
+            ))
+        }
+    };
+    let velocity = row.velocity.unwrap_or(f64::INFINITY);
+    let effort = row.effort.unwrap_or(f64::INFINITY);
+    for (k, v) in [("velocity", velocity), ("effort", effort)] {
+        if v.is_nan() || v < 0.0 {
+            return Err(ModelError::new(
+                file,
+                line,
+                el,
+                format!("'{k}': must be a non-negative number"),
+            ));
+        }
+    }
+    let jtype = match (revolute, continuous) {
+        (true, true) => JointType::Continuous,
+        (true, false) => JointType::Revolute,
+        (false, _) => JointType::Prismatic,
+    };
+    Ok((
+        jtype,
+        Limits {
+            lower,
+            upper,
+            velocity,
+            effort,
+        },
+    ))
 }

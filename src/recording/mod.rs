@@ -20,6 +20,8 @@ mod rerun_blueprint;
 #[cfg(feature = "rerun")]
 mod rerun_geometry;
 #[cfg(feature = "rerun")]
+mod rerun_motion;
+#[cfg(feature = "rerun")]
 mod rerun_obstacles;
 #[cfg(feature = "rerun")]
 pub mod rerun_out;
@@ -29,8 +31,12 @@ pub mod rerun_out;
 #[path = "rerun_off.rs"]
 pub mod rerun_out;
 #[cfg(feature = "rerun")]
+mod rerun_plots;
+#[cfg(feature = "rerun")]
 mod rerun_scene;
 pub mod rerun_sink;
+#[cfg(feature = "rerun")]
+mod rerun_tree;
 #[cfg(feature = "rerun")]
 mod rerun_workspace;
 pub mod ros2;

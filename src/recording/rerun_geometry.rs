@@ -3,8 +3,9 @@
 //! visual mesh that cannot be read is replaced by the link's primitive collision shapes
 //! and reported once per reason. Returns each drawn link's bounding box.
 
-use super::rerun_out::{child, f32x3, link_entity, quat_xyzw, sdk, Tree};
+use super::rerun_out::{child, f32x3, link_entity, quat_xyzw, sdk};
 use super::rerun_sink::{RerunError, RerunReport};
+use super::rerun_tree::Tree;
 use crate::collision::mesh::{load_mesh, MeshData};
 use crate::collision::resolve::resolve_uri;
 use crate::model::{Geometry, ModelSpec, Shape};

@@ -60,69 +60,17 @@ pub fn log_workspace_scene(
             None
         }
     };
-    let mut occ = Occupancy::from_workspace(ws);
-    // Too few samples for the voxel make a speckle of a surface: draw the grid coarsened
-    // until it is solid (at most four times).
-    let mut coarsened = 0;
-    while let Some(o) = occ
-        .as_ref()
-        .filter(|o| coarsened < 4 && o.hole_fraction() > SPECKLE)
-    {
-        occ = Some(o.coarsened());
-        coarsened += 1;
-    }
-    if occ.is_none() {
-        warnings.push(if ws.planar {
-            "planar workspace: drawn as its sample points".to_string()
-        } else {
-            "occupancy grid too large to draw: only the sample points are shown".to_string()
-        });
-    }
+    let (occ, coarsened) = drawable_occupancy(ws, &mut warnings);
     let (base, axis) = base_axis(model, &ws.tool).unwrap_or((Vec3::zeros(), Vec3::z()));
     let cut = Cutaway::new(base, &axis);
     let pose = representative_pose(model, ws, &cut);
     let q = pose.clone().unwrap_or_else(|| model.neutral());
     let title = format!("{} workspace", model.name);
-    let (mut header, robot_tf) = match &spec {
-        Some(s) => {
-            let (h, tf) = Header::for_model(title.clone(), source, model, s);
-            (h, Some(tf))
-        }
-        None => (
-            Header {
-                name: title.clone(),
-                ..Default::default()
-            },
-            None,
-        ),
-    };
-    header.metadata = vec![
-        ("robot".into(), model.name.clone()),
-        ("model_source".into(), model.source.clone()),
-        ("workspace_tool".into(), ws.tool.clone()),
-    ];
-    let frames = match &robot_tf {
-        Some(tf) => vec![tf.frame_at(model, &mut Data::new(model), 0.0, &q, &[], &[])],
-        None => Vec::new(),
-    };
-    let rec = Recording {
-        header,
-        frames,
-        ..Default::default()
-    };
+    let rec = robot_recording(model, ws, spec.as_ref(), &q, &title);
     let (stream, storage) = open(sink, &title)?;
     let (mut report, _) = log_with(&stream, &rec, spec.as_ref(), None, warnings)?;
 
-    let scale = occ.as_ref().map_or_else(
-        || {
-            ws.points
-                .iter()
-                .map(|p| p.manipulability as f32)
-                .filter(|v| v.is_finite())
-                .fold(0.0, f32::max)
-        },
-        Occupancy::max_value,
-    );
+    let scale = colour_scale(occ.as_ref(), ws);
     let color = |v: f32| {
         let [r, g, b] = colormap(if scale > 0.0 { v / scale } else { f32::NAN });
         rerun::Color::from_rgb(r, g, b)
@@ -203,6 +151,88 @@ pub fn log_workspace_scene(
     send_workspace(&stream, &view, skeleton, &hidden, eye)?;
     report.bytes = finish(&stream, storage, sink)?;
     Ok(report)
+}
+
+/// The occupancy grid to draw, coarsened (at most four times, counted) while too few
+/// samples per voxel make a speckle of a surface; `None` (with a warning) when there is
+/// none to draw.
+fn drawable_occupancy(
+    ws: &WorkspaceResult,
+    warnings: &mut Vec<String>,
+) -> (Option<Occupancy>, u32) {
+    let mut occ = Occupancy::from_workspace(ws);
+    // Too few samples for the voxel make a speckle of a surface: draw the grid coarsened
+    // until it is solid (at most four times).
+    let mut coarsened = 0;
+    while let Some(o) = occ
+        .as_ref()
+        .filter(|o| coarsened < 4 && o.hole_fraction() > SPECKLE)
+    {
+        occ = Some(o.coarsened());
+        coarsened += 1;
+    }
+    if occ.is_none() {
+        warnings.push(if ws.planar {
+            "planar workspace: drawn as its sample points".to_string()
+        } else {
+            "occupancy grid too large to draw: only the sample points are shown".to_string()
+        });
+    }
+    (occ, coarsened)
+}
+
+/// A one-frame recording of the robot at `q` (frames only when its geometry was read),
+/// with the workspace's provenance in the header.
+fn robot_recording(
+    model: &Model,
+    ws: &WorkspaceResult,
+    spec: Option<&crate::model::ModelSpec>,
+    q: &[f64],
+    title: &str,
+) -> Recording {
+    let source = Path::new(&model.source);
+    let (mut header, robot_tf) = match spec {
+        Some(s) => {
+            let (h, tf) = Header::for_model(title.to_string(), source, model, s);
+            (h, Some(tf))
+        }
+        None => (
+            Header {
+                name: title.to_string(),
+                ..Default::default()
+            },
+            None,
+        ),
+    };
+    header.metadata = vec![
+        ("robot".into(), model.name.clone()),
+        ("model_source".into(), model.source.clone()),
+        ("workspace_tool".into(), ws.tool.clone()),
+    ];
+    let frames = match &robot_tf {
+        Some(tf) => vec![tf.frame_at(model, &mut Data::new(model), 0.0, q, &[], &[])],
+        None => Vec::new(),
+    };
+    Recording {
+        header,
+        frames,
+        ..Default::default()
+    }
+}
+
+/// The top of the colour scale: the grid's largest voxel value, else the largest finite
+/// sample manipulability.
+fn colour_scale(occ: Option<&Occupancy>, ws: &WorkspaceResult) -> f32 {
+    occ.map_or_else(
+        || {
+            ws.points
+                .iter()
+                .map(|p| p.manipulability as f32)
+                .filter(|v| v.is_finite())
+                .fold(0.0, f32::max)
+        },
+        Occupancy::max_value,
+    )
 }
 
 /// Into the removed quarter, from above.

@@ -307,9 +307,37 @@ fn urdf_joints(spec: &ModelSpec) -> (Vec<String>, Vec<UJoint>, UrdfLayout) {
     (extra_links, joints, layout)
 }
 
+/// Generated visuals of a model without any, by link: a rod along each joint offset, a
+/// cylinder on each movable joint's axis, a sphere on the roots and the leaves.
+type Visuals = HashMap<String, Vec<(Geometry, &'static str)>>;
+
 /// A URDF for `spec` (see the module docs).
 pub fn generate_urdf(spec: &ModelSpec) -> String {
     let (extra_links, joints, _) = urdf_joints(spec);
+    let generate = spec.links.iter().all(|l| l.visuals.is_empty());
+    let visuals = if generate {
+        generated_visuals(spec, &joints)
+    } else {
+        HashMap::new()
+    };
+    let mut s = String::new();
+    write_header(&mut s, spec, generate);
+    for name in &extra_links {
+        write_link(&mut s, name, None, &visuals);
+    }
+    for l in &spec.links {
+        write_link(&mut s, &l.name, Some(l), &visuals);
+    }
+    for j in &joints {
+        write_joint(&mut s, j, spec);
+    }
+    let _ = writeln!(s, "</robot>");
+    s
+}
+
+/// The visuals drawn for a model that has none (see [`Visuals`]); their size follows
+/// the arm's reach.
+fn generated_visuals(spec: &ModelSpec, joints: &[UJoint]) -> Visuals {
     let children: HashSet<&str> = spec.joints.iter().map(|j| j.child.as_str()).collect();
     let roots: Vec<&str> = spec
         .links
@@ -317,57 +345,56 @@ pub fn generate_urdf(spec: &ModelSpec) -> String {
         .map(|l| l.name.as_str())
         .filter(|n| !children.contains(n))
         .collect();
-
-    // Generated visuals, for models without any.
-    let generate = spec.links.iter().all(|l| l.visuals.is_empty());
     let reach: f64 = joints.iter().map(|j| j.origin.trans.norm()).sum();
     let r = (0.025 * reach).clamp(0.005, 0.06);
-    let mut visuals: HashMap<String, Vec<(Geometry, &str)>> = HashMap::new();
-    if generate {
-        for j in &joints {
-            if let Some(g) = segment(&j.origin.trans, 0.6 * r) {
-                visuals
-                    .entry(j.parent.clone())
-                    .or_default()
-                    .push((g, "armsim_link"));
-            }
-            if j.jtype.is_movable() && j.axis.norm() > 0.0 {
-                let g = Geometry {
-                    origin: Se3::from_rotation(rotation_z_to(&j.axis.normalize())),
-                    shape: Shape::Cylinder {
-                        radius: r,
-                        length: 3.0 * r,
-                    },
-                    rgba: None,
-                };
-                visuals
-                    .entry(j.child.clone())
-                    .or_default()
-                    .push((g, "armsim_joint"));
-            }
+    let mut visuals: Visuals = HashMap::new();
+    for j in joints {
+        if let Some(g) = segment(&j.origin.trans, 0.6 * r) {
+            visuals
+                .entry(j.parent.clone())
+                .or_default()
+                .push((g, "armsim_link"));
         }
-        let parents: HashSet<&str> = joints.iter().map(|j| j.parent.as_str()).collect();
-        for l in spec.links.iter().map(|l| l.name.as_str()) {
-            let radius = if roots.contains(&l) {
-                1.5 * r
-            } else if !parents.contains(l) {
-                0.6 * r
-            } else {
-                continue;
-            };
+        if j.jtype.is_movable() && j.axis.norm() > 0.0 {
             let g = Geometry {
-                origin: Se3::identity(),
-                shape: Shape::Sphere { radius },
+                origin: Se3::from_rotation(rotation_z_to(&j.axis.normalize())),
+                shape: Shape::Cylinder {
+                    radius: r,
+                    length: 3.0 * r,
+                },
                 rgba: None,
             };
             visuals
-                .entry(l.to_string())
+                .entry(j.child.clone())
                 .or_default()
                 .push((g, "armsim_joint"));
         }
     }
+    let parents: HashSet<&str> = joints.iter().map(|j| j.parent.as_str()).collect();
+    for l in spec.links.iter().map(|l| l.name.as_str()) {
+        let radius = if roots.contains(&l) {
+            1.5 * r
+        } else if !parents.contains(l) {
+            0.6 * r
+        } else {
+            continue;
+        };
+        let g = Geometry {
+            origin: Se3::identity(),
+            shape: Shape::Sphere { radius },
+            rgba: None,
+        };
+        visuals
+            .entry(l.to_string())
+            .or_default()
+            .push((g, "armsim_joint"));
+    }
+    visuals
+}
 
-    let mut s = String::new();
+/// The XML declaration, the provenance comment, what URDF cannot hold (gravity, rotor
+/// inertia, gear ratio), the robot element and the generated visuals' materials.
+fn write_header(s: &mut String, spec: &ModelSpec, generate: bool) {
     let _ = writeln!(s, "<?xml version=\"1.0\"?>");
     let _ = writeln!(
         s,
@@ -407,115 +434,113 @@ pub fn generate_urdf(spec: &ModelSpec) -> String {
             "  <material name=\"armsim_joint\"><color rgba=\"0.95 0.55 0.15 1\"/></material>"
         );
     }
-    let link = |s: &mut String, name: &str, l: Option<&crate::model::LinkSpec>| {
-        let _ = writeln!(s, "  <link name=\"{}\">", esc(name));
-        if let Some(l) = l {
-            let i = &l.inertial;
-            if !i.is_zero() {
-                let t = &i.inertia_com;
-                let _ = writeln!(
-                    s,
-                    "    <inertial>\n      <origin xyz=\"{}\" rpy=\"0 0 0\"/>\n      <mass value=\"{}\"/>\n      \
-<inertia ixx=\"{}\" ixy=\"{}\" ixz=\"{}\" iyy=\"{}\" iyz=\"{}\" izz=\"{}\"/>\n    </inertial>",
-                    nums(&[i.com.x, i.com.y, i.com.z]),
-                    num(i.mass),
-                    num(t[(0, 0)]),
-                    num(t[(0, 1)]),
-                    num(t[(0, 2)]),
-                    num(t[(1, 1)]),
-                    num(t[(1, 2)]),
-                    num(t[(2, 2)])
-                );
-            }
-            for g in &l.visuals {
-                s.push_str(&geometry("visual", g, None));
-            }
-            for g in &l.collisions {
-                s.push_str(&geometry("collision", g, None));
-            }
-        }
-        for (g, m) in visuals.get(name).into_iter().flatten() {
-            s.push_str(&geometry("visual", g, Some(m)));
-        }
-        let _ = writeln!(s, "  </link>");
-    };
-    for name in &extra_links {
-        link(&mut s, name, None);
-    }
-    for l in &spec.links {
-        link(&mut s, &l.name, Some(l));
-    }
-    for j in &joints {
-        let js = j.spec.and_then(|i| spec.joints.get(i));
-        let lim = js.map(|js| js.limits);
-        let jtype = match (j.jtype, lim) {
-            (JointType::Revolute, Some(l)) if l.lower.is_infinite() && l.upper.is_infinite() => {
-                JointType::Continuous
-            }
-            (t, _) => t,
-        };
-        let _ = writeln!(
-            s,
-            "  <joint name=\"{}\" type=\"{}\">\n    <parent link=\"{}\"/>\n    <child link=\"{}\"/>\n    {}",
-            esc(&j.name),
-            jtype.as_str(),
-            esc(&j.parent),
-            esc(&j.child),
-            origin(&j.origin)
-        );
-        if jtype.is_movable() {
+}
+
+/// A `<link>`: its inertial, visuals and collisions (from `l`; none for an intermediate
+/// link), and its generated visuals.
+fn write_link(s: &mut String, name: &str, l: Option<&crate::model::LinkSpec>, visuals: &Visuals) {
+    let _ = writeln!(s, "  <link name=\"{}\">", esc(name));
+    if let Some(l) = l {
+        let i = &l.inertial;
+        if !i.is_zero() {
+            let t = &i.inertia_com;
             let _ = writeln!(
                 s,
-                "    <axis xyz=\"{}\"/>",
-                nums(&[j.axis.x, j.axis.y, j.axis.z])
+                "    <inertial>\n      <origin xyz=\"{}\" rpy=\"0 0 0\"/>\n      <mass value=\"{}\"/>\n      \
+<inertia ixx=\"{}\" ixy=\"{}\" ixz=\"{}\" iyy=\"{}\" iyz=\"{}\" izz=\"{}\"/>\n    </inertial>",
+                nums(&[i.com.x, i.com.y, i.com.z]),
+                num(i.mass),
+                num(t[(0, 0)]),
+                num(t[(0, 1)]),
+                num(t[(0, 2)]),
+                num(t[(1, 1)]),
+                num(t[(1, 2)]),
+                num(t[(2, 2)])
             );
         }
-        if let (Some(js), Some(l)) = (js, lim) {
-            let finite_or_zero = |x: f64| if x.is_finite() { x } else { 0.0 };
-            let bound = |x: f64| x.clamp(f64::MIN, f64::MAX);
-            match jtype {
-                JointType::Revolute | JointType::Prismatic => {
-                    let _ = writeln!(
-                        s,
-                        "    <limit lower=\"{}\" upper=\"{}\" effort=\"{}\" velocity=\"{}\"/>",
-                        num(bound(l.lower)),
-                        num(bound(l.upper)),
-                        num(finite_or_zero(l.effort)),
-                        num(finite_or_zero(l.velocity))
-                    );
-                }
-                JointType::Continuous if l.effort.is_finite() || l.velocity.is_finite() => {
-                    let _ = writeln!(
-                        s,
-                        "    <limit effort=\"{}\" velocity=\"{}\"/>",
-                        num(finite_or_zero(l.effort)),
-                        num(finite_or_zero(l.velocity))
-                    );
-                }
-                _ => {}
-            }
-            if let Some(m) = &js.mimic {
-                let _ = writeln!(
-                    s,
-                    "    <mimic joint=\"{}\" multiplier=\"{}\" offset=\"{}\"/>",
-                    esc(&m.joint),
-                    num(m.multiplier),
-                    num(m.offset)
-                );
-            }
-            if js.damping != 0.0 || js.friction != 0.0 {
-                let _ = writeln!(
-                    s,
-                    "    <dynamics damping=\"{}\" friction=\"{}\"/>",
-                    num(js.damping),
-                    num(js.friction)
-                );
-            }
+        for g in &l.visuals {
+            s.push_str(&geometry("visual", g, None));
         }
-        let _ = writeln!(s, "  </joint>");
+        for g in &l.collisions {
+            s.push_str(&geometry("collision", g, None));
+        }
     }
-    let _ = writeln!(s, "</robot>");
-    s
+    for (g, m) in visuals.get(name).into_iter().flatten() {
+        s.push_str(&geometry("visual", g, Some(m)));
+    }
+    let _ = writeln!(s, "  </link>");
+}
+
+/// A `<joint>`: type (continuous for an unlimited revolute joint), parent, child, origin,
+/// axis, and from the spec its limits, mimic relation and dynamics.
+fn write_joint(s: &mut String, j: &UJoint, spec: &ModelSpec) {
+    let js = j.spec.and_then(|i| spec.joints.get(i));
+    let lim = js.map(|js| js.limits);
+    let jtype = match (j.jtype, lim) {
+        (JointType::Revolute, Some(l)) if l.lower.is_infinite() && l.upper.is_infinite() => {
+            JointType::Continuous
+        }
+        (t, _) => t,
+    };
+    let _ = writeln!(
+        s,
+        "  <joint name=\"{}\" type=\"{}\">\n    <parent link=\"{}\"/>\n    <child link=\"{}\"/>\n    {}",
+        esc(&j.name),
+        jtype.as_str(),
+        esc(&j.parent),
+        esc(&j.child),
+        origin(&j.origin)
+    );
+    if jtype.is_movable() {
+        let _ = writeln!(
+            s,
+            "    <axis xyz=\"{}\"/>",
+            nums(&[j.axis.x, j.axis.y, j.axis.z])
+        );
+    }
+    if let (Some(js), Some(l)) = (js, lim) {
+        let finite_or_zero = |x: f64| if x.is_finite() { x } else { 0.0 };
+        let bound = |x: f64| x.clamp(f64::MIN, f64::MAX);
+        match jtype {
+            JointType::Revolute | JointType::Prismatic => {
+                let _ = writeln!(
+                    s,
+                    "    <limit lower=\"{}\" upper=\"{}\" effort=\"{}\" velocity=\"{}\"/>",
+                    num(bound(l.lower)),
+                    num(bound(l.upper)),
+                    num(finite_or_zero(l.effort)),
+                    num(finite_or_zero(l.velocity))
+                );
+            }
+            JointType::Continuous if l.effort.is_finite() || l.velocity.is_finite() => {
+                let _ = writeln!(
+                    s,
+                    "    <limit effort=\"{}\" velocity=\"{}\"/>",
+                    num(finite_or_zero(l.effort)),
+                    num(finite_or_zero(l.velocity))
+                );
+            }
+            _ => {}
+        }
+        if let Some(m) = &js.mimic {
+            let _ = writeln!(
+                s,
+                "    <mimic joint=\"{}\" multiplier=\"{}\" offset=\"{}\"/>",
+                esc(&m.joint),
+                num(m.multiplier),
+                num(m.offset)
+            );
+        }
+        if js.damping != 0.0 || js.friction != 0.0 {
+            let _ = writeln!(
+                s,
+                "    <dynamics damping=\"{}\" friction=\"{}\"/>",
+                num(js.damping),
+                num(js.friction)
+            );
+        }
+    }
+    let _ = writeln!(s, "  </joint>");
 }
 
 #[cfg(test)]

@@ -252,6 +252,70 @@ pub fn cartesian_line(
     goal: &Se3,
     opts: &CartesianOptions,
 ) -> Result<CartesianMove, TrajectoryError> {
+    check_inputs(model, link, q_start, goal, opts)?;
+    let names = model.dof_names();
+    if let Some(l) = &opts.joint_limits {
+        l.validate(&names)?;
+    }
+    let mut data = Data::new(model);
+    forward_kinematics(model, &mut data, q_start);
+    let start = frame_placement(model, &data, link);
+    let dp = goal.trans - start.trans;
+    let omega = rotation_log(&(start.rot.transpose() * goal.rot));
+    let ns = opts.samples;
+    let mut qs: Vec<Vec<f64>> = Vec::with_capacity(ns);
+    qs.push(q_start.to_vec());
+    let mut report = CartesianReport {
+        samples: ns,
+        length: dp.norm(),
+        angle: omega.norm(),
+        ..Default::default()
+    };
+    let line = (&start, &dp, &omega);
+    ik_along_line(model, link, line, opts, &names, &mut qs, &mut report)?;
+    let path = SplinePath::new(&qs)?;
+    midpoint_deviation(model, link, &path, line, &mut data, &mut report);
+    // Duration.
+    let need = duration_needs(&path, &report, opts, &names);
+    let (duration, limited_by) = match opts.duration {
+        Some(d) if d > 0.0 && d.is_finite() => (d, "fixed".to_string()),
+        Some(d) => {
+            return Err(TrajectoryError::Invalid(format!(
+                "Cartesian move: duration {d} is not positive and finite"
+            )))
+        }
+        None => need
+            .into_iter()
+            .filter(|(t, _)| t.is_finite())
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .filter(|(t, _)| *t > 0.0)
+            .ok_or_else(|| {
+                TrajectoryError::Invalid(
+                    "Cartesian move: no finite limit sets a duration (zero-length move or all \
+                     limits infinite): give a duration"
+                        .into(),
+                )
+            })?,
+    };
+    report.duration = duration;
+    report.limited_by = limited_by;
+    Ok(CartesianMove {
+        path,
+        duration,
+        start,
+        goal: *goal,
+        report,
+    })
+}
+
+/// The start configuration, the link, the sample count and the goal must be usable.
+fn check_inputs(
+    model: &Model,
+    link: usize,
+    q_start: &[f64],
+    goal: &Se3,
+    opts: &CartesianOptions,
+) -> Result<(), TrajectoryError> {
     let n = model.nv;
     if q_start.len() != n || q_start.iter().any(|x| !x.is_finite()) {
         return Err(TrajectoryError::Invalid(format!(
@@ -278,28 +342,29 @@ pub fn cartesian_line(
             "Cartesian move: the goal pose is not finite".into(),
         ));
     }
-    let names = model.dof_names();
-    if let Some(l) = &opts.joint_limits {
-        l.validate(&names)?;
-    }
-    let mut data = Data::new(model);
-    forward_kinematics(model, &mut data, q_start);
-    let start = frame_placement(model, &data, link);
-    let dp = goal.trans - start.trans;
-    let omega = rotation_log(&(start.rot.transpose() * goal.rot));
+    Ok(())
+}
+
+/// The line `(start, dp, omega)`: the pose at `s ∈ [0, 1]` is [`line_pose`].
+type Line<'a> = (&'a Se3, &'a Vec3, &'a Vec3);
+
+/// IK at the samples of the line after the first (already in `qs`), each seeded from the
+/// previous one; a sample out of reach or a joint step above `max_joint_step` (a branch
+/// jump) is an error.
+fn ik_along_line(
+    model: &Model,
+    link: usize,
+    (start, dp, omega): Line,
+    opts: &CartesianOptions,
+    names: &[String],
+    qs: &mut Vec<Vec<f64>>,
+    report: &mut CartesianReport,
+) -> Result<(), TrajectoryError> {
     let ns = opts.samples;
     let mut solver = IkSolver::new(model);
-    let mut qs: Vec<Vec<f64>> = Vec::with_capacity(ns);
-    qs.push(q_start.to_vec());
-    let mut report = CartesianReport {
-        samples: ns,
-        length: dp.norm(),
-        angle: omega.norm(),
-        ..Default::default()
-    };
     for i in 1..ns {
         let s = i as f64 / (ns - 1) as f64;
-        let target = line_pose(&start, &dp, &omega, s);
+        let target = line_pose(start, dp, omega, s);
         let res = solver.solve(model, link, &target, Some(&qs[i - 1]), &opts.ik);
         report.ik_iterations += res.iterations;
         if res.status != IkStatus::Converged {
@@ -333,23 +398,48 @@ pub fn cartesian_line(
         }
         qs.push(res.q);
     }
-    let path = SplinePath::new(&qs)?;
+    Ok(())
+}
+
+/// The largest deviation of the spline through the samples from the line, at the
+/// midpoints between samples.
+fn midpoint_deviation(
+    model: &Model,
+    link: usize,
+    path: &SplinePath,
+    (start, dp, omega): Line,
+    data: &mut Data,
+    report: &mut CartesianReport,
+) {
+    let n = model.nv;
+    let ns = report.samples;
     let (mut q, mut dq, mut ddq) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    // Deviation from the line at the midpoints.
     for i in 0..ns - 1 {
         let s = (i as f64 + 0.5) / (ns - 1) as f64;
         path.eval(s, &mut q, &mut dq, &mut ddq);
-        forward_kinematics(model, &mut data, &q);
+        forward_kinematics(model, data, &q);
         let (dpos, drot) = pose_gap(
-            &frame_placement(model, &data, link),
-            &line_pose(&start, &dp, &omega, s),
+            &frame_placement(model, data, link),
+            &line_pose(start, dp, omega, s),
         );
         report.worst_midpoint_position_deviation =
             report.worst_midpoint_position_deviation.max(dpos);
         report.worst_midpoint_rotation_deviation =
             report.worst_midpoint_rotation_deviation.max(drot);
     }
-    // Duration.
+}
+
+/// The durations each limit needs (with its name): the tool's linear and angular speed
+/// and acceleration, and each joint's velocity and acceleration limit.
+fn duration_needs(
+    path: &SplinePath,
+    report: &CartesianReport,
+    opts: &CartesianOptions,
+    names: &[String],
+) -> Vec<(f64, String)> {
+    let n = names.len();
+    let ns = report.samples;
+    let (mut q, mut dq, mut ddq) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut need: Vec<(f64, String)> = vec![
         (
             PEAK_VEL * report.length / opts.max_linear_speed,
@@ -393,35 +483,7 @@ pub fn cartesian_line(
             ));
         }
     }
-    let (duration, limited_by) = match opts.duration {
-        Some(d) if d > 0.0 && d.is_finite() => (d, "fixed".to_string()),
-        Some(d) => {
-            return Err(TrajectoryError::Invalid(format!(
-                "Cartesian move: duration {d} is not positive and finite"
-            )))
-        }
-        None => need
-            .into_iter()
-            .filter(|(t, _)| t.is_finite())
-            .max_by(|a, b| a.0.total_cmp(&b.0))
-            .filter(|(t, _)| *t > 0.0)
-            .ok_or_else(|| {
-                TrajectoryError::Invalid(
-                    "Cartesian move: no finite limit sets a duration (zero-length move or all \
-                     limits infinite): give a duration"
-                        .into(),
-                )
-            })?,
-    };
-    report.duration = duration;
-    report.limited_by = limited_by;
-    Ok(CartesianMove {
-        path,
-        duration,
-        start,
-        goal: *goal,
-        report,
-    })
+    need
 }
 
 impl Trajectory for CartesianMove {

@@ -8,9 +8,10 @@
 //!   at interior knots), segment times scaled to the limits;
 //! - [`CartesianMove`] (`cartesian.rs`): a straight tool line (linear position, slerp
 //!   rotation) solved by IK sample by sample;
-//! - [`topp`] (`topp.rs`): the convex time-optimal path parameterisation of Verscheure et
-//!   al. (2009) under joint velocity, acceleration and torque limits, solved as a
-//!   second-order-cone program with clarabel;
+//! - [`topp`] (`topp/`; the program in `socp.rs`, the dense check in `check.rs`): the
+//!   convex time-optimal path parameterisation of Verscheure et al. (2009) under joint
+//!   velocity, acceleration and torque limits, solved as a second-order-cone program with
+//!   clarabel;
 //! - [`check_torques`] (`torque_check.rs`): peak / RMS torque, peak speed and power, margins
 //!   and the first violation time of every limit along any trajectory, with a text table,
 //!   JSON rows and a PNG/SVG plot (`plot.rs`), whose axis labels come from [`ticks`]

@@ -244,8 +244,17 @@ fn range(vals: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
     (lo - p, hi + p)
 }
 
-fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+/// A panel's axis ranges, and where the rows of flag crosses sit above the data.
+struct Bounds {
+    x: (f64, f64),
+    y: (f64, f64),
+    flag_base: f64,
+    flag_step: f64,
+}
+
+/// The axis ranges of panel `p` drawn on `pixels` (width, height): the data padded (or
+/// the given y range), equal scales when asked, the headroom, and room for the flags.
+fn bounds(pixels: (u32, u32), p: &Panel) -> Bounds {
     let xs = p
         .series
         .iter()
@@ -264,7 +273,7 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
     };
     if p.equal_aspect && !p.log_x && !p.log_y {
         // The plotting area: the panel less margins, label areas and caption.
-        let (w, h) = area.dim_in_pixel();
+        let (w, h) = pixels;
         let pw = (w as f64 - 20.0 - 70.0).max(1.0);
         let ph = (h as f64 - 20.0 - 40.0 - 26.0).max(1.0);
         let (sx, sy) = ((x1 - x0) / pw, (y1 - y0) / ph);
@@ -283,6 +292,56 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
     if lanes > 0 {
         y1 += (0.06 + 0.05 * lanes as f64) * (y1 - y0);
     }
+    Bounds {
+        x: (x0, x1),
+        y: (y0, y1),
+        flag_base: base,
+        flag_step: step,
+    }
+}
+
+/// A series' points on the panel's (possibly logarithmic) axes; points a log axis
+/// cannot show are left out.
+fn plotted_points(p: &Panel, s: &Series) -> Vec<(f64, f64)> {
+    s.points
+        .iter()
+        .filter_map(|&(x, y)| Some((tf(p.log_x, x)?, tf(p.log_y, y)?)))
+        .collect()
+}
+
+/// The flags as crosses in rows above the data (row `lane` at `base + step · lane`).
+fn flag_crosses(p: &Panel, base: f64, step: f64) -> Vec<Cross<(f64, f64), i32>> {
+    p.flags
+        .iter()
+        .filter_map(|f| {
+            let y = base + step * f.lane as f64;
+            Some(Cross::new(
+                (tf(p.log_x, f.x)?, y),
+                6,
+                f.color.stroke_width(2),
+            ))
+        })
+        .collect()
+}
+
+fn legend_position(legend: Legend) -> SeriesLabelPosition {
+    match legend {
+        Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
+        Legend::UpperRight => SeriesLabelPosition::UpperRight,
+        Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
+        Legend::LowerRight => SeriesLabelPosition::LowerRight,
+        Legend::MiddleRight => SeriesLabelPosition::MiddleRight,
+    }
+}
+
+fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+    let Bounds {
+        x: (x0, x1),
+        y: (y0, y1),
+        flag_base: base,
+        flag_step: step,
+    } = bounds(area.dim_in_pixel(), p);
     let mut chart = ChartBuilder::on(area)
         .caption(&p.title, ("sans-serif", 16))
         .margin(10)
@@ -322,11 +381,7 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
             solid_seen += 1;
             2 + 2 * (solid - solid_seen) as u32
         };
-        let pts: Vec<(f64, f64)> = s
-            .points
-            .iter()
-            .filter_map(|&(x, y)| Some((tf(p.log_x, x)?, tf(p.log_y, y)?)))
-            .collect();
+        let pts = plotted_points(p, s);
         if pts.is_empty() {
             continue;
         }
@@ -355,18 +410,7 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
             .map_err(err)?;
     }
     if !p.flags.is_empty() {
-        let crosses: Vec<_> = p
-            .flags
-            .iter()
-            .filter_map(|f| {
-                let y = base + step * f.lane as f64;
-                Some(Cross::new(
-                    (tf(p.log_x, f.x)?, y),
-                    6,
-                    f.color.stroke_width(2),
-                ))
-            })
-            .collect();
+        let crosses = flag_crosses(p, base, step);
         chart
             .draw_series(crosses)
             .map_err(err)?
@@ -375,13 +419,7 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
     }
     chart
         .configure_series_labels()
-        .position(match p.legend {
-            Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
-            Legend::UpperRight => SeriesLabelPosition::UpperRight,
-            Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
-            Legend::LowerRight => SeriesLabelPosition::LowerRight,
-            Legend::MiddleRight => SeriesLabelPosition::MiddleRight,
-        })
+        .position(legend_position(p.legend))
         .background_style(WHITE.mix(0.85))
         .border_style(RGBColor(160, 160, 160))
         .label_font(("sans-serif", 12))

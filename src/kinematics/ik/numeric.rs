@@ -275,8 +275,6 @@ impl IkSolver {
 
     /// Solves for `link` reaching `target`, starting from `seed_q` (or the middle of the
     /// limits) and then from random configurations.
-    // Index loops over the Jacobian's rows and columns read like `Jᵀ W J` and `Jᵀ W e`.
-    #[allow(clippy::needless_range_loop)]
     pub fn solve(
         &mut self,
         model: &Model,
@@ -308,8 +306,6 @@ impl IkSolver {
                 time_us: start.elapsed().as_secs_f64() * 1e6,
             };
         }
-        let rows = if opts.position_only { 3 } else { 6 };
-        let w2 = opts.rotation_weight * opts.rotation_weight;
         self.rng = SmallRng::seed_from_u64(opts.seed);
         match seed_q {
             Some(s) => self.q.copy_from_slice(s),
@@ -329,90 +325,12 @@ impl IkSolver {
         'attempts: loop {
             let mut q = std::mem::take(&mut self.q);
             Self::project(model, &mut q, opts.respect_limits);
-            let (mut cost, mut ep, mut er, mut e) = self.cost(model, link, target, &q, opts);
-            let mut mu = 1.0;
-            let mut stalled = false;
-            let mut since_progress = 0;
-            for _ in 0..opts.max_iterations {
-                if Self::converged(ep, er, opts) {
-                    break;
-                }
-                iterations += 1;
-                // J (world-aligned, frame origin) at q; g = Jᵀ W e; N = Jᵀ W J.
-                compute_joint_jacobians(model, &mut self.data, &q);
-                frame_jacobian(
-                    model,
-                    &self.data,
-                    link,
-                    Expressed::WorldAligned,
-                    &mut self.jac,
-                );
-                for i in 0..n {
-                    let mut g = 0.0;
-                    for r in 0..rows {
-                        let w = if r < 3 { 1.0 } else { w2 };
-                        g += self.jac[(r, i)] * w * e[r];
-                    }
-                    self.grad[i] = g;
-                    for j in 0..=i {
-                        let mut s = 0.0;
-                        for r in 0..rows {
-                            let w = if r < 3 { 1.0 } else { w2 };
-                            s += self.jac[(r, i)] * w * self.jac[(r, j)];
-                        }
-                        self.normal[(i, j)] = s;
-                        self.normal[(j, i)] = s;
-                    }
-                }
-                let gnorm = self.grad.iter().map(|g| g * g).sum::<f64>().sqrt();
-                if gnorm < 1e-14 * (1.0 + cost.sqrt()) {
-                    stalled = true;
-                    break;
-                }
-                // Damped step with backtracking on μ.
-                let mut improved = false;
-                for _ in 0..8 {
-                    let lambda = mu * (cost + 1e-6);
-                    self.step.copy_from_slice(&self.grad);
-                    self.chol.copy_from(&self.normal);
-                    for i in 0..n {
-                        self.chol[(i, i)] += lambda;
-                    }
-                    let ok = cholesky_in_place(&mut self.chol).is_ok();
-                    if ok {
-                        cholesky_solve_in_place(&self.chol, &mut self.step);
-                    }
-                    if !ok {
-                        mu *= 10.0;
-                        continue;
-                    }
-                    for k in 0..n {
-                        self.q_try[k] = q[k] + self.step[k];
-                    }
-                    let mut qt = std::mem::take(&mut self.q_try);
-                    Self::project(model, &mut qt, opts.respect_limits);
-                    let (c2, ep2, er2, e2) = self.cost(model, link, target, &qt, opts);
-                    if c2 < cost {
-                        let gain = (cost - c2) / cost.max(f64::MIN_POSITIVE);
-                        std::mem::swap(&mut q, &mut qt);
-                        self.q_try = qt;
-                        since_progress = if gain < 1e-6 { since_progress + 1 } else { 0 };
-                        cost = c2;
-                        ep = ep2;
-                        er = er2;
-                        e = e2;
-                        mu = (mu * 0.3).max(1e-9);
-                        improved = true;
-                        break;
-                    }
-                    self.q_try = qt;
-                    mu *= 10.0;
-                }
-                if !improved || since_progress >= 5 {
-                    stalled = true;
-                    break;
-                }
-            }
+            let Descent {
+                cost,
+                ep,
+                er,
+                stalled,
+            } = self.descend(model, link, target, &mut q, opts, &mut iterations);
             if stalled && (cost - best.0).abs() <= 1e-6 * best.0.max(cost) {
                 same_minimum += 1;
             }
@@ -458,6 +376,142 @@ impl IkSolver {
             time_us: start.elapsed().as_secs_f64() * 1e6,
         }
     }
+    /// One damped least-squares (Levenberg–Marquardt) descent from `q`, in place, until
+    /// it converges, stalls (no gradient, no improving step, or five steps of negligible
+    /// gain) or runs out of iterations (counted in `iterations`).
+    fn descend(
+        &mut self,
+        model: &Model,
+        link: usize,
+        target: &Se3,
+        q: &mut Vec<f64>,
+        opts: &IkOptions,
+        iterations: &mut usize,
+    ) -> Descent {
+        let (mut cost, mut ep, mut er, mut e) = self.cost(model, link, target, q, opts);
+        let mut mu = 1.0;
+        let mut stalled = false;
+        let mut since_progress = 0;
+        for _ in 0..opts.max_iterations {
+            if Self::converged(ep, er, opts) {
+                break;
+            }
+            *iterations += 1;
+            self.normal_equations(model, link, q, &e, opts);
+            let gnorm = self.grad.iter().map(|g| g * g).sum::<f64>().sqrt();
+            if gnorm < 1e-14 * (1.0 + cost.sqrt()) {
+                stalled = true;
+                break;
+            }
+            // Damped step with backtracking on μ.
+            let mut improved = false;
+            for _ in 0..8 {
+                if !self.damped_step(mu * (cost + 1e-6)) {
+                    mu *= 10.0;
+                    continue;
+                }
+                for ((t, qk), s) in self.q_try.iter_mut().zip(q.iter()).zip(&self.step) {
+                    *t = qk + s;
+                }
+                let mut qt = std::mem::take(&mut self.q_try);
+                Self::project(model, &mut qt, opts.respect_limits);
+                let (c2, ep2, er2, e2) = self.cost(model, link, target, &qt, opts);
+                if c2 < cost {
+                    let gain = (cost - c2) / cost.max(f64::MIN_POSITIVE);
+                    std::mem::swap(q, &mut qt);
+                    self.q_try = qt;
+                    since_progress = if gain < 1e-6 { since_progress + 1 } else { 0 };
+                    cost = c2;
+                    ep = ep2;
+                    er = er2;
+                    e = e2;
+                    mu = (mu * 0.3).max(1e-9);
+                    improved = true;
+                    break;
+                }
+                self.q_try = qt;
+                mu *= 10.0;
+            }
+            if !improved || since_progress >= 5 {
+                stalled = true;
+                break;
+            }
+        }
+        Descent {
+            cost,
+            ep,
+            er,
+            stalled,
+        }
+    }
+
+    /// The frame Jacobian `J` (world-aligned, frame origin) at `q`, then the gradient
+    /// `g = Jᵀ W e` into `grad` and the normal matrix `N = Jᵀ W J` into `normal` (`W`
+    /// weighs the rotation rows by the rotation weight squared; position only: three
+    /// rows).
+    // Index loops over the Jacobian's rows and columns read like `Jᵀ W J` and `Jᵀ W e`.
+    #[allow(clippy::needless_range_loop)]
+    fn normal_equations(
+        &mut self,
+        model: &Model,
+        link: usize,
+        q: &[f64],
+        e: &[f64; 6],
+        opts: &IkOptions,
+    ) {
+        let n = model.nv;
+        let rows = if opts.position_only { 3 } else { 6 };
+        let w2 = opts.rotation_weight * opts.rotation_weight;
+        compute_joint_jacobians(model, &mut self.data, q);
+        frame_jacobian(
+            model,
+            &self.data,
+            link,
+            Expressed::WorldAligned,
+            &mut self.jac,
+        );
+        for i in 0..n {
+            let mut g = 0.0;
+            for r in 0..rows {
+                let w = if r < 3 { 1.0 } else { w2 };
+                g += self.jac[(r, i)] * w * e[r];
+            }
+            self.grad[i] = g;
+            for j in 0..=i {
+                let mut s = 0.0;
+                for r in 0..rows {
+                    let w = if r < 3 { 1.0 } else { w2 };
+                    s += self.jac[(r, i)] * w * self.jac[(r, j)];
+                }
+                self.normal[(i, j)] = s;
+                self.normal[(j, i)] = s;
+            }
+        }
+    }
+
+    /// The step `(N + λ I)⁻¹ g` into `step`; `false` when the damped matrix is not
+    /// positive definite.
+    fn damped_step(&mut self, lambda: f64) -> bool {
+        self.step.copy_from_slice(&self.grad);
+        self.chol.copy_from(&self.normal);
+        for i in 0..self.step.len() {
+            self.chol[(i, i)] += lambda;
+        }
+        let ok = cholesky_in_place(&mut self.chol).is_ok();
+        if ok {
+            cholesky_solve_in_place(&self.chol, &mut self.step);
+        }
+        ok
+    }
+}
+
+/// Where one descent ended: the cost, position and rotation errors, and whether it
+/// stalled before converging.
+struct Descent {
+    cost: f64,
+    ep: f64,
+    er: f64,
+    stalled: bool,
 }
 
 /// Solves many targets in parallel (rayon), one solver per worker; target `i` uses seed

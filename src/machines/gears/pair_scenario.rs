@@ -101,6 +101,35 @@ pub fn parse(file: &str, text: &str) -> Result<PairScenario, ScenarioError> {
     })
 }
 
+/// Errors at `pair[i]`, located at its table.
+struct At<'c> {
+    cx: &'c Ctx<'c>,
+    span: std::ops::Range<usize>,
+    i: usize,
+}
+
+impl At<'_> {
+    fn err(&self, field: &str, msg: String) -> ScenarioError {
+        self.cx.field(
+            self.span.clone(),
+            field,
+            format!("pair[{}].{field}", self.i),
+            msg,
+        )
+    }
+}
+
+/// What every pair type shares: the module, pressure angle (degrees and radians),
+/// addendum and clearance factors (each with the file's default), and profile points.
+struct Common {
+    module: f64,
+    alpha_deg: f64,
+    alpha: f64,
+    ha: f64,
+    c: f64,
+    points: usize,
+}
+
 fn case(
     cx: &Ctx,
     f: &FileSpec,
@@ -108,109 +137,34 @@ fn case(
     s: &Spanned<PairTable>,
 ) -> Result<PairCase, ScenarioError> {
     let p = s.get_ref();
-    let err =
-        |field: &str, msg: String| cx.field(s.span(), field, format!("pair[{i}].{field}"), msg);
+    let at = At {
+        cx,
+        span: s.span(),
+        i,
+    };
     let kind = p.kind.clone().unwrap_or_else(|| "external".into());
     let label = p.label.clone().unwrap_or_else(|| format!("pair {}", i + 1));
-    let module = p
-        .module
-        .or(f.module)
-        .ok_or_else(|| err("module", "a module is needed (here or at the top)".into()))?;
-    if !in_range(module, 1e-6, 1e6) {
-        return Err(err(
-            "module",
-            format!("must be a positive module (mm), got {module}"),
-        ));
-    }
-    let alpha_deg = p
-        .pressure_angle_deg
-        .or(f.pressure_angle_deg)
-        .unwrap_or(20.0);
-    let alpha = alpha_deg.to_radians();
-    let ha = p.addendum.or(f.addendum).unwrap_or(1.0);
-    let c = p.clearance.or(f.clearance).unwrap_or(0.25);
+    let common = common(&at, f, p)?;
     let need = |key: &str, v: bool| -> Result<(), ScenarioError> {
         if v {
             Ok(())
         } else {
-            Err(err(key, format!("is not used by pairs of type '{kind}'")))
+            Err(at.err(key, format!("is not used by pairs of type '{kind}'")))
         }
-    };
-    let points = match p.profile_points {
-        None => 12,
-        Some(n) if (2..=1000).contains(&n) => n as usize,
-        Some(n) => return Err(err("profile_points", format!("expected 2 … 1000, got {n}"))),
     };
     need("ratio", p.ratio.is_none() || kind == "design")?;
     if kind == "design" {
         need("teeth", p.teeth.is_none())?;
-        let a = p.centre_distance.ok_or_else(|| {
-            err(
-                "centre_distance",
-                "missing: the design starts from the centre distance".into(),
-            )
-        })?;
-        let i = p
-            .ratio
-            .ok_or_else(|| err("ratio", "missing: the speed ratio z2/z1 ≥ 1".into()))?;
-        if !in_range(i, 1.0, 100.0) {
-            return Err(err("ratio", format!("must be in [1, 100], got {i}")));
-        }
-        if !in_range(a, 3.0 * module, 1e7) {
-            return Err(err(
-                "centre_distance",
-                "must be a positive distance of at least 3 modules (mm)".into(),
-            ));
-        }
-        if !in_range(alpha_deg, 5.0, 45.0) {
-            return Err(err(
-                "pressure_angle_deg",
-                "must be between 5° and 45°".into(),
-            ));
-        }
-        if super::design::design(a, module, alpha, i, ha, c).is_none() {
-            return Err(err(
-                "centre_distance",
-                "no pair fits: the standard centre distance of the tooth counts exceeds A".into(),
-            ));
-        }
+        let spatial = design_case(&at, p, &common)?;
         return Ok(PairCase {
             label,
             kind,
             spec: None,
-            spatial: Some(SpatialCase::Design {
-                a,
-                m: module,
-                alpha,
-                i,
-                ha,
-                c,
-            }),
-            points,
+            spatial: Some(spatial),
+            points: common.points,
         });
     }
-    let teeth: Vec<u32> = match &p.teeth {
-        Some(t) if t.iter().all(|z| (1..=100_000).contains(z)) => {
-            t.iter().map(|&z| z as u32).collect()
-        }
-        Some(_) => {
-            return Err(err(
-                "teeth",
-                "tooth counts must be whole numbers 1 … 100000".into(),
-            ))
-        }
-        None => return Err(err("teeth", "missing: teeth = [z1, z2]".into())),
-    };
-    let n_teeth = if kind == "rack" { 1 } else { 2 };
-    if teeth.len() != n_teeth {
-        return Err(err(
-            "teeth",
-            format!(
-                "a '{kind}' pair takes {n_teeth} tooth count{}",
-                if n_teeth == 1 { "" } else { "s" }
-            ),
-        ));
-    }
+    let teeth = tooth_counts(&at, p, &kind)?;
     let planar = matches!(kind.as_str(), "external" | "internal" | "rack");
     need(
         "helix_angles_deg",
@@ -233,112 +187,258 @@ fn case(
     )?;
     need("shift", p.shift.is_none() || planar)?;
     need("helix_angle_deg", p.helix_angle_deg.is_none() || planar)?;
-    let finite = |key: &str, v: Option<f64>| -> Result<(), ScenarioError> {
-        match v {
-            Some(x) if !x.is_finite() => Err(err(key, "not a finite number".into())),
-            _ => Ok(()),
-        }
-    };
     for (k, v) in [
         ("speed", p.speed),
         ("speed_rpm", p.speed_rpm),
         ("rack_withdrawal", p.rack_withdrawal),
     ] {
-        finite(k, v)?;
+        if v.is_some_and(|x| !x.is_finite()) {
+            return Err(at.err(k, "not a finite number".into()));
+        }
     }
     if planar {
-        let pk = match kind.as_str() {
-            "internal" => PairKind::Internal,
-            "rack" => PairKind::Rack,
-            _ => PairKind::External,
-        };
-        let z2 = if pk == PairKind::Rack { 0 } else { teeth[1] };
-        let shift = match &p.shift {
-            None => [0.0, 0.0],
-            Some(toml::Value::String(s)) if s == "no_undercut" => {
-                let zmin = super::pair::z_min_book(
-                    ha,
-                    alpha,
-                    p.helix_angle_deg.unwrap_or(0.0).to_radians(),
-                );
-                [
-                    (zmin - teeth[0] as f64) / zmin,
-                    if pk == PairKind::External {
-                        (zmin - z2 as f64) / zmin
-                    } else {
-                        0.0
-                    },
-                ]
-            }
-            Some(toml::Value::Array(a))
-                if a.len() == 2 || (pk == PairKind::Rack && a.len() == 1) =>
-            {
-                let mut x = [0.0; 2];
-                for (k, v) in a.iter().enumerate() {
-                    x[k] = v
-                        .as_float()
-                        .or(v.as_integer().map(|n| n as f64))
-                        .ok_or_else(|| err("shift", "expected numbers".into()))?;
-                }
-                x
-            }
-            Some(_) => {
-                return Err(err(
-                    "shift",
-                    "expected [x1, x2] ([x] for a rack) or \"no_undercut\"".into(),
-                ))
-            }
-        };
-        let mut helix = p.helix_angle_deg.unwrap_or(0.0).to_radians();
-        if p.find_helix_angle {
-            let a = p
-                .centre_distance
-                .ok_or_else(|| err("find_helix_angle", "needs a centre_distance".into()))?;
-            if pk != PairKind::External || p.helix_angle_deg.is_some() {
-                return Err(err(
-                    "find_helix_angle",
-                    "only for an external pair without helix_angle_deg".into(),
-                ));
-            }
-            let cosb = module * (teeth[0] + teeth[1]) as f64 / (2.0 * a);
-            if !(cosb > 0.0 && cosb <= 1.0) {
-                return Err(err(
-                    "centre_distance",
-                    format!("no helix angle fits: cos β = m (z1 + z2)/(2A) = {cosb:.4} > 1"),
-                ));
-            }
-            helix = cosb.acos();
-        }
-        let mut x = shift;
-        if pk == PairKind::Rack {
-            x[1] = p.rack_withdrawal.unwrap_or(0.0) / module;
-        }
-        let spec = PairSpec {
-            kind: pk,
-            module,
-            teeth: [teeth[0], z2],
-            pressure_angle: alpha,
-            addendum: ha,
-            clearance: c,
-            shift: x,
-            helix,
-            face_width: p.face_width,
-            centre_distance: if p.find_helix_angle {
-                None
-            } else {
-                p.centre_distance
-            },
-        };
-        validate(&spec).map_err(|(k, m)| err(k, m))?;
+        let spec = planar_spec(&at, p, &kind, &teeth, &common)?;
         return Ok(PairCase {
             label,
             kind,
             spec: Some(spec),
             spatial: None,
-            points,
+            points: common.points,
         });
     }
-    let spatial = match kind.as_str() {
+    let spatial = spatial_case(&at, p, &kind, &teeth, &common)?;
+    if !in_range(common.alpha_deg, 1.0, 45.0) {
+        return Err(at.err("pressure_angle_deg", "must be between 1° and 45°".into()));
+    }
+    Ok(PairCase {
+        label,
+        kind,
+        spec: None,
+        spatial: Some(spatial),
+        points: common.points,
+    })
+}
+
+/// The module (here or at the top), the pressure angle, addendum and clearance factors
+/// (defaults 20°, 1, 0.25) and the profile points (default 12).
+fn common(at: &At, f: &FileSpec, p: &PairTable) -> Result<Common, ScenarioError> {
+    let module = p
+        .module
+        .or(f.module)
+        .ok_or_else(|| at.err("module", "a module is needed (here or at the top)".into()))?;
+    if !in_range(module, 1e-6, 1e6) {
+        return Err(at.err(
+            "module",
+            format!("must be a positive module (mm), got {module}"),
+        ));
+    }
+    let alpha_deg = p
+        .pressure_angle_deg
+        .or(f.pressure_angle_deg)
+        .unwrap_or(20.0);
+    let points = match p.profile_points {
+        None => 12,
+        Some(n) if (2..=1000).contains(&n) => n as usize,
+        Some(n) => return Err(at.err("profile_points", format!("expected 2 … 1000, got {n}"))),
+    };
+    Ok(Common {
+        module,
+        alpha_deg,
+        alpha: alpha_deg.to_radians(),
+        ha: p.addendum.or(f.addendum).unwrap_or(1.0),
+        c: p.clearance.or(f.clearance).unwrap_or(0.25),
+        points,
+    })
+}
+
+/// A `design` pair: tooth counts chosen for a centre distance and a speed ratio.
+fn design_case(at: &At, p: &PairTable, cm: &Common) -> Result<SpatialCase, ScenarioError> {
+    let Common {
+        module,
+        alpha_deg,
+        alpha,
+        ha,
+        c,
+        ..
+    } = *cm;
+    let a = p.centre_distance.ok_or_else(|| {
+        at.err(
+            "centre_distance",
+            "missing: the design starts from the centre distance".into(),
+        )
+    })?;
+    let i = p
+        .ratio
+        .ok_or_else(|| at.err("ratio", "missing: the speed ratio z2/z1 ≥ 1".into()))?;
+    if !in_range(i, 1.0, 100.0) {
+        return Err(at.err("ratio", format!("must be in [1, 100], got {i}")));
+    }
+    if !in_range(a, 3.0 * module, 1e7) {
+        return Err(at.err(
+            "centre_distance",
+            "must be a positive distance of at least 3 modules (mm)".into(),
+        ));
+    }
+    if !in_range(alpha_deg, 5.0, 45.0) {
+        return Err(at.err("pressure_angle_deg", "must be between 5° and 45°".into()));
+    }
+    if super::design::design(a, module, alpha, i, ha, c).is_none() {
+        return Err(at.err(
+            "centre_distance",
+            "no pair fits: the standard centre distance of the tooth counts exceeds A".into(),
+        ));
+    }
+    Ok(SpatialCase::Design {
+        a,
+        m: module,
+        alpha,
+        i,
+        ha,
+        c,
+    })
+}
+
+/// The tooth counts: whole numbers 1 … 100000, one for a rack pinion, two otherwise.
+fn tooth_counts(at: &At, p: &PairTable, kind: &str) -> Result<Vec<u32>, ScenarioError> {
+    let teeth: Vec<u32> = match &p.teeth {
+        Some(t) if t.iter().all(|z| (1..=100_000).contains(z)) => {
+            t.iter().map(|&z| z as u32).collect()
+        }
+        Some(_) => {
+            return Err(at.err(
+                "teeth",
+                "tooth counts must be whole numbers 1 … 100000".into(),
+            ))
+        }
+        None => return Err(at.err("teeth", "missing: teeth = [z1, z2]".into())),
+    };
+    let n_teeth = if kind == "rack" { 1 } else { 2 };
+    if teeth.len() != n_teeth {
+        return Err(at.err(
+            "teeth",
+            format!(
+                "a '{kind}' pair takes {n_teeth} tooth count{}",
+                if n_teeth == 1 { "" } else { "s" }
+            ),
+        ));
+    }
+    Ok(teeth)
+}
+
+/// An external, internal or rack pair: profile shifts (given, or the least that avoids
+/// undercut), the helix angle (given, or found from the centre distance).
+fn planar_spec(
+    at: &At,
+    p: &PairTable,
+    kind: &str,
+    teeth: &[u32],
+    cm: &Common,
+) -> Result<PairSpec, ScenarioError> {
+    let Common {
+        module,
+        alpha,
+        ha,
+        c,
+        ..
+    } = *cm;
+    let pk = match kind {
+        "internal" => PairKind::Internal,
+        "rack" => PairKind::Rack,
+        _ => PairKind::External,
+    };
+    let z2 = if pk == PairKind::Rack { 0 } else { teeth[1] };
+    let shift = match &p.shift {
+        None => [0.0, 0.0],
+        Some(toml::Value::String(s)) if s == "no_undercut" => {
+            let zmin =
+                super::pair::z_min_book(ha, alpha, p.helix_angle_deg.unwrap_or(0.0).to_radians());
+            [
+                (zmin - teeth[0] as f64) / zmin,
+                if pk == PairKind::External {
+                    (zmin - z2 as f64) / zmin
+                } else {
+                    0.0
+                },
+            ]
+        }
+        Some(toml::Value::Array(a)) if a.len() == 2 || (pk == PairKind::Rack && a.len() == 1) => {
+            let mut x = [0.0; 2];
+            for (k, v) in a.iter().enumerate() {
+                x[k] = v
+                    .as_float()
+                    .or(v.as_integer().map(|n| n as f64))
+                    .ok_or_else(|| at.err("shift", "expected numbers".into()))?;
+            }
+            x
+        }
+        Some(_) => {
+            return Err(at.err(
+                "shift",
+                "expected [x1, x2] ([x] for a rack) or \"no_undercut\"".into(),
+            ))
+        }
+    };
+    let mut helix = p.helix_angle_deg.unwrap_or(0.0).to_radians();
+    if p.find_helix_angle {
+        let a = p
+            .centre_distance
+            .ok_or_else(|| at.err("find_helix_angle", "needs a centre_distance".into()))?;
+        if pk != PairKind::External || p.helix_angle_deg.is_some() {
+            return Err(at.err(
+                "find_helix_angle",
+                "only for an external pair without helix_angle_deg".into(),
+            ));
+        }
+        let cosb = module * (teeth[0] + teeth[1]) as f64 / (2.0 * a);
+        if !(cosb > 0.0 && cosb <= 1.0) {
+            return Err(at.err(
+                "centre_distance",
+                format!("no helix angle fits: cos β = m (z1 + z2)/(2A) = {cosb:.4} > 1"),
+            ));
+        }
+        helix = cosb.acos();
+    }
+    let mut x = shift;
+    if pk == PairKind::Rack {
+        x[1] = p.rack_withdrawal.unwrap_or(0.0) / module;
+    }
+    let spec = PairSpec {
+        kind: pk,
+        module,
+        teeth: [teeth[0], z2],
+        pressure_angle: alpha,
+        addendum: ha,
+        clearance: c,
+        shift: x,
+        helix,
+        face_width: p.face_width,
+        centre_distance: if p.find_helix_angle {
+            None
+        } else {
+            p.centre_distance
+        },
+    };
+    validate(&spec).map_err(|(k, m)| at.err(k, m))?;
+    Ok(spec)
+}
+
+/// A crossed helical, worm or bevel pair.
+fn spatial_case(
+    at: &At,
+    p: &PairTable,
+    kind: &str,
+    teeth: &[u32],
+    cm: &Common,
+) -> Result<SpatialCase, ScenarioError> {
+    let Common {
+        module,
+        alpha,
+        ha,
+        c,
+        ..
+    } = *cm;
+    let err = |field: &str, msg: String| at.err(field, msg);
+    let spatial = match kind {
         "crossed" => {
             let b = p.helix_angles_deg.ok_or_else(|| err("helix_angles_deg", "missing: [β1, β2] in degrees".into()))?;
             if b.iter().any(|x| !in_range(x.abs(), 0.0, 85.0)) {
@@ -372,17 +472,5 @@ fn case(
             ))
         }
     };
-    if !in_range(alpha_deg, 1.0, 45.0) {
-        return Err(err(
-            "pressure_angle_deg",
-            "must be between 1° and 45°".into(),
-        ));
-    }
-    Ok(PairCase {
-        label,
-        kind,
-        spec: None,
-        spatial: Some(spatial),
-        points,
-    })
+    Ok(spatial)
 }

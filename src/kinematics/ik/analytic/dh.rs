@@ -197,32 +197,8 @@ impl DhChain {
                 model.links.len()
             ));
         };
-        let mut bodies = Vec::new();
-        let mut b = l.body;
-        while b != WORLD {
-            bodies.push(b);
-            b = model.parent[b];
-        }
-        bodies.reverse();
+        let bodies = serial_bodies(model, l)?;
         let n = bodies.len();
-        if n == 0 {
-            return unsupported(format!("link '{}' is fixed to the world", l.name));
-        }
-        if n != model.nv {
-            return unsupported(format!(
-                "the chain to link '{}' has {n} joints but the model has {} coordinates: \
-                 analytic IK needs a serial chain made of all of them",
-                l.name, model.nv
-            ));
-        }
-        for (k, &b) in bodies.iter().enumerate() {
-            let name = &model.joints[model.body_joint[b]].name;
-            if model.q_index[b] != k || model.q_mult[b].abs() != 1.0 || model.q_offset[b] != 0.0 {
-                return unsupported(format!(
-                    "joint '{name}' is a mimic joint or out of coordinate order"
-                ));
-            }
-        }
         let mut data = Data::new(model);
         let zeros = vec![0.0; n];
         forward_kinematics(model, &mut data, &zeros);
@@ -255,90 +231,20 @@ impl DhChain {
         let mut o = vec![o0];
         let mut x: Vec<Vec3> = vec![Vec3::zeros()];
         let mut rows: Vec<DhRow> = Vec::with_capacity(n);
-        // A unit vector normal to `z`, from the world x (or y) axis.
-        let any_normal = |z: &Vec3| {
-            let mut v = Vec3::x() - z * z.x;
-            if v.norm() < 1e-6 {
-                v = Vec3::y() - z * z.y;
-            }
-            v.normalize()
-        };
         for j in 1..=n {
             let zp = u[j - 1];
             let op = o[j - 1];
             let xp = if j == 1 { None } else { Some(x[j - 1]) };
-            let (oj, xj, foot, zj);
-            if j < n {
-                zj = u[j];
+            let (oj, xj, foot, zj) = if j < n {
                 if !placed[j] {
                     p[j] = op;
                 }
-                let cr = zp.cross(&zj);
-                let sn = cr.norm();
-                if sn < PAR_TOL {
-                    let dv = p[j] - op;
-                    let perp = dv - zp * dv.dot(&zp);
-                    let dist = perp.norm();
-                    foot = op;
-                    if dist < DIST_TOL {
-                        oj = op;
-                        xj = xp.unwrap_or_else(|| any_normal(&zp));
-                    } else {
-                        oj = op + perp;
-                        let c = perp / dist;
-                        xj = match xp {
-                            Some(xp) if xp.dot(&c) < 0.0 => -c,
-                            _ => c,
-                        };
-                    }
-                } else {
-                    // Closest points P on L_{j-1} (through op) and Q on L_j.
-                    let w0 = op - p[j];
-                    let b = zp.dot(&zj);
-                    let dd = zp.dot(&w0);
-                    let e = zj.dot(&w0);
-                    let den = sn * sn;
-                    let s = (b * e - dd) / den;
-                    let t = (e - b * dd) / den;
-                    let pp = op + zp * s;
-                    let qq = p[j] + zj * t;
-                    let dvec = qq - pp;
-                    let dist = dvec.norm();
-                    let c = if dist < DIST_TOL {
-                        cr / sn
-                    } else {
-                        dvec / dist
-                    };
-                    let toward = xp.map(|xp| xp.dot(&c)).unwrap_or(0.0);
-                    xj = if toward < -ANGLE_SNAP || (toward <= ANGLE_SNAP && cr.dot(&c) < 0.0) {
-                        -c
-                    } else {
-                        c
-                    };
-                    foot = pp;
-                    oj = if dist < DIST_TOL { pp } else { qq };
-                }
+                let (oj, xj, foot) = common_normal(zp, op, xp, u[j], p[j]);
+                (oj, xj, foot, u[j])
             } else {
-                zj = zp;
-                let dv = tl.trans - op;
-                let along = dv.dot(&zp);
-                let perp = dv - zp * along;
-                let dist = perp.norm();
-                foot = op + zp * along;
-                if tool_on_axis || dist < DIST_TOL {
-                    oj = foot;
-                    let lx = column(&tl.rot, 0);
-                    let mut v = lx - zp * lx.dot(&zp);
-                    if v.norm() < 1e-6 {
-                        let ly = column(&tl.rot, 1);
-                        v = ly - zp * ly.dot(&zp);
-                    }
-                    xj = v.normalize();
-                } else {
-                    oj = tl.trans;
-                    xj = perp / dist;
-                }
-            }
+                let (oj, xj, foot) = last_frame(zp, op, &tl, tool_on_axis);
+                (oj, xj, foot, zp)
+            };
             if j == 1 {
                 x[0] = xj;
             }
@@ -419,4 +325,117 @@ fn snap_angle(v: f64) -> f64 {
         }
     }
     v
+}
+
+/// The bodies from the world to link `l`, which must be a serial chain of all of the
+/// model's coordinates, in order, without mimic joints.
+fn serial_bodies(model: &Model, l: &crate::model::Link) -> Result<Vec<usize>, IkError> {
+    let unsupported = |m: String| Err(IkError::Unsupported(m));
+    let mut bodies = Vec::new();
+    let mut b = l.body;
+    while b != WORLD {
+        bodies.push(b);
+        b = model.parent[b];
+    }
+    bodies.reverse();
+    let n = bodies.len();
+    if n == 0 {
+        return unsupported(format!("link '{}' is fixed to the world", l.name));
+    }
+    if n != model.nv {
+        return unsupported(format!(
+            "the chain to link '{}' has {n} joints but the model has {} coordinates: \
+             analytic IK needs a serial chain made of all of them",
+            l.name, model.nv
+        ));
+    }
+    for (k, &b) in bodies.iter().enumerate() {
+        let name = &model.joints[model.body_joint[b]].name;
+        if model.q_index[b] != k || model.q_mult[b].abs() != 1.0 || model.q_offset[b] != 0.0 {
+            return unsupported(format!(
+                "joint '{name}' is a mimic joint or out of coordinate order"
+            ));
+        }
+    }
+    Ok(bodies)
+}
+
+/// A unit vector normal to `z`, from the world x (or y) axis.
+fn any_normal(z: &Vec3) -> Vec3 {
+    let mut v = Vec3::x() - z * z.x;
+    if v.norm() < 1e-6 {
+        v = Vec3::y() - z * z.y;
+    }
+    v.normalize()
+}
+
+/// Frame `j` from axis `j − 1` (direction `zp` through `op`, previous x axis `xp`, `None`
+/// for the first) and axis `j` (`zj` through `pj`): the origin and x axis on the common
+/// normal (sign kept towards `xp`), and the foot of the normal on axis `j − 1`.
+fn common_normal(zp: Vec3, op: Vec3, xp: Option<Vec3>, zj: Vec3, pj: Vec3) -> (Vec3, Vec3, Vec3) {
+    let cr = zp.cross(&zj);
+    let sn = cr.norm();
+    if sn < PAR_TOL {
+        let dv = pj - op;
+        let perp = dv - zp * dv.dot(&zp);
+        let dist = perp.norm();
+        if dist < DIST_TOL {
+            (op, xp.unwrap_or_else(|| any_normal(&zp)), op)
+        } else {
+            let c = perp / dist;
+            let xj = match xp {
+                Some(xp) if xp.dot(&c) < 0.0 => -c,
+                _ => c,
+            };
+            (op + perp, xj, op)
+        }
+    } else {
+        // Closest points P on L_{j-1} (through op) and Q on L_j.
+        let w0 = op - pj;
+        let b = zp.dot(&zj);
+        let dd = zp.dot(&w0);
+        let e = zj.dot(&w0);
+        let den = sn * sn;
+        let s = (b * e - dd) / den;
+        let t = (e - b * dd) / den;
+        let pp = op + zp * s;
+        let qq = pj + zj * t;
+        let dvec = qq - pp;
+        let dist = dvec.norm();
+        let c = if dist < DIST_TOL {
+            cr / sn
+        } else {
+            dvec / dist
+        };
+        let toward = xp.map(|xp| xp.dot(&c)).unwrap_or(0.0);
+        let xj = if toward < -ANGLE_SNAP || (toward <= ANGLE_SNAP && cr.dot(&c) < 0.0) {
+            -c
+        } else {
+            c
+        };
+        let oj = if dist < DIST_TOL { pp } else { qq };
+        (oj, xj, pp)
+    }
+}
+
+/// The last frame `n` on the last axis (`zp` through `op`): at the foot of the target
+/// link's origin with its x axis projected (`tool_on_axis`, or the origin is on the axis),
+/// else at the link origin with x towards it. Returns the origin, x axis and foot.
+fn last_frame(zp: Vec3, op: Vec3, tl: &Se3, tool_on_axis: bool) -> (Vec3, Vec3, Vec3) {
+    let dv = tl.trans - op;
+    let along = dv.dot(&zp);
+    let perp = dv - zp * along;
+    let dist = perp.norm();
+    let foot = op + zp * along;
+    if tool_on_axis || dist < DIST_TOL {
+        let lx = column(&tl.rot, 0);
+        let mut v = lx - zp * lx.dot(&zp);
+        if v.norm() < 1e-6 {
+            let ly = column(&tl.rot, 1);
+            v = ly - zp * ly.dot(&zp);
+        }
+        (foot, v.normalize(), foot)
+    } else {
+        (tl.trans, perp / dist, foot)
+    }
 }

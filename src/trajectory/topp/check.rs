@@ -1,0 +1,201 @@
+//! The dense check of a TOPP solution with the exact dynamics (friction included):
+//! velocity, acceleration and torque sampled inside every interval, near-limit maxima
+//! refined by golden-section search, and the excess over each limit per interval.
+
+use crate::data::Data;
+use crate::dynamics::{inverse_dynamics, Effects};
+use crate::model::Model;
+use crate::trajectory::Path;
+
+/// Dense-check results: per interval and joint, the largest excess over each limit, and
+/// the largest ratio of each kind (velocity, acceleration, torque).
+pub(super) struct CheckReport {
+    pub(super) excess_v: Vec<f64>,
+    pub(super) excess_a: Vec<f64>,
+    pub(super) excess_t: Vec<f64>,
+    pub(super) ratio: [f64; 3],
+}
+
+/// Buffers of the dense check.
+pub(super) struct Checker {
+    data: Data,
+    q: Vec<f64>,
+    dq: Vec<f64>,
+    ddq: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    tau: Vec<f64>,
+    /// Sampled values of one interval: `(point, kind, joint)`.
+    vals: Vec<f64>,
+}
+
+/// Sampled maxima at or above this fraction of their limit are refined by a
+/// golden-section search between the neighbouring check points.
+const REFINE_FROM: f64 = 0.99;
+
+/// The motion on one interval: `s_i`, `Δs`, `b_i`, `a_i`.
+#[derive(Clone, Copy)]
+struct Interval {
+    s: f64,
+    ds: f64,
+    b: f64,
+    a: f64,
+}
+
+impl Checker {
+    pub(super) fn new(model: &Model, n: usize) -> Self {
+        Checker {
+            data: Data::new(model),
+            q: vec![0.0; n],
+            dq: vec![0.0; n],
+            ddq: vec![0.0; n],
+            qd: vec![0.0; n],
+            qdd: vec![0.0; n],
+            tau: vec![0.0; n],
+            vals: Vec::new(),
+        }
+    }
+
+    /// `q̇`, `q̈` (and `τ` when `torque`) at fraction `theta` of the interval.
+    #[allow(clippy::too_many_arguments)]
+    fn eval_at<P: Path>(
+        &mut self,
+        model: &Model,
+        effects: &Effects,
+        path: &P,
+        iv: Interval,
+        theta: f64,
+        torque: bool,
+    ) {
+        let bi = (iv.b + 2.0 * iv.a * theta * iv.ds).max(0.0);
+        let sd = bi.sqrt();
+        path.eval(
+            iv.s + theta * iv.ds,
+            &mut self.q,
+            &mut self.dq,
+            &mut self.ddq,
+        );
+        for j in 0..self.q.len() {
+            self.qd[j] = self.dq[j] * sd;
+            self.qdd[j] = self.dq[j] * iv.a + self.ddq[j] * bi;
+        }
+        if torque {
+            let tau =
+                inverse_dynamics(model, &mut self.data, effects, &self.q, &self.qd, &self.qdd);
+            self.tau.copy_from_slice(tau);
+        }
+    }
+
+    /// `|q̇_j|`, `|q̈_j|` or `|τ_j|` (kind 0, 1, 2) of the last evaluation.
+    fn value(&self, kind: usize, j: usize) -> f64 {
+        match kind {
+            0 => self.qd[j].abs(),
+            1 => self.qdd[j].abs(),
+            _ => self.tau[j].abs(),
+        }
+    }
+
+    /// Checks every interval at `k + 2` equally spaced points (ends included) and refines
+    /// the near-active maxima by golden-section search.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn check<P: Path>(
+        &mut self,
+        model: &Model,
+        effects: &Effects,
+        path: &P,
+        limits: &crate::trajectory::JointLimits,
+        s: &[f64],
+        b: &[f64],
+        a: &[f64],
+        k: usize,
+    ) -> CheckReport {
+        let n = self.q.len();
+        let nn = a.len();
+        let mut rep = CheckReport {
+            excess_v: vec![0.0; nn * n],
+            excess_a: vec![0.0; nn * n],
+            excess_t: vec![0.0; nn * n],
+            ratio: [0.0; 3],
+        };
+        let torque = limits.effort.iter().any(|e| e.is_finite());
+        let kinds = if torque { 3 } else { 2 };
+        let np = k + 2;
+        let mut vals = std::mem::take(&mut self.vals);
+        vals.resize(np * 3 * n, 0.0);
+        let theta = |p: usize| p as f64 / (np - 1) as f64;
+        for i in 0..nn {
+            let iv = Interval {
+                s: s[i],
+                ds: s[i + 1] - s[i],
+                b: b[i],
+                a: a[i],
+            };
+            for p in 0..np {
+                self.eval_at(model, effects, path, iv, theta(p), torque);
+                for kind in 0..kinds {
+                    for j in 0..n {
+                        vals[(p * 3 + kind) * n + j] = self.value(kind, j);
+                    }
+                }
+            }
+            for kind in 0..kinds {
+                for j in 0..n {
+                    let lim = match kind {
+                        0 => limits.velocity[j],
+                        1 => limits.acceleration[j],
+                        _ => limits.effort[j],
+                    };
+                    if !lim.is_finite() {
+                        continue;
+                    }
+                    let (mut pbest, mut best) = (0, f64::NEG_INFINITY);
+                    for p in 0..np {
+                        let v = vals[(p * 3 + kind) * n + j];
+                        if v > best {
+                            (pbest, best) = (p, v);
+                        }
+                    }
+                    if best >= REFINE_FROM * lim {
+                        // Golden-section search for the maximum between the neighbours.
+                        let (mut lo, mut hi) = (
+                            theta(pbest.saturating_sub(1)),
+                            theta((pbest + 1).min(np - 1)),
+                        );
+                        const R: f64 = 0.618_033_988_749_894_9;
+                        let mut x1 = hi - R * (hi - lo);
+                        let mut x2 = lo + R * (hi - lo);
+                        self.eval_at(model, effects, path, iv, x1, kind == 2);
+                        let mut f1 = self.value(kind, j);
+                        self.eval_at(model, effects, path, iv, x2, kind == 2);
+                        let mut f2 = self.value(kind, j);
+                        for _ in 0..40 {
+                            if f1 > f2 {
+                                hi = x2;
+                                (x2, f2) = (x1, f1);
+                                x1 = hi - R * (hi - lo);
+                                self.eval_at(model, effects, path, iv, x1, kind == 2);
+                                f1 = self.value(kind, j);
+                            } else {
+                                lo = x1;
+                                (x1, f1) = (x2, f2);
+                                x2 = lo + R * (hi - lo);
+                                self.eval_at(model, effects, path, iv, x2, kind == 2);
+                                f2 = self.value(kind, j);
+                            }
+                        }
+                        best = best.max(f1).max(f2);
+                    }
+                    let excess = match kind {
+                        0 => &mut rep.excess_v,
+                        1 => &mut rep.excess_a,
+                        _ => &mut rep.excess_t,
+                    };
+                    excess[i * n + j] = excess[i * n + j].max(best - lim);
+                    rep.ratio[kind] = rep.ratio[kind].max(best / lim);
+                }
+            }
+        }
+        self.vals = vals;
+        rep
+    }
+}
