@@ -82,6 +82,14 @@ fn kinematics_hot_paths_do_not_allocate() {
             kinematics::compute_joint_jacobians(&model, &mut data, &q);
             for ex in [Expressed::World, Expressed::Local, Expressed::WorldAligned] {
                 kinematics::frame_jacobian(&model, &data, tool, ex, &mut j);
+                kinematics::compute_frame_jacobian(
+                    &model,
+                    &mut data,
+                    &q,
+                    tool,
+                    ex,
+                    j.as_mut_slice(),
+                );
             }
             kinematics::compute_joint_jacobians_time_variation(&model, &mut data, &q, &qd);
             kinematics::frame_jacobian_time_variation(

@@ -117,6 +117,13 @@ pub(crate) fn joint_motion(kind: BodyKind, rate: f64) -> Motion {
 
 /// Updates the body placements `o_m_i` for configuration `q` (length `nv`).
 pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
+    forward_kinematics_prefix(model, data, q, model.nbodies());
+}
+
+/// Updates the placements `o_m_i` of bodies `0..end` only (parents come before their
+/// children, so `0..=b` holds the support of body `b`); later bodies keep their values.
+#[inline(always)]
+pub(crate) fn forward_kinematics_prefix(model: &Model, data: &mut Data, q: &[f64], end: usize) {
     assert_eq!(
         q.len(),
         model.nv,
@@ -127,7 +134,7 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
     // The previous body's pose stays in registers: in a chain the parent is the body just
     // computed, and reloading it from `o_m_i` would stall on store forwarding.
     let mut prev = Se3::identity();
-    for i in 0..model.nbodies() {
+    for i in 0..end.min(model.nbodies()) {
         let qi = body_q(model, q, i);
         let parent = model.parent[i];
         let cur = if parent == WORLD {
