@@ -137,3 +137,66 @@ fn generated_chain_and_mimic_tree_match_finite_differences() {
     assert!(gripper.has_mimic);
     check_model(&gripper, "mimic_gripper", 6);
 }
+
+/// `compute_frame_jacobian` (row-major, forward kinematics of the support only) gives
+/// the same bits as `compute_joint_jacobians` + `frame_jacobian`, starting from a
+/// workspace left at another configuration (a support body it skipped would be stale).
+fn check_frame_jacobian_in_one_call(model: &Model, name: &str) -> usize {
+    let mut rng = SmallRng::seed_from_u64(11);
+    let (mut full, mut one) = (Data::new(model), Data::new(model));
+    let mut row_major = vec![f64::NAN; 6 * model.nv];
+    let mut compared = 0;
+    for _ in 0..3 {
+        let (q, stale) = (model.random_q(&mut rng), model.random_q(&mut rng));
+        for link in 0..model.links.len() {
+            for ex in ALL {
+                let j = jacobian(model, &mut full, &q, link, ex);
+                kinematics::forward_kinematics(model, &mut one, &stale);
+                kinematics::compute_frame_jacobian(model, &mut one, &q, link, ex, &mut row_major);
+                for r in 0..6 {
+                    for k in 0..model.nv {
+                        assert_eq!(
+                            row_major[r * model.nv + k].to_bits(),
+                            j[(r, k)].to_bits(),
+                            "{name}: link '{}' {ex:?} J[{r},{k}]",
+                            model.links[link].name
+                        );
+                        compared += 1;
+                    }
+                }
+                let body = model.links[link].body;
+                if body != armsim::model::WORLD {
+                    let (a, b) = (
+                        kinematics::frame_placement(model, &full, link),
+                        kinematics::frame_placement(model, &one, link),
+                    );
+                    assert_eq!(
+                        (a.rot, a.trans),
+                        (b.rot, b.trans),
+                        "{name}: oMf of '{}'",
+                        model.links[link].name
+                    );
+                }
+            }
+        }
+    }
+    compared
+}
+
+#[test]
+fn compute_frame_jacobian_equals_joint_jacobians_then_frame_jacobian_bit_for_bit() {
+    for f in robot_files() {
+        let (model, _) = Model::load(&f).unwrap_or_else(|e| panic!("{e}"));
+        assert!(check_frame_jacobian_in_one_call(&model, &f.display().to_string()) > 0);
+    }
+    let (gripper, _) = Model::build(
+        armsim::model::urdf::parse(
+            include_str!("data/mimic_gripper.urdf"),
+            "mimic_gripper.urdf",
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    assert!(gripper.has_mimic);
+    assert!(check_frame_jacobian_in_one_call(&gripper, "mimic_gripper") > 0);
+}

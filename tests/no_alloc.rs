@@ -102,6 +102,7 @@ fn assert_kinematics_allocate_nothing(
         kinematics::compute_joint_jacobians(model, data, q);
         for ex in [Expressed::World, Expressed::Local, Expressed::WorldAligned] {
             kinematics::frame_jacobian(model, data, tool, ex, &mut j);
+            kinematics::compute_frame_jacobian(model, data, q, tool, ex, j.as_mut_slice());
         }
         kinematics::compute_joint_jacobians_time_variation(model, data, q, qd);
         kinematics::frame_jacobian_time_variation(

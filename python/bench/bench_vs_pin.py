@@ -2,11 +2,12 @@
 forward kinematics, frame Jacobian) and batch RNEA throughput (armsim.rnea_batch vs a
 Python loop over pin.rnea). Prints a Markdown table (BENCHMARKS.md, "From Python").
 
-    python python/bench/bench_vs_pin.py [--calls 20000] [--batch 20000]
+    python python/bench/bench_vs_pin.py [--calls 20000] [--rounds 11] [--batch 20000]
 
-Per-call figures: 11 rounds of `calls` calls, armsim and pin alternating round by round;
-the best ns per call of each side and the median of the per-round ratios (Python call
-overhead included on both sides; the same random state for both libraries).
+Per-call figures: `rounds` rounds of `calls` calls, armsim and pin alternating round by round;
+the median and best ns per call of each side, the median of the per-round ratios and the
+ratio of the bests (Python call overhead included on both sides; the same random state
+for both libraries).
 """
 
 from __future__ import annotations
@@ -28,14 +29,14 @@ ROBOTS = [("ur5", "ur5.urdf", "tool0"), ("panda", "panda.urdf", "panda_link8"),
 
 
 def paired(f_am, f_pin, calls: int, repeats: int = 11):
-    """Best time per call of each (ns) and the median of the per-round ratios: the two
-    sides alternate round by round, so both see the same machine load."""
+    """Median and best time per call of each side (ns) and the median of the per-round
+    ratios: the two sides alternate round by round, so both see the same machine load."""
     t_am, t_pin = [], []
     for _ in range(repeats):
         t_am.append(timeit.timeit(f_am, number=calls) / calls * 1e9)
         t_pin.append(timeit.timeit(f_pin, number=calls) / calls * 1e9)
     ratio = float(np.median(np.array(t_am) / np.array(t_pin)))
-    return min(t_am), min(t_pin), ratio
+    return (float(np.median(t_am)), min(t_am)), (float(np.median(t_pin)), min(t_pin)), ratio
 
 
 def pin_q(am_model, pm, q):
@@ -49,7 +50,7 @@ def pin_q(am_model, pm, q):
     return out
 
 
-def bench_robot(name, file, frame, calls, batch, rng):
+def bench_robot(name, file, frame, calls, rounds, batch, rng):
     path = str(ROOT / "robots" / file)
     m = am.Model.from_file(path, ignore_mimic=True)
     pm = pin.buildModelFromUrdf(path)
@@ -66,12 +67,12 @@ def bench_robot(name, file, frame, calls, batch, rng):
     ref = pin.ReferenceFrame.LOCAL
     rows = []
     rows.append(("rnea", *paired(lambda: am.rnea(m, d, q, v, a),
-                                 lambda: pin.rnea(pm, pd, pq, v, a), calls)))
+                                 lambda: pin.rnea(pm, pd, pq, v, a), calls, rounds)))
     rows.append(("forward_kinematics", *paired(lambda: am.forward_kinematics(m, d, q),
-                                               lambda: pin.forwardKinematics(pm, pd, pq), calls)))
+                                               lambda: pin.forwardKinematics(pm, pd, pq), calls, rounds)))
     rows.append(("frame_jacobian (local)",
                  *paired(lambda: am.frame_jacobian(m, d, q, fid, "local"),
-                         lambda: pin.computeFrameJacobian(pm, pd, pq, pf, ref), calls)))
+                         lambda: pin.computeFrameJacobian(pm, pd, pq, pf, ref), calls, rounds)))
     Q = np.ascontiguousarray(rng.uniform(lo, hi, size=(batch, m.nv)))
     V, A = rng.normal(size=(batch, m.nv)), rng.normal(size=(batch, m.nv))
     PQ = np.array([pin_q(m, pm, x) for x in Q])
@@ -88,20 +89,25 @@ def bench_robot(name, file, frame, calls, batch, rng):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--calls", type=int, default=20000)
+    ap.add_argument("--rounds", type=int, default=11)
     ap.add_argument("--batch", type=int, default=20000)
     args = ap.parse_args()
     rng = np.random.default_rng(0)
     print(f"armsim (Python, abi3 wheel) vs pin {pin.__version__}; Python {platform.python_version()}, "
-          f"{os.cpu_count()} CPUs, rayon threads = {os.environ.get('RAYON_NUM_THREADS', 'all')}\n")
-    print("| robot | nv | call | armsim ns (best) | pin ns (best) | best / best | median of paired rounds |")
+          f"{os.cpu_count()} CPUs, rayon threads = {os.environ.get('RAYON_NUM_THREADS', 'all')}; "
+          f"{args.rounds} rounds of {args.calls} calls; load average {os.getloadavg()[0]:.2f} at the start\n")
+    print("| robot | nv | call | armsim ns median (best) | pin ns median (best) "
+          "| median of paired ratios | best / best |")
     print("|---|---|---|---|---|---|---|")
     batches = []
     for name, file, frame in ROBOTS:
-        rname, nv, rows, thr = bench_robot(name, file, frame, args.calls, args.batch, rng)
+        rname, nv, rows, thr = bench_robot(name, file, frame, args.calls, args.rounds, args.batch, rng)
         for call, t_am, t_pin, ratio in rows:
-            print(f"| {rname} | {nv} | {call} | {t_am:.0f} | {t_pin:.0f} | {t_am / t_pin:.2f}× | {ratio:.2f}× |")
+            print(f"| {rname} | {nv} | {call} | {t_am[0]:.0f} ({t_am[1]:.0f}) | {t_pin[0]:.0f} "
+                  f"({t_pin[1]:.0f}) | {ratio:.2f}× | {t_am[1] / t_pin[1]:.2f}× |")
         batches.append((rname, nv, thr))
-    print(f"\n| robot | nv | am.rnea_batch (N = {args.batch}) states/s | Python loop over pin.rnea states/s | speed-up |")
+    print(f"\nload average {os.getloadavg()[0]:.2f} at the end\n")
+    print(f"| robot | nv | am.rnea_batch (N = {args.batch}) states/s | Python loop over pin.rnea states/s | speed-up |")
     print("|---|---|---|---|---|")
     for rname, nv, (t_am, t_pin) in batches:
         print(f"| {rname} | {nv} | {t_am:,.0f} | {t_pin:,.0f} | {t_am / t_pin:.1f}× |")

@@ -8,7 +8,7 @@ use crate::dyn_calls;
 use crate::errors::err;
 use crate::model::{PyData, PyModel};
 use armsim::kinematics;
-use numpy::{PyArray1, PyArray2};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
 /// Forward kinematics at `q`: every frame's placement is updated in `data`.
@@ -26,7 +26,9 @@ pub fn forward_kinematics(
 }
 
 /// The 6×nv Jacobian of `frame` at `q` (rows: linear x y z, angular x y z), in
-/// `reference` = "world_aligned" (LOCAL_WORLD_ALIGNED), "local" or "world".
+/// `reference` = "world_aligned" (LOCAL_WORLD_ALIGNED), "local" or "world". Like
+/// Pinocchio's `computeFrameJacobian`, it runs forward kinematics on the frame's support
+/// only: the placements of the bodies after the frame's body are left as they were.
 #[pyfunction]
 #[pyo3(signature = (model, data, q, frame, reference=None))]
 pub fn frame_jacobian<'py>(
@@ -45,10 +47,12 @@ pub fn frame_jacobian<'py>(
         Some(r) => args::expressed_obj(r)?,
         None => armsim::Expressed::WorldAligned,
     };
-    let PyData { data: d, jac, .. } = data;
-    kinematics::compute_joint_jacobians(m, d, q.slice());
-    kinematics::frame_jacobian(m, d, f, e, jac);
-    Ok(matrix_to_numpy(py, jac))
+    // SAFETY: a fresh C-ordered array, written in full (zeros, then the columns) before
+    // Python sees it.
+    let arr = unsafe { PyArray2::<f64>::new(py, [6, m.nv], false) };
+    let out = unsafe { arr.as_slice_mut() }.expect("fresh C-ordered array");
+    kinematics::compute_frame_jacobian(m, &mut data.data, q.slice(), f, e, out);
+    Ok(arr)
 }
 
 /// Inverse dynamics `τ = M(q) a + C(q, v) v + g(q)` with the model's gravity.

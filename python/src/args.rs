@@ -12,18 +12,17 @@ use pyo3::prelude::*;
 /// The in-place read skips numpy's borrow registry (it costs more than the small
 /// algorithms): the functions that take a `Vector` hold the GIL from reading to the end of
 /// the computation and never write into an argument, so no Rust borrow can alias it and
-/// Python code cannot run in between.
-pub enum Vector<'py> {
-    Array(Bound<'py, PyArray1<f64>>),
+/// Python code cannot run in between. The slice borrows the argument, which keeps the
+/// array alive.
+pub enum Vector<'a> {
+    Array(&'a [f64]),
     Owned(Vec<f64>),
 }
 
 impl Vector<'_> {
     pub fn slice(&self) -> &[f64] {
         match self {
-            // SAFETY: contiguous (checked at construction); see the type's comment for
-            // why nothing mutates the array while the slice lives.
-            Vector::Array(a) => unsafe { a.as_slice().expect("checked contiguous") },
+            Vector::Array(s) => s,
             Vector::Owned(v) => v,
         }
     }
@@ -35,9 +34,12 @@ fn first_bad(x: &[f64]) -> Option<usize> {
 }
 
 /// Reads `obj` as a vector of `n` finite values called `what`.
-pub fn vector<'py>(obj: &Bound<'py, PyAny>, what: &str, n: usize) -> PyResult<Vector<'py>> {
+pub fn vector<'a>(obj: &'a Bound<'_, PyAny>, what: &str, n: usize) -> PyResult<Vector<'a>> {
     let v = match obj.cast::<PyArray1<f64>>() {
-        Ok(a) if a.is_c_contiguous() => Vector::Array(a.clone()),
+        // SAFETY: contiguous (checked); read without the borrow registry, see `Vector`.
+        Ok(a) if a.is_c_contiguous() => {
+            Vector::Array(unsafe { a.as_slice() }.expect("checked contiguous"))
+        }
         Ok(a) => Vector::Owned(a.readonly().as_array().to_vec()),
         Err(_) => Vector::Owned(obj.extract::<Vec<f64>>().map_err(|_| {
             err(format!(

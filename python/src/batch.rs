@@ -3,12 +3,11 @@
 //! workspace per chunk of rows (nothing allocated per row except IK's answers).
 
 use crate::args::{self, rows};
-use crate::convert::{matrix_row_major, se3_from_4x4, se3_to_4x4};
+use crate::convert::{se3_from_4x4, se3_to_4x4};
 use crate::dyn_calls;
 use crate::errors::err;
 use crate::ik::{self, IkResult};
 use crate::model::PyModel;
-use armsim::nalgebra::DMatrix;
 use armsim::{kinematics, Data, FrameId, Model, Robot};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;
@@ -18,11 +17,11 @@ use rayon::prelude::*;
 /// Rows per rayon task (one `Data` each).
 const CHUNK: usize = 32;
 
-/// Runs `f(data, jac, row, out_row)` on every row in parallel; `out` has `width` values
+/// Runs `f(data, row, out_row)` on every row in parallel; `out` has `width` values
 /// per row.
 fn par_rows<F>(model: &Model, n: usize, width: usize, f: F) -> Result<Vec<f64>, String>
 where
-    F: Fn(&mut Data, &mut DMatrix<f64>, usize, &mut [f64]) -> Result<(), String> + Sync,
+    F: Fn(&mut Data, usize, &mut [f64]) -> Result<(), String> + Sync,
 {
     let mut out = vec![0.0; n * width];
     if width == 0 {
@@ -32,9 +31,8 @@ where
         .enumerate()
         .try_for_each(|(c, chunk)| {
             let mut d = Data::new(model);
-            let mut jac = DMatrix::zeros(6, model.nv);
             for (r, row) in chunk.chunks_mut(width).enumerate() {
-                f(&mut d, &mut jac, c * CHUNK + r, row)?;
+                f(&mut d, c * CHUNK + r, row)?;
             }
             Ok::<(), String>(())
         })?;
@@ -78,7 +76,7 @@ pub fn rnea_batch<'py>(
     let (qs, vs, as_) = (q.slice(), v.slice(), a.slice());
     let out = py
         .detach(|| {
-            par_rows(m, n, nv, |d, _, i, row| {
+            par_rows(m, n, nv, |d, i, row| {
                 let s = i * nv..(i + 1) * nv;
                 let t = dyn_calls::rnea(m, d, &qs[s.clone()], &vs[s.clone()], &as_[s]);
                 row.copy_from_slice(t);
@@ -105,7 +103,7 @@ pub fn aba_batch<'py>(
     let (qs, vs, ts) = (q.slice(), v.slice(), t.slice());
     let out = py
         .detach(|| {
-            par_rows(m, n, nv, |d, _, i, row| {
+            par_rows(m, n, nv, |d, i, row| {
                 let s = i * nv..(i + 1) * nv;
                 let ddq = dyn_calls::aba(m, d, &qs[s.clone()], &vs[s.clone()], &ts[s])
                     .map_err(|e| format!("row {i}: {e}"))?;
@@ -130,7 +128,7 @@ pub fn gravity_batch<'py>(
     let (n, qs) = (q.rows, q.slice());
     let out = py
         .detach(|| {
-            par_rows(m, n, nv, |d, _, i, row| {
+            par_rows(m, n, nv, |d, i, row| {
                 row.copy_from_slice(dyn_calls::gravity(m, d, &qs[i * nv..(i + 1) * nv]));
                 Ok(())
             })
@@ -154,7 +152,7 @@ pub fn fk_batch<'py>(
     let (n, qs) = (q.rows, q.slice());
     let out = py
         .detach(|| {
-            par_rows(m, n, 16, |d, _, i, row| {
+            par_rows(m, n, 16, |d, i, row| {
                 kinematics::forward_kinematics(m, d, &qs[i * nv..(i + 1) * nv]);
                 se3_to_4x4(&kinematics::frame_placement(m, d, f), row);
                 Ok(())
@@ -182,10 +180,8 @@ pub fn jacobian_batch<'py>(
     let (n, qs) = (q.rows, q.slice());
     let out = py
         .detach(|| {
-            par_rows(m, n, 6 * nv, |d, jac, i, row| {
-                kinematics::compute_joint_jacobians(m, d, &qs[i * nv..(i + 1) * nv]);
-                kinematics::frame_jacobian(m, d, f, e, jac);
-                matrix_row_major(jac, row);
+            par_rows(m, n, 6 * nv, |d, i, row| {
+                kinematics::compute_frame_jacobian(m, d, &qs[i * nv..(i + 1) * nv], f, e, row);
                 Ok(())
             })
         })

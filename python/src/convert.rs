@@ -43,10 +43,13 @@ pub fn check_pose(t: &[f64; 16]) -> Result<(), String> {
 
 /// Copies a column-major nalgebra matrix into a row-major slice.
 pub fn matrix_row_major(m: &armsim::nalgebra::DMatrix<f64>, out: &mut [f64]) {
-    let cols = m.ncols();
-    for r in 0..m.nrows() {
-        for c in 0..cols {
-            out[r * cols + c] = m[(r, c)];
+    let (rows, cols) = m.shape();
+    assert_eq!(out.len(), rows * cols, "output of {rows} × {cols}");
+    // Column by column over the contiguous storage (indexing `m[(r, c)]` checks both
+    // bounds on every element).
+    for (c, col) in m.as_slice().chunks_exact(rows.max(1)).enumerate() {
+        for (r, &x) in col.iter().enumerate() {
+            out[r * cols + c] = x;
         }
     }
 }

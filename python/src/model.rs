@@ -5,7 +5,6 @@ use crate::args;
 use crate::convert::se3_to_numpy;
 use crate::errors::{err, require_file};
 use armsim::model::LoadOptions;
-use armsim::nalgebra::DMatrix;
 use armsim::{kinematics, Data, Model, Vec3};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
@@ -199,14 +198,12 @@ impl PyModel {
 pub struct PyData {
     pub model: Arc<Model>,
     pub data: Data,
-    pub jac: DMatrix<f64>,
 }
 
 impl PyData {
     pub fn new(model: Arc<Model>) -> PyData {
         let data = Data::new(&model);
-        let jac = DMatrix::zeros(6, model.nv);
-        PyData { model, data, jac }
+        PyData { model, data }
     }
 
     /// Refuses a workspace whose sizes do not fit `model` (built for another robot); a

@@ -31,11 +31,18 @@ fn rotate_columns<const I: usize, const J: usize>(r: &Mat3, s: f64, c: f64) -> M
 }
 
 /// `(rot, trans) · J(q)` for the body's joint motion `J` (`Rx/Ry/Rz(q)` or
-/// `Tx/Ty/Tz(q)`), without a general matrix product.
+/// `Tx/Ty/Tz(q)`), without a general matrix product; `sin_cos()` gives `(sin q, cos q)`
+/// (called for revolute joints only).
 #[inline(always)]
-fn apply_joint(r: Mat3, trans: Vec3, kind: BodyKind, q: f64) -> Se3 {
+fn apply_joint(
+    r: Mat3,
+    trans: Vec3,
+    kind: BodyKind,
+    q: f64,
+    sin_cos: impl FnOnce() -> (f64, f64),
+) -> Se3 {
     let rot = |f: fn(&Mat3, f64, f64) -> Mat3| {
-        let (s, c) = crate::fastmath::sin_cos(q);
+        let (s, c) = sin_cos();
         Se3 {
             rot: f(&r, s, c),
             trans,
@@ -58,16 +65,18 @@ fn apply_joint(r: Mat3, trans: Vec3, kind: BodyKind, q: f64) -> Se3 {
 /// `placement · J(q)`: the joint placement relative to the parent body, `liMi`.
 #[inline(always)]
 pub fn joint_transform(placement: &Se3, kind: BodyKind, q: f64) -> Se3 {
-    apply_joint(placement.rot, placement.trans, kind, q)
+    apply_joint(placement.rot, placement.trans, kind, q, || {
+        crate::fastmath::sin_cos(q)
+    })
 }
 
 /// `oM_parent · placement_i · J_i(q)`, using the signed-permutation form of the placement
 /// rotation when there is one (a column shuffle instead of a 3×3 product).
 #[inline(always)]
-fn compose_body(model: &Model, i: usize, op: &Se3, q: f64) -> Se3 {
+fn compose_body(model: &Model, i: usize, op: &Se3, q: f64, sc: impl FnOnce() -> (f64, f64)) -> Se3 {
     let pl = &model.placement[i];
     if model.placement_identity[i] {
-        return apply_joint(op.rot, op.rot * pl.trans + op.trans, model.kind[i], q);
+        return apply_joint(op.rot, op.rot * pl.trans + op.trans, model.kind[i], q, sc);
     }
     let base = match &model.placement_perm[i] {
         Some(p) => {
@@ -89,7 +98,7 @@ fn compose_body(model: &Model, i: usize, op: &Se3, q: f64) -> Se3 {
         }
         None => op.rot * pl.rot,
     };
-    apply_joint(base, op.rot * pl.trans + op.trans, model.kind[i], q)
+    apply_joint(base, op.rot * pl.trans + op.trans, model.kind[i], q, sc)
 }
 
 /// Value of body `i`'s joint coordinate (mimic joints read their master).
@@ -115,8 +124,7 @@ pub(crate) fn joint_motion(kind: BodyKind, rate: f64) -> Motion {
     }
 }
 
-/// Updates the body placements `o_m_i` for configuration `q` (length `nv`).
-pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
+fn check_q(model: &Model, q: &[f64]) {
     assert_eq!(
         q.len(),
         model.nv,
@@ -124,20 +132,72 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
         q.len(),
         model.nv
     );
-    // The previous body's pose stays in registers: in a chain the parent is the body just
-    // computed, and reloading it from `o_m_i` would stall on store forwarding.
+}
+
+/// Body `i`'s placement `oMi` from its parent's (`prev` when the parent is body `i − 1`:
+/// in a chain the parent is the body just computed, and reloading it from `o_m_i` would
+/// stall on store forwarding) and `(sin, cos)` of its angle.
+#[inline(always)]
+fn body_placement(
+    model: &Model,
+    data: &Data,
+    i: usize,
+    prev: &Se3,
+    qi: f64,
+    sc: impl FnOnce() -> (f64, f64),
+) -> Se3 {
+    let parent = model.parent[i];
+    if parent == WORLD {
+        let pl = &model.placement[i];
+        apply_joint(pl.rot, pl.trans, model.kind[i], qi, sc)
+    } else if parent + 1 == i {
+        compose_body(model, i, prev, qi, sc)
+    } else {
+        let op = data.o_m_i[parent];
+        compose_body(model, i, &op, qi, sc)
+    }
+}
+
+/// Bodies per block of [`forward_kinematics`].
+const SIN_COS_BLOCK: usize = 16;
+
+/// Updates the body placements `o_m_i` for configuration `q` (length `nv`).
+///
+/// Block by block, the sines and cosines of the joint angles come first: they do not
+/// depend on one another, so the CPU overlaps them, where inside the chain of placements
+/// each one's latency would wait for the previous body (the same values, bit for bit;
+/// from Python, Panda FK 202 → 182 ns). [`forward_kinematics_prefix`] keeps the plain
+/// loop, which measured faster inside `compute_frame_jacobian`.
+pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
+    check_q(model, q);
+    let end = model.nbodies();
+    let mut sc = [(0.0, 1.0); SIN_COS_BLOCK];
     let mut prev = Se3::identity();
-    for i in 0..model.nbodies() {
+    for start in (0..end).step_by(SIN_COS_BLOCK) {
+        let block = start..(start + SIN_COS_BLOCK).min(end);
+        for (k, i) in block.clone().enumerate() {
+            if model.kind[i].is_revolute() {
+                sc[k] = crate::fastmath::sin_cos(body_q(model, q, i));
+            }
+        }
+        for (k, i) in block.enumerate() {
+            let cur = body_placement(model, data, i, &prev, body_q(model, q, i), || sc[k]);
+            data.o_m_i[i] = cur;
+            prev = cur;
+        }
+    }
+}
+
+/// Updates the placements `o_m_i` of bodies `0..end` only (parents come before their
+/// children, so `0..=b` holds the support of body `b`); later bodies keep their values.
+/// The same values as [`forward_kinematics`], bit for bit.
+#[inline(always)]
+pub(crate) fn forward_kinematics_prefix(model: &Model, data: &mut Data, q: &[f64], end: usize) {
+    check_q(model, q);
+    let mut prev = Se3::identity();
+    for i in 0..end.min(model.nbodies()) {
         let qi = body_q(model, q, i);
-        let parent = model.parent[i];
-        let cur = if parent == WORLD {
-            joint_transform(&model.placement[i], model.kind[i], qi)
-        } else if parent + 1 == i {
-            compose_body(model, i, &prev, qi)
-        } else {
-            let op = data.o_m_i[parent];
-            compose_body(model, i, &op, qi)
-        };
+        let cur = body_placement(model, data, i, &prev, qi, || crate::fastmath::sin_cos(qi));
         data.o_m_i[i] = cur;
         prev = cur;
     }

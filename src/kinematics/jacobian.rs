@@ -19,7 +19,7 @@
 //! `J_A = [J_W,v + J_W,ω × p; J_W,ω]`, `J̇_A = [J̇_W,v + J̇_W,ω × p + J_W,ω × ṗ; J̇_W,ω]`.
 //! Mimic joints add `multiplier ×` their column into their master's column.
 
-use super::fk::{body_rate, forward_kinematics};
+use super::fk::{body_rate, forward_kinematics, forward_kinematics_prefix};
 use crate::data::Data;
 use crate::model::{BodyKind, Model, WORLD};
 use crate::spatial::{column, Motion, Se3};
@@ -106,6 +106,36 @@ fn add_col(out: &mut DMatrix<f64>, k: usize, m: &Motion) {
     c[5] += m.w.z;
 }
 
+/// Calls `add(column, motion)` for every body supporting `link`, from the frame up to the
+/// root, with that body's column of the Jacobian in `expressed`; `s_world(i)` is body
+/// `i`'s world motion subspace. A mimic body reports its master's column (to be added).
+#[inline(always)]
+fn support_columns(
+    model: &Model,
+    data: &Data,
+    link: usize,
+    expressed: Expressed,
+    s_world: impl Fn(usize) -> Motion,
+    mut add: impl FnMut(usize, &Motion),
+) {
+    let body = model.links[link].body;
+    if body == WORLD {
+        return;
+    }
+    let o_m_f = data.o_m_i[body].mul(&model.links[link].offset);
+    let mut i = body;
+    while i != WORLD {
+        let s = s_world(i).scale(model.q_mult[i]);
+        let col = match expressed {
+            Expressed::World => s,
+            Expressed::Local => o_m_f.act_inv_motion(&s),
+            Expressed::WorldAligned => Motion::new(s.v + s.w.cross(&o_m_f.trans), s.w),
+        };
+        add(model.q_index[i], &col);
+        i = model.parent[i];
+    }
+}
+
 /// Jacobian of link `link` in `expressed` into `out` (6 × nv), from the data of
 /// [`compute_joint_jacobians`]. Allocates nothing.
 pub fn frame_jacobian(
@@ -116,23 +146,53 @@ pub fn frame_jacobian(
     out: &mut DMatrix<f64>,
 ) {
     check_out(model, out);
-    out.fill(0.0);
+    // On the contiguous storage: `DMatrix::fill` walks element by element.
+    out.as_mut_slice().fill(0.0);
+    support_columns(
+        model,
+        data,
+        link,
+        expressed,
+        |i| data.s_world[i],
+        |k, col| add_col(out, k, col),
+    );
+}
+
+/// Pinocchio's `computeFrameJacobian`: forward kinematics of the bodies up to `link`'s
+/// body (its support, plus in a tree the bodies numbered before it), then the Jacobian of
+/// `link` in `expressed` into `out`, **row-major** 6 × nv (a C-ordered numpy array).
+/// Equal bit for bit to [`compute_joint_jacobians`] + [`frame_jacobian`]; the placements
+/// of later bodies and `s_world` keep their values. Allocates nothing.
+pub fn compute_frame_jacobian(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    link: usize,
+    expressed: Expressed,
+    out: &mut [f64],
+) {
+    let nv = model.nv;
+    assert_eq!(out.len(), 6 * nv, "a Jacobian has 6 × nv values");
     let body = model.links[link].body;
-    if body == WORLD {
-        return;
-    }
-    let o_m_f = data.o_m_i[body].mul(&model.links[link].offset);
-    let mut i = body;
-    while i != WORLD {
-        let s = data.s_world[i].scale(model.q_mult[i]);
-        let col = match expressed {
-            Expressed::World => s,
-            Expressed::Local => o_m_f.act_inv_motion(&s),
-            Expressed::WorldAligned => Motion::new(s.v + s.w.cross(&o_m_f.trans), s.w),
-        };
-        add_col(out, model.q_index[i], &col);
-        i = model.parent[i];
-    }
+    let end = if body == WORLD { 0 } else { body + 1 };
+    forward_kinematics_prefix(model, data, q, end);
+    out.fill(0.0);
+    let o_m_i = &data.o_m_i;
+    support_columns(
+        model,
+        data,
+        link,
+        expressed,
+        |i| world_subspace(model.kind[i], &o_m_i[i]),
+        |k, m| {
+            for (r, x) in [m.v.x, m.v.y, m.v.z, m.w.x, m.w.y, m.w.z]
+                .into_iter()
+                .enumerate()
+            {
+                out[r * nv + k] += x;
+            }
+        },
+    );
 }
 
 /// Time derivative of [`frame_jacobian`] into `out`, from the data of
@@ -145,7 +205,7 @@ pub fn frame_jacobian_time_variation(
     out: &mut DMatrix<f64>,
 ) {
     check_out(model, out);
-    out.fill(0.0);
+    out.as_mut_slice().fill(0.0);
     let body = model.links[link].body;
     if body == WORLD {
         return;

@@ -13,7 +13,7 @@ pub use fk::{
     frame_classical_acceleration, frame_placement, frame_velocity, joint_transform, update_frames,
 };
 pub use jacobian::{
-    compute_joint_jacobians, compute_joint_jacobians_time_variation, frame_jacobian,
-    frame_jacobian_time_variation, Expressed,
+    compute_frame_jacobian, compute_joint_jacobians, compute_joint_jacobians_time_variation,
+    frame_jacobian, frame_jacobian_time_variation, Expressed,
 };
 pub use manipulability::{condition_number, manipulability};
