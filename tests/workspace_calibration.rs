@@ -8,7 +8,7 @@
 mod common;
 
 use armsim::data::Data;
-use armsim::kinematics::batch::{ToolChain, LANES};
+use armsim::kinematics::batch::{Isa, ToolChain, LANES};
 use armsim::kinematics::{forward_kinematics, frame_placement};
 use armsim::model::{dh, Model};
 use armsim::workspace::{sample_workspace, IntervalKind, Sampling, WorkspaceOptions};
@@ -268,7 +268,13 @@ fn throughput_batched_and_scalar_fk() {
         .num_threads(1)
         .build()
         .expect("pool");
-    for batched_fk in [false, true] {
+    let variants = [
+        (false, Isa::detected()),
+        (true, Isa::Baseline),
+        (true, Isa::Avx2),
+        (true, Isa::Avx512),
+    ];
+    for (batched_fk, isa) in variants.into_iter().filter(|v| v.1 <= Isa::detected()) {
         for sampling in [Sampling::Random, Sampling::Sobol] {
             let o = WorkspaceOptions {
                 samples: 1 << 23,
@@ -277,6 +283,7 @@ fn throughput_batched_and_scalar_fk() {
                 extras: false,
                 quiet: true,
                 batched_fk,
+                max_isa: Some(isa),
                 ..Default::default()
             };
             let mut per = Vec::new();
@@ -288,10 +295,73 @@ fn throughput_batched_and_scalar_fk() {
             }
             per.sort_by(f64::total_cmp);
             eprintln!(
-                "UR5 {sampling:?} {}: median {:.1} ns/sample CPU ({:.2} M tool positions/s/core), runs {per:.1?}",
+                "UR5 {sampling:?} {} {isa:?}: median {:.1} ns/sample CPU ({:.2} M tool positions/s/core), runs {per:.1?}",
                 if batched_fk { "batched FK" } else { "scalar FK" },
                 per[1],
                 1e3 / per[1]
+            );
+        }
+    }
+}
+
+/// The volume pass on every instruction set this CPU has (baseline SSE2, AVX2, AVX-512),
+/// with the batched and the scalar FK, on one thread and on two: bitwise the same result
+/// (the whole JSON but the time and the thread count), for a 3-D arm (UR5) and a planar
+/// one (2R), random and Sobol'.
+#[test]
+fn every_instruction_set_gives_bitwise_identical_estimates() {
+    let best = Isa::detected();
+    let isas: Vec<Isa> = [Isa::Baseline, Isa::Avx2, Isa::Avx512]
+        .into_iter()
+        .filter(|&i| i <= best)
+        .collect();
+    let fingerprint = |r: &armsim::workspace::WorkspaceResult| {
+        let mut v = serde_json::to_value(r).expect("serializes");
+        let o = v.as_object_mut().expect("object");
+        o.remove("time_s");
+        o.remove("threads");
+        v.to_string()
+    };
+    for (model, voxel) in [
+        (common::load("robots/ur5.urdf"), 0.05),
+        (planar_2r_lengths(0.5, 0.3), 0.02),
+    ] {
+        for sampling in [Sampling::Random, Sampling::Sobol] {
+            let run = |isa: Isa, batched_fk: bool, threads: usize| {
+                let o = WorkspaceOptions {
+                    samples: 1 << 17,
+                    replicates: 3,
+                    sampling,
+                    seed: 5,
+                    voxel,
+                    extras: false,
+                    quiet: true,
+                    batched_fk,
+                    max_isa: Some(isa),
+                    ..Default::default()
+                };
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .expect("pool");
+                pool.install(|| sample_workspace(&model, &o).expect("runs"))
+            };
+            let reference = run(Isa::Baseline, false, 1);
+            assert!(reference.occupied_voxels > 100);
+            let want = fingerprint(&reference);
+            for &isa in &isas {
+                for (batched, threads) in [(true, 1), (true, 2), (false, 2)] {
+                    let got = fingerprint(&run(isa, batched, threads));
+                    assert!(
+                        got == want,
+                        "{} {sampling:?} {isa:?} batched {batched} threads {threads}",
+                        model.name
+                    );
+                }
+            }
+            eprintln!(
+                "{} {sampling:?}: {} voxels, identical on {isas:?}",
+                model.name, reference.occupied_voxels
             );
         }
     }

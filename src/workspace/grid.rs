@@ -14,6 +14,7 @@
 //! Layout: rows along x padded to a multiple of 64 cells (one row is `wpr` whole words),
 //! then y, then z. Padding and the two-cell margin around the bound are always empty.
 
+use crate::kinematics::batch::{Lanes, LANES};
 use crate::spatial::Vec3;
 
 /// Largest grid, in cells (one bit each: 64 MiB per bitset; the volume pass keeps seven
@@ -207,6 +208,37 @@ impl Grid {
     #[inline(always)]
     pub fn locate(&self, c: &[f64; 3]) -> Option<usize> {
         self.locate_local(c).map(|l| self.index(l))
+    }
+
+    /// Bit indices of the cells containing eight points in grid coordinates
+    /// (`c[axis][lane]`; the third ignored for a planar grid), `u32::MAX` for a point
+    /// outside the grid: [`Self::locate`]'s arithmetic, lane by lane (SIMD).
+    #[inline(always)]
+    pub fn locate_lanes(&self, c: &[Lanes; 3]) -> [u32; LANES] {
+        let planar = self.plane.is_some();
+        let [nx, ny, nz] = self.n.map(|v| v as f64);
+        let row = (self.wpr << 6) as u32;
+        let ny_u = self.n[1] as u32;
+        let mut out = [0u32; LANES];
+        for (l, o) in out.iter_mut().enumerate() {
+            let fx = (c[0][l] + self.shift[0]) * self.inv_h - self.i0f[0];
+            let fy = (c[1][l] + self.shift[1]) * self.inv_h - self.i0f[1];
+            let fz = if planar {
+                0.0
+            } else {
+                (c[2][l] + self.shift[2]) * self.inv_h - self.i0f[2]
+            };
+            let inside =
+                (fx >= 0.0) & (fy >= 0.0) & (fz >= 0.0) & (fx < nx) & (fy < ny) & (fz < nz);
+            let cell = |f: f64| -> u32 {
+                let f = if inside { f } else { 0.0 };
+                // SAFETY: `0 ≤ f < n ≤ MAX_CELLS < 2^31` (NaN is not inside): in range.
+                unsafe { f.to_int_unchecked::<i32>() as u32 }
+            };
+            let i = (cell(fz) * ny_u + cell(fy)) * row + cell(fx);
+            *o = if inside { i } else { u32::MAX };
+        }
+        out
     }
 
     /// Local `(ix, iy, iz)` of bit index `i`.
@@ -431,8 +463,8 @@ impl Hits {
         }
     }
 
-    /// One more hit in cell `i`.
-    #[inline(always)]
+    /// One more hit in cell `i` (the reference for [`super::counts::Counts`]).
+    #[cfg(test)]
     pub fn hit(&mut self, i: usize) {
         let [a, b, c] = &mut self.at_least;
         if !Grid::set(a, i) && !Grid::set(b, i) {

@@ -7,10 +7,14 @@
 //!   stream is `mix64(key + (k + 1)·γ)`, as fast as `SmallRng` and free to seek;
 //! - Sobol': Gray-code stream started at any index, Owen-scrambled per replicate.
 //!
+//! Both also fill eight configurations at once, one per SIMD lane (`next_lanes`, the
+//! volume pass's hot loop), with the values of eight single draws.
+//!
 //! Replicate `r` of a run with seed `s` draws its random key or its scrambling seeds from
 //! `(s, r)` alone, so replicates are independent and reproducible.
 
-use super::sobol::Sobol;
+use super::sobol::{direction_numbers, laine_karras, MAX_DIMS};
+use crate::kinematics::batch::{Lanes, LANES};
 use crate::model::Model;
 
 /// SplitMix64's increment (the golden ratio in 64-bit fixed point).
@@ -54,6 +58,18 @@ impl JointBox {
 pub(crate) trait QStream {
     /// Writes the next configuration into `q`.
     fn next_q(&mut self, b: &JointBox, q: &mut [f64]);
+
+    /// Writes the next `m` configurations (1 to [`LANES`]) into lanes `0..m` of `q`
+    /// (`q[k][lane]`, one lane array per coordinate); the spare lanes repeat lane `m − 1`.
+    /// The same values as `m` calls of [`Self::next_q`]. `#[inline(always)]` in the
+    /// implementations, so that it compiles with the caller's instruction set.
+    fn next_lanes(&mut self, b: &JointBox, q: &mut [Lanes], m: usize);
+}
+
+/// `u ∈ [0, 1)` from a 64-bit random word: its 53 high bits, `/ 2^53`.
+#[inline(always)]
+fn unit_f64(r: u64) -> f64 {
+    (r >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0)
 }
 
 /// Counter-mode SplitMix64.
@@ -79,40 +95,220 @@ impl QStream for RandomStream {
         for ((q, &lo), &span) in q.iter_mut().zip(&b.lo).zip(&b.span) {
             self.counter = self.counter.wrapping_add(1);
             let r = mix64(self.key.wrapping_add(self.counter.wrapping_mul(GAMMA)));
-            let u = (r >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0);
-            *q = lo + u * span;
+            *q = lo + unit_f64(r) * span;
         }
+    }
+
+    /// Value `k` of sample `s` is word `counter + s·d + k + 1`: every lane and coordinate
+    /// is computed independently (SIMD over the lanes).
+    #[inline(always)]
+    fn next_lanes(&mut self, b: &JointBox, q: &mut [Lanes], m: usize) {
+        let d = q.len() as u64;
+        let base = self.counter;
+        let mut first = [0u64; LANES];
+        for (l, f) in first.iter_mut().enumerate() {
+            *f = base.wrapping_add((l.min(m - 1) as u64).wrapping_mul(d));
+        }
+        for (k, ((lanes, &lo), &span)) in q.iter_mut().zip(&b.lo).zip(&b.span).enumerate() {
+            for (v, &f) in lanes.iter_mut().zip(&first) {
+                let c = f.wrapping_add(k as u64 + 1);
+                let r = mix64(self.key.wrapping_add(c.wrapping_mul(GAMMA)));
+                *v = lo + unit_f64(r) * span;
+            }
+        }
+        self.counter = base.wrapping_add(m as u64 * d);
     }
 }
 
-/// Owen-scrambled Sobol'.
+/// Owen-scrambled Sobol' in Gray-code order, kept *bit-reversed*: the state is the
+/// reversal of the Sobol' digits (XOR commutes with the reversal, so it advances by the
+/// reversed direction numbers), and the scrambled output `rev(LK(rev(x)))`
+/// ([`super::sobol::owen_scramble`]) is then `rev(LK(state))`, one reversal per value.
+///
+/// Eight consecutive points from an index `8a` are `x(8a) ⊕ X_l`, `l = 0 … 7`, with `X_l`
+/// the XOR of the first three direction numbers over the bits of `gray(l)` (since
+/// `gray(8a + l) = gray(8a) ⊕ gray(l)`): a batch aligned on eight is one XOR per lane,
+/// in SIMD.
 pub(crate) struct SobolStream {
-    sobol: Sobol,
-    buf: [u32; super::sobol::MAX_DIMS],
+    /// Reversed digits of the current point (unused dimensions zero).
+    x: [u32; 32],
+    /// `v[k][j]`: reversed direction number `k` of dimension `j`.
+    v: [[u32; 32]; 32],
+    /// `lane[l][j]`: reversed `X_l` of dimension `j`.
+    lane: [[u32; 32]; LANES],
+    seeds: [u32; 32],
+    index: u64,
 }
 
 impl SobolStream {
     /// Stream of replicate `replicate` positioned at sample `start`.
     pub fn new(seed: u64, replicate: u64, dims: usize, start: u64) -> Self {
-        let seeds: Vec<u32> = (0..dims as u64)
-            .map(|j| derive_seed(seed, replicate, 1000 + j) as u32)
-            .collect();
+        assert!(
+            (1..=MAX_DIMS).contains(&dims),
+            "Sobol: 1 to {MAX_DIMS} dimensions"
+        );
+        assert!(start < 1 << 32, "Sobol: at most 2^32 points");
+        let mut v = [[0u32; 32]; 32];
+        let mut seeds = [0u32; 32];
+        for j in 0..dims {
+            for (k, &dn) in direction_numbers(j).iter().enumerate() {
+                v[k][j] = dn.reverse_bits();
+            }
+            seeds[j] = derive_seed(seed, replicate, 1000 + j as u64) as u32;
+        }
+        let xor_bits = |g: u64| {
+            let mut x = [0u32; 32];
+            for (k, vk) in v.iter().enumerate() {
+                if (g >> k) & 1 == 1 {
+                    for (a, b) in x.iter_mut().zip(vk) {
+                        *a ^= b;
+                    }
+                }
+            }
+            x
+        };
+        let lane = std::array::from_fn(|l| xor_bits(l as u64 ^ (l as u64 >> 1)));
         Self {
-            sobol: Sobol::scrambled(&seeds, start),
-            buf: [0; super::sobol::MAX_DIMS],
+            x: xor_bits(start ^ (start >> 1)),
+            v,
+            lane,
+            seeds,
+            index: start,
         }
     }
+
+    /// Moves to the next point (Gray code: flip direction number `tz(index + 1)`).
+    #[inline(always)]
+    fn step(&mut self) {
+        self.index += 1;
+        let k = (self.index.trailing_zeros() as usize).min(31);
+        for (x, v) in self.x.iter_mut().zip(&self.v[k]) {
+            *x ^= v;
+        }
+    }
+}
+
+/// The scrambled value of reversed digits `x` with `seed`, mapped into the sampling
+/// interval: the centre of the `2^-32` cell the digits select.
+#[inline(always)]
+fn sobol_q(x: u32, seed: u32, lo: f64, span: f64) -> f64 {
+    let y = laine_karras(x, seed).reverse_bits();
+    let u = (y as f64 + 0.5) * (1.0 / 4_294_967_296.0);
+    lo + u * span
 }
 
 impl QStream for SobolStream {
     #[inline(always)]
     fn next_q(&mut self, b: &JointBox, q: &mut [f64]) {
-        let d = q.len();
-        self.sobol.next_u32(&mut self.buf[..d]);
-        for (((q, &lo), &span), &x) in q.iter_mut().zip(&b.lo).zip(&b.span).zip(&self.buf) {
-            // The centre of the 2^-32 cell the scrambled digits select.
-            let u = (x as f64 + 0.5) * (1.0 / 4_294_967_296.0);
-            *q = lo + u * span;
+        assert!(self.index < 1 << 32, "Sobol: at most 2^32 points");
+        for (j, ((q, &lo), &span)) in q.iter_mut().zip(&b.lo).zip(&b.span).enumerate() {
+            *q = sobol_q(self.x[j], self.seeds[j], lo, span);
+        }
+        self.step();
+    }
+
+    #[inline(always)]
+    fn next_lanes(&mut self, b: &JointBox, q: &mut [Lanes], m: usize) {
+        assert!(
+            self.index + m as u64 <= 1 << 32,
+            "Sobol: at most 2^32 points"
+        );
+        let mut x = [[0u32; LANES]; 32];
+        if m == LANES && self.index % LANES as u64 == 0 {
+            for (j, xj) in x.iter_mut().enumerate().take(q.len()) {
+                for (l, v) in xj.iter_mut().enumerate() {
+                    *v = self.x[j] ^ self.lane[l][j];
+                }
+            }
+            // From point 8a to 8a + 8: X_7 (direction number 2), then the Gray step.
+            self.index += LANES as u64 - 1;
+            for (a, b) in self.x.iter_mut().zip(&self.v[2]) {
+                *a ^= b;
+            }
+            self.step();
+        } else {
+            for l in 0..m {
+                for (j, xj) in x.iter_mut().enumerate().take(q.len()) {
+                    xj[l] = self.x[j];
+                }
+                self.step();
+            }
+            for xj in x.iter_mut() {
+                let last = xj[m - 1];
+                xj[m..].fill(last);
+            }
+        }
+        for (j, (lanes, xj)) in q.iter_mut().zip(&x).enumerate() {
+            let (lo, span, seed) = (b.lo[j], b.span[j], self.seeds[j]);
+            for (v, &xl) in lanes.iter_mut().zip(xj) {
+                *v = sobol_q(xl, seed, lo, span);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::sobol::Sobol;
+    use super::*;
+
+    fn unit_box(d: usize) -> JointBox {
+        JointBox {
+            lo: (0..d).map(|k| -1.0 - k as f64).collect(),
+            span: (0..d).map(|k| 2.0 + k as f64).collect(),
+        }
+    }
+
+    /// `next_lanes` gives bitwise the values of single draws, for batches aligned on
+    /// eight and not, full and partial, from streams started anywhere.
+    fn lanes_match_single_draws<S: QStream>(make: impl Fn(u64) -> S, d: usize) {
+        let b = unit_box(d);
+        for start in [0u64, 3, 8, 1000, (1 << 20) - 5] {
+            let (mut single, mut lanes) = (make(start), make(start));
+            let mut q = vec![[0.0; LANES]; d];
+            let mut row = vec![0.0; d];
+            for m in [8usize, 8, 5, 8, 1, 8, 8, 3, 8] {
+                lanes.next_lanes(&b, &mut q, m);
+                for l in 0..LANES {
+                    if l < m {
+                        single.next_q(&b, &mut row);
+                    }
+                    for k in 0..d {
+                        assert_eq!(q[k][l].to_bits(), row[k].to_bits(), "start {start} m {m}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn batched_draws_match_single_draws() {
+        lanes_match_single_draws(|s| RandomStream::new(7, 2, 6, s), 6);
+        lanes_match_single_draws(|s| SobolStream::new(7, 2, 6, s), 6);
+        lanes_match_single_draws(|s| SobolStream::new(9, 0, 31, s), 31);
+    }
+
+    /// The bit-reversed Sobol' stream gives the owen-scrambled points of the reference
+    /// [`Sobol`] generator, mapped to the box.
+    #[test]
+    fn sobol_stream_is_the_scrambled_sequence() {
+        let d = 7;
+        let b = unit_box(d);
+        for start in [0u64, 5, 4096] {
+            let seeds: Vec<u32> = (0..d as u64)
+                .map(|j| derive_seed(11, 3, 1000 + j) as u32)
+                .collect();
+            let mut reference = Sobol::scrambled(&seeds, start);
+            let mut s = SobolStream::new(11, 3, d, start);
+            let (mut x, mut q) = (vec![0u32; d], vec![0.0; d]);
+            for _ in 0..100 {
+                reference.next_u32(&mut x);
+                s.next_q(&b, &mut q);
+                for k in 0..d {
+                    let u = (x[k] as f64 + 0.5) / 4_294_967_296.0;
+                    assert_eq!(q[k], b.lo[k] + u * b.span[k]);
+                }
+            }
         }
     }
 }

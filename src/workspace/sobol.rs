@@ -80,7 +80,7 @@ pub fn direction_numbers(dim: usize) -> [u32; 32] {
 /// depends only on input bits `0 ..= k` (adds and products by even constants only carry
 /// upwards).
 #[inline(always)]
-fn laine_karras(mut x: u32, seed: u32) -> u32 {
+pub(crate) fn laine_karras(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
     x ^= x.wrapping_mul(0x6c50_b47c);
     x ^= x.wrapping_mul(0xb82f_1e52);
