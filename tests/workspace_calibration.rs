@@ -257,6 +257,38 @@ fn cpu_seconds() -> Option<f64> {
     Some(ticks / 100.0)
 }
 
+/// CPU time of the batched FK alone (UR5 tool0), per instruction set.
+fn fk_only_throughput(model: &Model) {
+    let tool = model.link_id("tool0").expect("tool0");
+    let mut q = vec![[0.0; LANES]; model.nv];
+    for (k, lanes) in q.iter_mut().enumerate() {
+        for (l, v) in lanes.iter_mut().enumerate() {
+            *v = 0.1 * (k * LANES + l) as f64 - 2.0;
+        }
+    }
+    for isa in [Isa::Baseline, Isa::Avx2, Isa::Avx512] {
+        if isa > Isa::detected() {
+            continue;
+        }
+        let mut chain = ToolChain::new(model, tool).expect("moves");
+        chain.limit_isa(isa);
+        let batches = 1u64 << 21;
+        let mut out = [[0.0; LANES]; 3];
+        let mut sum = 0.0;
+        let t0 = cpu_seconds().expect("linux");
+        for _ in 0..batches {
+            q[0][0] += 1e-9;
+            chain.positions(std::hint::black_box(&q), &mut out);
+            sum += out[0][0];
+        }
+        let t1 = cpu_seconds().expect("linux");
+        eprintln!(
+            "UR5 batched FK alone {isa:?}: {:.1} ns/configuration ({sum:.3})",
+            (t1 - t0) / (batches * LANES as u64) as f64 * 1e9
+        );
+    }
+}
+
 /// Throughput of the volume pass on one core, UR5 at 2 cm, random and Sobol', batched
 /// and scalar FK, in process CPU time (the figures of `BENCHMARKS.md`) — run by hand:
 /// `cargo test --release --test workspace_calibration -- --ignored throughput --nocapture`.
@@ -274,6 +306,7 @@ fn throughput_batched_and_scalar_fk() {
         (true, Isa::Avx2),
         (true, Isa::Avx512),
     ];
+    fk_only_throughput(&model);
     for (batched_fk, isa) in variants.into_iter().filter(|v| v.1 <= Isa::detected()) {
         for sampling in [Sampling::Random, Sampling::Sobol] {
             let o = WorkspaceOptions {

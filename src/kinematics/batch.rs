@@ -65,11 +65,12 @@ impl Isa {
         Isa::Baseline
     }
 
-    /// The detected instruction set, at most `max` (to compare instruction sets, or to
-    /// reproduce a baseline run).
+    /// The detected instruction set, at most `max` — by default at most AVX2: on the
+    /// machine measured (AMD EPYC, Zen 5, under KVM) the 512-bit encodings of the lane
+    /// code are 10–25 % slower than the AVX2 ones (`BENCHMARKS.md`), so AVX-512 runs only
+    /// when asked for. To compare instruction sets, or to reproduce a baseline run.
     pub fn at_most(max: Option<Isa>) -> Isa {
-        let best = Isa::detected();
-        max.map_or(best, |m| best.min(m))
+        Isa::detected().min(max.unwrap_or(Isa::Avx2))
     }
 }
 
@@ -225,7 +226,7 @@ impl ToolChain {
             steps,
             offset: [o.x, o.y, o.z],
             nq: model.nv,
-            isa: Isa::detected(),
+            isa: Isa::at_most(None),
         };
         chain.skip_unused_rotations();
         Some(chain)
@@ -253,10 +254,10 @@ impl ToolChain {
         }
     }
 
-    /// The same chain whose [`Self::positions`] runs on at most `max` (to compare
-    /// instruction sets; every one gives bitwise the same positions).
+    /// Runs [`Self::positions`] on at most `max` (to compare instruction sets; every one
+    /// gives bitwise the same positions; `Isa::Avx512` opts in to AVX-512).
     pub fn limit_isa(&mut self, max: Isa) {
-        self.isa = self.isa.min(max);
+        self.isa = Isa::at_most(Some(max));
     }
 
     /// The instruction set [`Self::positions`] runs on.

@@ -75,7 +75,7 @@ impl Marks {
     /// Marks the tool points `p[axis][lane]` of lanes `0..n` (the spare lanes repeat
     /// lane `n − 1`, so they may join the box).
     #[inline(always)]
-    fn mark_lanes(&mut self, ctx: &Ctx, p: &[Lanes; 3], n: usize) {
+    fn mark_lanes<const AVX2: bool>(&mut self, ctx: &Ctx, p: &[Lanes; 3], n: usize) {
         for a in 0..3 {
             for l in 0..LANES {
                 self.lo[a][l] = self.lo[a][l].min(p[a][l]);
@@ -86,9 +86,14 @@ impl Marks {
             None => *p,
             Some(_) => self.plane_coords(ctx, p),
         };
-        let common = ctx.grid.locate_lanes(&c);
-        let est = ctx.est.locate_lanes(&c);
-        let own = self.grid.locate_lanes(&c);
+        // SAFETY: `AVX2` is set only in the entries compiled with AVX2 (see `advance`).
+        let (common, est, own) = unsafe {
+            (
+                ctx.grid.locate_lanes_with::<AVX2>(&c),
+                ctx.est.locate_lanes_with::<AVX2>(&c),
+                self.grid.locate_lanes_with::<AVX2>(&c),
+            )
+        };
         for l in 0..n {
             match common[l] {
                 u32::MAX => self.outside += 1,
@@ -130,16 +135,16 @@ pub(crate) fn advance(rep: &mut Replicate, ctx: &Ctx, to: u64, pb: &ProgressBar)
         Isa::Avx2 => return unsafe { advance_avx2(rep, ctx, to, pb) },
         Isa::Baseline => {}
     }
-    advance_lanes(rep, ctx, to, pb)
+    advance_lanes::<false>(rep, ctx, to, pb)
 }
 
-/// [`advance_lanes`] compiled for one instruction set.
+/// [`advance_lanes`] compiled for one instruction set (with the AVX2 intrinsics).
 macro_rules! isa_entry_point {
     ($features:literal, $name:ident) => {
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $features)]
         unsafe fn $name(rep: &mut Replicate, ctx: &Ctx, to: u64, pb: &ProgressBar) {
-            advance_lanes(rep, ctx, to, pb)
+            advance_lanes::<true>(rep, ctx, to, pb)
         }
     };
 }
@@ -147,23 +152,24 @@ macro_rules! isa_entry_point {
 isa_entry_point!("avx2,fma", advance_avx2);
 isa_entry_point!("avx2,fma,avx512f,avx512vl,avx512dq", advance_avx512);
 
-/// The loop, for the replicate's kind of stream.
+/// The loop, for the replicate's kind of stream; `AVX2`: the CPU has AVX2 and the caller
+/// is compiled for it.
 #[inline(always)]
-fn advance_lanes(rep: &mut Replicate, ctx: &Ctx, to: u64, pb: &ProgressBar) {
+fn advance_lanes<const AVX2: bool>(rep: &mut Replicate, ctx: &Ctx, to: u64, pb: &ProgressBar) {
     let Replicate {
         stream,
         done,
         marks,
     } = rep;
     match stream {
-        Stream::Random(s) => run(s, done, marks, ctx, to, pb),
-        Stream::Sobol(s) => run(s, done, marks, ctx, to, pb),
+        Stream::Random(s) => run::<_, AVX2>(s, done, marks, ctx, to, pb),
+        Stream::Sobol(s) => run::<_, AVX2>(s, done, marks, ctx, to, pb),
     }
 }
 
 /// Draws, places and marks samples `done .. to` of `stream`.
 #[inline(always)]
-fn run<S: QStream>(
+fn run<S: QStream, const AVX2: bool>(
     stream: &mut S,
     done: &mut u64,
     marks: &mut Marks,
@@ -185,7 +191,7 @@ fn run<S: QStream>(
                 .get_or_insert_with(|| ScalarFk::new(ctx))
                 .positions(ctx, &q, n, &mut out);
         }
-        marks.mark_lanes(ctx, &out, n);
+        marks.mark_lanes::<AVX2>(ctx, &out, n);
         *done += n as u64;
         since += n as u64;
         if since >= PROGRESS_BLOCK {

@@ -66,10 +66,22 @@ pub(crate) trait QStream {
     fn next_lanes(&mut self, b: &JointBox, q: &mut [Lanes], m: usize);
 }
 
-/// `u ∈ [0, 1)` from a 64-bit random word: its 53 high bits, `/ 2^53`.
+/// `x as f64` for `x < 2^52`, exactly, by integer operations and one exact subtraction
+/// (`2^52 + x` has `x` as its mantissa), which vectorise on every instruction set (the
+/// conversion instruction for 64-bit integers needs AVX-512 DQ).
+#[inline(always)]
+fn small_u64_to_f64(x: u64) -> f64 {
+    const TWO_52: f64 = 4_503_599_627_370_496.0;
+    f64::from_bits(x | TWO_52.to_bits()) - TWO_52
+}
+
+/// `u ∈ [0, 1)` from a 64-bit random word: its 53 high bits `v`, `/ 2^53` — `v` converted
+/// exactly as `2 ⌊v/2⌋ + (v mod 2)` (the same value as `v as f64`).
 #[inline(always)]
 fn unit_f64(r: u64) -> f64 {
-    (r >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0)
+    let v = r >> 11;
+    let f = small_u64_to_f64(v >> 1) * 2.0 + small_u64_to_f64(v & 1);
+    f * (1.0 / 9_007_199_254_740_992.0)
 }
 
 /// Counter-mode SplitMix64.
@@ -134,8 +146,8 @@ pub(crate) struct SobolStream {
     x: [u32; 32],
     /// `v[k][j]`: reversed direction number `k` of dimension `j`.
     v: [[u32; 32]; 32],
-    /// `lane[l][j]`: reversed `X_l` of dimension `j`.
-    lane: [[u32; 32]; LANES],
+    /// `lane[j][l]`: reversed `X_l` of dimension `j`.
+    lane: [[u32; LANES]; 32],
     seeds: [u32; 32],
     index: u64,
 }
@@ -167,7 +179,9 @@ impl SobolStream {
             }
             x
         };
-        let lane = std::array::from_fn(|l| xor_bits(l as u64 ^ (l as u64 >> 1)));
+        let by_lane: [[u32; 32]; LANES] =
+            std::array::from_fn(|l| xor_bits(l as u64 ^ (l as u64 >> 1)));
+        let lane = std::array::from_fn(|j| std::array::from_fn(|l| by_lane[l][j]));
         Self {
             x: xor_bits(start ^ (start >> 1)),
             v,
@@ -188,12 +202,23 @@ impl SobolStream {
     }
 }
 
+/// `x.reverse_bits()` by shifts and masks, which vectorise on every instruction set (the
+/// intrinsic is left scalar by some).
+#[inline(always)]
+fn reverse_bits(x: u32) -> u32 {
+    let x = ((x >> 1) & 0x5555_5555) | ((x & 0x5555_5555) << 1);
+    let x = ((x >> 2) & 0x3333_3333) | ((x & 0x3333_3333) << 2);
+    let x = ((x >> 4) & 0x0F0F_0F0F) | ((x & 0x0F0F_0F0F) << 4);
+    let x = ((x >> 8) & 0x00FF_00FF) | ((x & 0x00FF_00FF) << 8);
+    x.rotate_left(16)
+}
+
 /// The scrambled value of reversed digits `x` with `seed`, mapped into the sampling
 /// interval: the centre of the `2^-32` cell the digits select.
 #[inline(always)]
 fn sobol_q(x: u32, seed: u32, lo: f64, span: f64) -> f64 {
-    let y = laine_karras(x, seed).reverse_bits();
-    let u = (y as f64 + 0.5) * (1.0 / 4_294_967_296.0);
+    let y = reverse_bits(laine_karras(x, seed));
+    let u = (small_u64_to_f64(y as u64) + 0.5) * (1.0 / 4_294_967_296.0);
     lo + u * span
 }
 
@@ -217,7 +242,7 @@ impl QStream for SobolStream {
         if m == LANES && self.index % LANES as u64 == 0 {
             for (j, xj) in x.iter_mut().enumerate().take(q.len()) {
                 for (l, v) in xj.iter_mut().enumerate() {
-                    *v = self.x[j] ^ self.lane[l][j];
+                    *v = self.x[j] ^ self.lane[j][l];
                 }
             }
             // From point 8a to 8a + 8: X_7 (direction number 2), then the Gray step.
@@ -278,6 +303,30 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    #[test]
+    fn exact_conversions_are_the_casts() {
+        let mut r = 0x0123_4567_89AB_CDEFu64;
+        for _ in 0..10_000 {
+            let v = r >> 11;
+            assert_eq!(unit_f64(r), v as f64 * (1.0 / 9_007_199_254_740_992.0));
+            assert_eq!(small_u64_to_f64(r >> 32), (r >> 32) as f64);
+            r = mix64(r);
+        }
+        for x in [0u64, 1, (1 << 53) - 1, 1 << 52, (1 << 52) + 1] {
+            let f = small_u64_to_f64(x >> 1) * 2.0 + small_u64_to_f64(x & 1);
+            assert_eq!(f, x as f64);
+        }
+    }
+
+    #[test]
+    fn reverse_bits_by_masks_is_the_intrinsic() {
+        let mut x = 0x1234_5678u32;
+        for _ in 0..1000 {
+            assert_eq!(reverse_bits(x), x.reverse_bits());
+            x = x.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15);
         }
     }
 
