@@ -183,7 +183,8 @@ fn run<S: QStream, const AVX2: bool>(
     let mut since = 0u64;
     while *done < to {
         let n = (to - *done).min(LANES as u64) as usize;
-        stream.next_lanes(&ctx.jb, &mut q, n);
+        // SAFETY: `AVX2` only in the entries compiled with AVX2 (see `advance`).
+        unsafe { stream.next_lanes::<AVX2>(&ctx.jb, &mut q, n) };
         if ctx.batched && lanes_in_range(&q) {
             ctx.chain.positions_lanes(&q, &mut out);
         } else {
