@@ -65,12 +65,11 @@ impl Isa {
         Isa::Baseline
     }
 
-    /// The detected instruction set, at most `max` — by default at most AVX2: on the
-    /// machine measured (AMD EPYC, Zen 5, under KVM) the 512-bit encodings of the lane
-    /// code are 10–25 % slower than the AVX2 ones (`BENCHMARKS.md`), so AVX-512 runs only
-    /// when asked for. To compare instruction sets, or to reproduce a baseline run.
+    /// The detected instruction set, at most `max` (to compare instruction sets, or to
+    /// reproduce a baseline run).
     pub fn at_most(max: Option<Isa>) -> Isa {
-        Isa::detected().min(max.unwrap_or(Isa::Avx2))
+        let best = Isa::detected();
+        max.map_or(best, |m| best.min(m))
     }
 }
 
@@ -255,7 +254,7 @@ impl ToolChain {
     }
 
     /// Runs [`Self::positions`] on at most `max` (to compare instruction sets; every one
-    /// gives bitwise the same positions; `Isa::Avx512` opts in to AVX-512).
+    /// gives bitwise the same positions).
     pub fn limit_isa(&mut self, max: Isa) {
         self.isa = Isa::at_most(Some(max));
     }
@@ -417,6 +416,14 @@ fn slide(pose: &mut Pose8, k: usize, q: &Lanes) {
 /// Whether every lane's joint value is in the range of the branch-free `sin_cos`
 /// (`|x| ≤ 1e5`; checked on the coordinates with a margin for gear ratios and offsets),
 /// and finite; the caller falls back to the scalar FK otherwise.
+#[inline(always)]
 pub fn lanes_in_range(q: &[Lanes]) -> bool {
-    q.iter().all(|v| v.iter().all(|x| x.abs() <= 1e4))
+    // No early exit: a straight line of compares (SIMD); NaN fails.
+    let mut ok = true;
+    for v in q {
+        for x in v {
+            ok &= x.abs() <= 1e4;
+        }
+    }
+    ok
 }

@@ -120,8 +120,8 @@ pub struct WorkspaceOptions {
     /// runs the scalar FK one configuration at a time (same results; for benchmarks).
     pub batched_fk: bool,
     /// Run the volume pass on at most this instruction set (default: the best the CPU
-    /// has up to AVX2; AVX-512 only when asked for, see [`Isa::at_most`]). Every
-    /// instruction set gives bitwise the same result; for tests and benchmarks.
+    /// has). Every instruction set gives bitwise the same result; for tests and
+    /// benchmarks.
     pub max_isa: Option<Isa>,
 }
 
