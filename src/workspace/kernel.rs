@@ -76,10 +76,10 @@ impl Marks {
     /// lane `n − 1`, so they may join the box).
     #[inline(always)]
     fn mark_lanes<const AVX2: bool>(&mut self, ctx: &Ctx, p: &[Lanes; 3], n: usize) {
-        for a in 0..3 {
-            for l in 0..LANES {
-                self.lo[a][l] = self.lo[a][l].min(p[a][l]);
-                self.hi[a][l] = self.hi[a][l].max(p[a][l]);
+        for ((lo, hi), pa) in self.lo.iter_mut().zip(&mut self.hi).zip(p) {
+            for ((a, b), &x) in lo.iter_mut().zip(hi.iter_mut()).zip(pa) {
+                *a = a.min(x);
+                *b = b.max(x);
             }
         }
         let c = match ctx.grid.plane {
@@ -163,7 +163,7 @@ fn advance_lanes<const AVX2: bool>(rep: &mut Replicate, ctx: &Ctx, to: u64, pb: 
     } = rep;
     match stream {
         Stream::Random(s) => run::<_, AVX2>(s, done, marks, ctx, to, pb),
-        Stream::Sobol(s) => run::<_, AVX2>(s, done, marks, ctx, to, pb),
+        Stream::Sobol(s) => run::<_, AVX2>(&mut **s, done, marks, ctx, to, pb),
     }
 }
 

@@ -243,7 +243,7 @@ impl QStream for SobolStream {
             "Sobol: at most 2^32 points"
         );
         let mut x = [[0u32; LANES]; 32];
-        if m == LANES && self.index % LANES as u64 == 0 {
+        if m == LANES && self.index.is_multiple_of(LANES as u64) {
             for (j, xj) in x.iter_mut().enumerate().take(q.len()) {
                 for (l, v) in xj.iter_mut().enumerate() {
                     *v = self.x[j] ^ self.lane[j][l];
@@ -364,10 +364,10 @@ mod tests {
                     if l < m {
                         single.next_q(&b, &mut row);
                     }
-                    for k in 0..d {
+                    for (lanes, v) in q.iter().zip(&row) {
                         assert_eq!(
-                            q[k][l].to_bits(),
-                            row[k].to_bits(),
+                            lanes[l].to_bits(),
+                            v.to_bits(),
                             "start {start} m {m} AVX2 {AVX2}"
                         );
                     }

@@ -74,10 +74,10 @@ pub(crate) fn shifted_grid(
         .expect("a shifted grid is no larger than the common one, give or take two cells")
 }
 
-/// A replicate's stream.
+/// A replicate's stream (the Sobol' one, 5 KiB of direction numbers, boxed).
 pub(super) enum Stream {
     Random(RandomStream),
-    Sobol(SobolStream),
+    Sobol(Box<SobolStream>),
 }
 
 /// One replicate between stages.
@@ -94,7 +94,7 @@ impl Replicate {
         let d = ctx.model.nv;
         let stream = match ctx.sampling {
             Sampling::Random => Stream::Random(RandomStream::new(ctx.seed, r as u64, d, 0)),
-            Sampling::Sobol => Stream::Sobol(SobolStream::new(ctx.seed, r as u64, d, 0)),
+            Sampling::Sobol => Stream::Sobol(Box::new(SobolStream::new(ctx.seed, r as u64, d, 0))),
         };
         let grid = shifted_grid(
             &ctx.grid,
