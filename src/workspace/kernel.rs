@@ -75,11 +75,12 @@ impl Marks {
     /// Marks the tool points `p[axis][lane]` of lanes `0..n` (the spare lanes repeat
     /// lane `n − 1`, so they may join the box).
     #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // the box: three lane arrays by axis and lane
     fn mark_lanes<const AVX2: bool>(&mut self, ctx: &Ctx, p: &[Lanes; 3], n: usize) {
-        for ((lo, hi), pa) in self.lo.iter_mut().zip(&mut self.hi).zip(p) {
-            for ((a, b), &x) in lo.iter_mut().zip(hi.iter_mut()).zip(pa) {
-                *a = a.min(x);
-                *b = b.max(x);
+        for a in 0..3 {
+            for l in 0..LANES {
+                self.lo[a][l] = self.lo[a][l].min(p[a][l]);
+                self.hi[a][l] = self.hi[a][l].max(p[a][l]);
             }
         }
         let c = match ctx.grid.plane {
