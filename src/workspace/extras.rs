@@ -266,6 +266,27 @@ fn chunk<S: QStream>(
     (out, kept)
 }
 
+/// The pass's fixed chunks, never across a replicate: `(replicate, start, length, points
+/// to keep)` covering the first `total` samples of replicates 0, 1, … (`per_rep` each),
+/// the first `keep` kept as points.
+fn chunks(total: u64, per_rep: u64, keep: u64) -> Vec<(u64, u64, u64, u64)> {
+    let mut jobs = Vec::new();
+    let mut g = 0u64;
+    'outer: for r in 0.. {
+        let mut s = 0;
+        while s < per_rep {
+            if g >= total {
+                break 'outer;
+            }
+            let len = CHUNK.min(per_rep - s).min(total - g);
+            jobs.push((r as u64, s, len, keep.saturating_sub(g).min(len)));
+            s += len;
+            g += len;
+        }
+    }
+    jobs
+}
+
 /// Runs the pass over `total` samples (`per_rep` per replicate), keeping the first
 /// `keep` as points; `union` and `boundary` are the pooled occupancy and its boundary
 /// cells; `threshold` distinct bins make a voxel dexterous.
@@ -281,21 +302,8 @@ pub(crate) fn run(
     threshold: usize,
     pb: &ProgressBar,
 ) -> Extras {
-    // Fixed chunks, never across a replicate.
-    let mut jobs = Vec::new();
-    let mut g = 0u64;
-    'outer: for r in 0.. {
-        let mut s = 0;
-        while s < per_rep {
-            if g >= total {
-                break 'outer;
-            }
-            let len = CHUNK.min(per_rep - s).min(total - g);
-            jobs.push((r as u64, s, len, keep.saturating_sub(g).min(len)));
-            s += len;
-            g += len;
-        }
-    }
+    let jobs = chunks(total, per_rep, keep);
+    let g: u64 = jobs.iter().map(|j| j.2).sum();
     let d = ctx.model.nv;
     let mut acc: HashMap<usize, Acc> = HashMap::new();
     let mut points = Vec::new();
