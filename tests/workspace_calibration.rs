@@ -8,7 +8,7 @@
 mod common;
 
 use armsim::data::Data;
-use armsim::kinematics::batch::{ToolChain, LANES};
+use armsim::kinematics::batch::{Isa, ToolChain, LANES};
 use armsim::kinematics::{forward_kinematics, frame_placement};
 use armsim::model::{dh, Model};
 use armsim::workspace::{sample_workspace, IntervalKind, Sampling, WorkspaceOptions};
@@ -257,6 +257,38 @@ fn cpu_seconds() -> Option<f64> {
     Some(ticks / 100.0)
 }
 
+/// CPU time of the batched FK alone (UR5 tool0), per instruction set.
+fn fk_only_throughput(model: &Model) {
+    let tool = model.link_id("tool0").expect("tool0");
+    let mut q = vec![[0.0; LANES]; model.nv];
+    for (k, lanes) in q.iter_mut().enumerate() {
+        for (l, v) in lanes.iter_mut().enumerate() {
+            *v = 0.1 * (k * LANES + l) as f64 - 2.0;
+        }
+    }
+    for isa in [Isa::Baseline, Isa::Avx2, Isa::Avx512] {
+        if isa > Isa::detected() {
+            continue;
+        }
+        let mut chain = ToolChain::new(model, tool).expect("moves");
+        chain.limit_isa(isa);
+        let batches = 1u64 << 21;
+        let mut out = [[0.0; LANES]; 3];
+        let mut sum = 0.0;
+        let t0 = cpu_seconds().expect("linux");
+        for _ in 0..batches {
+            q[0][0] += 1e-9;
+            chain.positions(std::hint::black_box(&q), &mut out);
+            sum += out[0][0];
+        }
+        let t1 = cpu_seconds().expect("linux");
+        eprintln!(
+            "UR5 batched FK alone {isa:?}: {:.1} ns/configuration ({sum:.3})",
+            (t1 - t0) / (batches * LANES as u64) as f64 * 1e9
+        );
+    }
+}
+
 /// Throughput of the volume pass on one core, UR5 at 2 cm, random and Sobol', batched
 /// and scalar FK, in process CPU time (the figures of `BENCHMARKS.md`) — run by hand:
 /// `cargo test --release --test workspace_calibration -- --ignored throughput --nocapture`.
@@ -268,7 +300,14 @@ fn throughput_batched_and_scalar_fk() {
         .num_threads(1)
         .build()
         .expect("pool");
-    for batched_fk in [false, true] {
+    let variants = [
+        (false, Isa::detected()),
+        (true, Isa::Baseline),
+        (true, Isa::Avx2),
+        (true, Isa::Avx512),
+    ];
+    fk_only_throughput(&model);
+    for (batched_fk, isa) in variants.into_iter().filter(|v| v.1 <= Isa::detected()) {
         for sampling in [Sampling::Random, Sampling::Sobol] {
             let o = WorkspaceOptions {
                 samples: 1 << 23,
@@ -277,6 +316,7 @@ fn throughput_batched_and_scalar_fk() {
                 extras: false,
                 quiet: true,
                 batched_fk,
+                max_isa: Some(isa),
                 ..Default::default()
             };
             let mut per = Vec::new();
@@ -288,10 +328,73 @@ fn throughput_batched_and_scalar_fk() {
             }
             per.sort_by(f64::total_cmp);
             eprintln!(
-                "UR5 {sampling:?} {}: median {:.1} ns/sample CPU ({:.2} M tool positions/s/core), runs {per:.1?}",
+                "UR5 {sampling:?} {} {isa:?}: median {:.1} ns/sample CPU ({:.2} M tool positions/s/core), runs {per:.1?}",
                 if batched_fk { "batched FK" } else { "scalar FK" },
                 per[1],
                 1e3 / per[1]
+            );
+        }
+    }
+}
+
+/// The volume pass on every instruction set this CPU has (baseline SSE2, AVX2, AVX-512),
+/// with the batched and the scalar FK, on one thread and on two: bitwise the same result
+/// (the whole JSON but the time and the thread count), for a 3-D arm (UR5) and a planar
+/// one (2R), random and Sobol'.
+#[test]
+fn every_instruction_set_gives_bitwise_identical_estimates() {
+    let best = Isa::detected();
+    let isas: Vec<Isa> = [Isa::Baseline, Isa::Avx2, Isa::Avx512]
+        .into_iter()
+        .filter(|&i| i <= best)
+        .collect();
+    let fingerprint = |r: &armsim::workspace::WorkspaceResult| {
+        let mut v = serde_json::to_value(r).expect("serializes");
+        let o = v.as_object_mut().expect("object");
+        o.remove("time_s");
+        o.remove("threads");
+        v.to_string()
+    };
+    for (model, voxel) in [
+        (common::load("robots/ur5.urdf"), 0.05),
+        (planar_2r_lengths(0.5, 0.3), 0.02),
+    ] {
+        for sampling in [Sampling::Random, Sampling::Sobol] {
+            let run = |isa: Isa, batched_fk: bool, threads: usize| {
+                let o = WorkspaceOptions {
+                    samples: 1 << 17,
+                    replicates: 3,
+                    sampling,
+                    seed: 5,
+                    voxel,
+                    extras: false,
+                    quiet: true,
+                    batched_fk,
+                    max_isa: Some(isa),
+                    ..Default::default()
+                };
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .expect("pool");
+                pool.install(|| sample_workspace(&model, &o).expect("runs"))
+            };
+            let reference = run(Isa::Baseline, false, 1);
+            assert!(reference.occupied_voxels > 100);
+            let want = fingerprint(&reference);
+            for &isa in &isas {
+                for (batched, threads) in [(true, 1), (true, 2), (false, 2)] {
+                    let got = fingerprint(&run(isa, batched, threads));
+                    assert!(
+                        got == want,
+                        "{} {sampling:?} {isa:?} batched {batched} threads {threads}",
+                        model.name
+                    );
+                }
+            }
+            eprintln!(
+                "{} {sampling:?}: {} voxels, identical on {isas:?}",
+                model.name, reference.occupied_voxels
             );
         }
     }

@@ -7,12 +7,18 @@
 //! `oMi = oM_parent · placement_i · J_i(q_i)`, the placement's rotation applied as a column
 //! shuffle when it is a signed permutation, the joint as a two-column rotation or a
 //! column shift, `sin`/`cos` by [`crate::fastmath::sin_cos`]'s branch-free algorithm per
-//! lane. Every lane loop is a straight line over `[f64; 8]`, which the compiler turns into
-//! two AVX2 registers (4 × f64 each) inside a `#[target_feature(enable = "avx2")]` entry
-//! chosen at run time, and into four SSE2 registers otherwise; the binary stays baseline
-//! x86-64. No fused multiply-add is used, so every lane performs the scalar code's
-//! operations in the scalar code's order: the positions agree with the scalar FK to
-//! rounding (tested to 1e-12 m).
+//! lane. Rotations that no later translation uses (after the last body whose origin or
+//! stroke moves the link origin, e.g. a wrist roll under a tool on its axis) are skipped.
+//!
+//! Every lane loop is a straight line over `[f64; 8]`, which the compiler turns into one
+//! AVX-512 register, two AVX2 registers or four SSE2 registers, depending on the
+//! instruction set [`Isa`] detected at run time (`#[target_feature]` entries; the binary
+//! stays baseline x86-64). [`ToolChain::positions_lanes`] is `#[inline(always)]` so that a
+//! caller's own `#[target_feature]` entry (the workspace sampler's) compiles it with its
+//! features. No fused multiply-add is written and Rust never contracts `a * b + c`, so
+//! every lane performs the scalar code's operations in the scalar code's order on every
+//! instruction set: the positions agree with the scalar FK to rounding (tested to 1e-12 m)
+//! and are bitwise the same on every [`Isa`].
 //!
 //! The planner's collision checker batches in `f32` lanes (`planning::simd`); a workspace
 //! volume needs the `f64` positions of the scalar FK, hence this separate kernel.
@@ -25,6 +31,47 @@ use crate::model::{BodyKind, Model, WORLD};
 
 /// Lanes per batch.
 pub const LANES: usize = 8;
+
+/// The instruction sets the lane code is compiled for, lowest first. Every one gives
+/// bitwise the same results.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Isa {
+    /// Baseline x86-64 (SSE2), or portable code elsewhere.
+    Baseline,
+    /// AVX2 + FMA (two 256-bit registers per eight `f64` lanes).
+    Avx2,
+    /// AVX-512 F, VL and DQ (one 512-bit register per eight `f64` lanes, 64-bit integer
+    /// products for the random streams).
+    Avx512,
+}
+
+impl Isa {
+    /// The best instruction set this CPU supports.
+    pub fn detected() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if is_x86_feature_detected!("avx512f")
+                && is_x86_feature_detected!("avx512vl")
+                && is_x86_feature_detected!("avx512dq")
+                && is_x86_feature_detected!("avx2")
+                && is_x86_feature_detected!("fma")
+            {
+                return Isa::Avx512;
+            }
+            if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") {
+                return Isa::Avx2;
+            }
+        }
+        Isa::Baseline
+    }
+
+    /// The detected instruction set, at most `max` (to compare instruction sets, or to
+    /// reproduce a baseline run).
+    pub fn at_most(max: Option<Isa>) -> Isa {
+        let best = Isa::detected();
+        max.map_or(best, |m| best.min(m))
+    }
+}
 
 /// Eight values, one per lane.
 pub type Lanes = [f64; LANES];
@@ -43,6 +90,12 @@ struct Step {
     trans: [f64; 3],
     /// The root body (its parent is the world).
     root: bool,
+    /// Whether the placement's rotation is applied (some later translation, the tool
+    /// offset or this body's prismatic stroke uses it).
+    place_rot: bool,
+    /// Whether the joint's rotation is applied (some later translation or the tool offset
+    /// uses the columns it turns).
+    joint_rot: bool,
 }
 
 /// The chain from the root to one link, for batched position FK.
@@ -52,7 +105,7 @@ pub struct ToolChain {
     /// The link's offset in its body frame (translation).
     offset: [f64; 3],
     nq: usize,
-    avx2: bool,
+    isa: Isa,
 }
 
 /// A pose per lane: rotation (row-major, 9 entries) and translation.
@@ -142,16 +195,53 @@ impl ToolChain {
                     },
                     trans: [pl.trans.x, pl.trans.y, pl.trans.z],
                     root,
+                    place_rot: true,
+                    joint_rot: true,
                 }
             })
             .collect();
         let o = l.offset.trans;
-        Some(ToolChain {
+        let mut chain = ToolChain {
             steps,
             offset: [o.x, o.y, o.z],
             nq: model.nv,
-            avx2: detect_avx2(),
-        })
+            isa: Isa::at_most(None),
+        };
+        chain.skip_unused_rotations();
+        Some(chain)
+    }
+
+    /// Clears the rotation flags of the trailing steps whose rotation no later
+    /// translation, prismatic stroke or tool offset uses: walking back from the link,
+    /// the rotation after a step is needed when the link's offset, or a later step's
+    /// translation or stroke, reads it. The last joint's rotation is also skipped when it
+    /// is revolute and the offset lies on its axis (the columns it turns are multiplied
+    /// by zeros; only the sign of a zero position could differ).
+    fn skip_unused_rotations(&mut self) {
+        let nonzero = |v: &[f64; 3]| v.iter().any(|&x| x != 0.0);
+        let mut needed_after = nonzero(&self.offset);
+        let last = self.steps.len() - 1;
+        for (i, st) in self.steps.iter_mut().enumerate().rev() {
+            let prismatic = !st.kind.is_revolute();
+            st.place_rot = needed_after || prismatic;
+            st.joint_rot = needed_after && !prismatic;
+            if i == last && st.joint_rot {
+                let (a, b) = turned_columns(st.kind);
+                st.joint_rot = self.offset[a] != 0.0 || self.offset[b] != 0.0;
+            }
+            needed_after |= nonzero(&st.trans) || prismatic;
+        }
+    }
+
+    /// Runs [`Self::positions`] on at most `max` (to compare instruction sets; every one
+    /// gives bitwise the same positions).
+    pub fn limit_isa(&mut self, max: Isa) {
+        self.isa = Isa::at_most(Some(max));
+    }
+
+    /// The instruction set [`Self::positions`] runs on.
+    pub fn isa(&self) -> Isa {
+        self.isa
     }
 
     /// Coordinates per configuration.
@@ -165,16 +255,19 @@ impl ToolChain {
     pub fn positions(&self, q: &[Lanes], out: &mut [Lanes; 3]) {
         assert_eq!(q.len(), self.nq, "one lane array per coordinate");
         #[cfg(target_arch = "x86_64")]
-        if self.avx2 {
-            // SAFETY: `avx2` is set only when the CPU reports AVX2.
-            unsafe { positions_avx2(self, q, out) };
-            return;
+        match self.isa {
+            // SAFETY: `isa` is at most what `Isa::detected` found on this CPU.
+            Isa::Avx512 => return unsafe { positions_avx512(self, q, out) },
+            Isa::Avx2 => return unsafe { positions_avx2(self, q, out) },
+            Isa::Baseline => {}
         }
-        self.positions_generic(q, out);
+        self.positions_lanes(q, out);
     }
 
+    /// [`Self::positions`] compiled with the caller's instruction set (inlined into it;
+    /// `q.len()` must be the model's `nv`).
     #[inline(always)]
-    fn positions_generic(&self, q: &[Lanes], out: &mut [Lanes; 3]) {
+    pub fn positions_lanes(&self, q: &[Lanes], out: &mut [Lanes; 3]) {
         let mut pose = Pose8 {
             r: [[0.0; LANES]; 9],
             t: [[0.0; LANES]; 3],
@@ -187,6 +280,10 @@ impl ToolChain {
             step(st, &mut pose, &qs);
         }
         let [ox, oy, oz] = self.offset;
+        if self.offset == [0.0; 3] {
+            *out = pose.t;
+            return;
+        }
         for (a, o) in out.iter_mut().enumerate() {
             for l in 0..LANES {
                 let r = &pose.r;
@@ -197,21 +294,26 @@ impl ToolChain {
     }
 }
 
-/// Runs `positions_generic` compiled for AVX2.
+/// Runs `positions_lanes` compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 unsafe fn positions_avx2(chain: &ToolChain, q: &[Lanes], out: &mut [Lanes; 3]) {
-    chain.positions_generic(q, out)
+    chain.positions_lanes(q, out)
 }
 
-fn detect_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
+/// Runs `positions_lanes` compiled for AVX-512.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl,avx512dq")]
+unsafe fn positions_avx512(chain: &ToolChain, q: &[Lanes], out: &mut [Lanes; 3]) {
+    chain.positions_lanes(q, out)
+}
+
+/// The two columns a revolute joint's rotation turns (see [`rotate`]).
+fn turned_columns(kind: BodyKind) -> (usize, usize) {
+    match kind {
+        BodyKind::RevoluteX => (1, 2),
+        BodyKind::RevoluteY => (2, 0),
+        _ => (0, 1),
     }
 }
 
@@ -233,7 +335,9 @@ fn step(st: &Step, pose: &mut Pose8, q: &Lanes) {
                 pose.t[a][l] += (r[3 * a][l] * px + r[3 * a + 1][l] * py) + r[3 * a + 2][l] * pz;
             }
         }
-        if let Some(p) = st.perm {
+        if !st.place_rot {
+            // Nothing later reads the rotation.
+        } else if let Some(p) = st.perm {
             for (c, &(src, sign)) in p.iter().enumerate() {
                 for row in 0..3 {
                     for l in 0..LANES {
@@ -254,6 +358,7 @@ fn step(st: &Step, pose: &mut Pose8, q: &Lanes) {
         }
     }
     match st.kind {
+        _ if st.kind.is_revolute() && !st.joint_rot => {}
         BodyKind::RevoluteX => rotate(pose, 1, 2, q),
         BodyKind::RevoluteY => rotate(pose, 2, 0, q),
         BodyKind::RevoluteZ => rotate(pose, 0, 1, q),
@@ -291,6 +396,14 @@ fn slide(pose: &mut Pose8, k: usize, q: &Lanes) {
 /// Whether every lane's joint value is in the range of the branch-free `sin_cos`
 /// (`|x| ≤ 1e5`; checked on the coordinates with a margin for gear ratios and offsets),
 /// and finite; the caller falls back to the scalar FK otherwise.
+#[inline(always)]
 pub fn lanes_in_range(q: &[Lanes]) -> bool {
-    q.iter().all(|v| v.iter().all(|x| x.abs() <= 1e4))
+    // No early exit: a straight line of compares (SIMD); NaN fails.
+    let mut ok = true;
+    for v in q {
+        for x in v {
+            ok &= x.abs() <= 1e4;
+        }
+    }
+    ok
 }

@@ -22,7 +22,7 @@
 use super::grid::{Grid, PlaneFrame};
 use super::sampler::{QStream, RandomStream, SobolStream};
 use super::volume::Ctx;
-use super::Sampling;
+use super::{ExtrasSummary, Sampling, WorkspaceOptions};
 use crate::data::Data;
 use crate::kinematics::{compute_joint_jacobians, frame_jacobian, frame_placement, Expressed};
 use crate::spatial::{Mat3, Vec3};
@@ -266,6 +266,27 @@ fn chunk<S: QStream>(
     (out, kept)
 }
 
+/// The pass's fixed chunks, never across a replicate: `(replicate, start, length, points
+/// to keep)` covering the first `total` samples of replicates 0, 1, … (`per_rep` each),
+/// the first `keep` kept as points.
+fn chunks(total: u64, per_rep: u64, keep: u64) -> Vec<(u64, u64, u64, u64)> {
+    let mut jobs = Vec::new();
+    let mut g = 0u64;
+    'outer: for r in 0.. {
+        let mut s = 0;
+        while s < per_rep {
+            if g >= total {
+                break 'outer;
+            }
+            let len = CHUNK.min(per_rep - s).min(total - g);
+            jobs.push((r as u64, s, len, keep.saturating_sub(g).min(len)));
+            s += len;
+            g += len;
+        }
+    }
+    jobs
+}
+
 /// Runs the pass over `total` samples (`per_rep` per replicate), keeping the first
 /// `keep` as points; `union` and `boundary` are the pooled occupancy and its boundary
 /// cells; `threshold` distinct bins make a voxel dexterous.
@@ -281,21 +302,8 @@ pub(crate) fn run(
     threshold: usize,
     pb: &ProgressBar,
 ) -> Extras {
-    // Fixed chunks, never across a replicate.
-    let mut jobs = Vec::new();
-    let mut g = 0u64;
-    'outer: for r in 0.. {
-        let mut s = 0;
-        while s < per_rep {
-            if g >= total {
-                break 'outer;
-            }
-            let len = CHUNK.min(per_rep - s).min(total - g);
-            jobs.push((r as u64, s, len, keep.saturating_sub(g).min(len)));
-            s += len;
-            g += len;
-        }
-    }
+    let jobs = chunks(total, per_rep, keep);
+    let g: u64 = jobs.iter().map(|j| j.2).sum();
     let d = ctx.model.nv;
     let mut acc: HashMap<usize, Acc> = HashMap::new();
     let mut points = Vec::new();
@@ -379,4 +387,106 @@ pub(crate) fn run(
         w_max,
         k_min,
     }
+}
+
+/// What the Jacobian pass adds to the result.
+pub(super) struct JacobianPass {
+    pub voxels: Vec<VoxelStats>,
+    pub points: Vec<SamplePoint>,
+    pub summary: Option<ExtrasSummary>,
+    pub warning: Option<String>,
+}
+
+/// The Jacobian pass (manipulability, condition, dexterity, kept points), when asked for.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn jacobian_pass(
+    ctx: &Ctx,
+    opts: &WorkspaceOptions,
+    planar: bool,
+    shape: &super::plane::Shape,
+    rots: &[Mat3],
+    per_rep: u64,
+    total: u64,
+    union: &[u64],
+    boundary_bits: &[u64],
+) -> JacobianPass {
+    let m_extras = if opts.extras {
+        opts.extras_samples.unwrap_or(1 << 20).min(total)
+    } else {
+        0
+    };
+    let keep = (opts.keep_points as u64).min(total);
+    let mut out = JacobianPass {
+        voxels: Vec::new(),
+        points: Vec::new(),
+        summary: None,
+        warning: None,
+    };
+    if m_extras.max(keep) == 0 {
+        return out;
+    }
+    let bins = if planar {
+        // The tool axis that stays closest to the plane.
+        let axis = (0..3)
+            .min_by(|&a, &b| {
+                let s = |k: usize| -> f64 {
+                    rots.iter()
+                        .map(|r| r.column(k).dot(&shape.plane.n).abs())
+                        .sum()
+                };
+                s(a).total_cmp(&s(b))
+            })
+            .unwrap_or(0);
+        Bins::Circle {
+            bins: opts.circle_bins,
+            axis,
+            plane: shape.plane,
+        }
+    } else {
+        Bins::Sphere {
+            k: opts.sphere_cells,
+        }
+    };
+    let threshold = ((opts.dexterous_fraction * bins.count() as f64).ceil() as usize).max(1);
+    let pb = super::progress::bar(m_extras.max(keep), opts.quiet, "jacobians");
+    let ex = run(
+        ctx,
+        &bins,
+        m_extras.max(keep),
+        per_rep,
+        keep,
+        union,
+        boundary_bits,
+        threshold,
+        &pb,
+    );
+    pb.finish_and_clear();
+    if ex.strays > 0 {
+        out.warning = Some(format!(
+            "{} Jacobian-pass samples fell outside the occupied voxels",
+            ex.strays
+        ));
+    }
+    out.points = ex.points;
+    if opts.extras {
+        let dex = ex.voxels.iter().filter(|v| v.dexterous).count() as u64;
+        out.summary = Some(ExtrasSummary {
+            samples: ex.samples,
+            voxels: ex.voxels.len() as u64,
+            samples_per_voxel: ex.samples as f64 / ex.voxels.len().max(1) as f64,
+            manipulability_mean: ex.w_mean,
+            manipulability_max: ex.w_max,
+            condition_min: ex.k_min,
+            orientation: if planar {
+                "in-plane tool axis angle"
+            } else {
+                "tool z axis (cube map)"
+            },
+            orientation_bins: bins.count(),
+            dexterous_min_bins: threshold,
+            dexterous_voxels: dex,
+        });
+        out.voxels = ex.voxels;
+    }
+    out
 }

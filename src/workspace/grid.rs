@@ -14,6 +14,7 @@
 //! Layout: rows along x padded to a multiple of 64 cells (one row is `wpr` whole words),
 //! then y, then z. Padding and the two-cell margin around the bound are always empty.
 
+use crate::kinematics::batch::{Lanes, LANES};
 use crate::spatial::Vec3;
 
 /// Largest grid, in cells (one bit each: 64 MiB per bitset; the volume pass keeps seven
@@ -207,6 +208,86 @@ impl Grid {
     #[inline(always)]
     pub fn locate(&self, c: &[f64; 3]) -> Option<usize> {
         self.locate_local(c).map(|l| self.index(l))
+    }
+
+    /// Bit indices of the cells containing eight points in grid coordinates
+    /// (`c[axis][lane]`; the third ignored for a planar grid), `u32::MAX` for a point
+    /// outside the grid: [`Self::locate`]'s arithmetic, lane by lane (SIMD).
+    #[inline(always)]
+    pub fn locate_lanes(&self, c: &[Lanes; 3]) -> [u32; LANES] {
+        let planar = self.plane.is_some();
+        let [nx, ny, nz] = self.n.map(|v| v as f64);
+        let row = (self.wpr << 6) as u32;
+        let ny_u = self.n[1] as u32;
+        let mut out = [0u32; LANES];
+        for (l, o) in out.iter_mut().enumerate() {
+            let fx = (c[0][l] + self.shift[0]) * self.inv_h - self.i0f[0];
+            let fy = (c[1][l] + self.shift[1]) * self.inv_h - self.i0f[1];
+            let fz = if planar {
+                0.0
+            } else {
+                (c[2][l] + self.shift[2]) * self.inv_h - self.i0f[2]
+            };
+            let inside =
+                (fx >= 0.0) & (fy >= 0.0) & (fz >= 0.0) & (fx < nx) & (fy < ny) & (fz < nz);
+            let cell = |f: f64| -> u32 {
+                let f = if inside { f } else { 0.0 };
+                // SAFETY: `0 ≤ f < n ≤ MAX_CELLS < 2^31` (NaN is not inside): in range.
+                unsafe { f.to_int_unchecked::<i32>() as u32 }
+            };
+            let i = (cell(fz) * ny_u + cell(fy)) * row + cell(fx);
+            *o = if inside { i } else { u32::MAX };
+        }
+        out
+    }
+
+    /// [`Self::locate_lanes`] with AVX2 intrinsics when `AVX2` (the compiler leaves the
+    /// portable loop scalar inside the large hot loop); the same operations, so bitwise
+    /// the same cells.
+    ///
+    /// # Safety
+    /// With `AVX2`, the CPU must have AVX2 (the caller's `#[target_feature]` entry).
+    #[inline(always)]
+    pub unsafe fn locate_lanes_with<const AVX2: bool>(&self, c: &[Lanes; 3]) -> [u32; LANES] {
+        #[cfg(target_arch = "x86_64")]
+        if AVX2 {
+            return self.locate_lanes_avx2(c);
+        }
+        self.locate_lanes(c)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn locate_lanes_avx2(&self, c: &[Lanes; 3]) -> [u32; LANES] {
+        use std::arch::x86_64::*;
+        let mut out = [0u32; LANES];
+        let axes = if self.plane.is_some() { 2 } else { 3 };
+        let row = _mm_set1_epi32((self.wpr << 6) as i32);
+        let ny = _mm_set1_epi32(self.n[1] as i32);
+        let (zero, inv_h) = (_mm256_setzero_pd(), _mm256_set1_pd(self.inv_h));
+        // The low 32 bits of each 64-bit lane: lanes 0, 2, 4, 6 of eight 32-bit ones.
+        let low = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
+        for half in 0..2 {
+            let mut inside = _mm256_cmp_pd::<_CMP_EQ_OQ>(zero, zero);
+            let mut cell = [_mm_setzero_si128(); 3];
+            for a in 0..axes {
+                let v = _mm256_loadu_pd(c[a].as_ptr().add(4 * half));
+                let t = _mm256_add_pd(v, _mm256_set1_pd(self.shift[a]));
+                let f = _mm256_sub_pd(_mm256_mul_pd(t, inv_h), _mm256_set1_pd(self.i0f[a]));
+                let ge = _mm256_cmp_pd::<_CMP_GE_OQ>(f, zero);
+                let lt = _mm256_cmp_pd::<_CMP_LT_OQ>(f, _mm256_set1_pd(self.n[a] as f64));
+                inside = _mm256_and_pd(inside, _mm256_and_pd(ge, lt));
+                // Truncation; lanes outside (any value) are replaced below.
+                cell[a] = _mm256_cvttpd_epi32(f);
+            }
+            let plane = _mm_add_epi32(_mm_mullo_epi32(cell[2], ny), cell[1]);
+            let i = _mm_add_epi32(_mm_mullo_epi32(plane, row), cell[0]);
+            let m = _mm256_permutevar8x32_epi32(_mm256_castpd_si256(inside), low);
+            let m = _mm256_castsi256_si128(m);
+            let r = _mm_or_si128(_mm_and_si128(m, i), _mm_andnot_si128(m, _mm_set1_epi32(-1)));
+            _mm_storeu_si128(out.as_mut_ptr().add(4 * half) as *mut __m128i, r);
+        }
+        out
     }
 
     /// Local `(ix, iy, iz)` of bit index `i`.
@@ -431,8 +512,8 @@ impl Hits {
         }
     }
 
-    /// One more hit in cell `i`.
-    #[inline(always)]
+    /// One more hit in cell `i` (the reference for [`super::counts::Counts`]).
+    #[cfg(test)]
     pub fn hit(&mut self, i: usize) {
         let [a, b, c] = &mut self.at_least;
         if !Grid::set(a, i) && !Grid::set(b, i) {

@@ -16,14 +16,17 @@
 //! narrow enough. See `docs/workspace.md` for the derivations and the calibration.
 //!
 //! Parts: [`sobol`] (sequence and scrambling), `sampler` (joint-space streams), `plane`
-//! (planarity of the cloud), `grid` (dense occupancy bitsets and their scans), `volume`
-//! (the replicated volume pass), `estimate` (the estimator and its interval), `result`
+//! (planarity of the cloud), `grid` (dense occupancy bitsets and their scans), `counts`
+//! (two-bit hit counters), `volume` (the replicated volume pass), `kernel` (its hot loop,
+//! per instruction set), `estimate` (the estimator and its interval), `result`
 //! (what is returned), `extras` (the Jacobian pass: manipulability, condition number,
 //! dexterity), `output` (CSV), `progress` (the progress bar).
 
+mod counts;
 pub mod estimate;
 mod extras;
 mod grid;
+mod kernel;
 mod output;
 mod plane;
 mod progress;
@@ -32,6 +35,7 @@ mod sampler;
 pub mod sobol;
 mod volume;
 
+pub use crate::kinematics::batch::Isa;
 pub use estimate::{Estimate, IntervalKind};
 pub use extras::{SamplePoint, VoxelStats};
 pub use output::summary_lines;
@@ -39,6 +43,7 @@ pub use result::{ConvergencePoint, ExtrasSummary, PlaneInfo, VoxelBias, Workspac
 
 use crate::model::{Model, WORLD};
 use crate::spatial::Vec3;
+use extras::{jacobian_pass, JacobianPass};
 use grid::Grid;
 use sampler::{JointBox, QStream, RandomStream};
 use serde::Serialize;
@@ -114,6 +119,10 @@ pub struct WorkspaceOptions {
     /// Forward kinematics eight configurations at a time in SIMD lanes (default); `false`
     /// runs the scalar FK one configuration at a time (same results; for benchmarks).
     pub batched_fk: bool,
+    /// Run the volume pass on at most this instruction set (default: the best the CPU
+    /// has). Every instruction set gives bitwise the same result; for tests and
+    /// benchmarks.
+    pub max_isa: Option<Isa>,
 }
 
 impl Default for WorkspaceOptions {
@@ -137,6 +146,7 @@ impl Default for WorkspaceOptions {
             shift_grid: true,
             quiet: false,
             batched_fk: true,
+            max_isa: None,
         }
     }
 }
@@ -298,21 +308,7 @@ pub fn sample_workspace(
         None => shape.off_plane <= tol,
         Some(p) => p,
     };
-    if planar && shape.off_plane > tol {
-        warnings.push(format!(
-            "the tool points are not planar (up to {:.3e} m off the best-fit plane): the area is that of their projection",
-            shape.off_plane
-        ));
-    }
-    if shape.dimension < 2 {
-        warnings.push(format!(
-            "the tool points span {} dimension(s): the measure is pure discretisation",
-            shape.dimension
-        ));
-    }
-    let threads = rayon::current_num_threads();
-    let r = opts.replicates;
-
+    warnings.extend(shape_warnings(&shape, planar, tol));
     loop {
         let plane_frame = planar.then_some(shape.plane);
         let ctx = make_ctx(
@@ -324,15 +320,12 @@ pub fn sample_workspace(
             (center, radius),
             plane_frame,
         )?;
-        let Doublings {
-            stages,
-            convergence,
-            reached,
-            reps,
-        } = doublings(&ctx, opts, &plan, planar);
-        let cm = ctx.est.cell_measure();
-        let dims = ctx.est.dims();
-        let max_off = reps.iter().map(|r| r.max_off_plane).fold(0.0, f64::max);
+        let passes = doublings(&ctx, opts, &plan, planar);
+        let max_off = passes
+            .reps
+            .iter()
+            .map(|r| r.marks.max_off_plane)
+            .fold(0.0, f64::max);
         if planar && opts.planar.is_none() && max_off > 100.0 * tol {
             warnings.push(format!(
                 "the pilot cloud looked planar but a sample lies {max_off:.3e} m off the plane: measured in 3-D"
@@ -340,98 +333,178 @@ pub fn sample_workspace(
             planar = false;
             continue;
         }
-        let e = estimate::estimate(&stages, cm, dims);
-        let last = stages.last().expect("one stage");
-        let n = last.samples / r as u64;
-        warnings.extend(coverage_warnings(&e, opts, planar, reached));
-        let union = volume::common_union(&ctx, &reps);
-        let pooled_scan = ctx.grid.scan(&union);
-        let boundary_bits = ctx.grid.boundary_bits(&union);
-        let mut lo = Vec3::repeat(f64::INFINITY);
-        let mut hi = Vec3::repeat(f64::NEG_INFINITY);
-        for rep in &reps {
-            lo = lo.inf(&rep.lo);
-            hi = hi.sup(&rep.hi);
-        }
-        let outside: u64 = reps.iter().map(|r| r.outside).sum();
-        if outside > 0 {
-            warnings.push(format!("{outside} samples fell outside the grid"));
-        }
-        drop(reps);
-        let bias = voxel_bias(&e, last, cm, dims, opts.voxel, planar);
-        let jac = jacobian_pass(
-            &ctx,
-            opts,
-            planar,
-            &shape,
-            &rots,
-            n,
-            last.samples,
-            &union,
-            &boundary_bits,
-        );
-        if let Some(w) = &jac.warning {
-            warnings.push(w.clone());
-        }
-        let dex_measure = jac
-            .summary
-            .as_ref()
-            .map_or(0.0, |s| s.dexterous_voxels as f64 * ctx.grid.cell_measure());
-        let interval = Some(e.interval);
-        let pl = &shape.plane;
-        return Ok(WorkspaceResult {
-            robot: model.name.clone(),
-            tool: model.links[tool].name.clone(),
-            joint_names: model.dof_names(),
-            sampling: opts.sampling,
-            seed: opts.seed,
-            replicates: r,
-            samples: last.samples,
-            samples_per_replicate: n,
-            voxel: opts.voxel,
-            planar,
-            cloud_dimension: shape.dimension,
-            plane: planar.then(|| PlaneInfo {
-                normal: pl.n.into(),
-                offset: pl.o.dot(&pl.n),
-                u: pl.u.into(),
-                v: pl.v.into(),
-            }),
-            volume_m3: if planar { 0.0 } else { e.measure },
-            volume_stderr: if planar { 0.0 } else { e.stderr },
-            volume_interval_m3: if planar { None } else { interval },
-            area_m2: planar.then_some(e.measure),
-            area_stderr: planar.then_some(e.stderr),
-            area_interval_m2: if planar { interval } else { None },
-            interval_kind: e.kind,
-            samples_needed: e.samples_needed,
-            samples_per_voxel: e.samples_per_cell,
-            target_rel_error: opts.target_rel_error,
-            target_reached: reached,
-            pooled: e.raw,
-            bias,
-            convergence,
-            occupied_voxels: pooled_scan.occupied,
-            boundary_voxels: pooled_scan.boundary,
-            bbox: [lo.into(), hi.into()],
-            dexterous_volume_m3: if planar { 0.0 } else { dex_measure },
-            dexterous_area_m2: planar.then_some(dex_measure),
-            dexterous_interval: jac
-                .summary
-                .as_ref()
-                .map(|_| [Some(dex_measure), e.interval[1]]),
-            extras: jac.summary,
-            outside_grid: outside,
-            warnings,
-            threads,
-            time_s: t0.elapsed().as_secs_f64(),
-            voxels: jac.voxels,
-            points: jac.points,
-            grid: ctx.grid,
-            union,
-            boundary_bits,
-            estimate: e,
-        });
+        let m = measure(&ctx, opts, planar, (&shape, &rots), passes, &mut warnings);
+        return Ok(assemble(ctx, opts, planar, &shape, m, warnings, t0));
+    }
+}
+
+/// The warnings about the pilot cloud's shape: a forced plane that is not flat, a cloud
+/// of fewer than two dimensions.
+fn shape_warnings(shape: &plane::Shape, planar: bool, tol: f64) -> Vec<String> {
+    let mut out = Vec::new();
+    if planar && shape.off_plane > tol {
+        out.push(format!(
+            "the tool points are not planar (up to {:.3e} m off the best-fit plane): the area is that of their projection",
+            shape.off_plane
+        ));
+    }
+    if shape.dimension < 2 {
+        out.push(format!(
+            "the tool points span {} dimension(s): the measure is pure discretisation",
+            shape.dimension
+        ));
+    }
+    out
+}
+
+/// What the volume and Jacobian passes measured, before it is laid out as the result.
+struct Measured {
+    e: Estimate,
+    samples: u64,
+    per_replicate: u64,
+    reached: Option<bool>,
+    convergence: Vec<ConvergencePoint>,
+    pooled_scan: grid::Scan,
+    bbox: (Vec3, Vec3),
+    outside: u64,
+    bias: VoxelBias,
+    jac: JacobianPass,
+    dex_measure: f64,
+    union: Vec<u64>,
+    boundary_bits: Vec<u64>,
+}
+
+/// The estimate, the pooled occupancy and its boundary, the extent of the samples, the
+/// voxel-bias block and the Jacobian pass, from the doublings; pushes their warnings.
+fn measure(
+    ctx: &Ctx,
+    opts: &WorkspaceOptions,
+    planar: bool,
+    (shape, rots): (&plane::Shape, &[crate::spatial::Mat3]),
+    passes: Doublings,
+    warnings: &mut Vec<String>,
+) -> Measured {
+    let (cm, dims) = (ctx.est.cell_measure(), ctx.est.dims());
+    let e = estimate::estimate(&passes.stages, cm, dims);
+    let last = passes.stages.last().expect("one stage");
+    let n = last.samples / opts.replicates as u64;
+    warnings.extend(coverage_warnings(&e, opts, planar, passes.reached));
+    let union = volume::common_union(ctx, &passes.reps);
+    let pooled_scan = ctx.grid.scan(&union);
+    let boundary_bits = ctx.grid.boundary_bits(&union);
+    let mut lo = Vec3::repeat(f64::INFINITY);
+    let mut hi = Vec3::repeat(f64::NEG_INFINITY);
+    for rep in &passes.reps {
+        let (a, b) = rep.marks.bounds();
+        lo = lo.inf(&a);
+        hi = hi.sup(&b);
+    }
+    let outside: u64 = passes.reps.iter().map(|r| r.marks.outside).sum();
+    if outside > 0 {
+        warnings.push(format!("{outside} samples fell outside the grid"));
+    }
+    drop(passes.reps);
+    let bias = voxel_bias(&e, last, cm, dims, opts.voxel, planar);
+    let samples = last.samples;
+    let jac = jacobian_pass(
+        ctx,
+        opts,
+        planar,
+        shape,
+        rots,
+        n,
+        samples,
+        &union,
+        &boundary_bits,
+    );
+    if let Some(w) = &jac.warning {
+        warnings.push(w.clone());
+    }
+    let dex_measure = jac
+        .summary
+        .as_ref()
+        .map_or(0.0, |s| s.dexterous_voxels as f64 * ctx.grid.cell_measure());
+    Measured {
+        e,
+        samples,
+        per_replicate: n,
+        reached: passes.reached,
+        convergence: passes.convergence,
+        pooled_scan,
+        bbox: (lo, hi),
+        outside,
+        bias,
+        jac,
+        dex_measure,
+        union,
+        boundary_bits,
+    }
+}
+
+/// Lays out the result (volume or area fields by `planar`).
+fn assemble(
+    ctx: Ctx,
+    opts: &WorkspaceOptions,
+    planar: bool,
+    shape: &plane::Shape,
+    m: Measured,
+    warnings: Vec<String>,
+    t0: Instant,
+) -> WorkspaceResult {
+    let model = ctx.model;
+    let e = m.e;
+    let interval = Some(e.interval);
+    let pl = &shape.plane;
+    let dex = m.dex_measure;
+    WorkspaceResult {
+        robot: model.name.clone(),
+        tool: model.links[ctx.tool].name.clone(),
+        joint_names: model.dof_names(),
+        sampling: opts.sampling,
+        seed: opts.seed,
+        replicates: opts.replicates,
+        samples: m.samples,
+        samples_per_replicate: m.per_replicate,
+        voxel: opts.voxel,
+        planar,
+        cloud_dimension: shape.dimension,
+        plane: planar.then(|| PlaneInfo {
+            normal: pl.n.into(),
+            offset: pl.o.dot(&pl.n),
+            u: pl.u.into(),
+            v: pl.v.into(),
+        }),
+        volume_m3: if planar { 0.0 } else { e.measure },
+        volume_stderr: if planar { 0.0 } else { e.stderr },
+        volume_interval_m3: if planar { None } else { interval },
+        area_m2: planar.then_some(e.measure),
+        area_stderr: planar.then_some(e.stderr),
+        area_interval_m2: if planar { interval } else { None },
+        interval_kind: e.kind,
+        samples_needed: e.samples_needed,
+        samples_per_voxel: e.samples_per_cell,
+        target_rel_error: opts.target_rel_error,
+        target_reached: m.reached,
+        pooled: e.raw,
+        bias: m.bias,
+        convergence: m.convergence,
+        occupied_voxels: m.pooled_scan.occupied,
+        boundary_voxels: m.pooled_scan.boundary,
+        bbox: [m.bbox.0.into(), m.bbox.1.into()],
+        dexterous_volume_m3: if planar { 0.0 } else { dex },
+        dexterous_area_m2: planar.then_some(dex),
+        dexterous_interval: m.jac.summary.as_ref().map(|_| [Some(dex), e.interval[1]]),
+        extras: m.jac.summary,
+        outside_grid: m.outside,
+        warnings,
+        threads: rayon::current_num_threads(),
+        time_s: t0.elapsed().as_secs_f64(),
+        voxels: m.jac.voxels,
+        points: m.jac.points,
+        grid: ctx.grid,
+        union: m.union,
+        boundary_bits: m.boundary_bits,
+        estimate: e,
     }
 }
 
@@ -474,6 +547,7 @@ fn make_ctx<'a>(
         radius,
         chain: chain.clone(),
         batched: opts.batched_fk,
+        isa: Isa::at_most(opts.max_isa),
     })
 }
 
@@ -630,106 +704,4 @@ fn voxel_bias(
         ],
         isolated_holes: last.closed.holes as f64,
     }
-}
-
-/// What the Jacobian pass adds to the result.
-struct JacobianPass {
-    voxels: Vec<VoxelStats>,
-    points: Vec<SamplePoint>,
-    summary: Option<ExtrasSummary>,
-    warning: Option<String>,
-}
-
-/// The Jacobian pass (manipulability, condition, dexterity, kept points), when asked for.
-#[allow(clippy::too_many_arguments)]
-fn jacobian_pass(
-    ctx: &Ctx,
-    opts: &WorkspaceOptions,
-    planar: bool,
-    shape: &plane::Shape,
-    rots: &[crate::spatial::Mat3],
-    per_rep: u64,
-    total: u64,
-    union: &[u64],
-    boundary_bits: &[u64],
-) -> JacobianPass {
-    let m_extras = if opts.extras {
-        opts.extras_samples.unwrap_or(1 << 20).min(total)
-    } else {
-        0
-    };
-    let keep = (opts.keep_points as u64).min(total);
-    let mut out = JacobianPass {
-        voxels: Vec::new(),
-        points: Vec::new(),
-        summary: None,
-        warning: None,
-    };
-    if m_extras.max(keep) == 0 {
-        return out;
-    }
-    let bins = if planar {
-        // The tool axis that stays closest to the plane.
-        let axis = (0..3)
-            .min_by(|&a, &b| {
-                let s = |k: usize| -> f64 {
-                    rots.iter()
-                        .map(|r| r.column(k).dot(&shape.plane.n).abs())
-                        .sum()
-                };
-                s(a).total_cmp(&s(b))
-            })
-            .unwrap_or(0);
-        extras::Bins::Circle {
-            bins: opts.circle_bins,
-            axis,
-            plane: shape.plane,
-        }
-    } else {
-        extras::Bins::Sphere {
-            k: opts.sphere_cells,
-        }
-    };
-    let threshold = ((opts.dexterous_fraction * bins.count() as f64).ceil() as usize).max(1);
-    let pb = progress::bar(m_extras.max(keep), opts.quiet, "jacobians");
-    let ex = extras::run(
-        ctx,
-        &bins,
-        m_extras.max(keep),
-        per_rep,
-        keep,
-        union,
-        boundary_bits,
-        threshold,
-        &pb,
-    );
-    pb.finish_and_clear();
-    if ex.strays > 0 {
-        out.warning = Some(format!(
-            "{} Jacobian-pass samples fell outside the occupied voxels",
-            ex.strays
-        ));
-    }
-    out.points = ex.points;
-    if opts.extras {
-        let dex = ex.voxels.iter().filter(|v| v.dexterous).count() as u64;
-        out.summary = Some(ExtrasSummary {
-            samples: ex.samples,
-            voxels: ex.voxels.len() as u64,
-            samples_per_voxel: ex.samples as f64 / ex.voxels.len().max(1) as f64,
-            manipulability_mean: ex.w_mean,
-            manipulability_max: ex.w_max,
-            condition_min: ex.k_min,
-            orientation: if planar {
-                "in-plane tool axis angle"
-            } else {
-                "tool z axis (cube map)"
-            },
-            orientation_bins: bins.count(),
-            dexterous_min_bins: threshold,
-            dexterous_voxels: dex,
-        });
-        out.voxels = ex.voxels;
-    }
-    out
 }

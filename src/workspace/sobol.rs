@@ -80,14 +80,16 @@ pub fn direction_numbers(dim: usize) -> [u32; 32] {
 /// depends only on input bits `0 ..= k` (adds and products by even constants only carry
 /// upwards).
 #[inline(always)]
-fn laine_karras(mut x: u32, seed: u32) -> u32 {
+pub(crate) fn laine_karras(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
-    x ^= x.wrapping_mul(0x6c50_b47c);
-    x ^= x.wrapping_mul(0xb82f_1e52);
-    x ^= x.wrapping_mul(0xc7af_e638);
-    x ^= x.wrapping_mul(0x8d22_f6e6);
+    for m in LAINE_KARRAS {
+        x ^= x.wrapping_mul(m);
+    }
     x
 }
+
+/// The multipliers of [`laine_karras`], in order.
+pub(crate) const LAINE_KARRAS: [u32; 4] = [0x6c50_b47c, 0xb82f_1e52, 0xc7af_e638, 0x8d22_f6e6];
 
 /// Nested uniform (Owen) scrambling of a 32-bit coordinate with `seed`: digit `j` (from
 /// the most significant) is flipped by a hash of `seed` and digits `1 … j−1`.

@@ -1,7 +1,7 @@
 //! The volume pass: `R` independent replicates, advanced together one doubling of the
-//! sample budget at a time (a *stage*); forward kinematics of the tool origin eight
-//! configurations at a time ([`ToolChain::positions`], `f64` SIMD lanes); occupancy
-//! bitsets. After each stage the counts that [`super::estimate`] needs.
+//! sample budget at a time (a *stage*) by the hot loop of [`super::kernel`] (eight
+//! configurations at a time in `f64` SIMD lanes); after each stage the counts that
+//! [`super::estimate`] needs.
 //!
 //! Every sample marks three grids:
 //! - its replicate's own grid, shifted by a uniform random offset in `[0, 2h)` per axis
@@ -19,18 +19,14 @@
 
 use super::estimate::Stage;
 use super::grid::{Grid, Hits};
-use super::sampler::{derive_seed, JointBox, QStream, RandomStream, SobolStream};
+use super::kernel::Marks;
+use super::sampler::{derive_seed, JointBox, RandomStream, SobolStream};
 use super::Sampling;
-use crate::data::Data;
-use crate::kinematics::batch::{lanes_in_range, Lanes, ToolChain, LANES};
-use crate::kinematics::{forward_kinematics, frame_placement};
+use crate::kinematics::batch::{Isa, ToolChain};
 use crate::model::Model;
 use crate::spatial::Vec3;
 use indicatif::ProgressBar;
 use rayon::prelude::*;
-
-/// Samples between progress-bar updates.
-const PROGRESS_BLOCK: u64 = 1 << 16;
 
 /// What the passes share.
 pub(crate) struct Ctx<'a> {
@@ -52,6 +48,8 @@ pub(crate) struct Ctx<'a> {
     pub chain: ToolChain,
     /// Whether to use it (otherwise the scalar FK, one configuration at a time).
     pub batched: bool,
+    /// The instruction set of the hot loop ([`super::kernel`]).
+    pub isa: Isa,
 }
 
 /// A grid like `ctx.grid`, shifted by a uniform offset in `[0, 2h)` per axis drawn from
@@ -76,37 +74,18 @@ pub(crate) fn shifted_grid(
         .expect("a shifted grid is no larger than the common one, give or take two cells")
 }
 
-/// A replicate's stream.
-enum Stream {
+/// A replicate's stream (the Sobol' one, 5 KiB of direction numbers, boxed).
+pub(super) enum Stream {
     Random(RandomStream),
-    Sobol(SobolStream),
-}
-
-impl QStream for Stream {
-    #[inline(always)]
-    fn next_q(&mut self, b: &JointBox, q: &mut [f64]) {
-        match self {
-            Stream::Random(s) => s.next_q(b, q),
-            Stream::Sobol(s) => s.next_q(b, q),
-        }
-    }
+    Sobol(Box<SobolStream>),
 }
 
 /// One replicate between stages.
 pub(crate) struct Replicate {
-    stream: Stream,
+    pub(super) stream: Stream,
     /// Samples drawn so far.
-    done: u64,
-    /// Its own shifted grid and hit counts.
-    grid: Grid,
-    hits: Hits,
-    /// Its hits on the pooled estimation grid, and its samples on the common grid.
-    est_hits: Hits,
-    common_bits: Vec<u64>,
-    pub lo: Vec3,
-    pub hi: Vec3,
-    pub outside: u64,
-    pub max_off_plane: f64,
+    pub(super) done: u64,
+    pub marks: Marks,
 }
 
 impl Replicate {
@@ -115,7 +94,7 @@ impl Replicate {
         let d = ctx.model.nv;
         let stream = match ctx.sampling {
             Sampling::Random => Stream::Random(RandomStream::new(ctx.seed, r as u64, d, 0)),
-            Sampling::Sobol => Stream::Sobol(SobolStream::new(ctx.seed, r as u64, d, 0)),
+            Sampling::Sobol => Stream::Sobol(Box::new(SobolStream::new(ctx.seed, r as u64, d, 0))),
         };
         let grid = shifted_grid(
             &ctx.grid,
@@ -128,85 +107,8 @@ impl Replicate {
         Replicate {
             stream,
             done: 0,
-            hits: Hits::new(&grid),
-            grid,
-            est_hits: Hits::new(&ctx.est),
-            common_bits: ctx.grid.empty(),
-            lo: Vec3::repeat(f64::INFINITY),
-            hi: Vec3::repeat(f64::NEG_INFINITY),
-            outside: 0,
-            max_off_plane: 0.0,
+            marks: Marks::new(grid, &ctx.est, &ctx.grid),
         }
-    }
-
-    /// Marks tool point `p` on the three grids.
-    #[inline(always)]
-    fn mark(&mut self, ctx: &Ctx, p: &Vec3) {
-        self.lo = self.lo.inf(p);
-        self.hi = self.hi.sup(p);
-        let (c, d) = ctx.grid.coords(p);
-        self.max_off_plane = self.max_off_plane.max(d.abs());
-        match ctx.grid.locate(&c) {
-            Some(i) => {
-                Grid::set(&mut self.common_bits, i);
-            }
-            None => self.outside += 1,
-        }
-        if let Some(i) = ctx.est.locate(&c) {
-            self.est_hits.hit(i);
-        }
-        if let Some(i) = self.grid.locate(&c) {
-            self.hits.hit(i);
-        }
-    }
-
-    /// Draws samples until `to`, eight at a time.
-    #[allow(clippy::needless_range_loop)] // lanes index the configuration and output arrays
-    fn advance(&mut self, ctx: &Ctx, to: u64, pb: &ProgressBar) {
-        let model = ctx.model;
-        let nq = model.nv;
-        let mut q = vec![[0.0; LANES]; nq];
-        let mut row = vec![0.0; nq];
-        let mut out: [Lanes; 3] = [[0.0; LANES]; 3];
-        let mut data: Option<Data> = None;
-        let mut since = 0u64;
-        while self.done < to {
-            let m = (to - self.done).min(LANES as u64) as usize;
-            for l in 0..LANES {
-                if l < m {
-                    self.stream.next_q(&ctx.jb, &mut row);
-                }
-                // Spare lanes repeat the last configuration; their results are dropped.
-                for (k, v) in row.iter().enumerate() {
-                    q[k][l] = *v;
-                }
-            }
-            if ctx.batched && lanes_in_range(&q) {
-                ctx.chain.positions(&q, &mut out);
-            } else {
-                let data = data.get_or_insert_with(|| Data::new(model));
-                for l in 0..m {
-                    for (k, v) in row.iter_mut().enumerate() {
-                        *v = q[k][l];
-                    }
-                    forward_kinematics(model, data, &row);
-                    let p = frame_placement(model, data, ctx.tool).trans;
-                    for a in 0..3 {
-                        out[a][l] = p[a];
-                    }
-                }
-            }
-            for l in 0..m {
-                self.mark(ctx, &Vec3::new(out[0][l], out[1][l], out[2][l]));
-            }
-            self.done += m as u64;
-            since += m as u64;
-            if since >= PROGRESS_BLOCK {
-                pb.inc(since);
-                since = 0;
-            }
-        }
-        pb.inc(since);
     }
 }
 
@@ -228,13 +130,13 @@ pub(crate) fn run_stage(
     let replicate_estimates: Vec<f64> = reps
         .par_iter_mut()
         .map(|rep| {
-            rep.advance(ctx, per_replicate, pb);
-            replicate_estimate(&rep.grid, &rep.hits)
+            super::kernel::advance(rep, ctx, per_replicate, pb);
+            replicate_estimate(&rep.marks.grid, &rep.marks.counts.hits())
         })
         .collect();
     let mut pooled = Hits::new(&ctx.est);
     for r in reps.iter() {
-        pooled.add(&r.est_hits);
+        pooled.add(&r.marks.est_counts.hits());
     }
     let union = pooled.occupied();
     let (singles, doubles) = pooled.singles_doubles();
@@ -267,5 +169,8 @@ fn union_of<'a>(sets: impl Iterator<Item = &'a [u64]>, words: usize) -> Vec<u64>
 
 /// The union of every replicate's samples on the common grid.
 pub(crate) fn common_union(ctx: &Ctx, reps: &[Replicate]) -> Vec<u64> {
-    union_of(reps.iter().map(|r| &r.common_bits[..]), ctx.grid.words())
+    union_of(
+        reps.iter().map(|r| &r.marks.common_bits[..]),
+        ctx.grid.words(),
+    )
 }
