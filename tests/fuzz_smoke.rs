@@ -188,6 +188,11 @@ fn replay_seeds_corpus_and_regressions() {
 const REGRESSIONS: &[(&str, &str, &str)] = &[
     (
         "scenario_loader",
+        "empty_links_table.toml",
+        "[links] is empty: a linkage needs links",
+    ),
+    (
+        "scenario_loader",
         "sweep_start_far_from_assembly.toml",
         "more than a million tracking steps",
     ),

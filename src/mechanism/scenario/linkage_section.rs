@@ -77,6 +77,10 @@ fn parse_links(cx: &Source, spec: &Spec) -> Result<(Vec<Link>, Vec<usize>), Scen
     // File order (the map is sorted by name): by span.
     let mut order: Vec<(&String, &Spanned<LinkSpec>)> = links_spec.iter().collect();
     order.sort_by_key(|(_, s)| s.span().start);
+    if order.is_empty() {
+        let line = text_line_of_table(cx.text, "links").unwrap_or(1);
+        return Err(cx.err(line, "links", "[links] is empty: a linkage needs links"));
+    }
     let mut links = Vec::new();
     let mut link_lines = Vec::new();
     for (n, s) in &order {
