@@ -9,7 +9,7 @@ use super::rerun_tree::Tree;
 use crate::collision::mesh::{load_mesh, MeshData};
 use crate::collision::resolve::resolve_uri;
 use crate::model::{Geometry, ModelSpec, Shape};
-use crate::spatial::Vec3;
+use crate::spatial::{Se3, Vec3};
 use rerun::{archetypes, components::FillMode, EntityPath, RecordingStream};
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
@@ -17,7 +17,8 @@ use std::path::Path;
 /// Link-frame bounding box `[min, max]` of what was drawn on a link.
 pub(super) type Aabb = ([f64; 3], [f64; 3]);
 
-fn grow(b: &mut Option<Aabb>, p: &Vec3) {
+/// Grows box `b` by point `p`.
+pub(super) fn grow(b: &mut Option<Aabb>, p: &Vec3) {
     let (lo, hi) = b.get_or_insert(([p.x, p.y, p.z], [p.x, p.y, p.z]));
     for k in 0..3 {
         lo[k] = lo[k].min(p[k]);
@@ -158,6 +159,28 @@ pub(crate) fn vertex_normals(vertices: &[[f32; 3]], triangles: &[[u32; 3]]) -> V
         .collect()
 }
 
+/// The vertices of mesh `m` scaled by `scale` and placed by `origin`, in f32; grows `bb`
+/// by them.
+pub(super) fn placed_vertices(
+    m: &MeshData,
+    origin: &Se3,
+    scale: &[f64; 3],
+    bb: &mut Option<Aabb>,
+) -> Vec<[f32; 3]> {
+    m.vertices
+        .iter()
+        .map(|v| {
+            let p = origin.act_point(&Vec3::new(
+                v[0] * scale[0],
+                v[1] * scale[1],
+                v[2] * scale[2],
+            ));
+            grow(bb, &p);
+            f32x3(&p)
+        })
+        .collect()
+}
+
 /// Logs one visual mesh (scaled and placed by its geometry's origin, the winding flipped
 /// under a mirroring scale) and grows the link's bounding box by it.
 fn log_mesh(
@@ -167,19 +190,7 @@ fn log_mesh(
     m: &MeshData,
     bb: &mut Option<Aabb>,
 ) -> Result<(), RerunError> {
-    let pts: Vec<[f32; 3]> = m
-        .vertices
-        .iter()
-        .map(|v| {
-            let p = g.origin.act_point(&Vec3::new(
-                v[0] * scale[0],
-                v[1] * scale[1],
-                v[2] * scale[2],
-            ));
-            grow(bb, &p);
-            f32x3(&p)
-        })
-        .collect();
+    let pts = placed_vertices(m, &g.origin, scale, bb);
     // A mirroring scale flips the winding.
     let flip = scale[0] * scale[1] * scale[2] < 0.0;
     let tris: Vec<[u32; 3]> = m

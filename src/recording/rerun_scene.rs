@@ -3,6 +3,7 @@
 //! cylinders, capsules, spheres, and meshes read with [`crate::collision::mesh`]), and the
 //! world bounding box of what was drawn, for framing the 3-D view.
 
+use super::rerun_geometry::placed_vertices;
 use super::rerun_out::{log_primitive, path, vertex_normals, RerunError, SceneExtras};
 use crate::collision::mesh::load_mesh;
 use crate::collision::resolve::resolve_uri;
@@ -16,14 +17,7 @@ const OBSTACLE: [u8; 3] = [196, 144, 96];
 /// World axis-aligned box `(lo, hi)`.
 pub type Bounds = ([f64; 3], [f64; 3]);
 
-/// Grows `b` by point `p`.
-pub fn grow(b: &mut Option<Bounds>, p: &Vec3) {
-    let (lo, hi) = b.get_or_insert(([p.x, p.y, p.z], [p.x, p.y, p.z]));
-    for k in 0..3 {
-        lo[k] = lo[k].min(p[k]);
-        hi[k] = hi[k].max(p[k]);
-    }
-}
+pub(super) use super::rerun_geometry::grow;
 
 /// Logs the obstacles of `extras`, except those named in `drawn` (already drawn, with
 /// their labels, from the recording's obstacle markers: drawing them twice would make
@@ -51,19 +45,7 @@ pub fn log_obstacles(
                     continue;
                 }
             };
-            let pts: Vec<[f32; 3]> = m
-                .vertices
-                .iter()
-                .map(|v| {
-                    let p = g.origin.act_point(&Vec3::new(
-                        v[0] * scale[0],
-                        v[1] * scale[1],
-                        v[2] * scale[2],
-                    ));
-                    grow(&mut bounds, &p);
-                    [p.x as f32, p.y as f32, p.z as f32]
-                })
-                .collect();
+            let pts = placed_vertices(&m, &g.origin, scale, &mut bounds);
             if skip {
                 continue;
             }
