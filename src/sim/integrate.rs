@@ -226,17 +226,11 @@ impl Simulator<'_> {
         let (mut k1, mut k2, mut k3) = (std::mem::take(k1), std::mem::take(k2), std::mem::take(k3));
         let mut xt = std::mem::take(&mut self.xt);
         self.rhs(t, x, k0, reference, ctrl)?;
-        for i in 0..dim {
-            xt[i] = x[i] + 0.5 * h * k0[i];
-        }
+        rk4_stage(&mut xt, x, 0.5 * h, k0);
         self.rhs(t + 0.5 * h, &xt, &mut k1, reference, ctrl)?;
-        for i in 0..dim {
-            xt[i] = x[i] + 0.5 * h * k1[i];
-        }
+        rk4_stage(&mut xt, x, 0.5 * h, &k1);
         self.rhs(t + 0.5 * h, &xt, &mut k2, reference, ctrl)?;
-        for i in 0..dim {
-            xt[i] = x[i] + h * k2[i];
-        }
+        rk4_stage(&mut xt, x, h, &k2);
         self.rhs(t + h, &xt, &mut k3, reference, ctrl)?;
         for i in 0..dim {
             x[i] += h / 6.0 * (k0[i] + 2.0 * k1[i] + 2.0 * k2[i] + k3[i]);
@@ -321,5 +315,12 @@ fn solve_in_place(a: &mut DMatrix<f64>, b: &mut [f64]) {
             s -= a[(c, cc)] * b[cc];
         }
         b[c] = s / a[(c, c)];
+    }
+}
+
+/// An RK4 stage's state `x_t = x + c k`.
+fn rk4_stage(xt: &mut [f64], x: &[f64], c: f64, k: &[f64]) {
+    for ((xt, &x), &k) in xt.iter_mut().zip(x).zip(k) {
+        *xt = x + c * k;
     }
 }
