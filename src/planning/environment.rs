@@ -177,15 +177,7 @@ impl EnvObstacle {
             c.z - tok.splat(o[2]),
         ];
         let world = [vel.x, vel.y, vel.z];
-        let local = |v: &[W<S>; 3], k: usize| {
-            let m = &self.rot_t[k];
-            tok.splat(m[0])
-                .mul_add(v[0], tok.splat(m[1]).mul_add(v[1], tok.splat(m[2]) * v[2]))
-        };
-        let (p, v) = (
-            [0, 1, 2].map(|i| local(&d, i)),
-            [0, 1, 2].map(|i| local(&world, i)),
-        );
+        let (p, v) = (self.to_local(tok, &d), self.to_local(tok, &world));
         let zero = tok.splat(0.0);
         // `e` (centre minus nearest point, obstacle frame) and the surface's offset `s`
         // from the point set `e` is measured to (a sphere's centre, a capsule's segment).
@@ -195,10 +187,11 @@ impl EnvObstacle {
                 let z = p[2].max(tok.splat(-hl)).min(tok.splat(hl));
                 ([p[0], p[1], p[2] - z], rad)
             }
-            EnvShape::Box(hb) => (
-                [0, 1, 2].map(|i| p[i] - p[i].max(tok.splat(-hb[i])).min(tok.splat(hb[i]))),
-                0.0,
-            ),
+            EnvShape::Box(hb) => {
+                // (No array `map`: its closure would not inline into the SIMD callers.)
+                let off = |i: usize| p[i] - p[i].max(tok.splat(-hb[i])).min(tok.splat(hb[i]));
+                ([off(0), off(1), off(2)], 0.0)
+            }
             EnvShape::Cylinder(rad, hl) => {
                 let rho = p[0].mul_add(p[0], p[1] * p[1]).sqrt();
                 // Radial part scaled by (ρ − R)⁺/ρ; ρ = 0 lies inside radially.
@@ -215,6 +208,20 @@ impl EnvObstacle {
         let lhs = (dist - r - k * h * h) * len;
         let safe = (rate * h).lt(lhs) & zero.lt(dist);
         !safe
+    }
+
+    /// `Rᵀ v`: a world vector in the obstacle's frame (a method, not a closure, so that it
+    /// inlines into the `#[target_feature]` callers with its intrinsics).
+    #[inline(always)]
+    fn to_local<S: Simd>(&self, tok: S, v: &[W<S>; 3]) -> [W<S>; 3] {
+        let m = &self.rot_t;
+        let row = |k: usize| {
+            tok.splat(m[k][0]).mul_add(
+                v[0],
+                tok.splat(m[k][1]).mul_add(v[1], tok.splat(m[k][2]) * v[2]),
+            )
+        };
+        [row(0), row(1), row(2)]
     }
 
     /// Lanes where the sphere `(c, r)` overlaps the obstacle's bounding sphere.

@@ -72,7 +72,8 @@ pub enum SamplerKind {
 #[derive(Clone, Debug)]
 pub struct Sampler {
     kind: SamplerKind,
-    index: u64,
+    /// Per coordinate, the base-`b` digits of the sample's index (from 1; Halton).
+    digits: Vec<Digits>,
     shift: Vec<f64>,
     lo: Vec<f32>,
     span: Vec<f32>,
@@ -88,7 +89,9 @@ impl Sampler {
             .collect();
         Sampler {
             kind,
-            index: 1,
+            digits: (0..lo.len())
+                .map(|k| Digits::new(PRIMES[k % PRIMES.len()], 1))
+                .collect(),
             shift,
             lo: lo.to_vec(),
             span: lo.iter().zip(hi).map(|(l, h)| h - l).collect(),
@@ -102,7 +105,9 @@ impl Sampler {
         for (k, o) in out.iter_mut().enumerate() {
             let u = match self.kind {
                 SamplerKind::Halton => {
-                    let v = radical_inverse(self.index, PRIMES[k % PRIMES.len()]) + self.shift[k];
+                    let d = &mut self.digits[k];
+                    let v = d.radical_inverse() + self.shift[k];
+                    d.increment();
                     if v >= 1.0 {
                         v - 1.0
                     } else {
@@ -113,7 +118,6 @@ impl Sampler {
             };
             *o = self.lo[k] + self.span[k] * u as f32;
         }
-        self.index += 1;
     }
 
     /// The generator, for other seeded choices (simplification).
@@ -122,8 +126,82 @@ impl Sampler {
     }
 }
 
-/// Van der Corput radical inverse of `i` in base `b`.
-#[inline]
+/// A counter kept as its base-`b` digits with the partial sums of its radical inverse
+/// (most significant digit first), so that the next sample costs the digits that changed,
+/// 1.5 multiply-adds on average in base 3, and no division: computing each radical inverse
+/// anew by division was a quarter of the search's time. Summing from the most significant
+/// digit may differ from [`radical_inverse`] in the last bit (the test bounds it).
+#[derive(Clone, Debug)]
+struct Digits {
+    base: u32,
+    /// Least significant first; `len` of them are in use.
+    digit: [u32; 64],
+    len: usize,
+    /// `weight[j] = b^−(j+1)`.
+    weight: [f64; 64],
+    /// `partial[j] = Σ_{i ≥ j} digit[i] weight[i]` (`partial[len] = 0`).
+    partial: [f64; 65],
+}
+
+impl Digits {
+    fn new(base: u32, mut value: u64) -> Digits {
+        let inv = 1.0 / base as f64;
+        let mut weight = [0.0; 64];
+        let mut f = inv;
+        for w in &mut weight {
+            *w = f;
+            f *= inv;
+        }
+        let mut d = Digits {
+            base,
+            digit: [0; 64],
+            len: 0,
+            weight,
+            partial: [0.0; 65],
+        };
+        while value > 0 {
+            d.digit[d.len] = (value % base as u64) as u32;
+            value /= base as u64;
+            d.len += 1;
+        }
+        d.resum(d.len);
+        d
+    }
+
+    /// Recomputes the partial sums of digits `0..top`.
+    #[inline]
+    fn resum(&mut self, top: usize) {
+        for j in (0..top).rev() {
+            self.partial[j] = self.partial[j + 1] + self.digit[j] as f64 * self.weight[j];
+        }
+    }
+
+    #[inline]
+    fn radical_inverse(&self) -> f64 {
+        self.partial[0]
+    }
+
+    /// Adds one (carrying).
+    #[inline]
+    fn increment(&mut self) {
+        let mut j = 0;
+        while j < self.len && self.digit[j] + 1 == self.base {
+            self.digit[j] = 0;
+            j += 1;
+        }
+        if j == self.len {
+            self.digit[j] = 0;
+            self.len += 1;
+            self.partial[self.len] = 0.0;
+        }
+        self.digit[j] += 1;
+        self.resum(j + 1);
+    }
+}
+
+/// Van der Corput radical inverse of `i` in base `b`, by division (the reference of
+/// [`Digits`]).
+#[cfg(test)]
 fn radical_inverse(mut i: u64, b: u32) -> f64 {
     let b64 = b as u64;
     let inv = 1.0 / b as f64;
@@ -159,6 +237,21 @@ mod tests {
             seen[(q[0] * 9.0) as usize][(q[1] * 5.0) as usize] += 1;
         }
         assert!(seen.iter().flatten().all(|&x| x == 1), "{seen:?}");
+    }
+
+    #[test]
+    fn digit_counter_gives_the_radical_inverse_by_division_to_the_last_bits() {
+        for base in PRIMES {
+            let mut d = Digits::new(base, 1);
+            for i in 1..20_000u64 {
+                let (x, want) = (d.radical_inverse(), radical_inverse(i, base));
+                assert!(
+                    (x - want).abs() <= 2.0 * f64::EPSILON * want,
+                    "base {base}, index {i}: {x} vs {want}"
+                );
+                d.increment();
+            }
+        }
     }
 
     #[test]
