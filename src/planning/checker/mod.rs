@@ -145,6 +145,8 @@ pub struct CheckScratch {
     body_delta: Vec<f32>,
     /// `Σ |body_delta|`.
     l1: f32,
+    /// Per coordinate, `|b_k − a_k|` of the edge.
+    abs_delta: Vec<f32>,
     /// Whether a continuous edge check is under way (twists and speeds are set).
     moving: bool,
     /// Whether the obstacle checks demand [`CheckOptions::clearance`].
@@ -181,9 +183,9 @@ pub struct Checker {
     pub env: Environment,
     /// Link-group pairs checked for self-collision.
     pub self_pairs: Vec<(usize, usize)>,
-    /// Per self pair, its relative motion bound per coordinate (`self_pairs.len() × nv`,
-    /// [`crate::planning::spheres::pair_rho`]).
-    pair_rho: Vec<f32>,
+    /// The motion bounds of spheres, groups, self pairs (relative,
+    /// [`crate::planning::spheres::pair_rho`]) and clusters, transposed.
+    speed_tables: edge::SpeedTables,
     /// Per link group, the obstacles its bounding sphere can ever reach.
     reachable: Vec<Vec<usize>>,
     /// Groups sharing a body, behind one sphere (see [`clusters`]).
@@ -232,18 +234,23 @@ impl Checker {
             .collect();
         self_pairs.sort_unstable();
         self_pairs.dedup();
-        let pair_rho = self_pairs
+        let pair_rho: Vec<f32> = self_pairs
             .iter()
             .flat_map(|&(a, b)| pair_rho(model, &spheres, a, b))
             .collect();
         let clusters = clusters::Clusters::new(&spheres, &reachable, &self_pairs);
+        let cluster_rho: Vec<f32> = clusters.list.iter().flat_map(|c| c.rho.clone()).collect();
+        let speed_tables = edge::SpeedTables::new(
+            model.nv,
+            [&spheres.rho, &spheres.link_rho, &pair_rho, &cluster_rho],
+        );
         Checker {
+            speed_tables,
             bodies,
             spheres,
             env,
             clusters,
             self_pairs,
-            pair_rho,
             reachable,
             opts,
             #[cfg(target_arch = "x86_64")]
@@ -312,6 +319,7 @@ impl Checker {
             infl: vec![L::splat(0.0); self.spheres.len()],
             bound_infl: vec![L::splat(0.0); self.spheres.links.len()],
             body_delta: vec![0.0; self.bodies.len()],
+            abs_delta: vec![0.0; self.nv()],
             ends: Vec::with_capacity(2 * self.nv()),
             speed: vec![0.0; self.spheres.len()],
             link_speed: vec![0.0; self.spheres.links.len()],
