@@ -12,7 +12,8 @@
 //! unit ([`EdgeMode::Discrete`]); the path it returns is then checked continuously.
 //!
 //! **Edges, continuously.** An edge `a → b` is cut into `n = ⌈‖b − a‖ · resolution⌉`
-//! intervals of half-width `h = 1/(2n)` in the parameter `t`. The check at an interval's
+//! intervals, rounded up to a multiple of eight (the lanes of a batch), of half-width
+//! `h = 1/(2n)` in the parameter `t`. The check at an interval's
 //! centre with every sphere inflated by `e_s = v_s h − tol` covers the whole interval: by
 //! the motion bound of [`super::spheres`], over the interval no centre moves further than
 //! `v_s h` from where it was checked, with `v_s = Σ_k |b_k − a_k| ρ_{s,k}`; so nothing
