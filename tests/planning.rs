@@ -445,6 +445,82 @@ fn start_and_goal_outside_limits_or_of_wrong_length_are_invalid() {
     assert!(r.path.is_empty());
 }
 
+/// Over 20 random edges × 200 steps, the largest ratio of a sphere centre's step to its
+/// motion bound `Σ_k |Δ_k| ρ_k / steps`; panics if a step exceeds its bound.
+fn worst_step_over_motion_bound(
+    m: &armsim::model::Model,
+    sm: &armsim::planning::spheres::SphereModel,
+) -> f64 {
+    use armsim::planning::sampler::{Sampler, SamplerKind};
+    let nv = m.nv;
+    let (lo, hi): (Vec<f32>, Vec<f32>) = (0..nv)
+        .map(|k| (m.lower[k] as f32, m.upper[k] as f32))
+        .unzip();
+    let mut sampler = Sampler::new(SamplerKind::Random, &lo, &hi, 5);
+    let (mut a, mut b) = (vec![0.0f32; nv], vec![0.0f32; nv]);
+    let steps = 200;
+    let mut worst = 0.0f64;
+    for _ in 0..20 {
+        sampler.next(&mut a);
+        sampler.next(&mut b);
+        let at = |t: f64| -> Vec<f64> {
+            (0..nv)
+                .map(|k| a[k] as f64 + t * (b[k] - a[k]) as f64)
+                .collect()
+        };
+        let mut prev = sm.world_centers(m, &at(0.0));
+        for step in 1..=steps {
+            let next = sm.world_centers(m, &at(step as f64 / steps as f64));
+            for i in 0..sm.len() {
+                let bound: f64 = (0..nv)
+                    .map(|k| ((b[k] - a[k]) as f64).abs() * sm.rho[i * nv + k] as f64)
+                    .sum::<f64>()
+                    / steps as f64;
+                let moved = (next[i] - prev[i]).norm();
+                assert!(
+                    moved <= bound * (1.0 + 1e-4) + 1e-9,
+                    "{}: sphere {i} moved {moved} > bound {bound}",
+                    m.name
+                );
+                if bound > 0.0 {
+                    worst = worst.max(moved / bound);
+                }
+            }
+            prev = next;
+        }
+    }
+    worst
+}
+
+#[test]
+fn sphere_motion_bound_counts_the_slide_of_prismatic_joints_below_a_revolute_one() {
+    use armsim::model::{LoadOptions, Model};
+    use armsim::planning::spheres::{SphereModel, SphereOptions};
+    // A turntable carrying a slider (0.2–0.8 m out along x) with a ball at its end: the
+    // ball's distance to the turntable's axis is the slide itself, so the bound is tight.
+    let urdf = r#"<robot name="slider">
+      <link name="base"/>
+      <link name="table"/>
+      <link name="slide"><collision><geometry><sphere radius="0.05"/></geometry></collision></link>
+      <joint name="turn" type="revolute"><parent link="base"/><child link="table"/>
+        <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+      <joint name="out" type="prismatic"><parent link="table"/><child link="slide"/>
+        <axis xyz="1 0 0"/><limit lower="0.2" upper="0.8" effort="1" velocity="1"/></joint>
+    </robot>"#;
+    let (m, _) = Model::load_str(urdf, "slider.urdf", &LoadOptions::default()).unwrap();
+    let sm = SphereModel::new(&m, &SphereOptions::default());
+    let worst = worst_step_over_motion_bound(&m, &sm);
+    assert!(worst > 0.5, "slider: worst ratio {worst}");
+    // The full Panda: its fingers slide (0–4 cm, one mimicking the other) below seven
+    // revolute joints.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let (m, _) = Model::load(root.join("robots/panda.urdf")).unwrap();
+    assert_eq!(m.nv, 8, "seven arm joints and the fingers");
+    let sm = SphereModel::new(&m, &SphereOptions::default());
+    let worst = worst_step_over_motion_bound(&m, &sm);
+    assert!(worst > 0.3, "panda: worst ratio {worst}");
+}
+
 #[test]
 fn relative_pair_bound_covers_every_sphere_distance_change_along_an_edge() {
     use armsim::planning::sampler::{Sampler, SamplerKind};

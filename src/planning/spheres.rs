@@ -14,9 +14,10 @@
 //! **Motion bound.** Along a straight joint-space segment, the centre `c` of a sphere on
 //! body `b` moves with speed `‖ċ‖ ≤ Σ_k |q̇_k| ρ_k`, the sum over the movable ancestors `k`
 //! of `b` (itself included): a revolute joint moves `c` at `|q̇_k| · dist(c, axis_k)` and
-//! `dist(c, axis_k) ≤ |c − o_k| ≤ Σ_{m ∈ k→b, m ≠ k} |t_m| + |p|`, the chain of placement
-//! translations `t_m` down to the body and the centre's offset `p` in the body frame
-//! (triangle inequality, whatever the configuration); a prismatic joint moves it at
+//! `dist(c, axis_k) ≤ |c − o_k| ≤ Σ_{m ∈ k→b, m ≠ k} (|t_m| + s_m) + |p|`, the chain of
+//! placement translations `t_m` down to the body, the largest slides `s_m` of the
+//! prismatic joints among them (over their limits) and the centre's offset `p` in the body
+//! frame (triangle inequality, whatever the configuration); a prismatic joint moves it at
 //! `|q̇_k|`. Mimic bodies add `|multiplier| ρ_k` to their master's coordinate.
 //! [`SphereModel::rho`] stores, per sphere, these coefficients per coordinate.
 
@@ -324,9 +325,22 @@ fn chain_rho(model: &Model, center: [f32; 3], body: usize, stop: usize, out: &mu
         };
         let k = model.q_index[b];
         out[k] += (model.q_mult[b].abs() * coef * (1.0 + 1e-6)) as f32;
-        reach += model.placement[b].trans.norm();
+        reach += model.placement[b].trans.norm() + slide(model, b);
         b = model.parent[b];
     }
+}
+
+/// How far body `b`'s origin can slide from its placement: the largest `|m q + o|` over
+/// the joint's limits for a prismatic joint (infinite without limits), zero otherwise.
+fn slide(model: &Model, b: usize) -> f64 {
+    if model.kind[b].is_revolute() {
+        return 0.0;
+    }
+    let k = model.q_index[b];
+    let (m, o) = (model.q_mult[b], model.q_offset[b]);
+    (m * model.lower[k] + o)
+        .abs()
+        .max((m * model.upper[k] + o).abs())
 }
 
 /// The deepest body that is an ancestor of both `a` and `b` (itself included), or
