@@ -10,8 +10,8 @@
 //! keeps the trees from wasting samples against walls.
 //!
 //! Trees live in buffers sized once ([`Rrt::new`]); nearest neighbours are found by a
-//! linear scan over blocks of eight nodes stored coordinate by coordinate, so that the
-//! distances of eight nodes are summed at once. Nothing is allocated per iteration.
+//! linear scan over coordinates padded to a multiple of eight (vectorised). Nothing is
+//! allocated per iteration.
 
 use super::checker::{CheckScratch, Checker, EdgeMode};
 use super::sampler::Sampler;
@@ -58,30 +58,23 @@ pub enum SearchEnd {
     Nodes,
 }
 
-/// One tree: nodes, parents, domain radii, and the nodes again in blocks of eight for the
-/// nearest-neighbour scan.
+/// One tree: nodes, parents, domain radii.
 #[derive(Clone, Debug)]
 struct Tree {
-    nv: usize,
     stride: usize,
     nodes: Vec<f32>,
     parent: Vec<u32>,
     radius: Vec<f32>,
-    /// Coordinate-major blocks of eight nodes: node `8b + l`'s coordinate `k` is at
-    /// `b · 8 nv + 8 k + l`; the unused lanes of the last block are infinitely far.
-    blocks: Vec<f32>,
 }
 
 impl Tree {
     fn with_capacity(nv: usize, cap: usize) -> Tree {
         let stride = nv.div_ceil(8) * 8;
         Tree {
-            nv,
             stride,
             nodes: Vec::with_capacity(stride * cap),
             parent: Vec::with_capacity(cap),
             radius: Vec::with_capacity(cap),
-            blocks: Vec::with_capacity(cap.div_ceil(8) * 8 * nv),
         }
     }
 
@@ -89,7 +82,6 @@ impl Tree {
         self.nodes.clear();
         self.parent.clear();
         self.radius.clear();
-        self.blocks.clear();
     }
 
     fn len(&self) -> usize {
@@ -102,13 +94,6 @@ impl Tree {
         self.nodes.resize((n + 1) * self.stride, 0.0);
         self.parent.push(parent);
         self.radius.push(f32::INFINITY);
-        let (b, l) = (n / 8, n % 8);
-        if l == 0 {
-            self.blocks.resize((b + 1) * 8 * self.nv, f32::INFINITY);
-        }
-        for (k, &x) in q.iter().take(self.nv).enumerate() {
-            self.blocks[b * 8 * self.nv + 8 * k + l] = x;
-        }
         n as u32
     }
 
@@ -118,48 +103,20 @@ impl Tree {
         &self.nodes[s..s + self.stride]
     }
 
-    /// Index of and squared distance to the node nearest `q`: the first of the nearest, as
-    /// a scan in node order would find it, eight nodes at a time (each lane sums its
-    /// squares in coordinate order, so the distances have the scan's bits). A block is
-    /// searched for its nearest lane only when it holds a nearer node than all before it,
-    /// which is rare after the first blocks.
+    /// Index of and squared distance to the node nearest `q` (padded to the stride).
     #[inline]
     fn nearest(&self, q: &[f32]) -> (u32, f32) {
-        let nv = self.nv;
         let mut best = (0u32, f32::INFINITY);
-        for (b, block) in self.blocks.chunks_exact((8 * nv).max(1)).enumerate() {
-            let mut acc = [0.0f32; 8];
-            for (row, &qk) in block.chunks_exact(8).zip(q) {
-                for (a, &x) in acc.iter_mut().zip(row) {
-                    let d = x - qk;
-                    *a += d * d;
-                }
+        for (i, node) in self.nodes.chunks_exact(self.stride).enumerate() {
+            let mut d = 0.0f32;
+            for (a, b) in node.iter().zip(q) {
+                d += (a - b) * (a - b);
             }
-            let m = min8(&acc);
-            if m < best.1 {
-                let l = acc.iter().position(|&a| a == m).unwrap_or(0);
-                best = ((8 * b + l) as u32, m);
+            if d < best.1 {
+                best = (i as u32, d);
             }
         }
         best
-    }
-}
-
-/// The smallest of eight (`a < b ? a : b` pairwise, as `minps` computes it).
-#[inline(always)]
-fn min8(x: &[f32; 8]) -> f32 {
-    let mut m = [0.0f32; 4];
-    for i in 0..4 {
-        m[i] = if x[i] < x[i + 4] { x[i] } else { x[i + 4] };
-    }
-    let (a, b) = (
-        if m[0] < m[2] { m[0] } else { m[2] },
-        if m[1] < m[3] { m[1] } else { m[3] },
-    );
-    if a < b {
-        a
-    } else {
-        b
     }
 }
 
@@ -335,47 +292,6 @@ impl Rrt {
         while i != u32::MAX {
             path.extend_from_slice(&self.trees[1].node(i)[..nv]);
             i = self.trees[1].parent[i as usize];
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::planning::sampler::Rng;
-
-    /// The first nearest node by a plain scan, with the scan's own sums.
-    fn scan(nodes: &[Vec<f32>], q: &[f32]) -> (u32, f32) {
-        let mut best = (0u32, f32::INFINITY);
-        for (i, x) in nodes.iter().enumerate() {
-            let mut d = 0.0f32;
-            for (a, b) in x.iter().zip(q) {
-                d += (a - b) * (a - b);
-            }
-            if d < best.1 {
-                best = (i as u32, d);
-            }
-        }
-        best
-    }
-
-    #[test]
-    fn blocked_nearest_is_the_first_nearest_of_a_plain_scan_with_its_bits() {
-        let mut rng = Rng::new(7);
-        for nv in [1, 6, 7, 9] {
-            let mut tree = Tree::with_capacity(nv, 200);
-            let mut nodes = Vec::new();
-            for n in 0..150 {
-                // Coarse values make exact ties (and equal nodes) common.
-                let x: Vec<f32> = (0..nv).map(|_| rng.below(4) as f32 * 0.5).collect();
-                tree.push(&x, 0);
-                nodes.push(x);
-                let q: Vec<f32> = (0..nv).map(|_| rng.below(8) as f32 * 0.25).collect();
-                let got = tree.nearest(&q);
-                let want = scan(&nodes, &q);
-                assert_eq!(got.0, want.0, "nv {nv}, {} nodes", n + 1);
-                assert_eq!(got.1.to_bits(), want.1.to_bits());
-            }
         }
     }
 }
