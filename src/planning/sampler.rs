@@ -181,9 +181,21 @@ impl Digits {
         self.partial[0]
     }
 
-    /// Adds one (carrying).
-    #[inline]
+    /// Adds one. The last digit changes alone `(b − 1)/b` of the time: one multiply-add.
+    #[inline(always)]
     fn increment(&mut self) {
+        let d0 = self.digit[0] + 1;
+        if d0 < self.base && self.len > 0 {
+            self.digit[0] = d0;
+            self.partial[0] = self.partial[1] + d0 as f64 * self.weight[0];
+        } else {
+            self.carry();
+        }
+    }
+
+    /// Adds one, carrying into higher digits.
+    #[inline(never)]
+    fn carry(&mut self) {
         let mut j = 0;
         while j < self.len && self.digit[j] + 1 == self.base {
             self.digit[j] = 0;
