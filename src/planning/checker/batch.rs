@@ -42,10 +42,16 @@ impl Checker {
                 s.twist[bi] = [w.store(), v.store()];
             }
         }
+        // Groups are ordered by body: a body's pose is loaded once for all its groups.
+        let mut pose_body = usize::MAX - 1;
+        let mut pose = self.stored_pose(tok, WORLD, s);
         for g in (0..sm.links.len()).rev() {
             let ls = &sm.links[g];
             s.placed[g] = false;
-            let pose = self.stored_pose(tok, ls.body, s);
+            if ls.body != pose_body {
+                pose = self.stored_pose(tok, ls.body, s);
+                pose_body = ls.body;
+            }
             let cluster = self.clusters.of[g];
             if let Some(c) = cluster {
                 if g + 1 == self.clusters.list[c].groups.end {
