@@ -522,6 +522,58 @@ fn sphere_motion_bound_counts_the_slide_of_prismatic_joints_below_a_revolute_one
 }
 
 #[test]
+fn obstacle_culling_by_reach_misses_no_contact_among_scattered_balls() {
+    use armsim::collision::Obstacle;
+    use armsim::model::Shape;
+    use armsim::planning::sampler::{Rng, Sampler, SamplerKind};
+    use armsim::spatial::{Mat3, Se3, Vec3};
+    // 400 balls of 3 cm in a 3 m cube around the base: the checker tests a link group only
+    // against the balls its bound can reach from the chain's root. Every contact the
+    // independent re-check finds must still be found.
+    for name in ["panda", "ur5"] {
+        let robot = Robot::load(name);
+        let mut rng = Rng::new(3);
+        let base_z = if name == "ur5" { 1.0 } else { 0.0 };
+        let balls: Vec<Obstacle> = (0..400)
+            .map(|i| {
+                let mut u = || 3.0 * rng.next_f64() - 1.5;
+                let c = Vec3::new(u(), u(), u() + base_z + 0.5);
+                Obstacle::new(
+                    &format!("ball{i}"),
+                    Shape::Sphere { radius: 0.03 },
+                    Se3::new(Mat3::identity(), c),
+                )
+            })
+            .collect();
+        let mut pl = planner(&robot, &balls, PlanOptions::default());
+        let mut recheck = Recheck::new(&robot, &balls);
+        let m = &robot.model;
+        let (lo, hi): (Vec<f32>, Vec<f32>) = (0..m.nv)
+            .map(|k| (m.lower[k] as f32, m.upper[k] as f32))
+            .unzip();
+        let mut sampler = Sampler::new(SamplerKind::Random, &lo, &hi, 9);
+        let mut q = vec![0.0f32; m.nv];
+        let (mut contacts, mut free) = (0, 0);
+        for _ in 0..3000 {
+            sampler.next(&mut q);
+            let q64: Vec<f64> = q.iter().map(|&x| x as f64).collect();
+            let pen = recheck.penetration(&q64);
+            let is_free = pl.is_free(&q64);
+            if pen > 1e-5 {
+                contacts += 1;
+                assert!(!is_free, "{name}: q {q64:?} penetrates {pen} m, found free");
+            }
+            free += usize::from(is_free);
+        }
+        // Both verdicts occur often enough to mean something.
+        assert!(
+            contacts > 300 && free > 300,
+            "{name}: {contacts} contacts, {free} free"
+        );
+    }
+}
+
+#[test]
 fn relative_pair_bound_covers_every_sphere_distance_change_along_an_edge() {
     use armsim::planning::sampler::{Sampler, SamplerKind};
     use armsim::planning::spheres::pair_rho;

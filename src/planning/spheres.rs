@@ -343,6 +343,20 @@ fn slide(model: &Model, b: usize) -> f64 {
         .max((m * model.upper[k] + o).abs())
 }
 
+/// A bound on the distance from a point at `center` (frame of `body`) to the origin of
+/// `stop`'s placement (`body` or an ancestor of it) in every configuration: `|p|` plus the
+/// placements and the prismatic slides on the way, `stop`'s own slide included.
+pub fn reach_to(model: &Model, center: [f32; 3], body: usize, stop: usize) -> f64 {
+    let c = center.map(f64::from);
+    let mut reach = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+    let mut b = body;
+    while b != stop && b != WORLD {
+        reach += model.placement[b].trans.norm() + slide(model, b);
+        b = model.parent[b];
+    }
+    reach + slide(model, stop)
+}
+
 /// The deepest body that is an ancestor of both `a` and `b` (itself included), or
 /// [`WORLD`].
 fn common_ancestor(model: &Model, a: usize, b: usize) -> usize {

@@ -69,7 +69,7 @@ pub use crate::planning::simd::Isa;
 #[cfg(target_arch = "x86_64")]
 use crate::planning::simd::{avx512vl_detected, Avx2, Sse2};
 use crate::planning::simd::{Scalar, Simd};
-use crate::planning::spheres::{pair_rho, SphereModel};
+use crate::planning::spheres::{pair_rho, reach_to, SphereModel};
 
 /// One body of the kinematic tree in f32.
 #[derive(Clone, Copy, Debug)]
@@ -430,8 +430,10 @@ isa_entry_points!(
 );
 
 /// Per link group, the obstacles within reach of its bounding sphere in any configuration:
-/// the group's bound swept about the first movable body's origin (a sphere of radius
-/// `|o − c| + r` around the chain root). Groups on the world are tested statically.
+/// the group's bound swept about the origin `o` of its chain's root body, fixed in the
+/// world (a sphere of radius `R + r` around it, `R` bounding `|c − o|` by the placements
+/// and slides down the chain, [`crate::planning::spheres::reach_to`]): the shoulder of an
+/// arm never meets the far end of a table. Groups on the world are tested statically.
 fn reachable_obstacles(
     model: &Model,
     sm: &SphereModel,
@@ -444,11 +446,20 @@ fn reachable_obstacles(
         .map(|ls| {
             (0..env.len())
                 .filter(|&o| {
+                    let ob = &env.obstacles[o];
                     if ls.body != WORLD {
-                        return true;
+                        let mut root = ls.body;
+                        while model.parent[root] != WORLD {
+                            root = model.parent[root];
+                        }
+                        let t = model.placement[root].trans;
+                        let reach = reach_to(model, ls.bound.center, ls.body, root)
+                            + f64::from(ls.bound.radius + clearance);
+                        let p = P3::splat(Scalar, &[t.x as f32, t.y as f32, t.z as f32]);
+                        // A millimetre of margin for the f32 tests.
+                        return ob.overlaps(Scalar, &p, Scalar.splat((reach + 1e-3) as f32)) != 0;
                     }
                     // A fixed link: does any of its spheres touch the obstacle at all?
-                    let ob = &env.obstacles[o];
                     (ls.first..ls.end).any(|i| {
                         let c = centers[i];
                         let p = P3::splat(Scalar, &[c.x as f32, c.y as f32, c.z as f32]);
