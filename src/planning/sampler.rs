@@ -126,6 +126,9 @@ impl Sampler {
     }
 }
 
+/// Digits of a `u64` in base 3 or more (`3^41 > 2^64`).
+const DIGITS: usize = 41;
+
 /// A counter kept as its base-`b` digits with the partial sums of its radical inverse
 /// (most significant digit first), so that the next sample costs the digits that changed,
 /// 1.5 multiply-adds on average in base 3, and no division: computing each radical inverse
@@ -135,18 +138,18 @@ impl Sampler {
 struct Digits {
     base: u32,
     /// Least significant first; `len` of them are in use.
-    digit: [u32; 64],
+    digit: [u32; DIGITS],
     len: usize,
     /// `weight[j] = b^−(j+1)`.
-    weight: [f64; 64],
+    weight: [f64; DIGITS],
     /// `partial[j] = Σ_{i ≥ j} digit[i] weight[i]` (`partial[len] = 0`).
-    partial: [f64; 65],
+    partial: [f64; DIGITS + 1],
 }
 
 impl Digits {
     fn new(base: u32, mut value: u64) -> Digits {
         let inv = 1.0 / base as f64;
-        let mut weight = [0.0; 64];
+        let mut weight = [0.0; DIGITS];
         let mut f = inv;
         for w in &mut weight {
             *w = f;
@@ -154,10 +157,10 @@ impl Digits {
         }
         let mut d = Digits {
             base,
-            digit: [0; 64],
+            digit: [0; DIGITS],
             len: 0,
             weight,
-            partial: [0.0; 65],
+            partial: [0.0; DIGITS + 1],
         };
         while value > 0 {
             d.digit[d.len] = (value % base as u64) as u32;
