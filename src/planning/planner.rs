@@ -96,6 +96,7 @@ pub struct Planner {
     /// How the self-collision pairs were chosen.
     pub pair_source: PairSource,
     opts: PlanOptions,
+    sampler: Sampler,
     rrt: Rrt,
     simplifier: Simplifier,
     scratch: CheckScratch,
@@ -147,6 +148,7 @@ impl Planner {
             })
             .unzip();
         Ok(Planner {
+            sampler: Sampler::new(opts.sampler, &lo, &hi, opts.seed),
             scratch: checker.scratch(),
             rrt: Rrt::new(nv, opts.rrt),
             simplifier: Simplifier::new(opts.simplifier),
@@ -215,12 +217,16 @@ impl Planner {
             self.start[k] = start[k] as f32;
             self.goal[k] = goal[k] as f32;
         }
-        let mut sampler = Sampler::new(self.opts.sampler, &self.lo, &self.hi, self.opts.seed);
+        // The sampler lives in the planner (no allocation per query); each query starts
+        // its sequence afresh, so the same query gives the same path.
+        let mut sampler = std::mem::take(&mut self.sampler);
+        sampler.reset();
         let deadline = self.opts.time_limit.map(|d| t0 + d);
         let found = self.search(&mut sampler, deadline);
         res.iterations = self.rrt.iterations;
         res.plan_time_us = t0.elapsed().as_secs_f64() * 1e6;
         if let Err(end) = found {
+            self.sampler = sampler;
             res.status = PlanStatus::Failed;
             res.reason = Some(match end {
                 SearchEnd::Iterations => {
@@ -250,6 +256,7 @@ impl Planner {
             );
             self.scratch.keep_clearance = false;
         }
+        self.sampler = sampler;
         res.simplify_time_us = t1.elapsed().as_secs_f64() * 1e6;
         res.cost = path_length(&self.path, nv);
         res.path = self

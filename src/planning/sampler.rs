@@ -9,6 +9,7 @@
 //! aligned poses.
 
 use crate::model::Model;
+use std::sync::OnceLock;
 
 /// The odd primes, one Halton base per coordinate (VAMP's bases).
 const PRIMES: [u32; 16] = [3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59];
@@ -72,12 +73,25 @@ pub enum SamplerKind {
 #[derive(Clone, Debug)]
 pub struct Sampler {
     kind: SamplerKind,
-    /// Per coordinate, the base-`b` digits of the sample's index (from 1; Halton).
+    /// Index of the next Halton sample (from 1).
+    index: usize,
+    /// Per coordinate, the radical inverses of the first [`TABLE_LEN`] indices
+    /// ([`halton_table`], shared by every sampler).
+    tables: Vec<&'static [f64]>,
+    /// Per coordinate, the base-`b` digits of the index, once past the tables.
     digits: Vec<Digits>,
     shift: Vec<f64>,
     lo: Vec<f32>,
     span: Vec<f32>,
+    seed: u64,
     rng: Rng,
+}
+
+impl Default for Sampler {
+    /// An empty sampler (no coordinates; allocates nothing).
+    fn default() -> Sampler {
+        Sampler::new(SamplerKind::Random, &[], &[], 0)
+    }
 }
 
 impl Sampler {
@@ -87,35 +101,69 @@ impl Sampler {
         let shift = (0..lo.len())
             .map(|_| if seed == 0 { 0.0 } else { rng.next_f64() })
             .collect();
+        let tables = match kind {
+            SamplerKind::Halton => (0..lo.len())
+                .map(|k| halton_table(k % PRIMES.len()))
+                .collect(),
+            SamplerKind::Random => Vec::new(),
+        };
         Sampler {
             kind,
-            digits: (0..lo.len())
-                .map(|k| Digits::new(PRIMES[k % PRIMES.len()], 1))
-                .collect(),
+            index: 1,
+            tables,
+            // Filled when the tables run out (allocated now: nothing is allocated per sample).
+            digits: Vec::with_capacity(lo.len()),
             shift,
             lo: lo.to_vec(),
             span: lo.iter().zip(hi).map(|(l, h)| h - l).collect(),
+            seed,
             rng,
+        }
+    }
+
+    /// Back to the first sample, as [`Sampler::new`] left it (without allocating).
+    pub fn reset(&mut self) {
+        self.index = 1;
+        self.digits.clear();
+        self.rng = Rng::new(self.seed);
+        if self.seed != 0 {
+            // The draws of the shifts.
+            for _ in 0..self.lo.len() {
+                self.rng.next_f64();
+            }
         }
     }
 
     /// Writes the next sample into `out`.
     #[inline]
     pub fn next(&mut self, out: &mut [f32]) {
+        if self.kind == SamplerKind::Random {
+            for (k, o) in out.iter_mut().enumerate() {
+                *o = self.lo[k] + self.span[k] * self.rng.next_f64() as f32;
+            }
+            return;
+        }
+        let i = self.index;
+        self.index += 1;
+        if i < TABLE_LEN {
+            let parts = self
+                .tables
+                .iter()
+                .zip(&self.shift)
+                .zip(self.lo.iter().zip(&self.span));
+            for (o, ((t, &sh), (&lo, &span))) in out.iter_mut().zip(parts) {
+                *o = lo + span * wrap(t[i] + sh) as f32;
+            }
+            return;
+        }
+        if self.digits.is_empty() {
+            let digits = (0..out.len()).map(|k| Digits::new(PRIMES[k % PRIMES.len()], i as u64));
+            self.digits.extend(digits);
+        }
         for (k, o) in out.iter_mut().enumerate() {
-            let u = match self.kind {
-                SamplerKind::Halton => {
-                    let d = &mut self.digits[k];
-                    let v = d.radical_inverse() + self.shift[k];
-                    d.increment();
-                    if v >= 1.0 {
-                        v - 1.0
-                    } else {
-                        v
-                    }
-                }
-                SamplerKind::Random => self.rng.next_f64(),
-            };
+            let d = &mut self.digits[k];
+            let u = wrap(d.radical_inverse() + self.shift[k]);
+            d.increment();
             *o = self.lo[k] + self.span[k] * u as f32;
         }
     }
@@ -124,6 +172,37 @@ impl Sampler {
     pub fn rng(&mut self) -> &mut Rng {
         &mut self.rng
     }
+}
+
+/// `v` in [0, 2) back to [0, 1).
+#[inline(always)]
+fn wrap(v: f64) -> f64 {
+    if v >= 1.0 {
+        v - 1.0
+    } else {
+        v
+    }
+}
+
+/// Samples whose radical inverses are tabled (per base, 256 KiB of f64).
+const TABLE_LEN: usize = 1 << 15;
+
+/// The radical inverses of `0..TABLE_LEN` in the base of coordinate `k` (`k < 16`), computed
+/// once per process by a [`Digits`] counter (the same bits as counting on from there).
+/// Taking a sample is then a load per coordinate: counting in each base was two thirds of
+/// the time of the search's iterations that the dynamic domain turns away (20 of 30 ns).
+fn halton_table(k: usize) -> &'static [f64] {
+    static TABLES: [OnceLock<Box<[f64]>>; 16] = [const { OnceLock::new() }; 16];
+    TABLES[k].get_or_init(|| {
+        let mut d = Digits::new(PRIMES[k], 0);
+        (0..TABLE_LEN)
+            .map(|_| {
+                let x = d.radical_inverse();
+                d.increment();
+                x
+            })
+            .collect()
+    })
 }
 
 /// Digits of a `u64` in base 3 or more (`3^41 > 2^64`).
@@ -266,6 +345,46 @@ mod tests {
                 );
                 d.increment();
             }
+        }
+    }
+
+    #[test]
+    fn tabled_and_counted_samples_continue_one_sequence() {
+        // Across the end of the tables, a sampler's samples are those of counting from 1.
+        let (lo, hi) = ([-1.0f32, 0.0, 2.0], [1.0f32, 5.0, 3.0]);
+        let mut s = Sampler::new(SamplerKind::Halton, &lo, &hi, 17);
+        let shift = s.shift.clone();
+        let mut counters: Vec<Digits> = (0..3).map(|k| Digits::new(PRIMES[k], 1)).collect();
+        let mut q = [0.0f32; 3];
+        for i in 1..TABLE_LEN + 100 {
+            s.next(&mut q);
+            for k in 0..3 {
+                let u = wrap(counters[k].radical_inverse() + shift[k]);
+                counters[k].increment();
+                let want = lo[k] + (hi[k] - lo[k]) * u as f32;
+                assert_eq!(q[k].to_bits(), want.to_bits(), "sample {i}, coordinate {k}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_reset_sampler_draws_what_a_new_one_draws() {
+        for kind in [SamplerKind::Halton, SamplerKind::Random] {
+            let mut a = Sampler::new(kind, &[0.0, -1.0], &[1.0, 1.0], 5);
+            let mut q = [0.0f32; 2];
+            for _ in 0..TABLE_LEN + 10 {
+                a.next(&mut q);
+            }
+            a.rng().next_u64();
+            a.reset();
+            let mut b = Sampler::new(kind, &[0.0, -1.0], &[1.0, 1.0], 5);
+            let mut p = [0.0f32; 2];
+            for _ in 0..100 {
+                a.next(&mut q);
+                b.next(&mut p);
+                assert_eq!(q, p);
+            }
+            assert_eq!(a.rng().next_u64(), b.rng().next_u64());
         }
     }
 
