@@ -120,15 +120,7 @@ fn parse_sliders(cx: &Source, spec: &Spec, links: &[Link]) -> Result<Vec<Slider>
         let s = sp.get_ref();
         let key = format!("sliders[{k}]");
         let span = sp.span();
-        let link = body_of(links, &s.link)
-            .filter(|&b| b != GROUND)
-            .ok_or_else(|| {
-                cx.err(
-                    cx.key_line(&span, "link"),
-                    format!("{key}.link"),
-                    format!("no link '{}'", s.link),
-                )
-            })?;
+        let link = moving_link(cx, links, &s.link, &span, (&key, "link"))?;
         let guide = body_of(links, &s.guide).ok_or_else(|| {
             cx.err(
                 cx.key_line(&span, "guide"),
@@ -206,15 +198,7 @@ fn parse_driver(
     };
     let dspan = dsp.span();
     let d = dsp.get_ref();
-    let dlink = body_of(links, &d.link)
-        .filter(|&b| b != GROUND)
-        .ok_or_else(|| {
-            cx.err(
-                cx.key_line(&dspan, "link"),
-                "driver.link",
-                format!("no link '{}'", d.link),
-            )
-        })?;
+    let dlink = moving_link(cx, links, &d.link, &dspan, ("driver", "link"))?;
     if !(d.speed.is_finite() && d.acceleration.is_finite()) {
         return Err(cx.err(cx.key_line(&dspan, "speed"), "driver.speed", "non-finite"));
     }
@@ -590,15 +574,7 @@ fn parse_counterweight(
             let span = c.span();
             let cs = c.get_ref();
             let find = |key: &str, n: &str| {
-                body_of(&linkage.links, n)
-                    .filter(|&b| b != GROUND)
-                    .ok_or_else(|| {
-                        cx.err(
-                            cx.key_line(&span, key),
-                            format!("counterweight.{key}"),
-                            format!("no link '{n}'"),
-                        )
-                    })
+                moving_link(cx, &linkage.links, n, &span, ("counterweight", key))
             };
             if !has_kinetostatics {
                 return Err(cx.err(

@@ -3,12 +3,12 @@
 //! and torque table, each error naming the file, the line and the key.
 
 use super::{
-    body_of, FlywheelScenario, FlywheelSpec, KinetoSpec, KinetostaticsScenario, LoadSpec,
+    moving_link, FlywheelScenario, FlywheelSpec, KinetoSpec, KinetostaticsScenario, LoadSpec,
     MechanismScenario,
 };
 use crate::diag::{all_finite, LocatedError as ScenarioError, Source};
 use crate::mechanism::kinetostatics::{Loads, PointForce};
-use crate::mechanism::linkage::{Linkage, GROUND};
+use crate::mechanism::linkage::Linkage;
 use crate::mechanism::Vec2;
 use toml::Spanned;
 
@@ -80,15 +80,7 @@ fn parse_load(
     let s = ls.get_ref();
     let span = ls.span();
     let key = format!("loads[{i}]");
-    let link = body_of(&l.links, &s.link)
-        .filter(|&b| b != GROUND)
-        .ok_or_else(|| {
-            cx.err(
-                cx.key_line(&span, "link"),
-                format!("{key}.link"),
-                format!("no link '{}'", s.link),
-            )
-        })?;
+    let link = moving_link(cx, &l.links, &s.link, &span, (&key, "link"))?;
     if s.force.is_none() && s.torque.is_none() {
         return Err(cx.err(
             cx.line(&span),

@@ -451,6 +451,26 @@ fn parse_link(cx: &Source, name: &str, sp: &Spanned<LinkSpec>) -> Result<Link, S
     })
 }
 
+/// The moving link named `name` (not the ground), or an error at `key` of the table at
+/// `span` that names it as `table.key`.
+fn moving_link(
+    cx: &Source,
+    links: &[Link],
+    name: &str,
+    span: &std::ops::Range<usize>,
+    (table, key): (&str, &str),
+) -> Result<usize, ScenarioError> {
+    body_of(links, name)
+        .filter(|&b| b != GROUND)
+        .ok_or_else(|| {
+            cx.err(
+                cx.key_line(span, key),
+                format!("{table}.{key}"),
+                format!("no link '{name}'"),
+            )
+        })
+}
+
 fn body_of(links: &[Link], name: &str) -> Option<usize> {
     if name == "ground" {
         Some(GROUND)
