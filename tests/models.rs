@@ -394,3 +394,23 @@ fn mimic_on_a_fixed_joint_is_ignored_with_a_warning_naming_file_line_and_joint()
     let e = Model::load_str(urdf, "g.urdf", &strict).unwrap_err();
     assert_eq!(e.line, Some(9));
 }
+
+#[test]
+fn support_walks_from_a_body_to_the_root_and_stroke_bounds_a_prismatic_slide() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    // The full Panda: seven revolute joints in a chain, then a prismatic finger.
+    let (m, _) = Model::load(root.join("robots/panda.urdf")).unwrap();
+    let finger = m.links[m.link_id("panda_leftfinger").unwrap()].body;
+    let chain: Vec<usize> = m.support(finger).collect();
+    assert_eq!(chain.len(), 8);
+    assert_eq!(chain[0], finger);
+    for w in chain.windows(2) {
+        assert_eq!(m.parent[w[0]], w[1]);
+    }
+    assert_eq!(m.parent[chain[7]], armsim::model::WORLD);
+    assert_eq!(m.support(armsim::model::WORLD).count(), 0);
+    // The finger slides 0–4 cm; a revolute joint does not slide.
+    assert_eq!(m.stroke(finger, 0.0, 0.04), 0.04);
+    assert_eq!(m.stroke(finger, -0.03, 0.01), 0.03);
+    assert_eq!(m.stroke(chain[1], -3.0, 3.0), 0.0);
+}

@@ -154,12 +154,7 @@ impl ToolChain {
         if l.body == WORLD {
             return None;
         }
-        let mut bodies = Vec::new();
-        let mut b = l.body;
-        while b != WORLD {
-            bodies.push(b);
-            b = model.parent[b];
-        }
+        let mut bodies: Vec<usize> = model.support(l.body).collect();
         bodies.reverse();
         let steps = bodies
             .iter()

@@ -406,6 +406,24 @@ impl Model {
         self.parent.len()
     }
 
+    /// `body` and its ancestors, deepest first, up to the root (nothing for [`WORLD`]).
+    pub fn support(&self, body: usize) -> impl Iterator<Item = usize> + '_ {
+        std::iter::successors((body != WORLD).then_some(body), |&b| {
+            let p = self.parent[b];
+            (p != WORLD).then_some(p)
+        })
+    }
+
+    /// How far body `b`'s origin slides from its placement for coordinates in `[lo, hi]`:
+    /// the largest `|m q + o|` of a prismatic joint, zero for a revolute one.
+    pub fn stroke(&self, b: usize, lo: f64, hi: f64) -> f64 {
+        if self.kind[b].is_revolute() {
+            return 0.0;
+        }
+        let s = |q: f64| (self.q_mult[b] * q + self.q_offset[b]).abs();
+        s(lo).max(s(hi))
+    }
+
     /// Link index by name.
     pub fn link_id(&self, name: &str) -> Option<usize> {
         self.link_index.get(name).copied()

@@ -316,8 +316,7 @@ fn chain_rho(model: &Model, center: [f32; 3], body: usize, stop: usize, out: &mu
     let c = center.map(f64::from);
     // |c − o_k|, bounded by the chain of placement lengths from k down to the body.
     let mut reach = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
-    let mut b = body;
-    while b != WORLD && b != stop {
+    for b in model.support(body).take_while(|&b| b != stop) {
         let coef = if model.kind[b].is_revolute() {
             reach
         } else {
@@ -326,21 +325,13 @@ fn chain_rho(model: &Model, center: [f32; 3], body: usize, stop: usize, out: &mu
         let k = model.q_index[b];
         out[k] += (model.q_mult[b].abs() * coef * (1.0 + 1e-6)) as f32;
         reach += model.placement[b].trans.norm() + slide(model, b);
-        b = model.parent[b];
     }
 }
 
-/// How far body `b`'s origin can slide from its placement: the largest `|m q + o|` over
-/// the joint's limits for a prismatic joint (infinite without limits), zero otherwise.
+/// How far body `b`'s origin can slide over its joint's limits ([`Model::stroke`]).
 fn slide(model: &Model, b: usize) -> f64 {
-    if model.kind[b].is_revolute() {
-        return 0.0;
-    }
     let k = model.q_index[b];
-    let (m, o) = (model.q_mult[b], model.q_offset[b]);
-    (m * model.lower[k] + o)
-        .abs()
-        .max((m * model.upper[k] + o).abs())
+    model.stroke(b, model.lower[k], model.upper[k])
 }
 
 /// A bound on the distance from a point at `center` (frame of `body`) to the origin of
@@ -348,31 +339,19 @@ fn slide(model: &Model, b: usize) -> f64 {
 /// placements and the prismatic slides on the way, `stop`'s own slide included.
 pub fn reach_to(model: &Model, center: [f32; 3], body: usize, stop: usize) -> f64 {
     let c = center.map(f64::from);
-    let mut reach = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
-    let mut b = body;
-    while b != stop && b != WORLD {
-        reach += model.placement[b].trans.norm() + slide(model, b);
-        b = model.parent[b];
-    }
-    reach + slide(model, stop)
+    let below: f64 = model
+        .support(body)
+        .take_while(|&b| b != stop)
+        .map(|b| model.placement[b].trans.norm() + slide(model, b))
+        .sum();
+    (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() + below + slide(model, stop)
 }
 
 /// The deepest body that is an ancestor of both `a` and `b` (itself included), or
 /// [`WORLD`].
 fn common_ancestor(model: &Model, a: usize, b: usize) -> usize {
-    let chain = |mut x: usize| {
-        let mut v = Vec::new();
-        while x != WORLD {
-            v.push(x);
-            x = model.parent[x];
-        }
-        v
-    };
-    let ca = chain(a);
-    chain(b)
-        .into_iter()
-        .find(|x| ca.contains(x))
-        .unwrap_or(WORLD)
+    let ca: Vec<usize> = model.support(a).collect();
+    model.support(b).find(|x| ca.contains(x)).unwrap_or(WORLD)
 }
 
 /// Relative motion bound of link groups `ga` and `gb` (`nv` coefficients): along a

@@ -165,15 +165,7 @@ fn invalid<T>(msg: impl Into<String>) -> Result<T, WorkspaceError> {
 
 /// The deepest link (most movable ancestors), the last in tree order among ties.
 fn default_tool(model: &Model) -> usize {
-    let depth = |link: usize| {
-        let mut b = model.links[link].body;
-        let mut d = 0;
-        while b != WORLD {
-            d += 1;
-            b = model.parent[b];
-        }
-        d
-    };
+    let depth = |link: usize| model.support(model.links[link].body).count();
     let mut best = (0, 0);
     for l in 0..model.links.len() {
         let d = depth(l);
@@ -190,24 +182,15 @@ fn default_tool(model: &Model) -> usize {
 /// offset.
 fn reach_bound(model: &Model, tool: usize, jb: &JointBox) -> (Vec3, f64) {
     let link = &model.links[tool];
-    let mut chain = Vec::new();
-    let mut b = link.body;
-    while b != WORLD {
-        chain.push(b);
-        b = model.parent[b];
-    }
+    let chain: Vec<usize> = model.support(link.body).collect();
     let root = *chain.last().expect("the tool moves");
     let mut radius = link.offset.trans.norm();
     for &b in &chain {
         if b != root {
             radius += model.placement[b].trans.norm();
         }
-        if !model.kind[b].is_revolute() {
-            let k = model.q_index[b];
-            let (lo, hi) = (jb.lo[k], jb.lo[k] + jb.span[k]);
-            let s = |q: f64| (model.q_mult[b] * q + model.q_offset[b]).abs();
-            radius += s(lo).max(s(hi));
-        }
+        let k = model.q_index[b];
+        radius += model.stroke(b, jb.lo[k], jb.lo[k] + jb.span[k]);
     }
     (model.placement[root].trans, radius)
 }

@@ -448,10 +448,7 @@ fn reachable_obstacles(
                 .filter(|&o| {
                     let ob = &env.obstacles[o];
                     if ls.body != WORLD {
-                        let mut root = ls.body;
-                        while model.parent[root] != WORLD {
-                            root = model.parent[root];
-                        }
+                        let root = model.support(ls.body).last().unwrap_or(ls.body);
                         let t = model.placement[root].trans;
                         let reach = reach_to(model, ls.bound.center, ls.body, root)
                             + f64::from(ls.bound.radius + clearance);

@@ -30,7 +30,7 @@
 use super::IkError;
 use crate::data::Data;
 use crate::kinematics::{forward_kinematics, frame_placement};
-use crate::model::{Model, WORLD};
+use crate::model::Model;
 use crate::spatial::{column, Mat3, Se3, Vec3};
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -331,12 +331,7 @@ fn snap_angle(v: f64) -> f64 {
 /// model's coordinates, in order, without mimic joints.
 fn serial_bodies(model: &Model, l: &crate::model::Link) -> Result<Vec<usize>, IkError> {
     let unsupported = |m: String| Err(IkError::Unsupported(m));
-    let mut bodies = Vec::new();
-    let mut b = l.body;
-    while b != WORLD {
-        bodies.push(b);
-        b = model.parent[b];
-    }
+    let mut bodies: Vec<usize> = model.support(l.body).collect();
     bodies.reverse();
     let n = bodies.len();
     if n == 0 {
