@@ -445,21 +445,23 @@ fn start_and_goal_outside_limits_or_of_wrong_length_are_invalid() {
     assert!(r.path.is_empty());
 }
 
-/// Over 20 random edges × 200 steps, the largest ratio of a sphere centre's step to its
-/// motion bound `Σ_k |Δ_k| ρ_k / steps`; panics if a step exceeds its bound.
-fn worst_step_over_motion_bound(
+/// Walks 20 random edges of `m`'s joint box (seeded) in `steps` steps, calling
+/// `f(speed, prev, next)` for each step with the sphere centres before and after it;
+/// `speed(ρ) = Σ_k |Δ_k| ρ_k` is the edge's speed bound for coefficients `ρ`.
+fn for_each_edge_step(
     m: &armsim::model::Model,
     sm: &armsim::planning::spheres::SphereModel,
-) -> f64 {
+    seed: u64,
+    steps: usize,
+    mut f: impl FnMut(&dyn Fn(&[f32]) -> f64, &[armsim::spatial::Vec3], &[armsim::spatial::Vec3]),
+) {
     use armsim::planning::sampler::{Sampler, SamplerKind};
     let nv = m.nv;
     let (lo, hi): (Vec<f32>, Vec<f32>) = (0..nv)
         .map(|k| (m.lower[k] as f32, m.upper[k] as f32))
         .unzip();
-    let mut sampler = Sampler::new(SamplerKind::Random, &lo, &hi, 5);
+    let mut sampler = Sampler::new(SamplerKind::Random, &lo, &hi, seed);
     let (mut a, mut b) = (vec![0.0f32; nv], vec![0.0f32; nv]);
-    let steps = 200;
-    let mut worst = 0.0f64;
     for _ in 0..20 {
         sampler.next(&mut a);
         sampler.next(&mut b);
@@ -468,27 +470,42 @@ fn worst_step_over_motion_bound(
                 .map(|k| a[k] as f64 + t * (b[k] - a[k]) as f64)
                 .collect()
         };
+        let speed = |rho: &[f32]| -> f64 {
+            (0..nv)
+                .map(|k| ((b[k] - a[k]) as f64).abs() * rho[k] as f64)
+                .sum()
+        };
         let mut prev = sm.world_centers(m, &at(0.0));
         for step in 1..=steps {
             let next = sm.world_centers(m, &at(step as f64 / steps as f64));
-            for i in 0..sm.len() {
-                let bound: f64 = (0..nv)
-                    .map(|k| ((b[k] - a[k]) as f64).abs() * sm.rho[i * nv + k] as f64)
-                    .sum::<f64>()
-                    / steps as f64;
-                let moved = (next[i] - prev[i]).norm();
-                assert!(
-                    moved <= bound * (1.0 + 1e-4) + 1e-9,
-                    "{}: sphere {i} moved {moved} > bound {bound}",
-                    m.name
-                );
-                if bound > 0.0 {
-                    worst = worst.max(moved / bound);
-                }
-            }
+            f(&speed, &prev, &next);
             prev = next;
         }
     }
+}
+
+/// Over 20 random edges × 200 steps, the largest ratio of a sphere centre's step to its
+/// motion bound `Σ_k |Δ_k| ρ_k / steps`; panics if a step exceeds its bound.
+fn worst_step_over_motion_bound(
+    m: &armsim::model::Model,
+    sm: &armsim::planning::spheres::SphereModel,
+) -> f64 {
+    let (nv, steps) = (m.nv, 200);
+    let mut worst = 0.0f64;
+    for_each_edge_step(m, sm, 5, steps, |speed, prev, next| {
+        for i in 0..sm.len() {
+            let bound = speed(&sm.rho[i * nv..(i + 1) * nv]) / steps as f64;
+            let moved = (next[i] - prev[i]).norm();
+            assert!(
+                moved <= bound * (1.0 + 1e-4) + 1e-9,
+                "{}: sphere {i} moved {moved} > bound {bound}",
+                m.name
+            );
+            if bound > 0.0 {
+                worst = worst.max(moved / bound);
+            }
+        }
+    });
     worst
 }
 
@@ -575,63 +592,40 @@ fn obstacle_culling_by_reach_misses_no_contact_among_scattered_balls() {
 
 #[test]
 fn relative_pair_bound_covers_every_sphere_distance_change_along_an_edge() {
-    use armsim::planning::sampler::{Sampler, SamplerKind};
     use armsim::planning::spheres::pair_rho;
     for name in ["panda", "ur5"] {
         let robot = Robot::load(name);
         let checker = planner(&robot, &[], PlanOptions::default()).checker;
         let (m, sm) = (&robot.model, &checker.spheres);
         let nv = m.nv;
-        let (lo, hi): (Vec<f32>, Vec<f32>) = (0..nv)
-            .map(|k| (m.lower[k] as f32, m.upper[k] as f32))
-            .unzip();
         let rel: Vec<Vec<f32>> = checker
             .self_pairs
             .iter()
             .map(|&(a, b)| pair_rho(m, sm, a, b))
             .collect();
-        let mut sampler = Sampler::new(SamplerKind::Random, &lo, &hi, 11);
-        let (mut a, mut b) = (vec![0.0f32; nv], vec![0.0f32; nv]);
         let steps = 400;
         let (mut worst, mut tighter) = (0.0f64, 0usize);
-        for _ in 0..20 {
-            sampler.next(&mut a);
-            sampler.next(&mut b);
-            let at = |t: f64| -> Vec<f64> {
-                (0..nv)
-                    .map(|k| a[k] as f64 + t * (b[k] - a[k]) as f64)
-                    .collect()
-            };
-            let speed = |rho: &[f32]| -> f64 {
-                (0..nv)
-                    .map(|k| ((b[k] - a[k]) as f64).abs() * rho[k] as f64)
-                    .sum()
-            };
-            let mut prev = sm.world_centers(m, &at(0.0));
-            for step in 1..=steps {
-                let next = sm.world_centers(m, &at(step as f64 / steps as f64));
-                for (p, &(ga, gb)) in checker.self_pairs.iter().enumerate() {
-                    let bound = speed(&rel[p]) / steps as f64;
-                    let (la, lb) = (&sm.links[ga], &sm.links[gb]);
-                    for i in la.first..la.end {
-                        for j in lb.first..lb.end {
-                            let d0 = (prev[i] - prev[j]).norm();
-                            let d1 = (next[i] - next[j]).norm();
-                            // The distance changes at most at the relative speed bound.
-                            assert!(
-                                (d1 - d0).abs() <= bound * (1.0 + 1e-4) + 1e-9,
-                                "{name}: pair {ga}-{gb}, spheres {i}-{j}: |Δd| {} > {bound}",
-                                (d1 - d0).abs()
-                            );
-                            if bound > 0.0 {
-                                worst = worst.max((d1 - d0).abs() / bound);
-                            }
+        for_each_edge_step(m, sm, 11, steps, |speed, prev, next| {
+            for (p, &(ga, gb)) in checker.self_pairs.iter().enumerate() {
+                let bound = speed(&rel[p]) / steps as f64;
+                let (la, lb) = (&sm.links[ga], &sm.links[gb]);
+                for i in la.first..la.end {
+                    for j in lb.first..lb.end {
+                        let d0 = (prev[i] - prev[j]).norm();
+                        let d1 = (next[i] - next[j]).norm();
+                        // The distance changes at most at the relative speed bound.
+                        assert!(
+                            (d1 - d0).abs() <= bound * (1.0 + 1e-4) + 1e-9,
+                            "{name}: pair {ga}-{gb}, spheres {i}-{j}: |Δd| {} > {bound}",
+                            (d1 - d0).abs()
+                        );
+                        if bound > 0.0 {
+                            worst = worst.max((d1 - d0).abs() / bound);
                         }
                     }
                 }
-                prev = next;
             }
-        }
+        });
         // The bound is not loose to the point of meaning nothing: some sphere pair's
         // distance changes at more than a tenth of it.
         assert!(worst > 0.1, "{name}: worst ratio {worst}");
