@@ -240,14 +240,7 @@ impl IkSolver {
     fn stationary(&mut self, model: &Model, link: usize, target: &Se3, opts: &IkOptions) -> bool {
         let q = std::mem::take(&mut self.best_q);
         let (_, _, _, e) = self.cost(model, link, target, &q, opts);
-        compute_joint_jacobians(model, &mut self.data, &q);
-        frame_jacobian(
-            model,
-            &self.data,
-            link,
-            Expressed::WorldAligned,
-            &mut self.jac,
-        );
+        self.world_jacobian(model, link, &q);
         let rows = if opts.position_only { 3 } else { 6 };
         let w2 = opts.rotation_weight * opts.rotation_weight;
         let (mut g2, mut j2, mut e2) = (0.0, 0.0, 0.0);
@@ -445,6 +438,18 @@ impl IkSolver {
         }
     }
 
+    /// `self.jac`: the Jacobian of `link` at `q`, world-aligned.
+    fn world_jacobian(&mut self, model: &Model, link: usize, q: &[f64]) {
+        compute_joint_jacobians(model, &mut self.data, q);
+        frame_jacobian(
+            model,
+            &self.data,
+            link,
+            Expressed::WorldAligned,
+            &mut self.jac,
+        );
+    }
+
     /// The frame Jacobian `J` (world-aligned, frame origin) at `q`, then the gradient
     /// `g = Jᵀ W e` into `grad` and the normal matrix `N = Jᵀ W J` into `normal` (`W`
     /// weighs the rotation rows by the rotation weight squared; position only: three
@@ -462,14 +467,7 @@ impl IkSolver {
         let n = model.nv;
         let rows = if opts.position_only { 3 } else { 6 };
         let w2 = opts.rotation_weight * opts.rotation_weight;
-        compute_joint_jacobians(model, &mut self.data, q);
-        frame_jacobian(
-            model,
-            &self.data,
-            link,
-            Expressed::WorldAligned,
-            &mut self.jac,
-        );
+        self.world_jacobian(model, link, q);
         for i in 0..n {
             let mut g = 0.0;
             for r in 0..rows {
