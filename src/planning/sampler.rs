@@ -83,7 +83,8 @@ pub struct Sampler {
     shift: Vec<f64>,
     lo: Vec<f32>,
     span: Vec<f32>,
-    seed: u64,
+    /// The generator as the shifts left it (where [`Sampler::reset`] returns).
+    rng_start: Rng,
     rng: Rng,
 }
 
@@ -116,7 +117,7 @@ impl Sampler {
             shift,
             lo: lo.to_vec(),
             span: lo.iter().zip(hi).map(|(l, h)| h - l).collect(),
-            seed,
+            rng_start: rng.clone(),
             rng,
         }
     }
@@ -125,13 +126,7 @@ impl Sampler {
     pub fn reset(&mut self) {
         self.index = 1;
         self.digits.clear();
-        self.rng = Rng::new(self.seed);
-        if self.seed != 0 {
-            // The draws of the shifts.
-            for _ in 0..self.lo.len() {
-                self.rng.next_f64();
-            }
-        }
+        self.rng = self.rng_start.clone();
     }
 
     /// Writes the next sample into `out`.
