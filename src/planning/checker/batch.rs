@@ -43,15 +43,18 @@ impl Checker {
             }
         }
         // Groups are ordered by body: a body's pose is loaded once for all its groups.
-        let mut pose_body = usize::MAX - 1;
-        let mut pose = self.stored_pose(tok, WORLD, s);
+        let mut loaded: Option<(usize, Pose<S>)> = None;
         for g in (0..sm.links.len()).rev() {
             let ls = &sm.links[g];
             s.placed[g] = false;
-            if ls.body != pose_body {
-                pose = self.stored_pose(tok, ls.body, s);
-                pose_body = ls.body;
-            }
+            let pose = match loaded {
+                Some((b, p)) if b == ls.body => p,
+                _ => {
+                    let p = self.stored_pose(tok, ls.body, s);
+                    loaded = Some((ls.body, p));
+                    p
+                }
+            };
             let cluster = self.clusters.of[g];
             if let Some(c) = cluster {
                 if g + 1 == self.clusters.list[c].groups.end {
