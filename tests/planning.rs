@@ -556,7 +556,7 @@ fn obstacle_culling_by_reach_misses_no_contact_among_scattered_balls() {
                 let mut u = || 3.0 * rng.next_f64() - 1.5;
                 let c = Vec3::new(u(), u(), u() + base_z + 0.5);
                 Obstacle::new(
-                    &format!("ball{i}"),
+                    format!("ball{i}"),
                     Shape::Sphere { radius: 0.03 },
                     Se3::new(Mat3::identity(), c),
                 )
