@@ -50,6 +50,9 @@ enum Cmd {
     /// Plan collision-free motions (RRT-Connect on the robot's collision spheres) for MoveIt
     /// problems: one scene + request, or every pair of benchmark folders.
     Plan(cli::plan::PlanArgs),
+    /// Compute the allowed-collision matrix of a URDF (adjacent, default, always and
+    /// never-colliding link pairs, as MoveIt's Setup Assistant does) and write it as an SRDF.
+    Srdf(cli::srdf::SrdfArgs),
     /// Write the generated N-joint benchmark chain as URDF.
     Chain(cli::inspect::ChainArgs),
 }
@@ -80,6 +83,11 @@ fn run(cli: Cli) -> Result<(), String> {
         Cmd::Tradeoffs(a) => cli::scenario::tradeoffs(&a),
         Cmd::Plan(args) => {
             let text = cli::plan::run(&args)?;
+            print!("{text}");
+            Ok(())
+        }
+        Cmd::Srdf(a) => {
+            let text = cli::srdf::run(&a)?;
             print!("{text}");
             Ok(())
         }

@@ -21,6 +21,7 @@ from ._armsim import (  # noqa: F401  (re-exports)
     Data,
     IkResult,
     Model,
+    Planner,
     Robot,
     aba,
     aba_batch,
@@ -41,7 +42,7 @@ from ._armsim import (  # noqa: F401  (re-exports)
 from . import _armsim
 
 __all__ = [
-    "ArmsimError", "Data", "IkResult", "Model", "Robot", "IK_KEYWORDS",
+    "ArmsimError", "Data", "IkResult", "Model", "Planner", "Robot", "IK_KEYWORDS",
     "forward_kinematics", "frame_jacobian", "rnea", "aba", "crba",
     "compute_generalized_gravity", "gravity", "nonlinear_effects",
     "rnea_batch", "aba_batch", "gravity_batch", "fk_batch", "jacobian_batch", "ik_batch",

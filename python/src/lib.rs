@@ -11,6 +11,7 @@ mod dyn_calls;
 mod errors;
 mod ik;
 mod model;
+mod obstacles;
 mod plan;
 mod robot;
 mod tasks;
@@ -26,6 +27,7 @@ fn _armsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::PyData>()?;
     m.add_class::<robot::PyRobot>()?;
     m.add_class::<ik::IkResult>()?;
+    m.add_class::<plan::PyPlanner>()?;
     m.add_function(wrap_pyfunction!(algorithms::forward_kinematics, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::frame_jacobian, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::rnea, m)?)?;

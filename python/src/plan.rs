@@ -1,15 +1,23 @@
-//! `armsim.plan` and `Robot.plan`: collision-free RRT-Connect paths (`armsim plan`) around
-//! the obstacles of a MoveIt `PlanningScene` file, start and goal given or read from a
-//! MoveIt `MotionPlanRequest` file, self pairs from an SRDF or by sampling.
+//! `armsim.plan`, `Robot.plan` and `armsim.Planner`: collision-free RRT-Connect paths
+//! (`armsim plan`) around the obstacles of a MoveIt `PlanningScene` file or of obstacle
+//! dicts, start and goal given or read from a MoveIt `MotionPlanRequest` file, self pairs
+//! from an SRDF or from the computed allowed-collision matrix. `Planner` builds the robot
+//! half once and takes a scene per query. Every call runs without the GIL on a worker
+//! thread while the calling thread polls for Ctrl-C: an interrupt stops the work within
+//! milliseconds and raises `KeyboardInterrupt`.
 
 use crate::args::vector;
 use crate::errors::{err, require_file};
 use armsim::model::Model;
-use armsim::planning::{moveit, srdf, PlanOptions, PlanStatus, Planner};
+use armsim::planning::{
+    moveit, srdf, PairSource, PlanOptions, PlanResult, PlanStatus, Planner, PlanningRobot,
+};
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Duration;
 
 /// What a plan call takes besides the model.
@@ -45,30 +53,83 @@ pub fn plan<'py>(py: Python<'py>, model: &Model, a: PlanArgs<'py>) -> PyResult<B
         }
         None => None,
     };
-    if !(a.time_limit_ms.is_finite() && a.time_limit_ms > 0.0) {
+    let opts = options(a.seed, a.time_limit_ms, a.simplify, a.range, 0.01)?;
+    let r = interruptible(py, |stop| -> Result<_, String> {
+        let opts = PlanOptions {
+            stop: Some(stop),
+            ..opts
+        };
+        let mut planner = Planner::new(model, &obstacles, pairs.as_deref(), opts)?;
+        Ok(planner.plan(&start, &goal))
+    })?;
+    result_dict(py, model, r.map_err(err)?)
+}
+
+/// The planner settings, checked.
+fn options(
+    seed: u64,
+    time_limit_ms: f64,
+    simplify: bool,
+    range: f64,
+    max_overshoot: f64,
+) -> PyResult<PlanOptions> {
+    if !(time_limit_ms.is_finite() && time_limit_ms > 0.0 && time_limit_ms <= 1e9) {
         return Err(err(format!(
-            "time_limit_ms: expected a positive number, got {}",
-            a.time_limit_ms
+            "time_limit_ms: expected a positive number (at most 1e9), got {time_limit_ms}"
         )));
     }
-    if !(a.range.is_finite() && a.range > 0.0 && a.range <= 100.0) {
+    if !(range.is_finite() && range > 0.0 && range <= 100.0) {
         return Err(err(format!(
-            "range: expected a positive joint-space distance (at most 100), got {}",
-            a.range
+            "range: expected a positive joint-space distance (at most 100), got {range}"
+        )));
+    }
+    if !(max_overshoot.is_finite() && (1e-4..=0.1).contains(&max_overshoot)) {
+        return Err(err(format!(
+            "max_overshoot: expected 0.0001 to 0.1 m, got {max_overshoot}"
         )));
     }
     let mut opts = PlanOptions {
-        seed: a.seed,
-        time_limit: Some(Duration::from_secs_f64(a.time_limit_ms / 1e3)),
-        simplify: a.simplify,
+        seed,
+        time_limit: Some(Duration::from_secs_f64(time_limit_ms / 1e3)),
+        simplify,
         ..Default::default()
     };
-    opts.rrt.range = a.range as f32;
-    let r = py.detach(|| -> Result<_, String> {
-        let mut planner = Planner::new(model, &obstacles, pairs.as_deref(), opts)?;
-        Ok(planner.plan(&start, &goal))
-    });
-    let r = r.map_err(err)?;
+    opts.rrt.range = range as f32;
+    opts.spheres.max_overshoot = max_overshoot;
+    Ok(opts)
+}
+
+/// Runs `work` on a worker thread without the GIL while this thread polls for signals
+/// every 20 ms; on Ctrl-C (or any signal handler raising) the stop flag given to `work`
+/// is raised, the worker is joined (it returns within milliseconds) and the exception is
+/// raised.
+pub fn interruptible<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(Arc<AtomicBool>) -> T + Send,
+) -> PyResult<T> {
+    let stop = Arc::new(AtomicBool::new(false));
+    std::thread::scope(|sc| {
+        let flag = stop.clone();
+        let handle = sc.spawn(move || work(flag));
+        loop {
+            if handle.is_finished() {
+                break;
+            }
+            py.detach(|| std::thread::sleep(Duration::from_millis(20)));
+            if let Err(e) = py.check_signals() {
+                stop.store(true, Ordering::Relaxed);
+                let _ = py.detach(|| handle.join());
+                return Err(e);
+            }
+        }
+        py.detach(|| handle.join())
+            .map_err(|_| err("the planning thread panicked"))
+    })
+}
+
+/// A plan result as a dict (`status`, `reason`, `path` as an `(N, nv)` array,
+/// `iterations`, `plan_time_us`, `simplify_time_us`, `cost_initial`, `cost`, `joints`).
+fn result_dict<'py>(py: Python<'py>, model: &Model, r: PlanResult) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let status = match r.status {
         PlanStatus::Solved => "solved",
@@ -147,4 +208,133 @@ pub fn plan_py<'py>(
             range,
         },
     )
+}
+
+/// A planner for one robot: the sphere model and the self pairs (from `srdf`, or the
+/// allowed-collision matrix computed as MoveIt's Setup Assistant does) are built once;
+/// each `plan` call takes its own scene (`obstacles` dicts, or a MoveIt scene file).
+#[pyclass(module = "armsim", name = "Planner")]
+pub struct PyPlanner {
+    planner: Planner,
+    model: Arc<Model>,
+}
+
+#[pymethods]
+impl PyPlanner {
+    #[new]
+    #[pyo3(signature = (model, srdf=None, seed=0, time_limit_ms=1000.0, simplify=true, range=1.0, max_overshoot=0.01))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        model: PyRef<'_, crate::model::PyModel>,
+        srdf: Option<PathBuf>,
+        seed: u64,
+        time_limit_ms: f64,
+        simplify: bool,
+        range: f64,
+        max_overshoot: f64,
+    ) -> PyResult<Self> {
+        let m = Arc::clone(&model.model);
+        let pairs = match &srdf {
+            Some(p) => {
+                require_file(p)?;
+                Some(srdf::load_disabled_pairs(p, &m).map_err(err)?.0)
+            }
+            None => None,
+        };
+        let opts = options(seed, time_limit_ms, simplify, range, max_overshoot)?;
+        let robot = interruptible(py, |stop| {
+            let o = PlanOptions {
+                stop: Some(stop),
+                ..opts.clone()
+            };
+            PlanningRobot::new(&m, pairs.as_deref(), &o)
+        })?
+        .map_err(err)?;
+        Ok(PyPlanner {
+            planner: Planner::for_robot(Arc::new(robot), opts),
+            model: m,
+        })
+    }
+
+    /// Plans from `start` to `goal` among `obstacles` (a list of dicts: `shape` "box"
+    /// with `size`, "sphere" with `radius`, "cylinder" or "capsule" with `radius` and
+    /// `length`; `xyz`, `rpy` optional; `name` optional) or the obstacles of a MoveIt
+    /// `scene` file. Returns the dict of `armsim.plan`.
+    #[pyo3(signature = (start, goal, obstacles=None, scene=None))]
+    fn plan<'py>(
+        &mut self,
+        py: Python<'py>,
+        start: Bound<'py, PyAny>,
+        goal: Bound<'py, PyAny>,
+        obstacles: Option<Bound<'py, PyAny>>,
+        scene: Option<PathBuf>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let model = self.model.clone();
+        let start = vector(&start, "start", model.nv)?.slice().to_vec();
+        let goal = vector(&goal, "goal", model.nv)?.slice().to_vec();
+        let mut obs = match &scene {
+            Some(p) => {
+                require_file(p)?;
+                moveit::load_scene_in(p, &[model.links[0].name.as_str()]).map_err(err)?
+            }
+            None => Vec::new(),
+        };
+        if let Some(list) = &obstacles {
+            obs.extend(crate::obstacles::from_py(list)?);
+        }
+        self.planner.set_obstacles(&obs).map_err(err)?;
+        let planner = &mut self.planner;
+        let r = interruptible(py, |stop| {
+            planner.set_stop(Some(stop));
+            let r = planner.plan(&start, &goal);
+            planner.set_stop(None);
+            r
+        })?;
+        result_dict(py, &model, r)
+    }
+
+    /// Set-up time (s): sphere cover and allowed-collision matrix.
+    #[getter]
+    fn setup_time_s(&self) -> f64 {
+        self.planner.robot.setup_time_s
+    }
+
+    /// The disabled self-collision pairs `(link1, link2, reason)`; the reason is
+    /// "srdf" for pairs from the SRDF.
+    #[getter]
+    fn disabled_pairs(&self) -> Vec<(String, String, String)> {
+        match &self.planner.robot.pair_source {
+            PairSource::Computed(acm) => acm
+                .disabled
+                .iter()
+                .map(|p| (p.link1.clone(), p.link2.clone(), p.reason.as_str().to_string()))
+                .collect(),
+            PairSource::Srdf => Vec::new(),
+        }
+    }
+
+    /// The checked self-collision pairs `(link1, link2)`.
+    #[getter]
+    fn checked_pairs(&self) -> Vec<(String, String)> {
+        let r = &self.planner.robot;
+        let name = |g: usize| r.model.links[r.spheres.links[g].link].name.clone();
+        r.self_pairs.iter().map(|&(a, b)| (name(a), name(b))).collect()
+    }
+
+    /// The joint (coordinate) names, in the order of `start`, `goal` and the path.
+    #[getter]
+    fn joints(&self) -> Vec<String> {
+        self.model.dof_names()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Planner(model='{}', nv={}, spheres={}, self_pairs={})",
+            self.model.name,
+            self.model.nv,
+            self.planner.robot.spheres.len(),
+            self.planner.robot.self_pairs.len()
+        )
+    }
 }

@@ -7,10 +7,10 @@
 //!   ([`crate::planning::spheres`]) and the scenario's obstacles exactly. Links that the
 //!   scenario disables against an obstacle (a base resting on the table) are left out of
 //!   the planner's model; the parry check of the whole motion still covers them.
-//! - **Self pairs.** From the `[planner] srdf`, or sampled (adjacent and never-touching
-//!   pairs dropped, see [`crate::planning::self_pairs`]); the scenario's link–link
-//!   `collision.disabled_pairs` and the pairs whose spheres touch at the initial
-//!   configuration are dropped as well. The report says which.
+//! - **Self pairs.** From the `[planner] srdf`, or from the allowed-collision matrix
+//!   computed as MoveIt's Setup Assistant computes one ([`crate::planning::acm`]: adjacent,
+//!   default, always and never-colliding pairs dropped); the scenario's link–link
+//!   `collision.disabled_pairs` are dropped as well. The report says which.
 //! - **Smooth path.** A minimum-jerk spline through the via points ([`MinJerk`], which
 //!   passes through them without stopping; segment durations by chord length). Its chords
 //!   at 48 points per via interval are checked with the planner's continuous edge check;
@@ -22,8 +22,7 @@
 use super::scene::Scene;
 use crate::collision::Obstacle;
 use crate::model::{Geometry, Model, Shape};
-use crate::planning::spheres::SphereModel;
-use crate::planning::{PlanOptions, PlanStatus, Planner};
+use crate::planning::{PairSource, PlanOptions, PlanStatus, Planner, PlanningRobot};
 use crate::spatial::Se3;
 use crate::trajectory::{MinJerk, Trajectory};
 use std::time::Duration;
@@ -131,25 +130,28 @@ impl ScenePlanners {
         opts.spheres.max_overshoot = settings.max_overshoot;
         opts.rrt.range = settings.range as f32;
         opts.check.clearance = SMOOTHING_ROOM;
-        match &settings.srdf {
-            Some((path, _)) => notes.push(format!("planner: self pairs from the SRDF {path}")),
-            None => notes.push(
-                "planner: no SRDF; self pairs: adjacent links, pairs never in contact over 10000 random samples and pairs in contact at the initial configuration dropped".into(),
-            ),
-        }
         let build = |m: &Model| -> Result<Planner, String> {
-            let mut off = link_pairs.clone();
-            match &settings.srdf {
-                Some((_, pairs)) => off.extend(pairs.iter().cloned()),
-                None => {
-                    let sm = SphereModel::new(m, &opts.spheres);
-                    off.extend(crate::planning::self_pairs::sampled(m, &sm, 10_000, opts.seed).1);
-                    off.extend(touching_at(m, &sm, &scene.q0));
-                }
-            }
-            Planner::new(m, &obstacles, Some(&off), opts.clone())
+            let srdf = settings.srdf.as_ref().map(|(_, pairs)| pairs.as_slice());
+            let robot = PlanningRobot::with_extra_disabled(m, srdf, &link_pairs, &opts)?;
+            let mut p = Planner::for_robot(std::sync::Arc::new(robot), opts.clone());
+            p.set_obstacles(&obstacles)?;
+            Ok(p)
         };
         let free = build(&base)?;
+        notes.push(match (&settings.srdf, &free.robot.pair_source) {
+            (Some((path, _)), _) => format!("planner: self pairs from the SRDF {path}"),
+            (None, PairSource::Computed(acm)) => format!(
+                "planner: no SRDF; self pairs from the allowed-collision matrix computed as MoveIt's \
+                 Setup Assistant does ({}), {} pairs checked",
+                acm.counts()
+                    .iter()
+                    .map(|(r, n)| format!("{n} {}", r.as_str().to_lowercase()))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                acm.checked.len()
+            ),
+            (None, PairSource::Srdf) => String::new(),
+        });
         notes.extend(
             free.checker
                 .spheres
@@ -210,27 +212,6 @@ impl ScenePlanners {
             )),
         }
     }
-}
-
-/// Link pairs whose spheres overlap at `q` (MoveIt's setup assistant drops such
-/// "default" pairs too: the sphere cover's overshoot makes neighbours of neighbours touch).
-fn touching_at(m: &Model, sm: &SphereModel, q: &[f64]) -> Vec<(String, String)> {
-    let c = sm.world_centers(m, q);
-    let mut out = Vec::new();
-    for (a, la) in sm.links.iter().enumerate() {
-        for lb in &sm.links[a + 1..] {
-            let touch = la.body != lb.body
-                && (la.first..la.end).any(|i| {
-                    (lb.first..lb.end).any(|j| {
-                        (c[i] - c[j]).norm() < (sm.spheres[i].radius + sm.spheres[j].radius) as f64
-                    })
-                });
-            if touch {
-                out.push((m.links[la.link].name.clone(), m.links[lb.link].name.clone()));
-            }
-        }
-    }
-    out
 }
 
 /// Chord checks per via interval of the smooth path.

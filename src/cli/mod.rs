@@ -11,6 +11,7 @@
 pub mod plan;
 pub mod plan_report;
 pub mod plan_scenario;
+pub mod srdf;
 
 // Standard output is collected and written once at the end, so that a closed pipe
 // (`armsim info big.urdf | head`) ends the program quietly instead of panicking in

@@ -13,10 +13,10 @@
 use super::plan_report::{self, Outcome, ReportHeader};
 use armsim::collision::Obstacle;
 use armsim::model::{LoadOptions, Model};
+use armsim::planning::acm::Acm;
 use armsim::planning::moveit::{self, problem_pairs};
-use armsim::planning::self_pairs::PairSource;
 use armsim::planning::srdf;
-use armsim::planning::{PlanOptions, Planner};
+use armsim::planning::{PairSource, PlanOptions, Planner, PlanningRobot};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -122,19 +122,18 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
         None => None,
     };
     let inputs = read_inputs(a, &model)?;
-    // The scene-independent choices (sphere model, self pairs), said once.
-    let probe = Planner::new(&model, &[], disabled.as_deref(), opts.clone())?;
-    for w in &probe.checker.spheres.warnings {
+    // The robot half (sphere model, self pairs), built once and said once.
+    let robot = std::sync::Arc::new(
+        PlanningRobot::new(&model, disabled.as_deref(), &opts)
+            .map_err(|e| format!("{}: {e}", a.model.display()))?,
+    );
+    for w in &robot.spheres.warnings {
         eprintln!("warning: {}: {w}", a.model.display());
     }
-    if let PairSource::Sampled(n) = probe.pair_source {
-        eprintln!(
-            "note: no --srdf: self-collision is not checked between adjacent links nor between \
-             links never in contact over {n} random configurations"
-        );
+    if let PairSource::Computed(acm) = &robot.pair_source {
+        eprintln!("note: {}", acm_note(acm, robot.setup_time_s));
     }
-    drop(probe);
-    let solve = |inp: &Input| solve(&model, disabled.as_deref(), &opts, a.passes, inp);
+    let solve = |inp: &Input| solve(&robot, &opts, a.passes, inp);
     let outcomes: Vec<Outcome> = if a.threads == 1 {
         inputs.iter().map(solve).collect::<Result<_, _>>()?
     } else {
@@ -144,6 +143,9 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
             .map_err(|e| format!("--threads {}: cannot start the threads: {e}", a.threads))?;
         pool.install(|| inputs.par_iter().map(solve).collect::<Result<_, _>>())?
     };
+    if armsim::recording::interrupt::requested() {
+        return Err("interrupted (Ctrl-C): nothing written".into());
+    }
     for o in outcomes.iter().filter(|o| !o.passes_identical) {
         eprintln!(
             "warning: {} {}: the {} passes did not return the same path",
@@ -165,6 +167,24 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
         plan_report::text(&header, &outcomes)
     };
     emit(a, text)
+}
+
+/// What the computed allowed-collision matrix disabled, for the note on standard error.
+pub(super) fn acm_note(acm: &Acm, setup_s: f64) -> String {
+    let counts: Vec<String> = acm
+        .counts()
+        .iter()
+        .map(|(r, n)| format!("{n} {}", r.as_str().to_lowercase()))
+        .collect();
+    format!(
+        "no --srdf: self-collision pairs from the allowed-collision matrix computed as MoveIt's \
+         Setup Assistant does ({} random configurations): disabled {}; {} pairs checked; set-up \
+         {:.2} s (`armsim srdf MODEL` writes it as an SRDF)",
+        acm.samples,
+        counts.join(", "),
+        acm.checked.len(),
+        setup_s
+    )
 }
 
 /// Writes `text` to `--out` (atomically; returns nothing to print) or returns it.
@@ -190,10 +210,13 @@ fn plan_options(a: &PlanArgs) -> Result<PlanOptions, String> {
             ))
         }
     };
+    // Ctrl-C stops the set-up's sampling and the searches (the command then fails).
+    armsim::recording::interrupt::install().map_err(|e| e.to_string())?;
     let mut opts = PlanOptions {
         seed: a.seed.unwrap_or(0),
         time_limit,
         simplify: !a.no_simplify,
+        stop: Some(armsim::recording::interrupt::flag()),
         ..Default::default()
     };
     match a.range {
@@ -286,13 +309,14 @@ pub(super) fn check_counts(a: &PlanArgs) -> Result<(), String> {
 
 /// Plans one problem `passes` times.
 fn solve(
-    model: &Model,
-    disabled: Option<&[(String, String)]>,
+    robot: &std::sync::Arc<PlanningRobot>,
     opts: &PlanOptions,
     passes: usize,
     inp: &Input,
 ) -> Result<Outcome, String> {
-    let mut planner = Planner::new(model, &inp.obstacles, disabled, opts.clone())
+    let mut planner = Planner::for_robot(robot.clone(), opts.clone());
+    planner
+        .set_obstacles(&inp.obstacles)
         .map_err(|e| format!("{}: {e}", inp.scene_file.display()))?;
     let mut result = planner.plan(&inp.start, &inp.goal);
     let mut plan = vec![result.plan_time_us];

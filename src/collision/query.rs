@@ -50,6 +50,20 @@ impl CollisionModel {
         }
     }
 
+    /// Whether links `a` and `b` (indices into `Model::links`) are in collision at the last
+    /// [`CollisionModel::update`]: any of their shape pairs. `false` for a pair the scene
+    /// never tests (the same link, adjacent links, a link without shapes).
+    pub fn links_collide(&self, cd: &CollisionData, a: usize, b: usize) -> bool {
+        let (la, lb) = (super::Body::Link(a), super::Body::Link(b));
+        self.self_pairs.iter().any(|&p| {
+            let (x, y) = (
+                self.objects[p[0] as usize].owner,
+                self.objects[p[1] as usize].owner,
+            );
+            ((x == la && y == lb) || (x == lb && y == la)) && self.pair_collides(cd, p)
+        })
+    }
+
     /// The first pair found in collision (signed distance ≤ margin), self pairs first;
     /// `None` when collision-free. Stops at the first hit.
     pub fn first_collision(&self, cd: &CollisionData, scope: Scope) -> Option<(Body, Body)> {

@@ -12,7 +12,7 @@
 
 use crate::collision::mesh::MeshData;
 use parry3d_f64::math::Vector;
-use parry3d_f64::query::PointQuery;
+use parry3d_f64::query::PointQueryWithLocation;
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
 /// A triangle mesh with its bounding box, answering signed distances.
@@ -76,9 +76,12 @@ impl MeshSdf {
     /// Signed distance from `p` to the surface (negative inside a closed mesh).
     pub fn sdf(&self, p: [f64; 3]) -> f64 {
         let x = Vector::new(p[0], p[1], p[2]);
-        let proj = self.tri.project_local_point(x, false);
+        // One BVH query: the projection, and for an oriented (closed) mesh the inside
+        // test by the pseudo-normal at the nearest feature (what `contains_local_point`
+        // computes with a second query).
+        let (proj, _) = self.tri.project_local_point_and_get_location(x, false);
         let d = (proj.point - x).length();
-        if self.closed && self.tri.contains_local_point(x) {
+        if self.closed && proj.is_inside {
             -d
         } else {
             d
@@ -229,9 +232,15 @@ mod tests {
             .count();
         assert_eq!(sm.links.len(), meshed);
         assert!(secs < 7.0, "{secs} s for {meshed} links");
-        // Without an SRDF: adjacent pairs never checked, the others kept or dropped by
-        // sampling (the dropped ones named).
-        let (pairs, dropped) = crate::planning::self_pairs::sampled(&model, &sm, 2000, 1);
+        // Without an SRDF: the allowed-collision matrix disables every adjacent pair and
+        // keeps or disables each other pair for a stated reason.
+        let opts = crate::planning::acm::AcmOptions {
+            samples: 2000,
+            seed: 1,
+            ..Default::default()
+        };
+        let stop = std::sync::atomic::AtomicBool::new(false);
+        let acm = crate::planning::acm::compute(&model, &sm, None, &opts, &stop).unwrap();
         let parent = |b: usize| if b == WORLD { WORLD } else { model.parent[b] };
         let far = |a: usize, b: usize| a != b && parent(b) != a && parent(a) != b;
         let mut expect = 0;
@@ -241,9 +250,11 @@ mod tests {
             }
         }
         assert!(expect >= 10, "{expect}");
-        assert_eq!(pairs.len() + dropped.len(), expect);
-        for &(a, b) in &pairs {
-            assert!(far(sm.links[a].body, sm.links[b].body));
+        let adjacent = acm.counts()[0].1;
+        assert_eq!(acm.checked.len() + acm.disabled.len() - adjacent, expect);
+        let body = |n: &str| model.links[model.link_id(n).unwrap()].body;
+        for (a, b) in &acm.checked {
+            assert!(far(body(a), body(b)), "{a} {b}");
         }
     }
 }

@@ -4,7 +4,9 @@
 //!
 //! Layer: above `model` and `kinematics`, beside `collision` and `trajectory`.
 
+pub mod acm;
 pub mod checker;
+pub mod cover_cache;
 pub mod environment;
 pub mod error;
 pub mod lanes;
@@ -14,6 +16,7 @@ pub mod planner;
 pub mod rrt;
 pub mod sampler;
 pub mod self_pairs;
+pub mod setup;
 pub mod simd;
 pub mod simplify;
 pub mod spheres;
@@ -22,3 +25,4 @@ pub mod srdf;
 
 pub use checker::{CheckOptions, CheckScratch, Checker};
 pub use planner::{PlanOptions, PlanResult, PlanStatus, Planner};
+pub use setup::{Contact, PairSource, PlanningRobot};

@@ -1,20 +1,26 @@
-//! The planner: a [`Checker`] for one scene plus the RRT-Connect search and the
-//! simplifier, with their buffers, answering start → goal queries.
+//! The planner: the robot half built once ([`PlanningRobot`]: spheres and self pairs), a
+//! [`Checker`] for the current scene, the RRT-Connect search and the simplifier, with their
+//! buffers, answering start → goal queries.
 //!
-//! A query checks the start and goal (joint limits, then collisions, exactly), tries the
-//! straight edge, searches, and simplifies. `plan_time_us` runs from the query to the first
-//! path (the scene is built once, in [`Planner::new`]); `simplify_time_us` is the rest.
+//! A query checks the start and goal (joint limits, then collisions, exactly; a rejected
+//! one names the joint, or the pair it touches and by how much), tries the straight edge,
+//! searches, and simplifies. `plan_time_us` runs from the query to the first path (the
+//! robot half is built once, [`PlanningRobot::new`], the scene once per
+//! [`Planner::set_obstacles`]); `simplify_time_us` is the rest. The search polls the stop
+//! flag of [`PlanOptions::stop`] (Ctrl-C) with its time limit.
 
 use super::checker::{CheckOptions, CheckScratch, Checker, EdgeMode};
 use super::environment::Environment;
-use super::rrt::{Rrt, RrtOptions, SearchEnd};
+use super::rrt::{Rrt, RrtOptions, SearchEnd, SearchLimit};
 use super::sampler::{bounds, Sampler, SamplerKind};
-use super::self_pairs::{self, PairSource};
+use super::setup::PlanningRobot;
 use super::simplify::{path_length, Simplifier, SimplifyOptions};
-use super::spheres::{SphereModel, SphereOptions};
+use super::spheres::SphereOptions;
 use crate::collision::Obstacle;
 use crate::model::Model;
 use serde::Serialize;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Everything a query can be told.
@@ -36,6 +42,9 @@ pub struct PlanOptions {
     pub simplifier: SimplifyOptions,
     /// Sphere generation settings.
     pub spheres: SphereOptions,
+    /// Raised (by a Ctrl-C handler, another thread) to stop the set-up's sampling and the
+    /// search; the query then fails with the reason "interrupted".
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 impl Default for PlanOptions {
@@ -49,6 +58,7 @@ impl Default for PlanOptions {
             check: CheckOptions::default(),
             simplifier: SimplifyOptions::default(),
             spheres: SphereOptions::default(),
+            stop: None,
         }
     }
 }
@@ -88,13 +98,13 @@ pub struct PlanResult {
     pub path: Vec<Vec<f64>>,
 }
 
-/// A planner for one robot in one scene.
+/// A planner for one robot, one scene at a time.
 #[derive(Debug)]
 pub struct Planner {
     /// The collision checker of the scene.
     pub checker: Checker,
-    /// How the self-collision pairs were chosen.
-    pub pair_source: PairSource,
+    /// The robot half, shared.
+    pub robot: Arc<PlanningRobot>,
     opts: PlanOptions,
     sampler: Sampler,
     rrt: Rrt,
@@ -111,49 +121,44 @@ pub struct Planner {
 
 impl Planner {
     /// A planner for `model` among `obstacles`. `disabled` lists the SRDF's disabled link
-    /// pairs; `None` chooses the self pairs by sampling (see [`self_pairs`]).
+    /// pairs; `None` computes the allowed-collision matrix ([`super::acm`]). Builds the
+    /// robot half; to plan many scenes, build it once ([`PlanningRobot::new`]) and use
+    /// [`Planner::for_robot`].
     pub fn new(
         model: &Model,
         obstacles: &[Obstacle],
         disabled: Option<&[(String, String)]>,
         opts: PlanOptions,
     ) -> Result<Planner, String> {
-        let spheres = SphereModel::new(model, &opts.spheres);
-        if spheres.is_empty() {
-            return Err(format!(
-                "model '{}' has no collision geometry the planner can use",
-                model.name
-            ));
-        }
-        let (pairs, pair_source) = match disabled {
-            Some(d) => (
-                self_pairs::from_disabled(model, &spheres, d),
-                PairSource::Srdf,
-            ),
-            None => {
-                let n = 10_000;
-                (
-                    self_pairs::sampled(model, &spheres, n, opts.seed).0,
-                    PairSource::Sampled(n),
-                )
-            }
-        };
-        let env = Environment::new(obstacles)?;
-        let checker = Checker::new(model, spheres, env, pairs, opts.check);
-        let nv = model.nv;
+        let robot = Arc::new(PlanningRobot::new(model, disabled, &opts)?);
+        let mut p = Planner::for_robot(robot, opts);
+        p.set_obstacles(obstacles)?;
+        Ok(p)
+    }
+
+    /// A planner for a robot half built before, in an empty scene.
+    pub fn for_robot(robot: Arc<PlanningRobot>, opts: PlanOptions) -> Planner {
+        let checker = Checker::new(
+            &robot.model,
+            robot.spheres.clone(),
+            Environment::default(),
+            robot.self_pairs.clone(),
+            opts.check,
+        );
+        let nv = robot.model.nv;
         let (lo, hi): (Vec<f32>, Vec<f32>) = (0..nv)
             .map(|k| {
-                let (l, h) = bounds(model, k);
+                let (l, h) = bounds(&robot.model, k);
                 (l as f32, h as f32)
             })
             .unzip();
-        Ok(Planner {
+        Planner {
             sampler: Sampler::new(opts.sampler, &lo, &hi, opts.seed),
             scratch: checker.scratch(),
             rrt: Rrt::new(nv, opts.rrt),
             simplifier: Simplifier::new(opts.simplifier),
             checker,
-            pair_source,
+            robot,
             lo,
             hi,
             start: vec![0.0; nv],
@@ -162,10 +167,43 @@ impl Planner {
             sub: Vec::with_capacity(nv * 1024),
             spliced: Vec::with_capacity(nv * 1024),
             opts,
-        })
+        }
     }
 
-    /// Why `q` is not a valid start or goal, if it is not.
+    /// Sets the scene: the obstacles the next queries plan among (meshes are refused with
+    /// the obstacle's name).
+    pub fn set_obstacles(&mut self, obstacles: &[Obstacle]) -> Result<(), String> {
+        let env = Environment::new(obstacles)?;
+        let robot = &self.robot;
+        self.checker = Checker::new(
+            &robot.model,
+            robot.spheres.clone(),
+            env,
+            robot.self_pairs.clone(),
+            self.opts.check,
+        );
+        self.scratch = self.checker.scratch();
+        Ok(())
+    }
+
+    /// Sets (or clears) the flag that stops the next searches (see [`PlanOptions::stop`]).
+    pub fn set_stop(&mut self, stop: Option<Arc<AtomicBool>>) {
+        self.opts.stop = stop;
+    }
+
+    /// Plans from `start` to `goal` among `obstacles` (sets the scene, then plans).
+    pub fn plan_among(
+        &mut self,
+        obstacles: &[Obstacle],
+        start: &[f64],
+        goal: &[f64],
+    ) -> Result<PlanResult, String> {
+        self.set_obstacles(obstacles)?;
+        Ok(self.plan(start, goal))
+    }
+
+    /// Why `q` is not a valid start or goal, if it is not: a value outside its joint's
+    /// limits (named), or what it touches (the deepest pair and by how much).
     fn invalid(&mut self, q: &[f64], which: &str) -> Option<String> {
         let nv = self.lo.len();
         if q.len() != nv {
@@ -174,18 +212,30 @@ impl Planner {
                 q.len()
             ));
         }
+        let names = self.robot.model.dof_names();
         for (k, &qk) in q.iter().enumerate() {
             let x = qk as f32;
             if !(x >= self.lo[k] && x <= self.hi[k]) {
                 return Some(format!(
-                    "{which}: coordinate {k} = {} is outside its limits [{}, {}]",
-                    q[k], self.lo[k], self.hi[k]
+                    "{which}: joint '{}' = {} is outside its limits [{}, {}]",
+                    names[k], q[k], self.lo[k], self.hi[k]
                 ));
             }
         }
         let qf: Vec<f32> = q.iter().map(|&x| x as f32).collect();
-        (!self.checker.config_free(&qf, &mut self.scratch))
-            .then(|| format!("{which} is in collision"))
+        if self.checker.config_free(&qf, &mut self.scratch) {
+            return None;
+        }
+        let contacts = self.robot.contacts(&self.checker.env, q);
+        Some(match contacts.first() {
+            Some(c) if contacts.len() > 1 => format!(
+                "{which} is in collision: {c} (and {} more pair{})",
+                contacts.len() - 1,
+                if contacts.len() > 2 { "s" } else { "" }
+            ),
+            Some(c) => format!("{which} is in collision: {c}"),
+            None => format!("{which} is in collision"),
+        })
     }
 
     /// Plans from `start` to `goal`.
@@ -221,8 +271,11 @@ impl Planner {
         // its sequence afresh, so the same query gives the same path.
         let mut sampler = std::mem::take(&mut self.sampler);
         sampler.reset();
-        let deadline = self.opts.time_limit.map(|d| t0 + d);
-        let found = self.search(&mut sampler, deadline);
+        let limit = SearchLimit {
+            deadline: self.opts.time_limit.map(|d| t0 + d),
+            stop: self.opts.stop.clone(),
+        };
+        let found = self.search(&mut sampler, &limit);
         res.iterations = self.rrt.iterations;
         res.plan_time_us = t0.elapsed().as_secs_f64() * 1e6;
         if let Err(end) = found {
@@ -237,6 +290,7 @@ impl Planner {
                     self.opts.time_limit.map_or(0.0, |d| d.as_secs_f64() * 1e3)
                 ),
                 SearchEnd::Nodes => format!("a tree reached {} nodes", self.rrt.opts.max_nodes),
+                SearchEnd::Interrupted => "interrupted".to_string(),
             });
             return res;
         }
@@ -274,11 +328,7 @@ impl Planner {
     /// RRT-Connect with discrete edge checks (fast), then every edge of the path checked
     /// continuously; an edge that fails is re-planned with continuous checks and spliced
     /// in. If a repair fails, the whole search is run again with continuous checks.
-    fn search(
-        &mut self,
-        sampler: &mut Sampler,
-        deadline: Option<Instant>,
-    ) -> Result<(), SearchEnd> {
+    fn search(&mut self, sampler: &mut Sampler, limit: &SearchLimit) -> Result<(), SearchEnd> {
         let (c, s) = (&self.checker, &mut self.scratch);
         let (start, goal) = (&self.start, &self.goal);
         self.rrt.solve(
@@ -287,7 +337,7 @@ impl Planner {
             sampler,
             start,
             goal,
-            deadline,
+            limit,
             EdgeMode::Discrete,
             &mut self.path,
         )?;
@@ -305,7 +355,7 @@ impl Planner {
                     sampler,
                     a,
                     b,
-                    deadline,
+                    limit,
                     EdgeMode::Continuous,
                     &mut self.sub,
                 );
@@ -316,7 +366,7 @@ impl Planner {
                         sampler,
                         start,
                         goal,
-                        deadline,
+                        limit,
                         EdgeMode::Continuous,
                         &mut self.path,
                     );

@@ -15,6 +15,8 @@
 
 use super::checker::{CheckScratch, Checker, EdgeMode};
 use super::sampler::Sampler;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Settings of the search.
@@ -56,6 +58,35 @@ pub enum SearchEnd {
     Time,
     /// A tree filled its buffer.
     Nodes,
+    /// The caller's stop flag was raised (Ctrl-C).
+    Interrupted,
+}
+
+/// When a search gives up besides its iteration and node limits: a wall-clock deadline
+/// and a stop flag that another thread (a Ctrl-C handler) may raise. Both are polled
+/// every 64 iterations.
+#[derive(Clone, Debug, Default)]
+pub struct SearchLimit {
+    /// Wall-clock deadline.
+    pub deadline: Option<Instant>,
+    /// Raised to stop the search.
+    pub stop: Option<Arc<AtomicBool>>,
+}
+
+impl SearchLimit {
+    /// Why the search must end now, if it must.
+    pub fn reached(&self) -> Option<SearchEnd> {
+        if self
+            .stop
+            .as_ref()
+            .is_some_and(|s| s.load(Ordering::Relaxed))
+        {
+            return Some(SearchEnd::Interrupted);
+        }
+        self.deadline
+            .is_some_and(|d| Instant::now() >= d)
+            .then_some(SearchEnd::Time)
+    }
 }
 
 /// One tree: nodes, parents, domain radii.
@@ -163,7 +194,7 @@ impl Rrt {
         sampler: &mut Sampler,
         start: &[f32],
         goal: &[f32],
-        deadline: Option<Instant>,
+        limit: &SearchLimit,
         mode: EdgeMode,
         path: &mut Vec<f32>,
     ) -> Result<(), SearchEnd> {
@@ -182,8 +213,10 @@ impl Rrt {
         }
         for it in 0..self.opts.max_iterations {
             self.iterations = it + 1;
-            if it % 64 == 63 && deadline.is_some_and(|d| Instant::now() >= d) {
-                return Err(SearchEnd::Time);
+            if it % 64 == 63 {
+                if let Some(end) = limit.reached() {
+                    return Err(end);
+                }
             }
             if self.trees[0].len() >= self.opts.max_nodes
                 || self.trees[1].len() >= self.opts.max_nodes

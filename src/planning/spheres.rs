@@ -38,6 +38,9 @@ pub struct SphereOptions {
     /// Directories searched first for `package://` mesh URIs (then the environment and
     /// the model file's ancestors, as [`crate::collision`] does).
     pub package_path: Vec<PathBuf>,
+    /// Smaller overshoots for some links, by link name (the planner's set-up refines the
+    /// links of pairs whose spheres touch where their geometry does not).
+    pub link_overshoot: Vec<(String, f64)>,
 }
 
 impl Default for SphereOptions {
@@ -45,7 +48,19 @@ impl Default for SphereOptions {
         Self {
             max_overshoot: 0.01,
             package_path: Vec::new(),
+            link_overshoot: Vec::new(),
         }
+    }
+}
+
+impl SphereOptions {
+    /// The overshoot of link `name`'s cover.
+    pub fn overshoot_of(&self, name: &str) -> f64 {
+        self.link_overshoot
+            .iter()
+            .filter(|(n, _)| n == name)
+            .map(|&(_, d)| d)
+            .fold(self.max_overshoot, f64::min)
     }
 }
 
@@ -103,8 +118,9 @@ impl SphereModel {
         let mut warnings = Vec::new();
         let mut meshes = MeshCovers {
             packages: PackagePaths::from_env(opts.package_path.clone()),
-            done: HashMap::new(),
+            done: cover_cache(),
         };
+        meshes.prepare(model, opts);
         for l in order {
             let link = &model.links[l];
             let first = spheres.len();
@@ -118,7 +134,7 @@ impl SphereModel {
                     Shape::Capsule { radius, length } => Primitive::Capsule(*radius, length / 2.0),
                     Shape::Mesh { uri, scale } => {
                         let to_body = link.offset.mul(&g.origin);
-                        match meshes.cover(model, uri, *scale, opts.max_overshoot) {
+                        match meshes.cover(model, uri, *scale, opts.overshoot_of(&link.name)) {
                             Ok((cover, note)) => {
                                 if let Some(n) = note {
                                     warnings.push(format!("link '{}': {n}", link.name));
@@ -134,12 +150,13 @@ impl SphereModel {
                     }
                 };
                 let to_body = link.offset.mul(&g.origin);
-                let (cover, used) = cover(&prim, opts.max_overshoot);
-                if used > opts.max_overshoot {
+                let delta = opts.overshoot_of(&link.name);
+                let (cover, used) = cover(&prim, delta);
+                if used > delta {
                     warnings.push(format!(
                         "link '{}': a primitive this large is covered with overshoot {used:.4} m \
                          (more than the {} m asked for)",
-                        link.name, opts.max_overshoot
+                        link.name, delta
                     ));
                 }
                 push_spheres(&mut spheres, &to_body, cover);
@@ -224,16 +241,80 @@ fn push_spheres(spheres: &mut Vec<Sphere>, to_body: &Se3, cover: Vec<([f64; 3], 
 /// A cover's spheres `(centre, radius)` and a note (open mesh, raised overshoot).
 type NotedCover = (Vec<([f64; 3], f64)>, Option<String>);
 
-/// Mesh covers by resolved file and scale, so a mesh used by several links is covered
-/// once.
+/// Mesh covers by resolved file (with its length and modification time), scale and
+/// overshoot, kept for the process: a mesh used by several links, models or planners is
+/// covered once; [`MeshCovers::prepare`] computes every cover a model needs in parallel.
 struct MeshCovers {
     packages: PackagePaths,
-    done: HashMap<(PathBuf, [u64; 3]), NotedCover>,
+    done: std::sync::MutexGuard<'static, HashMap<CoverKey, Result<NotedCover, String>>>,
+}
+
+/// A cover's resolved file, its length and modification time (ns), scale and overshoot
+/// (as bits).
+type CoverKey = (PathBuf, u64, u128, [u64; 3], u64);
+
+/// The process's mesh covers.
+fn cover_cache() -> std::sync::MutexGuard<'static, HashMap<CoverKey, Result<NotedCover, String>>> {
+    static CACHE: std::sync::OnceLock<
+        std::sync::Mutex<HashMap<CoverKey, Result<NotedCover, String>>>,
+    > = std::sync::OnceLock::new();
+    CACHE
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+}
+
+/// The key of a cover of `path`.
+fn cover_key(path: PathBuf, scale: [f64; 3], delta: f64) -> CoverKey {
+    let meta = std::fs::metadata(&path).ok();
+    let len = meta.as_ref().map_or(0, |m| m.len());
+    let mtime = meta
+        .and_then(|m| m.modified().ok())
+        .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
+        .map_or(0, |d| d.as_nanos());
+    (path, len, mtime, scale.map(f64::to_bits), delta.to_bits())
 }
 
 impl MeshCovers {
-    /// The cover of mesh `uri` (resolved relative to the model file, as the collision
-    /// module does) and a note for an open mesh.
+    /// The file of mesh `uri`, resolved relative to the model file (as the collision
+    /// module does).
+    fn resolve(&self, model: &Model, uri: &str) -> Result<PathBuf, String> {
+        let base = Path::new(&model.source)
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty());
+        resolve_with(uri, base, &self.packages).map_err(|e| e.0)
+    }
+
+    /// Computes, on the rayon threads, the covers of every mesh of `model` that
+    /// [`MeshCovers::cover`] will ask for.
+    fn prepare(&mut self, model: &Model, opts: &SphereOptions) {
+        let mut jobs: Vec<(CoverKey, String)> = Vec::new();
+        for link in &model.links {
+            let delta = opts.overshoot_of(&link.name);
+            for g in &link.collisions {
+                if let Shape::Mesh { uri, scale } = &g.shape {
+                    if let Ok(path) = self.resolve(model, uri) {
+                        let key = cover_key(path, *scale, delta);
+                        if !self.done.contains_key(&key) && !jobs.iter().any(|(k, _)| *k == key) {
+                            jobs.push((key, uri.clone()));
+                        }
+                    }
+                }
+            }
+        }
+        use rayon::prelude::*;
+        let covers: Vec<_> = jobs
+            .into_par_iter()
+            .map(|(key, uri)| {
+                let scale = key.3.map(f64::from_bits);
+                let c = compute_cover(&key.0, &uri, scale, f64::from_bits(key.4));
+                (key, c)
+            })
+            .collect();
+        self.done.extend(covers);
+    }
+
+    /// The cover of mesh `uri` and a note for an open mesh.
     fn cover(
         &mut self,
         model: &Model,
@@ -241,32 +322,48 @@ impl MeshCovers {
         scale: [f64; 3],
         delta: f64,
     ) -> Result<NotedCover, String> {
-        let base = Path::new(&model.source)
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty());
-        let path = resolve_with(uri, base, &self.packages).map_err(|e| e.0)?;
-        let key = (path.clone(), scale.map(f64::to_bits));
-        if let Some(c) = self.done.get(&key) {
-            return Ok(c.clone());
-        }
-        let data = load_mesh(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let sdf = MeshSdf::new(&data, scale).map_err(|e| format!("{}: {e}", path.display()))?;
-        let (spheres, used) = cover_sdf(&|p| sdf.sdf(p), sdf.center, sdf.half, delta);
-        let mut notes = Vec::new();
-        if !sdf.closed {
-            notes.push(format!(
-                "mesh '{uri}' is open: its spheres wrap the surface only (no inside)"
-            ));
-        }
-        if used > delta {
-            notes.push(format!(
-                "mesh '{uri}' is this large: covered with overshoot {used:.4} m (more than the {delta} m asked for)"
-            ));
-        }
-        let note = (!notes.is_empty()).then(|| notes.join("; "));
-        self.done.insert(key, (spheres.clone(), note.clone()));
-        Ok((spheres, note))
+        let path = self.resolve(model, uri)?;
+        let key = cover_key(path.clone(), scale, delta);
+        self.done
+            .entry(key)
+            .or_insert_with(|| compute_cover(&path, uri, scale, delta))
+            .clone()
     }
+}
+
+/// The cover of the mesh file `path` (named `uri` in the notes).
+fn compute_cover(
+    path: &Path,
+    uri: &str,
+    scale: [f64; 3],
+    delta: f64,
+) -> Result<NotedCover, String> {
+    let bytes = std::fs::read(path).ok();
+    if let Some(c) = bytes
+        .as_deref()
+        .and_then(|b| super::cover_cache::load(b, scale, delta))
+    {
+        return Ok(c);
+    }
+    let data = load_mesh(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let sdf = MeshSdf::new(&data, scale).map_err(|e| format!("{}: {e}", path.display()))?;
+    let (spheres, used) = cover_sdf(&|p| sdf.sdf(p), sdf.center, sdf.half, delta);
+    let mut notes = Vec::new();
+    if !sdf.closed {
+        notes.push(format!(
+            "mesh '{uri}' is open: its spheres wrap the surface only (no inside)"
+        ));
+    }
+    if used > delta {
+        notes.push(format!(
+            "mesh '{uri}' is this large: covered with overshoot {used:.4} m (more than the {delta} m asked for)"
+        ));
+    }
+    let note = (!notes.is_empty()).then(|| notes.join("; "));
+    if let Some(b) = &bytes {
+        super::cover_cache::store(b, scale, delta, &spheres, note.as_deref());
+    }
+    Ok((spheres, note))
 }
 
 /// A sphere containing `spheres` (centre at the mean of the centres, radius the farthest

@@ -1,22 +1,29 @@
 //! Sphere covers of collision primitives, with a stated maximum overshoot.
 //!
 //! The planner sees the robot as spheres. URDF `<sphere>` elements are taken as given; every
-//! other primitive (box, cylinder, capsule), and a mesh ([`super::mesh_sdf`]), is covered by spheres from its signed distance
-//! function `φ` (negative inside) by a greedy medial cover:
+//! other primitive (box, cylinder, capsule), and a mesh ([`super::mesh_sdf`]), is covered by
+//! spheres from its signed distance function `φ` (negative inside) by a greedy medial cover
+//! over adaptive cells:
 //!
-//! 1. grid points `p` at spacing `s` over the shape's bounding box, keeping those with
-//!    `φ(p) ≤ s√3/2` (every point of the shape is within `s√3/2` of a kept point);
-//! 2. repeatedly, the deepest uncovered point `p` gets a sphere of radius `δ − φ(p)`; it
-//!    marks as covered the points within `radius − s√3/2` of its centre.
+//! 1. **Cells.** The shape's bounding box is cut into cubes, each split in eight while it
+//!    may cross the surface (`|φ(g)| ≤ h`, `g` its centre, `h` its half-diagonal) and is
+//!    larger than the finest level (`h ≤ δ/4`). A cube with `φ(g) > h` lies outside the
+//!    shape (`φ` is 1-Lipschitz) and is dropped; one with `φ(g) < −h` lies inside and is
+//!    kept whole; the finest cubes that may cross the surface are kept. The kept cubes
+//!    contain the shape, and each lies in the ball `B(g, h)`.
+//! 2. **Spheres.** Repeatedly, the deepest kept cell whose ball is not yet covered gets
+//!    a sphere of radius `δ − φ(g)` about its centre; it covers every cell whose ball it
+//!    contains (`|g' − g| + h' ≤ δ − φ(g)`), its own included (`φ(g) ≤ h ≤ δ/4`).
 //!
-//! `φ` is 1-Lipschitz, so on a sphere of radius `δ − φ(p)` about `p`, `φ ≤ δ`: the
-//! **overshoot is at most δ**. With `s = δ/√3` the slack `s√3/2` is `δ/2` and every kept
-//! point has `φ ≤ δ/2`, so every sphere has radius ≥ `δ/2` ≥ the slack: a point of the shape
-//! is within the slack of a kept grid point, which is either the centre of a sphere (and
-//! inside it) or within `radius − slack` of one; so the **shape is inside the union**.
-//! For primitives of more than about 70 δ per axis, δ is raised until the grid has at most
-//! 400 000 points (the bound then holds for the raised δ, which [`cover`] returns). A capsule needs no grid: spheres of radius `R + δ` on its
-//! segment, spaced `2√(2Rδ + δ²)`, cover it exactly with overshoot `δ`.
+//! On a sphere of radius `δ − φ(g)` about `g`, `φ ≤ δ`: the **overshoot is at most δ**;
+//! every cell's ball is inside a sphere, so the **shape is inside the union**. Deep cells
+//! give large spheres first, and the fine cells at the surface let each reach within
+//! `δ/4` of its full radius: a tube of radius `R` takes one sphere per
+//! `2√(R δ + δ²/2)` of its length (a UR5 link about 20 at δ = 1 cm, where a uniform grid
+//! with slack `δ/2` took thousands). The cells are bounded: past 400 000, δ is raised
+//! (the bound then holds for the raised δ, which [`cover`] returns). A capsule needs no
+//! cells: spheres of radius `R + δ` on its segment, spaced `2√(2Rδ + δ²)`, cover it
+//! exactly with overshoot `δ`.
 
 /// A primitive in its own frame (boxes by half extents; cylinders and capsules along z).
 #[derive(Clone, Copy, Debug)]
@@ -77,7 +84,7 @@ pub fn cover(shape: &Primitive, delta: f64) -> (Vec<([f64; 3], f64)>, f64) {
 
 /// The greedy medial cover (module docs) of the shape with signed distance `sdf` inside
 /// the box `center ± he`, and the overshoot bound it meets (`delta`, raised past 400 000
-/// grid points). Any signed distance works (a mesh's, see [`super::mesh_sdf`]); with an
+/// cells). Any signed distance works (a mesh's, see [`super::mesh_sdf`]); with an
 /// unsigned one (an open mesh) the spheres wrap the surface.
 pub fn cover_sdf(
     sdf: &dyn Fn([f64; 3]) -> f64,
@@ -86,15 +93,162 @@ pub fn cover_sdf(
     delta: f64,
 ) -> (Vec<([f64; 3], f64)>, f64) {
     let mut delta = delta;
-    let points = |d: f64| {
-        he.iter()
-            .map(|h| (2.0 * h / (d / 3f64.sqrt())).ceil() + 1.0)
-            .product::<f64>()
-    };
-    while points(delta) > 4e5 {
+    loop {
+        if let Some(cells) = cells(sdf, center, he, delta, MAX_CELLS) {
+            return (greedy_cover(sdf, cells, delta), delta);
+        }
         delta *= 1.25;
     }
-    (cover_grid(sdf, center, he, delta), delta)
+}
+
+/// Most cells a cover may use before δ is raised.
+const MAX_CELLS: usize = 400_000;
+
+/// A kept cell: centre, half-diagonal, `φ` at the centre.
+type Cell = ([f64; 3], f64, f64);
+
+/// The kept cells of step 1 (module docs), or `None` past `max` cells.
+fn cells(
+    sdf: &dyn Fn([f64; 3]) -> f64,
+    center: [f64; 3],
+    he: [f64; 3],
+    delta: f64,
+    max: usize,
+) -> Option<Vec<Cell>> {
+    // Finest cube side: half-diagonal δ/4. Top cubes: 2^levels finer sides, about 16 δ.
+    let fine = delta / (2.0 * 3f64.sqrt());
+    let levels = 3;
+    let top = fine * f64::from(1 << levels);
+    let counts = he.map(|h| ((2.0 * h) / top).ceil().max(1.0) as usize);
+    if counts.iter().map(|&c| c as f64).product::<f64>() > max as f64 {
+        return None;
+    }
+    let origin = [0, 1, 2].map(|a| center[a] - 0.5 * top * counts[a] as f64);
+    let mut out = Vec::new();
+    let mut stack: Vec<([f64; 3], f64)> = Vec::new();
+    for i in 0..counts[0] {
+        for j in 0..counts[1] {
+            for k in 0..counts[2] {
+                let g = [i, j, k].map(|x| x as f64 + 0.5);
+                stack.push(([0, 1, 2].map(|a| origin[a] + top * g[a]), top));
+                while let Some((g, side)) = stack.pop() {
+                    let h = side * 3f64.sqrt() / 2.0;
+                    let phi = sdf(g);
+                    if phi > h {
+                        continue;
+                    }
+                    if phi < -h || side <= fine * (1.0 + 1e-9) {
+                        out.push((g, h, phi));
+                        if out.len() > max {
+                            return None;
+                        }
+                        continue;
+                    }
+                    let q = side / 4.0;
+                    for c in 0..8 {
+                        let d = [0, 1, 2].map(|a| if c >> a & 1 == 1 { q } else { -q });
+                        stack.push(([g[0] + d[0], g[1] + d[1], g[2] + d[2]], side / 2.0));
+                    }
+                }
+            }
+        }
+    }
+    Some(out)
+}
+
+/// Cells bucketed on a grid, so that a sphere visits only the cells within its reach.
+struct Buckets {
+    size: f64,
+    map: std::collections::HashMap<[i64; 3], Vec<u32>>,
+}
+
+impl Buckets {
+    fn new(cells: &[Cell], size: f64) -> Buckets {
+        let mut b = Buckets {
+            size,
+            map: Default::default(),
+        };
+        for (n, c) in cells.iter().enumerate() {
+            b.map.entry(b.key(c.0)).or_default().push(n as u32);
+        }
+        b
+    }
+
+    fn key(&self, p: [f64; 3]) -> [i64; 3] {
+        p.map(|x| (x / self.size).floor() as i64)
+    }
+
+    /// Calls `f` on every cell whose ball lies inside the sphere `(c, r)`.
+    fn inside(&self, cells: &[Cell], c: [f64; 3], r: f64, mut f: impl FnMut(usize)) {
+        let (lo, hi) = (self.key(c.map(|x| x - r)), self.key(c.map(|x| x + r)));
+        for a in lo[0]..=hi[0] {
+            for b in lo[1]..=hi[1] {
+                for k in lo[2]..=hi[2] {
+                    for &n in self.map.get(&[a, b, k]).map_or(&[][..], |v| v.as_slice()) {
+                        let (p, h, _) = cells[n as usize];
+                        if dist(p, c) + h <= r {
+                            f(n as usize);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn dist(p: [f64; 3], c: [f64; 3]) -> f64 {
+    ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2)).sqrt()
+}
+
+/// Step 2 (module docs): for the deepest cell not yet covered, the sphere that covers it
+/// and the most other uncovered cells, among centres on its inward normal (`−∇φ`, by
+/// central differences) at depths `0, δ/2, …, 8δ`, each of radius `δ − φ(centre)`; until
+/// every cell is covered.
+fn greedy_cover(
+    sdf: &dyn Fn([f64; 3]) -> f64,
+    mut cells: Vec<Cell>,
+    delta: f64,
+) -> Vec<([f64; 3], f64)> {
+    // Deepest first; ties broken by position so the cover is deterministic.
+    cells.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.partial_cmp(&b.0).unwrap()));
+    let hmax = cells.iter().map(|c| c.1).fold(0.0, f64::max);
+    let buckets = Buckets::new(&cells, (2.0 * hmax).max(delta));
+    let mut covered = vec![false; cells.len()];
+    let mut out = Vec::new();
+    for i in 0..cells.len() {
+        if covered[i] {
+            continue;
+        }
+        let (p, h, phi) = cells[i];
+        let mut best = (0usize, p, delta - phi);
+        let e = delta / 4.0;
+        let grad = [0, 1, 2].map(|a| {
+            let (mut x, mut y) = (p, p);
+            x[a] += e;
+            y[a] -= e;
+            (sdf(x) - sdf(y)) / (2.0 * e)
+        });
+        let norm = dist(grad, [0.0; 3]);
+        let steps = if norm > 0.5 { 16 } else { 0 };
+        for j in 0..=steps {
+            let t = j as f64 * delta / 2.0;
+            let c = [0, 1, 2].map(|a| p[a] - t * grad[a] / norm.max(1e-300));
+            let r = delta - if j == 0 { phi } else { sdf(c) };
+            if dist(c, p) + h > r {
+                continue;
+            }
+            let mut gain = 0;
+            buckets.inside(&cells, c, r, |n| gain += !covered[n] as usize);
+            if gain > best.0 {
+                best = (gain, c, r);
+            }
+        }
+        let (_, c, r) = best;
+        buckets.inside(&cells, c, r, |n| covered[n] = true);
+        covered[i] = true;
+        out.push((c, r));
+    }
+    out
 }
 
 fn cover_capsule(r: f64, h: f64, delta: f64) -> Vec<([f64; 3], f64)> {
@@ -111,54 +265,6 @@ fn cover_capsule(r: f64, h: f64, delta: f64) -> Vec<([f64; 3], f64)> {
             ([0.0, 0.0, z], big)
         })
         .collect()
-}
-
-fn cover_grid(
-    sdf: &dyn Fn([f64; 3]) -> f64,
-    center: [f64; 3],
-    he: [f64; 3],
-    delta: f64,
-) -> Vec<([f64; 3], f64)> {
-    let s = delta / 3f64.sqrt();
-    let slack = s * 3f64.sqrt() / 2.0;
-    let counts = he.map(|h| ((2.0 * h) / s).ceil() as usize + 1);
-    let mut pts: Vec<([f64; 3], f64)> = Vec::new();
-    for i in 0..counts[0] {
-        for j in 0..counts[1] {
-            for k in 0..counts[2] {
-                let p = [
-                    center[0] - he[0] + (2.0 * he[0]) * i as f64 / (counts[0] - 1).max(1) as f64,
-                    center[1] - he[1] + (2.0 * he[1]) * j as f64 / (counts[1] - 1).max(1) as f64,
-                    center[2] - he[2] + (2.0 * he[2]) * k as f64 / (counts[2] - 1).max(1) as f64,
-                ];
-                let phi = sdf(p);
-                if phi <= slack {
-                    pts.push((p, phi));
-                }
-            }
-        }
-    }
-    // Deepest first; ties broken by position so the cover is deterministic.
-    pts.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.partial_cmp(&b.0).unwrap()));
-    let mut covered = vec![false; pts.len()];
-    let mut out = Vec::new();
-    for i in 0..pts.len() {
-        if covered[i] {
-            continue;
-        }
-        let (c, phi) = pts[i];
-        let r = delta - phi;
-        let reach2 = (r - slack).max(0.0).powi(2);
-        for (k, (p, _)) in pts.iter().enumerate() {
-            let d2 = (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2);
-            if d2 <= reach2 {
-                covered[k] = true;
-            }
-        }
-        covered[i] = true;
-        out.push((c, r));
-    }
-    out
 }
 
 #[cfg(test)]

@@ -1,0 +1,254 @@
+//! Planning on the robot a user brings (issue 26, part 1): the bundled URDFs plan with no
+//! SRDF through the computed allowed-collision matrix; the matrix is checked against the
+//! exact geometry on samples of its own; a rejected start names the pair it touches; a
+//! planner built once gives the same path as a fresh one; the stop flag (Ctrl-C) ends a
+//! long search at once.
+
+use armsim::collision::{CollisionData, CollisionModel, CollisionOptions, Obstacle};
+use armsim::model::Model;
+use armsim::planning::acm::{self, AcmOptions, Reason};
+use armsim::planning::sampler::{bounds, Rng};
+use armsim::planning::{PairSource, PlanOptions, PlanStatus, Planner, PlanningRobot};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+mod plan_common;
+
+fn robot(file: &str) -> Model {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("robots")
+        .join(file);
+    Model::load(&p).unwrap().0
+}
+
+fn options(seed: u64) -> PlanOptions {
+    PlanOptions {
+        seed,
+        time_limit: Some(Duration::from_secs(10)),
+        ..Default::default()
+    }
+}
+
+/// The UR5 home pose of the issue.
+const UR5_HOME: [f64; 6] = [0.0, -1.57, 1.57, 0.0, 1.57, 0.0];
+
+#[test]
+fn ur5_home_pose_plans_without_an_srdf() {
+    let model = robot("ur5.urdf");
+    let mut p = Planner::new(&model, &[], None, options(0)).unwrap();
+    let goal = [1.2, -1.0, 1.0, -1.5, -1.2, 0.5];
+    let r = p.plan(&UR5_HOME, &goal);
+    assert_eq!(r.status, PlanStatus::Solved, "{:?}", r.reason);
+    // Among a box in the straight path too.
+    let wall = Obstacle::cuboid("wall", [0.3, 0.05, 0.5], [0.45, 0.45, 0.25]);
+    p.set_obstacles(&[wall]).unwrap();
+    let r = p.plan(&UR5_HOME, &goal);
+    assert_eq!(r.status, PlanStatus::Solved, "{:?}", r.reason);
+}
+
+/// Random start/goal pairs of the joint box, free on the sphere model. (The UR5's joints
+/// all span ±2π, and its random pairs can lie in pockets that the sphere model separates:
+/// it is tried from its home pose in `ur5_home_pose_plans_without_an_srdf`.)
+#[test]
+fn bundled_panda_and_iiwa_plan_random_problems_without_an_srdf() {
+    for file in ["panda.urdf", "iiwa14.urdf"] {
+        let model = robot(file);
+        let robot = Arc::new(PlanningRobot::new(&model, None, &options(0)).unwrap());
+        let mut p = Planner::for_robot(robot, options(0));
+        // Random valid start/goal pairs of the joint box.
+        let mut rng = Rng::new(7);
+        let mut solved = 0;
+        let mut tried = 0;
+        let mut draw = |p: &mut Planner| loop {
+            let q: Vec<f64> = (0..model.nv)
+                .map(|k| {
+                    let (lo, hi) = bounds(&model, k);
+                    lo + (hi - lo) * rng.next_f64()
+                })
+                .collect();
+            if p.is_free(&q) {
+                return q;
+            }
+        };
+        for _ in 0..5 {
+            let (a, b) = (draw(&mut p), draw(&mut p));
+            tried += 1;
+            let r = p.plan(&a, &b);
+            solved += (r.status == PlanStatus::Solved) as usize;
+        }
+        assert_eq!(solved, tried, "{file}");
+    }
+}
+
+/// An independent look at the matrix: on samples it did not draw, no pair it calls
+/// *Never* touches on the exact geometry; every *Default* pair touches at the default
+/// configuration; every *Always* pair touches in at least 80 % of fresh samples; every
+/// *Adjacent* pair is on one body or on bodies one joint apart (through links without
+/// geometry).
+#[test]
+fn acm_reasons_hold_on_the_exact_geometry_at_fresh_samples() {
+    for file in ["ur5.urdf", "panda.urdf", "iiwa14.urdf"] {
+        let model = robot(file);
+        let opts = options(0);
+        let r = PlanningRobot::new(&model, None, &opts).unwrap();
+        let PairSource::Computed(acm) = &r.pair_source else {
+            panic!("{file}: no matrix")
+        };
+        assert!(acm.exact, "{file}: the exact geometry was not built");
+        let cm = CollisionModel::new(&model, Vec::new(), &CollisionOptions::default()).unwrap();
+        let mut cd = CollisionData::new(&model, &cm);
+        let id = |n: &str| model.link_id(n).unwrap();
+        let mut rng = Rng::new(12345);
+        let fresh: Vec<Vec<f64>> = (0..3000)
+            .map(|_| {
+                (0..model.nv)
+                    .map(|k| {
+                        let (lo, hi) = bounds(&model, k);
+                        lo + (hi - lo) * rng.next_f64()
+                    })
+                    .collect()
+            })
+            .collect();
+        let q0 = acm::default_configuration(&model);
+        for p in &acm.disabled {
+            let (a, b) = (id(&p.link1), id(&p.link2));
+            match p.reason {
+                Reason::Never => {
+                    for q in &fresh {
+                        cm.update(&model, &mut cd, q);
+                        assert!(
+                            !cm.links_collide(&cd, a, b),
+                            "{file}: '{}'–'{}' disabled as never colliding, collides at {q:?}",
+                            p.link1,
+                            p.link2
+                        );
+                    }
+                }
+                Reason::Default => {
+                    cm.update(&model, &mut cd, &q0);
+                    assert!(cm.links_collide(&cd, a, b), "{file}: {p:?}");
+                }
+                Reason::Always => {
+                    let hits = fresh
+                        .iter()
+                        .filter(|q| {
+                            cm.update(&model, &mut cd, q);
+                            cm.links_collide(&cd, a, b)
+                        })
+                        .count();
+                    assert!(hits * 5 >= fresh.len() * 4, "{file}: {p:?}: {hits}");
+                }
+                Reason::Adjacent => {
+                    let (ba, bb) = (model.links[a].body, model.links[b].body);
+                    let up = |x: usize| {
+                        // Nearest ancestor that carries geometry.
+                        let mut p = model.parent[x];
+                        while p != armsim::model::WORLD
+                            && !model
+                                .links
+                                .iter()
+                                .any(|l| l.body == p && !l.collisions.is_empty())
+                        {
+                            p = model.parent[p];
+                        }
+                        p
+                    };
+                    let ok = ba == bb
+                        || (bb != armsim::model::WORLD && up(bb) == ba)
+                        || (ba != armsim::model::WORLD && up(ba) == bb);
+                    assert!(ok, "{file}: {p:?}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn acm_is_the_same_for_the_same_seed_whatever_the_thread_count() {
+    let model = robot("panda.urdf");
+    let r = PlanningRobot::new(&model, None, &options(3)).unwrap();
+    let sm = &r.spheres;
+    let stop = AtomicBool::new(false);
+    let opts = AcmOptions {
+        seed: 3,
+        ..Default::default()
+    };
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| acm::compute(&model, sm, r.exact.as_ref(), &opts, &stop).unwrap());
+    let many = acm::compute(&model, sm, r.exact.as_ref(), &opts, &stop).unwrap();
+    assert_eq!(one.disabled, many.disabled);
+    assert_eq!(one.checked, many.checked);
+}
+
+#[test]
+fn invalid_start_names_the_colliding_pair_and_its_depth() {
+    let model = robot("ur5.urdf");
+    // A ball around the wrist at the home pose.
+    let mut data = armsim::data::Data::new(&model);
+    armsim::kinematics::forward_kinematics(&model, &mut data, &UR5_HOME);
+    let wrist = model.link_id("wrist_2_link").unwrap();
+    let c = armsim::kinematics::frame_placement(&model, &data, wrist).trans;
+    let ball = Obstacle::sphere("ball", 0.05, [c.x, c.y, c.z]);
+    let mut p = Planner::new(&model, &[ball], None, options(0)).unwrap();
+    let r = p.plan(&UR5_HOME, &[0.5, -1.0, 1.0, 0.0, 1.0, 0.0]);
+    assert_eq!(r.status, PlanStatus::InvalidStart);
+    let why = r.reason.unwrap();
+    assert!(why.contains("'ball'") && why.contains(" mm"), "{why}");
+    assert!(why.contains("wrist"), "{why}");
+    // A value outside its limits names the joint.
+    let r = p.plan(&[9.0, -1.57, 1.57, 0.0, 1.57, 0.0], &UR5_HOME);
+    assert_eq!(r.status, PlanStatus::InvalidStart);
+    assert!(r.reason.unwrap().contains("shoulder_pan_joint"));
+}
+
+#[test]
+fn reused_planner_gives_the_same_path_as_a_fresh_one() {
+    let model = robot("ur5.urdf");
+    let wall = Obstacle::cuboid("wall", [0.3, 0.05, 0.5], [0.45, 0.45, 0.25]);
+    let goal = [1.2, -1.0, 1.0, -1.5, -1.2, 0.5];
+    let robot = Arc::new(PlanningRobot::new(&model, None, &options(5)).unwrap());
+    let mut reused = Planner::for_robot(robot, options(5));
+    // A query in another scene first.
+    let other = Obstacle::sphere("other", 0.1, [-0.4, -0.4, 0.3]);
+    reused.plan_among(&[other], &UR5_HOME, &goal).unwrap();
+    let a = reused
+        .plan_among(std::slice::from_ref(&wall), &UR5_HOME, &goal)
+        .unwrap();
+    let mut fresh = Planner::new(&model, &[wall], None, options(5)).unwrap();
+    let b = fresh.plan(&UR5_HOME, &goal);
+    assert_eq!(a.status, PlanStatus::Solved);
+    assert_eq!(a.path, b.path);
+}
+
+#[test]
+fn stop_flag_ends_a_long_search_promptly() {
+    // An impossible problem (plan_common::panda_wall_problem): the search would run to
+    // its 60 s limit unless stopped.
+    let robot = plan_common::Robot::load("panda");
+    let (obstacles, start, goal) = plan_common::panda_wall_problem();
+    let stop = Arc::new(AtomicBool::new(false));
+    let opts = PlanOptions {
+        time_limit: Some(Duration::from_secs(60)),
+        stop: Some(stop.clone()),
+        ..Default::default()
+    };
+    let mut p = Planner::new(&robot.model, &obstacles, Some(&robot.disabled), opts).unwrap();
+    let flag = stop.clone();
+    let raiser = std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_millis(300));
+        flag.store(true, Ordering::SeqCst);
+        Instant::now()
+    });
+    let r = p.plan(&start, &goal);
+    let ended = Instant::now();
+    let raised = raiser.join().unwrap();
+    assert_eq!(r.status, PlanStatus::Failed, "{:?}", r.reason);
+    assert_eq!(r.reason.as_deref(), Some("interrupted"));
+    let late = ended.duration_since(raised);
+    assert!(late < Duration::from_secs(1), "{late:?} after the flag");
+}
