@@ -129,6 +129,7 @@ fn planar_limits() -> JointLimits {
         velocity: vec![2.0, 3.0],
         acceleration: vec![5.0, 8.0],
         effort: vec![f64::INFINITY; 2],
+        jerk: None,
     }
 }
 
@@ -148,6 +149,7 @@ fn trapezoidal_segment_times_are_the_slowest_joints_minimum() {
         velocity: vec![1.0, 2.0, 0.5],
         acceleration: vec![2.0, 1.0, 4.0],
         effort: vec![f64::INFINITY; 3],
+        jerk: None,
     };
     let tr = Trapezoidal::new(&w, &lim).unwrap();
     // Closed form of the fastest rest-to-rest move per joint.
@@ -527,6 +529,7 @@ fn topp_on_a_line_matches_bang_coast_bang() {
         velocity: vec![1.0, 1.5],
         acceleration: vec![2.0, 3.0],
         effort: vec![f64::INFINITY; 2],
+        jerk: None,
     };
     let path = LinearPath::new(q0.clone(), q1.clone()).unwrap();
     let tp = topp(&m, path, &lim, &Effects::default(), &ToppOptions::default()).unwrap();
@@ -571,6 +574,7 @@ fn topp_torque_limited_inertia_matches_bang_bang() {
         velocity: vec![100.0, 100.0],
         acceleration: vec![1000.0, 1000.0],
         effort: vec![tau_max, f64::INFINITY],
+        jerk: None,
     };
     let path = LinearPath::new(vec![0.0, q2], vec![dist, q2]).unwrap();
     let tp = topp(&m, path, &lim, &Effects::default(), &ToppOptions::default()).unwrap();

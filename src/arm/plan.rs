@@ -552,7 +552,10 @@ fn time_planned(
     };
     loop {
         match topp(&scene.model, spline.clone(), &scene.limits, fx, &opts) {
-            Ok(t) => return Ok(t),
+            Ok(t) => {
+                super::topp_bench::record(&scene.model, &spline, &scene.limits, fx, &opts, &t);
+                return Ok(t);
+            }
             Err(_) if opts.segments < 2 * topp_opts.segments => opts.segments *= 2,
             Err(x) => return Err(step_err(scene, key, None, format!("planned motion: {x}"))),
         }

@@ -16,6 +16,13 @@ pub(super) struct CheckReport {
     pub(super) ratio: [f64; 3],
 }
 
+impl CheckReport {
+    /// The largest ratio of any kind.
+    pub(super) fn worst(&self) -> f64 {
+        self.ratio.iter().copied().fold(0.0, f64::max)
+    }
+}
+
 /// Buffers of the dense check.
 pub(super) struct Checker {
     data: Data,
@@ -96,7 +103,8 @@ impl Checker {
     }
 
     /// Checks every interval at `k + 2` equally spaced points (ends included) and refines
-    /// the near-active maxima by golden-section search.
+    /// the near-active maxima by golden-section search; the torques only when `torque`
+    /// (and some joint has a torque limit).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn check<P: Path>(
         &mut self,
@@ -108,6 +116,7 @@ impl Checker {
         b: &[f64],
         a: &[f64],
         k: usize,
+        torque: bool,
     ) -> CheckReport {
         let n = self.q.len();
         let nn = a.len();
@@ -117,7 +126,7 @@ impl Checker {
             excess_t: vec![0.0; nn * n],
             ratio: [0.0; 3],
         };
-        let torque = limits.effort.iter().any(|e| e.is_finite());
+        let torque = torque && limits.effort.iter().any(|e| e.is_finite());
         let kinds = if torque { 3 } else { 2 };
         let np = k + 2;
         let mut vals = std::mem::take(&mut self.vals);

@@ -3,7 +3,7 @@
 //! ends, velocity, acceleration and torque limits less their tightening, the time
 //! epigraph), and the call to clarabel.
 
-use super::{Grid, ToppStats};
+use super::{Problem, ToppStats};
 use crate::trajectory::TrajectoryError;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -58,19 +58,22 @@ impl Rows {
 }
 
 /// Builds and solves the SOCP; returns `x`.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn solve_socp(
     lay: &Layout,
-    grid: &Grid,
-    limits: &crate::trajectory::JointLimits,
-    torque_on: &[bool],
-    tight_v: &[f64],
-    tight_a: &[f64],
-    tight_t: &[f64],
-    fric: &[f64],
-    ds: &[f64],
+    p: &Problem,
     stats: &mut ToppStats,
 ) -> Result<Vec<f64>, TrajectoryError> {
+    let Problem {
+        grid,
+        limits,
+        torque_on,
+        tight_v,
+        tight_a,
+        tight_t,
+        fric,
+        ds,
+        ..
+    } = *p;
     let nn = lay.n_int;
     let n = torque_on.len();
     let mut rows = Rows::default();
