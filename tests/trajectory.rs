@@ -651,7 +651,7 @@ fn topp_case(name: &str, m: &Model, w: &[Vec<f64>], lim: &JointLimits, torque_jo
     let r = verify(m, &tp, &free, Some(m.gravity), 40_000);
     println!(
         "{name}, no torque limits: TOPP {:.4} s, trapezoidal {:.4} s, min-jerk {:.4} s; \
-         ratios {r:.7?}; {} solves, {} iterations, clarabel {:.3} s, wall {:.3} s",
+         ratios {r:.7?}; {} solves, {} iterations, solver {:.3} s, wall {:.3} s",
         tp.duration(),
         trap.duration(),
         path.duration(),
@@ -695,7 +695,7 @@ fn topp_case(name: &str, m: &Model, w: &[Vec<f64>], lim: &JointLimits, torque_jo
     let slow = torque_feasible_trapezoid(m, trap, &tight.effort, &g);
     println!(
         "{name}, torque limits {:.3?}: TOPP {:.4} s, trapezoidal slowed to the torque limits \
-         {:.4} s (x{:.4}); ratios {r:.7?}; {} solves, clarabel {:.3} s, wall {:.3} s",
+         {:.4} s (x{:.4}); ratios {r:.7?}; {} solves, solver {:.3} s, wall {:.3} s",
         tight.effort,
         tq.duration(),
         slow.duration(),

@@ -103,7 +103,10 @@ pub struct ToppOptions {
     pub segments: usize,
     /// Dense check points per interval (besides its two ends).
     pub check_points: usize,
-    /// Refinement rounds (re-solves) allowed after the first solve.
+    /// Refinement rounds (re-solves that tighten a limit) allowed after the first solve
+    /// (default 30: a reachability re-solve costs well under a millisecond, and its
+    /// bang–bang optima may move an excess between neighbouring intervals for a few more
+    /// rounds than the conic solver's).
     pub max_refinements: usize,
     /// Accepted relative excess in the dense check (`|x| ≤ (1 + tol) limit`).
     pub tolerance: f64,
@@ -123,7 +126,7 @@ impl Default for ToppOptions {
         ToppOptions {
             segments: 400,
             check_points: 8,
-            max_refinements: 10,
+            max_refinements: 30,
             tolerance: 1e-9,
             margin: 1e-8,
             end_refinement: 0.75,
