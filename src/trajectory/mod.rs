@@ -8,10 +8,12 @@
 //!   at interior knots), segment times scaled to the limits;
 //! - [`CartesianMove`] (`cartesian.rs`): a straight tool line (linear position, slerp
 //!   rotation) solved by IK sample by sample;
-//! - [`topp`] (`topp/`; the program in `socp.rs`, the dense check in `check.rs`): the
-//!   convex time-optimal path parameterisation of Verscheure et al. (2009) under joint
-//!   velocity, acceleration and torque limits, solved as a second-order-cone program with
-//!   clarabel;
+//! - [`topp`] (`topp/`): time-optimal path parameterisation under joint velocity,
+//!   acceleration and torque limits, by reachability analysis (TOPP-RA, Pham & Pham 2018;
+//!   `reachability.rs`, its two-variable LPs in `lp2.rs`) or, as [`ToppMethod::Conic`],
+//!   the second-order-cone program of Verscheure et al. (2009) with clarabel (`socp.rs`);
+//!   verified by a dense check with repairs (`check.rs`); optional jerk limits by
+//!   smoothing and slowing down (`jerk.rs`);
 //! - [`check_torques`] (`torque_check.rs`): peak / RMS torque, peak speed and power, margins
 //!   and the first violation time of every limit along any trajectory, with a text table,
 //!   JSON rows and a PNG/SVG plot (`plot.rs`), whose axis labels come from [`ticks`]
@@ -240,7 +242,7 @@ impl JointLimits {
                     jerk.len()
                 )));
             }
-            if let Some(k) = jerk.iter().position(|x| !(*x > 0.0)) {
+            if let Some(k) = jerk.iter().position(|x| x.is_nan() || *x <= 0.0) {
                 return Err(TrajectoryError::Invalid(format!(
                     "joint {}: the jerk limit must be positive or inf (got {})",
                     names[k], jerk[k]

@@ -42,10 +42,8 @@ pub(super) fn maximize(
     if lo[0] > hi[0] || lo[1] > hi[1] {
         return None;
     }
-    let mut x = [0.0; 2];
-    for k in 0..2 {
-        x[k] = if c[k] > 0.0 { hi[k] } else { lo[k] };
-    }
+    let corner = |k: usize| if c[k] > 0.0 { hi[k] } else { lo[k] };
+    let mut x = [corner(0), corner(1)];
     for (k, r) in rows.iter().enumerate() {
         if r.value(x) <= r.h + r.slack(x) {
             continue;
@@ -73,14 +71,14 @@ fn on_line(
     let d = [-r.nb / len, r.na / len];
     let (mut tlo, mut thi) = (f64::NEG_INFINITY, f64::INFINITY);
     // The box, coordinate by coordinate.
-    for k in 0..2 {
-        if d[k].abs() < 1e-15 {
-            let tol = 1e-12 * (1.0 + p0[k].abs());
-            if p0[k] < lo[k] - tol || p0[k] > hi[k] + tol {
+    for (((dk, pk), lk), hk) in d.iter().zip(p0).zip(lo).zip(hi) {
+        if dk.abs() < 1e-15 {
+            let tol = 1e-12 * (1.0 + pk.abs());
+            if pk < lk - tol || pk > hk + tol {
                 return None;
             }
         } else {
-            let (t1, t2) = ((lo[k] - p0[k]) / d[k], (hi[k] - p0[k]) / d[k]);
+            let (t1, t2) = ((lk - pk) / dk, (hk - pk) / dk);
             tlo = tlo.max(t1.min(t2));
             thi = thi.min(t1.max(t2));
         }
