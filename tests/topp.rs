@@ -101,14 +101,20 @@ fn verify(
 /// see exactly the same discretised problem; and the full verified call.
 #[test]
 fn reachability_duration_equals_the_conic_optimum_on_the_same_problems() {
-    let cases = [("planar", planar(), planar_path()), ("UR5", ur5(), ur5_path())];
+    let cases = [
+        ("planar", planar(), planar_path()),
+        ("UR5", ur5(), ur5_path()),
+    ];
     for (name, m, (w, lim)) in cases {
         let path = MinJerk::new(&w, &lim).unwrap();
         let g = Effects::gravity(m.gravity);
         // Torque limits at 1.3 × the static torque along the path on the first joints.
         let mut tight = lim.clone();
         let free = topp(&m, path.clone(), &lim, &g, &opts(ToppMethod::Reachability)).unwrap();
-        tight.effort = static_peak(&m, &free).iter().map(|x| 1.3 * x + 1.0).collect();
+        tight.effort = static_peak(&m, &free)
+            .iter()
+            .map(|x| 1.3 * x + 1.0)
+            .collect();
         for (what, l) in [("no torque", &lim), ("torque", &tight)] {
             let single = |method| ToppOptions {
                 tolerance: 1e9,
@@ -119,7 +125,10 @@ fn reachability_duration_equals_the_conic_optimum_on_the_same_problems() {
             let (a, b) = (ra.duration(), cone.duration());
             println!("{name}, {what}, one solve: reachability {a:.8} s, conic {b:.8} s");
             assert_eq!(ra.stats().solves, 1);
-            assert!(a >= b * (1.0 - 1e-7), "{name} {what}: below the optimum, {a} vs {b}");
+            assert!(
+                a >= b * (1.0 - 1e-7),
+                "{name} {what}: below the optimum, {a} vs {b}"
+            );
             assert!(a <= b * (1.0 + 1e-4), "{name} {what}: {a} vs {b}");
             let ra = topp(&m, path.clone(), l, &g, &opts(ToppMethod::Reachability)).unwrap();
             let cone = topp(&m, path.clone(), l, &g, &opts(ToppMethod::Conic)).unwrap();
@@ -145,7 +154,12 @@ fn static_peak(m: &Model, traj: &dyn Trajectory) -> Vec<f64> {
     let z = vec![0.0; n];
     let mut peak = vec![0.0f64; n];
     for i in 0..=2000 {
-        traj.sample(traj.duration() * i as f64 / 2000.0, &mut q, &mut qd, &mut qdd);
+        traj.sample(
+            traj.duration() * i as f64 / 2000.0,
+            &mut q,
+            &mut qd,
+            &mut qdd,
+        );
         for (p, g) in peak.iter_mut().zip(rnea(m, &mut d, &q, &z, &z)) {
             *p = p.max(g.abs());
         }
@@ -205,7 +219,10 @@ fn torque_bound_line_is_bang_bang_and_matches_the_conic_solver() {
     let want = 2.0 * (dist * m11 / tau_max).sqrt();
     let (a, b) = (ra.duration(), cone.duration());
     println!("torque bang-bang: reachability {a:.6}, conic {b:.6}, closed form {want:.6}");
-    assert!(a >= want * (1.0 - 1e-9) && a <= want * (1.0 + 5e-3), "{a} vs {want}");
+    assert!(
+        a >= want * (1.0 - 1e-9) && a <= want * (1.0 + 5e-3),
+        "{a} vs {want}"
+    );
     assert!((a - b).abs() <= 1e-5 * b, "{a} vs {b}");
     let mut zero_g = m.clone();
     zero_g.gravity = armsim::spatial::Vec3::zeros();
@@ -263,7 +280,12 @@ fn torque_peaks(m: &Model, traj: &dyn Trajectory, f: &Friction) -> Vec<f64> {
     let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut peak = vec![0.0f64; n];
     for i in 0..=4000 {
-        traj.sample(traj.duration() * i as f64 / 4000.0, &mut q, &mut qd, &mut qdd);
+        traj.sample(
+            traj.duration() * i as f64 / 4000.0,
+            &mut q,
+            &mut qd,
+            &mut qdd,
+        );
         let tau = rnea(m, &mut d, &q, &qd, &qdd).to_vec();
         for j in 0..n {
             let v = qd[j];
@@ -325,7 +347,10 @@ fn jerk_limited_motion_stays_within_the_limit_and_tends_to_the_optimum() {
             st.max_jerk_ratio
         );
         assert!(st.max_jerk_ratio <= 1.0 + 1e-9, "{}", st.max_jerk_ratio);
-        let active = st.max_jerk_ratio.max(st.max_velocity_ratio).max(st.max_acceleration_ratio);
+        let active = st
+            .max_jerk_ratio
+            .max(st.max_velocity_ratio)
+            .max(st.max_acceleration_ratio);
         assert!(active > 0.99, "no limit active: {st:?}");
         assert!(fd <= 1.0 + 1e-3, "jerk {jmax}: {fd}");
         assert!(r[0] <= 1.0 + 1e-6 && r[1] <= 1.0 + 1e-6, "{r:?}");
@@ -338,8 +363,8 @@ fn jerk_limited_motion_stays_within_the_limit_and_tends_to_the_optimum() {
 
 /// The pick-and-place with its `[limits]` section carrying `extra`.
 fn with_limits(extra: &str) -> String {
-    let text = std::fs::read_to_string(common::root().join("scenarios/ur5_pick_and_place.toml"))
-        .unwrap();
+    let text =
+        std::fs::read_to_string(common::root().join("scenarios/ur5_pick_and_place.toml")).unwrap();
     text.replace("[limits]\n", &format!("[limits]\n{extra}\n"))
 }
 
@@ -382,8 +407,8 @@ fn bad_jerk_limits_are_refused_at_their_line() {
 #[test]
 fn jerk_limit_where_nothing_is_time_optimal_is_refused_at_its_line() {
     // The pick-and-place without its planner: quintic timing only, no TOPP anywhere.
-    let text = with_limits("jerk = 50.0")
-        .replace("planner = \"rrt-connect\"", "planner = \"none\"");
+    let text =
+        with_limits("jerk = 50.0").replace("planner = \"rrt-connect\"", "planner = \"none\"");
     let text = drop_section(&text, "[planner]");
     let e = refused(&text);
     let line = text.lines().position(|l| l == "jerk = 50.0").unwrap() + 1;

@@ -275,13 +275,13 @@ fn scan<P: Path>(
     ratio
 }
 
-/// The maximum of `f` on `[lo, hi]` by golden-section search (40 steps).
+/// The maximum of `f` on `[lo, hi]` by golden-section search (30 steps, as in `check.rs`).
 fn golden_max(ev: &mut Eval, f: impl Fn(&mut Eval, f64) -> f64, lo: f64, hi: f64) -> f64 {
     const R: f64 = 0.618_033_988_749_894_9;
     let (mut lo, mut hi) = (lo, hi);
     let (mut x1, mut x2) = (hi - R * (hi - lo), lo + R * (hi - lo));
     let (mut f1, mut f2) = (f(ev, x1), f(ev, x2));
-    for _ in 0..40 {
+    for _ in 0..30 {
         if f1 > f2 {
             hi = x2;
             (x2, f2) = (x1, f1);
@@ -376,11 +376,11 @@ fn verify_raise<P: Path>(
     for _ in 0..MAX_RAISE {
         let lims = Limits {
             lim: [
-            &limits.velocity[..],
-            &limits.acceleration[..],
-            jerk,
-            &limits.effort[..],
-        ],
+                &limits.velocity[..],
+                &limits.acceleration[..],
+                jerk,
+                &limits.effort[..],
+            ],
             k: sm.k,
             torque,
         };

@@ -175,6 +175,9 @@ mod tests {
                 (g, b) => panic!("seidel {g:?}, brute force {b:?}, rows {rows:?}, c {c:?}"),
             }
         }
-        assert!(feasible > 500 && infeasible > 100, "{feasible} {infeasible}");
+        assert!(
+            feasible > 500 && infeasible > 100,
+            "{feasible} {infeasible}"
+        );
     }
 }

@@ -621,7 +621,14 @@ impl<P: Path> ToppTrajectory<P> {
     /// `q`, `q̇`, `q̈` and the jerk `q⃛` at `t`. Without a jerk limit the time-optimal
     /// motion's `s̈` jumps at the knots: the jerk given there is the one inside the
     /// interval holding `t` (`3 q'' ṡ s̈ + q''' ṡ³`), excluding the jumps.
-    pub fn sample_jerk(&self, t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64], qddd: &mut [f64]) {
+    pub fn sample_jerk(
+        &self,
+        t: f64,
+        q: &mut [f64],
+        qd: &mut [f64],
+        qdd: &mut [f64],
+        qddd: &mut [f64],
+    ) {
         let [sg, sd, sdd, sddd] = match &self.smooth {
             Some(sm) => {
                 let [sg, sd, sdd, sddd] = self.smoothed(sm, (t / sm.k).clamp(0.0, sm.span()));
@@ -631,14 +638,23 @@ impl<P: Path> ToppTrajectory<P> {
             None => {
                 let end = *self.t.last().unwrap_or(&0.0);
                 if t <= 0.0 || t >= end {
-                    let s = if t <= 0.0 { self.s[0] } else { self.s[self.s.len() - 1] };
+                    let s = if t <= 0.0 {
+                        self.s[0]
+                    } else {
+                        self.s[self.s.len() - 1]
+                    };
                     [s, 0.0, 0.0, 0.0]
                 } else {
                     let (i, tau) = super::locate(&self.t, t);
                     let sd0 = self.b[i].sqrt();
                     let a = self.a[i];
                     let s = self.s[i] + sd0 * tau + 0.5 * a * tau * tau;
-                    [s.clamp(self.s[i], self.s[i + 1]), (sd0 + a * tau).max(0.0), a, 0.0]
+                    [
+                        s.clamp(self.s[i], self.s[i + 1]),
+                        (sd0 + a * tau).max(0.0),
+                        a,
+                        0.0,
+                    ]
                 }
             }
         };

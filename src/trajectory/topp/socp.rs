@@ -121,23 +121,7 @@ pub(super) fn solve_socp(
         }
     }
     let n_nonneg = rows.h.len() - n_zero;
-    // Second-order cones.
-    for i in 0..=nn {
-        rows.push(&[(lay.b(i), -1.0)], 1.0);
-        rows.push(&[(lay.c(i), -2.0)], 0.0);
-        rows.push(&[(lay.b(i), -1.0)], -1.0);
-    }
-    for i in 0..nn {
-        rows.push(
-            &[(lay.c(i), -1.0), (lay.c(i + 1), -1.0), (lay.d(i), -1.0)],
-            0.0,
-        );
-        rows.push(&[], 2.0);
-        rows.push(
-            &[(lay.c(i), -1.0), (lay.c(i + 1), -1.0), (lay.d(i), 1.0)],
-            0.0,
-        );
-    }
+    push_cones(&mut rows, lay);
     let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(n_zero), NonnegativeConeT(n_nonneg)];
     cones.extend(std::iter::repeat_n(SecondOrderConeT(3), 2 * nn + 1));
     let nx = lay.len();
@@ -172,5 +156,27 @@ pub(super) fn solve_socp(
         s => Err(TrajectoryError::Topp(format!(
             "the conic solver stopped: {s:?}"
         ))),
+    }
+}
+
+/// The second-order-cone rows: `c_i ≤ √b_i` as `‖(2c_i, b_i − 1)‖ ≤ b_i + 1`, and
+/// `d_i ≥ 1/(c_i + c_{i+1})` as `‖(2, c_i + c_{i+1} − d_i)‖ ≤ c_i + c_{i+1} + d_i`.
+fn push_cones(rows: &mut Rows, lay: &Layout) {
+    let nn = lay.n_int;
+    for i in 0..=nn {
+        rows.push(&[(lay.b(i), -1.0)], 1.0);
+        rows.push(&[(lay.c(i), -2.0)], 0.0);
+        rows.push(&[(lay.b(i), -1.0)], -1.0);
+    }
+    for i in 0..nn {
+        rows.push(
+            &[(lay.c(i), -1.0), (lay.c(i + 1), -1.0), (lay.d(i), -1.0)],
+            0.0,
+        );
+        rows.push(&[], 2.0);
+        rows.push(
+            &[(lay.c(i), -1.0), (lay.c(i + 1), -1.0), (lay.d(i), 1.0)],
+            0.0,
+        );
     }
 }
