@@ -2,7 +2,8 @@
 //! variable `ARMSIM_TOPP_DUMP=FILE.json`, every planned piece timed by TOPP is also
 //!
 //! - re-timed `ARMSIM_TOPP_REPS` times (default 21) with the options it was timed with
-//!   (reachability), with the torque limits left out, and 3 times with the conic solver;
+//!   (reachability), with the torque limits left out, and 3 times with the conic solver
+//!   (wall time and the thread's CPU time of each call);
 //! - written to `FILE.json` with the grid `s_i`, the path `q, q', q''` at the grid points,
 //!   the limits, the durations and the wall times of each repetition,
 //!
@@ -21,7 +22,22 @@ use std::time::Instant;
 /// Pieces recorded so far in this process.
 static PIECES: Mutex<Vec<Value>> = Mutex::new(Vec::new());
 
-/// Wall times (s) of `reps` calls of [`topp`] and the duration of the last one.
+/// CPU time of the calling thread (s), from `/proc/thread-self/schedstat` (Linux; `NaN`
+/// elsewhere).
+fn thread_cpu_s() -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|t| t.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or(f64::NAN, |ns| ns * 1e-9)
+}
+
+/// Times of `reps` calls of [`topp`] (wall and thread CPU, s) and the duration of the last.
+struct Timed {
+    wall: Vec<f64>,
+    cpu: Vec<f64>,
+    duration: f64,
+}
+
 fn time_it<P: Path + Clone>(
     model: &Model,
     path: &P,
@@ -29,16 +45,20 @@ fn time_it<P: Path + Clone>(
     effects: &Effects,
     opts: &ToppOptions,
     reps: usize,
-) -> (Vec<f64>, f64) {
-    let mut times = Vec::with_capacity(reps);
-    let mut duration = f64::NAN;
+) -> Timed {
+    let mut out = Timed {
+        wall: Vec::with_capacity(reps),
+        cpu: Vec::with_capacity(reps),
+        duration: f64::NAN,
+    };
     for _ in 0..reps {
-        let start = Instant::now();
+        let (start, cpu) = (Instant::now(), thread_cpu_s());
         let r = topp(model, path.clone(), limits, effects, opts);
-        times.push(start.elapsed().as_secs_f64());
-        duration = r.map_or(f64::NAN, |t| t.duration());
+        out.cpu.push(thread_cpu_s() - cpu);
+        out.wall.push(start.elapsed().as_secs_f64());
+        out.duration = r.map_or(f64::NAN, |t| t.duration());
     }
-    (times, duration)
+    out
 }
 
 /// Records a planned piece (see the module docs) when `ARMSIM_TOPP_DUMP` is set.
@@ -68,17 +88,17 @@ pub(super) fn record<P: Path + Clone>(
         rows[1].push(dq.clone());
         rows[2].push(ddq.clone());
     }
-    let (full, d_full) = time_it(model, path, limits, effects, opts, reps);
+    let full = time_it(model, path, limits, effects, opts, reps);
     let kin_limits = JointLimits {
         effort: vec![f64::INFINITY; n],
         ..limits.clone()
     };
-    let (kin, d_kin) = time_it(model, path, &kin_limits, effects, opts, reps);
+    let kin = time_it(model, path, &kin_limits, effects, opts, reps);
     let conic_opts = ToppOptions {
         method: ToppMethod::Conic,
         ..opts.clone()
     };
-    let (conic, d_conic) = time_it(model, path, limits, effects, &conic_opts, 3);
+    let conic = time_it(model, path, limits, effects, &conic_opts, 3);
     let effort: Vec<Value> = limits
         .effort
         .iter()
@@ -95,12 +115,15 @@ pub(super) fn record<P: Path + Clone>(
         "segments": opts.segments,
         "duration": timed.duration(),
         "stats": timed.stats(),
-        "armsim_s": full,
-        "armsim_duration": d_full,
-        "armsim_no_torque_s": kin,
-        "armsim_no_torque_duration": d_kin,
-        "conic_s": conic,
-        "conic_duration": d_conic,
+        "armsim_s": full.wall,
+        "armsim_cpu_s": full.cpu,
+        "armsim_duration": full.duration,
+        "armsim_no_torque_s": kin.wall,
+        "armsim_no_torque_cpu_s": kin.cpu,
+        "armsim_no_torque_duration": kin.duration,
+        "conic_s": conic.wall,
+        "conic_cpu_s": conic.cpu,
+        "conic_duration": conic.duration,
     });
     let mut all = PIECES.lock().unwrap_or_else(|e| e.into_inner());
     all.push(piece);
