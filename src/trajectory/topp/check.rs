@@ -160,17 +160,21 @@ impl Checker {
         vals.resize((k + 2) * 3 * n, 0.0);
         let same = |c: &Cache, x: usize| c.b[x].to_bits() == b[x].to_bits();
         for i in 0..nn {
-            if !(same(&cache, i) && same(&cache, i + 1) && (cache.torque[i] || !torque)) {
+            let unchanged = same(&cache, i) && same(&cache, i + 1);
+            if !(unchanged && (cache.torque[i] || !torque)) {
                 let iv = Interval {
                     s: s[i],
                     ds: s[i + 1] - s[i],
                     b: b[i],
                     a: a[i],
                 };
+                // Unchanged but checked without the torques: only those are missing.
+                let first = if unchanged { 2 } else { 0 };
                 let out = &mut cache.excess[i * 3 * n..(i + 1) * 3 * n];
+                let kinds = (first, if torque { 3 } else { 2 });
                 let r =
-                    self.check_interval(model, effects, path, limits, iv, torque, &mut vals, out);
-                cache.ratio[i] = r;
+                    self.check_interval(model, effects, path, limits, iv, kinds, &mut vals, out);
+                cache.ratio[i][first..].copy_from_slice(&r[first..]);
                 cache.torque[i] = torque;
             }
             let ex = &cache.excess[i * 3 * n..(i + 1) * 3 * n];
@@ -187,8 +191,9 @@ impl Checker {
         rep
     }
 
-    /// One interval: the excess over each limit per kind and joint into `out` (`3 n`,
-    /// kind-major; 0 where within the limit), and the largest ratio per kind.
+    /// One interval, the kinds `first..kinds` (0 velocity, 1 acceleration, 2 torque): the
+    /// excess over each limit per kind and joint into `out` (`3 n`, kind-major; 0 where
+    /// within the limit), and the largest ratio per kind.
     #[allow(clippy::too_many_arguments)]
     fn check_interval<P: Path>(
         &mut self,
@@ -197,25 +202,24 @@ impl Checker {
         path: &P,
         limits: &crate::trajectory::JointLimits,
         iv: Interval,
-        torque: bool,
+        (first, kinds): (usize, usize),
         vals: &mut [f64],
         out: &mut [f64],
     ) -> [f64; 3] {
         let n = self.q.len();
         let np = vals.len() / (3 * n);
-        let kinds = if torque { 3 } else { 2 };
         let theta = |p: usize| p as f64 / (np - 1) as f64;
         let mut ratio = [0.0f64; 3];
-        out.fill(0.0);
+        out[first * n..].fill(0.0);
         for p in 0..np {
-            self.eval_at(model, effects, path, iv, theta(p), torque);
-            for kind in 0..kinds {
+            self.eval_at(model, effects, path, iv, theta(p), kinds == 3);
+            for kind in first..kinds {
                 for j in 0..n {
                     vals[(p * 3 + kind) * n + j] = self.value(kind, j);
                 }
             }
         }
-        for kind in 0..kinds {
+        for kind in first..kinds {
             for j in 0..n {
                 let lim = match kind {
                     0 => limits.velocity[j],
