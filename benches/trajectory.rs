@@ -82,6 +82,7 @@ fn main() {
         velocity: vec![2.0, 3.0],
         acceleration: vec![5.0, 8.0],
         effort: vec![inf; 2],
+        jerk: None,
     };
     case("planar 2R", &planar, &wp, &lp, &[15.0, 3.5]);
 

@@ -129,6 +129,7 @@ fn planar_limits() -> JointLimits {
         velocity: vec![2.0, 3.0],
         acceleration: vec![5.0, 8.0],
         effort: vec![f64::INFINITY; 2],
+        jerk: None,
     }
 }
 
@@ -148,6 +149,7 @@ fn trapezoidal_segment_times_are_the_slowest_joints_minimum() {
         velocity: vec![1.0, 2.0, 0.5],
         acceleration: vec![2.0, 1.0, 4.0],
         effort: vec![f64::INFINITY; 3],
+        jerk: None,
     };
     let tr = Trapezoidal::new(&w, &lim).unwrap();
     // Closed form of the fastest rest-to-rest move per joint.
@@ -527,6 +529,7 @@ fn topp_on_a_line_matches_bang_coast_bang() {
         velocity: vec![1.0, 1.5],
         acceleration: vec![2.0, 3.0],
         effort: vec![f64::INFINITY; 2],
+        jerk: None,
     };
     let path = LinearPath::new(q0.clone(), q1.clone()).unwrap();
     let tp = topp(&m, path, &lim, &Effects::default(), &ToppOptions::default()).unwrap();
@@ -571,6 +574,7 @@ fn topp_torque_limited_inertia_matches_bang_bang() {
         velocity: vec![100.0, 100.0],
         acceleration: vec![1000.0, 1000.0],
         effort: vec![tau_max, f64::INFINITY],
+        jerk: None,
     };
     let path = LinearPath::new(vec![0.0, q2], vec![dist, q2]).unwrap();
     let tp = topp(&m, path, &lim, &Effects::default(), &ToppOptions::default()).unwrap();
@@ -647,7 +651,7 @@ fn topp_case(name: &str, m: &Model, w: &[Vec<f64>], lim: &JointLimits, torque_jo
     let r = verify(m, &tp, &free, Some(m.gravity), 40_000);
     println!(
         "{name}, no torque limits: TOPP {:.4} s, trapezoidal {:.4} s, min-jerk {:.4} s; \
-         ratios {r:.7?}; {} solves, {} iterations, clarabel {:.3} s, wall {:.3} s",
+         ratios {r:.7?}; {} solves, {} iterations, solver {:.3} s, wall {:.3} s",
         tp.duration(),
         trap.duration(),
         path.duration(),
@@ -691,7 +695,7 @@ fn topp_case(name: &str, m: &Model, w: &[Vec<f64>], lim: &JointLimits, torque_jo
     let slow = torque_feasible_trapezoid(m, trap, &tight.effort, &g);
     println!(
         "{name}, torque limits {:.3?}: TOPP {:.4} s, trapezoidal slowed to the torque limits \
-         {:.4} s (x{:.4}); ratios {r:.7?}; {} solves, clarabel {:.3} s, wall {:.3} s",
+         {:.4} s (x{:.4}); ratios {r:.7?}; {} solves, solver {:.3} s, wall {:.3} s",
         tight.effort,
         tq.duration(),
         slow.duration(),

@@ -11,7 +11,8 @@
 //! - [`checks`]: the collision check with the grasped part, the planned tool path;
 //! - [`contact`]: the rapier3d contact scene, built only for the `contact` effect;
 //! - [`run`]: the end-to-end run and its report;
-//! - [`plots`]: the simulation plot.
+//! - [`plots`]: the simulation plot;
+//! - `topp_bench`: the hidden `ARMSIM_TOPP_DUMP` hook of `tools/bench_topp.py`.
 
 pub mod checks;
 pub mod contact;
@@ -21,6 +22,7 @@ pub mod plots;
 pub mod run;
 pub mod scene;
 pub mod schema;
+mod topp_bench;
 
 pub use run::{run_scene, Outcome, RunOptions, SimSample};
 

@@ -543,16 +543,19 @@ fn time_planned(
 ) -> Result<ToppTrajectory<MinJerk>, ScenarioError> {
     let spline = smooth_path(planner, path)
         .map_err(|m| step_err(scene, key, None, format!("planned motion: {m}")))?;
-    // A curved path's dense check may need more refinements (and accepts a
-    // 1e-6 relative excess); then a finer grid, once.
+    // A curved path's dense check may need more refinements: first to the strict
+    // tolerance, then accepting a 1e-6 relative excess, then on a finer grid, once.
     let mut opts = ToppOptions {
         max_refinements: 30,
-        tolerance: 1e-6,
         ..topp_opts.clone()
     };
     loop {
         match topp(&scene.model, spline.clone(), &scene.limits, fx, &opts) {
-            Ok(t) => return Ok(t),
+            Ok(t) => {
+                super::topp_bench::record(&scene.model, &spline, &scene.limits, fx, &opts, &t);
+                return Ok(t);
+            }
+            Err(_) if opts.tolerance < 1e-6 => opts.tolerance = 1e-6,
             Err(_) if opts.segments < 2 * topp_opts.segments => opts.segments *= 2,
             Err(x) => return Err(step_err(scene, key, None, format!("planned motion: {x}"))),
         }

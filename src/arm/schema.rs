@@ -182,6 +182,8 @@ pub struct LimitsSec {
     pub upper: Option<PerJoint>,
     /// Fraction of the velocity limits the planner may use, in (0, 1].
     pub velocity_scale: Option<Spanned<f64>>,
+    /// Joint jerk limits (rad/s³ or m/s³) for the time-optimal timing; none by default.
+    pub jerk: Option<PerJoint>,
 }
 
 /// `[collision]`.

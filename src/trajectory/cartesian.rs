@@ -187,6 +187,17 @@ impl Path for SplinePath {
             ddq[j] = a * m0 + b * m1;
         }
     }
+
+    fn eval3(&self, s: f64, q: &mut [f64], dq: &mut [f64], ddq: &mut [f64], dddq: &mut [f64]) {
+        self.eval(s, q, dq, ddq);
+        let n = self.n;
+        let h = 1.0 / self.segments as f64;
+        let x = s.clamp(0.0, 1.0) * self.segments as f64;
+        let i = (x.floor() as usize).min(self.segments - 1);
+        for (j, d3) in dddq.iter_mut().enumerate() {
+            *d3 = (self.m[(i + 1) * n + j] - self.m[i * n + j]) / h;
+        }
+    }
 }
 
 /// A straight-line tool move (see the module docs): a [`SplinePath`] through the IK

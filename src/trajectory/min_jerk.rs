@@ -314,4 +314,16 @@ impl Path for MinJerk {
             *dd *= big_t * big_t;
         }
     }
+
+    fn eval3(&self, s: f64, q: &mut [f64], dq: &mut [f64], ddq: &mut [f64], dddq: &mut [f64]) {
+        self.eval(s, q, dq, ddq);
+        let big_t = self.duration();
+        let n = self.n;
+        let (k, tau) = locate(&self.knots, s.clamp(0.0, 1.0) * big_t);
+        for (j, d3) in dddq.iter_mut().enumerate() {
+            let c = &self.coef[k * n + j];
+            let jerk = 6.0 * c[3] + tau * (24.0 * c[4] + tau * 60.0 * c[5]);
+            *d3 = jerk * big_t * big_t * big_t;
+        }
+    }
 }

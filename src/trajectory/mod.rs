@@ -8,10 +8,12 @@
 //!   at interior knots), segment times scaled to the limits;
 //! - [`CartesianMove`] (`cartesian.rs`): a straight tool line (linear position, slerp
 //!   rotation) solved by IK sample by sample;
-//! - [`topp`] (`topp/`; the program in `socp.rs`, the dense check in `check.rs`): the
-//!   convex time-optimal path parameterisation of Verscheure et al. (2009) under joint
-//!   velocity, acceleration and torque limits, solved as a second-order-cone program with
-//!   clarabel;
+//! - [`topp`] (`topp/`): time-optimal path parameterisation under joint velocity,
+//!   acceleration and torque limits, by reachability analysis (TOPP-RA, Pham & Pham 2018;
+//!   `reachability.rs`, its two-variable LPs in `lp2.rs`) or, as [`ToppMethod::Conic`],
+//!   the second-order-cone program of Verscheure et al. (2009) with clarabel (`socp.rs`);
+//!   verified by a dense check with repairs (`check.rs`); optional jerk limits by
+//!   smoothing and slowing down (`jerk.rs`);
 //! - [`check_torques`] (`torque_check.rs`): peak / RMS torque, peak speed and power, margins
 //!   and the first violation time of every limit along any trajectory, with a text table,
 //!   JSON rows and a PNG/SVG plot (`plot.rs`), whose axis labels come from [`ticks`]
@@ -41,7 +43,7 @@ pub use cartesian::{cartesian_line, CartesianMove, CartesianOptions, CartesianRe
 pub use min_jerk::MinJerk;
 pub use plot::PlotFormat;
 pub use quintic::Quintic;
-pub use topp::{topp, LinearPath, ToppOptions, ToppStats, ToppTrajectory};
+pub use topp::{topp, LinearPath, ToppMethod, ToppOptions, ToppStats, ToppTrajectory};
 pub use torque_check::{
     check_torques, check_torques_switched, CheckOptions, JointCheck, TorqueReport,
 };
@@ -66,6 +68,21 @@ pub trait Path {
     fn dof(&self) -> usize;
     /// Writes `q(s)`, `q'(s)`, `q''(s)` (`s` is clamped to `[0, 1]`).
     fn eval(&self, s: f64, q: &mut [f64], dq: &mut [f64], ddq: &mut [f64]);
+
+    /// Writes `q(s)`, `q'(s)`, `q''(s)` and `q'''(s)` (for jerk limits). The default
+    /// differentiates `q''` numerically (central difference, step `1e-5`, one-sided at the
+    /// ends); the paths of this crate give it exactly.
+    fn eval3(&self, s: f64, q: &mut [f64], dq: &mut [f64], ddq: &mut [f64], dddq: &mut [f64]) {
+        const H: f64 = 1e-5;
+        let s = s.clamp(0.0, 1.0);
+        let (lo, hi) = ((s - H).max(0.0), (s + H).min(1.0));
+        self.eval(hi, q, dq, dddq);
+        self.eval(lo, q, dq, ddq);
+        for (d3, d2) in dddq.iter_mut().zip(ddq.iter()) {
+            *d3 = (*d3 - d2) / (hi - lo);
+        }
+        self.eval(s, q, dq, ddq);
+    }
 }
 
 /// A trajectory slowed down uniformly in time by `factor ≥ 1` (or sped up, `< 1`):
@@ -186,6 +203,10 @@ pub struct JointLimits {
     pub acceleration: Vec<f64>,
     /// Effort limit (N m or N), > 0 or `+∞`.
     pub effort: Vec<f64>,
+    /// Jerk limit (rad/s³ or m/s³), > 0 (`+∞`: none for that joint), one value per
+    /// coordinate; `None` (the default) for no jerk limit. Only [`topp`] applies it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub jerk: Option<Vec<f64>>,
 }
 
 impl JointLimits {
@@ -196,6 +217,7 @@ impl JointLimits {
             velocity: model.velocity_limit.clone(),
             acceleration,
             effort: model.effort_limit.clone(),
+            jerk: None,
         }
     }
 
@@ -205,13 +227,28 @@ impl JointLimits {
             velocity: vec![velocity; n],
             acceleration: vec![acceleration; n],
             effort: vec![effort; n],
+            jerk: None,
         }
     }
 
     /// Checks lengths and values: velocity and acceleration finite and positive, effort
-    /// positive (infinite allowed). `names` label the joints in messages.
+    /// and jerk (if any) positive (infinite allowed). `names` label the joints in messages.
     pub fn validate(&self, names: &[String]) -> Result<(), TrajectoryError> {
         let n = names.len();
+        if let Some(jerk) = &self.jerk {
+            if jerk.len() != n {
+                return Err(TrajectoryError::Invalid(format!(
+                    "jerk limits: {} values for {n} joints",
+                    jerk.len()
+                )));
+            }
+            if let Some(k) = jerk.iter().position(|x| x.is_nan() || *x <= 0.0) {
+                return Err(TrajectoryError::Invalid(format!(
+                    "joint {}: the jerk limit must be positive or inf (got {})",
+                    names[k], jerk[k]
+                )));
+            }
+        }
         for (what, v) in [
             ("velocity", &self.velocity),
             ("acceleration", &self.acceleration),

@@ -113,16 +113,65 @@ pub(super) fn rate_limits(sx: &Sections) -> Result<RateLimits, ScenarioError> {
     };
     let effort_in = lsec.and_then(|l| l.effort.as_ref());
     let effort = within_model(cx, effort_in, "effort", names, &model.effort_limit)?;
+    let jerk = match lsec.and_then(|l| l.jerk.as_ref()) {
+        Some(v) => Some(jerk_limits(cx, v, names)?),
+        None => None,
+    };
     let limits = JointLimits {
         velocity,
         acceleration,
         effort: effort.clone(),
+        jerk,
     };
     Ok(RateLimits {
         limits,
         check_velocity,
         effort,
     })
+}
+
+/// `limits.jerk`: finite and positive values; a joint a table leaves out has none.
+fn jerk_limits(cx: &Ctx, v: &PerJoint, names: &[String]) -> Result<Vec<f64>, ScenarioError> {
+    let mut vals = per_joint(cx, v, "limits.jerk", names, &vec![1.0; names.len()])?;
+    for (k, x) in vals.iter_mut().enumerate() {
+        if let toml::Value::Table(t) = v.get_ref() {
+            if !t.contains_key(&names[k]) {
+                *x = f64::INFINITY;
+                continue;
+            }
+        }
+        if !(x.is_finite() && *x > 0.0) {
+            return Err(cx.at(
+                v.span(),
+                "limits.jerk",
+                format!("joint {}: must be finite and > 0 (got {x})", names[k]),
+            ));
+        }
+    }
+    Ok(vals)
+}
+
+/// `limits.jerk` applies only where the timing is TOPP's: time-optimal joint and line
+/// motion, or planned motion. Refused otherwise, at its line.
+pub(super) fn jerk_applies(
+    sx: &Sections,
+    time_optimal: bool,
+    plans: bool,
+) -> Result<(), ScenarioError> {
+    let jerk = sx
+        .file
+        .limits
+        .as_ref()
+        .and_then(|l| l.get_ref().jerk.as_ref());
+    match jerk {
+        Some(v) if !time_optimal && !plans => Err(sx.cx.at(
+            v.span(),
+            "limits.jerk",
+            "a jerk limit applies only to time-optimal timing (trajectory.type = \"time_optimal\") \
+             or planned motion; this scenario has neither",
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// What [`rate_limits`] returns.

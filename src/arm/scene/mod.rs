@@ -437,6 +437,7 @@ pub fn build_with(
     }
     let torque_plot = outputs::torque_plot(&sx)?;
     let plans = steps.iter().any(|s| matches!(s.step, Step::Plan(_)));
+    limits::jerk_applies(&sx, traj.timing == Timing::TimeOptimal, plans)?;
     let planner = task::planner_settings(&cx, file, dir, &ms.model, plans, &mut warnings)?;
     let part = task::part(&sx)?;
     let outputs = outputs::outputs(&sx, torque_plot);

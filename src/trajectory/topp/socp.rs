@@ -3,7 +3,7 @@
 //! ends, velocity, acceleration and torque limits less their tightening, the time
 //! epigraph), and the call to clarabel.
 
-use super::{Grid, ToppStats};
+use super::{Problem, ToppStats};
 use crate::trajectory::TrajectoryError;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -58,19 +58,22 @@ impl Rows {
 }
 
 /// Builds and solves the SOCP; returns `x`.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn solve_socp(
     lay: &Layout,
-    grid: &Grid,
-    limits: &crate::trajectory::JointLimits,
-    torque_on: &[bool],
-    tight_v: &[f64],
-    tight_a: &[f64],
-    tight_t: &[f64],
-    fric: &[f64],
-    ds: &[f64],
+    p: &Problem,
     stats: &mut ToppStats,
 ) -> Result<Vec<f64>, TrajectoryError> {
+    let Problem {
+        grid,
+        limits,
+        torque_on,
+        tight_v,
+        tight_a,
+        tight_t,
+        fric,
+        ds,
+        ..
+    } = *p;
     let nn = lay.n_int;
     let n = torque_on.len();
     let mut rows = Rows::default();
@@ -118,23 +121,7 @@ pub(super) fn solve_socp(
         }
     }
     let n_nonneg = rows.h.len() - n_zero;
-    // Second-order cones.
-    for i in 0..=nn {
-        rows.push(&[(lay.b(i), -1.0)], 1.0);
-        rows.push(&[(lay.c(i), -2.0)], 0.0);
-        rows.push(&[(lay.b(i), -1.0)], -1.0);
-    }
-    for i in 0..nn {
-        rows.push(
-            &[(lay.c(i), -1.0), (lay.c(i + 1), -1.0), (lay.d(i), -1.0)],
-            0.0,
-        );
-        rows.push(&[], 2.0);
-        rows.push(
-            &[(lay.c(i), -1.0), (lay.c(i + 1), -1.0), (lay.d(i), 1.0)],
-            0.0,
-        );
-    }
+    push_cones(&mut rows, lay);
     let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(n_zero), NonnegativeConeT(n_nonneg)];
     cones.extend(std::iter::repeat_n(SecondOrderConeT(3), 2 * nn + 1));
     let nx = lay.len();
@@ -169,5 +156,27 @@ pub(super) fn solve_socp(
         s => Err(TrajectoryError::Topp(format!(
             "the conic solver stopped: {s:?}"
         ))),
+    }
+}
+
+/// The second-order-cone rows: `c_i ≤ √b_i` as `‖(2c_i, b_i − 1)‖ ≤ b_i + 1`, and
+/// `d_i ≥ 1/(c_i + c_{i+1})` as `‖(2, c_i + c_{i+1} − d_i)‖ ≤ c_i + c_{i+1} + d_i`.
+fn push_cones(rows: &mut Rows, lay: &Layout) {
+    let nn = lay.n_int;
+    for i in 0..=nn {
+        rows.push(&[(lay.b(i), -1.0)], 1.0);
+        rows.push(&[(lay.c(i), -2.0)], 0.0);
+        rows.push(&[(lay.b(i), -1.0)], -1.0);
+    }
+    for i in 0..nn {
+        rows.push(
+            &[(lay.c(i), -1.0), (lay.c(i + 1), -1.0), (lay.d(i), -1.0)],
+            0.0,
+        );
+        rows.push(&[], 2.0);
+        rows.push(
+            &[(lay.c(i), -1.0), (lay.c(i + 1), -1.0), (lay.d(i), 1.0)],
+            0.0,
+        );
     }
 }
