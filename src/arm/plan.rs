@@ -111,6 +111,16 @@ pub struct Plan {
     pub planner: Option<serde_json::Value>,
     /// Each planned segment's result, in order.
     pub planned_segments: Vec<super::planned::SegmentResult>,
+    /// Time per planning stage (s): `setup_s` (sphere models, allowed-collision matrices),
+    /// `search_s` (RRT-Connect), `simplify_s`, `smoothing_s` (the spline through the via
+    /// points), `topp_s` (time-optimal timing of every piece), `ik_s` and the rest
+    /// (`other_s`).
+    pub stages: serde_json::Map<String, serde_json::Value>,
+    /// Each planned piece as timed, so that another tool can re-time it: its via points,
+    /// the spline through them (knot times and quintic coefficients per segment and joint,
+    /// in local time, increasing degree) and the TOPP profile (`s`, `ṡ`, `t` at the grid
+    /// points, `s` the spline's time over its duration).
+    pub timed_paths: Vec<serde_json::Value>,
 }
 
 fn named(model: &Model, q: &[f64]) -> serde_json::Map<String, serde_json::Value> {
@@ -148,13 +158,40 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
         mut planners,
         ..
     } = grouper.finish()?;
-    let timed = time_groups(scene, groups, &mut planners)?;
+    let ik_s = start.elapsed().as_secs_f64();
+    let mut clock = StageClock::default();
+    let timed = time_groups(scene, groups, &mut planners, &mut clock)?;
     let tl = timed.timeline;
     let end = *tl.knots.last().expect("non-empty");
     let carry = timed.attach_t.map(|a| (a, timed.detach_t.unwrap_or(end)));
     let planned_segments = planners
         .as_mut()
         .map_or_else(Vec::new, |p| std::mem::take(&mut p.results));
+    let mut stages = serde_json::Map::new();
+    if let Some(p) = &planners {
+        stages.insert("setup_s".into(), serde_json::json!(p.setup_s));
+        stages.insert("search_s".into(), serde_json::json!(p.plan_time_us / 1e6));
+        stages.insert(
+            "simplify_s".into(),
+            serde_json::json!(p.simplify_time_us / 1e6),
+        );
+    }
+    stages.insert("smoothing_s".into(), serde_json::json!(clock.smoothing_s));
+    stages.insert("topp_s".into(), serde_json::json!(clock.topp_s));
+    let total = start.elapsed().as_secs_f64();
+    let known: f64 = stages.values().filter_map(|v| v.as_f64()).sum();
+    // IK and grouping run before the timing; the planners are built and queried then too.
+    let setup_search = planners.as_ref().map_or(0.0, |p| {
+        p.setup_s + (p.plan_time_us + p.simplify_time_us) / 1e6
+    });
+    stages.insert(
+        "ik_s".into(),
+        serde_json::json!((ik_s - setup_search).max(0.0)),
+    );
+    stages.insert(
+        "other_s".into(),
+        serde_json::json!((total - known - (ik_s - setup_search).max(0.0)).max(0.0)),
+    );
     let planner = planners.map(|p| {
         serde_json::json!({
             "algorithm": "rrt-connect",
@@ -178,6 +215,8 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
         planned_paths: timed.planned_paths,
         planner,
         planned_segments,
+        stages,
+        timed_paths: timed.timed_paths,
     })
 }
 
@@ -405,6 +444,7 @@ impl<'s> Grouper<'s> {
 struct Timed {
     timeline: Timeline,
     planned_paths: Vec<Vec<Vec<f64>>>,
+    timed_paths: Vec<serde_json::Value>,
     attach_t: Option<f64>,
     detach_t: Option<f64>,
 }
@@ -415,6 +455,7 @@ fn time_groups(
     scene: &Scene,
     groups: Vec<Group>,
     planners: &mut Option<ScenePlanners>,
+    clock: &mut StageClock,
 ) -> Result<Timed, ScenarioError> {
     let model = &scene.model;
     let grips = scene.steps.iter().any(|s| matches!(s.step, Step::Attach));
@@ -436,7 +477,9 @@ fn time_groups(
     let mut carrying = !grips;
     let (mut attach_t, mut detach_t) = (None, None);
     let mut planned_paths = Vec::new();
+    let mut timed_paths = Vec::new();
     let lim = &scene.limits;
+    let t_all = std::time::Instant::now();
     for g in groups {
         let fx = if carrying { loaded } else { &free };
         match g {
@@ -445,7 +488,8 @@ fn time_groups(
             }
             Group::Planned(path, with_part, key) => {
                 let planner = planners.as_mut().expect("built").planner(with_part);
-                let t = time_planned(scene, planner, &path, fx, &topp_opts, &key)?;
+                let t = time_planned(scene, planner, &path, fx, &topp_opts, &key, clock)?;
+                timed_paths.push(timed_path_json(model, &key, &path, &t));
                 tl.push(model, Box::new(t), "planned", key);
                 planned_paths.push(path);
             }
@@ -473,9 +517,12 @@ fn time_groups(
             }
         }
     }
+    // Everything here but the smoothing is timing (TOPP, or the chosen profile).
+    clock.topp_s = (t_all.elapsed().as_secs_f64() - clock.smoothing_s).max(0.0);
     Ok(Timed {
         timeline: tl,
         planned_paths,
+        timed_paths,
         attach_t,
         detach_t,
     })
@@ -532,6 +579,44 @@ fn time_joint_group(
     Ok(())
 }
 
+/// Time spent in the planning stages that [`time_groups`] runs (s).
+#[derive(Default)]
+struct StageClock {
+    smoothing_s: f64,
+    topp_s: f64,
+}
+
+/// A planned piece as timed (see [`Plan::timed_paths`]).
+fn timed_path_json(
+    model: &Model,
+    key: &str,
+    via: &[Vec<f64>],
+    t: &ToppTrajectory<MinJerk>,
+) -> serde_json::Value {
+    let spline = t.path();
+    let knots = spline.knot_times();
+    let coefficients: Vec<Vec<[f64; 6]>> = (0..knots.len().saturating_sub(1))
+        .map(|k| (0..model.nv).map(|j| spline.coefficients(k, j)).collect())
+        .collect();
+    let (s, sdot, times) = t.profile();
+    serde_json::json!({
+        "step": key,
+        "joints": model.dof_names(),
+        "via_points": via,
+        "spline": {
+            "type": "piecewise_quintic",
+            "knot_times": knots,
+            "coefficients": coefficients,
+        },
+        "topp": {
+            "s": s,
+            "sdot": sdot,
+            "t": times,
+            "duration_s": t.duration(),
+        },
+    })
+}
+
 /// A planned path smoothed through its via points and timed by TOPP as one motion.
 fn time_planned(
     scene: &Scene,
@@ -540,9 +625,12 @@ fn time_planned(
     fx: &Effects,
     topp_opts: &ToppOptions,
     key: &str,
+    clock: &mut StageClock,
 ) -> Result<ToppTrajectory<MinJerk>, ScenarioError> {
+    let t0 = std::time::Instant::now();
     let spline = smooth_path(planner, path)
         .map_err(|m| step_err(scene, key, None, format!("planned motion: {m}")))?;
+    clock.smoothing_s += t0.elapsed().as_secs_f64();
     // A curved path's dense check may need more refinements: first to the strict
     // tolerance, then accepting a 1e-6 relative excess, then on a finer grid, once.
     let mut opts = ToppOptions {

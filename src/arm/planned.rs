@@ -75,6 +75,10 @@ pub struct ScenePlanners {
     /// Search iterations and planning time over the segments.
     pub iterations: usize,
     pub plan_time_us: f64,
+    /// Simplification time over the segments (µs).
+    pub simplify_time_us: f64,
+    /// Building the planners: sphere models and allowed-collision matrices (s).
+    pub setup_s: f64,
     /// Each planned segment's result, in order (path in the `results` form of
     /// `armsim plan --json`).
     pub results: Vec<SegmentResult>,
@@ -94,6 +98,7 @@ pub struct SegmentResult {
 impl ScenePlanners {
     /// Builds the planners of `scene` (the carrying one when the task grasps a part).
     pub fn new(scene: &Scene, settings: &PlannerSettings) -> Result<ScenePlanners, String> {
+        let t0 = std::time::Instant::now();
         let obstacles = scene
             .obstacles
             .iter()
@@ -170,6 +175,8 @@ impl ScenePlanners {
             segments: 0,
             iterations: 0,
             plan_time_us: 0.0,
+            simplify_time_us: 0.0,
+            setup_s: t0.elapsed().as_secs_f64(),
             results: Vec::new(),
         })
     }
@@ -194,6 +201,7 @@ impl ScenePlanners {
         self.segments += 1;
         self.iterations += r.iterations;
         self.plan_time_us += r.plan_time_us;
+        self.simplify_time_us += r.simplify_time_us;
         self.results.push(SegmentResult {
             step: step.to_string(),
             carrying,

@@ -241,7 +241,7 @@ impl PlanningRobot {
 }
 
 /// Rounds of [`refine`].
-const REFINE_ROUNDS: usize = 1;
+const REFINE_ROUNDS: usize = 3;
 
 /// The smallest overshoot [`refine`] goes down to (m).
 const MIN_OVERSHOOT: f64 = 0.005;

@@ -117,6 +117,9 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     // 1. Plan.
     let plan = plan(&scene)?;
     timings.insert("plan_s".into(), json!(plan.planning_time_s));
+    for (k, v) in &plan.stages {
+        timings.insert(format!("plan_{k}"), v.clone());
+    }
 
     // 2. Torque check (each payload of a sweep; the last is the nominal one).
     let t0 = Instant::now();

@@ -86,6 +86,7 @@ pub(super) fn report_json(cx: &OutputContext, p: Parts) -> Value {
             "ik_solves": plan.ik_solves,
             "planner": plan.planner,
             "part_carried_s": plan.carry.map(|(a, b)| [a, b]),
+            "timed_paths": plan.timed_paths,
         },
         "torque_check": torque.json_rows(),
         "torque_check_ok": torque.ok,
