@@ -65,7 +65,9 @@
 //! assert!(cm.first_collision(&cd, Scope::All).is_none());
 //! ```
 
+mod bounds;
 mod build;
+mod certify;
 pub mod mesh;
 mod obstacle;
 mod query;
@@ -73,6 +75,8 @@ pub mod resolve;
 mod shape;
 mod trajectory;
 
+pub use bounds::{half_path_bound, Certifier, Evaluations};
+pub use certify::{Certificate, CertifyOptions, ClearanceBound, Motion, SampleMin};
 pub use obstacle::{Obstacle, ObstacleShape, ObstacleSpec};
 pub use shape::{CollisionShape, ShapeKind};
 pub use trajectory::{DistanceSample, TrajectoryCollision, TrajectoryOptions, TrajectoryReport};
