@@ -23,7 +23,7 @@
 //! scale by `|multiplier|`. Along *any* curve `q(t)` the distance of the pair therefore
 //! changes by at most `Σ_k ρ_k ∫ |q̇_k| dt`.
 
-use super::shape::{signed_distance_under, Placed, Scratch, ShapeKind};
+use super::shape::{convex_distance, signed_distance_under, Placed, Scratch, ShapeKind};
 use super::{CollisionModel, Scope};
 use crate::model::{Model, WORLD};
 use parry3d_f64::math::{Pose, Vector};
@@ -196,7 +196,8 @@ impl Certifier {
     /// up from the cheapest level until it exceeds `need` or `level` is reached; returns
     /// the bound, the level reached and whether it is the exact distance. At the exact
     /// level, a distance above `need` is only proven (the bound is then `need`'s next
-    /// float); pass `need = ∞` for the exact distance.
+    /// float); pass `need = ∞` for the exact distance. `hint` is the pair's last
+    /// separating direction (GJK's warm start), updated.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn lower_bound(
         &self,
@@ -206,6 +207,7 @@ impl Certifier {
         pb: &Pose,
         need: f64,
         level: Level,
+        hint: &mut Vector,
         scratch: &mut Scratch,
         ev: &mut Evaluations,
     ) -> (f64, Level, bool) {
@@ -225,7 +227,10 @@ impl Certifier {
         let hb = self.hulls[j].as_ref().unwrap_or(&ob.shape);
         let mesh = |k: ShapeKind| matches!(k, ShapeKind::TriMesh { .. });
         let convex = !mesh(oa.kind) && !mesh(ob.kind);
-        let hull = query::distance(pa, &**ha, pb, &**hb).map_or(0.0, |r| r.distance);
+        let hull = match (ha.as_support_map(), hb.as_support_map()) {
+            (Some(ga), Some(gb)) => convex_distance(ga, pa, gb, pb, hint, scratch),
+            _ => query::distance(pa, &**ha, pb, &**hb).map_or(0.0, |r| r.distance),
+        };
         if hull > 0.0 && convex {
             return (hull, Level::Hull, true);
         }

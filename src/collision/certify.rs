@@ -35,7 +35,7 @@ use super::shape::{distance_and_points, to_pose, Placed, Scratch};
 use super::TrajectoryCollision;
 use super::{Body, CollisionData, CollisionError, CollisionModel, PairDistance};
 use crate::model::{Model, WORLD};
-use parry3d_f64::math::Pose;
+use parry3d_f64::math::{Pose, Vector};
 use serde::Serialize;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -137,6 +137,8 @@ struct Work<'m> {
     /// Per bisection depth, `q` and `q̇` (2 nv each).
     pool: Vec<f64>,
     scratch: Scratch,
+    /// Per pair, the last separating direction of its hulls (GJK's warm start).
+    hints: Vec<Vector>,
     ev: Evaluations,
     configurations: usize,
     subdivisions: usize,
@@ -190,6 +192,7 @@ impl Certifier {
     ) -> Result<Certificate, CollisionError> {
         check(model, motion, opts).map_err(CollisionError::Trajectory)?;
         let mut w = sample_motion(cm, model, cd, motion);
+        w.hints = vec![Vector::ZERO; self.pairs.len()];
         let mut known = self.ball_bounds(cm, &mut w);
         let mut hit: Option<(f64, f64)> = None;
         let mut open = None;
@@ -260,6 +263,7 @@ impl Certifier {
                 &pb,
                 need,
                 Level::Exact,
+                &mut w.hints[p],
                 &mut w.scratch,
                 &mut w.ev,
             );
@@ -331,6 +335,7 @@ impl Certifier {
                 &pb,
                 f64::INFINITY,
                 Level::Exact,
+                &mut w.hints[p],
                 &mut w.scratch,
                 &mut w.ev,
             );
@@ -421,6 +426,7 @@ impl Certifier {
                 &pb,
                 need,
                 Level::Exact,
+                &mut w.hints[p],
                 &mut w.scratch,
                 &mut w.ev,
             );
@@ -499,6 +505,7 @@ impl Certifier {
                     &pb,
                     f64::INFINITY,
                     Level::Ball,
+                    &mut w.hints[p],
                     &mut w.scratch,
                     &mut w.ev,
                 );
@@ -593,7 +600,18 @@ impl Certifier {
                 p,
             })
             .collect();
+        // Seeded with the smallest exact distance known (from the march or a previous
+        // search), so that every exact query below is bounded by it.
         let mut best: Option<(usize, usize, f64)> = None;
+        for k in 0..wr.n {
+            for p in range.clone() {
+                let kn = known[k * np + p];
+                let v = kn.value - off(wr, k, p);
+                if kn.exact && best.is_none_or(|b| v < b.2) {
+                    best = Some((k, p, v));
+                }
+            }
+        }
         while let Some(e) = heap.pop() {
             if best.is_some_and(|b| e.key >= b.2) {
                 break;
@@ -623,8 +641,9 @@ impl Certifier {
             };
             // Above the best so far, only the proof that it is above matters.
             let need = best.map_or(f64::INFINITY, |b| b.2 + o);
-            let s = &mut w.scratch;
-            let (d, level, exact) = self.lower_bound(cm, e.p, &pa, &pb, need, level, s, &mut w.ev);
+            let (h, s) = (&mut w.hints[e.p], &mut w.scratch);
+            let (d, level, exact) =
+                self.lower_bound(cm, e.p, &pa, &pb, need, level, h, s, &mut w.ev);
             let d = if exact { d } else { d.max(kn.value) };
             known[e.k * np + e.p] = Known {
                 value: d,
@@ -763,6 +782,7 @@ fn sample_motion<'m>(
         poses,
         pool: vec![0.0; 2 * MAX_DEPTH * nv],
         scratch: Scratch::default(),
+        hints: Vec::new(),
         ev: Evaluations::default(),
         configurations: n,
         subdivisions: 0,

@@ -679,3 +679,32 @@ pub fn signed_distance_under(
         }
     }
 }
+
+/// Distance between two convex shapes at `pa`, `pb` (0 when they overlap), by GJK started
+/// from `hint`, the separating direction of a previous call (in `a`'s frame), which is
+/// updated: along a trajectory the pair's direction changes little and GJK then converges
+/// in a few steps.
+pub fn convex_distance(
+    ga: &dyn SupportMap,
+    pa: &Pose,
+    gb: &dyn SupportMap,
+    pb: &Pose,
+    hint: &mut Vector,
+    scratch: &mut Scratch,
+) -> f64 {
+    let pos12 = pa.inv_mul(pb);
+    let dir = hint
+        .try_normalize()
+        .or_else(|| pos12.translation.try_normalize())
+        .unwrap_or(Vector::X);
+    scratch
+        .simplex
+        .reset(CsoPoint::from_shapes(&pos12, ga, gb, dir));
+    match gjk::closest_points(&pos12, ga, gb, f64::MAX, true, &mut scratch.simplex) {
+        GJKResult::ClosestPoints(p1, p2, n) => {
+            *hint = n;
+            (p2 - p1).length()
+        }
+        _ => 0.0,
+    }
+}
