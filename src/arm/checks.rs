@@ -23,8 +23,8 @@ use super::plan::Plan;
 use super::planned::with_part;
 use super::scene::Scene;
 use crate::collision::{
-    Certificate, CertifyOptions, ClearanceBound, CollisionData, CollisionModel, CollisionOptions,
-    Motion, SampleMin, Scope,
+    Certificate, Certifier, CertifyOptions, ClearanceBound, CollisionData, CollisionModel,
+    CollisionOptions, Motion, SampleMin, Scope,
 };
 use crate::data::Data;
 use crate::kinematics::{forward_kinematics, frame_placement};
@@ -182,7 +182,7 @@ pub fn limits_pass(
 fn certify_range(
     model: &Model,
     cm: &CollisionModel,
-    scope: Scope,
+    certifier: &Certifier,
     traj: &dyn Trajectory,
     times: &[f64],
     accel_bound: &[f64],
@@ -200,7 +200,7 @@ fn certify_range(
         min_interval: 1e-7,
         time_tolerance: 1e-4,
     };
-    cm.certifier(model, scope)
+    certifier
         .certify(cm, model, &mut cd, &motion, &opts)
         .map_err(|e| e.to_string())
 }
@@ -272,6 +272,7 @@ pub fn check_collisions(
     };
     let end = times.len();
     let ab = accel_bound;
+    let bare = cm.certifier(model, scope);
     let (cert, carried) = match (plan.carry, &scene.part) {
         (Some((a, b)), Some(part)) => {
             let ia = times.iter().position(|&t| t == a).expect("inserted");
@@ -279,18 +280,15 @@ pub fn check_collisions(
             let pm = with_part(model, scene.tool, part);
             let cp = CollisionModel::from_specs(&pm, &scene.obstacles, copts)
                 .map_err(|e| e.to_string())?;
-            let mut c = certify_range(model, &cm, scope, traj, &times[..=ia], ab)?;
-            merge(
-                &mut c,
-                certify_range(&pm, &cp, scope, traj, &times[ia..=ib], ab)?,
-            );
-            merge(
-                &mut c,
-                certify_range(model, &cm, scope, traj, &times[ib..end], ab)?,
-            );
+            let carrying = cp.certifier(&pm, scope);
+            let mut c = certify_range(model, &cm, &bare, traj, &times[..=ia], ab)?;
+            let during = certify_range(&pm, &cp, &carrying, traj, &times[ia..=ib], ab)?;
+            merge(&mut c, during);
+            let after = certify_range(model, &cm, &bare, traj, &times[ib..end], ab)?;
+            merge(&mut c, after);
             (c, Some([a, b]))
         }
-        _ => (certify_range(model, &cm, scope, traj, &times, ab)?, None),
+        _ => (certify_range(model, &cm, &bare, traj, &times, ab)?, None),
     };
     // Body names are the same in both scenes (the part rides on the tool link).
     let pair = |a, b| json!([cm.body_name(a), cm.body_name(b)]);

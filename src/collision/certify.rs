@@ -23,29 +23,28 @@
 //! bisected to [`CertifyOptions::time_tolerance`] with the exact check of every pair); an
 //! interval still unproven at the smallest size is reported as uncertified.
 //!
-//! **Closest approaches.** The smallest exact distance over the samples, environment and
-//! self separately, by branch and bound over (sample, pair): every entry starts at its
-//! bounding-volume gap, the smallest is refined (hull, then exact) until the smallest
-//! remaining bound is no smaller than the best exact distance. The same search with each
-//! entry's bound lowered by the motion of its two half-intervals gives the certified lower
-//! bound of the clearance along the whole curve.
+//! **Closest approaches** ([`super::closest`]): the smallest exact distance over the
+//! samples, environment and self separately, by branch and bound over (sample, pair), and
+//! the certified lower bound of the clearance along the whole curve.
 
 use super::bounds::{half_path_bound, Certifier, Evaluations, Level};
-use super::shape::{distance_and_points, to_pose, Placed, Scratch};
+use super::closest::Known;
+use super::shape::{to_pose, Scratch};
 use super::TrajectoryCollision;
 use super::{Body, CollisionData, CollisionError, CollisionModel, PairDistance};
 use crate::model::{Model, WORLD};
 use parry3d_f64::math::{Pose, Vector};
 use serde::Serialize;
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+
+/// `q(t)` and `q̇(t)` of a motion, written into the two slices.
+pub type SampleFn<'a> = dyn Fn(f64, &mut [f64], &mut [f64]) + 'a;
 
 /// The motion to certify.
 pub struct Motion<'a> {
     /// Sample times, strictly increasing.
     pub times: &'a [f64],
     /// Writes `q(t)` and `q̇(t)` for any `t` in `[times[0], times[last]]`.
-    pub sample: &'a dyn Fn(f64, &mut [f64], &mut [f64]),
+    pub sample: &'a SampleFn<'a>,
     /// Per joint, a bound of `|q̈|` along the whole motion.
     pub accel_bound: &'a [f64],
 }
@@ -120,28 +119,28 @@ pub struct Certificate {
 }
 
 /// The sampled motion and its per-half-interval path-length bounds.
-struct Work<'m> {
-    motion: &'m Motion<'m>,
-    n: usize,
-    nv: usize,
-    nobj: usize,
+pub(super) struct Work<'m> {
+    pub(super) motion: &'m Motion<'m>,
+    pub(super) n: usize,
+    pub(super) nv: usize,
+    pub(super) nobj: usize,
     /// `n × nv` joint velocities at the samples.
-    qds: Vec<f64>,
+    pub(super) qds: Vec<f64>,
     /// `n × nv` configurations.
-    qs: Vec<f64>,
+    pub(super) qs: Vec<f64>,
     /// `(2n − 1) × nv`: cumulative path-length bounds at the half-points (samples at even
     /// indices, interval midpoints at odd ones).
-    cum: Vec<f64>,
+    pub(super) cum: Vec<f64>,
     /// `n × nobj` shape poses at the samples.
-    poses: Vec<Pose>,
+    pub(super) poses: Vec<Pose>,
     /// Per bisection depth, `q` and `q̇` (2 nv each).
-    pool: Vec<f64>,
-    scratch: Scratch,
+    pub(super) pool: Vec<f64>,
+    pub(super) scratch: Scratch,
     /// Per pair, the last separating direction of its hulls (GJK's warm start).
-    hints: Vec<Vector>,
-    ev: Evaluations,
-    configurations: usize,
-    subdivisions: usize,
+    pub(super) hints: Vec<Vector>,
+    pub(super) ev: Evaluations,
+    pub(super) configurations: usize,
+    pub(super) subdivisions: usize,
 }
 
 /// One pair's outcome.
@@ -156,9 +155,9 @@ enum Outcome {
 const MAX_DEPTH: usize = 64;
 
 impl Work<'_> {
-    fn half_time(&self, x: usize) -> f64 {
+    pub(super) fn half_time(&self, x: usize) -> f64 {
         let t = self.motion.times;
-        if x % 2 == 0 {
+        if x.is_multiple_of(2) {
             t[x / 2]
         } else {
             0.5 * (t[x / 2] + t[x / 2 + 1])
@@ -166,7 +165,7 @@ impl Work<'_> {
     }
 
     /// The motion of pair `p` between half-points `a ≤ b`.
-    fn span(&self, c: &Certifier, p: usize, a: usize, b: usize) -> f64 {
+    pub(super) fn span(&self, c: &Certifier, p: usize, a: usize, b: usize) -> f64 {
         let (ca, cb) = (
             &self.cum[a * self.nv..(a + 1) * self.nv],
             &self.cum[b * self.nv..(b + 1) * self.nv],
@@ -174,7 +173,7 @@ impl Work<'_> {
         c.motion(p, ca.iter().zip(cb).map(|(x, y)| y - x))
     }
 
-    fn pose(&self, k: usize, o: u32) -> &Pose {
+    pub(super) fn pose(&self, k: usize, o: u32) -> &Pose {
         &self.poses[k * self.nobj + o as usize]
     }
 }
@@ -488,255 +487,6 @@ impl Certifier {
             pairs,
             q,
         }
-    }
-
-    /// The best known lower bound of every (sample, pair), sample-major, starting from the
-    /// bounding-volume gaps.
-    fn ball_bounds(&self, cm: &CollisionModel, w: &mut Work) -> Vec<Known> {
-        let np = self.pairs.len();
-        let mut out = Vec::with_capacity(w.n * np);
-        for k in 0..w.n {
-            for (p, &[i, j]) in self.pairs.iter().enumerate() {
-                let (pa, pb) = (*w.pose(k, i), *w.pose(k, j));
-                let (value, _, _) = self.lower_bound(
-                    cm,
-                    p,
-                    &pa,
-                    &pb,
-                    f64::INFINITY,
-                    Level::Ball,
-                    &mut w.hints[p],
-                    &mut w.scratch,
-                    &mut w.ev,
-                );
-                out.push(Known {
-                    value,
-                    level: Level::Ball,
-                    exact: false,
-                });
-            }
-        }
-        out
-    }
-
-    /// The exact minimum over the samples and the certified clearance bound, of the self
-    /// pairs (`selfs`) or the environment pairs.
-    fn minima(
-        &self,
-        cm: &CollisionModel,
-        w: &mut Work,
-        known: &mut [Known],
-        selfs: bool,
-    ) -> (Option<SampleMin>, Option<ClearanceBound>) {
-        let range = if selfs {
-            0..self.n_self
-        } else {
-            self.n_self..self.pairs.len()
-        };
-        if range.is_empty() {
-            return (None, None);
-        }
-        let Some((k, p, _)) = self.search(cm, w, known, range.clone(), false) else {
-            return (None, None);
-        };
-        let sample_min = self.witness(cm, w, k, p);
-        let last = 2 * (w.n - 1);
-        let clearance = self.search(cm, w, known, range, true).map(|(k, p, d)| {
-            let hk = 2 * k;
-            let [a, b] = self.pairs[p].map(|o| cm.objects[o as usize].owner);
-            ClearanceBound {
-                distance: d,
-                from: w.half_time(hk.saturating_sub(1)),
-                to: w.half_time((hk + 1).min(last)),
-                a,
-                b,
-            }
-        });
-        (Some(sample_min), clearance)
-    }
-
-    /// The motion of pair `p` over the two half-intervals around sample `k` (the larger).
-    fn around(&self, w: &Work, k: usize, p: usize) -> f64 {
-        let (hk, last) = (2 * k, 2 * (w.n - 1));
-        let l = if hk > 0 {
-            w.span(self, p, hk - 1, hk)
-        } else {
-            0.0
-        };
-        let r = if hk < last {
-            w.span(self, p, hk, hk + 1)
-        } else {
-            0.0
-        };
-        l.max(r)
-    }
-
-    /// Branch and bound for the smallest `d(k, p)` (or, with `around`, `d(k, p)` less the
-    /// motion around sample `k`) over the samples and the pairs of `range`. `known` holds
-    /// the best lower bound of each entry and is refined in place; a refined entry also
-    /// raises its neighbours' bounds by temporal coherence (`d(j) ≥ d(k) − span(k, j)`).
-    fn search(
-        &self,
-        cm: &CollisionModel,
-        w: &mut Work,
-        known: &mut [Known],
-        range: std::ops::Range<usize>,
-        around: bool,
-    ) -> Option<(usize, usize, f64)> {
-        let off = |w: &Work, k: usize, p: usize| {
-            if around {
-                self.around(w, k, p)
-            } else {
-                0.0
-            }
-        };
-        let np = self.pairs.len();
-        let wr: &Work = w;
-        let mut heap: BinaryHeap<Entry> = (0..wr.n)
-            .flat_map(|k| range.clone().map(move |p| (k, p)))
-            .map(|(k, p)| Entry {
-                key: known[k * np + p].value - off(wr, k, p),
-                k,
-                p,
-            })
-            .collect();
-        // Seeded with the smallest exact distance known (from the march or a previous
-        // search), so that every exact query below is bounded by it.
-        let mut best: Option<(usize, usize, f64)> = None;
-        for k in 0..wr.n {
-            for p in range.clone() {
-                let kn = known[k * np + p];
-                let v = kn.value - off(wr, k, p);
-                if kn.exact && best.is_none_or(|b| v < b.2) {
-                    best = Some((k, p, v));
-                }
-            }
-        }
-        while let Some(e) = heap.pop() {
-            if best.is_some_and(|b| e.key >= b.2) {
-                break;
-            }
-            let o = off(w, e.k, e.p);
-            let kn = known[e.k * np + e.p];
-            if kn.value - o > e.key {
-                // Raised by a neighbour since it was queued.
-                heap.push(Entry {
-                    key: kn.value - o,
-                    ..e
-                });
-                continue;
-            }
-            if kn.exact {
-                if best.is_none_or(|b| kn.value - o < b.2) {
-                    best = Some((e.k, e.p, kn.value - o));
-                }
-                continue;
-            }
-            let [i, j] = self.pairs[e.p];
-            let (pa, pb) = (*w.pose(e.k, i), *w.pose(e.k, j));
-            let level = if kn.level == Level::Ball {
-                Level::Hull
-            } else {
-                Level::Exact
-            };
-            // Above the best so far, only the proof that it is above matters.
-            let need = best.map_or(f64::INFINITY, |b| b.2 + o);
-            let (h, s) = (&mut w.hints[e.p], &mut w.scratch);
-            let (d, level, exact) =
-                self.lower_bound(cm, e.p, &pa, &pb, need, level, h, s, &mut w.ev);
-            let d = if exact { d } else { d.max(kn.value) };
-            known[e.k * np + e.p] = Known {
-                value: d,
-                level,
-                exact,
-            };
-            self.propagate(w, known, e.k, e.p, d);
-            heap.push(Entry { key: d - o, ..e });
-        }
-        best
-    }
-
-    /// Raises the bounds of pair `p` at the samples around `k` to `d − span` while that
-    /// is higher.
-    fn propagate(&self, w: &Work, known: &mut [Known], k: usize, p: usize, d: f64) {
-        let np = self.pairs.len();
-        for dir in [-1isize, 1] {
-            let mut j = k as isize + dir;
-            while j >= 0 && (j as usize) < w.n {
-                let ju = j as usize;
-                let (a, b) = if ju < k { (ju, k) } else { (k, ju) };
-                let v = d - w.span(self, p, 2 * a, 2 * b);
-                let slot = &mut known[ju * np + p];
-                if slot.exact || v <= slot.value {
-                    break;
-                }
-                slot.value = v;
-                j += dir;
-            }
-        }
-    }
-
-    /// The pair distance with witness points of pair `p` at sample `k`.
-    fn witness(&self, cm: &CollisionModel, w: &mut Work, k: usize, p: usize) -> SampleMin {
-        let [i, j] = self.pairs[p];
-        let (pa, pb) = (*w.pose(k, i), *w.pose(k, j));
-        let (oa, ob) = (&cm.objects[i as usize], &cm.objects[j as usize]);
-        let (ba, bb) = (oa.shape.aabb(&pa), ob.shape.aabb(&pb));
-        let a = Placed {
-            shape: &oa.shape,
-            pose: &pa,
-            aabb: &ba,
-        };
-        let b = Placed {
-            shape: &ob.shape,
-            pose: &pb,
-            aabb: &bb,
-        };
-        let (d, x, y) = distance_and_points(a, b, &mut w.scratch);
-        SampleMin {
-            time: w.motion.times[k],
-            pair: PairDistance {
-                a: oa.owner,
-                b: ob.owner,
-                distance: d,
-                point_a: x.into(),
-                point_b: y.into(),
-            },
-            q: w.qs[k * w.nv..(k + 1) * w.nv].to_vec(),
-        }
-    }
-}
-
-/// A branch-and-bound entry: smallest key first.
-struct Entry {
-    key: f64,
-    k: usize,
-    p: usize,
-}
-
-/// The best known lower bound of a (sample, pair) distance, the level it was worked to,
-/// and whether it is the exact distance.
-#[derive(Clone, Copy)]
-struct Known {
-    value: f64,
-    level: Level,
-    exact: bool,
-}
-
-impl PartialEq for Entry {
-    fn eq(&self, o: &Self) -> bool {
-        self.key.total_cmp(&o.key) == Ordering::Equal
-    }
-}
-impl Eq for Entry {}
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Entry {
-    fn cmp(&self, o: &Self) -> Ordering {
-        o.key.total_cmp(&self.key)
     }
 }
 
