@@ -254,8 +254,19 @@ pub fn check_collisions(
     let names = model.dof_names();
     let traj = &plan.trajectory;
     let duration = traj.duration();
-    let cm =
-        CollisionModel::from_specs(model, &scene.obstacles, copts).map_err(|e| e.to_string())?;
+    // With a part, the scene of the arm carrying it too (the meshes loaded once).
+    let pm = scene.part.as_ref().map(|p| with_part(model, scene.tool, p));
+    let mut scenes = CollisionModel::from_specs_for(
+        &[Some(model), pm.as_ref()]
+            .into_iter()
+            .flatten()
+            .collect::<Vec<_>>(),
+        &scene.obstacles,
+        copts,
+    )
+    .map_err(|e| e.to_string())?;
+    let cp = (scenes.len() > 1).then(|| scenes.pop().expect("two"));
+    let cm = scenes.pop().expect("one");
     warnings.extend(cm.warnings().iter().cloned());
     let k = ((duration / 0.01).ceil() as usize).clamp(50, 20_000);
     let mut times: Vec<f64> = (0..=k).map(|i| duration * i as f64 / k as f64).collect();
@@ -273,16 +284,13 @@ pub fn check_collisions(
     let end = times.len();
     let ab = accel_bound;
     let bare = cm.certifier(model, scope);
-    let (cert, carried) = match (plan.carry, &scene.part) {
-        (Some((a, b)), Some(part)) => {
+    let (cert, carried) = match (plan.carry, &pm, &cp) {
+        (Some((a, b)), Some(pm), Some(cp)) => {
             let ia = times.iter().position(|&t| t == a).expect("inserted");
             let ib = times.iter().position(|&t| t == b).expect("inserted");
-            let pm = with_part(model, scene.tool, part);
-            let cp = CollisionModel::from_specs(&pm, &scene.obstacles, copts)
-                .map_err(|e| e.to_string())?;
-            let carrying = cp.certifier(&pm, scope);
+            let carrying = cp.certifier(pm, scope);
             let mut c = certify_range(model, &cm, &bare, traj, &times[..=ia], ab)?;
-            let during = certify_range(&pm, &cp, &carrying, traj, &times[ia..=ib], ab)?;
+            let during = certify_range(pm, cp, &carrying, traj, &times[ia..=ib], ab)?;
             merge(&mut c, during);
             let after = certify_range(model, &cm, &bare, traj, &times[ib..end], ab)?;
             merge(&mut c, after);
