@@ -110,21 +110,48 @@ impl CollisionModel {
         obstacles: Vec<Obstacle>,
         opts: &CollisionOptions,
     ) -> Result<CollisionModel, CollisionError> {
+        Self::new_with(model, obstacles, opts, &mut ShapeLoader::new(opts))
+    }
+
+    /// [`CollisionModel::from_specs`] for several models of one robot (the bare arm and
+    /// the arm with a grasped part, say) with the same obstacles: each mesh file is loaded
+    /// once for all of them. Loading notes go to the first scene's warnings.
+    pub fn from_specs_for(
+        models: &[&Model],
+        obstacles: &[ObstacleSpec],
+        opts: &CollisionOptions,
+    ) -> Result<Vec<CollisionModel>, CollisionError> {
+        let obs = obstacles
+            .iter()
+            .map(ObstacleSpec::to_obstacle)
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut loader = ShapeLoader::new(opts);
+        models
+            .iter()
+            .map(|m| Self::new_with(m, obs.clone(), opts, &mut loader))
+            .collect()
+    }
+
+    fn new_with(
+        model: &Model,
+        obstacles: Vec<Obstacle>,
+        opts: &CollisionOptions,
+        loader: &mut ShapeLoader,
+    ) -> Result<CollisionModel, CollisionError> {
         if !(opts.margin.is_finite() && opts.margin >= 0.0) {
             return Err(CollisionError::Options(format!(
                 "margin must be finite and >= 0, got {}",
                 opts.margin
             )));
         }
-        let mut loader = ShapeLoader::new(opts);
         let RobotShapes {
             mut objects,
             mut warnings,
             unprotected,
-        } = robot_shapes(model, &mut loader)?;
+        } = robot_shapes(model, loader)?;
         let n_robot = objects.len();
-        let names = add_obstacles(model, &obstacles, &mut loader, &mut objects)?;
-        warnings.extend(loader.notes);
+        let names = add_obstacles(model, &obstacles, loader, &mut objects)?;
+        warnings.append(&mut loader.notes);
         let disabled = disabled_pairs(&names, opts)?;
         let self_pairs = self_pairs(model, &objects[..n_robot], &disabled);
         let env_pairs = env_pairs(&objects, n_robot, &disabled);
@@ -241,7 +268,7 @@ fn robot_shapes(model: &Model, loader: &mut ShapeLoader) -> Result<RobotShapes, 
 fn add_obstacles<'a>(
     model: &'a Model,
     obstacles: &'a [Obstacle],
-    loader: &mut ShapeLoader<'a>,
+    loader: &mut ShapeLoader<'_>,
     objects: &mut Vec<Object>,
 ) -> Result<HashMap<&'a str, Body>, CollisionError> {
     let obstacle_dir = loader.opts.obstacle_dir.as_deref();

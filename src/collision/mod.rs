@@ -46,6 +46,14 @@
 //! best distance so far, and asks each remaining pair only whether it beats that distance
 //! (GJK stops at the first separating plane that proves it does not).
 //!
+//! **Continuous certification** of a timed trajectory ([`Certifier`], built once per scene
+//! by [`CollisionModel::certifier`]): every tested pair proven apart at every instant of
+//! the curve, not only at samples, from a bound of the joint path length between samples
+//! (sampled velocities and an acceleration bound) and per-pair motion coefficients, with
+//! bounding volumes, convex hulls and exact shapes near contact only; the exact closest
+//! approaches over the samples by branch and bound (see `certify.rs`, `bounds.rs`,
+//! `closest.rs`).
+//!
 //! **Meshes** (see [`mesh`] and [`resolve`]): URIs relative to the model file, absolute,
 //! `file://` or `package://` (searched in [`CollisionOptions::package_path`], then
 //! `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH` and the model's folder tree). A mesh that
@@ -65,7 +73,10 @@
 //! assert!(cm.first_collision(&cd, Scope::All).is_none());
 //! ```
 
+mod bounds;
 mod build;
+mod certify;
+mod closest;
 pub mod mesh;
 mod obstacle;
 mod query;
@@ -73,6 +84,8 @@ pub mod resolve;
 mod shape;
 mod trajectory;
 
+pub use bounds::{half_path_bound, Certifier, Evaluations};
+pub use certify::{Certificate, CertifyOptions, ClearanceBound, Motion, SampleFn, SampleMin};
 pub use obstacle::{Obstacle, ObstacleShape, ObstacleSpec};
 pub use shape::{CollisionShape, ShapeKind};
 pub use trajectory::{DistanceSample, TrajectoryCollision, TrajectoryOptions, TrajectoryReport};

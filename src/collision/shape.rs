@@ -644,3 +644,67 @@ pub fn distance_and_points(a: Placed, b: Placed, scratch: &mut Scratch) -> (f64,
     };
     (d, to_vec3(p), to_vec3(q))
 }
+
+/// The signed distance if it is below `bound`, else `None`, for every pair, closed
+/// meshes included: unless one shape may lie inside a closed mesh (the containment test
+/// of the module docs), a separation above `bound` is proven by parry's `closest_points`
+/// with `bound` as its margin, which prunes the mesh hierarchies at that distance instead
+/// of measuring the full distance.
+pub fn signed_distance_under(
+    a: Placed,
+    b: Placed,
+    bound: f64,
+    scratch: &mut Scratch,
+) -> Option<f64> {
+    match fast_pair(a, b, bound, true, scratch) {
+        Fast::Hit(d, _, _) => return (d < bound).then_some(d),
+        Fast::Far => return None,
+        Fast::Skip => {}
+    }
+    let inside = || contained(a.shape, a.pose, a.aabb, b.shape, b.pose, b.aabb);
+    if !bound.is_finite() || bound <= 0.0 || inside() {
+        let d = signed_distance(a, b, scratch);
+        return (d < bound).then_some(d);
+    }
+    let (ga, gb) = (&*a.shape.shape, &*b.shape.shape);
+    match query::closest_points(a.pose, ga, b.pose, gb, bound) {
+        Ok(ClosestPoints::Disjoint) => None,
+        Ok(ClosestPoints::WithinMargin(p, q)) => {
+            let d = (q - p).length();
+            (d < bound).then_some(d)
+        }
+        _ => {
+            let d = signed_distance(a, b, scratch);
+            (d < bound).then_some(d)
+        }
+    }
+}
+
+/// Distance between two convex shapes at `pa`, `pb` (0 when they overlap), by GJK started
+/// from `hint`, the separating direction of a previous call (in `a`'s frame), which is
+/// updated: along a trajectory the pair's direction changes little and GJK then converges
+/// in a few steps.
+pub fn convex_distance(
+    ga: &dyn SupportMap,
+    pa: &Pose,
+    gb: &dyn SupportMap,
+    pb: &Pose,
+    hint: &mut Vector,
+    scratch: &mut Scratch,
+) -> f64 {
+    let pos12 = pa.inv_mul(pb);
+    let dir = hint
+        .try_normalize()
+        .or_else(|| pos12.translation.try_normalize())
+        .unwrap_or(Vector::X);
+    scratch
+        .simplex
+        .reset(CsoPoint::from_shapes(&pos12, ga, gb, dir));
+    match gjk::closest_points(&pos12, ga, gb, f64::MAX, true, &mut scratch.simplex) {
+        GJKResult::ClosestPoints(p1, p2, n) => {
+            *hint = n;
+            (p2 - p1).length()
+        }
+        _ => 0.0,
+    }
+}

@@ -126,9 +126,9 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     let (torque, sweep) = check_torque_sweep(&scene, &plan)?;
     timings.insert("torque_check_s".into(), json!(t0.elapsed().as_secs_f64()));
 
-    // 3. Collisions along the planned motion.
+    // 3. Collisions along the planned motion, certified with every limit.
     let t0 = Instant::now();
-    let (collisions, tool_path) = check_collisions(&scene, &plan, &mut warnings)?;
+    let (collisions, tool_path) = check_collisions(&scene, &plan, &torque, &mut warnings)?;
     timings.insert("collisions_s".into(), json!(t0.elapsed().as_secs_f64()));
 
     // The output directory and the recording (streamed during the simulation, so an
@@ -248,18 +248,24 @@ fn check_torque_sweep(scene: &Scene, plan: &Plan) -> Result<Sweep, ScenarioError
     Ok((torque, sweep))
 }
 
-/// The collision report of the planned motion and the tool path it sweeps.
+/// The collision report of the planned motion, with its certificate (collisions between
+/// samples and every limit's worst margin, see [`super::checks`]), and the tool path it
+/// sweeps.
 fn check_collisions(
     scene: &Scene,
     plan: &Plan,
+    torque: &TorqueReport,
     warnings: &mut Vec<String>,
 ) -> Result<(Value, Option<crate::recording::PointCloud>), ScenarioError> {
     let fail = |key: &str, msg: String| ScenarioError::new(&scene.file, None, key, msg);
-    let collisions = match &scene.collision {
-        None => json!({"checked": false}),
-        Some(copts) => super::checks::check_collisions(scene, plan, copts, warnings)
+    let jerk = super::checks::jerk_limit(scene);
+    let (accel_bound, limits) = super::checks::limits_pass(scene, plan, torque, jerk);
+    let mut collisions = match &scene.collision {
+        None => json!({"checked": false, "certificate": {}}),
+        Some(copts) => super::checks::check_collisions(scene, plan, copts, &accel_bound, warnings)
             .map_err(|e| fail("collision", e))?,
     };
+    collisions["certificate"]["limits"] = limits;
     let tool_path = super::checks::planned_tool_path(scene, plan);
     Ok((collisions, tool_path))
 }
