@@ -44,10 +44,9 @@ fn named(names: &[String], v: &[f64]) -> Value {
     )
 }
 
-/// The optional per-joint jerk limit of the scene (none yet: `JointLimits` has no jerk
-/// field on this branch; the integrator wires `scene.limits.jerk` here).
-pub fn jerk_limit(_scene: &Scene) -> Option<&[f64]> {
-    None
+/// The optional per-joint jerk limit of the scene (`[limits] jerk`, rad/s³ or m/s³).
+pub fn jerk_limit(scene: &Scene) -> Option<&[f64]> {
+    scene.limits.jerk.as_deref()
 }
 
 /// The worst margin of one limit: `limit − |value|` (or the distance to the nearer
