@@ -73,3 +73,69 @@ def test_plan_reports_an_invalid_start_and_refuses_bad_input():
         am.plan(m, start=goal)
     with pytest.raises(am.ArmsimError, match="range"):
         am.plan(m, start=goal, goal=goal, range=-1.0)
+
+
+UR5 = ROBOTS / "ur5.urdf"
+UR5_HOME = [0.0, -1.57, 1.57, 0.0, 1.57, 0.0]
+UR5_GOAL = [1.2, -1.0, 1.0, -1.5, -1.2, 0.5]
+WALL = {"name": "wall", "shape": "box", "size": [0.3, 0.05, 0.5], "xyz": [0.45, 0.45, 0.25]}
+
+
+def test_planner_plans_the_bundled_ur5_without_an_srdf_and_names_its_pairs():
+    p = am.Planner(am.Model.from_file(UR5), seed=3)
+    assert p.joints == am.Model.from_file(UR5).joint_names
+    reasons = {r for _, _, r in p.disabled_pairs}
+    assert "Adjacent" in reasons and reasons <= {"Adjacent", "Default", "Always", "Never"}
+    assert p.checked_pairs and p.setup_time_s > 0
+    r = p.plan(UR5_HOME, UR5_GOAL, obstacles=[WALL])
+    assert r["status"] == "solved", r["reason"]
+    assert r["path"].shape[1] == 6
+    np.testing.assert_array_equal(r["path"][0], UR5_HOME)
+    np.testing.assert_array_equal(r["path"][-1], UR5_GOAL)
+
+
+def test_reused_planner_gives_the_path_of_a_fresh_one():
+    m = am.Model.from_file(UR5)
+    reused = am.Planner(m, seed=5)
+    reused.plan(UR5_HOME, UR5_GOAL, obstacles=[{"shape": "sphere", "radius": 0.1,
+                                                "xyz": [-0.4, -0.4, 0.3]}])
+    a = reused.plan(UR5_HOME, UR5_GOAL, obstacles=[WALL])
+    b = am.Planner(m, seed=5).plan(UR5_HOME, UR5_GOAL, obstacles=[WALL])
+    assert a["status"] == b["status"] == "solved"
+    np.testing.assert_array_equal(a["path"], b["path"])
+
+
+def test_planner_names_what_a_start_touches_and_refuses_bad_obstacles():
+    p = am.Planner(am.Model.from_file(UR5))
+    ball = {"name": "ball", "shape": "sphere", "radius": 0.05, "xyz": [0.393, 0.109, 0.42]}
+    r = p.plan(UR5_HOME, UR5_GOAL, obstacles=[ball])
+    assert r["status"] == "invalid_start"
+    assert "'ball'" in r["reason"] and " mm" in r["reason"]
+    with pytest.raises(am.ArmsimError, match=r"obstacles\[0\].size"):
+        p.plan(UR5_HOME, UR5_GOAL, obstacles=[{"shape": "box", "size": [0.1, -1, 0.1]}])
+    with pytest.raises(am.ArmsimError, match=r"obstacles\[0\].radius: not a key"):
+        p.plan(UR5_HOME, UR5_GOAL, obstacles=[{"shape": "box", "size": [0.1] * 3, "radius": 1}])
+    with pytest.raises(am.ArmsimError, match="shape"):
+        p.plan(UR5_HOME, UR5_GOAL, obstacles=[{"shape": "cone"}])
+
+
+@needs_bench
+def test_ctrl_c_stops_a_long_plan_promptly():
+    """An impossible problem with a 60 s limit, interrupted after 0.3 s: KeyboardInterrupt
+    within a second, and the planner stays usable."""
+    import threading
+    import time
+    import _thread
+
+    m = am.Model.from_file(PANDA)
+    p = am.Planner(m, srdf=SRDF, time_limit_ms=60_000)
+    block = {"name": "block", "shape": "box", "size": [0.02, 0.1, 0.17], "xyz": [0.0, -0.15, 0.335]}
+    start = [1.5, 0.0, 0.0, -0.5, 0.0, 1.0, 0.785]
+    goal = [-1.5, 0.0, 0.0, -0.5, 0.0, 1.0, 0.785]
+    threading.Timer(0.3, _thread.interrupt_main).start()
+    t0 = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        p.plan(start, goal, obstacles=[block])
+    assert time.monotonic() - t0 < 1.5
+    r = p.plan(start, start, obstacles=[block])
+    assert r["status"] == "solved"

@@ -212,13 +212,15 @@ impl Planner {
                 q.len()
             ));
         }
-        let names = self.robot.model.dof_names();
         for (k, &qk) in q.iter().enumerate() {
             let x = qk as f32;
             if !(x >= self.lo[k] && x <= self.hi[k]) {
                 return Some(format!(
                     "{which}: joint '{}' = {} is outside its limits [{}, {}]",
-                    names[k], q[k], self.lo[k], self.hi[k]
+                    self.robot.model.dof_joint(k).name,
+                    q[k],
+                    self.lo[k],
+                    self.hi[k]
                 ));
             }
         }
