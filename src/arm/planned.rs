@@ -10,7 +10,9 @@
 //! - **Self pairs.** From the `[planner] srdf`, or from the allowed-collision matrix
 //!   computed as MoveIt's Setup Assistant computes one ([`crate::planning::acm`]: adjacent,
 //!   default, always and never-colliding pairs dropped); the scenario's link–link
-//!   `collision.disabled_pairs` are dropped as well. The report says which.
+//!   `collision.disabled_pairs` are dropped as well. The report says which. The planner
+//!   with the grasped part keeps the bare arm's matrix for every pair without the tool
+//!   link and checks every pair of the tool link (its geometry is what changed).
 //! - **Smooth path.** A minimum-jerk spline through the via points ([`MinJerk`], which
 //!   passes through them without stopping; segment durations by chord length). Its chords
 //!   at 48 points per via interval are checked with the planner's continuous edge check;
@@ -135,14 +137,17 @@ impl ScenePlanners {
         opts.spheres.max_overshoot = settings.max_overshoot;
         opts.rrt.range = settings.range as f32;
         opts.check.clearance = SMOOTHING_ROOM;
-        let build = |m: &Model| -> Result<Planner, String> {
-            let srdf = settings.srdf.as_ref().map(|(_, pairs)| pairs.as_slice());
-            let robot = PlanningRobot::with_extra_disabled(m, srdf, &link_pairs, &opts)?;
+        let build = |m: &Model,
+                     srdf: Option<&[(String, String)]>,
+                     opts: &PlanOptions|
+         -> Result<Planner, String> {
+            let robot = PlanningRobot::with_extra_disabled(m, srdf, &link_pairs, opts)?;
             let mut p = Planner::for_robot(std::sync::Arc::new(robot), opts.clone());
             p.set_obstacles(&obstacles)?;
             Ok(p)
         };
-        let free = build(&base)?;
+        let srdf = settings.srdf.as_ref().map(|(_, pairs)| pairs.as_slice());
+        let free = build(&base, srdf, &opts)?;
         notes.push(match (&settings.srdf, &free.robot.pair_source) {
             (Some((path, _)), _) => format!("planner: self pairs from the SRDF {path}"),
             (None, PairSource::Computed(acm)) => format!(
@@ -164,8 +169,26 @@ impl ScenePlanners {
                 .iter()
                 .map(|w| format!("planner: {w}")),
         );
+        // With the part, only the tool link's geometry changes: the free planner's disabled
+        // pairs stand for the other links, and every pair of the tool link is checked.
+        let tool = &base.links[scene.tool].name;
+        let carried_off: Option<Vec<(String, String)>> = match (&free.robot.pair_source, srdf) {
+            (PairSource::Computed(acm), None) => Some(
+                acm.disabled_names()
+                    .into_iter()
+                    .filter(|(a, b)| a != tool && b != tool)
+                    .collect(),
+            ),
+            _ => srdf.map(<[_]>::to_vec),
+        };
         let carrying = match &scene.part {
-            Some(p) => Some(build(&with_part(&base, scene.tool, p))?),
+            Some(p) => {
+                // The links the bare arm's cover refined start refined.
+                let mut copts = opts.clone();
+                copts.spheres = free.robot.sphere_options.clone();
+                let m = with_part(&base, scene.tool, p);
+                Some(build(&m, carried_off.as_deref(), &copts)?)
+            }
             None => None,
         };
         Ok(ScenePlanners {

@@ -44,6 +44,10 @@ pub struct PlanningRobot {
     pub exact: Option<CollisionModel>,
     /// Sphere cover, exact model and matrix (s).
     pub setup_time_s: f64,
+    /// The sphere options the cover was finally built with (the links [`refine`]
+    /// covered again, with their overshoot): another robot half of the same links can
+    /// start from them.
+    pub sphere_options: super::spheres::SphereOptions,
 }
 
 /// What a configuration touches: a pair of links or a link and an obstacle, with the
@@ -163,6 +167,7 @@ impl PlanningRobot {
             pair_source,
             exact,
             setup_time_s: t0.elapsed().as_secs_f64(),
+            sphere_options: sopts,
         })
     }
 
