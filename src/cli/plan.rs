@@ -102,14 +102,7 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
         let text = super::plan_scenario::run(a, file, &opts)?;
         return emit(a, text);
     }
-    let load = LoadOptions {
-        strict: a.strict,
-        ..Default::default()
-    };
-    let (model, warnings) = Model::load_with(&a.model, &load).map_err(|e| e.to_string())?;
-    for w in warnings {
-        eprintln!("warning: {w}");
-    }
+    let model = load_model(&a.model, a.strict)?;
     let disabled = match &a.srdf {
         Some(p) => {
             let (pairs, warnings) =
@@ -167,6 +160,19 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
         plan_report::text(&header, &outcomes)
     };
     emit(a, text)
+}
+
+/// Loads a model, its warnings on standard error (errors under `strict`).
+pub(super) fn load_model(path: &Path, strict: bool) -> Result<Model, String> {
+    let load = LoadOptions {
+        strict,
+        ..Default::default()
+    };
+    let (model, warnings) = Model::load_with(path, &load).map_err(|e| e.to_string())?;
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(model)
 }
 
 /// What the computed allowed-collision matrix disabled, for the note on standard error.

@@ -2,7 +2,6 @@
 //! Assistant computes one ([`armsim::planning::acm`]), written as an SRDF with the reason
 //! of every disabled pair, for `armsim plan --srdf` or for MoveIt.
 
-use armsim::model::{LoadOptions, Model};
 use armsim::planning::{PairSource, PlanOptions, PlanningRobot};
 use std::path::PathBuf;
 
@@ -36,14 +35,7 @@ pub fn run(a: &SrdfArgs) -> Result<String, String> {
             a.max_overshoot
         ));
     }
-    let load = LoadOptions {
-        strict: a.strict,
-        ..Default::default()
-    };
-    let (model, warnings) = Model::load_with(&a.model, &load).map_err(|e| e.to_string())?;
-    for w in warnings {
-        eprintln!("warning: {w}");
-    }
+    let model = super::plan::load_model(&a.model, a.strict)?;
     armsim::recording::interrupt::install().map_err(|e| e.to_string())?;
     let mut opts = PlanOptions {
         seed: a.seed,

@@ -51,12 +51,11 @@ fn file(bytes: &[u8], scale: [f64; 3], delta: f64) -> Option<PathBuf> {
     Some(dir()?.join(format!("cover-{h:016x}-{}.txt", bytes.len())))
 }
 
-/// A stored cover `(spheres, note)` of the mesh `bytes`, if there is a valid one.
-pub fn load(
-    bytes: &[u8],
-    scale: [f64; 3],
-    delta: f64,
-) -> Option<(Vec<([f64; 3], f64)>, Option<String>)> {
+/// A cover: spheres `(centre, radius)` and a note.
+pub type StoredCover = (Vec<([f64; 3], f64)>, Option<String>);
+
+/// A stored cover of the mesh `bytes`, if there is a valid one.
+pub fn load(bytes: &[u8], scale: [f64; 3], delta: f64) -> Option<StoredCover> {
     let text = std::fs::read_to_string(file(bytes, scale, delta)?).ok()?;
     let mut lines = text.lines();
     if lines.next()? != format!("armsim-cover {VERSION}") {
