@@ -40,7 +40,9 @@ use std::collections::HashSet;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Why a pair is disabled (the SRDF's `reason` attribute).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize,
+)]
 pub enum Reason {
     /// One joint apart, or rigidly attached.
     Adjacent,
@@ -65,7 +67,7 @@ impl Reason {
 }
 
 /// A disabled pair.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AcmPair {
     /// First link.
     pub link1: String,
@@ -100,7 +102,7 @@ impl Default for AcmOptions {
 }
 
 /// The computed matrix.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Acm {
     /// Disabled pairs, by reason then name.
     pub disabled: Vec<AcmPair>,
@@ -172,6 +174,65 @@ pub fn default_configuration(model: &Model) -> Vec<f64> {
             }
         })
         .collect()
+}
+
+/// Raised when the matrix's computation changes, so old cached matrices are not read.
+const CACHE_VERSION: u32 = 1;
+
+/// [`compute`], kept on disk ([`super::cover_cache`]) under a fingerprint of the model's
+/// URDF text, the sphere cover (which stands for the mesh files' contents), whether the
+/// exact geometry was built, the options and [`CACHE_VERSION`]; a model without URDF text
+/// (a DH table) is computed every time.
+pub fn compute_cached(
+    model: &Model,
+    sm: &SphereModel,
+    exact: Option<&CollisionModel>,
+    opts: &AcmOptions,
+    stop: &AtomicBool,
+) -> Option<Acm> {
+    let Some(urdf) = &model.urdf_text else {
+        return compute(model, sm, exact, opts, stop);
+    };
+    let spheres: Vec<u8> = sm
+        .spheres
+        .iter()
+        .flat_map(|s| {
+            s.center
+                .iter()
+                .chain([&s.radius])
+                .flat_map(|x| x.to_le_bytes())
+        })
+        .collect();
+    let groups: Vec<u8> = sm
+        .links
+        .iter()
+        .flat_map(|l| {
+            [l.link as u64, l.end as u64]
+                .into_iter()
+                .flat_map(u64::to_le_bytes)
+        })
+        .collect();
+    let settings = format!(
+        "{CACHE_VERSION} {} {} {} {} {}",
+        opts.samples,
+        opts.always_samples,
+        opts.always_fraction,
+        opts.seed,
+        exact.is_some()
+    );
+    let key =
+        super::cover_cache::fingerprint([urdf.as_bytes(), &spheres, &groups, settings.as_bytes()]);
+    let name = format!("acm-{key:016x}.json");
+    if let Some(acm) =
+        super::cover_cache::load_text(&name).and_then(|t| serde_json::from_str::<Acm>(&t).ok())
+    {
+        return Some(acm);
+    }
+    let acm = compute(model, sm, exact, opts, stop)?;
+    if let Ok(text) = serde_json::to_string(&acm) {
+        super::cover_cache::store_text(&name, &text);
+    }
+    Some(acm)
 }
 
 /// The ACM of `model` (see the module docs): `sm` is the planner's sphere cover, `exact`

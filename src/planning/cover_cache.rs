@@ -1,5 +1,5 @@
-//! Sphere covers of mesh files kept on disk between runs, so that a robot's set-up pays
-//! for its covers once per machine. A cover is stored under a key made of the mesh file's
+//! Sphere covers of mesh files, and allowed-collision matrices, kept on disk between
+//! runs, so that a robot's set-up pays for them once per machine. A cover is stored under a key made of the mesh file's
 //! bytes (FNV-1a hash and length), the scale, the overshoot and [`VERSION`] (raised when
 //! the cover algorithm changes); a file that is missing, unreadable or malformed is
 //! ignored and the cover computed again.
@@ -100,4 +100,30 @@ pub fn store(
         let _ = std::fs::create_dir_all(d);
     }
     let _ = crate::io::write_atomic(&path, text.as_bytes());
+}
+
+/// FNV-1a over `parts`, each followed by its length.
+pub fn fingerprint<'a>(parts: impl IntoIterator<Item = &'a [u8]>) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for part in parts {
+        for &b in part.iter().chain(&(part.len() as u64).to_le_bytes()) {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    h
+}
+
+/// The text stored under `name` (a file name in the cache folder), if any.
+pub fn load_text(name: &str) -> Option<String> {
+    std::fs::read_to_string(dir()?.join(name)).ok()
+}
+
+/// Stores `text` under `name` (errors are ignored: the cache only saves time).
+pub fn store_text(name: &str, text: &str) {
+    let Some(d) = dir() else {
+        return;
+    };
+    let _ = std::fs::create_dir_all(&d);
+    let _ = crate::io::write_atomic(&d.join(name), text.as_bytes());
 }

@@ -144,9 +144,10 @@ impl PlanningRobot {
                     seed: opts.seed,
                     ..Default::default()
                 };
-                let acm = acm::compute(model, &spheres, exact.as_ref(), &aopts, stop).ok_or_else(
-                    || "interrupted while computing the allowed-collision matrix".to_string(),
-                )?;
+                let acm = acm::compute_cached(model, &spheres, exact.as_ref(), &aopts, stop)
+                    .ok_or_else(|| {
+                        "interrupted while computing the allowed-collision matrix".to_string()
+                    })?;
                 let mut off = acm.disabled_names();
                 off.extend(extra.iter().cloned());
                 let pairs = self_pairs::from_disabled(model, &spheres, &off);
