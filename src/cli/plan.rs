@@ -195,7 +195,12 @@ pub(super) fn acm_note(acm: &Acm, setup_s: f64) -> String {
 
 /// Writes `text` to `--out` (atomically; returns nothing to print) or returns it.
 fn emit(a: &PlanArgs, text: String) -> Result<String, String> {
-    match &a.out {
+    write_or_return(a.out.as_deref(), text)
+}
+
+/// Writes `text` to `out` (atomically; returns nothing to print) or returns it.
+pub(super) fn write_or_return(out: Option<&Path>, text: String) -> Result<String, String> {
+    match out {
         Some(p) => {
             armsim::io::write_atomic(p, text.as_bytes())
                 .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;

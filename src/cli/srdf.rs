@@ -66,12 +66,5 @@ pub fn run(a: &SrdfArgs) -> Result<String, String> {
     } else {
         acm.to_srdf(&model.name)
     };
-    match &a.out {
-        Some(p) => {
-            armsim::io::write_atomic(p, text.as_bytes())
-                .map_err(|e| format!("{}: cannot write: {e}", p.display()))?;
-            Ok(String::new())
-        }
-        None => Ok(text),
-    }
+    super::plan::write_or_return(a.out.as_deref(), text)
 }

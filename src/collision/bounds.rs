@@ -101,7 +101,7 @@ impl CollisionModel {
         let mut rho = vec![0.0; pairs.len() * nv];
         for (p, &[i, j]) in pairs.iter().enumerate() {
             let (oi, oj) = (&self.objects[i as usize], &self.objects[j as usize]);
-            let stop = common_ancestor(model, oi.body, oj.body);
+            let stop = model.common_ancestor(oi.body, oj.body);
             let out = &mut rho[p * nv..(p + 1) * nv];
             for (o, k) in [(oi, i), (oj, j)] {
                 if o.body != WORLD {
@@ -121,17 +121,6 @@ impl CollisionModel {
             scope,
         }
     }
-}
-
-/// The deepest body that carries both `a` and `b` (itself included), or [`WORLD`].
-fn common_ancestor(model: &Model, a: usize, b: usize) -> usize {
-    if a == WORLD || b == WORLD {
-        return WORLD;
-    }
-    model
-        .support(b)
-        .find(|&x| model.support(a).any(|y| y == x))
-        .unwrap_or(WORLD)
 }
 
 /// Adds to `out[k]` the coefficients of a ball of radius `reach` around a point of `body`

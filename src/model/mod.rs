@@ -414,6 +414,14 @@ impl Model {
         })
     }
 
+    /// The deepest body that is an ancestor of both `a` and `b` (each its own ancestor),
+    /// or [`WORLD`] (also when either is [`WORLD`]).
+    pub fn common_ancestor(&self, a: usize, b: usize) -> usize {
+        self.support(b)
+            .find(|&x| self.support(a).any(|y| y == x))
+            .unwrap_or(WORLD)
+    }
+
     /// How far body `b`'s origin slides from its placement for coordinates in `[lo, hi]`:
     /// the largest `|m q + o|` of a prismatic joint, zero for a revolute one.
     pub fn stroke(&self, b: usize, lo: f64, hi: f64) -> f64 {

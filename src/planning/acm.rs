@@ -28,7 +28,7 @@
 //! tests run only on the few pairs whose spheres touch at the default configuration or in
 //! nearly every sample.
 
-use super::sampler::{bounds, Rng};
+use super::sampler::{bounds, uniform, Rng};
 use super::spheres::SphereModel;
 use crate::collision::{CollisionData, CollisionModel};
 use crate::data::Data;
@@ -388,16 +388,13 @@ fn geometric_parents(model: &Model, sm: &SphereModel) -> Vec<usize> {
 }
 
 /// Uniform random configurations in the joint box.
-fn sample_configs(model: &Model, n: usize, seed: u64) -> Vec<Vec<f64>> {
+pub fn sample_configs(model: &Model, n: usize, seed: u64) -> Vec<Vec<f64>> {
     let mut rng = Rng::new(seed);
     (0..n)
         .map(|_| {
-            (0..model.nv)
-                .map(|k| {
-                    let (lo, hi) = bounds(model, k);
-                    lo + (hi - lo) * rng.next_f64()
-                })
-                .collect()
+            let mut q = vec![0.0; model.nv];
+            uniform(model, &mut rng, &mut q);
+            q
         })
         .collect()
 }
@@ -428,10 +425,7 @@ fn never_pass(
             let mut q = vec![0.0; model.nv];
             let n = CHUNK.min(opts.samples - c * CHUNK);
             for _ in 0..n {
-                for (k, x) in q.iter_mut().enumerate() {
-                    let (lo, hi) = bounds(model, k);
-                    *x = lo + (hi - lo) * rng.next_f64();
-                }
+                uniform(model, &mut rng, &mut q);
                 poser.place(model, sm, &q);
                 let mut placed = false;
                 for (t, &(a, b)) in touched.iter_mut().zip(candidates) {

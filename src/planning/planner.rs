@@ -131,20 +131,17 @@ impl Planner {
         opts: PlanOptions,
     ) -> Result<Planner, String> {
         let robot = Arc::new(PlanningRobot::new(model, disabled, &opts)?);
-        let mut p = Planner::for_robot(robot, opts);
-        p.set_obstacles(obstacles)?;
-        Ok(p)
+        Ok(Planner::in_scene(robot, Environment::new(obstacles)?, opts))
     }
 
     /// A planner for a robot half built before, in an empty scene.
     pub fn for_robot(robot: Arc<PlanningRobot>, opts: PlanOptions) -> Planner {
-        let checker = Checker::new(
-            &robot.model,
-            robot.spheres.clone(),
-            Environment::default(),
-            robot.self_pairs.clone(),
-            opts.check,
-        );
+        Planner::in_scene(robot, Environment::default(), opts)
+    }
+
+    /// A planner for a robot half in the scene `env`.
+    fn in_scene(robot: Arc<PlanningRobot>, env: Environment, opts: PlanOptions) -> Planner {
+        let checker = robot.checker(env, opts.check);
         let nv = robot.model.nv;
         let (lo, hi): (Vec<f32>, Vec<f32>) = (0..nv)
             .map(|k| {
@@ -174,14 +171,7 @@ impl Planner {
     /// the obstacle's name).
     pub fn set_obstacles(&mut self, obstacles: &[Obstacle]) -> Result<(), String> {
         let env = Environment::new(obstacles)?;
-        let robot = &self.robot;
-        self.checker = Checker::new(
-            &robot.model,
-            robot.spheres.clone(),
-            env,
-            robot.self_pairs.clone(),
-            self.opts.check,
-        );
+        self.checker = self.robot.checker(env, self.opts.check);
         self.scratch = self.checker.scratch();
         Ok(())
     }

@@ -50,6 +50,14 @@ impl Rng {
     }
 }
 
+/// A configuration drawn uniformly from the joint box ([`bounds`]) into `q`.
+pub fn uniform(model: &Model, rng: &mut Rng, q: &mut [f64]) {
+    for (k, x) in q.iter_mut().enumerate() {
+        let (lo, hi) = bounds(model, k);
+        *x = lo + (hi - lo) * rng.next_f64();
+    }
+}
+
 /// The sampling range of coordinate `k`: its limits, or [−π, π] for a continuous joint.
 pub fn bounds(model: &Model, k: usize) -> (f64, f64) {
     let (lo, hi) = (model.lower[k], model.upper[k]);

@@ -154,12 +154,9 @@ impl PlanningRobot {
                 (pairs, PairSource::Computed(Box::new(acm)))
             }
         };
-        let (spheres, pairs) = match &exact {
-            Some(cm) => {
-                let pairs = refine(model, &mut sopts, spheres, cm, pairs, opts.seed);
-                (pairs.0, pairs.1)
-            }
-            None => (spheres, pairs),
+        let spheres = match &exact {
+            Some(cm) => refine(model, &mut sopts, spheres, cm, &pairs, opts.seed),
+            None => spheres,
         };
         Ok(PlanningRobot {
             model: Arc::new(model.clone()),
@@ -170,6 +167,17 @@ impl PlanningRobot {
             setup_time_s: t0.elapsed().as_secs_f64(),
             sphere_options: sopts,
         })
+    }
+
+    /// The collision checker of this robot among the obstacles of `env`.
+    pub fn checker(&self, env: Environment, opts: super::CheckOptions) -> super::Checker {
+        super::Checker::new(
+            &self.model,
+            self.spheres.clone(),
+            env,
+            self.self_pairs.clone(),
+            opts,
+        )
     }
 
     /// Everything configuration `q` touches among the checked self pairs and the
@@ -220,14 +228,11 @@ impl PlanningRobot {
                 let depth = (ls.first..ls.end)
                     .map(|s| {
                         let c = poser.center(s);
-                        let d = [c.x, c.y, c.z]
-                            .iter()
-                            .zip(ob.center)
-                            .map(|(x, o)| x - o as f64)
-                            .collect::<Vec<_>>();
+                        let d = [c.x, c.y, c.z];
+                        let d = [0, 1, 2].map(|k| d[k] - f64::from(ob.center[k]));
                         let local = ob
                             .rot_t
-                            .map(|r| r[0] as f64 * d[0] + r[1] as f64 * d[1] + r[2] as f64 * d[2]);
+                            .map(|r| (0..3).map(|k| f64::from(r[k]) * d[k]).sum::<f64>());
                         sm.spheres[s].radius as f64 - prim.sdf(local)
                     })
                     .fold(f64::NEG_INFINITY, f64::max);
@@ -267,21 +272,15 @@ fn refine(
     sopts: &mut super::spheres::SphereOptions,
     mut sm: SphereModel,
     cm: &CollisionModel,
-    pairs: Vec<(usize, usize)>,
+    pairs: &[(usize, usize)],
     seed: u64,
-) -> (SphereModel, Vec<(usize, usize)>) {
+) -> SphereModel {
     let mut configs = vec![acm::default_configuration(model)];
-    let mut rng = super::sampler::Rng::new(seed ^ 0x5eed_f1e7);
-    for _ in 0..REFINE_SAMPLES {
-        configs.push(
-            (0..model.nv)
-                .map(|k| {
-                    let (lo, hi) = super::sampler::bounds(model, k);
-                    lo + (hi - lo) * rng.next_f64()
-                })
-                .collect(),
-        );
-    }
+    configs.extend(acm::sample_configs(
+        model,
+        REFINE_SAMPLES,
+        seed ^ 0x5eed_f1e7,
+    ));
     let mut cd = CollisionData::new(model, cm);
     for _ in 0..REFINE_ROUNDS {
         let mut poser = SpherePoser::new(model, &sm);
@@ -289,7 +288,7 @@ fn refine(
         for (i, q) in configs.iter().enumerate() {
             poser.place(model, &sm, q);
             let mut updated = false;
-            for (f, &(a, b)) in false_contacts.iter_mut().zip(&pairs) {
+            for (f, &(a, b)) in false_contacts.iter_mut().zip(pairs) {
                 if !poser.touch(&sm, a, b) {
                     continue;
                 }
@@ -304,7 +303,7 @@ fn refine(
             }
         }
         let mut halve: Vec<usize> = Vec::new();
-        for (&f, &(a, b)) in false_contacts.iter().zip(&pairs) {
+        for (&f, &(a, b)) in false_contacts.iter().zip(pairs) {
             if f * 10 > REFINE_SAMPLES {
                 halve.extend([sm.links[a].link, sm.links[b].link]);
             }
@@ -328,5 +327,5 @@ fn refine(
         }
         sm = SphereModel::new(model, sopts);
     }
-    (sm, pairs)
+    sm
 }

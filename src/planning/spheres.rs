@@ -444,13 +444,6 @@ pub fn reach_to(model: &Model, center: [f32; 3], body: usize, stop: usize) -> f6
     (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() + below + slide(model, stop)
 }
 
-/// The deepest body that is an ancestor of both `a` and `b` (itself included), or
-/// [`WORLD`].
-fn common_ancestor(model: &Model, a: usize, b: usize) -> usize {
-    let ca: Vec<usize> = model.support(a).collect();
-    model.support(b).find(|x| ca.contains(x)).unwrap_or(WORLD)
-}
-
 /// Relative motion bound of link groups `ga` and `gb` (`nv` coefficients): along a
 /// straight joint-space segment, the distance between any point of one and any point of
 /// the other changes at most at `Σ_k |q̇_k| ρ_k`. Distances do not change under a rigid
@@ -463,7 +456,7 @@ pub fn pair_rho(model: &Model, sm: &SphereModel, ga: usize, gb: usize) -> Vec<f3
     let common = if la.body == WORLD || lb.body == WORLD {
         WORLD
     } else {
-        common_ancestor(model, la.body, lb.body)
+        model.common_ancestor(la.body, lb.body)
     };
     let mut total = vec![0.0f32; nv];
     let mut one = vec![0.0f32; nv];
