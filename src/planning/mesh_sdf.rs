@@ -43,6 +43,11 @@ impl MeshSdf {
                 v[k] *= scale[k];
             }
         }
+        if m.vertices.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(format!(
+                "mesh scale {scale:?} takes its vertices beyond the floating-point range"
+            ));
+        }
         let closed = m.is_closed();
         let mut flags = TriMeshFlags::empty();
         if closed {
@@ -124,6 +129,14 @@ mod tests {
         *state ^= *state >> 7;
         *state ^= *state << 17;
         (*state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+
+    #[test]
+    fn a_scale_that_overflows_the_vertices_is_refused() {
+        // 20 m × 1e308 overflows to infinity.
+        let m = box_mesh([20.0, 0.1, 0.2]);
+        let e = MeshSdf::new(&m, [1e308, 1.0, 1.0]).err().unwrap();
+        assert!(e.contains("floating-point range"), "{e}");
     }
 
     #[test]
