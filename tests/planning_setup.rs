@@ -252,3 +252,125 @@ fn stop_flag_ends_a_long_search_promptly() {
     let late = ended.duration_since(raised);
     assert!(late < Duration::from_secs(1), "{late:?} after the flag");
 }
+
+/// Whether any checked self pair of `robot` touches on the exact geometry at one of 400
+/// points per unit of joint-space length along the path.
+fn exact_contact_on_path(robot: &PlanningRobot, path: &[Vec<f64>]) -> Option<Vec<f64>> {
+    let (model, cm) = (&*robot.model, robot.exact.as_ref().unwrap());
+    let mut cd = CollisionData::new(model, cm);
+    let links: Vec<(usize, usize)> = robot
+        .self_pairs
+        .iter()
+        .map(|&(a, b)| (robot.spheres.links[a].link, robot.spheres.links[b].link))
+        .collect();
+    for w in path.windows(2) {
+        let len: f64 = w[0].iter().zip(&w[1]).map(|(a, b)| (b - a).powi(2)).sum();
+        let n = (len.sqrt() * 400.0).ceil() as usize;
+        for i in 0..=n {
+            let t = i as f64 / n.max(1) as f64;
+            let q: Vec<f64> = w[0]
+                .iter()
+                .zip(&w[1])
+                .map(|(a, b)| a + t * (b - a))
+                .collect();
+            cm.update(model, &mut cd, &q);
+            if links.iter().any(|&(a, b)| cm.links_collide(&cd, a, b)) {
+                return Some(q);
+            }
+        }
+    }
+    None
+}
+
+/// The UR5's upper arm pointing down passes its base 7 mm away: the sphere covers touch
+/// there, so the pair is decided on the exact geometry, and the shoulder can swing
+/// through the band (before, every configuration in it was "in collision" and the
+/// shoulder angles on either side could not be joined).
+#[test]
+fn ur5_upper_arm_passes_its_base_on_the_exact_geometry() {
+    let model = robot("ur5.urdf");
+    let robot = Arc::new(PlanningRobot::new(&model, None, &options(0)).unwrap());
+    let name = |g: usize| model.links[robot.spheres.links[g].link].name.as_str();
+    let exact: Vec<(&str, &str)> = robot
+        .exact_pairs
+        .iter()
+        .map(|&(a, b)| (name(a), name(b)))
+        .collect();
+    assert!(
+        exact.contains(&("base_link_inertia", "upper_arm_link")),
+        "{exact:?}"
+    );
+    let mut p = Planner::for_robot(robot.clone(), options(0));
+    let down = [1.0, std::f64::consts::FRAC_PI_2, -0.29, 0.3, 0.5, 0.2];
+    assert!(p.is_free(&down));
+    let (a, b) = (
+        [1.07, 1.07, -0.29, 0.3, 0.5, 0.2],
+        [1.07, 3.13, 1.81, 0.3, 0.5, 0.2],
+    );
+    let r = p.plan(&a, &b);
+    assert_eq!(r.status, PlanStatus::Solved, "{:?}", r.reason);
+    assert_eq!(exact_contact_on_path(&robot, &r.path), None);
+}
+
+/// Random problems of the UR5's joint box within ±π (the elbow folded at ±π separates
+/// the wider box into pockets no path joins), free on the checker: all solve, and no path
+/// touches on the exact geometry at 400 points per unit.
+#[test]
+fn ur5_random_problems_solve_and_their_paths_are_exactly_free() {
+    let model = robot("ur5.urdf");
+    let robot = Arc::new(PlanningRobot::new(&model, None, &options(0)).unwrap());
+    let mut p = Planner::for_robot(robot.clone(), options(0));
+    let mut rng = Rng::new(11);
+    let mut draw = |p: &mut Planner| loop {
+        let q: Vec<f64> = (0..model.nv)
+            .map(|_| std::f64::consts::PI * (2.0 * rng.next_f64() - 1.0))
+            .collect();
+        if p.is_free(&q) {
+            return q;
+        }
+    };
+    for _ in 0..6 {
+        let (a, b) = (draw(&mut p), draw(&mut p));
+        let r = p.plan(&a, &b);
+        assert_eq!(
+            r.status,
+            PlanStatus::Solved,
+            "{a:?} → {b:?}: {:?}",
+            r.reason
+        );
+        assert_eq!(
+            exact_contact_on_path(&robot, &r.path),
+            None,
+            "{a:?} → {b:?}"
+        );
+    }
+}
+
+/// Soundness of the two-stage check on random edges of the UR5: an edge the checker
+/// calls free has no exact contact at 400 points per unit, and a configuration it calls
+/// free has none either.
+#[test]
+fn edges_the_checker_frees_have_no_exact_contact() {
+    let model = robot("ur5.urdf");
+    let robot = Arc::new(PlanningRobot::new(&model, None, &options(0)).unwrap());
+    let mut p = Planner::for_robot(robot.clone(), options(0));
+    let mut rng = Rng::new(99);
+    let (mut free_edges, mut exact_checked) = (0, 0);
+    for _ in 0..300 {
+        let a: Vec<f64> = (0..model.nv)
+            .map(|_| std::f64::consts::PI * (2.0 * rng.next_f64() - 1.0))
+            .collect();
+        let b: Vec<f64> = a.iter().map(|x| x + 0.8 * (rng.next_f64() - 0.5)).collect();
+        if !(p.is_free(&a) && p.is_free(&b)) {
+            continue;
+        }
+        if p.edge_free(&a, &b) {
+            free_edges += 1;
+            let path = [a.clone(), b.clone()];
+            assert_eq!(exact_contact_on_path(&robot, &path), None, "{a:?} → {b:?}");
+        }
+        exact_checked = p.exact_checks();
+    }
+    assert!(free_edges > 50, "{free_edges}");
+    assert!(exact_checked > 0, "the exact stage never ran");
+}

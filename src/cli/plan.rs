@@ -30,8 +30,9 @@ use std::time::Duration;
         .args(["moveit_scene", "moveit_dir", "scenario"])
 ))]
 pub struct PlanArgs {
-    /// Robot model (URDF). Its collision spheres are used as given; boxes, cylinders and
-    /// capsules are covered with spheres; meshes are not checked (a warning says so).
+    /// Robot model (URDF). Its collision spheres are used as given; boxes, cylinders,
+    /// capsules and meshes are covered with spheres (link pairs whose covers touch where
+    /// the meshes do not are decided on the meshes themselves).
     pub model: PathBuf,
     /// MoveIt SRDF: its <disable_collisions> link pairs are not checked for self-collision
     /// (nor are links one joint apart). Without it, pairs never in contact over random

@@ -148,6 +148,31 @@ pub fn half_path_bound(speed: f64, accel: f64, h: f64) -> f64 {
 }
 
 impl Certifier {
+    /// Keeps only the self pairs between the links of `links` (indices into
+    /// `Model::links`, either order); drops every other pair, the environment's included.
+    pub fn retain_link_pairs(&mut self, cm: &CollisionModel, links: &[(usize, usize)]) {
+        let owner = |k: u32| cm.objects[k as usize].owner;
+        let keep = |&[i, j]: &[u32; 2]| {
+            links.iter().any(|&(a, b)| {
+                let (a, b) = (super::Body::Link(a), super::Body::Link(b));
+                (owner(i), owner(j)) == (a, b) || (owner(i), owner(j)) == (b, a)
+            })
+        };
+        let nv = self.nv;
+        let mut pairs = Vec::new();
+        let mut rho = Vec::new();
+        for (p, pair) in self.pairs.iter().enumerate().take(self.n_self) {
+            if keep(pair) {
+                pairs.push(*pair);
+                rho.extend_from_slice(&self.rho[p * nv..(p + 1) * nv]);
+            }
+        }
+        self.n_self = pairs.len();
+        self.pairs = pairs;
+        self.rho = rho;
+        self.scope = Scope::SelfCollision;
+    }
+
     /// Number of pairs certified.
     pub fn num_pairs(&self) -> usize {
         self.pairs.len()

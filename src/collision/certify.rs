@@ -189,10 +189,7 @@ impl Certifier {
         motion: &Motion,
         opts: &CertifyOptions,
     ) -> Result<Certificate, CollisionError> {
-        check(model, motion, opts).map_err(CollisionError::Trajectory)?;
-        let mut w = sample_motion(cm, model, cd, motion);
-        w.hints = vec![Vector::ZERO; self.pairs.len()];
-        let mut known = self.ball_bounds(cm, &mut w);
+        let (mut w, mut known) = self.start(cm, model, cd, motion, opts)?;
         let mut hit: Option<(f64, f64)> = None;
         let mut open = None;
         for p in 0..self.pairs.len() {
@@ -227,6 +224,42 @@ impl Certifier {
             clearance_environment,
             clearance_self,
         })
+    }
+
+    /// Whether every pair is proven apart along `motion`, and nothing more: no first
+    /// contact, no closest approaches. Stops at the first pair that is not (a planner's
+    /// edge check on the exact geometry).
+    pub fn proves_free(
+        &self,
+        cm: &CollisionModel,
+        model: &Model,
+        cd: &mut CollisionData,
+        motion: &Motion,
+        opts: &CertifyOptions,
+    ) -> Result<bool, CollisionError> {
+        let (mut w, mut known) = self.start(cm, model, cd, motion, opts)?;
+        Ok((0..self.pairs.len()).all(|p| {
+            matches!(
+                self.march(cm, model, cd, &mut w, &mut known, p, opts),
+                Outcome::Proven
+            )
+        }))
+    }
+
+    /// The motion checked and sampled, and the bounding-ball bounds at its samples.
+    fn start<'m>(
+        &self,
+        cm: &CollisionModel,
+        model: &Model,
+        cd: &mut CollisionData,
+        motion: &'m Motion<'m>,
+        opts: &CertifyOptions,
+    ) -> Result<(Work<'m>, Vec<Known>), CollisionError> {
+        check(model, motion, opts).map_err(CollisionError::Trajectory)?;
+        let mut w = sample_motion(cm, model, cd, motion);
+        w.hints = vec![Vector::ZERO; self.pairs.len()];
+        let known = self.ball_bounds(cm, &mut w);
+        Ok((w, known))
     }
 
     /// Conservative advancement of pair `p` over the samples (see the module docs).

@@ -81,12 +81,14 @@ pub mod mesh;
 mod obstacle;
 mod query;
 pub mod resolve;
+mod segment;
 mod shape;
 mod trajectory;
 
 pub use bounds::{half_path_bound, Certifier, Evaluations};
 pub use certify::{Certificate, CertifyOptions, ClearanceBound, Motion, SampleFn, SampleMin};
 pub use obstacle::{Obstacle, ObstacleShape, ObstacleSpec};
+pub use segment::SegmentScratch;
 pub use shape::{CollisionShape, ShapeKind};
 pub use trajectory::{DistanceSample, TrajectoryCollision, TrajectoryOptions, TrajectoryReport};
 

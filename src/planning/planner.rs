@@ -299,6 +299,7 @@ impl Planner {
                 &self.checker,
                 &mut self.scratch,
                 sampler.rng(),
+                self.opts.stop.as_ref(),
             );
             self.scratch.keep_clearance = false;
         }
@@ -394,6 +395,12 @@ impl Planner {
             super::checker::EdgeMode::Continuous,
             &mut self.scratch,
         )
+    }
+
+    /// Configurations and edges of this planner's own thread that the spheres could not
+    /// clear and the exact geometry decided ([`super::checker::ExactPairs`]).
+    pub fn exact_checks(&self) -> u64 {
+        self.scratch.exact.as_ref().map_or(0, |e| e.exact_checks)
     }
 
     /// The check counters (edges, batches of eight) since the planner was built.

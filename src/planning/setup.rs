@@ -37,6 +37,14 @@ pub struct PlanningRobot {
     pub spheres: SphereModel,
     /// Link-group pairs checked for self-collision.
     pub self_pairs: Vec<(usize, usize)>,
+    /// Those of them whose sphere covers still touch where their exact geometry does not
+    /// after [`refine`]: decided on the exact geometry where their spheres touch
+    /// ([`super::checker::ExactPairs`]).
+    pub exact_pairs: Vec<(usize, usize)>,
+    /// The cover their first stage checks: the links of those pairs at half their
+    /// overshoot (down to [`FINE_OVERSHOOT`]), so that the exact geometry is measured only
+    /// where they come within a few millimetres.
+    pub exact_spheres: SphereModel,
     /// How they were chosen.
     pub pair_source: PairSource,
     /// The exact geometry (parry), when it could be built: names the real distance of a
@@ -154,14 +162,17 @@ impl PlanningRobot {
                 (pairs, PairSource::Computed(Box::new(acm)))
             }
         };
-        let spheres = match &exact {
+        let (spheres, exact_pairs) = match &exact {
             Some(cm) => refine(model, &mut sopts, spheres, cm, &pairs, opts.seed),
-            None => spheres,
+            None => (spheres, Vec::new()),
         };
+        let exact_spheres = fine_cover(model, &sopts, &spheres, &exact_pairs);
         Ok(PlanningRobot {
             model: Arc::new(model.clone()),
             spheres,
             self_pairs: pairs,
+            exact_pairs,
+            exact_spheres,
             pair_source,
             exact,
             setup_time_s: t0.elapsed().as_secs_f64(),
@@ -171,13 +182,36 @@ impl PlanningRobot {
 
     /// The collision checker of this robot among the obstacles of `env`.
     pub fn checker(&self, env: Environment, opts: super::CheckOptions) -> super::Checker {
-        super::Checker::new(
-            &self.model,
-            self.spheres.clone(),
-            env,
-            self.self_pairs.clone(),
-            opts,
-        )
+        let own: Vec<(usize, usize)> = self
+            .self_pairs
+            .iter()
+            .filter(|p| !self.exact_pairs.contains(p))
+            .copied()
+            .collect();
+        let checker = super::Checker::new(&self.model, self.spheres.clone(), env, own, opts);
+        match &self.exact {
+            Some(cm) if !self.exact_pairs.is_empty() => {
+                let spheres = super::Checker::new(
+                    &self.model,
+                    self.exact_spheres.clone(),
+                    Environment::default(),
+                    self.exact_pairs.clone(),
+                    opts,
+                );
+                let links = self
+                    .exact_pairs
+                    .iter()
+                    .map(|&(a, b)| (self.spheres.links[a].link, self.spheres.links[b].link))
+                    .collect();
+                checker.with_exact(super::checker::ExactPairs::new(
+                    self.model.clone(),
+                    cm,
+                    links,
+                    spheres,
+                ))
+            }
+            _ => checker,
+        }
     }
 
     /// Everything configuration `q` touches among the checked self pairs and the
@@ -205,6 +239,11 @@ impl PlanningRobot {
                         crate::collision::Body::Link(sm.links[b].link),
                     )
                 });
+                // A pair decided on the exact geometry touches only when that does.
+                let apart = exact_distance.is_some_and(|d| d > 0.0);
+                if apart && self.exact_pairs.contains(&(a, b)) {
+                    continue;
+                }
                 out.push(Contact {
                     a: name(a),
                     b: name(b),
@@ -267,6 +306,9 @@ const REFINE_SAMPLES: usize = 100;
 /// sit closer than twice the overshoot by design (a UR5's base and upper arm, 16 mm
 /// apart): with the coarse cover they would look in contact at nearly every pose. The
 /// link groups keep their order, so the pair indices stay valid.
+///
+/// Returns the cover and the pairs that still touch falsely in any of the configurations
+/// with it: those are decided on the exact geometry ([`super::checker::ExactPairs`]).
 fn refine(
     model: &Model,
     sopts: &mut super::spheres::SphereOptions,
@@ -274,7 +316,7 @@ fn refine(
     cm: &CollisionModel,
     pairs: &[(usize, usize)],
     seed: u64,
-) -> SphereModel {
+) -> (SphereModel, Vec<(usize, usize)>) {
     let mut configs = vec![acm::default_configuration(model)];
     configs.extend(acm::sample_configs(
         model,
@@ -282,28 +324,10 @@ fn refine(
         seed ^ 0x5eed_f1e7,
     ));
     let mut cd = CollisionData::new(model, cm);
+    let mut counts = false_contacts(model, &sm, cm, &mut cd, &configs, pairs);
     for _ in 0..REFINE_ROUNDS {
-        let mut poser = SpherePoser::new(model, &sm);
-        let mut false_contacts = vec![0usize; pairs.len()];
-        for (i, q) in configs.iter().enumerate() {
-            poser.place(model, &sm, q);
-            let mut updated = false;
-            for (f, &(a, b)) in false_contacts.iter_mut().zip(pairs) {
-                if !poser.touch(&sm, a, b) {
-                    continue;
-                }
-                if !updated {
-                    cm.update(model, &mut cd, q);
-                    updated = true;
-                }
-                if !cm.links_collide(&cd, sm.links[a].link, sm.links[b].link) {
-                    // The default configuration counts as every sample.
-                    *f += if i == 0 { REFINE_SAMPLES } else { 1 };
-                }
-            }
-        }
         let mut halve: Vec<usize> = Vec::new();
-        for (&f, &(a, b)) in false_contacts.iter().zip(pairs) {
+        for (&f, &(a, b)) in counts.iter().zip(pairs) {
             if f * 10 > REFINE_SAMPLES {
                 halve.extend([sm.links[a].link, sm.links[b].link]);
             }
@@ -326,6 +350,68 @@ fn refine(
             break;
         }
         sm = SphereModel::new(model, sopts);
+        counts = false_contacts(model, &sm, cm, &mut cd, &configs, pairs);
     }
-    sm
+    let still = counts.iter().zip(pairs).filter(|(&f, _)| f > 0);
+    let still = still.map(|(_, &p)| p).collect();
+    (sm, still)
+}
+
+/// The smallest overshoot of the exact pairs' first stage (m).
+pub const FINE_OVERSHOOT: f64 = 0.0025;
+
+/// The cover of the exact pairs' first stage: their links at half the overshoot of
+/// `sopts` (not below [`FINE_OVERSHOOT`]); `coarse` itself when there are no such pairs.
+/// The link groups keep their order.
+fn fine_cover(
+    model: &Model,
+    sopts: &super::spheres::SphereOptions,
+    coarse: &SphereModel,
+    exact_pairs: &[(usize, usize)],
+) -> SphereModel {
+    if exact_pairs.is_empty() {
+        return coarse.clone();
+    }
+    let mut fine = sopts.clone();
+    for &(a, b) in exact_pairs {
+        for g in [a, b] {
+            let name = &model.links[coarse.links[g].link].name;
+            let now = sopts.overshoot_of(name);
+            fine.link_overshoot.retain(|(n, _)| n != name);
+            let half = (now / 2.0).max(FINE_OVERSHOOT).min(now);
+            fine.link_overshoot.push((name.clone(), half));
+        }
+    }
+    SphereModel::new(model, &fine)
+}
+
+/// Per pair, in how many of `configs` its spheres touch while its exact geometry is
+/// apart; the first configuration (the default one) counts as [`REFINE_SAMPLES`].
+fn false_contacts(
+    model: &Model,
+    sm: &SphereModel,
+    cm: &CollisionModel,
+    cd: &mut CollisionData,
+    configs: &[Vec<f64>],
+    pairs: &[(usize, usize)],
+) -> Vec<usize> {
+    let mut poser = SpherePoser::new(model, sm);
+    let mut counts = vec![0usize; pairs.len()];
+    for (i, q) in configs.iter().enumerate() {
+        poser.place(model, sm, q);
+        let mut updated = false;
+        for (f, &(a, b)) in counts.iter_mut().zip(pairs) {
+            if !poser.touch(sm, a, b) {
+                continue;
+            }
+            if !updated {
+                cm.update(model, cd, q);
+                updated = true;
+            }
+            if !cm.links_collide(cd, sm.links[a].link, sm.links[b].link) {
+                *f += if i == 0 { REFINE_SAMPLES } else { 1 };
+            }
+        }
+    }
+    counts
 }

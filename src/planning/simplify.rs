@@ -11,11 +11,18 @@
 //!    other waypoint moves to the midpoint of its neighbours' midpoints where both new edges
 //!    are free; this rounds the corners that shortcuts leave.
 //!
+//! A time limit ([`SimplifyOptions::time_limit`]) and the stop flag end it early with the
+//! path as it stands (every change was checked): where the exact stage of the checker
+//! must decide many edges ([`super::checker::ExactPairs`]), shortcuts can cost
+//! milliseconds each.
+//!
 //! The cost is the joint-space L2 length. Buffers live in [`Simplifier`]: nothing is
 //! allocated once it has seen a path as long.
 
 use super::checker::{CheckScratch, Checker, EdgeMode};
+use super::rrt::SearchLimit;
 use super::sampler::Rng;
+use std::time::Duration;
 
 /// Settings of the simplification.
 #[derive(Clone, Copy, Debug)]
@@ -26,6 +33,8 @@ pub struct SimplifyOptions {
     pub tries_per_point: usize,
     /// B-spline passes per round.
     pub bspline_passes: usize,
+    /// Wall-clock limit of the whole simplification.
+    pub time_limit: Option<Duration>,
 }
 
 impl Default for SimplifyOptions {
@@ -37,6 +46,7 @@ impl Default for SimplifyOptions {
             rounds: 2,
             tries_per_point: 2,
             bspline_passes: 2,
+            time_limit: Some(Duration::from_secs(1)),
         }
     }
 }
@@ -88,18 +98,23 @@ impl Simplifier {
         c: &Checker,
         s: &mut CheckScratch,
         rng: &mut Rng,
+        stop: Option<&std::sync::Arc<std::sync::atomic::AtomicBool>>,
     ) {
+        let limit = SearchLimit {
+            deadline: self.opts.time_limit.map(|d| std::time::Instant::now() + d),
+            stop: stop.cloned(),
+        };
         let mut len = path_length(path, nv);
         for _ in 0..self.opts.rounds {
-            self.greedy(path, nv, c, s);
-            self.reduce(path, nv, c, s, rng);
-            self.shortcut(path, nv, c, s, rng);
+            self.greedy(path, nv, c, s, &limit);
+            self.reduce(path, nv, c, s, rng, &limit);
+            self.shortcut(path, nv, c, s, rng, &limit);
             for _ in 0..self.opts.bspline_passes {
-                if !self.bspline(path, nv, c, s) {
+                if limit.reached().is_some() || !self.bspline(path, nv, c, s) {
                     break;
                 }
             }
-            self.greedy(path, nv, c, s);
+            self.greedy(path, nv, c, s, &limit);
             let new = path_length(path, nv);
             let done = new > len * (1.0 - 1e-3);
             len = new;
@@ -110,7 +125,14 @@ impl Simplifier {
     }
 
     /// From each kept waypoint, jump to the farthest one reachable by a free edge.
-    fn greedy(&mut self, path: &mut Vec<f32>, nv: usize, c: &Checker, s: &mut CheckScratch) {
+    fn greedy(
+        &mut self,
+        path: &mut Vec<f32>,
+        nv: usize,
+        c: &Checker,
+        s: &mut CheckScratch,
+        limit: &SearchLimit,
+    ) {
         let n = path.len() / nv;
         if n <= 2 {
             return;
@@ -120,14 +142,16 @@ impl Simplifier {
         let mut i = 0;
         while i < n - 1 {
             let mut j = n - 1;
-            while j > i + 1
-                && !c.edge_free(
-                    &path[i * nv..][..nv],
-                    &path[j * nv..][..nv],
-                    EdgeMode::Continuous,
-                    s,
-                )
-            {
+            while j > i + 1 {
+                if limit.reached().is_some() {
+                    // The path's own next edge, checked already.
+                    j = i + 1;
+                    break;
+                }
+                let (a, b) = (&path[i * nv..][..nv], &path[j * nv..][..nv]);
+                if c.edge_free(a, b, EdgeMode::Continuous, s) {
+                    break;
+                }
                 j -= 1;
             }
             self.tmp.extend_from_slice(&path[j * nv..][..nv]);
@@ -144,9 +168,13 @@ impl Simplifier {
         c: &Checker,
         s: &mut CheckScratch,
         rng: &mut Rng,
+        limit: &SearchLimit,
     ) {
         let mut fails = 0;
         while fails < self.opts.tries_per_point * (path.len() / nv) {
+            if limit.reached().is_some() {
+                return;
+            }
             let n = path.len() / nv;
             if n <= 2 {
                 return;
@@ -177,9 +205,13 @@ impl Simplifier {
         c: &Checker,
         s: &mut CheckScratch,
         rng: &mut Rng,
+        limit: &SearchLimit,
     ) {
         let mut fails = 0;
         while fails < self.opts.tries_per_point * (path.len() / nv) {
+            if limit.reached().is_some() {
+                return;
+            }
             let n = path.len() / nv;
             if n <= 2 {
                 return;

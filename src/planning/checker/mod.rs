@@ -60,7 +60,10 @@
 mod batch;
 mod clusters;
 mod edge;
+mod exact;
 mod motion;
+
+pub use exact::{ExactPairs, ExactScratch};
 
 use crate::model::{Model, WORLD};
 use crate::planning::environment::Environment;
@@ -173,6 +176,8 @@ pub struct CheckScratch {
     pub edges: u64,
     /// Batches of eight configurations checked.
     pub batches: u64,
+    /// The exact stage's buffers, when the checker has one.
+    pub exact: Option<Box<ExactScratch>>,
 }
 
 /// The robot's spheres, the obstacles, the self-collision pairs and the f32 kinematics.
@@ -199,6 +204,8 @@ pub struct Checker {
     /// The AVX2 code runs in its AVX-512 VL instantiation (see [`super::simd`]).
     #[cfg(target_arch = "x86_64")]
     avx512vl: bool,
+    /// Self pairs decided on the exact geometry after this checker's own checks.
+    exact: Option<std::sync::Arc<ExactPairs>>,
 }
 
 impl Checker {
@@ -259,6 +266,7 @@ impl Checker {
             avx2: Avx2::detect(),
             #[cfg(target_arch = "x86_64")]
             avx512vl: avx512vl_detected() && Avx2::detect().is_some(),
+            exact: None,
         }
     }
 
@@ -332,6 +340,7 @@ impl Checker {
             near: vec![false; self.env.len()],
             stack: Vec::with_capacity(256),
             q: vec![L::splat(0.0); self.nv()],
+            exact: self.exact.as_ref().map(|e| Box::new(e.scratch())),
             ..Default::default()
         };
         s.stack.clear();
@@ -347,10 +356,30 @@ impl Checker {
         let (hit, _) = self.dispatch_lanes(&qs, L::splat(0.0), s);
         std::mem::swap(&mut s.q, &mut qs);
         hit == 0
+            && match (&self.exact, s.exact.as_deref_mut()) {
+                (Some(e), Some(es)) => e.config_free(q, es),
+                _ => true,
+            }
     }
 
-    /// Whether the straight edge `a → b` is free, continuously (see the module docs).
+    /// Whether the straight edge `a → b` is free (see the module docs), the exact stage
+    /// included.
     pub fn edge_free(&self, a: &[f32], b: &[f32], mode: EdgeMode, s: &mut CheckScratch) -> bool {
+        self.spheres_edge_free(a, b, mode, s)
+            && match (&self.exact, s.exact.as_deref_mut()) {
+                (Some(e), Some(es)) => e.edge_free(a, b, mode, es),
+                _ => true,
+            }
+    }
+
+    /// Whether the straight edge `a → b` is free on the spheres (see the module docs).
+    fn spheres_edge_free(
+        &self,
+        a: &[f32],
+        b: &[f32],
+        mode: EdgeMode,
+        s: &mut CheckScratch,
+    ) -> bool {
         s.edges += 1;
         #[cfg(target_arch = "x86_64")]
         {
