@@ -374,3 +374,48 @@ fn edges_the_checker_frees_have_no_exact_contact() {
     assert!(free_edges > 50, "{free_edges}");
     assert!(exact_checked > 0, "the exact stage never ran");
 }
+
+/// With the elbow spanning ±2π, the UR5's elbow folded at ±π always collides (checked here
+/// on the exact geometry): a query from elbow 2 rad to 4 rad has no path, and its failure
+/// names the elbow's blocked band instead of only the time limit.
+#[test]
+fn ur5_failure_names_the_folded_elbow_band() {
+    let model = robot("ur5.urdf");
+    let robot = Arc::new(PlanningRobot::new(&model, None, &options(0)).unwrap());
+    let (cm, mut rng) = (robot.exact.as_ref().unwrap(), Rng::new(5));
+    let mut cd = CollisionData::new(&model, cm);
+    let links: Vec<(usize, usize)> = robot
+        .self_pairs
+        .iter()
+        .map(|&(a, b)| (robot.spheres.links[a].link, robot.spheres.links[b].link))
+        .collect();
+    for _ in 0..200 {
+        let mut q: Vec<f64> = (0..model.nv)
+            .map(|k| {
+                let (lo, hi) = bounds(&model, k);
+                lo + (hi - lo) * rng.next_f64()
+            })
+            .collect();
+        q[2] = std::f64::consts::PI;
+        cm.update(&model, &mut cd, &q);
+        assert!(
+            links.iter().any(|&(a, b)| cm.links_collide(&cd, a, b)),
+            "{q:?}"
+        );
+    }
+    let opts = PlanOptions {
+        time_limit: Some(Duration::from_millis(500)),
+        ..options(0)
+    };
+    let mut p = Planner::for_robot(robot, opts);
+    let (a, b) = (
+        [0.0, -1.2, 2.0, -0.8, 1.57, 0.0],
+        [0.0, -1.2, 4.0, -0.8, 1.57, 0.0],
+    );
+    assert!(p.is_free(&a) && p.is_free(&b));
+    let r = p.plan(&a, &b);
+    assert_eq!(r.status, PlanStatus::Failed);
+    let why = r.reason.unwrap();
+    assert!(why.contains("'elbow_joint'"), "{why}");
+    assert!(why.contains("probably no path"), "{why}");
+}

@@ -22,6 +22,7 @@ pub mod simplify;
 pub mod spheres;
 pub mod spherize;
 pub mod srdf;
+pub mod walls;
 
 pub use checker::{CheckOptions, CheckScratch, Checker};
 pub use planner::{PlanOptions, PlanResult, PlanStatus, Planner};

@@ -284,6 +284,9 @@ impl Planner {
                 SearchEnd::Nodes => format!("a tree reached {} nodes", self.rrt.opts.max_nodes),
                 SearchEnd::Interrupted => "interrupted".to_string(),
             });
+            if end != SearchEnd::Interrupted {
+                self.explain_failure(start, goal, &mut res);
+            }
             return res;
         }
         res.cost_initial = path_length(&self.path, nv);
@@ -376,6 +379,31 @@ impl Planner {
         std::mem::swap(&mut self.path, &mut self.spliced);
         self.rrt.iterations = self.rrt.iterations.max(iterations);
         Ok(())
+    }
+
+    /// Adds to a failed query's reason a blocked band of a joint between start and goal,
+    /// if one is found ([`super::walls`]).
+    fn explain_failure(&mut self, start: &[f64], goal: &[f64], res: &mut PlanResult) {
+        let model = &self.robot.model;
+        let wall = super::walls::wall_between(
+            model,
+            &self.checker,
+            &mut self.scratch,
+            start,
+            goal,
+            self.opts.seed,
+        );
+        if let (Some(w), Some(reason)) = (wall, res.reason.as_mut()) {
+            reason.push_str(&format!(
+                "; joint '{}' must pass through [{:.2}, {:.2}] on the way, where none of {} \
+                 random configurations per {} slice is free: probably no path exists",
+                model.dof_joint(w.coordinate).name,
+                w.from,
+                w.to,
+                super::walls::SAMPLES,
+                super::walls::STEP
+            ));
+        }
     }
 
     /// Checks one configuration exactly (true when free).
