@@ -621,3 +621,91 @@ fn workspace_lower_bound_and_adaptive_mode() {
     assert!(lo <= std::f64::consts::PI && std::f64::consts::PI <= hi);
     assert!(v["samples"].as_u64().unwrap() > 4096);
 }
+
+/// Issue 28: the samples and calls a command will make are budgeted before the work
+/// starts (`--force` overrides the sample and call budgets), and the refusal names the
+/// option and the budget.
+#[test]
+fn work_budgets_refuse_before_the_work_starts() {
+    let ur5 = "robots/ur5.urdf";
+    let t0 = std::time::Instant::now();
+    fails_with(
+        &[
+            "workspace",
+            ur5,
+            "--samples",
+            "1000000000000000",
+            "--method",
+            "random",
+        ],
+        "--samples: 1000000000000000 samples would be drawn, more than the budget of 2^32",
+    );
+    fails_with(
+        &[
+            "workspace",
+            ur5,
+            "--samples",
+            "1000",
+            "--replicates",
+            "1000000000",
+        ],
+        "--replicates: 1000000000 replicates is more than the limit of 1024",
+    );
+    fails_with(
+        &[
+            "workspace",
+            ur5,
+            "--target-rel-error",
+            "1e-12",
+            "--max-samples",
+            "18446744073709551615",
+        ],
+        "--max-samples: 18446744073709551615 samples would be drawn",
+    );
+    fails_with(
+        &[
+            "bench",
+            ur5,
+            "--algo",
+            "rnea",
+            "--iters",
+            "1000000000000000",
+        ],
+        "--iters: 1000000000000000 calls is more than the budget of 10^9",
+    );
+    assert!(t0.elapsed().as_secs() < 20, "the refusals did work first");
+}
+
+/// Issue 28: a result that overflows is an error naming the quantity, the joint and the
+/// inputs, never NaN printed with exit 0; large finite results print in `e` notation.
+#[test]
+fn non_finite_dynamics_results_are_errors() {
+    let ur5 = "robots/ur5.urdf";
+    fails_with(
+        &["dynamics", ur5, "--q", "0,0,0,0,0,0", "--v", "1e200,0,0,0,0,0"],
+        "the tau of joint 'shoulder_pan_joint' is not finite (NaN): the inputs overflow floating-point arithmetic (largest |q| 0, |v| 1e200",
+    );
+    fails_with(
+        &[
+            "dynamics",
+            ur5,
+            "--q",
+            "0,0,0,0,0,0",
+            "--tau",
+            "0,0,0,1e308,0,0",
+        ],
+        "is not finite",
+    );
+    let o = armsim(&[
+        "dynamics",
+        ur5,
+        "--q",
+        "0,0,0,0,0,0",
+        "--tau",
+        "1e308,0,0,0,0,0",
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(text.contains("2.974033e307"), "{text}");
+    assert!(text.lines().all(|l| l.len() < 200), "{text}");
+}
