@@ -709,3 +709,65 @@ fn non_finite_dynamics_results_are_errors() {
     assert!(text.contains("2.974033e307"), "{text}");
     assert!(text.lines().all(|l| l.len() < 200), "{text}");
 }
+
+/// Issue 28: messages give the right reason. A quaternion whose squared norm overflows is
+/// scaled first (it is a rotation, not "zero"); a coordinate that moves no mass is named
+/// by its joint, not only by a pivot index.
+#[test]
+fn messages_name_the_joint_and_the_real_reason() {
+    let huge = json(&[
+        "ik",
+        "robots/ur5.urdf",
+        "--link",
+        "tool0",
+        "--target",
+        "0.3,0.2,0.4,1e200,1e200,0,0",
+        "--json",
+    ]);
+    let unit = json(&[
+        "ik",
+        "robots/ur5.urdf",
+        "--link",
+        "tool0",
+        "--target",
+        "0.3,0.2,0.4,1,1,0,0",
+        "--json",
+    ]);
+    let (h, u) = (&huge["results"][0], &unit["results"][0]);
+    assert_eq!(h["status"], "converged", "{huge}");
+    assert_eq!(h["q"], u["q"], "{huge}");
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/planar_2r.toml"),
+    )
+    .unwrap();
+    // The second link without mass or inertia.
+    let k = text.rfind("mass = 1.0").unwrap();
+    let massless = format!(
+        "{}mass = 0.0{}",
+        &text[..k],
+        &text[k + "mass = 1.0".len()..]
+    );
+    let k = massless.rfind("inertia = [").unwrap();
+    let end = k + massless[k..].find('\n').unwrap();
+    let massless = format!(
+        "{}inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]{}",
+        &massless[..k],
+        &massless[end..]
+    );
+    let dir = std::env::temp_dir().join(format!("armsim_massless_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("massless.toml");
+    std::fs::write(&p, massless).unwrap();
+    fails_with(
+        &[
+            "dynamics",
+            p.to_str().unwrap(),
+            "--q",
+            "0,0",
+            "--tau",
+            "1,1",
+        ],
+        "not positive definite at coordinate 1 (joint 'joint2')",
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
