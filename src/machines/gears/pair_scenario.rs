@@ -200,7 +200,7 @@ fn case(
     if planar {
         let spec = planar_spec(&at, p, &kind, &teeth, &common)?;
         let eps = super::pair::pair(&spec).eps_alpha;
-        if !(eps > 0.0) {
+        if eps.is_nan() || eps <= 0.0 {
             let field = if p.rack_withdrawal.is_some() {
                 "rack_withdrawal"
             } else if p.centre_distance.is_some() {
