@@ -8,11 +8,19 @@
 //! line.
 
 use crate::diag::{line_at, LocatedError as ScenarioError};
+use crate::report::fmt_num;
 use crate::trajectory::panels::{render_panels, Panel};
 use serde::de::DeserializeOwned;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
+
+/// The range of a length (any consistent unit).
+pub const LENGTHS: (f64, f64) = (1e-100, 1e100);
+/// The lengths of one mechanism lie within this factor of each other.
+pub const MAX_SCALE_RATIO: f64 = 1e9;
+/// The largest time or velocity ratio.
+pub const MAX_RATIO: f64 = 1e6;
 
 /// Error builder bound to one scenario file.
 pub struct Ctx<'a> {
@@ -87,7 +95,11 @@ impl<'a> Ctx<'a> {
         if x > 0.0 {
             Ok(x)
         } else {
-            Err(self.at(v.span(), key, format!("must be positive, got {x}")))
+            Err(self.at(
+                v.span(),
+                key,
+                format!("must be positive, got {}", fmt_num(x)),
+            ))
         }
     }
 
@@ -97,7 +109,11 @@ impl<'a> Ctx<'a> {
         if x >= 0.0 {
             Ok(x)
         } else {
-            Err(self.at(v.span(), key, format!("must not be negative, got {x}")))
+            Err(self.at(
+                v.span(),
+                key,
+                format!("must not be negative, got {}", fmt_num(x)),
+            ))
         }
     }
 
@@ -116,9 +132,86 @@ impl<'a> Ctx<'a> {
             Err(self.at(
                 v.span(),
                 key,
-                format!("must lie strictly between {lo} and {hi}, got {x}"),
+                format!(
+                    "must lie strictly between {} and {}, got {}",
+                    fmt_num(lo),
+                    fmt_num(hi),
+                    fmt_num(x)
+                ),
             ))
         }
+    }
+
+    /// A length: finite, positive and within [`LENGTHS`] (so that the products and squares
+    /// of a mechanism's lengths stay finite and normal).
+    pub fn length(&self, v: &Spanned<f64>, key: &str) -> Result<f64, ScenarioError> {
+        let x = self.positive(v, key)?;
+        if (LENGTHS.0..=LENGTHS.1).contains(&x) {
+            Ok(x)
+        } else {
+            Err(self.at(
+                v.span(),
+                key,
+                format!(
+                    "{} is out of range: a length lies in {}..{}",
+                    fmt_num(x),
+                    fmt_num(LENGTHS.0),
+                    fmt_num(LENGTHS.1)
+                ),
+            ))
+        }
+    }
+
+    /// A length `x` (at `v`) of the mechanism whose size is `scale` (named `scale_key`): the
+    /// two within [`MAX_SCALE_RATIO`] of each other.
+    pub fn same_scale(
+        &self,
+        v: &Spanned<f64>,
+        key: &str,
+        (scale, scale_key): (f64, &str),
+    ) -> Result<(), ScenarioError> {
+        let x = *v.get_ref();
+        let r = x / scale;
+        if (1.0 / MAX_SCALE_RATIO..=MAX_SCALE_RATIO).contains(&r) {
+            Ok(())
+        } else {
+            Err(self.at(
+                v.span(),
+                key,
+                format!(
+                    "{} is {} times {scale_key} ({}): the lengths of one mechanism lie within a \
+                     factor {} of each other",
+                    fmt_num(x),
+                    fmt_num(r),
+                    fmt_num(scale),
+                    fmt_num(MAX_SCALE_RATIO)
+                ),
+            ))
+        }
+    }
+
+    /// A time or velocity ratio: finite, above 1 (at least 1 when `or_equal`), and at most
+    /// [`MAX_RATIO`] (beyond it the mechanism is a limit position, not a mechanism).
+    pub fn ratio(&self, v: &Spanned<f64>, key: &str, or_equal: bool) -> Result<f64, ScenarioError> {
+        let k = self.finite(v, key)?;
+        let low = if or_equal { k < 1.0 } else { k <= 1.0 };
+        if low {
+            let bound = if or_equal { "be at least" } else { "exceed" };
+            return Err(self.at(v.span(), key, format!("must {bound} 1, got {}", fmt_num(k))));
+        }
+        if k > MAX_RATIO {
+            return Err(self.at(
+                v.span(),
+                key,
+                format!(
+                    "{} is out of range: at most {:e} (a larger ratio leaves the quick stroke \
+                     less than 4e-4° of the crank's turn)",
+                    fmt_num(k),
+                    MAX_RATIO
+                ),
+            ));
+        }
+        Ok(k)
     }
 
     /// An optional number `> 0` (`None` when absent).

@@ -712,6 +712,30 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
     ),
     ("arm_empty.toml", 1, "file", "the file is empty"),
     (
+        "arm_dt_over_budget.toml",
+        15,
+        "simulation.dt",
+        "at least 5e11 steps (0.5 s at simulation.dt = 1e-12 s), more than the budget of 5e7",
+    ),
+    (
+        "arm_dwell_over_budget.toml",
+        15,
+        "task.steps[1]",
+        "this step lasts 1e12 s: the torque and limit checks would take 1.0000000000004905e15 samples",
+    ),
+    (
+        "arm_check_dt_over_budget.toml",
+        16,
+        "trajectory.check_dt",
+        "samples of trajectory.check_dt = 1e-12 s over the 0.408248290463863 s motion, more than the budget of 1e7",
+    ),
+    (
+        "arm_collision_max_step.toml",
+        15,
+        "collision.max_step",
+        "does not apply: the collision check no longer steps",
+    ),
+    (
         "arm_initial_outside_limits.toml",
         8,
         "initial.q",

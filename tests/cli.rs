@@ -621,3 +621,153 @@ fn workspace_lower_bound_and_adaptive_mode() {
     assert!(lo <= std::f64::consts::PI && std::f64::consts::PI <= hi);
     assert!(v["samples"].as_u64().unwrap() > 4096);
 }
+
+/// Issue 28: the samples and calls a command will make are budgeted before the work
+/// starts (`--force` overrides the sample and call budgets), and the refusal names the
+/// option and the budget.
+#[test]
+fn work_budgets_refuse_before_the_work_starts() {
+    let ur5 = "robots/ur5.urdf";
+    let t0 = std::time::Instant::now();
+    fails_with(
+        &[
+            "workspace",
+            ur5,
+            "--samples",
+            "1000000000000000",
+            "--method",
+            "random",
+        ],
+        "--samples: 1000000000000000 samples would be drawn, more than the budget of 2^32",
+    );
+    fails_with(
+        &[
+            "workspace",
+            ur5,
+            "--samples",
+            "1000",
+            "--replicates",
+            "1000000000",
+        ],
+        "--replicates: 1000000000 replicates is more than the limit of 1024",
+    );
+    fails_with(
+        &[
+            "workspace",
+            ur5,
+            "--target-rel-error",
+            "1e-12",
+            "--max-samples",
+            "18446744073709551615",
+        ],
+        "--max-samples: 18446744073709551615 samples would be drawn",
+    );
+    fails_with(
+        &[
+            "bench",
+            ur5,
+            "--algo",
+            "rnea",
+            "--iters",
+            "1000000000000000",
+        ],
+        "--iters: 1000000000000000 calls is more than the budget of 10^9",
+    );
+    assert!(t0.elapsed().as_secs() < 20, "the refusals did work first");
+}
+
+/// Issue 28: a result that overflows is an error naming the quantity, the joint and the
+/// inputs, never NaN printed with exit 0; large finite results print in `e` notation.
+#[test]
+fn non_finite_dynamics_results_are_errors() {
+    let ur5 = "robots/ur5.urdf";
+    fails_with(
+        &["dynamics", ur5, "--q", "0,0,0,0,0,0", "--v", "1e200,0,0,0,0,0"],
+        "the tau of joint 'shoulder_pan_joint' is not finite (NaN): the inputs overflow floating-point arithmetic (largest |q| 0, |v| 1e200",
+    );
+    fails_with(
+        &[
+            "dynamics",
+            ur5,
+            "--q",
+            "0,0,0,0,0,0",
+            "--tau",
+            "0,0,0,1e308,0,0",
+        ],
+        "is not finite",
+    );
+    let o = armsim(&[
+        "dynamics",
+        ur5,
+        "--q",
+        "0,0,0,0,0,0",
+        "--tau",
+        "1e308,0,0,0,0,0",
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(text.contains("2.974033e307"), "{text}");
+    assert!(text.lines().all(|l| l.len() < 200), "{text}");
+}
+
+/// Issue 28: messages give the right reason. A quaternion whose squared norm overflows is
+/// scaled first (it is a rotation, not "zero"); a coordinate that moves no mass is named
+/// by its joint, not only by a pivot index.
+#[test]
+fn messages_name_the_joint_and_the_real_reason() {
+    let huge = json(&[
+        "ik",
+        "robots/ur5.urdf",
+        "--link",
+        "tool0",
+        "--target",
+        "0.3,0.2,0.4,1e200,1e200,0,0",
+        "--json",
+    ]);
+    let unit = json(&[
+        "ik",
+        "robots/ur5.urdf",
+        "--link",
+        "tool0",
+        "--target",
+        "0.3,0.2,0.4,1,1,0,0",
+        "--json",
+    ]);
+    let (h, u) = (&huge["results"][0], &unit["results"][0]);
+    assert_eq!(h["status"], "converged", "{huge}");
+    assert_eq!(h["q"], u["q"], "{huge}");
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/planar_2r.toml"),
+    )
+    .unwrap();
+    // The second link without mass or inertia.
+    let k = text.rfind("mass = 1.0").unwrap();
+    let massless = format!(
+        "{}mass = 0.0{}",
+        &text[..k],
+        &text[k + "mass = 1.0".len()..]
+    );
+    let k = massless.rfind("inertia = [").unwrap();
+    let end = k + massless[k..].find('\n').unwrap();
+    let massless = format!(
+        "{}inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]{}",
+        &massless[..k],
+        &massless[end..]
+    );
+    let dir = std::env::temp_dir().join(format!("armsim_massless_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("massless.toml");
+    std::fs::write(&p, massless).unwrap();
+    fails_with(
+        &[
+            "dynamics",
+            p.to_str().unwrap(),
+            "--q",
+            "0,0",
+            "--tau",
+            "1,1",
+        ],
+        "not positive definite at coordinate 1 (joint 'joint2')",
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

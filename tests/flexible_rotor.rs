@@ -267,3 +267,31 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
 fn broken_flexible_rotor_scenarios_give_located_errors() {
     common::assert_broken_scenarios("flexible_rotor_", BROKEN, common::CheckSays::SameKey);
 }
+
+/// Issue 28: a response speed exactly at a critical speed gives the documented
+/// `"critical": true` row (with the mode), never a null amplification.
+#[test]
+fn response_at_a_critical_speed_is_marked_critical() {
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let src = root.join("scenarios/flexible_rotor_disc_overhang.toml");
+    let first = armsim::scenario::run_file(&src).unwrap();
+    let rpm = first.json["modes"][0]["rpm"].as_f64().unwrap();
+    let text = std::fs::read_to_string(&src).unwrap();
+    let line = text.lines().find(|l| l.starts_with("speeds_rpm")).unwrap();
+    let text = text.replace(line, &format!("speeds_rpm = [1000.0, {rpm:?}]"));
+    let dir = std::env::temp_dir().join(format!("armsim_critical_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("critical.toml");
+    std::fs::write(&p, text).unwrap();
+    let r = armsim::scenario::run_file(&p).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    let rows = r.json["response"].as_array().unwrap();
+    assert!(rows[0]["amplification"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|a| a.is_f64()));
+    assert_eq!(rows[1]["critical"], true, "{}", rows[1]);
+    assert_eq!(rows[1]["critical_mode"], 1, "{}", rows[1]);
+    assert!(rows[1].get("amplification").is_none(), "{}", rows[1]);
+}

@@ -261,6 +261,24 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "together",
     ),
     (
+        "friction_key_not_for_element.toml",
+        10,
+        "element[0].slide",
+        "does not apply to an element of type 'incline' (it reads load, angle_deg, friction)",
+    ),
+    (
+        "friction_nan_groove_angle.toml",
+        7,
+        "element[0].groove_angle_deg",
+        "must be in [0, 89], got NaN",
+    ),
+    (
+        "friction_infinite_rolling_arm.toml",
+        8,
+        "element[0].rolling_arms",
+        "must be in [0, 1], got -inf",
+    ),
+    (
         "friction_bad_slide.toml",
         6,
         "element[0].slide",

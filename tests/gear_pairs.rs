@@ -483,6 +483,18 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "unknown pair type 'hypoid'",
     ),
     (
+        "gear_pair_tips_do_not_reach.toml",
+        9,
+        "pair[0].rack_withdrawal",
+        "the tips do not reach each other: the transverse contact ratio would be -0.353472",
+    ),
+    (
+        "gear_pair_crossed_find_helix.toml",
+        10,
+        "pair[0].find_helix_angle",
+        "is not used by pairs of type 'crossed'",
+    ),
+    (
         "gear_pair_key_not_used.toml",
         7,
         "pair[0].diameter_factor",
@@ -535,4 +547,28 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
 #[test]
 fn broken_gear_pair_scenarios_give_located_errors() {
     common::assert_broken_scenarios("gear_pair_", BROKEN, common::CheckSays::Refuses);
+}
+
+/// Issue 28: a contact ratio below 1 (the drive is not continuous) is a warning in the
+/// text and the JSON; at or above 1 there is none.
+#[test]
+fn contact_ratio_below_one_is_warned() {
+    let dir = std::env::temp_dir().join(format!("armsim_eps_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("rack.toml");
+    let text = "kind = \"gear_pair\"\nmodule = 14\n\n[[pair]]\ntype = \"rack\"\nteeth = [20]\n\n[[pair]]\ntype = \"rack\"\nteeth = [20]\nrack_withdrawal = 12\n";
+    std::fs::write(&p, text).unwrap();
+    let r = armsim::scenario::run_file(&p).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(r.json["pairs"][0].get("warnings").is_none(), "{}", r.json);
+    let w = &r.json["pairs"][1]["warnings"][0];
+    assert!(
+        w.as_str().unwrap().contains("contact ratio is below 1"),
+        "{w}"
+    );
+    assert!(
+        r.text.contains("warning: the contact ratio is below 1"),
+        "{}",
+        r.text
+    );
 }

@@ -1444,6 +1444,24 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "needs friction_coefficient",
     ),
     (
+        "linkage_report_point_far_away.toml",
+        36,
+        "sweep.report_at_deg[1]",
+        "-1e308° lies 1e308° outside the sweep (0° to 360°): reporting there would track more than 100000 steps",
+    ),
+    (
+        "linkage_link_length_out_of_range.toml",
+        17,
+        "links.BC.length",
+        "1e-300 is out of range: a length lies in 1e-100..1e100",
+    ),
+    (
+        "linkage_link_length_out_of_scale.toml",
+        18,
+        "links.BC.length",
+        "1e-12 is 5e-12 times the mechanism's size (0.2, its largest length or coordinate)",
+    ),
+    (
         "linkage_negative_pin_radius.toml",
         38,
         "kinetostatics.pin_radius",

@@ -326,6 +326,24 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "between 0 and 1",
     ),
     (
+        "synthesis_frame_out_of_range.toml",
+        8,
+        "crank_rocker.frame",
+        "1e308 is out of range: a length lies in 1e-100..1e100",
+    ),
+    (
+        "synthesis_time_ratio_out_of_range.toml",
+        7,
+        "slider_crank.time_ratio",
+        "1e308 is out of range: at most 1e6",
+    ),
+    (
+        "synthesis_rod_ratio_tiny.toml",
+        8,
+        "slider_crank.rod_ratio",
+        "1e-300 is out of range: the crank and the rod",
+    ),
+    (
         "synthesis_rod_too_short.toml",
         3,
         "shaper",

@@ -72,7 +72,7 @@ pub fn rnea<'py>(
         vector(v, "v", m.nv)?,
         vector(a, "a", m.nv)?,
     );
-    let tau = dyn_calls::rnea(m, &mut data.data, q.slice(), v.slice(), a.slice());
+    let tau = dyn_calls::rnea(m, &mut data.data, q.slice(), v.slice(), a.slice()).map_err(err)?;
     Ok(PyArray1::from_slice(py, tau))
 }
 
@@ -125,7 +125,7 @@ pub fn compute_generalized_gravity<'py>(
     let q = vector(q, "q", m.nv)?;
     Ok(PyArray1::from_slice(
         py,
-        dyn_calls::gravity(m, &mut data.data, q.slice()),
+        dyn_calls::gravity(m, &mut data.data, q.slice()).map_err(err)?,
     ))
 }
 
@@ -141,6 +141,6 @@ pub fn nonlinear_effects<'py>(
     data.check_model(model)?;
     let m = &*model.model;
     let (q, v) = (vector(q, "q", m.nv)?, vector(v, "v", m.nv)?);
-    let h = dyn_calls::nonlinear_effects(m, &mut data.data, q.slice(), v.slice());
+    let h = dyn_calls::nonlinear_effects(m, &mut data.data, q.slice(), v.slice()).map_err(err)?;
     Ok(PyArray1::from_slice(py, h))
 }

@@ -78,7 +78,8 @@ pub fn rnea_batch<'py>(
         .detach(|| {
             par_rows(m, n, nv, |d, i, row| {
                 let s = i * nv..(i + 1) * nv;
-                let t = dyn_calls::rnea(m, d, &qs[s.clone()], &vs[s.clone()], &as_[s]);
+                let t = dyn_calls::rnea(m, d, &qs[s.clone()], &vs[s.clone()], &as_[s])
+                    .map_err(|e| format!("row {i}: {e}"))?;
                 row.copy_from_slice(t);
                 Ok(())
             })
@@ -129,7 +130,9 @@ pub fn gravity_batch<'py>(
     let out = py
         .detach(|| {
             par_rows(m, n, nv, |d, i, row| {
-                row.copy_from_slice(dyn_calls::gravity(m, d, &qs[i * nv..(i + 1) * nv]));
+                let g = dyn_calls::gravity(m, d, &qs[i * nv..(i + 1) * nv])
+                    .map_err(|e| format!("row {i}: {e}"))?;
+                row.copy_from_slice(g);
                 Ok(())
             })
         })

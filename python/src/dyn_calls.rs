@@ -1,23 +1,70 @@
 //! Every call from the bindings into `armsim::dynamics`, in one place (the dynamics take
 //! gravity from `model.gravity`; a change of those signatures touches only this file).
+//! A result that is not finite (inputs that overflow, e.g. `v = 1e200`) is an error
+//! naming the quantity, the joint and the largest inputs, never a NaN returned.
 
 use armsim::dynamics::{self, SingularMassMatrix};
 use armsim::nalgebra::DMatrix;
 use armsim::{Data, Model};
 
+/// `Ok(out)` when every value is finite, else an error naming `what`, the joint and the
+/// largest magnitude of each input.
+fn finite<'a>(
+    m: &Model,
+    what: &str,
+    out: &'a [f64],
+    inputs: &[(&str, &[f64])],
+) -> Result<&'a [f64], String> {
+    let Some(k) = out.iter().position(|x| !x.is_finite()) else {
+        return Ok(out);
+    };
+    let names = m.dof_names();
+    let at = match names.get(k) {
+        Some(n) if out.len() == names.len() => format!(" of joint '{n}'"),
+        _ => format!(" (entry {k})"),
+    };
+    let largest: Vec<String> = inputs
+        .iter()
+        .map(|(n, x)| {
+            let big = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            format!("|{n}| {}", armsim::report::fmt_num(big))
+        })
+        .collect();
+    Err(format!(
+        "{what}{at} is not finite ({}): the inputs overflow floating-point arithmetic \
+         (largest {})",
+        out[k],
+        largest.join(", ")
+    ))
+}
+
 /// Inverse dynamics `τ = M(q) a + C(q, v) v + g(q)`.
-pub fn rnea<'a>(m: &Model, d: &'a mut Data, q: &[f64], v: &[f64], a: &[f64]) -> &'a [f64] {
-    dynamics::rnea(m, d, q, v, a)
+pub fn rnea<'a>(
+    m: &Model,
+    d: &'a mut Data,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> Result<&'a [f64], String> {
+    let tau = dynamics::rnea(m, d, q, v, a);
+    finite(m, "tau", tau, &[("q", q), ("v", v), ("a", a)])
 }
 
 /// Generalised gravity `g(q)`.
-pub fn gravity<'a>(m: &Model, d: &'a mut Data, q: &[f64]) -> &'a [f64] {
-    dynamics::gravity_torque(m, d, q)
+pub fn gravity<'a>(m: &Model, d: &'a mut Data, q: &[f64]) -> Result<&'a [f64], String> {
+    let g = dynamics::gravity_torque(m, d, q);
+    finite(m, "the gravity torque", g, &[("q", q)])
 }
 
 /// Nonlinear effects `h(q, v) = C(q, v) v + g(q)`.
-pub fn nonlinear_effects<'a>(m: &Model, d: &'a mut Data, q: &[f64], v: &[f64]) -> &'a [f64] {
-    dynamics::bias(m, d, q, v)
+pub fn nonlinear_effects<'a>(
+    m: &Model,
+    d: &'a mut Data,
+    q: &[f64],
+    v: &[f64],
+) -> Result<&'a [f64], String> {
+    let h = dynamics::bias(m, d, q, v);
+    finite(m, "the nonlinear effects", h, &[("q", q), ("v", v)])
 }
 
 /// Forward dynamics `q̈` (ABA; CRBA + Cholesky with mimic joints).

@@ -83,3 +83,17 @@ def test_bad_frame_reference_target_and_data_are_refused(ur5):
         am.Robot(m).ik(np.eye(4), "tool0", tolerance=1e-3)
     with pytest.raises(am.ArmsimError, match="expected a 1-D sequence"):
         am.rnea(m, d, "abc", np.zeros(6), np.zeros(6))
+
+
+def test_overflowing_dynamics_raise_naming_the_quantity(ur5):
+    """Issue 28: a result that is not finite raises (ValueError), naming the quantity,
+    the joint and the inputs, instead of returning NaN."""
+    m, d = ur5
+    q, v = np.zeros(m.nv), np.zeros(m.nv)
+    v[0] = 1e200
+    with pytest.raises(ValueError, match=r"tau of joint 'shoulder_pan_joint' is not finite.*\|v\| 1e200"):
+        am.rnea(m, d, q, v, np.zeros(m.nv))
+    with pytest.raises(ValueError, match="the nonlinear effects of joint"):
+        am.nonlinear_effects(m, d, q, v)
+    with pytest.raises(ValueError, match=r"row 0: tau of joint"):
+        am.rnea_batch(m, q[None, :], v[None, :], np.zeros((1, m.nv)))

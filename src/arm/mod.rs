@@ -7,6 +7,7 @@
 //! - [`schema`]: the file's serde structures (unknown keys refused);
 //! - [`scene`]: validation into a [`scene::Scene`] (errors name the file, line and key);
 //! - [`plan`]: the task as one timed trajectory;
+//! - [`budget`]: the work budgets of a run (steps and samples), checked before the work;
 //! - [`planned`]: the RRT-Connect planners of a scene and smooth planned paths;
 //! - [`checks`]: the collision check with the grasped part, the planned tool path;
 //! - [`contact`]: the rapier3d contact scene, built only for the `contact` effect;
@@ -14,6 +15,7 @@
 //! - [`plots`]: the simulation plot;
 //! - `topp_bench`: the hidden `ARMSIM_TOPP_DUMP` hook of `tools/bench_topp.py`.
 
+pub mod budget;
 pub mod checks;
 pub mod contact;
 pub mod plan;

@@ -202,7 +202,7 @@ pub struct CollisionSec {
     pub convex_hulls: bool,
     /// Give links whose meshes are missing capsules of this radius along their bones.
     pub skeleton_radius: Option<Spanned<f64>>,
-    /// Joint step between checked configurations (rad or m).
+    /// No longer used (the certificate replaced the stepped check): refused with a message.
     pub max_step: Option<Spanned<f64>>,
 }
 

@@ -6,6 +6,7 @@ use super::{link_id, load, parse_values, print_json, rows, ModelArgs};
 use armsim::data::Data;
 use armsim::dynamics::{self, Effects, Friction, Payload, Rotor};
 use armsim::model::Model;
+use armsim::report::fmt_num;
 use armsim::spatial::{Inertia, Mat3, Vec3};
 use clap::ValueEnum;
 use serde_json::json;
@@ -139,13 +140,33 @@ fn dynamics_cmd(model: &Model, q: &str, o: &DynamicsArgs, as_json: bool) -> Resu
         dynamics::inverse_dynamics(model, &mut data, &static_effects, &q, &zeros, &zeros).to_vec();
     let mass = dynamics::mass_matrix(model, &mut data, &effects, &q).clone();
     let (ke, pe) = dynamics::energies_with(model, &mut data, &effects, &q, &v);
+    let inputs = Inputs {
+        model,
+        q: &q,
+        v: &v,
+        a: &a,
+        tau: tau_in.as_deref(),
+    };
+    inputs.finite("tau", &tau)?;
+    inputs.finite("bias", &bias)?;
+    inputs.finite("gravity torque", &gravity_tau)?;
+    inputs.finite("mass matrix", mass.as_slice())?;
+    inputs.finite("kinetic and potential energy", &[ke, pe])?;
     let qdd = match &tau_in {
         None => None,
-        Some(t) => Some(
-            dynamics::forward_dynamics_with(model, &mut data, &effects, &q, &v, t)
-                .map_err(|e| format!("{}: forward dynamics: {e}", model.source))?
-                .to_vec(),
-        ),
+        Some(t) => {
+            let qdd = dynamics::forward_dynamics_with(model, &mut data, &effects, &q, &v, t)
+                .map(|x| x.to_vec());
+            let finite = qdd.as_ref().is_ok_and(|x| x.iter().all(|v| v.is_finite()));
+            if !finite && mass.clone().cholesky().is_some() {
+                // The mass matrix is fine: the accelerations overflowed.
+                match &qdd {
+                    Ok(x) => inputs.finite("qdd", x)?,
+                    Err(_) => inputs.finite("qdd", &[f64::NAN])?,
+                }
+            }
+            Some(qdd.map_err(|e| format!("{}: forward dynamics: {e}", model.source))?)
+        }
     };
     let method = match o.method {
         MethodArg::Rnea => "rnea",
@@ -185,6 +206,54 @@ fn dynamics_cmd(model: &Model, q: &str, o: &DynamicsArgs, as_json: bool) -> Resu
         },
     );
     Ok(())
+}
+
+/// The state a command was given, for the message when a result is not finite.
+struct Inputs<'a> {
+    model: &'a Model,
+    q: &'a [f64],
+    v: &'a [f64],
+    a: &'a [f64],
+    tau: Option<&'a [f64]>,
+}
+
+impl Inputs<'_> {
+    /// `Ok` when every value of `what` is finite, else an error naming the quantity (and
+    /// its joint) and the largest input magnitudes, which overflowed the arithmetic.
+    fn finite(&self, what: &str, vals: &[f64]) -> Result<(), String> {
+        let Some(k) = vals.iter().position(|x| !x.is_finite()) else {
+            return Ok(());
+        };
+        let names = self.model.dof_names();
+        let at = match names.get(k) {
+            Some(n) if vals.len() == names.len() => format!(" of joint '{n}'"),
+            _ => String::new(),
+        };
+        let max = |x: &[f64]| fmt_num(x.iter().fold(0.0f64, |m, v| m.max(v.abs())));
+        let mass = self.model.inertia.iter().fold(0.0f64, |m, i| m.max(i.mass));
+        let tau = self
+            .tau
+            .map_or(String::new(), |t| format!(", |tau| {}", max(t)));
+        Err(format!(
+            "{}: the {what}{at} is not finite ({}): the inputs overflow floating-point \
+             arithmetic (largest |q| {}, |v| {}, |a| {}{tau}; largest link mass {} kg)",
+            self.model.source,
+            fmt_num(vals[k]),
+            max(self.q),
+            max(self.v),
+            max(self.a),
+            fmt_num(mass)
+        ))
+    }
+}
+
+/// A table cell: fixed with 6 decimals, `e` notation beyond 1e9 (no 300-digit numbers).
+fn cell(x: f64, width: usize) -> String {
+    if x.abs() < 1e9 {
+        format!("{x:>width$.6}")
+    } else {
+        format!("{x:>width$.6e}")
+    }
 }
 
 /// The effects the options name (gravity always; friction, rotor and payload on request),
@@ -243,22 +312,29 @@ fn print_text(model: &Model, r: &Results) {
     );
     for (k, name) in model.dof_names().iter().enumerate() {
         print!(
-            "{:<24} {:>14.6} {:>14.6} {:>14.6}",
-            name, r.tau[k], r.bias[k], r.gravity_tau[k]
+            "{:<24} {} {} {}",
+            name,
+            cell(r.tau[k], 14),
+            cell(r.bias[k], 14),
+            cell(r.gravity_tau[k], 14)
         );
         if let Some(qdd) = r.qdd {
-            print!(" {:>14.6}", qdd[k]);
+            print!(" {}", cell(qdd[k], 14));
         }
         println!();
     }
     let (ke, pe) = r.energies;
-    println!("kinetic energy {ke:.6} J, potential energy {pe:.6} J");
+    println!(
+        "kinetic energy {} J, potential energy {} J",
+        cell(ke, 0),
+        cell(pe, 0)
+    );
     println!("mass matrix:");
     for i in 0..model.nv {
         println!(
             "  {}",
             (0..model.nv)
-                .map(|c| format!("{:>11.6}", r.mass[(i, c)]))
+                .map(|c| cell(r.mass[(i, c)], 11))
                 .collect::<Vec<_>>()
                 .join(" ")
         );

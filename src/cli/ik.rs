@@ -71,9 +71,18 @@ fn parse_pose(s: &str, position_only: bool, what: &str) -> Result<Se3, String> {
             ))
         }
     };
-    let quat = nalgebra::Quaternion::new(v[3], v[4], v[5], v[6]);
-    if quat.norm() < 1e-9 {
+    // Scale by the largest component before the norm: [1e200, 1e200, 0, 0] overflows
+    // the sum of squares but is a fine rotation.
+    let big = v[3..7].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if big == 0.0 {
         return Err(format!("{what}: the quaternion is zero"));
+    }
+    let quat = nalgebra::Quaternion::new(v[3] / big, v[4] / big, v[5] / big, v[6] / big);
+    if quat.norm() * big < 1e-9 {
+        return Err(format!(
+            "{what}: the quaternion's norm {} is too small to give a rotation",
+            armsim::report::fmt_num(quat.norm() * big)
+        ));
     }
     let r = nalgebra::UnitQuaternion::from_quaternion(quat).to_rotation_matrix();
     Ok(Se3::new(*r.matrix(), p))

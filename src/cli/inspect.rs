@@ -47,10 +47,16 @@ pub struct BenchArgs {
     /// Algorithm to time.
     #[arg(long, value_enum)]
     pub algo: AlgoArg,
-    /// Number of timed calls.
+    /// Number of timed calls (at most 10^9 without --force).
     #[arg(long, default_value_t = 220_000)]
     pub iters: usize,
+    /// Run even when --iters exceeds the budget of 10^9 calls.
+    #[arg(long)]
+    pub force: bool,
 }
+
+/// The most timed calls `bench` makes without `--force`.
+pub const MAX_BENCH_ITERS: usize = 1_000_000_000;
 
 #[derive(clap::Args)]
 pub struct ChainArgs {
@@ -102,6 +108,12 @@ pub fn jacobian_cmd(a: &JacobianArgs) -> Result<(), String> {
 
 /// `armsim bench`.
 pub fn bench_run(a: &BenchArgs) -> Result<(), String> {
+    if a.iters > MAX_BENCH_ITERS && !a.force {
+        return Err(format!(
+            "--iters: {} calls is more than the budget of 10^9: lower it, or pass --force to run it",
+            a.iters
+        ));
+    }
     bench_cmd(&load(&a.m)?, a.algo, a.iters, a.m.json)
 }
 

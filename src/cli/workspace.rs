@@ -38,6 +38,9 @@ pub struct WorkspaceArgs {
     /// Seed.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Run even when the samples drawn exceed the work budget (2^32 samples).
+    #[arg(long)]
+    pub force: bool,
     /// Also manipulability, condition number and dexterity per voxel.
     #[arg(long)]
     pub extras: bool,
@@ -80,6 +83,7 @@ pub fn run(a: &WorkspaceArgs) -> Result<(), String> {
                 .into(),
         );
     }
+    check_budget(a)?;
     let sampling: Sampling = method.parse().map_err(|e| format!("--method: {e}"))?;
     let opts = WorkspaceOptions {
         samples,
@@ -213,6 +217,38 @@ fn workspace_rerun(
     let report = rerun_out::log_workspace_scene(model, r, &sink).map_err(|e| e.to_string())?;
     for w in &report.warnings {
         eprintln!("warning: {w}");
+    }
+    Ok(())
+}
+
+/// The most samples a workspace run draws without `--force`.
+pub const MAX_SAMPLES: u64 = 1 << 32;
+/// The most replicates (each keeps its own voxel grid in memory).
+pub const MAX_REPLICATES: usize = 1024;
+
+/// Refuses, before sampling, a run that would draw more than [`MAX_SAMPLES`] samples
+/// (each replicate draws at least one; adaptive mode may go up to `--max-samples`) unless
+/// `--force`, or that asks for more than [`MAX_REPLICATES`] replicates.
+fn check_budget(a: &WorkspaceArgs) -> Result<(), String> {
+    if a.replicates > MAX_REPLICATES {
+        return Err(format!(
+            "--replicates: {} replicates is more than the limit of {MAX_REPLICATES} (each keeps \
+             its own voxel grid; 8 to 32 give a standard error)",
+            a.replicates
+        ));
+    }
+    let r = a.replicates as u64;
+    let (key, drawn) = match a.target_rel_error {
+        None => ("--samples", a.samples.max(r)),
+        Some(_) => ("--max-samples", a.max_samples.max(a.samples).max(r)),
+    };
+    if drawn > MAX_SAMPLES && !a.force {
+        return Err(format!(
+            "{key}: {} samples would be drawn, more than the budget of 2^32 = {MAX_SAMPLES} \
+             (at about 10^7 samples per second, {} s): lower it, or pass --force to run it",
+            a.samples.max(drawn),
+            armsim::report::fmt_num((drawn as f64 / 1e7).round())
+        ));
     }
     Ok(())
 }

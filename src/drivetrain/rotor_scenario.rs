@@ -406,8 +406,21 @@ fn unbalance_rows(
     let mut rows = Vec::new();
     let mut peak = Vec::new();
     for &w in &sc.speeds {
-        let Some((x, amp)) = unbalance_response(&sc.rotor, sc.elements, w) else {
-            rows.push(json!({ "speed_rpm": w * 30.0 / PI, "critical": true }));
+        // At a mode's critical speed (to rounding) the amplification is unbounded: the
+        // row says `critical`, as where the solve is singular, never a null amplification.
+        let modal: Vec<f64> = fe.iter().map(|m| modal_amplification(m.omega, w)).collect();
+        let at_mode = fe
+            .iter()
+            .zip(&modal)
+            .position(|(m, a)| !a.is_finite() || (m.omega - w).abs() <= 1e-9 * m.omega);
+        let response = unbalance_response(&sc.rotor, sc.elements, w)
+            .filter(|(_, amp)| amp.iter().all(|a| a.is_finite()));
+        let (Some((x, amp)), None) = (response, at_mode) else {
+            let mut row = json!({ "speed_rpm": w * 30.0 / PI, "critical": true });
+            if let Some(k) = at_mode {
+                row["critical_mode"] = json!(k + 1);
+            }
+            rows.push(row);
             continue;
         };
         let at_discs: Vec<f64> = sc
@@ -426,8 +439,10 @@ fn unbalance_rows(
             .collect();
         let maxa = amp.iter().fold(0.0f64, |m, v| m.max(*v));
         peak.push((w * 30.0 / PI, maxa));
-        rows.push(json!({ "speed_rpm": w * 30.0 / PI, "max_amplitude": maxa, "at_discs": at_discs,
-                          "amplification": fe.iter().map(|m| modal_amplification(m.omega, w)).collect::<Vec<_>>() }));
+        rows.push(
+            json!({ "speed_rpm": w * 30.0 / PI, "max_amplitude": maxa, "at_discs": at_discs,
+                          "amplification": modal }),
+        );
     }
     writeln!(
         text,

@@ -158,7 +158,21 @@ pub(crate) fn forward<'a>(
     }
     data.scratch_tau = net;
     // The one NaN policy.
-    solved.and_then(|()| all_finite(&data.qdd))?;
+    if let Err(mut e) = solved.and_then(|()| all_finite(&data.qdd)) {
+        let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
+        if !(finite(tau) && finite(qd) && finite(q)) {
+            e.inputs_overflow = true;
+        } else if e.value == 0.0 {
+            // A non-finite q̈ (ABA): the mass matrix's own pivot names the coordinate
+            // without mass; when it factors, the inputs overflowed.
+            match mass_factors(model, data, q, payload) {
+                Ok(()) => e.inputs_overflow = true,
+                Err(c) => e = c,
+            }
+        }
+        e.joint = model.dof_names().get(e.pivot).cloned().unwrap_or_default();
+        return Err(e);
+    }
     Ok(&data.qdd)
 }
 
@@ -194,10 +208,23 @@ fn crba_solve(
     Ok(())
 }
 
+/// Whether the mass matrix at `q` (with the payload, without armature) factors: when it
+/// does, a non-finite `q̈` comes from the inputs, not from a coordinate without mass;
+/// when not, the failing pivot.
+fn mass_factors(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    payload: Option<(usize, &crate::spatial::InertiaO)>,
+) -> Result<(), SingularMassMatrix> {
+    let mut m = crba_impl(model, data, q, payload).clone();
+    cholesky_in_place(&mut m)
+}
+
 /// `Ok` when every entry of `qdd` is finite, else the first bad coordinate (value 0).
 fn all_finite(qdd: &[f64]) -> Result<(), SingularMassMatrix> {
     match qdd.iter().position(|x| !x.is_finite()) {
         None => Ok(()),
-        Some(pivot) => Err(SingularMassMatrix { pivot, value: 0.0 }),
+        Some(pivot) => Err(SingularMassMatrix::at(pivot, 0.0)),
     }
 }

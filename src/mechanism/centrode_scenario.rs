@@ -103,11 +103,20 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
                     ))
                 }
             };
+            let frame = ctx.length(&fb.frame, "four_bar.frame")?;
+            for (v, k) in [
+                (&fb.crank, "four_bar.crank"),
+                (&fb.coupler, "four_bar.coupler"),
+                (&fb.rocker, "four_bar.rocker"),
+            ] {
+                ctx.length(v, k)?;
+                ctx.same_scale(v, k, (frame, "four_bar.frame"))?;
+            }
             Some((
-                ctx.positive(&fb.frame, "four_bar.frame")?,
-                ctx.positive(&fb.crank, "four_bar.crank")?,
-                ctx.positive(&fb.coupler, "four_bar.coupler")?,
-                ctx.positive(&fb.rocker, "four_bar.rocker")?,
+                frame,
+                *fb.crank.get_ref(),
+                *fb.coupler.get_ref(),
+                *fb.rocker.get_ref(),
                 mode,
                 fb.start_deg
                     .as_ref()
@@ -121,8 +130,16 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     let slider_crank = match &f.slider_crank {
         None => None,
         Some(s) => Some((
-            ctx.positive(&s.crank, "slider_crank.crank")?,
-            ctx.positive(&s.rod, "slider_crank.rod")?,
+            ctx.length(&s.crank, "slider_crank.crank")?,
+            {
+                let rod = ctx.length(&s.rod, "slider_crank.rod")?;
+                ctx.same_scale(
+                    &s.rod,
+                    "slider_crank.rod",
+                    (*s.crank.get_ref(), "slider_crank.crank"),
+                )?;
+                rod
+            },
             s.offset
                 .as_ref()
                 .map(|o| ctx.finite(o, "slider_crank.offset"))
@@ -139,8 +156,16 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     let slotted_lever = match &f.slotted_lever {
         None => None,
         Some(s) => Some((
-            ctx.positive(&s.frame, "slotted_lever.frame")?,
-            ctx.positive(&s.crank, "slotted_lever.crank")?,
+            ctx.length(&s.frame, "slotted_lever.frame")?,
+            {
+                let crank = ctx.length(&s.crank, "slotted_lever.crank")?;
+                ctx.same_scale(
+                    &s.crank,
+                    "slotted_lever.crank",
+                    (*s.frame.get_ref(), "slotted_lever.frame"),
+                )?;
+                crank
+            },
             s.start_deg
                 .as_ref()
                 .map(|x| ctx.finite(x, "slotted_lever.start_deg"))
@@ -268,7 +293,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         newton: NewtonOptions::default(),
     };
     let sw = sweep(&l, &guess, &opts)
-        .map_err(|e| ctx.section(section, format!("the linkage solver: {e}")))?;
+        .map_err(|e| ctx.section(section, format!("the linkage solver: {}", e.in_degrees())))?;
     // The coupler (four-bar BC), the rod (slider-crank BC) or the block (slotted lever).
     let body = 1;
     let pts = centrodes(&l, body, &sw.samples);
@@ -297,10 +322,10 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         "at_infinity_deg": infinite,
         "kennedy_max_error": kennedy_err,
         "arc_length_fixed": af, "arc_length_moving": am,
-        "stopped": sw.stopped.as_ref().map(|e| e.to_string()),
+        "stopped": sw.stopped.as_ref().map(|e| e.in_degrees()),
     });
     if let Some(e) = &sw.stopped {
-        writeln!(text, "  the sweep stopped: {e}").ok();
+        writeln!(text, "  the sweep stopped: {}", e.in_degrees()).ok();
     }
     let clip = 20.0 * l.length_scale();
     let series =

@@ -52,15 +52,15 @@ pub struct FourBarClass {
 
 /// Classifies the four-bar with ground `g`, input `a`, coupler `b`, output `c`.
 pub fn classify(g: f64, a: f64, b: f64, c: f64) -> FourBarClass {
-    let mut v = [g, a, b, c];
-    v.sort_by(f64::total_cmp);
+    let links = [g, a, b, c];
+    // Sort the indices, not the values: with a NaN no value need equal the "shortest".
+    let mut order = [0, 1, 2, 3];
+    order.sort_by(|&i, &j| links[i].total_cmp(&links[j]));
+    let v = order.map(|i| links[i]);
     let (s, l) = (v[0], v[3]);
     let (sl, pq) = (s + l, v[1] + v[2]);
     let tol = 1e-9 * pq;
-    let shortest = [g, a, b, c]
-        .iter()
-        .position(|&x| x == s)
-        .expect("shortest is one of them");
+    let shortest = order[0];
     let class = if (sl - pq).abs() <= tol {
         GrashofClass::ChangePoint
     } else if sl < pq {

@@ -104,6 +104,21 @@ pub enum TrackError {
     },
 }
 
+impl TrackError {
+    /// The message for an angle input, with the inputs in degrees (`Display` gives the
+    /// input as the tracker holds it: radians for an angle).
+    pub fn in_degrees(&self) -> String {
+        match self {
+            TrackError::Stuck { at, target, reason } => format!(
+                "the branch cannot be continued past input {}° (toward {}°): {reason}",
+                crate::report::fmt_num(at.to_degrees()),
+                crate::report::fmt_num(target.to_degrees())
+            ),
+            e => e.to_string(),
+        }
+    }
+}
+
 enum Reject {
     NoConvergence(String),
     Jump,

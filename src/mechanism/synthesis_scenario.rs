@@ -143,8 +143,13 @@ fn one_of<'a>(
 /// The `[crank_rocker]` section: rocker, frame, limit positions, and the pivot direction or the time ratio.
 fn parse_crank_rocker(ctx: &Ctx, s: &CrankRockerIn) -> Result<CrankRockerSpec, ScenarioError> {
     let k = "crank_rocker";
-    let rocker = ctx.positive(&s.rocker, "crank_rocker.rocker")?;
-    let frame = ctx.positive(&s.frame, "crank_rocker.frame")?;
+    let rocker = ctx.length(&s.rocker, "crank_rocker.rocker")?;
+    let frame = ctx.length(&s.frame, "crank_rocker.frame")?;
+    ctx.same_scale(
+        &s.rocker,
+        "crank_rocker.rocker",
+        (frame, "crank_rocker.frame"),
+    )?;
     let lim = s.rocker_limits_deg.get_ref();
     let limits = [
         ctx.finite(&lim[0], "crank_rocker.rocker_limits_deg[0]")?
@@ -171,15 +176,7 @@ fn parse_crank_rocker(ctx: &Ctx, s: &CrankRockerIn) -> Result<CrankRockerSpec, S
             .to_radians();
         CrankRockerTask::Pivot(Vec2::new(frame * a.cos(), frame * a.sin()))
     } else {
-        let kr = ctx.finite(v, "crank_rocker.time_ratio")?;
-        if kr <= 1.0 {
-            return Err(ctx.at(
-                v.span(),
-                "crank_rocker.time_ratio",
-                format!("must exceed 1, got {kr}"),
-            ));
-        }
-        CrankRockerTask::TimeRatio(kr)
+        CrankRockerTask::TimeRatio(ctx.ratio(v, "crank_rocker.time_ratio", false)?)
     };
     Ok(CrankRockerSpec {
         rocker,
@@ -194,15 +191,8 @@ fn parse_slider_crank(
     ctx: &Ctx,
     s: &SliderCrankIn,
 ) -> Result<(f64, f64, Result<f64, f64>), ScenarioError> {
-    let h = ctx.positive(&s.stroke, "slider_crank.stroke")?;
-    let k = ctx.finite(&s.time_ratio, "slider_crank.time_ratio")?;
-    if k < 1.0 {
-        return Err(ctx.at(
-            s.time_ratio.span(),
-            "slider_crank.time_ratio",
-            format!("must be at least 1, got {k}"),
-        ));
-    }
+    let h = ctx.length(&s.stroke, "slider_crank.stroke")?;
+    let k = ctx.ratio(&s.time_ratio, "slider_crank.time_ratio", true)?;
     let (by_ratio, v) = one_of(
         ctx,
         "slider_crank",
@@ -210,9 +200,23 @@ fn parse_slider_crank(
         ("offset", s.offset.as_ref()),
     )?;
     let which = if by_ratio {
-        Ok(ctx.between(v, "slider_crank.rod_ratio", 0.0, 1.0)?)
+        let r = ctx.between(v, "slider_crank.rod_ratio", 0.0, 1.0)?;
+        if r < 1.0 / crate::scenario_kit::MAX_SCALE_RATIO {
+            return Err(ctx.at(
+                v.span(),
+                "slider_crank.rod_ratio",
+                format!(
+                    "{} is out of range: the crank and the rod of one mechanism lie within a \
+                     factor 1e9 of each other (at least 1e-9)",
+                    crate::report::fmt_num(r)
+                ),
+            ));
+        }
+        Ok(r)
     } else {
-        Err(ctx.positive(v, "slider_crank.offset")?)
+        let e = ctx.length(v, "slider_crank.offset")?;
+        ctx.same_scale(v, "slider_crank.offset", (h, "slider_crank.stroke"))?;
+        Err(e)
     };
     Ok((h, k, which))
 }
@@ -222,8 +226,9 @@ fn parse_shaper(
     ctx: &Ctx,
     s: &ShaperIn,
 ) -> Result<(f64, f64, f64, bool, Option<f64>), ScenarioError> {
-    let h = ctx.positive(&s.stroke, "shaper.stroke")?;
-    let d = ctx.positive(&s.frame, "shaper.frame")?;
+    let h = ctx.length(&s.stroke, "shaper.stroke")?;
+    let d = ctx.length(&s.frame, "shaper.frame")?;
+    ctx.same_scale(&s.stroke, "shaper.stroke", (d, "shaper.frame"))?;
     let (by_time, v) = one_of(
         ctx,
         "shaper",
@@ -235,14 +240,14 @@ fn parse_shaper(
     } else {
         "shaper.velocity_ratio"
     };
-    let k = ctx.finite(v, key)?;
-    if k <= 1.0 {
-        return Err(ctx.at(v.span(), key, format!("must exceed 1, got {k}")));
-    }
+    let k = ctx.ratio(v, key, false)?;
     let rod = s
         .rod
         .as_ref()
-        .map(|r| ctx.positive(r, "shaper.rod"))
+        .map(|r| {
+            ctx.same_scale(r, "shaper.rod", (d, "shaper.frame"))?;
+            ctx.length(r, "shaper.rod")
+        })
         .transpose()?;
     Ok((h, d, k, !by_time, rod))
 }
@@ -298,7 +303,7 @@ fn pair_deg(ctx: &Ctx, v: &Spanned<[F; 2]>, key: &str) -> Result<[f64; 2], Scena
 }
 
 fn parse_function(ctx: &Ctx, s: &FunctionIn) -> Result<FunctionSpec, ScenarioError> {
-    let frame = ctx.positive(&s.frame, "function.frame")?;
+    let frame = ctx.length(&s.frame, "function.frame")?;
     let samples = match &s.samples {
         None => 360,
         Some(n) if *n.get_ref() >= 2 && *n.get_ref() <= MAX_SAMPLES => *n.get_ref(),

@@ -116,6 +116,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
 
     // 1. Plan.
     let plan = plan(&scene)?;
+    super::budget::check(&scene, &plan)?;
     timings.insert("plan_s".into(), json!(plan.planning_time_s));
     for (k, v) in &plan.stages {
         timings.insert(format!("plan_{k}"), v.clone());

@@ -161,7 +161,8 @@ pub struct Scene {
     pub obstacles: Vec<ObstacleSpec>,
     pub collision: Option<CollisionOptions>,
     pub self_collision: bool,
-    pub collision_max_step: f64,
+    /// Where the step, settling, record rate and check step are written (budget messages).
+    pub setting_lines: super::budget::SettingLines,
     pub steps: Vec<TaskStep>,
     pub task_kind: String,
     /// IK and lines ignore the tool orientation.
@@ -382,7 +383,10 @@ fn get_f(
         Some(s) => Err(cx.at(
             s.span(),
             key,
-            format!("must be finite and positive (got {})", s.get_ref()),
+            format!(
+                "must be finite and positive (got {})",
+                crate::report::fmt_num(*s.get_ref())
+            ),
         )),
     }
 }
@@ -443,6 +447,7 @@ pub fn build_with(
     let outputs = outputs::outputs(&sx, torque_plot);
     let tsec = file.task.get_ref();
     let n = sx.n;
+    let setting_lines = simulation::setting_lines(&sx);
     Ok(Scene {
         file: fname.clone(),
         name,
@@ -469,7 +474,7 @@ pub fn build_with(
         obstacles,
         collision: coll.collision,
         self_collision: coll.self_collision,
-        collision_max_step: coll.collision_max_step,
+        setting_lines,
         steps,
         task_kind: tsec.kind.get_ref().clone(),
         position_only: tsec.position_only.unwrap_or(n < 6),

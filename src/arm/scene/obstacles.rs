@@ -40,7 +40,6 @@ pub(super) struct CollisionSection {
     pub planner_disabled: Vec<[String; 2]>,
     pub collision: Option<CollisionOptions>,
     pub self_collision: bool,
-    pub collision_max_step: f64,
 }
 
 /// The collision checking options (`touching`: the skeleton's pairs).
@@ -91,17 +90,19 @@ pub(super) fn collision(
     } else {
         None
     };
-    let collision_max_step = get_f(
-        cx,
-        &csec.and_then(|c| c.max_step.clone()),
-        "collision.max_step",
-        0.02,
-    )?;
+    if let Some(s) = csec.and_then(|c| c.max_step.as_ref()) {
+        return Err(cx.at(
+            s.span(),
+            "collision.max_step",
+            "does not apply: the collision check no longer steps through the motion; it \
+             certifies the whole timed motion (collisions.certificate in the report), so \
+             remove the key",
+        ));
+    }
     Ok(CollisionSection {
         planner_disabled,
         collision,
         self_collision,
-        collision_max_step,
     })
 }
 

@@ -2,6 +2,7 @@
 //! controller and gains, step, duration, settling time, record rate).
 
 use super::{get_f, per_joint, positive_all, PerJoint, Sections, SimSettings, Timing};
+use crate::arm::budget::SettingLines;
 use crate::arm::schema::SimulationSec;
 use crate::diag::LocatedError as ScenarioError;
 use crate::sim::{Controller, Integrator};
@@ -138,14 +139,15 @@ pub(super) fn simulation(
         Some(s) if s.get_ref().is_finite() && *s.get_ref() >= 0.0 => *s.get_ref(),
         Some(s) => return Err(cx.at(s.span(), "simulation.settle", "must be finite and >= 0")),
     };
-    if let (Some(d), Some(dur)) = (ssec.and_then(|s| s.duration.as_ref()), duration) {
-        if dur / dt > 5e7 {
-            return Err(cx.at(
-                d.span(),
-                "simulation.duration",
-                "more than 5e7 steps: shorten it or raise the step",
-            ));
-        }
+    let lines = setting_lines(sx);
+    if let Err((key, msg)) = crate::arm::budget::check_settings(dt, duration, settle, &lines) {
+        let sp = match key {
+            "simulation.duration" => ssec.and_then(|s| s.duration.as_ref()),
+            "simulation.dt" => ssec.and_then(|s| s.dt.as_ref()),
+            _ => ssec.and_then(|s| s.settle.as_ref()),
+        };
+        let line = sp.map(|s| cx.line(&s.span())).or(lines.settle);
+        return Err(ScenarioError::new(cx.file, line, key, msg));
     }
     let record_rate = get_f(
         cx,
@@ -207,4 +209,19 @@ fn controller(sx: &Sections, ssec: Option<&SimulationSec>) -> Result<Controller,
         }
     };
     Ok(controller)
+}
+
+/// Where the settings that set the amount of work are written.
+pub(super) fn setting_lines(sx: &Sections) -> SettingLines {
+    let cx = &sx.cx;
+    let line = |v: Option<&Spanned<f64>>| v.map(|s| cx.line(&s.span()));
+    let ssec = sx.file.simulation.as_ref().map(|s| s.get_ref());
+    let tsec = sx.file.trajectory.as_ref().map(|t| t.get_ref());
+    let section = cx.section("simulation", "").line;
+    SettingLines {
+        dt: line(ssec.and_then(|s| s.dt.as_ref())),
+        settle: line(ssec.and_then(|s| s.settle.as_ref())).or(section),
+        record_rate: line(ssec.and_then(|s| s.record_rate.as_ref())),
+        check_dt: line(tsec.and_then(|t| t.check_dt.as_ref())),
+    }
 }

@@ -123,7 +123,9 @@ fn law_report(sc: &CamScenario, m: &Motion, f: &Follower, text: &mut String) -> 
     let _ = writeln!(
         text,
         "Stroke {:.4}; max pressure angle rise {} / return {}",
-        m.stroke, summary["max_pressure_angle"]["rise"], summary["max_pressure_angle"]["return"]
+        m.stroke,
+        crate::report::human_json(&summary["max_pressure_angle"]["rise"]),
+        crate::report::human_json(&summary["max_pressure_angle"]["return"])
     );
     let _ = writeln!(
         text,
@@ -145,7 +147,7 @@ fn law_report(sc: &CamScenario, m: &Motion, f: &Follower, text: &mut String) -> 
         "infinite_jerk_at_deg",
     ] {
         if let Some(v) = summary.get(k) {
-            let _ = writeln!(text, "{k}: {v}");
+            let _ = writeln!(text, "{k}: {}", crate::report::human_json(v));
         }
     }
     json!({
@@ -198,7 +200,7 @@ fn eccentric_report(sc: &CamScenario, c: &Eccentric, text: &mut String) -> Value
             hi - lo
         },
         if oscillating { "°" } else { "" },
-        max_alpha
+        crate::report::human_json(&max_alpha)
     );
     let mut v = json!({
         "samples": {

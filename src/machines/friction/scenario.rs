@@ -103,7 +103,18 @@ fn compute(file: &str, text: &str) -> Result<Report, ScenarioError> {
     let mut total = 0.0;
     for (i, s) in f.element.iter().enumerate() {
         let (v, torque) = element(&cx, i, s)?;
-        let _ = writeln!(text_out, "[{}] {}", v["label"].as_str().unwrap_or(""), v);
+        let mut fields = v.clone();
+        if let Some(o) = fields.as_object_mut() {
+            o.remove("label");
+            o.remove("type");
+        }
+        let _ = writeln!(
+            text_out,
+            "[{}] {}: {}",
+            v["label"].as_str().unwrap_or(""),
+            v["type"].as_str().unwrap_or(""),
+            crate::report::human_json(&fields)
+        );
         total += torque;
         out.push(v);
     }
@@ -208,6 +219,7 @@ fn element(cx: &Ctx, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), Sce
             None => Err(err(k, format!("missing (a '{}' element needs it)", e.kind))),
         }
     };
+    keys_apply(e, &err)?;
     let label = e
         .label
         .clone()
@@ -218,15 +230,21 @@ fn element(cx: &Ctx, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), Sce
             let q = need("load", e.load, 0.0, 1e12)?;
             let fr = need("friction", e.friction, 0.0, 2.0)?;
             let kind = e.slide.clone().unwrap_or_else(|| "flat".into());
-            let beta = e.groove_angle_deg.unwrap_or(0.0).to_radians();
+            let beta = match (kind.as_str(), e.groove_angle_deg) {
+                ("v_groove", g) => g
+                    .map_or(Ok(0.0), |x| need("groove_angle_deg", Some(x), 0.0, 89.0))?
+                    .to_radians(),
+                _ => 0.0,
+            };
             let fe = el::slide_coefficient(fr, &kind, beta).ok_or_else(|| err("slide", format!("unknown slide '{kind}' (flat, v_groove, worn_cylinder, new_cylinder)")))?;
             (json!({"label": label, "type": "slide", "slide": kind, "equivalent_friction": fe, "force_N": fe * q}), 0.0)
         }
         "rolling" => {
             let q = need("load", e.load, 0.0, 1e12)?;
             let [k1, k2] = e.rolling_arms.ok_or_else(|| err("rolling_arms", "missing: [k1, k2] rolling-resistance arms (m)".into()))?;
+            let (k1, k2) = (need("rolling_arms", Some(k1), 0.0, 1.0)?, need("rolling_arms", Some(k2), 0.0, 1.0)?);
             let p = match (e.wheel_diameter, e.axle_diameter) {
-                (Some(d1), Some(d2)) => el::rolling_on_axles(q, need("wheel_diameter", Some(d1), 1e-9, 1e3)?, d2, need("friction", e.friction, 0.0, 2.0)?, k1),
+                (Some(d1), Some(d2)) => el::rolling_on_axles(q, need("wheel_diameter", Some(d1), 1e-9, 1e3)?, need("axle_diameter", Some(d2), 1e-9, d1)?, need("friction", e.friction, 0.0, 2.0)?, k1),
                 (Some(d), None) => el::free_rollers(q, need("wheel_diameter", Some(d), 1e-9, 1e3)?, k1, k2),
                 _ => return Err(err("wheel_diameter", "missing: wheel_diameter (and axle_diameter for wheels on axles)".into())),
             };
@@ -236,6 +254,7 @@ fn element(cx: &Ctx, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), Sce
             let q = need("load", e.load, 0.0, 1e12)?;
             let a = need("angle_deg", e.angle_deg, 0.0, 89.0)?.to_radians();
             let [f1, f2] = e.friction_faces.ok_or_else(|| err("friction_faces", "missing: [f1, f2]".into()))?;
+            let (f1, f2) = (need("friction_faces", Some(f1), 0.0, 2.0)?, need("friction_faces", Some(f2), 0.0, 2.0)?);
             let (drive, pull, lock) = el::wedge(q, a, f1, f2);
             (json!({"label": label, "type": "wedge", "drive_in_N": drive, "pull_out_N": pull, "self_locking": lock}), 0.0)
         }
@@ -273,7 +292,144 @@ fn element(cx: &Ctx, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), Sce
         "band_brake" => (band_brake(e, label, &need, &err)?, 0.0),
         other => return Err(err("type", format!("unknown element type '{other}' (screw, slide, rolling, wedge, incline, journal, collar, belt, band_brake)"))),
     };
+    // A result that is not finite (serialised as null) comes from the inputs: refuse it.
+    if let Some((k, _)) = v
+        .as_object()
+        .and_then(|o| o.iter().find(|(_, x)| x.is_null()))
+    {
+        return Err(cx.at(
+            s.span(),
+            format!("element[{i}]"),
+            format!("the result {k} is not finite: check the element's values"),
+        ));
+    }
+    if !torque.is_finite() {
+        return Err(cx.at(
+            s.span(),
+            format!("element[{i}]"),
+            "the friction torque is not finite: check the element's values",
+        ));
+    }
     Ok((v, torque))
+}
+
+/// The keys each element type reads (besides `label` and `type`).
+const KEYS: &[(&str, &[&str])] = &[
+    (
+        "screw",
+        &[
+            "load",
+            "friction",
+            "pitch",
+            "diameters",
+            "thread_angle_deg",
+            "collar_friction",
+            "collar_diameters",
+            "new",
+            "handle_force",
+            "handle_length",
+        ],
+    ),
+    ("slide", &["load", "friction", "slide", "groove_angle_deg"]),
+    (
+        "rolling",
+        &[
+            "load",
+            "friction",
+            "rolling_arms",
+            "wheel_diameter",
+            "axle_diameter",
+        ],
+    ),
+    ("wedge", &["load", "angle_deg", "friction_faces"]),
+    ("incline", &["load", "angle_deg", "friction"]),
+    (
+        "journal",
+        &["load", "friction", "diameter", "fit_factor", "count"],
+    ),
+    ("collar", &["load", "friction", "diameters", "new"]),
+    (
+        "belt",
+        &["power", "speed", "euler_factor", "friction", "wrap_deg"],
+    ),
+    (
+        "band_brake",
+        &[
+            "euler_factor",
+            "friction",
+            "wrap_deg",
+            "drum_diameter",
+            "slack_arm",
+            "tight_arm",
+            "lever_load",
+            "lever_arm",
+            "braking_torque",
+            "load_drum_diameter",
+        ],
+    ),
+];
+
+/// The keys written in `e` (besides `label` and `type`).
+fn written(e: &Element) -> Vec<&'static str> {
+    let f = [
+        ("load", e.load.is_some()),
+        ("friction", e.friction.is_some()),
+        ("friction_faces", e.friction_faces.is_some()),
+        ("pitch", e.pitch.is_some()),
+        ("diameters", e.diameters.is_some()),
+        ("thread_angle_deg", e.thread_angle_deg.is_some()),
+        ("collar_friction", e.collar_friction.is_some()),
+        ("collar_diameters", e.collar_diameters.is_some()),
+        ("new", e.new),
+        ("handle_force", e.handle_force.is_some()),
+        ("handle_length", e.handle_length.is_some()),
+        ("slide", e.slide.is_some()),
+        ("groove_angle_deg", e.groove_angle_deg.is_some()),
+        ("wheel_diameter", e.wheel_diameter.is_some()),
+        ("axle_diameter", e.axle_diameter.is_some()),
+        ("rolling_arms", e.rolling_arms.is_some()),
+        ("angle_deg", e.angle_deg.is_some()),
+        ("diameter", e.diameter.is_some()),
+        ("fit_factor", e.fit_factor.is_some()),
+        ("count", e.count.is_some()),
+        ("power", e.power.is_some()),
+        ("speed", e.speed.is_some()),
+        ("euler_factor", e.euler_factor.is_some()),
+        ("wrap_deg", e.wrap_deg.is_some()),
+        ("lever_load", e.lever_load.is_some()),
+        ("lever_arm", e.lever_arm.is_some()),
+        ("braking_torque", e.braking_torque.is_some()),
+        ("slack_arm", e.slack_arm.is_some()),
+        ("tight_arm", e.tight_arm.is_some()),
+        ("drum_diameter", e.drum_diameter.is_some()),
+        ("load_drum_diameter", e.load_drum_diameter.is_some()),
+    ];
+    f.iter().filter(|(_, w)| *w).map(|(k, _)| *k).collect()
+}
+
+/// Refuses a key the element's type does not read (as a misspelt key is refused), and
+/// `groove_angle_deg` on a slide that is not a V groove.
+fn keys_apply(e: &Element, err: &Err) -> Result<(), ScenarioError> {
+    let Some((_, keys)) = KEYS.iter().find(|(t, _)| *t == e.kind) else {
+        return Ok(()); // the unknown type is reported with its list
+    };
+    if let Some(k) = written(e).into_iter().find(|k| !keys.contains(k)) {
+        return Err(err(
+            k,
+            format!(
+                "does not apply to an element of type '{}' (it reads {})",
+                e.kind,
+                keys.join(", ")
+            ),
+        ));
+    }
+    if e.groove_angle_deg.is_some() && e.slide.as_deref() != Some("v_groove") {
+        return Err(err(
+            "groove_angle_deg",
+            "applies only to slide = \"v_groove\"".into(),
+        ));
+    }
+    Ok(())
 }
 
 type Err<'a> = dyn Fn(&str, String) -> ScenarioError + 'a;

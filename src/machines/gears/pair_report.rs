@@ -144,6 +144,10 @@ fn gear_json(g: &GearGeometry, n: usize) -> Value {
     })
 }
 
+/// The warning of a pair whose total contact ratio is below 1.
+const CONTACT_BELOW_ONE: &str = "the contact ratio is below 1: one pair of teeth leaves \
+    contact before the next engages, so the drive is not continuous";
+
 fn planar_json(c: &PairCase, spec: &PairSpec, g: &PairGeometry, text: &mut String) -> Value {
     let _ = writeln!(
         text,
@@ -177,6 +181,10 @@ fn planar_json(c: &PairCase, spec: &PairSpec, g: &PairGeometry, text: &mut Strin
             ""
         }
     );
+    let below_one = g.eps() < 1.0;
+    if below_one {
+        let _ = writeln!(text, "  warning: {CONTACT_BELOW_ONE}");
+    }
     for (k, gg) in g.gears.iter().enumerate() {
         let _ = writeln!(
             text,
@@ -217,6 +225,9 @@ fn planar_json(c: &PairCase, spec: &PairSpec, g: &PairGeometry, text: &mut Strin
         "interference": g.interference,
         "gears": g.gears.iter().map(|gg| gear_json(gg, c.points)).collect::<Vec<_>>(),
     });
+    if below_one {
+        v["warnings"] = json!([CONTACT_BELOW_ONE]);
+    }
     if spec.kind == PairKind::Rack {
         v["rack_withdrawal"] = json!(spec.shift[1] * spec.module);
         v["withdrawal_for_unit_contact_ratio"] =

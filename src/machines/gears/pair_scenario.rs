@@ -187,6 +187,7 @@ fn case(
     )?;
     need("shift", p.shift.is_none() || planar)?;
     need("helix_angle_deg", p.helix_angle_deg.is_none() || planar)?;
+    need("find_helix_angle", !p.find_helix_angle || planar)?;
     for (k, v) in [
         ("speed", p.speed),
         ("speed_rpm", p.speed_rpm),
@@ -198,6 +199,25 @@ fn case(
     }
     if planar {
         let spec = planar_spec(&at, p, &kind, &teeth, &common)?;
+        let eps = super::pair::pair(&spec).eps_alpha;
+        if eps.is_nan() || eps <= 0.0 {
+            let field = if p.rack_withdrawal.is_some() {
+                "rack_withdrawal"
+            } else if p.centre_distance.is_some() {
+                "centre_distance"
+            } else {
+                "shift"
+            };
+            return Err(at.err(
+                field,
+                format!(
+                    "the tips do not reach each other: the transverse contact ratio would be \
+                     {} (the tip circles do not overlap on the line of action); bring the \
+                     gears closer or shift them less",
+                    crate::report::human_num(eps)
+                ),
+            ));
+        }
         return Ok(PairCase {
             label,
             kind,

@@ -4,6 +4,8 @@
 //! outputs asked for (four-bar, coupler curves, kinetostatics, counterweight).
 
 use super::*;
+use crate::report::fmt_num;
+use crate::scenario_kit::MAX_SCALE_RATIO;
 
 /// Parses the linkage sections into a [`MechanismScenario`] (assembled once).
 pub(super) fn parse_mechanism(
@@ -26,9 +28,15 @@ pub(super) fn parse_mechanism(
     let newton = NewtonOptions::default();
     let q0 = parse_guess(cx, spec, &linkage, &link_lines)?;
     let assembly = assemble(cx, spec, &linkage, &link_lines, &dspan, &sw, &q0, newton)?;
-    check_assembly(cx, &linkage, &assembly, &sw, newton)?;
+    let max_step = check_assembly(cx, &linkage, &assembly, &sw, newton)?;
+    let rkey = if angle_input {
+        "report_at_deg"
+    } else {
+        "report_at"
+    };
+    report_points_in_reach(cx, (&sw.span, "sweep", rkey), &sw.report_at, &sw, max_step)?;
     let (four_bar, coupler_curves) = parse_curves(cx, spec, &linkage)?;
-    let report_at = sw.report_at;
+    let report_at = sw.report_at.clone();
     let kinetostatics = match &spec.kinetostatics {
         None => {
             if let Some(l) = spec.loads.first() {
@@ -49,6 +57,10 @@ pub(super) fn parse_mechanism(
             &report_at,
         )?),
     };
+    if let (Some(k), Some(ks)) = (&spec.kinetostatics, &kinetostatics) {
+        let at = (&k.span(), "kinetostatics", rkey);
+        report_points_in_reach(cx, at, &ks.report_at, &sw, max_step)?;
+    }
     let counterweight = parse_counterweight(cx, spec, &linkage, kinetostatics.is_some())?;
     Ok(MechanismScenario {
         linkage,
@@ -94,7 +106,48 @@ fn parse_links(cx: &Source, spec: &Spec) -> Result<(Vec<Link>, Vec<usize>), Scen
         links.push(parse_link(cx, n, s)?);
         link_lines.push(cx.line(&s.span()));
     }
+    same_scale(cx, spec, &order)?;
     Ok((links, link_lines))
+}
+
+/// Every link `length` lies within [`MAX_SCALE_RATIO`] of the mechanism's size (the
+/// largest length or coordinate of the links and the ground).
+fn same_scale(
+    cx: &Source,
+    spec: &Spec,
+    order: &[(&String, &Spanned<LinkSpec>)],
+) -> Result<(), ScenarioError> {
+    let coords = order
+        .iter()
+        .flat_map(|(_, s)| s.get_ref().points.iter().flatten().flat_map(|(_, p)| *p))
+        .chain(spec.ground.iter().flatten().flat_map(|(_, p)| *p.get_ref()));
+    let lengths = order.iter().filter_map(|(_, s)| s.get_ref().length);
+    let size = lengths
+        .chain(coords)
+        .filter(|x| x.is_finite())
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    for ((n, s), len) in order
+        .iter()
+        .zip(order.iter().map(|(_, s)| s.get_ref().length))
+    {
+        let Some(len) = len else { continue };
+        if len < size / MAX_SCALE_RATIO {
+            return Err(cx.err(
+                cx.key_line(&s.span(), "length"),
+                format!("links.{n}.length"),
+                format!(
+                    "{} is {} times the mechanism's size ({}, its largest length or \
+                     coordinate): the lengths of one mechanism lie within a factor {} of each \
+                     other",
+                    fmt_num(len),
+                    fmt_num(len / size),
+                    fmt_num(size),
+                    fmt_num(MAX_SCALE_RATIO)
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The ground points.
@@ -349,11 +402,7 @@ fn parse_sweep(cx: &Source, spec: &Spec, angle_input: bool) -> Result<SweepRange
         )
     };
     let step_key = if angle_input { "step_deg" } else { "step" };
-    if !(step.is_finite()
-        && step > 0.0
-        && all_finite(&[from, to, assemble_at])
-        && all_finite(&report_at))
-    {
+    if !(step.is_finite() && step > 0.0 && all_finite(&[from, to, assemble_at])) {
         return Err(cx.err(
             cx.key_line(&sspan, step_key),
             format!("sweep.{step_key}"),
@@ -467,7 +516,7 @@ fn check_assembly(
     assembly: &DVector<f64>,
     sw: &SweepRange,
     newton: NewtonOptions,
-) -> Result<(), ScenarioError> {
+) -> Result<f64, ScenarioError> {
     let (angle_input, sspan) = (sw.angle_input, &sw.span);
     let (from, to, step, assemble_at) = (sw.from, sw.to, sw.step, sw.assemble_at);
     // The assembly must be a regular position (where the guess picks one branch), and the
@@ -511,14 +560,63 @@ fn check_assembly(
             ));
         }
         let mut t = t;
+        let max_step = t.max_step;
         t.advance(from).map_err(|e| {
             let k = if angle_input { "from_deg" } else { "from" };
+            let e = if angle_input {
+                e.in_degrees()
+            } else {
+                e.to_string()
+            };
             cx.err(
                 cx.key_line(sspan, k),
                 format!("sweep.{k}"),
                 format!("the sweep start is not reachable from the assembly on its branch: {e}"),
             )
         })?;
+        Ok(max_step)
+    }
+}
+
+/// At most this many tracking steps from the sweep to one report point.
+const MAX_REPORT_STEPS: f64 = 1e5;
+
+/// Every report point (`section.key`, in the table at `span`) is finite and within
+/// [`MAX_REPORT_STEPS`] tracking steps of at most `max_step` of the sweep's range: the
+/// report tracks to each point from the nearest sample.
+fn report_points_in_reach(
+    cx: &Source,
+    (span, section, key): (&std::ops::Range<usize>, &str, &str),
+    points: &[f64],
+    sw: &SweepRange,
+    max_step: f64,
+) -> Result<(), ScenarioError> {
+    let (lo, hi) = (sw.from.min(sw.to), sw.from.max(sw.to));
+    let shown = |x: f64| {
+        if sw.angle_input {
+            format!("{}°", crate::report::fmt_num(x.to_degrees()))
+        } else {
+            format!("{} m", crate::report::fmt_num(x))
+        }
+    };
+    for (i, &x) in points.iter().enumerate() {
+        let err = |m: String| cx.err(cx.key_line(span, key), format!("{section}.{key}[{i}]"), m);
+        if !x.is_finite() {
+            return Err(err(format!("must be a finite number, got {x}")));
+        }
+        let away = (lo - x).max(x - hi).max(0.0);
+        if away / max_step > MAX_REPORT_STEPS {
+            return Err(err(format!(
+                "{} lies {} outside the sweep ({} to {}): reporting there would track more \
+                 than {} steps of at most {}; report within the sweep",
+                shown(x),
+                shown(away),
+                shown(sw.from),
+                shown(sw.to),
+                crate::report::fmt_num(MAX_REPORT_STEPS),
+                shown(max_step)
+            )));
+        }
     }
     Ok(())
 }

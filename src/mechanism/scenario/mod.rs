@@ -384,11 +384,19 @@ fn parse_link(cx: &Source, name: &str, sp: &Spanned<LinkSpec>) -> Result<Link, S
                 "missing: a link with `ends` needs its `length` (m)",
             ));
         };
+        let (lo, hi) = crate::scenario_kit::LENGTHS;
         if !(len.is_finite() && len > 0.0) {
             return Err(cx.err(
                 cx.key_line(&sp.span(), "length"),
                 format!("{key}.length"),
                 format!("must be a positive length, got {len}"),
+            ));
+        }
+        if !(lo..=hi).contains(&len) {
+            return Err(cx.err(
+                cx.key_line(&sp.span(), "length"),
+                format!("{key}.length"),
+                format!("{len:e} is out of range: a length lies in {lo:e}..{hi:e}"),
             ));
         }
         if a == b {
