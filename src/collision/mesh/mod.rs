@@ -25,8 +25,16 @@
 //!
 //! Vertices with identical coordinates are merged, so that closedness (every edge shared
 //! by exactly two triangles) can be tested afterwards.
+//!
+//! Limits: a file is refused above [`crate::io::MAX_MESH_BYTES`] before it is read, and
+//! a mesh of more than [`MAX_TRIANGLES`] triangles (a binary STL's declared count, checked
+//! before anything is allocated from it, or a DAE scene's placed total) is refused; every
+//! coordinate must be finite. Errors name the problem; the caller adds the file.
 
-use nalgebra::{Matrix4, Vector3, Vector4};
+mod dae;
+pub use dae::read_dae;
+
+use nalgebra::Vector3;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -37,12 +45,29 @@ pub struct MeshData {
     pub vertices: Vec<[f64; 3]>,
     /// Triangles as vertex indices.
     pub triangles: Vec<[u32; 3]>,
+    /// Triangles read but dropped for a repeated corner (zero area).
+    pub dropped: usize,
 }
+
+/// Most triangles in one mesh (after a DAE scene places its geometries): 5 million, what
+/// a binary STL of [`crate::io::MAX_MESH_BYTES`] holds.
+pub const MAX_TRIANGLES: usize = 5_000_000;
 
 impl MeshData {
     /// Adds a triangle given by its corner positions, merging identical vertices through
-    /// `index` (keyed by the bit patterns, `-0.0` folded onto `0.0`).
-    fn push_triangle(&mut self, index: &mut HashMap<[u64; 3], u32>, tri: [[f64; 3]; 3]) {
+    /// `index` (keyed by the bit patterns, `-0.0` folded onto `0.0`). A non-finite
+    /// coordinate is an error.
+    fn push_triangle(
+        &mut self,
+        index: &mut HashMap<[u64; 3], u32>,
+        tri: [[f64; 3]; 3],
+    ) -> Result<(), String> {
+        if let Some(p) = tri.iter().find(|p| p.iter().any(|x| !x.is_finite())) {
+            return Err(format!(
+                "vertex ({}, {}, {}) is not finite",
+                p[0], p[1], p[2]
+            ));
+        }
         let mut ids = [0u32; 3];
         for (k, p) in tri.iter().enumerate() {
             let key = p.map(|x| (x + 0.0).to_bits());
@@ -54,7 +79,10 @@ impl MeshData {
         // Triangles with a repeated corner carry no area.
         if ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2] {
             self.triangles.push(ids);
+        } else {
+            self.dropped += 1;
         }
+        Ok(())
     }
 
     /// Whether every undirected edge is used by exactly two triangles, once in each
@@ -102,13 +130,14 @@ pub fn load_mesh(path: &Path) -> Result<MeshData, String> {
         .to_ascii_lowercase();
     let mesh = match ext.as_str() {
         "stl" => {
-            let bytes = crate::io::read_input(path).map_err(|e| format!("cannot read: {e}"))?;
+            let bytes = crate::io::read_input_max(path, crate::io::MAX_MESH_BYTES)
+                .map_err(|e| format!("cannot read: {e}"))?;
             read_stl(&bytes)?
         }
         "obj" => read_obj(path)?,
         "dae" => {
-            let text =
-                crate::io::read_input_string(path).map_err(|e| format!("cannot read: {e}"))?;
+            let text = crate::io::read_input_string_max(path, crate::io::MAX_MESH_BYTES)
+                .map_err(|e| format!("cannot read: {e}"))?;
             read_dae(&text)?
         }
         _ => {
@@ -117,11 +146,14 @@ pub fn load_mesh(path: &Path) -> Result<MeshData, String> {
             ))
         }
     };
+    if mesh.triangles.is_empty() && mesh.dropped > 0 {
+        return Err(format!(
+            "all {} triangles of the mesh have zero area (a repeated corner)",
+            mesh.dropped
+        ));
+    }
     if mesh.triangles.is_empty() {
         return Err("the mesh has no triangles".to_string());
-    }
-    if mesh.vertices.iter().flatten().any(|x| !x.is_finite()) {
-        return Err("the mesh has a non-finite vertex coordinate".to_string());
     }
     Ok(mesh)
 }
@@ -131,7 +163,12 @@ pub fn read_stl(bytes: &[u8]) -> Result<MeshData, String> {
     if bytes.len() >= 84 {
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
         if n.checked_mul(50).and_then(|b| b.checked_add(84)) == Some(bytes.len()) {
-            return Ok(read_stl_binary(&bytes[84..], n));
+            if n > MAX_TRIANGLES {
+                return Err(format!(
+                    "binary STL of {n} triangles: more than the mesh limit of {MAX_TRIANGLES}"
+                ));
+            }
+            return read_stl_binary(&bytes[84..], n);
         }
     }
     let text = std::str::from_utf8(bytes).map_err(|_| {
@@ -141,19 +178,22 @@ pub fn read_stl(bytes: &[u8]) -> Result<MeshData, String> {
     read_stl_ascii(text)
 }
 
-fn read_stl_binary(body: &[u8], n: usize) -> MeshData {
+/// The `n` records of a binary STL body (`n` already checked against its length and
+/// [`MAX_TRIANGLES`]).
+fn read_stl_binary(body: &[u8], n: usize) -> Result<MeshData, String> {
     let mut mesh = MeshData::default();
     let mut index = HashMap::with_capacity(n);
     let f = |b: &[u8], k: usize| f32::from_le_bytes([b[k], b[k + 1], b[k + 2], b[k + 3]]) as f64;
-    for rec in body.chunks_exact(50).take(n) {
+    for (k, rec) in body.chunks_exact(50).take(n).enumerate() {
         // 12 bytes of normal, then three vertices.
         let v = |j: usize| {
             let o = 12 + 12 * j;
             [f(rec, o), f(rec, o + 4), f(rec, o + 8)]
         };
-        mesh.push_triangle(&mut index, [v(0), v(1), v(2)]);
+        mesh.push_triangle(&mut index, [v(0), v(1), v(2)])
+            .map_err(|e| format!("binary STL: triangle {}: {e}", k + 1))?;
     }
-    mesh
+    Ok(mesh)
 }
 
 fn read_stl_ascii(text: &str) -> Result<MeshData, String> {
@@ -192,7 +232,13 @@ fn read_stl_ascii(text: &str) -> Result<MeshData, String> {
                     corners.len()
                 ));
             }
-            mesh.push_triangle(&mut index, [corners[0], corners[1], corners[2]]);
+            if mesh.triangles.len() >= MAX_TRIANGLES {
+                return Err(format!(
+                    "ASCII STL: more than the mesh limit of {MAX_TRIANGLES} triangles"
+                ));
+            }
+            mesh.push_triangle(&mut index, [corners[0], corners[1], corners[2]])
+                .map_err(|e| format!("ASCII STL: vertex {nvert}: {e}"))?;
             corners.clear();
         }
     }
@@ -205,10 +251,16 @@ fn read_stl_ascii(text: &str) -> Result<MeshData, String> {
     Ok(mesh)
 }
 
+fn read_obj(path: &Path) -> Result<MeshData, String> {
+    let bytes = crate::io::read_input_max(path, crate::io::MAX_MESH_BYTES)
+        .map_err(|e| format!("cannot read: {e}"))?;
+    read_obj_bytes(&bytes)
+}
+
+/// Parses Wavefront OBJ bytes (materials are not read).
 // `..Default::default()` fills the fields behind tobj features another crate may enable.
 #[allow(clippy::needless_update)]
-fn read_obj(path: &Path) -> Result<MeshData, String> {
-    let bytes = crate::io::read_input(path).map_err(|e| format!("cannot read: {e}"))?;
+pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
     let mut reader = std::io::Cursor::new(bytes);
     let opts = tobj::LoadOptions {
         triangulate: true,
@@ -231,308 +283,14 @@ fn read_obj(path: &Path) -> Result<MeshData, String> {
                 .map(|s| [s[0], s[1], s[2]])
                 .ok_or_else(|| format!("OBJ: object '{}': vertex index out of range", m.name))
         };
+        if mesh.triangles.len() + m.mesh.indices.len() / 3 > MAX_TRIANGLES {
+            return Err(format!(
+                "OBJ: more than the mesh limit of {MAX_TRIANGLES} triangles"
+            ));
+        }
         for t in m.mesh.indices.chunks_exact(3) {
-            mesh.push_triangle(&mut index, [p(t[0])?, p(t[1])?, p(t[2])?]);
-        }
-    }
-    Ok(mesh)
-}
-
-/// Local tag name (COLLADA files carry a default namespace).
-fn is(n: &roxmltree::Node, name: &str) -> bool {
-    n.is_element() && n.tag_name().name() == name
-}
-
-fn child<'a, 'i>(n: &roxmltree::Node<'a, 'i>, name: &str) -> Option<roxmltree::Node<'a, 'i>> {
-    n.children().find(|c| is(c, name))
-}
-
-fn floats(text: Option<&str>, what: &str) -> Result<Vec<f64>, String> {
-    text.unwrap_or("")
-        .split_ascii_whitespace()
-        .map(|s| {
-            s.parse::<f64>()
-                .map_err(|_| format!("DAE: {what}: '{s}' is not a number"))
-        })
-        .collect()
-}
-
-fn ints(text: Option<&str>, what: &str) -> Result<Vec<usize>, String> {
-    text.unwrap_or("")
-        .split_ascii_whitespace()
-        .map(|s| {
-            s.parse::<usize>()
-                .map_err(|_| format!("DAE: {what}: '{s}' is not an index"))
-        })
-        .collect()
-}
-
-/// `#id` → `id`.
-fn url_id(url: &str) -> &str {
-    url.strip_prefix('#').unwrap_or(url)
-}
-
-/// Positions and triangles (position indices) of one COLLADA geometry.
-type Geom = (Vec<[f64; 3]>, Vec<[usize; 3]>);
-
-/// A `<mesh>`'s float sources (id → values and stride) and its `<vertices>` (id → the
-/// id of their POSITION source).
-#[allow(clippy::type_complexity)]
-fn dae_sources<'a>(
-    mesh: &roxmltree::Node<'a, '_>,
-    gid: &str,
-) -> Result<
-    (
-        HashMap<&'a str, (Vec<f64>, usize)>,
-        HashMap<&'a str, &'a str>,
-    ),
-    String,
-> {
-    // Sources: id → (values, stride).
-    let mut sources: HashMap<&str, (Vec<f64>, usize)> = HashMap::new();
-    for s in mesh.children().filter(|c| is(c, "source")) {
-        let id = s.attribute("id").unwrap_or("");
-        let Some(fa) = child(&s, "float_array") else {
-            continue;
-        };
-        let vals = floats(fa.text(), &format!("geometry '{gid}' source '{id}'"))?;
-        let stride = child(&s, "technique_common")
-            .and_then(|t| child(&t, "accessor"))
-            .and_then(|a| a.attribute("stride"))
-            .and_then(|s| s.parse::<usize>().ok())
-            .unwrap_or(3)
-            .max(3);
-        sources.insert(id, (vals, stride));
-    }
-    // <vertices id> → POSITION source id.
-    let mut vertices_pos: HashMap<&str, &str> = HashMap::new();
-    for v in mesh.children().filter(|c| is(c, "vertices")) {
-        if let Some(inp) = v
-            .children()
-            .find(|c| is(c, "input") && c.attribute("semantic") == Some("POSITION"))
-        {
-            vertices_pos.insert(
-                v.attribute("id").unwrap_or(""),
-                url_id(inp.attribute("source").unwrap_or("")),
-            );
-        }
-    }
-    Ok((sources, vertices_pos))
-}
-
-/// Reads one `<mesh>` into positions and triangles (position indices).
-fn dae_geometry(mesh: &roxmltree::Node, gid: &str) -> Result<Geom, String> {
-    let (sources, vertices_pos) = dae_sources(mesh, gid)?;
-    let mut positions: Vec<[f64; 3]> = Vec::new();
-    let mut base_of: HashMap<&str, usize> = HashMap::new();
-    let mut tris: Vec<[usize; 3]> = Vec::new();
-    for prim in mesh.children().filter(|c| c.is_element()) {
-        let kind = prim.tag_name().name();
-        if !matches!(kind, "triangles" | "polylist" | "polygons") {
-            continue;
-        }
-        let inputs: Vec<roxmltree::Node> = prim.children().filter(|c| is(c, "input")).collect();
-        let stride = inputs
-            .iter()
-            .filter_map(|i| i.attribute("offset").and_then(|o| o.parse::<usize>().ok()))
-            .max()
-            .unwrap_or(0)
-            + 1;
-        let Some(vin) = inputs
-            .iter()
-            .find(|i| matches!(i.attribute("semantic"), Some("VERTEX") | Some("POSITION")))
-        else {
-            return Err(format!(
-                "DAE: geometry '{gid}': <{kind}> has no VERTEX input"
-            ));
-        };
-        let voff: usize = vin
-            .attribute("offset")
-            .and_then(|o| o.parse().ok())
-            .unwrap_or(0);
-        let src = url_id(vin.attribute("source").unwrap_or(""));
-        let src = vertices_pos.get(src).copied().unwrap_or(src);
-        let Some((vals, vstride)) = sources.get(src) else {
-            return Err(format!(
-                "DAE: geometry '{gid}': position source '{src}' not found"
-            ));
-        };
-        // Each position source is appended once.
-        let base = *base_of.entry(src).or_insert_with(|| {
-            let b = positions.len();
-            positions.extend(vals.chunks_exact(*vstride).map(|c| [c[0], c[1], c[2]]));
-            b
-        });
-        let npos = vals.len() / vstride;
-        let what = format!("geometry '{gid}' <{kind}>");
-        let vertex = |p: &[usize], k: usize| -> Result<usize, String> {
-            let i = *p
-                .get(k * stride + voff)
-                .ok_or_else(|| format!("DAE: {what}: <p> is cut short"))?;
-            if i >= npos {
-                return Err(format!("DAE: {what}: position index {i} out of range"));
-            }
-            Ok(base + i)
-        };
-        let mut fan = |p: &[usize], first: usize, n: usize| -> Result<(), String> {
-            for k in 1..n.saturating_sub(1) {
-                tris.push([
-                    vertex(p, first)?,
-                    vertex(p, first + k)?,
-                    vertex(p, first + k + 1)?,
-                ]);
-            }
-            Ok(())
-        };
-        match kind {
-            "triangles" => {
-                let p = ints(child(&prim, "p").and_then(|p| p.text()), &what)?;
-                for t in 0..p.len() / (3 * stride) {
-                    fan(&p, 3 * t, 3)?;
-                }
-            }
-            "polylist" => {
-                let p = ints(child(&prim, "p").and_then(|p| p.text()), &what)?;
-                let vcount = ints(child(&prim, "vcount").and_then(|p| p.text()), &what)?;
-                let mut first = 0;
-                for n in vcount {
-                    fan(&p, first, n)?;
-                    first += n;
-                }
-            }
-            _ => {
-                for pe in prim.children().filter(|c| is(c, "p")) {
-                    let p = ints(pe.text(), &what)?;
-                    fan(&p, 0, p.len() / stride)?;
-                }
-            }
-        }
-    }
-    Ok((positions, tris))
-}
-
-/// Composes the transform elements of a `<node>` in document order.
-fn node_transform(node: &roxmltree::Node) -> Result<Matrix4<f64>, String> {
-    let mut m = Matrix4::identity();
-    for c in node.children().filter(|c| c.is_element()) {
-        let what = format!(
-            "node '{}' <{}>",
-            node.attribute("id").unwrap_or(""),
-            c.tag_name().name()
-        );
-        let t = match c.tag_name().name() {
-            "matrix" => {
-                let v = floats(c.text(), &what)?;
-                if v.len() != 16 {
-                    return Err(format!("DAE: {what}: expected 16 numbers"));
-                }
-                Matrix4::from_row_slice(&v)
-            }
-            "translate" => {
-                let v = floats(c.text(), &what)?;
-                if v.len() != 3 {
-                    return Err(format!("DAE: {what}: expected 3 numbers"));
-                }
-                Matrix4::new_translation(&Vector3::new(v[0], v[1], v[2]))
-            }
-            "scale" => {
-                let v = floats(c.text(), &what)?;
-                if v.len() != 3 {
-                    return Err(format!("DAE: {what}: expected 3 numbers"));
-                }
-                Matrix4::new_nonuniform_scaling(&Vector3::new(v[0], v[1], v[2]))
-            }
-            "rotate" => {
-                let v = floats(c.text(), &what)?;
-                if v.len() != 4 {
-                    return Err(format!("DAE: {what}: expected 4 numbers"));
-                }
-                let axis = Vector3::new(v[0], v[1], v[2]);
-                if axis.norm() == 0.0 {
-                    Matrix4::identity()
-                } else {
-                    let r = crate::spatial::axis_angle(&axis.normalize(), v[3].to_radians());
-                    r.to_homogeneous()
-                }
-            }
-            _ => continue,
-        };
-        m *= t;
-    }
-    Ok(m)
-}
-
-/// Parses COLLADA text (see the module docs for the subset).
-pub fn read_dae(text: &str) -> Result<MeshData, String> {
-    let doc = roxmltree::Document::parse(text).map_err(|e| format!("DAE: not valid XML: {e}"))?;
-    let root = doc.root_element();
-    let unit = child(&root, "asset")
-        .and_then(|a| child(&a, "unit"))
-        .and_then(|u| u.attribute("meter"))
-        .and_then(|m| m.parse::<f64>().ok())
-        .filter(|m| m.is_finite() && *m > 0.0)
-        .unwrap_or(1.0);
-    let mut geoms: Vec<(&str, Geom)> = Vec::new();
-    if let Some(lib) = child(&root, "library_geometries") {
-        for g in lib.children().filter(|c| is(c, "geometry")) {
-            let gid = g.attribute("id").unwrap_or("");
-            if let Some(m) = child(&g, "mesh") {
-                geoms.push((gid, dae_geometry(&m, gid)?));
-            }
-        }
-    }
-    if geoms.is_empty() {
-        return Err("DAE: no <geometry> with a <mesh> in <library_geometries>".to_string());
-    }
-    // Instances from the visual scene.
-    let mut instances: Vec<(usize, Matrix4<f64>)> = Vec::new();
-    if let Some(lib) = child(&root, "library_visual_scenes") {
-        let wanted = child(&root, "scene")
-            .and_then(|s| child(&s, "instance_visual_scene"))
-            .and_then(|i| i.attribute("url"))
-            .map(url_id);
-        let scenes: Vec<roxmltree::Node> =
-            lib.children().filter(|c| is(c, "visual_scene")).collect();
-        let scene = wanted
-            .and_then(|w| scenes.iter().find(|s| s.attribute("id") == Some(w)))
-            .or(scenes.first());
-        if let Some(scene) = scene {
-            let mut stack: Vec<(roxmltree::Node, Matrix4<f64>)> = scene
-                .children()
-                .filter(|c| is(c, "node"))
-                .map(|n| (n, Matrix4::identity()))
-                .collect();
-            while let Some((node, parent)) = stack.pop() {
-                let m = parent * node_transform(&node)?;
-                for c in node.children().filter(|c| c.is_element()) {
-                    if is(&c, "node") {
-                        stack.push((c, m));
-                    } else if is(&c, "instance_geometry") {
-                        let id = url_id(c.attribute("url").unwrap_or(""));
-                        if let Some(k) = geoms.iter().position(|g| g.0 == id) {
-                            instances.push((k, m));
-                        }
-                    }
-                }
-            }
-        }
-    }
-    if instances.is_empty() {
-        instances = (0..geoms.len()).map(|k| (k, Matrix4::identity())).collect();
-    }
-    let mut mesh = MeshData::default();
-    let mut index = HashMap::new();
-    for (k, m) in instances {
-        let (_, (pos, tris)) = &geoms[k];
-        // A mirroring node transform reverses the winding.
-        let mirror = m.fixed_view::<3, 3>(0, 0).determinant() < 0.0;
-        let place = |i: usize| {
-            let p = m * Vector4::new(pos[i][0], pos[i][1], pos[i][2], 1.0);
-            [p.x * unit, p.y * unit, p.z * unit]
-        };
-        for t in tris {
-            let (a, b, c) = (place(t[0]), place(t[1]), place(t[2]));
-            mesh.push_triangle(&mut index, if mirror { [a, c, b] } else { [a, b, c] });
+            mesh.push_triangle(&mut index, [p(t[0])?, p(t[1])?, p(t[2])?])
+                .map_err(|e| format!("OBJ: object '{}': {e}", m.name))?;
         }
     }
     Ok(mesh)
@@ -572,6 +330,7 @@ mod tests {
         let mut m = MeshData {
             vertices: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
             triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+            dropped: 0,
         };
         assert!(m.is_closed());
         assert!((m.signed_volume6() - 1.0).abs() < 1e-15);
