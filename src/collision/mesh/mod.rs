@@ -261,6 +261,9 @@ fn read_obj(path: &Path) -> Result<MeshData, String> {
 // `..Default::default()` fills the fields behind tobj features another crate may enable.
 #[allow(clippy::needless_update)]
 pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
+    if let Ok(text) = std::str::from_utf8(bytes) {
+        check_obj_indices(text)?;
+    }
     let mut reader = std::io::Cursor::new(bytes);
     let opts = tobj::LoadOptions {
         triangulate: true,
@@ -294,6 +297,57 @@ pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
         }
     }
     Ok(mesh)
+}
+
+/// Checks every face and line index of an OBJ before `tobj` sees it: tobj 4.0.5 turns a
+/// relative index reaching before the first element (`f 1/-11` after one `vt`) into a
+/// huge one and overflows (`vt * 2 + 1`) or indexes out of bounds, a panic. A negative
+/// index must stay within the elements of its kind read so far, a positive one within
+/// those of the whole file.
+fn check_obj_indices(text: &str) -> Result<(), String> {
+    let kinds = ["vertex", "texture coordinate", "normal"];
+    let mut total = [0usize; 3];
+    for l in text.lines() {
+        match l.split_whitespace().next() {
+            Some("v") => total[0] += 1,
+            Some("vt") => total[1] += 1,
+            Some("vn") => total[2] += 1,
+            _ => {}
+        }
+    }
+    let mut seen = [0usize; 3];
+    for (n, l) in text.lines().enumerate() {
+        let mut words = l.split_whitespace();
+        match words.next() {
+            Some("v") => seen[0] += 1,
+            Some("vt") => seen[1] += 1,
+            Some("vn") => seen[2] += 1,
+            Some("f" | "l") => {
+                for w in words {
+                    for (k, part) in w.split('/').take(3).enumerate() {
+                        let Ok(x) = part.parse::<isize>() else {
+                            continue; // empty (v//vn) or malformed: tobj decides
+                        };
+                        let (bad, limit) = if x < 0 {
+                            (x.unsigned_abs() > seen[k], seen[k])
+                        } else {
+                            (x as usize > total[k], total[k])
+                        };
+                        if bad {
+                            return Err(format!(
+                                "OBJ: line {}: index {x} of a {} is out of range ({limit} {})",
+                                n + 1,
+                                kinds[k],
+                                if x < 0 { "before it" } else { "in the file" }
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
