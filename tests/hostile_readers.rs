@@ -53,9 +53,9 @@ fn arm_with_mesh(dir: &Path, mesh: &Path, scale: &str) -> PathBuf {
 /// mesh file.
 fn collision_error(dir: &Path, mesh: &Path, scale: &str) -> String {
     let (model, _) = Model::load(arm_with_mesh(dir, mesh, scale)).unwrap();
-    let e = CollisionModel::new(&model, Vec::new(), &CollisionOptions::default())
-        .err()
-        .expect("the mesh was accepted");
+    let Err(e) = CollisionModel::new(&model, Vec::new(), &CollisionOptions::default()) else {
+        panic!("the mesh was accepted");
+    };
     let msg = e.to_string();
     assert!(msg.contains(&mesh.display().to_string()), "{msg}");
     msg
@@ -273,8 +273,10 @@ fn mesh_messages_name_the_real_reason() {
     // A mesh path that is a directory or a FIFO is named as such, not "no file".
     let sub = dir.join("meshdir.stl");
     std::fs::create_dir_all(&sub).unwrap();
-    let mut opts = CollisionOptions::default();
-    opts.missing_meshes = armsim::collision::MissingMeshes::Error;
+    let opts = CollisionOptions {
+        missing_meshes: armsim::collision::MissingMeshes::Error,
+        ..Default::default()
+    };
     let (model, _) = Model::load(arm_with_mesh(&dir, &sub, "1 1 1")).unwrap();
     let e = CollisionModel::new(&model, Vec::new(), &opts)
         .err()
@@ -331,8 +333,7 @@ fn recording_transforms_are_read_in_linear_time_and_bounded_in_the_viewer() {
         use armsim::recording::rerun_out::{log_recording, RerunSink};
         let rrd = dir.join("statics.rrd");
         let e = log_recording(&back, None, None, &RerunSink::Save(rrd.clone()))
-            .err()
-            .expect("a 60 000-frame tree was drawn");
+            .expect_err("a 60 000-frame tree was drawn");
         assert!(
             e.to_string()
                 .contains("60000 transform frames (children of /tf and /tf_static"),
