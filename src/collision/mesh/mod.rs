@@ -261,9 +261,9 @@ fn read_obj(path: &Path) -> Result<MeshData, String> {
 // `..Default::default()` fills the fields behind tobj features another crate may enable.
 #[allow(clippy::needless_update)]
 pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
-    if let Ok(text) = std::str::from_utf8(bytes) {
-        check_obj_indices(text)?;
-    }
+    // Lossy: tobj reads the lines before the first one that is not UTF-8 (then fails),
+    // and those lines are the same in the lossy text.
+    check_obj_indices(&String::from_utf8_lossy(bytes))?;
     let mut reader = std::io::Cursor::new(bytes);
     let opts = tobj::LoadOptions {
         triangulate: true,
