@@ -62,6 +62,7 @@ pub mod spatial;
 pub mod tradeoffs;
 pub mod trajectory;
 pub mod workspace;
+pub mod xml_guard;
 
 pub use data::Data;
 pub use kinematics::ik::{IkOptions, IkStatus};

@@ -41,7 +41,7 @@ struct Target {
     dict: &'static str,
 }
 
-const TARGETS: [Target; 4] = [
+const TARGETS: [Target; 9] = [
     Target {
         name: "urdf_loader",
         run: h::urdf,
@@ -73,6 +73,54 @@ const TARGETS: [Target; 4] = [
         max_len: h::MCAP_MAX_LEN,
         seeds: &[("tests/data/recordings", "mcap")],
         dict: "mcap.dict",
+    },
+    Target {
+        name: "stl_reader",
+        run: h::stl,
+        max_len: h::MESH_MAX_LEN,
+        seeds: &[
+            ("tests/data/meshes", "stl"),
+            ("robots/meshes/ur5/collision", "stl"),
+            ("tests/broken/readers", "stl"),
+        ],
+        dict: "stl.dict",
+    },
+    Target {
+        name: "obj_reader",
+        run: h::obj,
+        max_len: h::MESH_MAX_LEN,
+        seeds: &[
+            ("tests/data/meshes", "obj"),
+            ("robots/meshes/iiwa14/visual", "obj"),
+        ],
+        dict: "obj.dict",
+    },
+    Target {
+        name: "dae_reader",
+        run: h::dae,
+        max_len: h::MESH_MAX_LEN,
+        seeds: &[
+            ("tests/data/meshes", "dae"),
+            ("tests/broken/readers", "dae"),
+        ],
+        dict: "dae.dict",
+    },
+    Target {
+        name: "srdf_reader",
+        run: h::srdf,
+        max_len: h::MESH_MAX_LEN,
+        seeds: &[
+            ("robots/spherized", "srdf"),
+            ("tests/broken/readers", "srdf"),
+        ],
+        dict: "srdf.dict",
+    },
+    Target {
+        name: "moveit_yaml",
+        run: h::moveit,
+        max_len: h::MESH_MAX_LEN,
+        seeds: &[("tests/data/moveit", "yaml")],
+        dict: "yaml.dict",
     },
 ];
 
@@ -206,6 +254,16 @@ const REGRESSIONS: &[(&str, &str, &str)] = &[
         "uncompressed_chunk_record_overruns_chunk.mcap",
         "bytes of content, more than the",
     ),
+    (
+        "obj_reader",
+        "relative_index_before_first.obj",
+        "OBJ: line 5: index -11 of a texture coordinate is out of range (1 before it)",
+    ),
+    (
+        "obj_reader",
+        "relative_normal_index_before_invalid_utf8.obj",
+        "OBJ: line 5: index -11 of a normal is out of range (1 before it)",
+    ),
 ];
 
 #[test]
@@ -229,6 +287,12 @@ fn regressions_give_their_errors() {
                     .err()
                     .map(|e| e.to_string())
             }
+            "stl_reader" => armsim::collision::mesh::read_stl(&bytes).err(),
+            "obj_reader" => armsim::collision::mesh::read_obj_bytes(&bytes).err(),
+            "dae_reader" => armsim::collision::mesh::read_dae(&text).err(),
+            "srdf_reader" => armsim::planning::srdf::parse_srdf(&text, h::SRDF_FILE)
+                .err()
+                .map(|e| e.to_string()),
             _ => armsim::scenario::check(h::scenario_file(), &text)
                 .err()
                 .map(|e| e.to_string()),
@@ -497,4 +561,17 @@ fn scenario_seeds_and_dictionary_cover_every_scenario_kind() {
             assert!(broken >= 10, "{k}: {broken} broken seeds");
         }
     }
+}
+
+#[test]
+fn mutated_meshes() {
+    for t in &TARGETS[4..7] {
+        mutate(t, 2000);
+    }
+}
+
+#[test]
+fn mutated_srdf_and_moveit_yaml() {
+    mutate(&TARGETS[7], 2000);
+    mutate(&TARGETS[8], 2000);
 }

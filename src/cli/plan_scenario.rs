@@ -15,7 +15,7 @@ use std::path::Path;
 
 /// Plans the scenario's moves `a.passes` times; returns the report text.
 pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, String> {
-    let text = std::fs::read_to_string(file)
+    let text = armsim::io::read_input_string(file)
         .map_err(|e| format!("{}: cannot read: {e}", file.display()))?;
     let mut scene = armsim::arm::load(file, &text).map_err(|e| e.to_string())?;
     let same = |p: &Path| p.canonicalize().ok();

@@ -143,8 +143,11 @@ pub fn view(a: &ViewArgs) -> Result<(), String> {
         Some(p) => rerun_out::RerunSink::Save(p),
         None => rerun_out::RerunSink::Spawn,
     };
-    let report = rerun_out::log_recording(&rec, spec.as_ref(), mesh_dir, &sink)
-        .map_err(|e| e.to_string())?;
+    let report =
+        rerun_out::log_recording(&rec, spec.as_ref(), mesh_dir, &sink).map_err(|e| match e {
+            rerun_out::RerunError::TooLarge(_) => format!("{}: {e}", recording.display()),
+            _ => e.to_string(),
+        })?;
     for w in &report.warnings {
         eprintln!("warning: {w}");
     }

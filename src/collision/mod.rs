@@ -89,7 +89,7 @@ pub use bounds::{half_path_bound, Certifier, Evaluations};
 pub use certify::{Certificate, CertifyOptions, ClearanceBound, Motion, SampleFn, SampleMin};
 pub use obstacle::{Obstacle, ObstacleShape, ObstacleSpec};
 pub use segment::SegmentScratch;
-pub use shape::{CollisionShape, ShapeKind};
+pub use shape::{CollisionShape, ShapeKind, MAX_COORD};
 pub use trajectory::{DistanceSample, TrajectoryCollision, TrajectoryOptions, TrajectoryReport};
 
 use crate::data::Data;

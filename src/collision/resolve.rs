@@ -109,8 +109,11 @@ fn is_package(dir: &Path, pkg: &str) -> bool {
     if dir.file_name().is_some_and(|n| n == pkg) {
         return true;
     }
-    std::fs::read_to_string(dir.join("package.xml"))
+    // Through the input guard (a FIFO named package.xml must not block), and no
+    // deeper than a package manifest needs.
+    crate::io::read_input_string(&dir.join("package.xml"))
         .ok()
+        .filter(|t| crate::xml_guard::too_deep(t, 32).is_none())
         .and_then(|t| {
             roxmltree::Document::parse(&t).ok().map(|d| {
                 d.descendants()
@@ -150,6 +153,9 @@ pub fn resolve_with(
         if let Some(f) = roots.iter().map(|r| r.join(rel)).find(|f| f.is_file()) {
             return Ok(f);
         }
+        if let Some(f) = roots.iter().map(|r| r.join(rel)).find(|f| f.exists()) {
+            return Err(NotFound(missing_why(&f)));
+        }
         let found_pkg: Vec<String> = roots
             .iter()
             .filter(|r| r.is_dir())
@@ -179,7 +185,19 @@ pub fn resolve_with(
     if path.is_file() {
         Ok(path)
     } else {
-        Err(NotFound(format!("no file at {}", path.display())))
+        Err(NotFound(missing_why(&path)))
+    }
+}
+
+/// Why `path` is not a mesh file: absent, a directory, or not a regular file.
+fn missing_why(path: &Path) -> String {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => format!("{} is a directory, not a mesh file", path.display()),
+        Ok(_) => format!(
+            "{} is not a regular file (a FIFO, device or socket)",
+            path.display()
+        ),
+        Err(_) => format!("no file at {}", path.display()),
     }
 }
 

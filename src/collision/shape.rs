@@ -122,6 +122,10 @@ fn positive(x: f64, what: &str) -> Result<f64, String> {
     }
 }
 
+/// Farthest a scaled mesh vertex may lie from its mesh origin: 10⁹ m. Far beyond any
+/// scene, and far enough below the f64 range that areas and volumes stay finite.
+pub const MAX_COORD: f64 = 1e9;
+
 impl CollisionShape {
     /// A primitive (box, sphere, cylinder, capsule); meshes go through
     /// [`CollisionShape::from_mesh`].
@@ -190,6 +194,8 @@ impl CollisionShape {
 
     /// A mesh, scaled per axis, as a triangle mesh or (`convex_hull`) its convex hull.
     /// A flat mesh has no hull: it is kept as a triangle mesh and the second value says so.
+    /// The scale must be finite and non-zero and keep every vertex within [`MAX_COORD`]
+    /// metres of the mesh origin.
     pub fn from_mesh(
         mesh: &MeshData,
         scale: [f64; 3],
@@ -205,6 +211,17 @@ impl CollisionShape {
             .iter()
             .map(|p| Vector::new(p[0] * scale[0], p[1] * scale[1], p[2] * scale[2]))
             .collect();
+        // The scale is finite, but the scaled vertices may not be (1e300 × 1e10).
+        if let Some(v) = vertices
+            .iter()
+            .find(|v| !(v.x.abs() <= MAX_COORD && v.y.abs() <= MAX_COORD && v.z.abs() <= MAX_COORD))
+        {
+            return Err(format!(
+                "mesh scale {scale:?} takes a vertex to ({:e}, {:e}, {:e}), beyond the {MAX_COORD:e} m \
+                 accepted for collision geometry",
+                v.x, v.y, v.z
+            ));
+        }
         let inner_point = vertices.first().copied().unwrap_or(Vector::ZERO);
         let mut note = None;
         if convex_hull {

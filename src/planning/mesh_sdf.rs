@@ -121,6 +121,7 @@ mod tests {
         MeshData {
             vertices: v,
             triangles,
+            dropped: 0,
         }
     }
 

@@ -338,7 +338,8 @@ fn compute_cover(
     scale: [f64; 3],
     delta: f64,
 ) -> Result<NotedCover, String> {
-    let bytes = std::fs::read(path).ok();
+    // Through the input guard: a FIFO or `/dev/zero` must not block or read forever.
+    let bytes = crate::io::read_input_max(path, crate::io::MAX_MESH_BYTES).ok();
     if let Some(c) = bytes
         .as_deref()
         .and_then(|b| super::cover_cache::load(b, scale, delta))

@@ -9,6 +9,10 @@
 //! and passive joints) are not read. A malformed element (a pair or a group without its
 //! attributes) is an error.
 //!
+//! Limits (refused with the file, the line and the limit): elements nested deeper than
+//! [`MAX_DEPTH`] levels, and more than [`MAX_PAIRS`] `<disable_collisions>` plus
+//! `<enable_collisions>` elements. Filtering the pairs is linear (hash sets).
+//!
 //! ```
 //! use armsim::planning::srdf::parse_srdf;
 //! let srdf = parse_srdf(
@@ -21,7 +25,15 @@
 
 use crate::model::Model;
 use crate::planning::error::{PlanningInputError, PlanningInputWarning};
+use std::collections::HashSet;
 use std::path::Path;
+
+/// Deepest element nesting accepted (an SRDF needs 3).
+pub const MAX_DEPTH: usize = 32;
+
+/// Most `<disable_collisions>` plus `<enable_collisions>` elements accepted: every pair
+/// of a 1 400-link model.
+pub const MAX_PAIRS: usize = 1_000_000;
 
 /// Two link names.
 pub type NamePair = (String, String);
@@ -105,9 +117,16 @@ impl Srdf {
                 "not supported: ignored (the link's pairs stay checked)",
             ));
         }
-        let same = |a: &LinkPair, b: &LinkPair| {
-            (a.link1 == b.link1 && a.link2 == b.link2) || (a.link1 == b.link2 && a.link2 == b.link1)
-        };
+        // Unordered pairs: (smaller, larger) name.
+        fn key(p: &LinkPair) -> (&str, &str) {
+            let (a, b) = (p.link1.as_str(), p.link2.as_str());
+            if a <= b {
+                (a, b)
+            } else {
+                (b, a)
+            }
+        }
+        let enabled: HashSet<(&str, &str)> = self.enabled.iter().map(key).collect();
         let mut pairs = Vec::with_capacity(self.disabled.len());
         for p in &self.disabled {
             let unknown: Vec<&str> = [&p.link1, &p.link2]
@@ -131,7 +150,7 @@ impl Srdf {
                 ));
                 continue;
             }
-            if self.enabled.iter().any(|e| same(e, p)) {
+            if enabled.contains(&key(p)) {
                 continue;
             }
             pairs.push((p.link1.clone(), p.link2.clone()));
@@ -142,9 +161,18 @@ impl Srdf {
 
 /// Parses SRDF text read from `file` (used in messages).
 pub fn parse_srdf(text: &str, file: &str) -> Result<Srdf, PlanningInputError> {
+    let lx = crate::xml_guard::LineIndex::new(text);
+    if let Some(pos) = crate::xml_guard::too_deep(text, MAX_DEPTH) {
+        return Err(PlanningInputError::new(
+            file,
+            Some(lx.line(pos)),
+            "XML",
+            format!("elements nested deeper than {MAX_DEPTH} levels"),
+        ));
+    }
     let doc = roxmltree::Document::parse(text)
         .map_err(|e| crate::model::urdf::xml_error(text, file, e))?;
-    let line = |n: roxmltree::Node<'_, '_>| doc.text_pos_at(n.range().start).row as usize;
+    let line = |n: roxmltree::Node<'_, '_>| lx.line(n.range().start);
     let root = doc.root_element();
     if root.tag_name().name() != "robot" {
         return Err(PlanningInputError::new(
@@ -185,6 +213,17 @@ pub fn parse_srdf(text: &str, file: &str) -> Result<Srdf, PlanningInputError> {
                     reason: n.attribute("reason").map(str::to_string),
                     line: line(n),
                 };
+                if srdf.disabled.len() + srdf.enabled.len() >= MAX_PAIRS {
+                    return Err(PlanningInputError::new(
+                        file,
+                        Some(pair.line),
+                        format!("<{tag}>"),
+                        format!(
+                            "more than {MAX_PAIRS} <disable_collisions> and <enable_collisions> \
+                             elements: refused (the limit of this reader)"
+                        ),
+                    ));
+                }
                 if tag == "disable_collisions" {
                     srdf.disabled.push(pair);
                 } else {

@@ -256,6 +256,25 @@ pub(super) fn log_geometry(
                         continue;
                     }
                 };
+                // As the collision layer: a scale that takes a vertex out of range is refused.
+                let limit = crate::collision::MAX_COORD;
+                let far = |v: &[f64; 3]| {
+                    (0..3).any(|k| {
+                        let x = (v[k] * scale[k]).abs();
+                        x.is_nan() || x > limit
+                    })
+                };
+                if m.vertices.iter().any(far) {
+                    failed.insert(
+                        uri.clone(),
+                        format!(
+                            "mesh scale {scale:?} takes a vertex beyond the {:e} m accepted",
+                            crate::collision::MAX_COORD
+                        ),
+                    );
+                    mesh_missing = true;
+                    continue;
+                }
                 log_mesh(stream, vent, (g, scale, color), m, &mut bb)?;
                 k += 1;
                 report.visuals += 1;

@@ -150,6 +150,20 @@ fn log_shape(
                     return Ok(false);
                 }
             };
+            let limit = crate::collision::MAX_COORD;
+            let far = |v: &[f64; 3]| {
+                (0..3).any(|k| {
+                    let x = (v[k] * m.scale[k]).abs();
+                    x.is_nan() || x > limit
+                })
+            };
+            if mesh.vertices.iter().any(far) {
+                warnings.push(format!(
+                    "obstacle '{}' mesh not drawn: scale {:?} takes a vertex beyond the {limit:e} m accepted",
+                    m.name, m.scale
+                ));
+                return Ok(false);
+            }
             let pts: Vec<[f32; 3]> = mesh
                 .vertices
                 .iter()

@@ -106,6 +106,7 @@ pub fn log_recording_with(
     sink: &RerunSink,
 ) -> Result<RerunReport, RerunError> {
     check_sink(sink)?;
+    super::rerun_tree::check_size(rec, spec).map_err(RerunError::TooLarge)?;
     let parsed;
     let mut pre_warnings = Vec::new();
     let spec = match (spec, &rec.header.robot_description) {
@@ -267,15 +268,34 @@ pub(super) fn log_with(
     stream
         .log_static("world", &archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())
         .map_err(sdk)?;
-    let tree = Tree::build(rec, spec, &mut warnings);
+    let tree = Tree::build(rec, spec, &mut warnings).map_err(RerunError::TooLarge)?;
 
     // Frames with a usable time, in the recording's order.
-    let frames: Vec<&Frame> = rec.frames.iter().filter(|f| f.t.is_finite()).collect();
+    let mut frames: Vec<&Frame> = rec.frames.iter().filter(|f| f.t.is_finite()).collect();
     if frames.len() < rec.frames.len() {
         warnings.push(format!(
             "{} frame(s) with a non-finite time skipped",
             rec.frames.len() - frames.len()
         ));
+    }
+    // Within the pose budget: every k-th frame (and the last).
+    let stride = super::rerun_tree::frame_stride(frames.len(), tree.names.len());
+    if stride > 1 {
+        warnings.push(format!(
+            "drawing every {stride}th of the {} frames: {} frames × {} transform frames exceed \
+             the viewer's budget of {} poses",
+            frames.len(),
+            frames.len(),
+            tree.names.len(),
+            super::rerun_tree::MAX_POSES
+        ));
+        let last = frames.last().copied();
+        frames = frames.into_iter().step_by(stride).collect();
+        if let Some(l) = last {
+            if !std::ptr::eq(*frames.last().unwrap_or(&l), l) {
+                frames.push(l);
+            }
+        }
     }
     let times: Vec<f64> = frames.iter().map(|f| f.t).collect();
     report.frames = frames.len();

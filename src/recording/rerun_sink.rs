@@ -34,6 +34,9 @@ pub enum RerunError {
     /// The Rerun SDK refused the data.
     #[error("rerun: {0}")]
     Sdk(String),
+    /// The recording is larger than the viewer's budget (see `rerun_tree`).
+    #[error("{0}")]
+    TooLarge(String),
     /// armsim was built without the `rerun` feature.
     #[error(
         "this armsim was built without Rerun support (cargo feature `rerun`); rebuild with default features"

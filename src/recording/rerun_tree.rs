@@ -1,5 +1,10 @@
 //! The transform tree of a recording for Rerun: every frame that is the child of some
 //! transform, its static parent transform, and the world poses of all of them per frame.
+//!
+//! Budgets (a small recording must not expand into gigabytes of poses and of `.rrd`): a
+//! tree of more than [`MAX_TREE_FRAMES`] transform frames is refused, and when the frames
+//! times the tree's size exceed [`MAX_POSES`], only every k-th frame is drawn (a warning
+//! says so; see [`frame_stride`]).
 
 use super::{Frame, Recording, Transform};
 use crate::model::ModelSpec;
@@ -35,6 +40,64 @@ fn se3_of(t: &Transform) -> Option<Se3> {
     ))
 }
 
+/// Most transform frames (links and tf children) the viewer draws: a robot has tens, a
+/// ROS bag's tf tree a few hundred.
+pub const MAX_TREE_FRAMES: usize = 10_000;
+
+/// Most world poses (frames drawn × transform frames) the viewer computes and logs:
+/// about 110 MB of poses.
+pub const MAX_POSES: usize = 1_000_000;
+
+/// The step between drawn frames so that `frames × tree_frames ≤ MAX_POSES` (1: all).
+pub fn frame_stride(frames: usize, tree_frames: usize) -> usize {
+    let per = tree_frames.max(1);
+    let most = (MAX_POSES / per).max(1);
+    frames.div_ceil(most).max(1)
+}
+
+/// Refuses a recording whose transform tree (with the model's links) is larger than
+/// [`MAX_TREE_FRAMES`], before anything is opened or logged.
+pub(super) fn check_size(rec: &Recording, spec: Option<&ModelSpec>) -> Result<(), String> {
+    let mut names: std::collections::HashSet<&str> = std::collections::HashSet::new();
+    let statics = rec.header.static_tf.iter().map(|t| t.child.as_str());
+    let moving = rec
+        .frames
+        .iter()
+        .flat_map(|f| f.tf.iter().map(|t| t.child.as_str()));
+    let links = spec
+        .into_iter()
+        .flat_map(|s| s.links.iter().map(|l| l.name.as_str()));
+    for n in statics.chain(moving).chain(links) {
+        names.insert(n);
+        if names.len() > MAX_TREE_FRAMES {
+            break;
+        }
+    }
+    if names.len() > MAX_TREE_FRAMES {
+        let total: std::collections::HashSet<&str> = rec
+            .header
+            .static_tf
+            .iter()
+            .map(|t| t.child.as_str())
+            .chain(
+                rec.frames
+                    .iter()
+                    .flat_map(|f| f.tf.iter().map(|t| t.child.as_str())),
+            )
+            .chain(
+                spec.into_iter()
+                    .flat_map(|s| s.links.iter().map(|l| l.name.as_str())),
+            )
+            .collect();
+        return Err(format!(
+            "{} transform frames (children of /tf and /tf_static transforms and model \
+             links): more than the {MAX_TREE_FRAMES} the viewer draws",
+            total.len()
+        ));
+    }
+    Ok(())
+}
+
 impl Tree {
     fn add(&mut self, name: &str) -> usize {
         if let Some(&i) = self.index.get(name) {
@@ -51,7 +114,7 @@ impl Tree {
         rec: &Recording,
         spec: Option<&ModelSpec>,
         warnings: &mut Vec<String>,
-    ) -> Tree {
+    ) -> Result<Tree, String> {
         let mut tree = Tree {
             names: Vec::new(),
             index: HashMap::new(),
@@ -77,6 +140,13 @@ impl Tree {
                 tree.add(&l.name);
             }
         }
+        if tree.names.len() > MAX_TREE_FRAMES {
+            return Err(format!(
+                "{} transform frames (children of /tf and /tf_static transforms and model \
+                 links): more than the {MAX_TREE_FRAMES} the viewer draws",
+                tree.names.len()
+            ));
+        }
         // Parents of static transforms, now that every child has an index.
         for t in &rec.header.static_tf {
             let p = tree.index.get(&t.parent).copied();
@@ -89,7 +159,7 @@ impl Tree {
                 "{bad} static transform(s) with a non-finite or zero rotation ignored"
             ));
         }
-        tree
+        Ok(tree)
     }
 
     /// World pose of every link for `frame` (`None`: statics only). Frames not reached
@@ -142,5 +212,21 @@ impl Tree {
             }
         }
         (world, parent)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_stride_keeps_the_poses_within_the_budget() {
+        assert_eq!(frame_stride(1000, 100), 1);
+        assert_eq!(frame_stride(10_001, 100), 2);
+        assert_eq!(frame_stride(200, 60_000), 13);
+        for (f, n) in [(7, 3), (123_457, 89), (5, 2_000_000)] {
+            let k = frame_stride(f, n);
+            assert!(f.div_ceil(k) * n <= MAX_POSES.max(n), "{f} {n} {k}");
+        }
     }
 }

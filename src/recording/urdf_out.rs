@@ -64,6 +64,11 @@ pub fn absolute_mesh_uris(
         allow_dtd: true,
         ..Default::default()
     };
+    // The model loader refuses deeper files; the pre-scan keeps roxmltree's recursion
+    // off a deep text that reaches here first.
+    if crate::xml_guard::too_deep(urdf, 256).is_some() {
+        return (urdf.to_string(), Vec::new());
+    }
     let Ok(doc) = roxmltree::Document::parse_with_options(urdf, opts) else {
         return (urdf.to_string(), Vec::new());
     };

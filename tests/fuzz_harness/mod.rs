@@ -53,6 +53,12 @@ pub const URDF_MAX_LEN: usize = 64 * 1024;
 pub const TOML_MAX_LEN: usize = 8 * 1024;
 /// Largest MCAP inputs (the seed recordings are 11 and 29 KiB).
 pub const MCAP_MAX_LEN: usize = 64 * 1024;
+/// Largest mesh (STL, OBJ, DAE), SRDF and MoveIt YAML inputs.
+pub const MESH_MAX_LEN: usize = 64 * 1024;
+/// File name of SRDF inputs.
+pub const SRDF_FILE: &str = "fuzz.srdf";
+/// File name of MoveIt YAML inputs.
+pub const YAML_FILE: &str = "fuzz.yaml";
 
 /// Panics unless `msg` (a rendered error) names `file` first.
 fn check_message(file: &str, msg: &str) {
@@ -162,5 +168,94 @@ pub fn mcap(data: &[u8]) {
             // hook aborts first, here the message gives it away.
             assert!(!msg.contains("panicked"), "{msg}");
         }
+    }
+}
+
+/// What every mesh reader must return: an error with a message, or a mesh whose indices
+/// are in range and whose coordinates are finite, that the collision layer accepts as a
+/// triangle mesh (no panic) and whose closedness and volume can be computed.
+fn mesh(result: Result<armsim::collision::mesh::MeshData, String>) {
+    match result {
+        Ok(m) => {
+            let n = m.vertices.len();
+            assert!(m.triangles.iter().flatten().all(|&i| (i as usize) < n));
+            assert!(m.vertices.iter().flatten().all(|x| x.is_finite()));
+            let _ = (m.is_closed(), m.signed_volume6());
+            if !m.triangles.is_empty() {
+                let _ = armsim::collision::CollisionShape::from_mesh(&m, [1.0; 3], false);
+            }
+        }
+        Err(e) => assert!(!e.is_empty(), "an empty mesh error"),
+    }
+}
+
+/// The `stl_reader` target: binary or ASCII STL bytes.
+pub fn stl(data: &[u8]) {
+    mesh(armsim::collision::mesh::read_stl(data));
+}
+
+/// The `obj_reader` target: Wavefront OBJ bytes (through `tobj`).
+pub fn obj(data: &[u8]) {
+    mesh(armsim::collision::mesh::read_obj_bytes(data));
+}
+
+/// The `dae_reader` target: COLLADA text.
+pub fn dae(data: &[u8]) {
+    if let Ok(text) = std::str::from_utf8(data) {
+        mesh(armsim::collision::mesh::read_dae(text));
+    }
+}
+
+/// A bundled model, loaded once (the SRDF and request targets match names against it).
+fn bundled(name: &str) -> &'static Model {
+    static MODELS: OnceLock<(Model, Model)> = OnceLock::new();
+    let (ur5, panda) = MODELS.get_or_init(|| {
+        let load = |f: &str| Model::load(repo_root().join("robots").join(f)).unwrap().0;
+        (load("ur5.urdf"), load("panda.urdf"))
+    });
+    if name == "ur5" {
+        ur5
+    } else {
+        panda
+    }
+}
+
+/// The `srdf_reader` target: parse an SRDF, then filter its pairs against the UR5 and
+/// the Panda (unknown links and `<disable_default_collisions>` give warnings).
+pub fn srdf(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    match armsim::planning::srdf::parse_srdf(text, SRDF_FILE) {
+        Ok(s) => {
+            for m in [bundled("ur5"), bundled("panda")] {
+                let (pairs, warnings) = s.disabled_pairs(m);
+                assert!(pairs.len() <= s.disabled.len());
+                for w in &warnings {
+                    check_model_error(SRDF_FILE, w);
+                }
+            }
+        }
+        Err(e) => check_model_error(SRDF_FILE, &e),
+    }
+}
+
+/// The `moveit_yaml` target: the text as a PlanningScene (the Panda's root link accepted
+/// as the world frame) and as a MotionPlanRequest for the Panda.
+pub fn moveit(data: &[u8]) {
+    use armsim::planning::moveit::{parse_request, parse_scene};
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    if let Err(e) = parse_scene(text, YAML_FILE, &["panda_link0"]) {
+        check_model_error(YAML_FILE, &e);
+    }
+    match parse_request(text, YAML_FILE, bundled("panda")) {
+        Ok((_, warnings)) => {
+            for w in &warnings {
+                check_model_error(YAML_FILE, w);
+            }
+        }
+        Err(e) => check_model_error(YAML_FILE, &e),
     }
 }

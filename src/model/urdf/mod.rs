@@ -22,6 +22,7 @@ mod links;
 use super::spec::*;
 use super::{ModelError, ModelWarning};
 use crate::spatial::{rpy_to_matrix, Se3, Vec3};
+use crate::xml_guard::LineIndex;
 
 type Node<'a, 'i> = roxmltree::Node<'a, 'i>;
 
@@ -156,83 +157,8 @@ const MAX_DEPTH: usize = 32;
 const PRESCAN_DEPTH: usize = 256;
 
 /// Byte offset of the start tag that opens nesting level `PRESCAN_DEPTH + 1`, if any.
-/// A lexical scan: comments, CDATA, processing instructions and `<!…>` declarations are
-/// skipped, quoted attribute values may hold `>`. Malformed text is left to roxmltree.
 fn too_deep(text: &str) -> Option<usize> {
-    let b = text.as_bytes();
-    let find = |from: usize, pat: &[u8]| -> usize {
-        b[from.min(b.len())..]
-            .windows(pat.len())
-            .position(|w| w == pat)
-            .map_or(b.len(), |p| from + p + pat.len())
-    };
-    let mut depth = 0usize;
-    let mut i = 0;
-    while let Some(p) = b[i..].iter().position(|&c| c == b'<') {
-        let start = i + p;
-        let rest = &b[start..];
-        i = if rest.starts_with(b"<!--") {
-            find(start + 4, b"-->")
-        } else if rest.starts_with(b"<![CDATA[") {
-            find(start + 9, b"]]>")
-        } else if rest.starts_with(b"<?") {
-            find(start + 2, b"?>")
-        } else if rest.starts_with(b"<!") {
-            // <!DOCTYPE …> with an optional [internal subset].
-            let gt = find(start, b">");
-            match b[start..gt].iter().position(|&c| c == b'[') {
-                Some(_) => find(start, b"]").max(gt).min(b.len()),
-                None => gt,
-            }
-        } else if rest.starts_with(b"</") {
-            depth = depth.saturating_sub(1);
-            find(start, b">")
-        } else {
-            let mut j = start + 1;
-            let mut quote = None;
-            while j < b.len() {
-                match (quote, b[j]) {
-                    (None, b'"' | b'\'') => quote = Some(b[j]),
-                    (Some(q), c) if c == q => quote = None,
-                    (None, b'>') => break,
-                    _ => {}
-                }
-                j += 1;
-            }
-            if j < b.len() && b[j - 1] != b'/' {
-                depth += 1;
-                if depth > PRESCAN_DEPTH {
-                    return Some(start);
-                }
-            }
-            j + 1
-        };
-        if i >= b.len() {
-            break;
-        }
-    }
-    None
-}
-
-/// Byte offsets of line starts, so a node's line is a binary search (roxmltree's
-/// `text_pos_at` scans from the start of the text: quadratic over a large file).
-struct LineIndex(Vec<usize>);
-
-impl LineIndex {
-    fn new(text: &str) -> Self {
-        let mut v = vec![0];
-        v.extend(
-            text.bytes()
-                .enumerate()
-                .filter(|&(_, b)| b == b'\n')
-                .map(|(i, _)| i + 1),
-        );
-        Self(v)
-    }
-
-    fn line(&self, pos: usize) -> usize {
-        self.0.partition_point(|&s| s <= pos)
-    }
+    crate::xml_guard::too_deep(text, PRESCAN_DEPTH)
 }
 
 /// A number-reading or element problem, with the line of the node it is about.

@@ -112,6 +112,8 @@ struct Collected {
     joint_state_topics: Vec<String>,
     tf: Vec<(u64, Transform)>,
     static_tf: Vec<Transform>,
+    /// Child frame → its index in `static_tf` (last wins, in linear time).
+    static_index: HashMap<String, usize>,
     robot_description: Option<String>,
     /// Clouds and collision events with their stamps (ns; `t` is set once the epoch is
     /// known).

@@ -221,10 +221,11 @@ impl Collected {
                     let t = from_msg(ts);
                     if kind == Kind::Tf {
                         self.tf.push((ns, t));
-                    } else if let Some(old) = self.static_tf.iter_mut().find(|o| o.child == t.child)
-                    {
-                        *old = t;
+                    } else if let Some(&k) = self.static_index.get(&t.child) {
+                        self.static_tf[k] = t;
                     } else {
+                        self.static_index
+                            .insert(t.child.clone(), self.static_tf.len());
                         self.static_tf.push(t);
                     }
                 }

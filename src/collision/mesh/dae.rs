@@ -1,0 +1,451 @@
+//! COLLADA (`.dae`) meshes: the subset described in the parent module's docs, read with
+//! `roxmltree`, with every number taken from the file range-checked before it is used:
+//!
+//! - the nesting is pre-scanned ([`MAX_DEPTH`]) before `roxmltree` recurses into it;
+//! - an `<input offset>` must lie inside its primitive's `<p>`, a `<vcount>` must not
+//!   declare more indices than `<p>` holds, an `<accessor stride>` must fit its
+//!   `<float_array>`, and every index must name an existing position;
+//! - coordinates and node transforms must be finite, and placed vertices must stay finite;
+//! - the scene may place at most [`MAX_INSTANCES`] geometries and
+//!   [`super::MAX_TRIANGLES`] triangles in all, counted before any is placed (a small file
+//!   placing one large geometry many times would otherwise expand without bound).
+//!
+//! Errors are plain messages naming the element and its line; the caller adds the file.
+
+use super::{MeshData, MAX_TRIANGLES};
+use crate::xml_guard::LineIndex;
+use nalgebra::{Matrix4, Vector3, Vector4};
+use std::collections::HashMap;
+
+/// Deepest element nesting accepted (COLLADA node hierarchies of robot exports need
+/// a few dozen levels).
+pub const MAX_DEPTH: usize = 256;
+
+/// Most `<instance_geometry>` placements the visual scene may make.
+pub const MAX_INSTANCES: usize = 100_000;
+
+type Node<'a, 'i> = roxmltree::Node<'a, 'i>;
+
+/// Local tag name (COLLADA files carry a default namespace).
+fn is(n: &Node, name: &str) -> bool {
+    n.is_element() && n.tag_name().name() == name
+}
+
+fn child<'a, 'i>(n: &Node<'a, 'i>, name: &str) -> Option<Node<'a, 'i>> {
+    n.children().find(|c| is(c, name))
+}
+
+/// Whitespace-separated finite numbers.
+fn floats(text: Option<&str>, what: &str) -> Result<Vec<f64>, String> {
+    text.unwrap_or("")
+        .split_ascii_whitespace()
+        .map(|s| match s.parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            Ok(_) => Err(format!("DAE: {what}: '{s}' is not a finite number")),
+            Err(_) => Err(format!("DAE: {what}: '{s}' is not a number")),
+        })
+        .collect()
+}
+
+fn ints(text: Option<&str>, what: &str) -> Result<Vec<usize>, String> {
+    text.unwrap_or("")
+        .split_ascii_whitespace()
+        .map(|s| {
+            s.parse::<usize>()
+                .map_err(|_| format!("DAE: {what}: '{s}' is not an index"))
+        })
+        .collect()
+}
+
+/// `#id` → `id`.
+fn url_id(url: &str) -> &str {
+    url.strip_prefix('#').unwrap_or(url)
+}
+
+/// Positions and triangles (position indices) of one COLLADA geometry.
+type Geom = (Vec<[f64; 3]>, Vec<[usize; 3]>);
+
+/// Float sources of a `<mesh>`: id → (values, stride).
+type Sources<'a> = HashMap<&'a str, (Vec<f64>, usize)>;
+
+/// A `<mesh>`'s float sources and its `<vertices>` (id → the id of their POSITION
+/// source).
+fn dae_sources<'a>(
+    mesh: &Node<'a, '_>,
+    gid: &str,
+    lx: &LineIndex,
+) -> Result<(Sources<'a>, HashMap<&'a str, &'a str>), String> {
+    let mut sources: Sources = HashMap::new();
+    for s in mesh.children().filter(|c| is(c, "source")) {
+        let id = s.attribute("id").unwrap_or("");
+        let Some(fa) = child(&s, "float_array") else {
+            continue;
+        };
+        let what = format!(
+            "geometry '{gid}' source '{id}' (line {})",
+            lx.line(fa.range().start)
+        );
+        let vals = floats(fa.text(), &what)?;
+        let stride = child(&s, "technique_common")
+            .and_then(|t| child(&t, "accessor"))
+            .and_then(|a| a.attribute("stride"))
+            .and_then(|s| s.parse::<usize>().ok())
+            .unwrap_or(3)
+            .max(3);
+        if !vals.is_empty() && stride > vals.len() {
+            return Err(format!(
+                "DAE: {what}: <accessor stride=\"{stride}\"> is larger than the {} values \
+                 of its <float_array>",
+                vals.len()
+            ));
+        }
+        sources.insert(id, (vals, stride));
+    }
+    let mut vertices_pos: HashMap<&str, &str> = HashMap::new();
+    for v in mesh.children().filter(|c| is(c, "vertices")) {
+        if let Some(inp) = v
+            .children()
+            .find(|c| is(c, "input") && c.attribute("semantic") == Some("POSITION"))
+        {
+            vertices_pos.insert(
+                v.attribute("id").unwrap_or(""),
+                url_id(inp.attribute("source").unwrap_or("")),
+            );
+        }
+    }
+    Ok((sources, vertices_pos))
+}
+
+/// The index stride of a primitive (largest `<input offset>` + 1) and the offset of its
+/// VERTEX input, each offset checked to lie within the `p_len` indices of its `<p>`.
+fn input_offsets(prim: &Node, what: &str, p_len: usize) -> Result<(usize, usize), String> {
+    let mut stride = 1;
+    let mut voff = None;
+    for i in prim.children().filter(|c| is(c, "input")) {
+        let off = match i.attribute("offset") {
+            None => 0,
+            Some(o) => o
+                .trim()
+                .parse::<usize>()
+                .map_err(|_| format!("DAE: {what}: <input offset=\"{o}\">: not an index"))?,
+        };
+        if off >= p_len.max(1) {
+            return Err(format!(
+                "DAE: {what}: <input offset=\"{off}\"> is beyond the {p_len} indices of its <p>"
+            ));
+        }
+        stride = stride.max(off + 1);
+        if voff.is_none() && matches!(i.attribute("semantic"), Some("VERTEX" | "POSITION")) {
+            voff = Some(off);
+        }
+    }
+    let voff = voff.ok_or_else(|| format!("DAE: {what}: no VERTEX input"))?;
+    Ok((stride, voff))
+}
+
+/// Reads one `<mesh>` into positions and triangles (position indices).
+fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, String> {
+    let (sources, vertices_pos) = dae_sources(mesh, gid, lx)?;
+    let mut positions: Vec<[f64; 3]> = Vec::new();
+    let mut base_of: HashMap<&str, usize> = HashMap::new();
+    let mut tris: Vec<[usize; 3]> = Vec::new();
+    for prim in mesh.children().filter(|c| c.is_element()) {
+        let kind = prim.tag_name().name();
+        if !matches!(kind, "triangles" | "polylist" | "polygons") {
+            continue;
+        }
+        let what = format!(
+            "geometry '{gid}' <{kind}> (line {})",
+            lx.line(prim.range().start)
+        );
+        let ps: Vec<Vec<usize>> = prim
+            .children()
+            .filter(|c| is(c, "p"))
+            .map(|p| ints(p.text(), &what))
+            .collect::<Result<_, _>>()?;
+        let p_len = ps.iter().map(Vec::len).max().unwrap_or(0);
+        if p_len == 0 {
+            continue; // No indices: nothing to read (and no offset to check).
+        }
+        let (stride, voff) = input_offsets(&prim, &what, p_len)?;
+        let vin = prim
+            .children()
+            .find(|i| {
+                is(i, "input") && matches!(i.attribute("semantic"), Some("VERTEX" | "POSITION"))
+            })
+            .ok_or_else(|| format!("DAE: {what}: no VERTEX input"))?;
+        let src = url_id(vin.attribute("source").unwrap_or(""));
+        let src = vertices_pos.get(src).copied().unwrap_or(src);
+        let Some((vals, vstride)) = sources.get(src) else {
+            return Err(format!("DAE: {what}: position source '{src}' not found"));
+        };
+        // Each position source is appended once.
+        let base = *base_of.entry(src).or_insert_with(|| {
+            let b = positions.len();
+            positions.extend(vals.chunks_exact(*vstride).map(|c| [c[0], c[1], c[2]]));
+            b
+        });
+        let npos = vals.len() / vstride;
+        // `k < p.len() / stride` throughout, so `k * stride + voff < p.len()`.
+        let vertex = |p: &[usize], k: usize| -> Result<usize, String> {
+            let i = *p
+                .get(k * stride + voff)
+                .ok_or_else(|| format!("DAE: {what}: <p> is cut short"))?;
+            if i >= npos {
+                return Err(format!(
+                    "DAE: {what}: position index {i} out of range (the source has {npos})"
+                ));
+            }
+            Ok(base + i)
+        };
+        let mut fan = |p: &[usize], first: usize, n: usize| -> Result<(), String> {
+            if tris.len() + n.saturating_sub(2) > MAX_TRIANGLES {
+                return Err(format!(
+                    "DAE: {what}: more than {MAX_TRIANGLES} triangles (the mesh limit)"
+                ));
+            }
+            for k in 1..n.saturating_sub(1) {
+                tris.push([
+                    vertex(p, first)?,
+                    vertex(p, first + k)?,
+                    vertex(p, first + k + 1)?,
+                ]);
+            }
+            Ok(())
+        };
+        let empty = Vec::new();
+        let p = ps.first().unwrap_or(&empty);
+        match kind {
+            "triangles" => {
+                for t in 0..p.len() / (3 * stride) {
+                    fan(p, 3 * t, 3)?;
+                }
+            }
+            "polylist" => {
+                let vcount = ints(child(&prim, "vcount").and_then(|p| p.text()), &what)?;
+                let held = p.len() / stride;
+                let mut first = 0usize;
+                for n in vcount {
+                    if n > held - first {
+                        return Err(format!(
+                            "DAE: {what}: <vcount> declares more vertices than the {held} \
+                             its <p> holds"
+                        ));
+                    }
+                    fan(p, first, n)?;
+                    first += n;
+                }
+            }
+            _ => {
+                for p in &ps {
+                    fan(p, 0, p.len() / stride)?;
+                }
+            }
+        }
+    }
+    Ok((positions, tris))
+}
+
+/// Composes the transform elements of a `<node>` in document order; every number must
+/// be finite.
+fn node_transform(node: &Node, lx: &LineIndex) -> Result<Matrix4<f64>, String> {
+    let mut m = Matrix4::identity();
+    for c in node.children().filter(|c| c.is_element()) {
+        let what = format!(
+            "node '{}' <{}> (line {})",
+            node.attribute("id").unwrap_or(""),
+            c.tag_name().name(),
+            lx.line(c.range().start)
+        );
+        let want = match c.tag_name().name() {
+            "matrix" => 16,
+            "translate" | "scale" => 3,
+            "rotate" => 4,
+            _ => continue,
+        };
+        let v = floats(c.text(), &what)?;
+        if v.len() != want {
+            return Err(format!("DAE: {what}: expected {want} numbers"));
+        }
+        let t = match c.tag_name().name() {
+            "matrix" => Matrix4::from_row_slice(&v),
+            "translate" => Matrix4::new_translation(&Vector3::new(v[0], v[1], v[2])),
+            "scale" => Matrix4::new_nonuniform_scaling(&Vector3::new(v[0], v[1], v[2])),
+            _ => {
+                let axis = Vector3::new(v[0], v[1], v[2]);
+                if axis.norm() == 0.0 {
+                    Matrix4::identity()
+                } else {
+                    let r = crate::spatial::axis_angle(&axis.normalize(), v[3].to_radians());
+                    r.to_homogeneous()
+                }
+            }
+        };
+        m *= t;
+        if m.iter().any(|x: &f64| !x.is_finite()) {
+            return Err(format!(
+                "DAE: {what}: the node's transform overflows the floating-point range"
+            ));
+        }
+    }
+    Ok(m)
+}
+
+/// A geometry placed by a node: its index, the transform, and the node's id and line.
+struct Instance {
+    geom: usize,
+    m: Matrix4<f64>,
+    node: String,
+}
+
+/// The geometries the `<visual_scene>` places (the one `<scene>` names, else the first),
+/// counted against [`MAX_INSTANCES`] and [`MAX_TRIANGLES`] before any is placed.
+fn scene_instances(
+    root: &Node,
+    geoms: &[(&str, Geom)],
+    lx: &LineIndex,
+) -> Result<Vec<Instance>, String> {
+    let mut instances = Vec::new();
+    let Some(lib) = child(root, "library_visual_scenes") else {
+        return Ok(instances);
+    };
+    let by_id: HashMap<&str, usize> = geoms.iter().enumerate().map(|(k, g)| (g.0, k)).collect();
+    let wanted = child(root, "scene")
+        .and_then(|s| child(&s, "instance_visual_scene"))
+        .and_then(|i| i.attribute("url"))
+        .map(url_id);
+    let scenes: Vec<Node> = lib.children().filter(|c| is(c, "visual_scene")).collect();
+    let Some(scene) = wanted
+        .and_then(|w| scenes.iter().find(|s| s.attribute("id") == Some(w)))
+        .or(scenes.first())
+    else {
+        return Ok(instances);
+    };
+    let mut stack: Vec<(Node, Matrix4<f64>)> = scene
+        .children()
+        .filter(|c| is(c, "node"))
+        .map(|n| (n, Matrix4::identity()))
+        .collect();
+    let mut total = 0usize;
+    while let Some((node, parent)) = stack.pop() {
+        let m = parent * node_transform(&node, lx)?;
+        for c in node.children().filter(|c| c.is_element()) {
+            if is(&c, "node") {
+                stack.push((c, m));
+            } else if is(&c, "instance_geometry") {
+                let id = url_id(c.attribute("url").unwrap_or(""));
+                let Some(&k) = by_id.get(id) else { continue };
+                total += geoms[k].1 .1.len();
+                let line = lx.line(c.range().start);
+                if instances.len() >= MAX_INSTANCES || total > MAX_TRIANGLES {
+                    return Err(format!(
+                        "DAE: <instance_geometry url=\"#{id}\"> (line {line}): the scene places \
+                         more than {} (the mesh limit is {MAX_INSTANCES} placements and \
+                         {MAX_TRIANGLES} triangles)",
+                        if instances.len() >= MAX_INSTANCES {
+                            format!("{MAX_INSTANCES} geometries")
+                        } else {
+                            format!("{MAX_TRIANGLES} triangles")
+                        }
+                    ));
+                }
+                let node = format!(
+                    "node '{}' (line {line})",
+                    node.attribute("id").unwrap_or("")
+                );
+                instances.push(Instance { geom: k, m, node });
+            }
+        }
+    }
+    Ok(instances)
+}
+
+/// Parses COLLADA text (see the module docs for the subset and the checks).
+pub fn read_dae(text: &str) -> Result<MeshData, String> {
+    let lx = LineIndex::new(text);
+    if let Some(pos) = crate::xml_guard::too_deep(text, MAX_DEPTH) {
+        return Err(format!(
+            "DAE: line {}: elements nested deeper than {MAX_DEPTH} levels",
+            lx.line(pos)
+        ));
+    }
+    let doc = roxmltree::Document::parse(text).map_err(|e| format!("DAE: not valid XML: {e}"))?;
+    let root = doc.root_element();
+    let unit = child(&root, "asset")
+        .and_then(|a| child(&a, "unit"))
+        .and_then(|u| u.attribute("meter"))
+        .and_then(|m| m.parse::<f64>().ok())
+        .filter(|m| m.is_finite() && *m > 0.0)
+        .unwrap_or(1.0);
+    let mut geoms: Vec<(&str, Geom)> = Vec::new();
+    if let Some(lib) = child(&root, "library_geometries") {
+        for g in lib.children().filter(|c| is(c, "geometry")) {
+            let gid = g.attribute("id").unwrap_or("");
+            if let Some(m) = child(&g, "mesh") {
+                geoms.push((gid, dae_geometry(&m, gid, &lx)?));
+            }
+        }
+    }
+    if geoms.is_empty() {
+        return Err("DAE: no <geometry> with a <mesh> in <library_geometries>".to_string());
+    }
+    let mut instances = scene_instances(&root, &geoms, &lx)?;
+    if instances.is_empty() {
+        let total: usize = geoms.iter().map(|g| g.1 .1.len()).sum();
+        if total > MAX_TRIANGLES {
+            return Err(format!(
+                "DAE: the geometries hold {total} triangles, more than the mesh limit of \
+                 {MAX_TRIANGLES}"
+            ));
+        }
+        instances = (0..geoms.len())
+            .map(|k| Instance {
+                geom: k,
+                m: Matrix4::identity(),
+                node: "no node".into(),
+            })
+            .collect();
+    }
+    place(&geoms, &instances, unit)
+}
+
+/// The placed triangles of every instance, in metres. A flattening (singular) placement
+/// is kept (its triangles may all lose their area): when nothing is left, the error
+/// names the node.
+fn place(geoms: &[(&str, Geom)], instances: &[Instance], unit: f64) -> Result<MeshData, String> {
+    let mut mesh = MeshData::default();
+    let mut index = HashMap::new();
+    let mut flat: Option<&str> = None;
+    for inst in instances {
+        let (gid, (pos, tris)) = &geoms[inst.geom];
+        let m = &inst.m;
+        // A mirroring node transform reverses the winding.
+        let det = m.fixed_view::<3, 3>(0, 0).determinant();
+        if det == 0.0 && !tris.is_empty() {
+            flat.get_or_insert(&inst.node);
+        }
+        let place = |i: usize| {
+            let p = m * Vector4::new(pos[i][0], pos[i][1], pos[i][2], 1.0);
+            [p.x * unit, p.y * unit, p.z * unit]
+        };
+        for t in tris {
+            let (a, b, c) = (place(t[0]), place(t[1]), place(t[2]));
+            mesh.push_triangle(&mut index, if det < 0.0 { [a, c, b] } else { [a, b, c] })
+                .map_err(|e| format!("DAE: geometry '{gid}' placed by {}: {e}", inst.node))?;
+        }
+    }
+    if mesh.triangles.is_empty() && mesh.dropped > 0 {
+        return Err(match flat {
+            Some(node) => format!(
+                "DAE: all {} placed triangles have zero area: {node} has a singular transform \
+                 (a zero scale?)",
+                mesh.dropped
+            ),
+            None => format!(
+                "DAE: all {} triangles have zero area (coincident corners)",
+                mesh.dropped
+            ),
+        });
+    }
+    Ok(mesh)
+}
