@@ -152,22 +152,10 @@ fn dynamics_cmd(model: &Model, q: &str, o: &DynamicsArgs, as_json: bool) -> Resu
     inputs.finite("gravity torque", &gravity_tau)?;
     inputs.finite("mass matrix", mass.as_slice())?;
     inputs.finite("kinetic and potential energy", &[ke, pe])?;
-    let qdd = match &tau_in {
-        None => None,
-        Some(t) => {
-            let qdd = dynamics::forward_dynamics_with(model, &mut data, &effects, &q, &v, t)
-                .map(|x| x.to_vec());
-            let finite = qdd.as_ref().is_ok_and(|x| x.iter().all(|v| v.is_finite()));
-            if !finite && mass.clone().cholesky().is_some() {
-                // The mass matrix is fine: the accelerations overflowed.
-                match &qdd {
-                    Ok(x) => inputs.finite("qdd", x)?,
-                    Err(_) => inputs.finite("qdd", &[f64::NAN])?,
-                }
-            }
-            Some(qdd.map_err(|e| format!("{}: forward dynamics: {e}", model.source))?)
-        }
-    };
+    let qdd = tau_in
+        .as_deref()
+        .map(|t| forward_qdd(&inputs, &mut data, &effects, t, &mass))
+        .transpose()?;
     let method = match o.method {
         MethodArg::Rnea => "rnea",
         MethodArg::LagrangeTrace => "lagrange-trace",
@@ -206,6 +194,29 @@ fn dynamics_cmd(model: &Model, q: &str, o: &DynamicsArgs, as_json: bool) -> Resu
         },
     );
     Ok(())
+}
+
+/// Forward dynamics for the given torques; an overflow names the inputs, a singular mass
+/// matrix the joint (through the error of [`dynamics::forward_dynamics_with`]).
+fn forward_qdd(
+    inputs: &Inputs,
+    data: &mut Data,
+    effects: &Effects,
+    tau: &[f64],
+    mass: &nalgebra::DMatrix<f64>,
+) -> Result<Vec<f64>, String> {
+    let model = inputs.model;
+    let qdd = dynamics::forward_dynamics_with(model, data, effects, inputs.q, inputs.v, tau)
+        .map(|x| x.to_vec());
+    let finite = qdd.as_ref().is_ok_and(|x| x.iter().all(|v| v.is_finite()));
+    if !finite && mass.clone().cholesky().is_some() {
+        // The mass matrix is fine: the accelerations overflowed.
+        match &qdd {
+            Ok(x) => inputs.finite("qdd", x)?,
+            Err(_) => inputs.finite("qdd", &[f64::NAN])?,
+        }
+    }
+    qdd.map_err(|e| format!("{}: forward dynamics: {e}", model.source))
 }
 
 /// The state a command was given, for the message when a result is not finite.

@@ -89,44 +89,11 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         .transpose()?
         .unwrap_or(1.0)
         .to_radians();
-    let four_bar = match &f.four_bar {
-        None => None,
-        Some(fb) => {
-            let mode = match &fb.assembly {
-                None => 1.0,
-                Some(m) if *m.get_ref() == 1 || *m.get_ref() == -1 => *m.get_ref() as f64,
-                Some(m) => {
-                    return Err(ctx.at(
-                        m.span(),
-                        "four_bar.assembly",
-                        "must be 1 or -1 (the sign of (D − B) × (C − B))",
-                    ))
-                }
-            };
-            let frame = ctx.length(&fb.frame, "four_bar.frame")?;
-            for (v, k) in [
-                (&fb.crank, "four_bar.crank"),
-                (&fb.coupler, "four_bar.coupler"),
-                (&fb.rocker, "four_bar.rocker"),
-            ] {
-                ctx.length(v, k)?;
-                ctx.same_scale(v, k, (frame, "four_bar.frame"))?;
-            }
-            Some((
-                frame,
-                *fb.crank.get_ref(),
-                *fb.coupler.get_ref(),
-                *fb.rocker.get_ref(),
-                mode,
-                fb.start_deg
-                    .as_ref()
-                    .map(|s| ctx.finite(s, "four_bar.start_deg"))
-                    .transpose()?
-                    .unwrap_or(45.0)
-                    .to_radians(),
-            ))
-        }
-    };
+    let four_bar = f
+        .four_bar
+        .as_ref()
+        .map(|fb| four_bar_input(&ctx, fb))
+        .transpose()?;
     let slider_crank = match &f.slider_crank {
         None => None,
         Some(s) => Some((
@@ -359,4 +326,45 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         },
     ];
     finish_with_plot(ctx, out_dir, (&sc.name, "centrodes"), (&panels, 2), j, text)
+}
+
+/// The four-bar's frame, crank, coupler, rocker, assembly mode and start angle (rad),
+/// checked.
+fn four_bar_input(
+    ctx: &Ctx,
+    fb: &FourBarIn,
+) -> Result<(f64, f64, f64, f64, f64, f64), ScenarioError> {
+    let mode = match &fb.assembly {
+        None => 1.0,
+        Some(m) if *m.get_ref() == 1 || *m.get_ref() == -1 => *m.get_ref() as f64,
+        Some(m) => {
+            return Err(ctx.at(
+                m.span(),
+                "four_bar.assembly",
+                "must be 1 or -1 (the sign of (D − B) × (C − B))",
+            ))
+        }
+    };
+    let frame = ctx.length(&fb.frame, "four_bar.frame")?;
+    for (v, k) in [
+        (&fb.crank, "four_bar.crank"),
+        (&fb.coupler, "four_bar.coupler"),
+        (&fb.rocker, "four_bar.rocker"),
+    ] {
+        ctx.length(v, k)?;
+        ctx.same_scale(v, k, (frame, "four_bar.frame"))?;
+    }
+    Ok((
+        frame,
+        *fb.crank.get_ref(),
+        *fb.coupler.get_ref(),
+        *fb.rocker.get_ref(),
+        mode,
+        fb.start_deg
+            .as_ref()
+            .map(|s| ctx.finite(s, "four_bar.start_deg"))
+            .transpose()?
+            .unwrap_or(45.0)
+            .to_radians(),
+    ))
 }

@@ -130,6 +130,31 @@ struct Common {
     points: usize,
 }
 
+/// Refuses a planar pair whose tip circles do not overlap on the line of action (no
+/// positive transverse contact ratio), naming the key that set the distance.
+fn tips_reach(at: &At, p: &PairTable, spec: &super::pair::PairSpec) -> Result<(), ScenarioError> {
+    let eps = super::pair::pair(spec).eps_alpha;
+    if eps.is_nan() || eps <= 0.0 {
+        let field = if p.rack_withdrawal.is_some() {
+            "rack_withdrawal"
+        } else if p.centre_distance.is_some() {
+            "centre_distance"
+        } else {
+            "shift"
+        };
+        return Err(at.err(
+            field,
+            format!(
+                "the tips do not reach each other: the transverse contact ratio would be \
+                 {} (the tip circles do not overlap on the line of action); bring the \
+                 gears closer or shift them less",
+                crate::report::human_num(eps)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 fn case(
     cx: &Ctx,
     f: &FileSpec,
@@ -199,25 +224,7 @@ fn case(
     }
     if planar {
         let spec = planar_spec(&at, p, &kind, &teeth, &common)?;
-        let eps = super::pair::pair(&spec).eps_alpha;
-        if eps.is_nan() || eps <= 0.0 {
-            let field = if p.rack_withdrawal.is_some() {
-                "rack_withdrawal"
-            } else if p.centre_distance.is_some() {
-                "centre_distance"
-            } else {
-                "shift"
-            };
-            return Err(at.err(
-                field,
-                format!(
-                    "the tips do not reach each other: the transverse contact ratio would be \
-                     {} (the tip circles do not overlap on the line of action); bring the \
-                     gears closer or shift them less",
-                    crate::report::human_num(eps)
-                ),
-            ));
-        }
+        tips_reach(&at, p, &spec)?;
         return Ok(PairCase {
             label,
             kind,
