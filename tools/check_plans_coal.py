@@ -30,8 +30,11 @@ def load(urdf):
     model = pin.buildModelFromUrdf(urdf)
     import os
 
-    base = os.path.dirname(os.path.abspath(urdf))
-    geom = pin.buildGeomFromUrdf(model, urdf, pin.GeometryType.COLLISION, package_dirs=[base])
+    # package:// URIs: the URDF's folder and the folders above it (as armsim looks).
+    dirs = [os.path.dirname(os.path.abspath(urdf))]
+    while os.path.dirname(dirs[-1]) != dirs[-1]:
+        dirs.append(os.path.dirname(dirs[-1]))
+    geom = pin.buildGeomFromUrdf(model, urdf, pin.GeometryType.COLLISION, package_dirs=dirs)
     return pin, model, geom
 
 
