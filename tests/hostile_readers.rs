@@ -347,3 +347,40 @@ fn recording_transforms_are_read_in_linear_time_and_bounded_in_the_viewer() {
         assert!(!rrd.exists() || std::fs::metadata(&rrd).unwrap().len() < 1 << 20);
     }
 }
+
+/// Issue 28, the sphere cover: a thin plate (2 m × 2 m × 2 mm) and a 100 m × 100 m × 1 mm
+/// box are covered with a bounded number of spheres (the overshoot raised where the cells
+/// would exceed their budget), every sphere within the returned overshoot of the box, and
+/// points of the box's top face inside the cover. (They took 100 s and 165 s with the
+/// uniform grid.)
+#[test]
+fn thin_and_huge_boxes_are_covered_within_the_cell_budget() {
+    use armsim::planning::spherize::{cover, Primitive};
+    for (he, delta) in [([1.0, 1.0, 0.001], 0.01), ([50.0, 50.0, 0.0005], 0.01)] {
+        let shape = Primitive::Box(he);
+        let (spheres, d) = cover(&shape, delta);
+        assert!(d >= delta && d <= 200.0 * delta, "{he:?}: overshoot {d}");
+        assert!(
+            !spheres.is_empty() && spheres.len() <= 400_000,
+            "{}",
+            spheres.len()
+        );
+        for (c, r) in &spheres {
+            assert!(r + shape.sdf(*c) <= d * (1.0 + 1e-9), "{he:?}: {c:?} {r}");
+        }
+        for i in 0..=20 {
+            for j in 0..=20 {
+                let p = [
+                    he[0] * (i as f64 / 10.0 - 1.0),
+                    he[1] * (j as f64 / 10.0 - 1.0),
+                    he[2],
+                ];
+                let inside = spheres.iter().any(|(c, r)| {
+                    let d2: f64 = (0..3).map(|k| (p[k] - c[k]).powi(2)).sum();
+                    d2 <= r * r * (1.0 + 1e-9)
+                });
+                assert!(inside, "{he:?}: {p:?} not covered");
+            }
+        }
+    }
+}
