@@ -232,6 +232,12 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "4 needed",
     ),
     (
+        "flexible_rotor_inner_diameter_without_diameter.toml",
+        6,
+        "shaft.segments[0].inner_diameter",
+        "does not apply",
+    ),
+    (
         "flexible_rotor_segment_ambiguous.toml",
         6,
         "shaft.segments[0]",

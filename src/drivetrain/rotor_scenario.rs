@@ -159,6 +159,12 @@ fn segment(
             };
             Ok(Segment::circular(len, d, di, e, rho))
         }
+        (None, Some(_), Some(_)) if v.inner_diameter.is_some() => Err(ctx.at(
+            s.span(),
+            format!("{k}.inner_diameter"),
+            "does not apply to a segment given by `ei` and `mass_per_length` (it goes with \
+             `diameter`)",
+        )),
         (None, Some(ei), Some(mu)) => Ok(Segment {
             length: len,
             ei: ctx.positive(ei, &format!("{k}.ei"))?,
