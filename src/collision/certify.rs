@@ -226,26 +226,6 @@ impl Certifier {
         })
     }
 
-    /// Whether every pair is proven apart along `motion`, and nothing more: no first
-    /// contact, no closest approaches. Stops at the first pair that is not (a planner's
-    /// edge check on the exact geometry).
-    pub fn proves_free(
-        &self,
-        cm: &CollisionModel,
-        model: &Model,
-        cd: &mut CollisionData,
-        motion: &Motion,
-        opts: &CertifyOptions,
-    ) -> Result<bool, CollisionError> {
-        let (mut w, mut known) = self.start(cm, model, cd, motion, opts)?;
-        Ok((0..self.pairs.len()).all(|p| {
-            matches!(
-                self.march(cm, model, cd, &mut w, &mut known, p, opts),
-                Outcome::Proven
-            )
-        }))
-    }
-
     /// The motion checked and sampled, and the bounding-ball bounds at its samples.
     fn start<'m>(
         &self,

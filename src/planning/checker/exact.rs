@@ -72,11 +72,6 @@ impl ExactPairs {
         }
     }
 
-    /// The pairs (link indices).
-    pub fn links(&self) -> &[(usize, usize)] {
-        &self.links
-    }
-
     /// Buffers for one thread.
     pub fn scratch(&self) -> ExactScratch {
         let nv = self.model.nv;
