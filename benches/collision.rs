@@ -8,12 +8,12 @@
 //! check (collisions and distances at every sample).
 //! Run: `cargo bench --bench collision`.
 
-use armsim::bench::{random_states, STATES};
 use armsim::collision::{
     CollisionData, CollisionModel, CollisionOptions, Obstacle, Scope, TrajectoryOptions,
 };
+use armsim::core::spatial::Se3;
 use armsim::model::{Geometry, Model, Shape};
-use armsim::spatial::Se3;
+use armsim::studies::bench::{random_states, STATES};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::f64::consts::FRAC_PI_2;
 use std::hint::black_box;

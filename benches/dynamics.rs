@@ -2,15 +2,15 @@
 //! joints as in Pinocchio), iiwa and generated 50-, 100- and 200-joint chains, cycling over
 //! 256 random states. Run: `cargo bench --bench dynamics`.
 
-use armsim::bench::{random_states, random_unit_states, STATES};
-use armsim::data::Data;
 use armsim::dynamics;
+use armsim::model::data::Data;
 use armsim::model::Model;
+use armsim::studies::bench::{random_states, random_unit_states, STATES};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 
 fn models() -> Vec<Model> {
-    armsim::bench::benchmark_models(&[50, 100, 200])
+    armsim::studies::bench::benchmark_models(&[50, 100, 200])
 }
 
 fn dynamics_benches(c: &mut Criterion) {

@@ -3,10 +3,10 @@
 //! with each effect switched on alone, then all together. A left-out effect costs nothing.
 //! Run: `cargo bench --bench effects`.
 
-use armsim::data::Data;
+use armsim::core::spatial::{Inertia, Mat3, Vec3};
 use armsim::dynamics::{self, Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor};
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::spatial::{Inertia, Mat3, Vec3};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 

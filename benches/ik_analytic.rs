@@ -5,14 +5,14 @@
 //! parameters, `Vec` output, branch labels).
 //! Run: `cargo bench --bench ik_analytic`.
 
-use armsim::bench::{random_states, STATES};
-use armsim::data::Data;
+use armsim::core::spatial::Se3;
 use armsim::kinematics::ik::analytic::{
     ur_ik, wrist_ik, AnalyticOptions, AnalyticSolver, UrParams, WristParams,
 };
 use armsim::kinematics::{forward_kinematics, frame_placement};
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::spatial::Se3;
+use armsim::studies::bench::{random_states, STATES};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 

@@ -2,15 +2,15 @@
 //! and generated 100-joint chain, cycling over 256 random states inside the limits.
 //! Run: `cargo bench --bench kinematics`.
 
-use armsim::bench::{random_states, STATES};
-use armsim::data::Data;
 use armsim::kinematics;
+use armsim::model::data::Data;
 use armsim::model::Model;
+use armsim::studies::bench::{random_states, STATES};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 
 fn models() -> Vec<Model> {
-    armsim::bench::benchmark_models(&[100])
+    armsim::studies::bench::benchmark_models(&[100])
 }
 
 fn kinematics_benches(c: &mut Criterion) {

@@ -3,7 +3,7 @@
 //!
 //! The scenes are the UR5 of `scenarios/ur5_push_box.toml` (computed-torque control, RK4,
 //! h = 1 ms, its planned push trajectory as reference), loaded through the scenario
-//! loader (`armsim::arm::load`) with only the `effects = [...]` line changed and parameter
+//! loader (`armsim::scenarios::arm::load`) with only the `effects = [...]` line changed and parameter
 //! tables added (UR5-typical values, below; tables of effects left out are ignored, as in
 //! any scenario). Each row runs the real machinery, `Simulator::run_with_hook`, over a
 //! fixed number of steps; the time reported by criterion is **per step** (the time of
@@ -24,14 +24,14 @@
 //!
 //! Run: `cargo bench --bench scenario_step`.
 
-use armsim::arm::contact::ContactSim;
-use armsim::arm::scene::Scene;
-use armsim::data::Data;
 use armsim::dynamics::ExternalWrench;
-use armsim::recording::mcap_out::McapWriter;
-use armsim::recording::Header;
+use armsim::io::record::mcap_out::McapWriter;
+use armsim::io::record::Header;
+use armsim::model::data::Data;
+use armsim::motion::Trajectory;
+use armsim::scenarios::arm::contact::ContactSim;
+use armsim::scenarios::arm::scene::Scene;
 use armsim::sim::{Integrator, NoHook, Reference, SimConfig, Simulator, StepHook};
-use armsim::trajectory::Trajectory;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -79,7 +79,7 @@ fn scene(effects: &[&str]) -> Scene {
     let old = "effects = [\"gravity\", \"contact\"]";
     assert!(text.contains(old), "the push-box scenario changed");
     let text = text.replacen(old, &format!("effects = [{list}]"), 1) + TABLES;
-    armsim::arm::load(&path, &text).unwrap_or_else(|e| panic!("{effects:?}: {e}"))
+    armsim::scenarios::arm::load(&path, &text).unwrap_or_else(|e| panic!("{effects:?}: {e}"))
 }
 
 /// The reference shifted in time: `q_d(t) = traj(t0 + t)`.
@@ -139,7 +139,7 @@ fn bench(c: &mut Criterion) {
     // The push trajectory, planned once from the contact scene (the task is the same in
     // every row).
     let contact_scene = scene(&["gravity", "contact"]);
-    let plan = armsim::arm::plan::plan(&contact_scene).expect("plan");
+    let plan = armsim::scenarios::arm::task_motion::plan(&contact_scene).expect("plan");
     let traj = &plan.trajectory;
     let start = Shifted { traj, t0: 0.0 };
     let h = contact_scene.simulation.as_ref().unwrap().dt;

@@ -6,8 +6,9 @@
 
 use armsim::dynamics::{Effects, Friction, Rotor};
 use armsim::model::Model;
-use armsim::trajectory::{
-    check_torques, topp, CheckOptions, JointLimits, MinJerk, Quintic, ToppOptions, Trajectory,
+use armsim::motion::topp;
+use armsim::motion::{
+    check_torques, CheckOptions, JointLimits, MinJerk, Quintic, ToppOptions, Trajectory,
     Trapezoidal,
 };
 use std::time::Instant;

@@ -8,14 +8,15 @@
 //! cargo run --release --example collision_poses -- scenarios/ur5_pick_and_place.toml out.json
 //! ```
 
-use armsim::arm::{self, planned::with_part, RunOptions};
 use armsim::collision::resolve::{resolve_with, PackagePaths};
 use armsim::collision::{CollisionModel, Scope};
-use armsim::data::Data;
+use armsim::core::spatial::Se3;
 use armsim::kinematics::forward_kinematics;
+use armsim::model::data::Data;
 use armsim::model::{Model, Shape, WORLD};
-use armsim::spatial::Se3;
-use armsim::trajectory::Trajectory;
+use armsim::motion::Trajectory;
+use armsim::scenarios::arm::planner_setup::with_part;
+use armsim::scenarios::arm::{self, RunOptions};
 use serde_json::{json, Value};
 use std::path::Path;
 

@@ -6,11 +6,11 @@
 //! cargo run --release --example rerun_demo -- robots/ur5.urdf --spawn   # open the viewer
 //! ```
 
-use armsim::data::Data;
 use armsim::dynamics::rnea;
+use armsim::io::record::rerun::rerun_out::{log_recording, RerunSink};
+use armsim::io::record::{CollisionEvent, Header, PointCloud, Recording};
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::recording::rerun_out::{log_recording, RerunSink};
-use armsim::recording::{CollisionEvent, Header, PointCloud, Recording};
 use armsim::workspace::{sample_workspace, WorkspaceOptions};
 use std::path::Path;
 use std::process::ExitCode;

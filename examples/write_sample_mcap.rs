@@ -9,14 +9,14 @@
 //! SECONDS (default 2) of a sine motion at 100 Hz with gravity torques, a workspace cloud
 //! with manipulability, a torque check and two collision events.
 
-use armsim::data::Data;
 use armsim::dynamics::gravity_torque;
+use armsim::io::record::mcap_out::McapWriter;
+use armsim::io::record::{CollisionEvent, Header, PointCloud, TorqueRow};
 use armsim::kinematics::{
     compute_joint_jacobians, frame_jacobian, frame_placement, manipulability, Expressed,
 };
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::recording::mcap_out::McapWriter;
-use armsim::recording::{CollisionEvent, Header, PointCloud, TorqueRow};
 use rand::{Rng, SeedableRng};
 use std::path::PathBuf;
 

@@ -37,37 +37,25 @@
 //! assert!((tip.trans.z - 0.2).abs() < 1e-12);
 //! ```
 
-pub mod arm;
-pub mod bench;
 pub mod collision;
-pub mod data;
-pub mod diag;
-pub mod drivetrain;
+pub mod core;
 pub mod dynamics;
-pub mod fastmath;
 pub mod io;
 pub mod kinematics;
-pub mod linalg;
 pub mod machines;
-pub mod mechanism;
 pub mod model;
+pub mod motion;
 pub mod planning;
-pub mod recording;
-pub mod report;
 pub mod robot;
-pub mod scenario;
-pub mod scenario_kit;
+pub mod scenarios;
 pub mod sim;
-pub mod spatial;
-pub mod tradeoffs;
-pub mod trajectory;
+pub mod studies;
 pub mod workspace;
-pub mod xml_guard;
 
-pub use data::Data;
+pub use crate::core::spatial::{Force, Mat3, Motion, Se3, Vec3};
+pub use crate::model::data::Data;
 pub use kinematics::ik::{IkOptions, IkStatus};
 pub use kinematics::Expressed;
 pub use model::{FrameId, JointId, Model};
 pub use nalgebra;
 pub use robot::{IkSolution, Placements, Robot, RobotError};
-pub use spatial::{Force, Mat3, Motion, Se3, Vec3};

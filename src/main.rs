@@ -31,28 +31,28 @@ enum Cmd {
     /// --tau also the forward-dynamics accelerations.
     Dynamics(cli::dynamics::DynamicsArgs),
     /// Inverse kinematics of a link frame for one target pose or a CSV file of targets.
-    Ik(cli::ik::IkArgs),
+    Ik(cli::ik_cmd::IkArgs),
     /// Reachable workspace of a link: voxel volume (or area for planar arms) with a 95 %
     /// interval (or a lower bound when under-sampled), boundary, manipulability, dexterity.
-    Workspace(cli::workspace::WorkspaceArgs),
+    Workspace(cli::workspace_cmd::WorkspaceArgs),
     /// Show a recording (MCAP) in Rerun: write an .rrd file, or spawn the viewer (the
     /// `rerun` program on PATH, from `pip install rerun-sdk==0.36.3`).
-    View(cli::scenario::ViewArgs),
+    View(cli::scenario_cmd::ViewArgs),
     /// Run a scenario file end to end and print its summary (or JSON).
-    Run(cli::scenario::RunArgs),
+    Run(cli::scenario_cmd::RunArgs),
     /// Time one algorithm (median ns per call over random states inside the limits).
     Bench(cli::inspect::BenchArgs),
     /// Measure the trade-offs report: IK tolerance × method, integrator step × method,
     /// dynamics formulations vs DOF, workspace samples × scheme, cost of each effect,
     /// flexible-rotor elements × critical-speed error.
     /// Writes DIR/tradeoffs.md, DIR/tradeoffs.json and the plots (DIR/*.png).
-    Tradeoffs(cli::scenario::TradeoffsArgs),
+    Tradeoffs(cli::scenario_cmd::TradeoffsArgs),
     /// Plan collision-free motions (RRT-Connect on the robot's collision spheres) for MoveIt
     /// problems: one scene + request, or every pair of benchmark folders.
-    Plan(cli::plan::PlanArgs),
+    Plan(cli::plan_cmd::PlanArgs),
     /// Compute the allowed-collision matrix of a URDF (adjacent, default, always and
     /// never-colliding link pairs, as MoveIt's Setup Assistant does) and write it as an SRDF.
-    Srdf(cli::srdf::SrdfArgs),
+    Srdf(cli::srdf_cmd::SrdfArgs),
     /// Write the generated N-joint benchmark chain as URDF.
     Chain(cli::inspect::ChainArgs),
 }
@@ -75,19 +75,19 @@ fn run(cli: Cli) -> Result<(), String> {
         Cmd::Fk(a) => cli::inspect::fk_cmd(&a),
         Cmd::Jacobian(a) => cli::inspect::jacobian_cmd(&a),
         Cmd::Dynamics(a) => cli::dynamics::run(&a),
-        Cmd::Workspace(a) => cli::workspace::run(&a),
-        Cmd::View(a) => cli::scenario::view(&a),
-        Cmd::Ik(a) => cli::ik::run(&a),
-        Cmd::Run(a) => cli::scenario::run(&a),
+        Cmd::Workspace(a) => cli::workspace_cmd::run(&a),
+        Cmd::View(a) => cli::scenario_cmd::view(&a),
+        Cmd::Ik(a) => cli::ik_cmd::run(&a),
+        Cmd::Run(a) => cli::scenario_cmd::run(&a),
         Cmd::Bench(a) => cli::inspect::bench_run(&a),
-        Cmd::Tradeoffs(a) => cli::scenario::tradeoffs(&a),
+        Cmd::Tradeoffs(a) => cli::scenario_cmd::tradeoffs(&a),
         Cmd::Plan(args) => {
-            let text = cli::plan::run(&args)?;
+            let text = cli::plan_cmd::run(&args)?;
             print!("{text}");
             Ok(())
         }
         Cmd::Srdf(a) => {
-            let text = cli::srdf::run(&a)?;
+            let text = cli::srdf_cmd::run(&a)?;
             print!("{text}");
             Ok(())
         }

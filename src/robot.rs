@@ -1,5 +1,5 @@
 //! [`Robot`]: the common path in one object. A robot owns its immutable
-//! [`Model`](crate::model::Model), one reusable [`Data`](crate::data::Data) workspace and
+//! [`Model`](crate::model::Model), one reusable [`Data`](crate::model::data::Data) workspace and
 //! an IK solver, checks its inputs (lengths, finiteness, frame names) and returns errors
 //! instead of panicking, takes gravity from the model, and allocates nothing per call
 //! once built (IK excepted: it returns a new configuration).
@@ -23,12 +23,12 @@
 //! The functions underneath ([`crate::kinematics`], [`crate::dynamics`]) stay the API for
 //! hot loops: `Robot::model` and `Robot::data` hand them out.
 
-use crate::data::Data;
+use crate::core::spatial::{Force, Se3, Vec3};
 use crate::dynamics::{self, SingularMassMatrix};
 use crate::kinematics::ik::{IkOptions, IkSolver, IkStatus};
 use crate::kinematics::{self, Expressed};
+use crate::model::data::Data;
 use crate::model::{FrameId, LoadOptions, Model, ModelError, ModelWarning};
-use crate::spatial::{Force, Se3, Vec3};
 use nalgebra::DMatrix;
 use std::path::Path;
 

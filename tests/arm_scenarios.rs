@@ -12,12 +12,12 @@
 
 mod common;
 
-use armsim::arm::{self, RunOptions};
-use armsim::data::Data;
+use armsim::core::spatial::{Inertia, Mat3, Vec3};
 use armsim::dynamics::rnea;
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::spatial::{Inertia, Mat3, Vec3};
-use armsim::trajectory::Trajectory;
+use armsim::motion::Trajectory;
+use armsim::scenarios::arm::{self, RunOptions};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -542,7 +542,7 @@ fn package_uris_resolve_through_package_paths_and_the_mcap_names_absolute_files(
         ..Default::default()
     };
     arm::run(&scenario, &plain, &opts).unwrap();
-    let rec = armsim::recording::mcap_in::read_mcap(&dir.join("out/planted.mcap")).unwrap();
+    let rec = armsim::io::record::mcap_in::read_mcap(&dir.join("out/planted.mcap")).unwrap();
     let desc = rec.header.robot_description.expect("robot_description");
     let uris = mesh_uris(&desc);
     assert_eq!(uris.len(), 14);
@@ -562,7 +562,7 @@ fn package_uris_resolve_through_package_paths_and_the_mcap_names_absolute_files(
         ..opts
     };
     arm::run(&scenario, &plain, &keep).unwrap();
-    let rec = armsim::recording::mcap_in::read_mcap(&dir.join("out/planted.mcap")).unwrap();
+    let rec = armsim::io::record::mcap_in::read_mcap(&dir.join("out/planted.mcap")).unwrap();
     let uris = mesh_uris(&rec.header.robot_description.unwrap());
     assert_eq!(uris.len(), 14);
     assert!(
@@ -585,7 +585,7 @@ fn bundled_scenario_recording_names_existing_mesh_files() {
         ..Default::default()
     };
     arm::run(&path, &text, &opts).unwrap();
-    let rec = armsim::recording::mcap_in::read_mcap(&dir.join("ur5_pick_and_place.mcap")).unwrap();
+    let rec = armsim::io::record::mcap_in::read_mcap(&dir.join("ur5_pick_and_place.mcap")).unwrap();
     let uris = mesh_uris(&rec.header.robot_description.unwrap());
     assert_eq!(uris.len(), 14);
     for u in &uris {
@@ -843,7 +843,7 @@ fn broken_arm_scenarios_give_located_errors_and_no_panic() {
     let out = std::env::temp_dir().join(format!("armsim_broken_{}", std::process::id()));
     for &(file, line, key, msg) in BROKEN {
         let rel = format!("tests/broken_scenarios/{file}");
-        let e = armsim::scenario::run_file_with(&root().join(&rel), &no_files())
+        let e = armsim::scenarios::run_file_with(&root().join(&rel), &no_files())
             .err()
             .unwrap_or_else(|| panic!("{file} ran"));
         assert_eq!(e.line, Some(line), "{file}: {e}");
@@ -873,7 +873,7 @@ fn scenario_recording_round_trips_through_mcap() {
     let path = root().join("scenarios/planar_2r.toml");
     let out = arm::run(&path, &bundled("planar_2r"), &opts).unwrap();
     let file = dir.join("planar_2r.mcap");
-    let rec = armsim::recording::mcap_in::read_mcap(&file).unwrap();
+    let rec = armsim::io::record::mcap_in::read_mcap(&file).unwrap();
     assert_eq!(rec.header.joint_names, vec!["joint1", "joint2"]);
     assert_eq!(rec.frames.len(), out.samples.len());
     for (f, s) in rec.frames.iter().zip(&out.samples) {
@@ -922,7 +922,7 @@ fn sigint_in_the_middle_of_a_run_leaves_a_valid_mcap() {
         Some(130),
         "exits 130 after finishing its files"
     );
-    let rec = armsim::recording::mcap_in::read_mcap(&out.join("planar_2r.mcap")).unwrap();
+    let rec = armsim::io::record::mcap_in::read_mcap(&out.join("planar_2r.mcap")).unwrap();
     let last = rec
         .frames
         .last()
@@ -955,7 +955,7 @@ fn workspace_writes_its_cloud_as_pointcloud2_in_mcap() {
         p.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let rec = armsim::recording::mcap_in::read_mcap(&p).unwrap();
+    let rec = armsim::io::record::mcap_in::read_mcap(&p).unwrap();
     assert_eq!(rec.clouds.len(), 1);
     let c = &rec.clouds[0];
     assert!(c.points.len() >= 1000, "{}", c.points.len());

@@ -3,9 +3,11 @@
 //! `tests/broken/EXPECTED.toml`), without a panic and without output on stdout; and
 //! 20 000-joint chains (valid and broken) must load without overflowing the stack.
 
-use armsim::data::Data;
 use armsim::kinematics;
-use armsim::model::{chain, dh, urdf, LoadOptions, Model};
+use armsim::model::data::Data;
+use armsim::model::parse::dh_table as dh;
+use armsim::model::parse::urdf;
+use armsim::model::{chain, LoadOptions, Model};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -625,7 +627,7 @@ fn non_regular_files_are_refused_not_read() {
             "{}: {msg}",
             p.display()
         );
-        let e = armsim::recording::mcap_in::read_mcap(p).expect_err("a non-regular MCAP read");
+        let e = armsim::io::record::mcap_in::read_mcap(p).expect_err("a non-regular MCAP read");
         assert!(e.to_string().contains(&p.display().to_string()), "{e}");
     }
     // Meshes, through a link whose target is a device.

@@ -5,8 +5,8 @@
 //! distance r_r from the pitch curve, the base-radius search at its limit — and the
 //! broken files.
 
-use armsim::machines::cam::laws::{Law, Motion};
-use armsim::machines::cam::profile::{min_prime_radius, pressure_angle_numeric, sample, Follower};
+use armsim::machines::cams::laws::{Law, Motion};
+use armsim::machines::cams::profile::{min_prime_radius, pressure_angle_numeric, sample, Follower};
 use serde_json::Value;
 use std::f64::consts::PI;
 

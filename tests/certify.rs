@@ -3,14 +3,15 @@
 //! between two samples, the curve bound against measured motion on random smooth
 //! trajectories, and the exact closest approach against the brute-force minimum.
 
-use armsim::arm::{self, planned::with_part, RunOptions};
 use armsim::collision::{
     half_path_bound, CertifyOptions, CollisionData, CollisionModel, CollisionOptions, Motion,
     Obstacle, Scope, TrajectoryOptions,
 };
+use armsim::core::spatial::Vec3;
 use armsim::model::{LoadOptions, Model};
-use armsim::spatial::Vec3;
-use armsim::trajectory::Trajectory;
+use armsim::motion::Trajectory;
+use armsim::scenarios::arm::planner_setup::with_part;
+use armsim::scenarios::arm::{self, RunOptions};
 use rand::{Rng, SeedableRng};
 use std::path::PathBuf;
 

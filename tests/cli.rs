@@ -110,7 +110,7 @@ fn fk_json_gives_world_translation_and_row_major_rotation() {
     let (m, _) =
         armsim::model::Model::load(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/ur5.urdf"))
             .unwrap();
-    let mut d = armsim::data::Data::new(&m);
+    let mut d = armsim::model::data::Data::new(&m);
     let q: Vec<f64> = UR5_Q.split(',').map(|x| x.parse().unwrap()).collect();
     armsim::kinematics::forward_kinematics(&m, &mut d, &q);
     let p = armsim::kinematics::frame_placement(&m, &d, m.link_id("tool0").unwrap());
@@ -219,8 +219,8 @@ fn dynamics_json_contract_and_forward_dynamics() {
     let (mut m, _) =
         armsim::model::Model::load(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/ur5.urdf"))
             .unwrap();
-    m.gravity = armsim::spatial::Vec3::new(0.0, 0.0, -9.81);
-    let mut d = armsim::data::Data::new(&m);
+    m.gravity = armsim::core::spatial::Vec3::new(0.0, 0.0, -9.81);
+    let mut d = armsim::model::data::Data::new(&m);
     let q: Vec<f64> = UR5_Q.split(',').map(|x| x.parse().unwrap()).collect();
     let tau =
         armsim::dynamics::rnea(&m, &mut d, &q, &[0.1, 0.2, 0.3, 0.4, 0.5, 0.6], &[1.0; 6]).to_vec();

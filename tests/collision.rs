@@ -8,8 +8,8 @@ use armsim::collision::{
     Body, CollisionData, CollisionError, CollisionModel, CollisionOptions, MissingMeshes, Obstacle,
     ObstacleSpec, Scope, ShapeKind, TrajectoryOptions,
 };
+use armsim::core::spatial::{Se3, Vec3};
 use armsim::model::{Geometry, JointSpec, JointType, LinkSpec, Model, ModelSpec, Shape};
-use armsim::spatial::{Se3, Vec3};
 use rand::{Rng, SeedableRng};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -348,9 +348,9 @@ fn random_pose(rng: &mut rand::rngs::SmallRng) -> parry3d_f64::math::Pose {
 }
 
 /// The rotation matrix of a parry pose.
-fn rotation_of(p: &parry3d_f64::math::Pose) -> armsim::spatial::Mat3 {
+fn rotation_of(p: &parry3d_f64::math::Pose) -> armsim::core::spatial::Mat3 {
     let m = parry3d_f64::math::Matrix::from_quat(p.rotation);
-    armsim::spatial::Mat3::from_columns(&[
+    armsim::core::spatial::Mat3::from_columns(&[
         Vec3::new(m.x_axis.x, m.x_axis.y, m.x_axis.z),
         Vec3::new(m.y_axis.x, m.y_axis.y, m.y_axis.z),
         Vec3::new(m.z_axis.x, m.z_axis.y, m.z_axis.z),
@@ -1081,7 +1081,7 @@ fn ur5_forearm_mesh_to_box_distance_matches_its_vertices() {
     // collision origin.
     let model = load("robots/ur5.urdf");
     let q = [0.0, -0.5, 0.5, 0.0, 0.0, 0.0];
-    let mut kin = armsim::data::Data::new(&model);
+    let mut kin = armsim::model::data::Data::new(&model);
     armsim::kinematics::forward_kinematics(&model, &mut kin, &q);
     let li = model.link_id("forearm_link").unwrap();
     let link = &model.links[li];

@@ -3,25 +3,29 @@
 //! iteration, perturbation estimates, time integration, the rigid-body engine (CRBA,
 //! ABA, the flexible-joint model), finite differences, Monte Carlo.
 
-use armsim::data::Data;
-use armsim::drivetrain::absorber::{
+use armsim::core::spatial::{Inertia, Mat3, Se3, Vec3};
+use armsim::dynamics::{self, Effects, Elasticity};
+use armsim::machines::vibration::torsional::absorber::{
     lanchester_damper, lanchester_optimum_damping, tuned_absorber_inertia,
 };
-use armsim::drivetrain::damped::{damped_modes, quadratic_matrix};
-use armsim::drivetrain::forced::{critical_speeds, harmonic_response, order_response, Excitation};
-use armsim::drivetrain::holzer::{
+use armsim::machines::vibration::torsional::damped::{damped_modes, quadratic_matrix};
+use armsim::machines::vibration::torsional::forced::{
+    critical_speeds, harmonic_response, order_response, Excitation,
+};
+use armsim::machines::vibration::torsional::holzer::{
     frequencies_below, holzer_frequencies, holzer_table, residual_torque,
 };
-use armsim::drivetrain::identify::{
+use armsim::machines::vibration::torsional::identify::{
     chain_with, identify_damping, predict, DampingParameter, Measurement,
 };
-use armsim::drivetrain::lr::lr_eigenvalues;
-use armsim::drivetrain::modes::{undamped_modes, CPM_PER_RAD_S};
-use armsim::drivetrain::time::{steady_state_by_integration, HarmonicForcing, Rk4};
-use armsim::drivetrain::{GearStage, GearedChain, TorsionalChain};
-use armsim::dynamics::{self, Effects, Elasticity};
+use armsim::machines::vibration::torsional::lr::lr_eigenvalues;
+use armsim::machines::vibration::torsional::modes::{undamped_modes, CPM_PER_RAD_S};
+use armsim::machines::vibration::torsional::time::{
+    steady_state_by_integration, HarmonicForcing, Rk4,
+};
+use armsim::machines::vibration::torsional::{GearStage, GearedChain, TorsionalChain};
+use armsim::model::data::Data;
 use armsim::model::{JointSpec, JointType, LinkSpec, Model, ModelSpec};
-use armsim::spatial::{Inertia, Mat3, Se3, Vec3};
 use nalgebra::{Complex, DMatrix};
 use rand::{rngs::SmallRng, Rng, SeedableRng};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -484,7 +488,7 @@ fn critical_speed_table_shows_order_six_in_phase_near_59_rpm() {
     // And the forced sweep peaks there: order 6's largest shaft torque between 53 and
     // 66 rpm (the barred range) is at 59 ± 0.5 rpm, in the propeller-side shafting.
     let speeds: Vec<f64> = (0..=130).map(|i| 53.0 + 0.1 * i as f64).collect();
-    let sw = armsim::drivetrain::sweep(&chain, &exc, &speeds);
+    let sw = armsim::machines::vibration::torsional::sweep(&chain, &exc, &speeds);
     let (si, shaft, _) = sw[5].peak().unwrap();
     assert!((speeds[si] - 59.0).abs() <= 0.5, "peak at {}", speeds[si]);
     assert!(shaft >= 7, "peak in shaft {shaft}");
@@ -1109,7 +1113,7 @@ fn flexible_joint_and_two_mass_chain_agree() {
 
 #[test]
 fn ship_scenario_runs_and_names_its_masses() {
-    let r = armsim::scenario::run_file(&root().join("scenarios/ship_shafting.toml")).unwrap();
+    let r = armsim::scenarios::run_file(&root().join("scenarios/ship_shafting.toml")).unwrap();
     let j = &r.json;
     let masses = j["masses"].as_array().unwrap();
     assert_eq!(masses.len(), 11);
@@ -1187,7 +1191,7 @@ fn ship_scenario_measurements_are_the_documented_synthetic_data() {
 
 #[test]
 fn two_mass_scenario_runs() {
-    let r = armsim::scenario::run_file(&root().join("scenarios/torsional_two_mass.toml")).unwrap();
+    let r = armsim::scenarios::run_file(&root().join("scenarios/torsional_two_mass.toml")).unwrap();
     let j = &r.json;
     let p = (2.0e4_f64 * (1.0 / 1.2 + 1.0 / 0.8)).sqrt();
     assert!(rel(j["modes"][1]["frequency_rad_s"].as_f64().unwrap(), p) < 1e-12);
@@ -1274,7 +1278,7 @@ fn broken_torsional_scenarios_give_located_errors() {
     let dir = root().join("tests/broken_scenarios");
     for (file, line, key, msg) in BROKEN {
         let path = dir.join(file);
-        let e = match armsim::scenario::run_file(&path) {
+        let e = match armsim::scenarios::run_file(&path) {
             Ok(_) => panic!("{file}: expected an error"),
             Err(e) => e,
         };

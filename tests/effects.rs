@@ -6,11 +6,11 @@
 
 mod common;
 
-use armsim::data::Data;
+use armsim::core::spatial::{Inertia, Mat3, Se3, Vec3};
 use armsim::dynamics::{self, Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor};
 use armsim::kinematics::{self, Expressed};
+use armsim::model::data::Data;
 use armsim::model::{JointSpec, JointType, LinkSpec, Model, ModelSpec};
-use armsim::spatial::{Inertia, Mat3, Se3, Vec3};
 use nalgebra::DMatrix;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};

@@ -3,10 +3,10 @@
 //! pinned–pinned closed form, the direct unbalance response against modal superposition,
 //! and located errors for broken files.
 
-use armsim::drivetrain::flexible_rotor::{
+use armsim::machines::vibration::rotor::{
     fe_modes, pinned_pinned_speed, unbalance_response, Bearing, Disc, Rotor, Segment,
 };
-use armsim::drivetrain::rotor_transfer::critical_speeds;
+use armsim::machines::vibration::rotor_transfer::critical_speeds;
 use serde_json::Value;
 
 mod common;
@@ -280,7 +280,7 @@ fn broken_flexible_rotor_scenarios_give_located_errors() {
 fn response_at_a_critical_speed_is_marked_critical() {
     let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let src = root.join("scenarios/flexible_rotor_disc_overhang.toml");
-    let first = armsim::scenario::run_file(&src).unwrap();
+    let first = armsim::scenarios::run_file(&src).unwrap();
     let rpm = first.json["modes"][0]["rpm"].as_f64().unwrap();
     let text = std::fs::read_to_string(&src).unwrap();
     let line = text.lines().find(|l| l.starts_with("speeds_rpm")).unwrap();
@@ -289,7 +289,7 @@ fn response_at_a_critical_speed_is_marked_critical() {
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join("critical.toml");
     std::fs::write(&p, text).unwrap();
-    let r = armsim::scenario::run_file(&p).unwrap();
+    let r = armsim::scenarios::run_file(&p).unwrap();
     std::fs::remove_dir_all(&dir).ok();
     let rows = r.json["response"].as_array().unwrap();
     assert!(rows[0]["amplification"]

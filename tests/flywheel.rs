@@ -3,9 +3,9 @@
 //! motor's integral), the older [`flywheel::size`] on the same samples, and RK4 time
 //! runs; located errors for broken files.
 
-use armsim::mechanism::flywheel;
-use armsim::mechanism::flywheel_design::{self as fd, Torque};
-use armsim::mechanism::machine_motion::Characteristic;
+use armsim::machines::flywheel;
+use armsim::machines::flywheel::design::{self as fd, Torque};
+use armsim::machines::flywheel::machine_motion::Characteristic;
 use serde_json::Value;
 use std::f64::consts::PI;
 

@@ -356,14 +356,14 @@ mod friction_circles {
     //! Linkage efficiency with friction circles: a crank against a tip force (closed form
     //! η = r/(r + ρ)) and a slider-crank over a turn, where the driver's extra power must
     //! equal the friction's loss (virtual power, no joint forces) at every position.
-    use armsim::mechanism::catalog;
-    use armsim::mechanism::friction_circle::{solve_with_friction, JointFriction};
-    use armsim::mechanism::kinetostatics::{Loads, PointForce};
-    use armsim::mechanism::linkage::{Driver, Link, Linkage, GROUND};
-    use armsim::mechanism::position::NewtonOptions;
-    use armsim::mechanism::sweep::{sweep, SweepOptions};
-    use armsim::mechanism::virtual_power::driving_effort;
-    use armsim::mechanism::Vec2;
+    use armsim::machines::friction::friction_circle::{solve_with_friction, JointFriction};
+    use armsim::machines::linkage::catalog;
+    use armsim::machines::linkage::kinetostatics::{Loads, PointForce};
+    use armsim::machines::linkage::linkage::{Driver, Link, Linkage, GROUND};
+    use armsim::machines::linkage::position::NewtonOptions;
+    use armsim::machines::linkage::sweep::{sweep, SweepOptions};
+    use armsim::machines::linkage::virtual_power::driving_effort;
+    use armsim::machines::linkage::Vec2;
     use nalgebra::DVector;
 
     #[test]

@@ -283,17 +283,17 @@ fn regressions_give_their_errors() {
                 .err()
                 .map(|e| e.to_string()),
             "mcap_reader" => {
-                armsim::recording::mcap_in::read_mcap_bytes(&bytes, Path::new(h::MCAP_FILE))
+                armsim::io::record::mcap_in::read_mcap_bytes(&bytes, Path::new(h::MCAP_FILE))
                     .err()
                     .map(|e| e.to_string())
             }
             "stl_reader" => armsim::collision::mesh::read_stl(&bytes).err(),
             "obj_reader" => armsim::collision::mesh::read_obj_bytes(&bytes).err(),
             "dae_reader" => armsim::collision::mesh::read_dae(&text).err(),
-            "srdf_reader" => armsim::planning::srdf::parse_srdf(&text, h::SRDF_FILE)
+            "srdf_reader" => armsim::model::parse::srdf::parse_srdf(&text, h::SRDF_FILE)
                 .err()
                 .map(|e| e.to_string()),
-            _ => armsim::scenario::check(h::scenario_file(), &text)
+            _ => armsim::scenarios::check(h::scenario_file(), &text)
                 .err()
                 .map(|e| e.to_string()),
         };
@@ -483,7 +483,7 @@ fn scenario_inputs_reach_the_arm_loader() {
     assert!(bundled.len() >= 8, "{} bundled scenarios", bundled.len());
     for p in &bundled {
         let text = String::from_utf8(read(p)).unwrap();
-        if let Err(e) = armsim::scenario::check(h::scenario_file(), &text) {
+        if let Err(e) = armsim::scenarios::check(h::scenario_file(), &text) {
             panic!("{}: {e}", p.display());
         }
     }
@@ -499,7 +499,7 @@ fn scenario_inputs_reach_the_arm_loader() {
     assert!(arm.len() >= 20, "{} broken arm scenarios", arm.len());
     for p in arm {
         let text = String::from_utf8(read(p)).unwrap();
-        let checked = armsim::scenario::check(h::scenario_file(), &text);
+        let checked = armsim::scenarios::check(h::scenario_file(), &text);
         // IK runs when the motion is planned, after `check`: an unreachable pose, and the
         // budgets that need the planned motion's duration, are refused by `armsim run`
         // (tests/arm_scenarios.rs), not here.
@@ -522,7 +522,7 @@ fn scenario_inputs_reach_the_arm_loader() {
 #[test]
 fn scenario_seeds_and_dictionary_cover_every_scenario_kind() {
     // The kinds as the dispatcher lists them when it refuses an unknown one.
-    let e = armsim::scenario::check(h::scenario_file(), "kind = \"no_such_kind\"\n")
+    let e = armsim::scenarios::check(h::scenario_file(), "kind = \"no_such_kind\"\n")
         .expect_err("an unknown kind is refused");
     let kinds: Vec<String> = e
         .message
@@ -551,7 +551,7 @@ fn scenario_seeds_and_dictionary_cover_every_scenario_kind() {
             }
             if p.starts_with(root().join("tests/broken_scenarios")) {
                 broken += 1;
-            } else if armsim::scenario::check(h::scenario_file(), &text).is_ok() {
+            } else if armsim::scenarios::check(h::scenario_file(), &text).is_ok() {
                 valid += 1;
             }
         }

@@ -5,10 +5,10 @@
 //! helical pairs, the involute of a point, the internal-gear interference root, the
 //! pointed-tooth shift as a zero of the tip thickness, and the broken files.
 
-use armsim::machines::gears::design::{design, specific_sliding};
-use armsim::machines::gears::involute::{inv, inv_inverse, thickness_at};
-use armsim::machines::gears::pair::{pair, PairKind, PairSpec};
-use armsim::machines::gears::spatial::{bevel, crossed, worm};
+use armsim::machines::gearing::crossed_axes::{bevel, crossed, worm};
+use armsim::machines::gearing::involute::{inv, inv_inverse, thickness_at};
+use armsim::machines::gearing::pair::{pair, PairKind, PairSpec};
+use armsim::machines::gearing::pair_design::{design, specific_sliding};
 use serde_json::Value;
 use std::f64::consts::PI;
 
@@ -558,7 +558,7 @@ fn contact_ratio_below_one_is_warned() {
     let p = dir.join("rack.toml");
     let text = "kind = \"gear_pair\"\nmodule = 14\n\n[[pair]]\ntype = \"rack\"\nteeth = [20]\n\n[[pair]]\ntype = \"rack\"\nteeth = [20]\nrack_withdrawal = 12\n";
     std::fs::write(&p, text).unwrap();
-    let r = armsim::scenario::run_file(&p).unwrap();
+    let r = armsim::scenarios::run_file(&p).unwrap();
     std::fs::remove_dir_all(&dir).ok();
     assert!(r.json["pairs"][0].get("warnings").is_none(), "{}", r.json);
     let w = &r.json["pairs"][1]["warnings"][0];

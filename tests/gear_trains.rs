@@ -3,10 +3,10 @@
 //! check of the graphical method, closed-form planetary efficiencies, the mobility count
 //! against the null-space dimension — plus the broken files.
 
-use armsim::machines::gears::torques::solve_torques;
-use armsim::machines::gears::train_scenario::parse;
-use armsim::machines::gears::willis::relative_ratio;
-use armsim::machines::rational::Ratio;
+use armsim::machines::gearing::rational::Ratio;
+use armsim::machines::gearing::torques::solve_torques;
+use armsim::machines::gearing::willis::relative_ratio;
+use armsim::scenarios::gear_train::parse;
 use serde_json::Value;
 
 mod common;
@@ -29,12 +29,12 @@ fn close(a: f64, b: f64, tol: f64, what: &str) {
     assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
 }
 
-fn scenario(rel: &str) -> armsim::machines::gears::train_report::TrainScenario {
+fn scenario(rel: &str) -> armsim::scenarios::gear_train_report::TrainScenario {
     let text = std::fs::read_to_string(root().join(rel)).unwrap();
     parse(rel, &text).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn with(rel: &str, from: &str, to: &str) -> armsim::machines::gears::train_report::TrainScenario {
+fn with(rel: &str, from: &str, to: &str) -> armsim::scenarios::gear_train_report::TrainScenario {
     let text = std::fs::read_to_string(root().join(rel)).unwrap();
     assert!(text.contains(from), "{rel} has no '{from}'");
     let text = text.replacen(from, to, 1);
@@ -246,7 +246,7 @@ fn pitch_points_have_equal_velocities_in_every_planetary_mesh() {
         let t = &sc.train;
         let w = &sc.speeds.values;
         // Axis positions (mm): the main axis at the origin, planets at (arm, 0).
-        let arm = |b: usize| armsim::machines::gears::assembly::planet_arm(t, b).unwrap();
+        let arm = |b: usize| armsim::machines::gearing::assembly::planet_arm(t, b).unwrap();
         let centre = |b: usize| {
             if t.bodies[b].carrier.is_some() {
                 (arm(b), 0.0)
@@ -441,12 +441,12 @@ fn a_planetary_train_is_an_arm_joints_transmission() {
     // matrix diagonal, and the motor torque τ/(N η) when driving.
     let path = common::root().join("scenarios/planar_2r_geared_shoulder.toml");
     let text = std::fs::read_to_string(&path).unwrap();
-    let scene = armsim::arm::load(&path, &text).unwrap();
+    let scene = armsim::scenarios::arm::load(&path, &text).unwrap();
     let r = scene.effects.rotor.as_ref().unwrap();
     assert_eq!(r.gear_ratio, vec![n, 20.0]);
     close(r.efficiency[0], eta, 1e-12, "rotor η");
     close(r.inertia[0], 1e-4 + j, 1e-15, "rotor I_m + J");
-    let mut d = armsim::data::Data::new(&scene.model);
+    let mut d = armsim::model::data::Data::new(&scene.model);
     let q = [0.3, -0.7];
     let with = armsim::dynamics::mass_matrix(&scene.model, &mut d, &scene.effects, &q).clone();
     let without = armsim::dynamics::mass_matrix(

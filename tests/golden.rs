@@ -6,11 +6,11 @@
 
 mod common;
 
-use armsim::data::Data;
+use armsim::core::spatial::Vec3;
 use armsim::dynamics;
 use armsim::kinematics::{self, Expressed};
+use armsim::model::data::Data;
 use armsim::model::{LoadOptions, Model};
-use armsim::spatial::Vec3;
 use nalgebra::DMatrix;
 use serde_json::Value;
 

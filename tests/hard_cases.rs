@@ -56,7 +56,7 @@
 
 mod common;
 
-use armsim::data::Data;
+use armsim::core::spatial::{Se3, Vec3};
 use armsim::dynamics::{self, Effects, Elasticity};
 use armsim::kinematics::ik::analytic::UrParams;
 use armsim::kinematics::ik::{rotation_log, IkOptions, IkResult, IkSolver, IkStatus};
@@ -64,15 +64,16 @@ use armsim::kinematics::{
     compute_joint_jacobians, forward_kinematics, frame_jacobian, frame_placement, manipulability,
     Expressed,
 };
-use armsim::mechanism::branch::sign;
-use armsim::mechanism::mobility::conditioning;
-use armsim::mechanism::motion::solve_velocity;
-use armsim::mechanism::position::{solve_position, NewtonOptions};
-use armsim::mechanism::sweep::{dead_centres, sweep, SweepOptions};
-use armsim::mechanism::{catalog, Driver, Vec2};
+use armsim::machines::linkage::branch::sign;
+use armsim::machines::linkage::catalog;
+use armsim::machines::linkage::mobility::conditioning;
+use armsim::machines::linkage::position::{solve_position, NewtonOptions};
+use armsim::machines::linkage::sweep::{dead_centres, sweep, SweepOptions};
+use armsim::machines::linkage::velocity::solve_velocity;
+use armsim::machines::linkage::{Driver, Vec2};
+use armsim::model::data::Data;
 use armsim::model::Model;
 use armsim::sim::{Controller, Hold, Integrator, Reference, SimConfig, SimError, Simulator};
-use armsim::spatial::{Se3, Vec3};
 use nalgebra::DMatrix;
 use std::time::Duration;
 
@@ -194,7 +195,7 @@ fn displaced(t: &Se3, u: &[f64], h: f64) -> Se3 {
     let dr = Vec3::new(u[3], u[4], u[5]) * h;
     let angle = dr.norm();
     let rot = if angle > 0.0 {
-        armsim::spatial::axis_angle(&(dr / angle), angle) * t.rot
+        armsim::core::spatial::axis_angle(&(dr / angle), angle) * t.rot
     } else {
         t.rot
     };
@@ -882,7 +883,7 @@ fn linkages_near_dead_centre_crank_driven_sweep_keeps_its_branch() {
     };
     let sw = sweep(&sc, &guess, &opts).unwrap();
     assert!(sw.stopped.is_none());
-    let signs = |st: &armsim::mechanism::sweep::State| {
+    let signs = |st: &armsim::machines::linkage::sweep::State| {
         st.indicators.iter().map(|x| sign(*x)).collect::<Vec<_>>()
     };
     let s0 = signs(&sw.samples[0]);
@@ -1354,7 +1355,7 @@ fn angles_wrap_free_motion_swings_over_the_top_without_jumps() {
 
 #[test]
 fn orientation_drift_over_a_million_se3_compositions() {
-    use armsim::spatial::{axis_angle, Mat3};
+    use armsim::core::spatial::{axis_angle, Mat3};
     // A constant twist (ω = 2 rad/s about a skew axis, v = 0.01 m/s along x of the moving
     // frame) integrated by composing its exact one-step transform 10⁶ times (h = 1e-4 s,
     // 100 s, 200 rad, ~32 turns): once as a plain product, once re-orthonormalised

@@ -7,8 +7,8 @@
 
 use armsim::collision::mesh::{load_mesh, read_dae, read_stl, MAX_TRIANGLES};
 use armsim::collision::{CollisionModel, CollisionOptions};
+use armsim::model::parse::srdf::{load_srdf, parse_srdf};
 use armsim::model::Model;
-use armsim::planning::srdf::{load_srdf, parse_srdf};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -142,7 +142,7 @@ fn oversized_files_are_refused_before_they_are_read() {
         "{e}"
     );
     let p = sparse("big_scenario.toml", 3 << 30);
-    let e = armsim::scenario::run_file(&p).err().unwrap().to_string();
+    let e = armsim::scenarios::run_file(&p).err().unwrap().to_string();
     assert!(
         e.contains(&p.display().to_string()) && e.contains("(64 MiB)"),
         "{e}"
@@ -310,8 +310,9 @@ fn mesh_messages_name_the_real_reason() {
 /// (the CLI adds the file), and draws every k-th frame above its pose budget.
 #[test]
 fn recording_transforms_are_read_in_linear_time_and_bounded_in_the_viewer() {
-    use armsim::recording::mcap_out::write_recording;
-    use armsim::recording::{mcap_in, Recording, Transform};
+    use armsim::io::record::mcap_in;
+    use armsim::io::record::mcap_out::write_recording;
+    use armsim::io::record::{Recording, Transform};
     let dir = scratch("tf_static");
     let mut rec = Recording::default();
     rec.header.name = "statics".into();
@@ -330,7 +331,7 @@ fn recording_transforms_are_read_in_linear_time_and_bounded_in_the_viewer() {
     assert!(t0.elapsed().as_secs_f64() < 1.5, "{:?}", t0.elapsed());
     #[cfg(feature = "rerun")]
     {
-        use armsim::recording::rerun_out::{log_recording, RerunSink};
+        use armsim::io::record::rerun::rerun_out::{log_recording, RerunSink};
         let rrd = dir.join("statics.rrd");
         let e = log_recording(&back, None, None, &RerunSink::Save(rrd.clone()))
             .expect_err("a 60 000-frame tree was drawn");

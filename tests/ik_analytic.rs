@@ -6,7 +6,7 @@
 
 mod common;
 
-use armsim::data::Data;
+use armsim::core::spatial::{rot_z, Mat3, Se3, Vec3};
 use armsim::kinematics::ik::analytic::{
     self, rrp_ik, ur_ik, ur_ik_with, wrist_ik, AnalyticKind, AnalyticOptions, AnalyticSolution,
     AnalyticSolver, DhChain, IkError, RawSolution, UrParams, WristParams,
@@ -14,8 +14,8 @@ use armsim::kinematics::ik::analytic::{
 use armsim::kinematics::{
     compute_joint_jacobians, forward_kinematics, frame_jacobian, frame_placement, Expressed,
 };
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::spatial::{rot_z, Mat3, Se3, Vec3};
 use common::load;
 use nalgebra::{DMatrix, Matrix6, Vector6};
 use rand::rngs::SmallRng;

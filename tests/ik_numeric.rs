@@ -5,12 +5,12 @@
 
 mod common;
 
-use armsim::data::Data;
+use armsim::core::spatial::{Se3, Vec3};
 use armsim::kinematics::ik::benchmark::random_targets;
 use armsim::kinematics::ik::{solve_batch, IkOptions, IkSolver, IkStatus};
 use armsim::kinematics::{forward_kinematics, frame_placement};
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::spatial::{Se3, Vec3};
 
 fn check_solution(m: &Model, link: usize, target: &Se3, q: &[f64], tol: f64) {
     assert!(m.within_limits(q, 0.0), "q outside limits: {q:?}");

@@ -3,10 +3,10 @@
 
 mod common;
 
-use armsim::data::Data;
 use armsim::kinematics::ik::qp::{qp_ik, qp_step, QpIkOptions, Secondary};
 use armsim::kinematics::ik::IkStatus;
 use armsim::kinematics::{forward_kinematics, frame_placement};
+use armsim::model::data::Data;
 use armsim::model::Model;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
@@ -14,7 +14,11 @@ use rand::{Rng, SeedableRng};
 /// A start and a target 0.3 rad away, both in the inner 80 % of every joint range (QP IK
 /// is a local method: a start pinned against a limit can sit in a bound-constrained local
 /// minimum, which is the restarting LM solver's job).
-fn local_target(m: &Model, link: usize, rng: &mut SmallRng) -> (Vec<f64>, armsim::spatial::Se3) {
+fn local_target(
+    m: &Model,
+    link: usize,
+    rng: &mut SmallRng,
+) -> (Vec<f64>, armsim::core::spatial::Se3) {
     let inner = |k: usize, x: f64| {
         let (l, u) = m.sampling_bounds(k);
         x.clamp(l + 0.1 * (u - l), u - 0.1 * (u - l))

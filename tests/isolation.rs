@@ -3,7 +3,7 @@
 //! formula against an RK4 run, Den Hartog's formula against a direct two-mass solve, and
 //! located errors for broken files.
 
-use armsim::drivetrain::isolation as iso;
+use armsim::machines::vibration::isolator as iso;
 use serde_json::Value;
 
 mod common;

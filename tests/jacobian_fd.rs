@@ -3,10 +3,10 @@
 
 mod common;
 
-use armsim::data::Data;
+use armsim::core::spatial::{Motion, Se3};
 use armsim::kinematics::{self, Expressed};
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::spatial::{Motion, Se3};
 use common::{omega, robot_files};
 use nalgebra::DMatrix;
 use rand::rngs::SmallRng;
@@ -127,7 +127,7 @@ fn generated_chain_and_mimic_tree_match_finite_differences() {
     let (chain, _) = Model::build(armsim::model::chain::chain_spec(30)).unwrap();
     check_model(&chain, "chain_30", 2);
     let (gripper, _) = Model::build(
-        armsim::model::urdf::parse(
+        armsim::model::parse::urdf::parse(
             include_str!("data/mimic_gripper.urdf"),
             "mimic_gripper.urdf",
         )
@@ -190,7 +190,7 @@ fn compute_frame_jacobian_equals_joint_jacobians_then_frame_jacobian_bit_for_bit
         assert!(check_frame_jacobian_in_one_call(&model, &f.display().to_string()) > 0);
     }
     let (gripper, _) = Model::build(
-        armsim::model::urdf::parse(
+        armsim::model::parse::urdf::parse(
             include_str!("data/mimic_gripper.urdf"),
             "mimic_gripper.urdf",
         )

@@ -5,10 +5,10 @@
 
 mod common;
 
-use armsim::data::Data;
+use armsim::core::spatial::Vec3;
 use armsim::dynamics;
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::spatial::Vec3;
 use nalgebra::DMatrix;
 use rand::rngs::SmallRng;
 use rand::SeedableRng;

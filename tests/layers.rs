@@ -176,7 +176,9 @@ fn the_cycle_finder_finds_a_planted_cycle() {
     g.entry("spatial".into()).or_default();
     assert_eq!(cycles(&g), vec![vec!["arm", "model", "scenario"]]);
     assert_eq!(
-        crate_refs("use crate::{diag::line_at, model};\nlet x = crate::spatial::Vec3::zeros();"),
+        crate_refs(
+            "use crate::{diag::line_at, model};\nlet x = crate::core::spatial::Vec3::zeros();"
+        ),
         vec!["diag", "model", "spatial"]
     );
 }

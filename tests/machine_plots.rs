@@ -5,7 +5,7 @@
 //! pictures are also checked against the numbers: the cam's profile panel and each
 //! gear's outline span what the JSON reports.
 
-use armsim::arm::RunOptions;
+use armsim::scenarios::arm::RunOptions;
 use std::path::{Path, PathBuf};
 
 mod common;
@@ -23,14 +23,14 @@ fn pixels(path: &Path) -> (Vec<u8>, u32, u32) {
 }
 
 /// Runs `scenarios/<file>` with `--out` a fresh directory; its report and the directory.
-fn run_with_out(file: &str) -> (armsim::report::Report, PathBuf) {
+fn run_with_out(file: &str) -> (armsim::io::report::Report, PathBuf) {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("mplots_{file}"));
     let _ = std::fs::remove_dir_all(&dir);
     let opts = RunOptions {
         out_dir: Some(dir.clone()),
         ..Default::default()
     };
-    let r = armsim::scenario::run_file_with(&common::root().join("scenarios").join(file), &opts)
+    let r = armsim::scenarios::run_file_with(&common::root().join("scenarios").join(file), &opts)
         .unwrap_or_else(|e| panic!("{file}: {e}"));
     (r, dir)
 }
@@ -90,7 +90,7 @@ fn every_machine_kind_with_a_picture_writes_it() {
 
 #[test]
 fn cam_and_gear_panels_draw_the_reported_numbers() {
-    use armsim::machines::plots::{cam_panels, pair_panels};
+    use armsim::io::plots::machine_plots::{cam_panels, pair_panels};
     let cam = common::run_json("scenarios/cam_roller_cycloidal_design.toml");
     let panels = cam_panels(&cam);
     let titles: Vec<&str> = panels.iter().map(|p| p.title.as_str()).collect();

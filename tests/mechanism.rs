@@ -8,22 +8,22 @@
 
 mod common;
 
-use armsim::mechanism::balancing::{self, RotorMass};
-use armsim::mechanism::branch::sign;
-use armsim::mechanism::catalog;
-use armsim::mechanism::constraints::{gamma_vec, jacobian_mat, residual_vec};
-use armsim::mechanism::flywheel;
-use armsim::mechanism::fourbar::{self, GrashofClass};
-use armsim::mechanism::kinetostatics::{self, Loads};
-use armsim::mechanism::machine_motion::{self, Characteristic};
-use armsim::mechanism::mobility::{conditioning, mobility};
-use armsim::mechanism::motion::{solve_acceleration, solve_velocity};
-use armsim::mechanism::position::{solve_position, NewtonOptions};
-use armsim::mechanism::scenario::{parse, MechanismScenario, Scenario};
-use armsim::mechanism::spatial_loop::{self, ClosureKind, LoopClosure};
-use armsim::mechanism::sweep::{sweep, State, Sweep, SweepOptions, Tracker};
-use armsim::mechanism::virtual_power;
-use armsim::mechanism::{Driver, Link, Linkage, Slider, Vec2, GROUND};
+use armsim::kinematics::spatial_loop::{self, ClosureKind, LoopClosure};
+use armsim::machines::balancing::{self, RotorMass};
+use armsim::machines::flywheel;
+use armsim::machines::flywheel::machine_motion::{self, Characteristic};
+use armsim::machines::linkage::branch::sign;
+use armsim::machines::linkage::catalog;
+use armsim::machines::linkage::constraints::{gamma_vec, jacobian_mat, residual_vec};
+use armsim::machines::linkage::fourbar::{self, GrashofClass};
+use armsim::machines::linkage::kinetostatics::{self, Loads};
+use armsim::machines::linkage::mobility::{conditioning, mobility};
+use armsim::machines::linkage::position::{solve_position, NewtonOptions};
+use armsim::machines::linkage::sweep::{sweep, State, Sweep, SweepOptions, Tracker};
+use armsim::machines::linkage::velocity::{solve_acceleration, solve_velocity};
+use armsim::machines::linkage::virtual_power;
+use armsim::machines::linkage::{Driver, Link, Linkage, Slider, Vec2, GROUND};
+use armsim::scenarios::linkage::{parse, MechanismScenario, Scenario};
 use nalgebra::DVector;
 use serde_json::Value;
 use std::f64::consts::PI;
@@ -281,7 +281,7 @@ fn oil_pump_grashof_transmission_extremes_and_dead_centres_agree_with_closed_for
             collinear < 1e-9,
             "crank and coupler not in line: |OB| = {ob}"
         );
-        assert!(armsim::mechanism::cross(&a, &(b - a)).abs() < 1e-9);
+        assert!(armsim::machines::linkage::cross(&a, &(b - a)).abs() < 1e-9);
     }
     // The stroke of E: between the two dead centres.
     let stroke = v["followers"]["slider"]["stroke"].as_f64().unwrap();
@@ -405,7 +405,7 @@ fn centric_slider_crank_at_90_degrees() {
         close(acc(l, st, w, 0.0, "C").x, x2 * w * w, 1e-7, "a_C");
         let k = link(l, "BC");
         close(
-            armsim::mechanism::wrap_angle(st.q[3 * k + 2] - beta),
+            armsim::machines::linkage::wrap_angle(st.q[3 * k + 2] - beta),
             0.0,
             1e-12,
             "rod angle",
@@ -628,7 +628,7 @@ fn parallelogram_keeps_its_branch_through_the_change_points() {
         );
         // The coupler translates: it stays parallel to the ground (a parallelogram).
         close(
-            armsim::mechanism::wrap_angle(st.q[3 * coupler + 2]),
+            armsim::machines::linkage::wrap_angle(st.q[3 * coupler + 2]),
             0.0,
             1e-7,
             "coupler angle",
@@ -691,7 +691,7 @@ fn antiparallelogram_branch_exists_at_the_same_lengths_and_stays_crossed() {
             Vec2::new(0.2, 0.0),
         );
         close(
-            armsim::mechanism::cross(&(c - a), &(d - b)),
+            armsim::machines::linkage::cross(&(c - a), &(d - b)),
             0.0,
             1e-7,
             "AC ∥ BD",
@@ -784,15 +784,16 @@ fn test_linkages() -> Vec<(Linkage, DVector<f64>)> {
     // A slide driver and a moving guide with a prismatic joint on it.
     let mut sc = catalog::slider_crank(0.1, 0.3, 0.02);
     sc.links[0].com = Vec2::new(0.03, 0.01);
-    sc.joints.push(armsim::mechanism::Joint::Slider(Slider {
-        name: "extra".into(),
-        link: 2,
-        p: Vec2::new(0.01, 0.02),
-        guide: 1,
-        through: Vec2::new(0.05, 0.0),
-        dir: Vec2::new(0.6, 0.8),
-        prismatic: Some(0.3),
-    }));
+    sc.joints
+        .push(armsim::machines::linkage::Joint::Slider(Slider {
+            name: "extra".into(),
+            link: 2,
+            p: Vec2::new(0.01, 0.02),
+            guide: 1,
+            through: Vec2::new(0.05, 0.0),
+            dir: Vec2::new(0.6, 0.8),
+            prismatic: Some(0.3),
+        }));
     sc.driver = Driver::Slide {
         link: 1,
         p: Vec2::new(0.1, 0.0),
@@ -1039,14 +1040,19 @@ fn kinetostatic_joint_forces_balance_each_link() {
         let mut mo = k.inertia[i].1;
         for pf in loads.forces.iter().filter(|p| p.link == i) {
             f += pf.force;
-            mo += armsim::mechanism::cross(&(heavy.point_position(&q, i, &pf.p) - rg), &pf.force);
+            mo += armsim::machines::linkage::cross(
+                &(heavy.point_position(&q, i, &pf.p) - rg),
+                &pf.force,
+            );
         }
         for jf in &k.joint_forces {
             let at = match &heavy.joints[jf.joint] {
-                armsim::mechanism::Joint::Revolute { a, pa, .. } => {
+                armsim::machines::linkage::Joint::Revolute { a, pa, .. } => {
                     heavy.point_position(&q, *a, pa)
                 }
-                armsim::mechanism::Joint::Slider(s) => heavy.point_position(&q, s.link, &s.p),
+                armsim::machines::linkage::Joint::Slider(s) => {
+                    heavy.point_position(&q, s.link, &s.p)
+                }
             };
             let sgn = if jf.on == i {
                 1.0
@@ -1056,7 +1062,7 @@ fn kinetostatic_joint_forces_balance_each_link() {
                 continue;
             };
             f += jf.force * sgn;
-            mo += sgn * (armsim::mechanism::cross(&(at - rg), &jf.force) + jf.couple);
+            mo += sgn * (armsim::machines::linkage::cross(&(at - rg), &jf.force) + jf.couple);
         }
         if i == heavy.driven_link() {
             mo += k.driving;
@@ -1236,8 +1242,8 @@ fn grashof_classes() {
 // Spatial loop closure on the tree model.
 
 fn four_bar_tree() -> armsim::model::Model {
+    use armsim::core::spatial::{Se3, Vec3};
     use armsim::model::{JointSpec, JointType, LinkSpec, ModelSpec};
-    use armsim::spatial::{Se3, Vec3};
     let names = ["base", "crank", "coupler", "rocker", "tip", "ground_c"];
     let links = names.iter().map(|n| LinkSpec::new(*n)).collect();
     let mut joints = Vec::new();
@@ -1269,7 +1275,7 @@ fn four_bar_tree() -> armsim::model::Model {
 #[test]
 fn spatial_point_closure_of_a_four_bar_tree_matches_the_planar_solver() {
     let model = four_bar_tree();
-    let mut data = armsim::data::Data::new(&model);
+    let mut data = armsim::model::data::Data::new(&model);
     let closure = LoopClosure {
         link_a: model.link_id("tip").unwrap(),
         link_b: model.link_id("ground_c").unwrap(),
@@ -1294,7 +1300,7 @@ fn spatial_point_closure_of_a_four_bar_tree_matches_the_planar_solver() {
         );
         for (k, qk) in q_planar.iter().enumerate().skip(1) {
             close(
-                armsim::mechanism::wrap_angle(p.q[k] - qk),
+                armsim::machines::linkage::wrap_angle(p.q[k] - qk),
                 0.0,
                 1e-10,
                 "joint angle",
@@ -1314,7 +1320,7 @@ fn spatial_pose_closure_jacobian_matches_finite_differences_and_projects() {
     let p = root().join("robots/ur5.urdf");
     let mut spec = armsim::model::Model::read_spec(&p).unwrap();
     let (model0, _) = armsim::model::Model::build(spec.clone()).unwrap();
-    let mut data0 = armsim::data::Data::new(&model0);
+    let mut data0 = armsim::model::data::Data::new(&model0);
     let q_target = [0.3, -1.1, 1.4, -0.6, 0.9, 0.4];
     armsim::kinematics::forward_kinematics(&model0, &mut data0, &q_target);
     let target =
@@ -1330,7 +1336,7 @@ fn spatial_pose_closure_jacobian_matches_finite_differences_and_projects() {
     j.origin = target;
     spec.joints.push(j);
     let (model, _) = armsim::model::Model::build(spec).unwrap();
-    let mut data = armsim::data::Data::new(&model);
+    let mut data = armsim::model::data::Data::new(&model);
     let c = LoopClosure {
         link_a: model.link_id("tool0").unwrap(),
         link_b: model.link_id("target").unwrap(),
@@ -1370,7 +1376,7 @@ fn spatial_pose_closure_jacobian_matches_finite_differences_and_projects() {
 
 #[test]
 fn log3_handles_small_and_near_pi_rotations() {
-    use armsim::spatial::{axis_angle, Vec3};
+    use armsim::core::spatial::{axis_angle, Vec3};
     let axis = Vec3::new(0.48, -0.6, 0.64);
     for angle in [0.0, 1e-9, 1e-4, 0.7, 3.0, PI - 1e-7, PI] {
         let r = axis_angle(&axis, angle);
@@ -1503,7 +1509,7 @@ fn every_linkage_scenario_runs() {
         }
         let rel = format!("scenarios/{}", p.file_name().unwrap().to_string_lossy());
         let sc = parse(&rel, &text).unwrap_or_else(|e| panic!("{e}"));
-        let r = armsim::mechanism::report::report(&sc);
+        let r = armsim::scenarios::linkage::report::report(&sc);
         assert!(r.json.get("error").is_none(), "{rel}: {}", r.json["error"]);
         assert!(
             r.json.get("stopped").is_none(),
@@ -1562,7 +1568,7 @@ fn a_triple_rocker_driven_past_its_limit_stops_there_and_says_so() {
         "last sample {last}"
     );
     match &sw.stopped {
-        Some(armsim::mechanism::sweep::TrackError::Stuck { at, .. }) => {
+        Some(armsim::machines::linkage::sweep::TrackError::Stuck { at, .. }) => {
             assert!((at - limit).abs() < 1e-4, "stopped at {at}, limit {limit}")
         }
         other => panic!("expected a stop at the limit, got {other:?}"),

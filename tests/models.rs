@@ -4,16 +4,16 @@
 
 mod common;
 
-use armsim::data::Data;
+use armsim::core::spatial::Vec3;
 use armsim::kinematics::{self, Expressed};
+use armsim::model::data::Data;
 use armsim::model::{JointType, Model};
-use armsim::spatial::Vec3;
 use common::{load, pose_diff};
 use nalgebra::DMatrix;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 
-fn tool_pose(model: &Model, data: &mut Data, q: &[f64], link: &str) -> armsim::spatial::Se3 {
+fn tool_pose(model: &Model, data: &mut Data, q: &[f64], link: &str) -> armsim::core::spatial::Se3 {
     kinematics::forward_kinematics(model, data, q);
     kinematics::frame_placement(model, data, model.link_id(link).expect(link))
 }
@@ -186,10 +186,10 @@ fn fixed_joints_are_folded_but_their_links_stay_queryable() {
 fn standard_and_modified_dh_describe_the_same_planar_arm() {
     let std_text = "convention = \"standard\"\n[[joint]]\ntype = \"R\"\na = 0.4\ncontinuous = true\n[[joint]]\ntype = \"R\"\na = 0.3\ncontinuous = true\n";
     let mod_text = "convention = \"modified\"\n[[joint]]\ntype = \"R\"\ncontinuous = true\n[[joint]]\ntype = \"R\"\na = 0.4\ncontinuous = true\n[tool]\nxyz = [0.3, 0.0, 0.0]\n";
-    let s = Model::build(armsim::model::dh::parse(std_text, "std.toml").unwrap())
+    let s = Model::build(armsim::model::parse::dh_table::parse(std_text, "std.toml").unwrap())
         .unwrap()
         .0;
-    let m = Model::build(armsim::model::dh::parse(mod_text, "mod.toml").unwrap())
+    let m = Model::build(armsim::model::parse::dh_table::parse(mod_text, "mod.toml").unwrap())
         .unwrap()
         .0;
     same_tool(&s, "tool", &m, "tool", 200, 1e-15);

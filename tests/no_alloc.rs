@@ -7,14 +7,14 @@
 mod common;
 mod plan_common;
 
-use armsim::data::Data;
+use armsim::core::spatial::{Inertia, Mat3, Vec3};
 use armsim::dynamics;
 use armsim::kinematics::{self, Expressed};
+use armsim::model::data::Data;
 use armsim::model::Model;
 use armsim::planning::checker::EdgeMode;
 use armsim::planning::rrt::RrtOptions;
 use armsim::planning::{PlanOptions, PlanStatus, Planner};
-use armsim::spatial::{Inertia, Mat3, Vec3};
 use nalgebra::DMatrix;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -178,7 +178,7 @@ fn assert_dynamics_allocate_nothing(
     let all = every_effect(model);
     let g = Vec3::new(0.0, 0.0, -9.81);
     let mut thdd = vec![0.0; n];
-    let f_ext = vec![armsim::spatial::Force::new(Vec3::x(), Vec3::y()); model.nbodies()];
+    let f_ext = vec![armsim::core::spatial::Force::new(Vec3::x(), Vec3::y()); model.nbodies()];
     let before = allocs();
     for _ in 0..100 {
         dynamics::rnea(model, data, q, qd, qd);

@@ -453,7 +453,11 @@ fn for_each_edge_step(
     sm: &armsim::planning::spheres::SphereModel,
     seed: u64,
     steps: usize,
-    mut f: impl FnMut(&dyn Fn(&[f32]) -> f64, &[armsim::spatial::Vec3], &[armsim::spatial::Vec3]),
+    mut f: impl FnMut(
+        &dyn Fn(&[f32]) -> f64,
+        &[armsim::core::spatial::Vec3],
+        &[armsim::core::spatial::Vec3],
+    ),
 ) {
     use armsim::planning::sampler::{Sampler, SamplerKind};
     let nv = m.nv;
@@ -541,9 +545,9 @@ fn sphere_motion_bound_counts_the_slide_of_prismatic_joints_below_a_revolute_one
 #[test]
 fn obstacle_culling_by_reach_misses_no_contact_among_scattered_balls() {
     use armsim::collision::Obstacle;
+    use armsim::core::spatial::{Mat3, Se3, Vec3};
     use armsim::model::Shape;
     use armsim::planning::sampler::{Rng, Sampler, SamplerKind};
-    use armsim::spatial::{Mat3, Se3, Vec3};
     // 400 balls of 3 cm in a 3 m cube around the base: the checker tests a link group only
     // against the balls its bound can reach from the chain's root. Every contact the
     // independent re-check finds must still be found.

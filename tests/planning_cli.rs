@@ -525,8 +525,8 @@ fn plan_scenario_plans_each_planned_move_of_the_task_around_the_crate() {
     assert_eq!(results.len(), 3, "{v}");
     // The same moves as `armsim run` plans (one code path, the same seed).
     let text = std::fs::read_to_string(scenario).unwrap();
-    let scene = armsim::arm::load(Path::new(scenario), &text).unwrap();
-    let plan = armsim::arm::plan::plan(&scene).unwrap();
+    let scene = armsim::scenarios::arm::load(Path::new(scenario), &text).unwrap();
+    let plan = armsim::scenarios::arm::task_motion::plan(&scene).unwrap();
     for (r, want) in results.iter().zip(&plan.planned_paths) {
         assert_eq!(r["status"], "solved", "{r}");
         assert!(!r["problem"].as_str().unwrap().is_empty(), "{r}");

@@ -7,11 +7,11 @@
 //! motion-planning` relative to the crate root.
 
 use armsim::collision::Obstacle;
+use armsim::core::spatial::{axis_angle, rot_z, Mat3, Vec3};
+use armsim::model::parse::srdf::{self, parse_srdf};
 use armsim::model::{Model, Shape};
-use armsim::planning::error::PlanningInputError;
 use armsim::planning::moveit::{self, parse_request, parse_scene, quaternion_matrix};
-use armsim::planning::srdf::{self, parse_srdf};
-use armsim::spatial::{axis_angle, rot_z, Mat3, Vec3};
+use armsim::planning::plan_error::PlanningInputError;
 use std::path::PathBuf;
 
 const ROBOTS: [&str; 2] = ["panda", "ur5"];
@@ -284,7 +284,7 @@ fn several_primitives_of_one_object_become_obstacles_id_id1_id2() {
                 radius: 0.25,
                 length: 2.0,
             },
-            armsim::spatial::Se3::from_xyz_rpy([1.0, 0.0, 0.0], [0.0; 3]),
+            armsim::core::spatial::Se3::from_xyz_rpy([1.0, 0.0, 0.0], [0.0; 3]),
         ),
         Obstacle::sphere("post", 0.1, [0.0; 3]),
     ];

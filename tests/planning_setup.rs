@@ -189,7 +189,7 @@ fn acm_is_the_same_for_the_same_seed_whatever_the_thread_count() {
 fn invalid_start_names_the_colliding_pair_and_its_depth() {
     let model = robot("ur5.urdf");
     // A ball around the wrist at the home pose.
-    let mut data = armsim::data::Data::new(&model);
+    let mut data = armsim::model::data::Data::new(&model);
     armsim::kinematics::forward_kinematics(&model, &mut data, &UR5_HOME);
     let wrist = model.link_id("wrist_2_link").unwrap();
     let c = armsim::kinematics::frame_placement(&model, &data, wrist).trans;

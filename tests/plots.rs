@@ -3,7 +3,8 @@
 //! power of ten instead of `0.0` at every tick, the titles name the scenario, and the
 //! legends sit in a column right of the charts, off the data (checked on the pixels).
 
-use armsim::arm::{self, plots, RunOptions};
+use armsim::scenarios::arm::sim_plots as plots;
+use armsim::scenarios::arm::{self, RunOptions};
 use std::path::PathBuf;
 
 fn root() -> PathBuf {
@@ -111,7 +112,7 @@ fn legends_sit_right_of_the_charts_and_titles_name_the_scenario() {
     out.torque
         .write_plot_titled(
             &svg,
-            armsim::trajectory::PlotFormat::Svg,
+            armsim::motion::PlotFormat::Svg,
             Some("ur5_pick_and_place"),
         )
         .unwrap();
@@ -125,7 +126,7 @@ fn legends_sit_right_of_the_charts_and_titles_name_the_scenario() {
         "ur5_pick_and_place: simulation",
         "subtitle",
         &panels,
-        armsim::trajectory::PlotFormat::Svg,
+        armsim::motion::PlotFormat::Svg,
     )
     .unwrap();
     let text = std::fs::read_to_string(&svg).unwrap();

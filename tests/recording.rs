@@ -5,22 +5,24 @@
 mod common;
 
 use armsim::collision::Obstacle;
-use armsim::data::Data;
+use armsim::core::interrupt;
+use armsim::core::spatial::Se3;
+use armsim::io::record::mcap_in::{read_mcap, read_mcap_bytes};
+use armsim::io::record::mcap_out::{write_recording, McapWriter};
+use armsim::io::record::obstacle_markers::markers_of;
+use armsim::io::record::record_error::RecordError;
+use armsim::io::record::ros2::{self, RosMessage};
+use armsim::io::record::tf;
+use armsim::io::record::urdf_out;
+use armsim::io::record::{CollisionEvent, Frame, Header, PointCloud, Recording, TorqueRow};
 use armsim::kinematics::{
     compute_joint_jacobians, forward_kinematics, frame_jacobian, frame_placement, manipulability,
     Expressed,
 };
+use armsim::model::data::Data;
+use armsim::model::parse::urdf;
+use armsim::model::Model;
 use armsim::model::Shape;
-use armsim::model::{urdf, Model};
-use armsim::recording::error::RecordError;
-use armsim::recording::mcap_in::{read_mcap, read_mcap_bytes};
-use armsim::recording::mcap_out::{write_recording, McapWriter};
-use armsim::recording::obstacles::markers_of;
-use armsim::recording::ros2::{self, RosMessage};
-use armsim::recording::{
-    interrupt, tf, urdf_out, CollisionEvent, Frame, Header, PointCloud, Recording, TorqueRow,
-};
-use armsim::spatial::Se3;
 use mcap::records::MessageHeader;
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
@@ -1031,10 +1033,10 @@ fn recorded_transforms_follow_the_robot_description() {
         edges.sort();
         joints.sort();
         assert_eq!(edges, joints, "{}", path.display());
-        let parent: BTreeMap<&str, &armsim::recording::Transform> =
+        let parent: BTreeMap<&str, &armsim::io::record::Transform> =
             all.iter().map(|t| (t.child.as_str(), t)).collect();
         for (l, link) in model.links.iter().enumerate() {
-            let mut pose = armsim::spatial::Se3::identity();
+            let mut pose = armsim::core::spatial::Se3::identity();
             let mut frame = link.name.as_str();
             while let Some(t) = parent.get(frame) {
                 pose = tf::to_se3(t).mul(&pose);

@@ -1,7 +1,7 @@
 //! The SIGINT flag of `recording::interrupt`, in a test binary of its own: a real SIGINT is
 //! sent to the process, which must not race with other tests using the flag.
 
-use armsim::recording::interrupt;
+use armsim::core::interrupt;
 
 #[test]
 fn interrupt_flag_follows_sigint() {

@@ -9,13 +9,13 @@
 //! the same scenario's recording: armsim's bytes must decode to the same values, so these
 //! tests never need Python.
 
-use armsim::arm::{self, RunOptions};
-use armsim::recording::mcap_in::{read_mcap, read_mcap_bytes};
-use armsim::recording::obstacles::{MarkerShape, ObstacleMarker};
-use armsim::recording::ros2::{self, RosMessage};
-use armsim::recording::tf::to_se3;
-use armsim::recording::Recording;
-use armsim::spatial::{rpy_to_matrix, Mat3, Vec3};
+use armsim::core::spatial::{rpy_to_matrix, Mat3, Vec3};
+use armsim::io::record::mcap_in::{read_mcap, read_mcap_bytes};
+use armsim::io::record::obstacle_markers::{MarkerShape, ObstacleMarker};
+use armsim::io::record::ros2::{self, RosMessage};
+use armsim::io::record::tf::to_se3;
+use armsim::io::record::Recording;
+use armsim::scenarios::arm::{self, RunOptions};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
@@ -37,9 +37,9 @@ fn record(tag: &str) -> (PathBuf, u64, u64) {
         out_dir: Some(dir.clone()),
         ..Default::default()
     };
-    let before = armsim::recording::mcap_out::wall_clock_ns();
+    let before = armsim::io::record::mcap_out::wall_clock_ns();
     arm::run(&path, &text, &opts).unwrap_or_else(|e| panic!("{e}"));
-    let after = armsim::recording::mcap_out::wall_clock_ns();
+    let after = armsim::io::record::mcap_out::wall_clock_ns();
     (dir.join("obstacle_markers.mcap"), before, after)
 }
 

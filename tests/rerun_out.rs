@@ -5,15 +5,15 @@
 
 mod common;
 
-use armsim::data::Data;
 use armsim::dynamics::rnea;
-use armsim::model::Model;
-use armsim::recording::rerun_out::{
+use armsim::io::record::rerun::rerun_out::{
     colormap, link_entity, log_recording, log_workspace, log_workspace_scene, path, RerunError,
     RerunReport, RerunSink,
 };
-use armsim::recording::Header;
-use armsim::recording::{CollisionEvent, PointCloud, Recording, TorqueRow};
+use armsim::io::record::Header;
+use armsim::io::record::{CollisionEvent, PointCloud, Recording, TorqueRow};
+use armsim::model::data::Data;
+use armsim::model::Model;
 use armsim::workspace::{sample_workspace, WorkspaceOptions};
 use common::rrd::{decode, Contents};
 use std::collections::BTreeSet;
@@ -327,9 +327,9 @@ fn visual_geometry_of_every_kind() {
 
 #[test]
 fn scene_obstacles_are_drawn_in_world_coordinates() {
+    use armsim::core::spatial::Se3;
+    use armsim::io::record::rerun::rerun_out::{log_recording_with, SceneExtras};
     use armsim::model::{Geometry, Shape};
-    use armsim::recording::rerun_out::{log_recording_with, SceneExtras};
-    use armsim::spatial::Se3;
     let model = common::load("robots/ur5.urdf");
     let rec = recording(&model, "scene");
     let dir = tmp_dir("scene");
@@ -746,7 +746,7 @@ fn workspace_picture_shows_the_boundary_the_section_and_the_robot() {
 
     let occupied = |i: [i64; 3]| {
         let p = i.map(|x| (x as f64 + 0.5) * h);
-        ws.is_occupied(&armsim::spatial::Vec3::new(p[0], p[1], p[2]))
+        ws.is_occupied(&armsim::core::spatial::Vec3::new(p[0], p[1], p[2]))
     };
     let mut vertices = 0;
     for half in ["back", "front"] {

@@ -8,8 +8,8 @@
 
 mod common;
 
-use armsim::arm::{self, RunOptions};
-use armsim::recording::rerun_out::{link_entity, path, RerunSink};
+use armsim::io::record::rerun::rerun_out::{link_entity, path, RerunSink};
+use armsim::scenarios::arm::{self, RunOptions};
 use common::rrd::decode;
 use std::path::PathBuf;
 

@@ -4,9 +4,9 @@
 
 mod common;
 
+use armsim::core::spatial::Vec3;
 use armsim::dynamics::{Effects, Elasticity, Friction};
 use armsim::sim::{Controller, Hold, Integrator, SimConfig, SimError, Simulator};
-use armsim::spatial::Vec3;
 
 fn cfg(dt: f64, duration: f64, integrator: Integrator, controller: Controller) -> SimConfig {
     SimConfig {

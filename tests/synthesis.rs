@@ -4,9 +4,9 @@
 //! out here (circle intersections, the stroke equation) and located errors for broken
 //! files.
 
-use armsim::mechanism::fourbar;
-use armsim::mechanism::synthesis::{self as syn, Function, FunctionMap};
-use armsim::mechanism::synthesis_check::structural_error;
+use armsim::machines::linkage::fourbar;
+use armsim::machines::synthesis::verify::structural_error;
+use armsim::machines::synthesis::{self as syn, Function, FunctionMap};
 use serde_json::Value;
 
 mod common;

@@ -13,13 +13,12 @@
 
 mod common;
 
-use armsim::arm;
-use armsim::data::Data;
 use armsim::dynamics::{rnea, Effects, Friction};
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::trajectory::{
-    topp, JointLimits, LinearPath, MinJerk, ToppMethod, ToppOptions, Trajectory,
-};
+use armsim::motion::topp;
+use armsim::motion::{JointLimits, LinearPath, MinJerk, ToppMethod, ToppOptions, Trajectory};
+use armsim::scenarios::arm;
 
 fn planar() -> Model {
     common::load("robots/planar_2r.toml")
@@ -225,7 +224,7 @@ fn torque_bound_line_is_bang_bang_and_matches_the_conic_solver() {
     );
     assert!((a - b).abs() <= 1e-5 * b, "{a} vs {b}");
     let mut zero_g = m.clone();
-    zero_g.gravity = armsim::spatial::Vec3::zeros();
+    zero_g.gravity = armsim::core::spatial::Vec3::zeros();
     let r = verify(&zero_g, &ra, &lim, None, 20_000);
     assert!(r[2] <= 1.0 + 1e-9 && r[2] > 0.999, "{r:?}");
 }

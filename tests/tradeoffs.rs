@@ -7,8 +7,10 @@
 //! and the hidden `--tiny` flag runs the command end to end. Nothing here asserts on a
 //! time: the machines are shared.
 
-use armsim::tradeoffs::integrators::Outcome;
-use armsim::tradeoffs::{self, ik, report, Mode, Options, Report};
+use armsim::studies::tradeoffs::ik_study as ik;
+use armsim::studies::tradeoffs::integrators::Outcome;
+use armsim::studies::tradeoffs::markdown as report;
+use armsim::studies::tradeoffs::{self, Mode, Options, Report};
 use armsim::workspace::Sampling;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -253,7 +255,7 @@ fn rotor_elements_converge_at_fourth_order_to_the_closed_form_and_the_transfer_m
     assert!((s_uniform + 4.0).abs() < 0.3, "uniform slope {s_uniform}");
     let s_stepped = st.cases[1].slope[0].expect("a slope");
     assert!(s_stepped < -3.5, "stepped slope {s_stepped}");
-    let md = armsim::tradeoffs::rotor_report::reading(st);
+    let md = armsim::studies::tradeoffs::rotor_report::reading(st);
     assert!(md.contains("h⁴"), "{md}");
 }
 

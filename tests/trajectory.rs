@@ -5,13 +5,14 @@
 
 mod common;
 
-use armsim::data::Data;
+use armsim::core::spatial::{Se3, Vec3};
 use armsim::dynamics::{rnea, Effects, Friction, Rotor};
 use armsim::kinematics::{forward_kinematics, frame_placement};
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::spatial::{Se3, Vec3};
-use armsim::trajectory::{
-    cartesian_line, check_torques, topp, CartesianOptions, CheckOptions, JointLimits, LinearPath,
+use armsim::motion::topp;
+use armsim::motion::{
+    cartesian_line, check_torques, CartesianOptions, CheckOptions, JointLimits, LinearPath,
     MinJerk, Path, PlotFormat, Quintic, TimeScaled, ToppOptions, Trajectory, TrajectoryError,
     Trapezoidal,
 };

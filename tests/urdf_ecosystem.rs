@@ -7,10 +7,10 @@
 //! forward kinematics is compared with Pinocchio 4.1's link placements at random states,
 //! written by `tools/urdf_sweep.py --golden` into `pinocchio_fk.json` (no Python here).
 
-use armsim::data::Data;
+use armsim::core::spatial::{rpy_to_matrix, Mat3, Vec3};
 use armsim::kinematics::{forward_kinematics, update_frames};
+use armsim::model::data::Data;
 use armsim::model::{LoadOptions, Model, ModelWarning, Shape};
-use armsim::spatial::{rpy_to_matrix, Mat3, Vec3};
 use serde_json::Value;
 
 const DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/urdf_ecosystem");

@@ -6,10 +6,11 @@
 
 mod common;
 
-use armsim::data::Data;
+use armsim::core::spatial::Vec3;
 use armsim::kinematics;
-use armsim::model::{chain, dh, Model};
-use armsim::spatial::Vec3;
+use armsim::model::data::Data;
+use armsim::model::parse::dh_table as dh;
+use armsim::model::{chain, Model};
 use armsim::workspace::sobol::{owen_scramble, Sobol};
 use armsim::workspace::{
     sample_workspace, IntervalKind, Sampling, WorkspaceOptions, WorkspaceResult,

@@ -4,7 +4,8 @@
 //! within 3 % of the closed form, and the interval (or lower bound) covers it at every
 //! budget. `WS_TABLE=1` prints the table of `docs/workspace.md`.
 
-use armsim::model::{dh, Model};
+use armsim::model::parse::dh_table as dh;
+use armsim::model::Model;
 use armsim::workspace::{sample_workspace, WorkspaceOptions, WorkspaceResult};
 use std::f64::consts::PI;
 

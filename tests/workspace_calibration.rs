@@ -7,10 +7,11 @@
 
 mod common;
 
-use armsim::data::Data;
-use armsim::kinematics::batch::{Isa, ToolChain, LANES};
+use armsim::kinematics::fk_lanes::{Isa, ToolChain, LANES};
 use armsim::kinematics::{forward_kinematics, frame_placement};
-use armsim::model::{dh, Model};
+use armsim::model::data::Data;
+use armsim::model::parse::dh_table as dh;
+use armsim::model::Model;
 use armsim::workspace::{sample_workspace, IntervalKind, Sampling, WorkspaceOptions};
 use std::f64::consts::PI;
 
@@ -217,7 +218,8 @@ fn batched_fk_matches_scalar_fk() {
 #[test]
 #[ignore = "writes the documentation's plot"]
 fn convergence_plot_for_the_docs() {
-    use armsim::tradeoffs::{report::workspace_convergence_png, workspace};
+    use armsim::studies::tradeoffs::markdown::workspace_convergence_png;
+    use armsim::studies::tradeoffs::workspace_study as workspace;
     let model = common::load("robots/textbook_spherical_rrp.toml");
     let o = WorkspaceOptions {
         samples: 1 << 25,

@@ -6,10 +6,10 @@
 
 mod common;
 
-use armsim::recording::workspace_picture::{
+use armsim::core::spatial::Vec3;
+use armsim::workspace::picture_geometry::{
     base_axis, representative_pose, Cutaway, Occupancy, Section,
 };
-use armsim::spatial::Vec3;
 use armsim::workspace::{sample_workspace, WorkspaceOptions};
 use std::collections::HashMap;
 
@@ -109,7 +109,7 @@ fn box_boundary_is_a_closed_outward_surface_on_the_voxel_faces() {
 }
 
 /// Area of a mesh whose triangles all face `-axis`.
-fn area_facing_negative(m: &armsim::recording::workspace_picture::ScalarMesh, axis: usize) -> f64 {
+fn area_facing_negative(m: &armsim::workspace::picture_geometry::ScalarMesh, axis: usize) -> f64 {
     let v = |i: u32| {
         let q = m.vertices[i as usize];
         Vec3::new(q[0] as f64, q[1] as f64, q[2] as f64)

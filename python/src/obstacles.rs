@@ -6,7 +6,7 @@
 use crate::errors::err;
 use armsim::collision::Obstacle;
 use armsim::model::Shape;
-use armsim::spatial::Se3;
+use armsim::core::spatial::Se3;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 

@@ -24,13 +24,13 @@ pub fn run_scenario_json(
     write_files: bool,
 ) -> PyResult<String> {
     require_file(&path)?;
-    let opts = armsim::arm::RunOptions {
+    let opts = armsim::scenarios::arm::RunOptions {
         out_dir,
         write_files,
         ..Default::default()
     };
     let report = py
-        .detach(|| armsim::scenario::run_file_with(&path, &opts))
+        .detach(|| armsim::scenarios::run_file_with(&path, &opts))
         .map_err(err)?;
     serde_json::to_string(&report.json).map_err(err)
 }

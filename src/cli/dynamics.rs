@@ -2,12 +2,12 @@
 //! gravity torques and energies at one state with the chosen effects; with `--tau` the
 //! forward-dynamics accelerations.
 
-use super::{link_id, load, parse_values, print_json, rows, ModelArgs};
-use armsim::data::Data;
+use crate::cli::{link_id, load, parse_values, print_json, rows, ModelArgs};
+use armsim::core::spatial::{Inertia, Mat3, Vec3};
 use armsim::dynamics::{self, Effects, Friction, Payload, Rotor};
+use armsim::io::report::fmt_num;
+use armsim::model::data::Data;
 use armsim::model::Model;
-use armsim::report::fmt_num;
-use armsim::spatial::{Inertia, Mat3, Vec3};
 use clap::ValueEnum;
 use serde_json::json;
 

@@ -1,12 +1,12 @@
 //! `armsim info`, `fk`, `jacobian`, `bench` and `chain`: the model, its placements and
 //! Jacobians, timings of one algorithm, and the generated benchmark chain.
 
-use super::{limit, link_id, load, parse_values, print_json, rows, ModelArgs};
-use armsim::bench::{self, Algo};
-use armsim::data::Data;
+use crate::cli::{limit, link_id, load, parse_values, print_json, rows, ModelArgs};
+use armsim::core::spatial::matrix_to_rpy;
 use armsim::kinematics::{self, Expressed};
+use armsim::model::data::Data;
 use armsim::model::{chain, Model};
-use armsim::spatial::matrix_to_rpy;
+use armsim::studies::bench::{self, Algo};
 use clap::ValueEnum;
 use nalgebra::DMatrix;
 use serde_json::{json, Value};
@@ -129,7 +129,7 @@ pub fn chain_cmd(a: &ChainArgs) -> Result<(), String> {
             print!("{text}");
             Ok(())
         }
-        Some(p) => armsim::io::write_atomic(p, text.as_bytes())
+        Some(p) => armsim::core::files::write_atomic(p, text.as_bytes())
             .map_err(|e| format!("{}: cannot write: {e}", p.display())),
     }
 }

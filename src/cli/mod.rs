@@ -8,10 +8,13 @@
 //! - [`scenario`] holds `run`, `view` and `tradeoffs`;
 //! - [`plan`] (with [`plan_report`]) holds `plan`.
 
-pub mod plan;
+pub mod ik_cmd;
+pub mod plan_cmd;
 pub mod plan_report;
 pub mod plan_scenario;
-pub mod srdf;
+pub mod scenario_cmd;
+pub mod srdf_cmd;
+pub mod workspace_cmd;
 
 // Standard output is collected and written once at the end, so that a closed pipe
 // (`armsim info big.urdf | head`) ends the program quietly instead of panicking in
@@ -43,10 +46,7 @@ macro_rules! print {
 }
 
 pub mod dynamics;
-pub mod ik;
 pub mod inspect;
-pub mod scenario;
-pub mod workspace;
 
 use armsim::model::{LoadOptions, Model};
 use nalgebra::DMatrix;

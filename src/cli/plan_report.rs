@@ -298,7 +298,7 @@ pub fn text(h: &ReportHeader, outcomes: &[Outcome]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::cli::plan_report::*;
 
     #[test]
     fn percentile_matches_numpy_linear_interpolation() {

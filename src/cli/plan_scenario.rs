@@ -8,16 +8,17 @@
 //! poses through IK, the grasped part on the tool from pick to place), so a move that
 //! cannot be planned stops the command with the step's location, as `armsim run` does.
 
-use super::plan::PlanArgs;
-use super::plan_report::{self, Outcome, ReportHeader};
-use armsim::planning::{srdf, PlanOptions};
+use crate::cli::plan_cmd::PlanArgs;
+use crate::cli::plan_report::{self, Outcome, ReportHeader};
+use armsim::model::parse::srdf;
+use armsim::planning::PlanOptions;
 use std::path::Path;
 
 /// Plans the scenario's moves `a.passes` times; returns the report text.
 pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, String> {
-    let text = armsim::io::read_input_string(file)
+    let text = armsim::core::files::read_input_string(file)
         .map_err(|e| format!("{}: cannot read: {e}", file.display()))?;
-    let mut scene = armsim::arm::load(file, &text).map_err(|e| e.to_string())?;
+    let mut scene = armsim::scenarios::arm::load(file, &text).map_err(|e| e.to_string())?;
     let same = |p: &Path| p.canonicalize().ok();
     if same(&a.model) != same(&scene.model_path) {
         return Err(format!(
@@ -63,7 +64,7 @@ pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, Stri
     let mut outcomes: Vec<Outcome> = Vec::new();
     let mut times: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
     for pass in 0..a.passes {
-        let plan = armsim::arm::plan::plan(&scene).map_err(|e| e.to_string())?;
+        let plan = armsim::scenarios::arm::task_motion::plan(&scene).map_err(|e| e.to_string())?;
         if pass == 0 {
             for note in plan
                 .planner

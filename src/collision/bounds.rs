@@ -1,4 +1,4 @@
-//! The bounds that continuous certification ([`super::certify`]) rests on, built once per
+//! The bounds that continuous certification ([`crate::collision::certify`]) rests on, built once per
 //! scene: per shape a convex stand-in and a bounding sphere, and per tested pair the
 //! motion coefficients `ρ` of its relative motion.
 //!
@@ -10,7 +10,7 @@
 //! 2. `Hull`: the GJK distance between the convex hulls of the shapes (a triangle mesh
 //!    lies inside its hull, so the hull distance is at most the mesh distance; for two
 //!    convex shapes it *is* the distance when positive).
-//! 3. `Exact`: the signed distance of the shapes themselves (see [`super::shape`]).
+//! 3. `Exact`: the signed distance of the shapes themselves (see [`crate::collision::shape`]).
 //!
 //! **Motion coefficients** (the same argument as [`crate::planning::spheres`], for a
 //! shape's bounding sphere instead of a sphere centre): a point `p` of a shape on body
@@ -23,8 +23,8 @@
 //! scale by `|multiplier|`. Along *any* curve `q(t)` the distance of the pair therefore
 //! changes by at most `Σ_k ρ_k ∫ |q̇_k| dt`.
 
-use super::shape::{convex_distance, signed_distance_under, Placed, Scratch, ShapeKind};
-use super::{CollisionModel, Scope};
+use crate::collision::shape::{convex_distance, signed_distance_under, Placed, Scratch, ShapeKind};
+use crate::collision::{CollisionModel, Scope};
 use crate::model::{Model, WORLD};
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query;
@@ -106,7 +106,7 @@ impl CollisionModel {
             for (o, k) in [(oi, i), (oj, j)] {
                 if o.body != WORLD {
                     let (c, r) = balls[k as usize];
-                    let cb = o.local.act_point(&super::shape::to_vec3(c));
+                    let cb = o.local.act_point(&crate::collision::shape::to_vec3(c));
                     chain_rho(model, cb.norm() + r, o.body, stop, out);
                 }
             }
@@ -140,7 +140,7 @@ fn chain_rho(model: &Model, mut reach: f64, body: usize, stop: usize, out: &mut 
 }
 
 /// The bound on a joint's path length over a half-interval of length `h/2` that starts or
-/// ends at a sample with speed `speed`, when `|q̈| ≤ accel` (see [`super::certify`]):
+/// ends at a sample with speed `speed`, when `|q̈| ≤ accel` (see [`crate::collision::certify`]):
 /// `speed h/2 + accel h²/8`.
 #[inline]
 pub fn half_path_bound(speed: f64, accel: f64, h: f64) -> f64 {
@@ -154,7 +154,10 @@ impl Certifier {
         let owner = |k: u32| cm.objects[k as usize].owner;
         let keep = |&[i, j]: &[u32; 2]| {
             links.iter().any(|&(a, b)| {
-                let (a, b) = (super::Body::Link(a), super::Body::Link(b));
+                let (a, b) = (
+                    crate::collision::Body::Link(a),
+                    crate::collision::Body::Link(b),
+                );
                 (owner(i), owner(j)) == (a, b) || (owner(i), owner(j)) == (b, a)
             })
         };
@@ -184,7 +187,7 @@ impl Certifier {
     }
 
     /// The bounding sphere of shape `k`: centre (parry shape frame, see
-    /// [`super::CollisionData::shape_pose`]) and radius.
+    /// [`crate::collision::CollisionData::shape_pose`]) and radius.
     pub fn ball(&self, k: usize) -> ([f64; 3], f64) {
         let (c, r) = self.balls[k];
         ([c.x, c.y, c.z], r)
@@ -232,7 +235,7 @@ impl Certifier {
         let (cb, rb) = self.balls[j];
         let ball = (*pa * ca - *pb * cb).length() - ra - rb;
         let (ba, bb) = (oa.aabb(pa), ob.aabb(pb));
-        let lb = ball.max(super::shape::aabb_gap(&ba, &bb));
+        let lb = ball.max(crate::collision::shape::aabb_gap(&ba, &bb));
         if lb > need || level == Level::Ball {
             return (lb, Level::Ball, false);
         }

@@ -7,13 +7,13 @@
 //! Then `|q̇_j(t_k + s)| ≤ v_j + A_j s` and `≤ w_j + A_j (h − s)`, so the joint's path length
 //! over the first half is at most `v_j h/2 + A_j h²/8` and over the second half at most
 //! `w_j h/2 + A_j h²/8` — along the actual (smoothed, timed) curve, whatever its shape
-//! between the samples. With the pair's motion coefficients `ρ` ([`super::bounds`]), a
+//! between the samples. With the pair's motion coefficients `ρ` ([`crate::collision::bounds`]), a
 //! pair's distance changes over a half-interval by at most `Σ_j ρ_j · (that length)`. A
 //! half-interval is *proven* when a lower bound of the distance at its sample end exceeds
 //! the margin plus that change (distances of lower-bound quality at the sample suffice).
 //!
 //! **Per pair, conservative advancement.** At a sample, a lower bound of the pair's
-//! distance is worked up ([`super::bounds::Level`]: bounding spheres and boxes, convex
+//! distance is worked up ([`crate::collision::bounds::Level`]: bounding spheres and boxes, convex
 //! hulls, exact shapes) until it covers the half-intervals still open on both sides; it
 //! then proves every following half-interval whose cumulative change stays below it, and
 //! the pair jumps to the first sample past them. Where even the exact distance at the
@@ -23,15 +23,15 @@
 //! bisected to [`CertifyOptions::time_tolerance`] with the exact check of every pair); an
 //! interval still unproven at the smallest size is reported as uncertified.
 //!
-//! **Closest approaches** ([`super::closest`]): the smallest exact distance over the
+//! **Closest approaches** ([`crate::collision::closest`]): the smallest exact distance over the
 //! samples, environment and self separately, by branch and bound over (sample, pair), and
 //! the certified lower bound of the clearance along the whole curve.
 
-use super::bounds::{half_path_bound, Certifier, Evaluations, Level};
-use super::closest::Known;
-use super::shape::{to_pose, Scratch};
-use super::TrajectoryCollision;
-use super::{Body, CollisionData, CollisionError, CollisionModel, PairDistance};
+use crate::collision::bounds::{half_path_bound, Certifier, Evaluations, Level};
+use crate::collision::closest::Known;
+use crate::collision::shape::{to_pose, Scratch};
+use crate::collision::TrajectoryCollision;
+use crate::collision::{Body, CollisionData, CollisionError, CollisionModel, PairDistance};
 use crate::model::{Model, WORLD};
 use parry3d_f64::math::{Pose, Vector};
 use serde::Serialize;

@@ -1,4 +1,4 @@
-//! The exact closest approaches of a certified motion ([`super::certify`]): the smallest
+//! The exact closest approaches of a certified motion ([`crate::collision::certify`]): the smallest
 //! exact distance over the samples, environment and self apart, and the certified lower
 //! bound of the clearance along the curve, by branch and bound over (sample, pair).
 //!
@@ -12,10 +12,10 @@
 //! lowered by the motion of its two half-intervals, the same search gives the certified
 //! clearance bound along the whole curve.
 
-use super::bounds::{Certifier, Level};
-use super::certify::{ClearanceBound, SampleMin, Work};
-use super::shape::{distance_and_points, Placed};
-use super::{CollisionModel, PairDistance};
+use crate::collision::bounds::{Certifier, Level};
+use crate::collision::certify::{ClearanceBound, SampleMin, Work};
+use crate::collision::shape::{distance_and_points, Placed};
+use crate::collision::{CollisionModel, PairDistance};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 

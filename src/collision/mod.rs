@@ -74,10 +74,10 @@
 //! ```
 
 mod bounds;
-mod build;
 mod certify;
 mod closest;
 pub mod mesh;
+mod model_build;
 mod obstacle;
 mod query;
 pub mod resolve;
@@ -92,9 +92,9 @@ pub use segment::SegmentScratch;
 pub use shape::{CollisionShape, ShapeKind, MAX_COORD};
 pub use trajectory::{DistanceSample, TrajectoryCollision, TrajectoryOptions, TrajectoryReport};
 
-use crate::data::Data;
+use crate::core::spatial::Se3;
+use crate::model::data::Data;
 use crate::model::{Model, WORLD};
-use crate::spatial::Se3;
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
 use serde::{Deserialize, Serialize};
@@ -324,7 +324,7 @@ impl CollisionData {
     pub fn shape_pose(&self, k: usize) -> Se3 {
         let p = &self.poses[k];
         let m = parry3d_f64::math::Matrix::from_quat(p.rotation);
-        let r = crate::spatial::Mat3::new(
+        let r = crate::core::spatial::Mat3::new(
             m.x_axis.x, m.y_axis.x, m.z_axis.x, m.x_axis.y, m.y_axis.y, m.z_axis.y, m.x_axis.z,
             m.y_axis.z, m.z_axis.z,
         );

@@ -28,9 +28,9 @@
 //! `mesh`: `mesh`, optional `scale`); any other one is an error, so that a typo does not
 //! pass silently.
 
-use super::CollisionError;
+use crate::collision::CollisionError;
+use crate::core::spatial::Se3;
 use crate::model::Shape;
-use crate::spatial::Se3;
 use serde::{Deserialize, Serialize};
 
 /// Shape kind of an [`ObstacleSpec`].
@@ -86,7 +86,7 @@ pub struct Obstacle {
     /// Unique name.
     pub name: String,
     /// The shape (box sizes are full side lengths; cylinders and capsules along local z;
-    /// mesh URIs are resolved against [`super::CollisionOptions::obstacle_dir`]).
+    /// mesh URIs are resolved against [`crate::collision::CollisionOptions::obstacle_dir`]).
     pub shape: Shape,
     /// World → obstacle frame.
     pub pose: Se3,

@@ -111,9 +111,9 @@ fn is_package(dir: &Path, pkg: &str) -> bool {
     }
     // Through the input guard (a FIFO named package.xml must not block), and no
     // deeper than a package manifest needs.
-    crate::io::read_input_string(&dir.join("package.xml"))
+    crate::core::files::read_input_string(&dir.join("package.xml"))
         .ok()
-        .filter(|t| crate::xml_guard::too_deep(t, 32).is_none())
+        .filter(|t| crate::core::xml_guard::too_deep(t, 32).is_none())
         .and_then(|t| {
             roxmltree::Document::parse(&t).ok().map(|d| {
                 d.descendants()
@@ -256,7 +256,7 @@ pub fn resolve_spec_meshes(
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::collision::resolve::*;
     use std::collections::HashMap;
 
     /// A fresh directory under the system temp dir, removed on drop.

@@ -2,7 +2,7 @@
 //! `t ∈ [t₀, t₁]`: a planner's edge check on the exact geometry, pair by pair.
 //!
 //! Along the segment a pair's distance changes by at most `v |dt|`, `v = Σ_k ρ_k |Δ_k|`
-//! (the pair's motion coefficients, [`super::bounds`]). So a lower bound `d` of the
+//! (the pair's motion coefficients, [`crate::collision::bounds`]). So a lower bound `d` of the
 //! distance at `t` proves the pair apart up to `t + (d + tol)/v` with at most `tol` of
 //! penetration, and the march jumps there (Mirtich's conservative advancement).
 //!
@@ -12,9 +12,9 @@
 //! distance of non-convex meshes is often much larger). An exact distance ≤ 0 is a
 //! collision; a march that needs more than [`MAX_STEPS`] steps is refused, conservatively.
 
-use super::bounds::{Certifier, Level};
-use super::shape::{to_pose, Scratch};
-use super::{CollisionData, CollisionModel, Evaluations};
+use crate::collision::bounds::{Certifier, Level};
+use crate::collision::shape::{to_pose, Scratch};
+use crate::collision::{CollisionData, CollisionModel, Evaluations};
 use crate::model::{Model, WORLD};
 use parry3d_f64::math::{Pose, Vector};
 

@@ -26,9 +26,9 @@
 //!   against the mesh's pseudo-normals) and reported as minus the distance to the
 //!   enclosing surface, a lower bound of the depth. Open meshes are surfaces only.
 
-use super::mesh::MeshData;
+use crate::collision::mesh::MeshData;
+use crate::core::spatial::{Mat3, Se3, Vec3};
 use crate::model::Shape;
-use crate::spatial::{Mat3, Se3, Vec3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Matrix, Pose, Rotation, Vector};
 use parry3d_f64::query::epa::EPA;

@@ -14,7 +14,7 @@
 //! The minimum distances (environment and self, signed) are recorded at every sample,
 //! for plotting, with their overall minima.
 
-use super::{Body, CollisionData, CollisionError, CollisionModel, PairDistance, Scope};
+use crate::collision::{Body, CollisionData, CollisionError, CollisionModel, PairDistance, Scope};
 use crate::model::Model;
 use serde::{Deserialize, Serialize};
 

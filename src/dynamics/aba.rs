@@ -11,13 +11,13 @@
 //! Armature (`model.armature`, plus the rotor effect's) is added to `D_i`.
 //!
 //! Every body must be driven by its own coordinate (no mimic joints: with those, forward
-//! dynamics goes through the projected mass matrix, see [`super::forward_dynamics`]).
+//! dynamics goes through the projected mass matrix, see [`crate::dynamics::forward_dynamics`]).
 
-use super::terms::Terms;
-use crate::data::Data;
+use crate::core::spatial::{skew, Force, Mat3, Motion, Se3, Vec3};
+use crate::dynamics::terms::Terms;
 use crate::kinematics::{body_q, body_rate, joint_motion, joint_transform};
+use crate::model::data::Data;
 use crate::model::{Model, WORLD};
-use crate::spatial::{skew, Force, Mat3, Motion, Se3, Vec3};
 use nalgebra::{Matrix6, Vector6};
 
 #[inline(always)]
@@ -63,7 +63,7 @@ pub fn inertia_to_parent(x: &Se3, i: &Matrix6<f64>) -> Matrix6<f64> {
 
 /// Forward dynamics `q̈` by ABA into `data.qdd` (also returned), with the model's gravity
 /// and armature, as Pinocchio's `aba(model, data, q, v, tau)`. No check of the result
-/// (see [`super::forward_dynamics`] for the checked dispatcher). Panics if the model has
+/// (see [`crate::dynamics::forward_dynamics`] for the checked dispatcher). Panics if the model has
 /// mimic joints.
 pub fn aba<'a>(model: &Model, data: &'a mut Data, q: &[f64], v: &[f64], tau: &[f64]) -> &'a [f64] {
     aba_impl(model, data, q, v, tau, &Terms::of_model(model))
@@ -181,8 +181,8 @@ pub(crate) fn aba_impl<'a>(
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-    use crate::spatial::{Inertia, InertiaO};
+    use crate::core::spatial::{Inertia, InertiaO};
+    use crate::dynamics::aba::*;
 
     #[test]
     fn block_transform_equals_explicit_product() {

@@ -13,11 +13,11 @@
 //! multipliers and summed onto the independent coordinates (`Gᵀ M G`). The armature
 //! (`model.armature`) is added to the diagonal.
 
-use super::rnea::project;
-use crate::data::Data;
+use crate::core::spatial::{column, unit, Force, InertiaO};
+use crate::dynamics::rnea::project;
 use crate::kinematics::{body_q, compute_joint_jacobians, joint_transform};
+use crate::model::data::Data;
 use crate::model::{AxisX, BodyKind, Model, WORLD};
-use crate::spatial::{column, unit, Force, InertiaO};
 use nalgebra::DMatrix;
 
 /// The force `I S` for a unit motion along the body's joint axis: for a rotation about

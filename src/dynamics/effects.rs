@@ -23,15 +23,15 @@
 //! - **Payload**: a rigid body fixed to a link, added to that body's inertia.
 //! - **External wrenches**: force and moment at a link's origin, in world axes.
 
-use super::crba::crba_impl;
-use super::forward::{forward, Applied, Method};
-use super::rnea::rnea_impl;
-use super::terms::Terms;
-use crate::data::{Data, EffectSet};
+use crate::core::linalg::SingularMassMatrix;
+use crate::core::spatial::{Force, Inertia, InertiaO, Vec3};
+use crate::dynamics::crba::crba_impl;
+use crate::dynamics::forward::{forward, Applied, Method};
+use crate::dynamics::rnea::rnea_impl;
+use crate::dynamics::terms::Terms;
 use crate::kinematics::forward_kinematics;
-use crate::linalg::SingularMassMatrix;
+use crate::model::data::{Data, EffectSet};
 use crate::model::{Model, WORLD};
-use crate::spatial::{Force, Inertia, InertiaO, Vec3};
 use nalgebra::DMatrix;
 
 /// Viscous + Coulomb + Stribeck friction per coordinate (see the module docs).
@@ -384,7 +384,7 @@ pub fn mass_matrix<'a>(
 }
 
 /// Forward dynamics with `effects` (rigid joints): `q̈` into `data.qdd`, through the one
-/// dispatcher of [`super::forward_dynamics`] (ABA, or CRBA + Cholesky with mimic joints;
+/// dispatcher of [`crate::dynamics::forward_dynamics`] (ABA, or CRBA + Cholesky with mimic joints;
 /// a non-finite `q̈` is an error).
 pub fn forward_dynamics_with<'a>(
     model: &Model,

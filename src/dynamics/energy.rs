@@ -4,12 +4,12 @@
 //! matrix); and both energies with the enabled effects ([`energies_with`]: rotor armature
 //! and payload included).
 
-use super::effects::{mass_matrix, Effects};
-use super::rnea::project;
-use crate::data::Data;
+use crate::core::spatial::{InertiaO, Vec3};
+use crate::dynamics::effects::{mass_matrix, Effects};
+use crate::dynamics::rnea::project;
 use crate::kinematics::{forward_kinematics, forward_kinematics_vel, frame_placement};
+use crate::model::data::Data;
 use crate::model::{Model, WORLD};
-use crate::spatial::{InertiaO, Vec3};
 
 /// Kinetic energy at `(q, q̇)`, `½ q̇ᵀ M(q) q̇`: the bodies' plus the armature's
 /// `½ I_a,k q̇_k²`; updates placements and velocities in `data`.

@@ -1,27 +1,27 @@
 //! Forward dynamics `M(q) q̈ = τ − h(q, q̇)`: the one place that chooses the algorithm and
 //! the one NaN policy, for the model's own dynamics ([`forward_dynamics`],
 //! [`forward_dynamics_crba`]) and for the effect composition
-//! ([`super::forward_dynamics_with`], [`super::elastic_forward_dynamics`]).
+//! ([`crate::dynamics::forward_dynamics_with`], [`crate::dynamics::elastic_forward_dynamics`]).
 //!
-//! - ABA ([`super::aba`], O(n)) when every body has its own coordinate;
+//! - ABA ([`crate::dynamics::aba`], O(n)) when every body has its own coordinate;
 //! - with mimic joints, or when asked for ([`forward_dynamics_crba`]), the projected mass
-//!   matrix from [`super::crba`] and the bias from [`super::rnea`], solved by an in-place
+//!   matrix from [`crate::dynamics::crba`] and the bias from [`crate::dynamics::rnea`], solved by an in-place
 //!   Cholesky factorisation `M = L Lᵀ` (no allocation).
 //!
 //! Either way a `q̈` with a NaN or an infinite entry is a [`SingularMassMatrix`] error: a
 //! failed Cholesky pivot reports that pivot and its value, a non-finite result the first
 //! non-finite coordinate (value 0).
 
-use super::aba::aba_impl;
-use super::crba::crba_impl;
-use super::effects::{gather_wrenches, ExternalWrench, Friction, Payload, Rotor};
-use super::rnea::rnea_impl;
-use super::terms::Terms;
-use crate::data::Data;
+use crate::core::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
+use crate::core::spatial::Vec3;
+use crate::dynamics::aba::aba_impl;
+use crate::dynamics::crba::crba_impl;
+use crate::dynamics::effects::{gather_wrenches, ExternalWrench, Friction, Payload, Rotor};
+use crate::dynamics::rnea::rnea_impl;
+use crate::dynamics::terms::Terms;
 use crate::kinematics::forward_kinematics;
-use crate::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
+use crate::model::data::Data;
 use crate::model::Model;
-use crate::spatial::Vec3;
 
 /// `q̈` into `data.qdd` with the model's gravity and armature: ABA when every body has its
 /// own coordinate, CRBA + Cholesky with mimic joints; a non-finite `q̈` is an error.
@@ -215,7 +215,7 @@ fn mass_factors(
     model: &Model,
     data: &mut Data,
     q: &[f64],
-    payload: Option<(usize, &crate::spatial::InertiaO)>,
+    payload: Option<(usize, &crate::core::spatial::InertiaO)>,
 ) -> Result<(), SingularMassMatrix> {
     let mut m = crba_impl(model, data, q, payload).clone();
     cholesky_in_place(&mut m)

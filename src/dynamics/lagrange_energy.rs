@@ -23,10 +23,10 @@
 //!   `j`): `∂p_j/∂θ_k = v_k + ω_k × p_j`, so `g_k = −Σ_{j ∈ subtree(k)} m_j gᵀ (v_k + ω_k × p_j)`
 //!   at body level, projected like the torques (`g[q_index_k] += q_mult_k g_k`).
 
-use crate::data::Data;
+use crate::core::spatial::{skew, InertiaO, Motion, Vec3};
 use crate::kinematics::compute_joint_jacobians;
+use crate::model::data::Data;
 use crate::model::{Model, WORLD};
-use crate::spatial::{skew, InertiaO, Motion, Vec3};
 use nalgebra::{DMatrix, Matrix6};
 
 /// `ad_s`, the 6×6 motion cross-product matrix of `s` in (linear, angular) order.

@@ -34,11 +34,11 @@
 //! (likewise `θ̈`) and the torques project as `τ[q_index_i] += q_mult_i τ_i`
 //! (`M = Gᵀ B G` for the mass matrix).
 
-use super::lagrange_energy::assert_state_lengths;
-use crate::data::Data;
+use crate::core::spatial::{skew, Motion, Se3, Vec3};
+use crate::dynamics::lagrange_energy::assert_state_lengths;
 use crate::kinematics::{body_rate, compute_joint_jacobians};
+use crate::model::data::Data;
 use crate::model::{Model, WORLD};
-use crate::spatial::{skew, Motion, Se3, Vec3};
 use nalgebra::{DMatrix, Matrix4, Vector4};
 
 /// `[[ [ω]×, v ], [0, 0]]`: the 4×4 se(3) matrix of a twist `(v, ω)`.
@@ -62,7 +62,7 @@ fn pseudo_inertia(model: &Model, j: usize) -> Matrix4<f64> {
     let i = &model.inertia[j];
     let cx = skew(&i.com);
     let i_o = i.inertia_com - cx * cx * i.mass;
-    let sigma = crate::spatial::Mat3::identity() * (0.5 * i_o.trace()) - i_o;
+    let sigma = crate::core::spatial::Mat3::identity() * (0.5 * i_o.trace()) - i_o;
     let h = i.com * i.mass;
     let mut out = Matrix4::zeros();
     out.fixed_view_mut::<3, 3>(0, 0).copy_from(&sigma);

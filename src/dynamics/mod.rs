@@ -12,7 +12,7 @@
 //! elasticity, payload, wrenches).
 //!
 //! The
-//! recursive algorithms and the effects write into [`crate::data::Data`] and allocate
+//! recursive algorithms and the effects write into [`crate::model::data::Data`] and allocate
 //! nothing per call; the Lagrange forms are slow O(n⁴)/O(n³) references and allocate.
 
 mod aba;
@@ -25,8 +25,8 @@ mod lagrange_trace;
 mod rnea;
 mod terms;
 
-pub use crate::data::{EffectRuns, EffectSet};
-pub use crate::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
+pub use crate::core::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
+pub use crate::model::data::{EffectRuns, EffectSet};
 pub use aba::{aba, aba_with_forces};
 pub use crba::crba;
 pub(crate) use crba::crba_impl;

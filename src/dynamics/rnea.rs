@@ -11,11 +11,11 @@
 //! Mimic joints: a body driven by `q_k` through `θ = m q_k + o` adds `m S_iᵀ f_i` to `τ_k`
 //! (the projection `Gᵀ τ` onto the independent coordinates).
 
-use super::terms::Terms;
-use crate::data::Data;
+use crate::core::spatial::{Force, Motion, Vec3};
+use crate::dynamics::terms::Terms;
 use crate::kinematics::{body_q, body_rate, joint_motion, joint_transform};
+use crate::model::data::Data;
 use crate::model::{BodyKind, Model, WORLD};
-use crate::spatial::{Force, Motion, Vec3};
 
 /// `S_iᵀ f` for a body whose joint moves about/along axis `kind`.
 #[inline(always)]

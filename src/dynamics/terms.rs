@@ -4,8 +4,8 @@
 //! model ([`Terms::of_model`]: its gravity, nothing else); the effect composition and the
 //! simulator build their own (gravity off, a payload, the rotor effect's armature).
 
+use crate::core::spatial::{Force, InertiaO, Vec3};
 use crate::model::Model;
-use crate::spatial::{Force, InertiaO, Vec3};
 
 /// Per-call additions to the rigid model (see the module docs). `Terms::default()` is the
 /// bare model without gravity.

@@ -11,10 +11,10 @@
 //! quantities expressed in the body frame; `a` is Featherstone's spatial acceleration, not
 //! the classical acceleration of a point (see [`frame_classical_acceleration`]).
 
-use super::jacobian::Expressed;
-use crate::data::Data;
+use crate::core::spatial::{column, unit, Mat3, Motion, Se3, Vec3};
+use crate::kinematics::jacobian::Expressed;
+use crate::model::data::Data;
 use crate::model::{BodyKind, Model, WORLD};
-use crate::spatial::{column, unit, Mat3, Motion, Se3, Vec3};
 
 /// `R · R_k(q)`: columns `i, j` (the two axes other than `k`, in cyclic order) rotate,
 /// column `k` stays.
@@ -66,7 +66,7 @@ fn apply_joint(
 #[inline(always)]
 pub fn joint_transform(placement: &Se3, kind: BodyKind, q: f64) -> Se3 {
     apply_joint(placement.rot, placement.trans, kind, q, || {
-        crate::fastmath::sin_cos(q)
+        crate::core::fastmath::sin_cos(q)
     })
 }
 
@@ -177,7 +177,7 @@ pub fn forward_kinematics(model: &Model, data: &mut Data, q: &[f64]) {
         let block = start..(start + SIN_COS_BLOCK).min(end);
         for (k, i) in block.clone().enumerate() {
             if model.kind[i].is_revolute() {
-                sc[k] = crate::fastmath::sin_cos(body_q(model, q, i));
+                sc[k] = crate::core::fastmath::sin_cos(body_q(model, q, i));
             }
         }
         for (k, i) in block.enumerate() {
@@ -197,7 +197,9 @@ pub(crate) fn forward_kinematics_prefix(model: &Model, data: &mut Data, q: &[f64
     let mut prev = Se3::identity();
     for i in 0..end.min(model.nbodies()) {
         let qi = body_q(model, q, i);
-        let cur = body_placement(model, data, i, &prev, qi, || crate::fastmath::sin_cos(qi));
+        let cur = body_placement(model, data, i, &prev, qi, || {
+            crate::core::fastmath::sin_cos(qi)
+        });
         data.o_m_i[i] = cur;
         prev = cur;
     }

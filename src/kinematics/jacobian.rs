@@ -19,10 +19,10 @@
 //! `J_A = [J_W,v + J_W,ω × p; J_W,ω]`, `J̇_A = [J̇_W,v + J̇_W,ω × p + J_W,ω × ṗ; J̇_W,ω]`.
 //! Mimic joints add `multiplier ×` their column into their master's column.
 
-use super::fk::{body_rate, forward_kinematics, forward_kinematics_prefix};
-use crate::data::Data;
+use crate::core::spatial::{column, Motion, Se3};
+use crate::kinematics::fk::{body_rate, forward_kinematics, forward_kinematics_prefix};
+use crate::model::data::Data;
 use crate::model::{BodyKind, Model, WORLD};
-use crate::spatial::{column, Motion, Se3};
 use nalgebra::DMatrix;
 
 /// Which expression a Jacobian or velocity is given in (see the module docs).

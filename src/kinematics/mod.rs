@@ -1,11 +1,12 @@
 //! Kinematics: forward kinematics (placements, velocities, accelerations), geometric
 //! Jacobians and their time derivatives in three expressions, and the dexterity measures.
 
-pub mod batch;
 mod fk;
+pub mod fk_lanes;
 pub mod ik;
 mod jacobian;
 mod manipulability;
+pub mod spatial_loop;
 
 pub(crate) use fk::{body_q, body_rate, joint_motion};
 pub use fk::{

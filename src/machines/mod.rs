@@ -11,9 +11,12 @@
 //! - [`friction`]: friction elements and efficiency (`kind = "friction"`);
 //! - [`plots`]: the cam and gear-pair pictures written with `armsim run --out DIR`.
 
-pub mod cam;
+pub mod balancing;
+pub mod cams;
+pub mod flywheel;
 pub mod friction;
-pub mod gears;
-pub mod plots;
-pub mod rational;
-pub mod spans;
+pub mod gearing;
+pub mod instant_centres;
+pub mod linkage;
+pub mod synthesis;
+pub mod vibration;

@@ -3,13 +3,13 @@
 //! the independent movable joints (mimic joints follow theirs), one body per movable
 //! joint carrying the inertias of the links rigidly attached to it.
 
-use super::mimic::{self, Resolved};
-use super::spec::{JointSpec, JointType, LinkSpec, ModelSpec};
-use super::{
+use crate::core::spatial::{rotation_z_to, Inertia, InertiaO, Mat3, Se3, Vec3};
+use crate::model::mimic::{self, Resolved};
+use crate::model::spec::{JointSpec, JointType, LinkSpec, ModelSpec};
+use crate::model::{
     aligned_axis, push_permutations_up, snap_signed_permutation, BodyKind, Joint, Link, Model,
     ModelError, ModelWarning, WORLD,
 };
-use crate::spatial::{rotation_z_to, Inertia, InertiaO, Mat3, Se3, Vec3};
 use std::collections::HashMap;
 
 pub(super) struct Builder<'a> {

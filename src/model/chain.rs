@@ -7,8 +7,8 @@
 //! URDF by [`chain_urdf`] (and by `tools/pinocchio/gen_chain.py` for the Pinocchio
 //! baseline), so both libraries time the same mechanism.
 
-use super::spec::*;
-use crate::spatial::{Inertia, Mat3, Se3, Vec3};
+use crate::core::spatial::{Inertia, Mat3, Se3, Vec3};
+use crate::model::spec::*;
 use std::fmt::Write;
 
 fn axis(i: usize) -> [f64; 3] {

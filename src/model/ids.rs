@@ -1,9 +1,9 @@
 //! Typed indices for the public API: a [`FrameId`] names a link frame, a [`JointId`] a
 //! joint, so that a frame cannot be passed where a joint is meant. Inside the hot loops
-//! the model keeps plain `usize` arrays (with [`super::WORLD`] as the "no parent"
+//! the model keeps plain `usize` arrays (with [`crate::model::WORLD`] as the "no parent"
 //! marker); these wrappers are what callers hold.
 
-use super::Model;
+use crate::model::Model;
 
 /// A link frame of a [`Model`] (from [`Model::frame`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -44,8 +44,8 @@ impl Model {
     }
 
     /// The parent body of body `i`, `None` for a body attached to the world (the
-    /// `Option` form of the [`super::WORLD`] marker).
+    /// `Option` form of the [`crate::model::WORLD`] marker).
     pub fn parent_body(&self, i: usize) -> Option<usize> {
-        (self.parent[i] != super::WORLD).then_some(self.parent[i])
+        (self.parent[i] != crate::model::WORLD).then_some(self.parent[i])
     }
 }

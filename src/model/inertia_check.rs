@@ -11,9 +11,9 @@
 //! written on the diagonal (`ixx`, `iyy`, `izz`) beyond [`clamp_tolerance`], and this
 //! check refuses a negative mass.
 
-use super::spec::LinkSpec;
-use super::{ModelError, ModelWarning};
-use crate::spatial::Mat3;
+use crate::core::spatial::Mat3;
+use crate::model::spec::LinkSpec;
+use crate::model::{ModelError, ModelWarning};
 
 /// Relative size of a negative principal moment that is floating-point noise: accepted
 /// silently (as is one below [`NOISE_ABS`]).

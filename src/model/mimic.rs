@@ -6,8 +6,8 @@
 //! fixed, and on every joint of a cycle of mimic relations. Chains (`a` mimics `b` which
 //! mimics `c`) compose into one relation on the final master.
 
-use super::spec::{JointSpec, ModelSpec};
-use super::ModelWarning;
+use crate::model::spec::{JointSpec, ModelSpec};
+use crate::model::ModelWarning;
 use std::collections::HashMap;
 
 /// The independent master (spec index), multiplier and offset of a joint that mimics

@@ -15,27 +15,27 @@
 //! - mimic joints (`q = multiplier * q_master + offset`) are bodies without a coordinate
 //!   of their own: they read the master's coordinate.
 
-mod axis_x;
 mod build;
 pub mod chain;
-pub mod dh;
-mod error;
+pub mod data;
 mod ids;
 mod inertia_check;
+mod joint_transform;
 mod mimic;
+mod model_error;
+pub mod parse;
 mod sampling;
 mod spec;
 mod spec_check;
-pub mod urdf;
 
-pub(crate) use axis_x::AxisX;
+pub(crate) use crate::model::joint_transform::AxisX;
+pub use crate::model::model_error::{ModelError, ModelWarning};
 use build::Builder;
-pub use error::{ModelError, ModelWarning};
 pub use ids::{FrameId, JointId};
 pub use inertia_check::{clamp_tolerance, CLAMP_ABS, CLAMP_REL};
 pub use spec::{Geometry, JointSpec, JointType, Limits, LinkSpec, MimicSpec, ModelSpec, Shape};
 
-use crate::spatial::{Inertia, InertiaO, Mat3, Se3, Vec3};
+use crate::core::spatial::{Inertia, InertiaO, Mat3, Se3, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -334,7 +334,7 @@ impl Model {
     /// Reads a model file into a [`ModelSpec`] without validating the tree.
     pub fn read_spec(path: &Path) -> Result<ModelSpec, ModelError> {
         let file = path.display().to_string();
-        let text = crate::io::read_input_string(path)
+        let text = crate::core::files::read_input_string(path)
             .map_err(|e| ModelError::new(&file, None, "file", format!("cannot read: {e}")))?;
         Self::spec_from_str(&text, &file)
     }
@@ -352,8 +352,8 @@ impl Model {
             .unwrap_or("")
             .to_ascii_lowercase();
         match ext.as_str() {
-            "urdf" | "xml" => urdf::parse(text, file),
-            "toml" => dh::parse(text, file),
+            "urdf" | "xml" => parse::urdf::parse(text, file),
+            "toml" => parse::dh_table::parse(text, file),
             _ => Err(ModelError::new(
                 file,
                 None,

@@ -1,6 +1,6 @@
 //! Configurations inside the joint limits: neutral and uniformly random.
 
-use super::Model;
+use crate::model::Model;
 use rand::Rng;
 
 impl Model {
@@ -10,7 +10,9 @@ impl Model {
         let (lo, hi) = (self.lower[k], self.upper[k]);
         if lo.is_finite() && hi.is_finite() {
             (lo, hi)
-        } else if self.is_continuous(k) || self.dof_joint(k).jtype != super::JointType::Prismatic {
+        } else if self.is_continuous(k)
+            || self.dof_joint(k).jtype != crate::model::JointType::Prismatic
+        {
             (-std::f64::consts::PI, std::f64::consts::PI)
         } else {
             (-1.0, 1.0)

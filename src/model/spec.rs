@@ -1,7 +1,7 @@
 //! The neutral description every loader produces (URDF, DH table, generated chain)
 //! before validation: links and joints by name, in file order, with their source lines.
 
-use crate::spatial::{Inertia, Se3, Vec3};
+use crate::core::spatial::{Inertia, Se3, Vec3};
 
 /// Joint type as written in a model file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -224,5 +224,5 @@ pub struct ModelSpec {
     pub gravity: Option<Vec3>,
     /// Problems the reader found and worked around (what was ignored or repaired, where);
     /// [`crate::model::Model::build`] reports them first among its warnings.
-    pub warnings: Vec<super::ModelWarning>,
+    pub warnings: Vec<crate::model::ModelWarning>,
 }

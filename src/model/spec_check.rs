@@ -1,11 +1,11 @@
-//! The numbers of a [`ModelSpec`](super::ModelSpec)'s links and joints that no tree can
+//! The numbers of a [`ModelSpec`](crate::model::ModelSpec)'s links and joints that no tree can
 //! make meaningful: non-finite placements, axes and limits, a zero axis, a lower limit
 //! above the upper one, negative friction or rotor inertia (inertias are checked in
-//! [`super::inertia_check`]).
+//! [`crate::model::inertia_check`]).
 
-use super::spec::{JointSpec, LinkSpec};
-use super::{Builder, ModelError};
-use crate::spatial::Se3;
+use crate::core::spatial::Se3;
+use crate::model::spec::{JointSpec, LinkSpec};
+use crate::model::{Builder, ModelError};
 
 impl Builder<'_> {
     pub(super) fn check_finite_se3(&self, t: &Se3) -> bool {

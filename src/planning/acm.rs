@@ -28,13 +28,13 @@
 //! tests run only on the few pairs whose spheres touch at the default configuration or in
 //! nearly every sample.
 
-use super::sampler::{bounds, uniform, Rng};
-use super::spheres::SphereModel;
 use crate::collision::{CollisionData, CollisionModel};
-use crate::data::Data;
+use crate::core::spatial::{Se3, Vec3};
 use crate::kinematics::forward_kinematics;
+use crate::model::data::Data;
 use crate::model::{Model, WORLD};
-use crate::spatial::{Se3, Vec3};
+use crate::planning::sampler::{bounds, uniform, Rng};
+use crate::planning::spheres::SphereModel;
 use rayon::prelude::*;
 use std::collections::HashSet;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -116,7 +116,7 @@ pub struct Acm {
 }
 
 impl Acm {
-    /// The disabled pairs as name pairs (what [`super::self_pairs::from_disabled`] takes).
+    /// The disabled pairs as name pairs (what [`crate::planning::self_pairs::from_disabled`] takes).
     pub fn disabled_names(&self) -> Vec<(String, String)> {
         self.disabled
             .iter()
@@ -179,7 +179,7 @@ pub fn default_configuration(model: &Model) -> Vec<f64> {
 /// Raised when the matrix's computation changes, so old cached matrices are not read.
 const CACHE_VERSION: u32 = 1;
 
-/// [`compute`], kept on disk ([`super::cover_cache`]) under a fingerprint of the model's
+/// [`compute`], kept on disk ([`crate::planning::cover_cache`]) under a fingerprint of the model's
 /// URDF text, the sphere cover (which stands for the mesh files' contents), whether the
 /// exact geometry was built, the options and [`CACHE_VERSION`]; a model without URDF text
 /// (a DH table) is computed every time.
@@ -220,17 +220,21 @@ pub fn compute_cached(
         opts.seed,
         exact.is_some()
     );
-    let key =
-        super::cover_cache::fingerprint([urdf.as_bytes(), &spheres, &groups, settings.as_bytes()]);
+    let key = crate::planning::cover_cache::fingerprint([
+        urdf.as_bytes(),
+        &spheres,
+        &groups,
+        settings.as_bytes(),
+    ]);
     let name = format!("acm-{key:016x}.json");
-    if let Some(acm) =
-        super::cover_cache::load_text(&name).and_then(|t| serde_json::from_str::<Acm>(&t).ok())
+    if let Some(acm) = crate::planning::cover_cache::load_text(&name)
+        .and_then(|t| serde_json::from_str::<Acm>(&t).ok())
     {
         return Some(acm);
     }
     let acm = compute(model, sm, exact, opts, stop)?;
     if let Ok(text) = serde_json::to_string(&acm) {
-        super::cover_cache::store_text(&name, &text);
+        crate::planning::cover_cache::store_text(&name, &text);
     }
     Some(acm)
 }

@@ -99,7 +99,7 @@ pub fn store(
     if let Some(d) = path.parent() {
         let _ = std::fs::create_dir_all(d);
     }
-    let _ = crate::io::write_atomic(&path, text.as_bytes());
+    let _ = crate::core::files::write_atomic(&path, text.as_bytes());
 }
 
 /// FNV-1a over `parts`, each followed by its length.
@@ -125,5 +125,5 @@ pub fn store_text(name: &str, text: &str) {
         return;
     };
     let _ = std::fs::create_dir_all(&d);
-    let _ = crate::io::write_atomic(&d.join(name), text.as_bytes());
+    let _ = crate::core::files::write_atomic(&d.join(name), text.as_bytes());
 }

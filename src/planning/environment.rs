@@ -11,10 +11,10 @@
 //!
 //! Touching counts as free (strict `<`), as in the dense re-check of the tests.
 
-use super::lanes::{Mask, P3};
-use super::simd::{Simd, W};
 use crate::collision::Obstacle;
 use crate::model::Shape;
+use crate::planning::lanes::{Mask, P3};
+use crate::planning::simd::{Simd, W};
 
 /// Shape of an [`EnvObstacle`].
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -2,7 +2,7 @@
 //! poses in registers ([`P3`], [`Pose`]) over a [`Simd`] token, one robot configuration
 //! per lane (structure of arrays, as in VAMP).
 
-use super::simd::{Simd, W};
+use crate::planning::simd::{Simd, W};
 
 /// Number of lanes.
 pub const N: usize = 8;

@@ -1,5 +1,5 @@
 //! Signed distance of a triangle mesh, for the sphere cover of mesh collision geometry
-//! ([`super::spherize::cover_sdf`]).
+//! ([`crate::planning::spherize::cover_sdf`]).
 //!
 //! The unsigned distance is the distance to the nearest triangle (parry's BVH point
 //! projection onto the [`TriMesh`]). For a **closed**, consistently oriented mesh (every
@@ -96,7 +96,7 @@ impl MeshSdf {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::planning::mesh_sdf::*;
     use crate::planning::spherize::{cover_sdf, Primitive};
 
     /// A box `±h` as 12 outward triangles.

@@ -33,13 +33,13 @@ pub use scene::{parse_scene, quaternion_matrix, WORLD_FRAMES};
 
 use crate::collision::Obstacle;
 use crate::model::Model;
-use crate::planning::error::{PlanningInputError, PlanningInputWarning};
+use crate::planning::plan_error::{PlanningInputError, PlanningInputWarning};
 use std::path::Path;
 
 /// Reads a file's text, with the error naming it.
 fn read(path: &Path) -> Result<(String, String), PlanningInputError> {
     let file = path.display().to_string();
-    let text = crate::io::read_input_string(path)
+    let text = crate::core::files::read_input_string(path)
         .map_err(|e| PlanningInputError::new(&file, None, "file", format!("cannot read: {e}")))?;
     Ok((text, file))
 }

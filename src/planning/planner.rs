@@ -9,15 +9,15 @@
 //! [`Planner::set_obstacles`]); `simplify_time_us` is the rest. The search polls the stop
 //! flag of [`PlanOptions::stop`] (Ctrl-C) with its time limit.
 
-use super::checker::{CheckOptions, CheckScratch, Checker, EdgeMode};
-use super::environment::Environment;
-use super::rrt::{Rrt, RrtOptions, SearchEnd, SearchLimit};
-use super::sampler::{bounds, Sampler, SamplerKind};
-use super::setup::PlanningRobot;
-use super::simplify::{path_length, Simplifier, SimplifyOptions};
-use super::spheres::SphereOptions;
 use crate::collision::Obstacle;
 use crate::model::Model;
+use crate::planning::checker::{CheckOptions, CheckScratch, Checker, EdgeMode};
+use crate::planning::environment::Environment;
+use crate::planning::rrt::{Rrt, RrtOptions, SearchEnd, SearchLimit};
+use crate::planning::sampler::{bounds, Sampler, SamplerKind};
+use crate::planning::setup::PlanningRobot;
+use crate::planning::simplify::{path_length, Simplifier, SimplifyOptions};
+use crate::planning::spheres::SphereOptions;
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -121,7 +121,7 @@ pub struct Planner {
 
 impl Planner {
     /// A planner for `model` among `obstacles`. `disabled` lists the SRDF's disabled link
-    /// pairs; `None` computes the allowed-collision matrix ([`super::acm`]). Builds the
+    /// pairs; `None` computes the allowed-collision matrix ([`crate::planning::acm`]). Builds the
     /// robot half; to plan many scenes, build it once ([`PlanningRobot::new`]) and use
     /// [`Planner::for_robot`].
     pub fn new(
@@ -382,10 +382,10 @@ impl Planner {
     }
 
     /// Adds to a failed query's reason a blocked band of a joint between start and goal,
-    /// if one is found ([`super::walls`]).
+    /// if one is found ([`crate::planning::walls`]).
     fn explain_failure(&mut self, start: &[f64], goal: &[f64], res: &mut PlanResult) {
         let model = &self.robot.model;
-        let wall = super::walls::wall_between(
+        let wall = crate::planning::walls::wall_between(
             model,
             &self.checker,
             &mut self.scratch,
@@ -400,8 +400,8 @@ impl Planner {
                 model.dof_joint(w.coordinate).name,
                 w.from,
                 w.to,
-                super::walls::SAMPLES,
-                super::walls::STEP
+                crate::planning::walls::SAMPLES,
+                crate::planning::walls::STEP
             ));
         }
     }
@@ -420,13 +420,13 @@ impl Planner {
         self.checker.edge_free(
             &af,
             &bf,
-            super::checker::EdgeMode::Continuous,
+            crate::planning::checker::EdgeMode::Continuous,
             &mut self.scratch,
         )
     }
 
     /// Configurations and edges of this planner's own thread that the spheres could not
-    /// clear and the exact geometry decided ([`super::checker::ExactPairs`]).
+    /// clear and the exact geometry decided ([`crate::planning::checker::ExactPairs`]).
     pub fn exact_checks(&self) -> u64 {
         self.scratch.exact.as_ref().map_or(0, |e| e.exact_checks)
     }

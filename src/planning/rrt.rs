@@ -1,5 +1,5 @@
 //! RRT-Connect (Kuffner & LaValle, ICRA 2000), balanced, with an optional dynamic domain
-//! (Yershova et al., ICRA 2005), on the continuous edge checks of [`super::checker`].
+//! (Yershova et al., ICRA 2005), on the continuous edge checks of [`crate::planning::checker`].
 //!
 //! One tree grows from the start and one from the goal. Each iteration draws a sample,
 //! *extends* the smaller tree one step of at most `range` towards it, then *connects* the
@@ -13,8 +13,8 @@
 //! linear scan over coordinates padded to a multiple of eight (vectorised). Nothing is
 //! allocated per iteration.
 
-use super::checker::{CheckScratch, Checker, EdgeMode};
-use super::sampler::Sampler;
+use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
+use crate::planning::sampler::Sampler;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;

@@ -314,7 +314,7 @@ fn radical_inverse(mut i: u64, b: u32) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::planning::sampler::*;
 
     #[test]
     fn radical_inverse_reverses_the_digits() {

@@ -4,14 +4,14 @@
 //!   `<disable_collisions>` pairs and minus the *adjacent* pairs below (as armsim's collision
 //!   module does: the spheres of two links one joint apart overlap at the joint by
 //!   construction in spherized models, e.g. the UR5's `wrist_2_link` and `fts_robotside`).
-//! - Without: the pairs of the allowed-collision matrix ([`super::acm`], computed as
+//! - Without: the pairs of the allowed-collision matrix ([`crate::planning::acm`], computed as
 //!   MoveIt's Setup Assistant computes one) are the disabled ones, through the same
 //!   function.
 //!
 //! Links on one body never move relative to each other: such pairs are always dropped.
 
-use super::spheres::SphereModel;
 use crate::model::{Model, WORLD};
+use crate::planning::spheres::SphereModel;
 use std::collections::HashSet;
 
 /// Link-group index pairs `(a, b)`, `a < b`, to check; every pair of links on bodies that

@@ -1,20 +1,20 @@
 //! The robot half of a planner, built once and shared by every query and thread: the
 //! sphere model of the collision geometry, the self-collision pairs (from an SRDF, or from
 //! the allowed-collision matrix computed as MoveIt's Setup Assistant computes it,
-//! [`super::acm`]), and the exact collision model that names what a rejected start or goal
-//! touches. A scene (the obstacles) is given per query ([`super::Planner::set_obstacles`]).
+//! [`crate::planning::acm`]), and the exact collision model that names what a rejected start or goal
+//! touches. A scene (the obstacles) is given per query ([`crate::planning::Planner::set_obstacles`]).
 //!
 //! Set-up reports its own time ([`PlanningRobot::setup_time_s`]); the search time limit
 //! starts with the query. The matrix's sampling polls the stop flag of the options.
 
-use super::acm::{self, Acm, AcmOptions, SpherePoser};
-use super::environment::Environment;
-use super::self_pairs;
-use super::spheres::SphereModel;
-use super::spherize::Primitive;
-use super::PlanOptions;
 use crate::collision::{CollisionData, CollisionModel, CollisionOptions};
 use crate::model::Model;
+use crate::planning::acm::{self, Acm, AcmOptions, SpherePoser};
+use crate::planning::environment::Environment;
+use crate::planning::self_pairs;
+use crate::planning::spheres::SphereModel;
+use crate::planning::spherize::Primitive;
+use crate::planning::PlanOptions;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Instant;
@@ -39,7 +39,7 @@ pub struct PlanningRobot {
     pub self_pairs: Vec<(usize, usize)>,
     /// Those of them whose sphere covers still touch where their exact geometry does not
     /// after [`refine`]: decided on the exact geometry where their spheres touch
-    /// ([`super::checker::ExactPairs`]).
+    /// ([`crate::planning::checker::ExactPairs`]).
     pub exact_pairs: Vec<(usize, usize)>,
     /// The cover their first stage checks: the links of those pairs at half their
     /// overshoot (down to [`FINE_OVERSHOOT`]), so that the exact geometry is measured only
@@ -55,7 +55,7 @@ pub struct PlanningRobot {
     /// The sphere options the cover was finally built with (the links [`refine`]
     /// covered again, with their overshoot): another robot half of the same links can
     /// start from them.
-    pub sphere_options: super::spheres::SphereOptions,
+    pub sphere_options: crate::planning::spheres::SphereOptions,
 }
 
 /// What a configuration touches: a pair of links or a link and an obstacle, with the
@@ -181,17 +181,22 @@ impl PlanningRobot {
     }
 
     /// The collision checker of this robot among the obstacles of `env`.
-    pub fn checker(&self, env: Environment, opts: super::CheckOptions) -> super::Checker {
+    pub fn checker(
+        &self,
+        env: Environment,
+        opts: crate::planning::CheckOptions,
+    ) -> crate::planning::Checker {
         let own: Vec<(usize, usize)> = self
             .self_pairs
             .iter()
             .filter(|p| !self.exact_pairs.contains(p))
             .copied()
             .collect();
-        let checker = super::Checker::new(&self.model, self.spheres.clone(), env, own, opts);
+        let checker =
+            crate::planning::Checker::new(&self.model, self.spheres.clone(), env, own, opts);
         match &self.exact {
             Some(cm) if !self.exact_pairs.is_empty() => {
-                let spheres = super::Checker::new(
+                let spheres = crate::planning::Checker::new(
                     &self.model,
                     self.exact_spheres.clone(),
                     Environment::default(),
@@ -203,7 +208,7 @@ impl PlanningRobot {
                     .iter()
                     .map(|&(a, b)| (self.spheres.links[a].link, self.spheres.links[b].link))
                     .collect();
-                checker.with_exact(super::checker::ExactPairs::new(
+                checker.with_exact(crate::planning::checker::ExactPairs::new(
                     self.model.clone(),
                     cm,
                     links,
@@ -254,12 +259,12 @@ impl PlanningRobot {
         }
         for (o, ob) in env.obstacles.iter().enumerate() {
             let prim = match ob.shape {
-                super::environment::EnvShape::Sphere(r) => Primitive::Sphere(r as f64),
-                super::environment::EnvShape::Box(h) => Primitive::Box(h.map(f64::from)),
-                super::environment::EnvShape::Cylinder(r, h) => {
+                crate::planning::environment::EnvShape::Sphere(r) => Primitive::Sphere(r as f64),
+                crate::planning::environment::EnvShape::Box(h) => Primitive::Box(h.map(f64::from)),
+                crate::planning::environment::EnvShape::Cylinder(r, h) => {
                     Primitive::Cylinder(r as f64, h as f64)
                 }
-                super::environment::EnvShape::Capsule(r, h) => {
+                crate::planning::environment::EnvShape::Capsule(r, h) => {
                     Primitive::Capsule(r as f64, h as f64)
                 }
             };
@@ -308,10 +313,10 @@ const REFINE_SAMPLES: usize = 100;
 /// link groups keep their order, so the pair indices stay valid.
 ///
 /// Returns the cover and the pairs that still touch falsely in any of the configurations
-/// with it: those are decided on the exact geometry ([`super::checker::ExactPairs`]).
+/// with it: those are decided on the exact geometry ([`crate::planning::checker::ExactPairs`]).
 fn refine(
     model: &Model,
-    sopts: &mut super::spheres::SphereOptions,
+    sopts: &mut crate::planning::spheres::SphereOptions,
     mut sm: SphereModel,
     cm: &CollisionModel,
     pairs: &[(usize, usize)],
@@ -365,7 +370,7 @@ pub const FINE_OVERSHOOT: f64 = 0.0025;
 /// The link groups keep their order.
 fn fine_cover(
     model: &Model,
-    sopts: &super::spheres::SphereOptions,
+    sopts: &crate::planning::spheres::SphereOptions,
     coarse: &SphereModel,
     exact_pairs: &[(usize, usize)],
 ) -> SphereModel {

@@ -20,7 +20,7 @@
 
 #![allow(clippy::excessive_precision)]
 
-use super::lanes::{Mask, L};
+use crate::planning::lanes::{Mask, L};
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// Cephes constants (sinf.c, cosf.c).
@@ -173,8 +173,8 @@ pub enum Isa {
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
-    use super::{cephes::*, Simd, W};
     use crate::planning::lanes::{Mask, L};
+    use crate::planning::simd::{cephes::*, Simd, W};
     use std::arch::x86_64::*;
 
     /// AVX2 + FMA: one 256-bit register.
@@ -492,7 +492,7 @@ impl Simd for Scalar {
 
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
-    use super::*;
+    use crate::planning::simd::*;
 
     fn check_sin_cos<S: Simd>(tok: S) -> f64 {
         let mut worst = 0.0f64;

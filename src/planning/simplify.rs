@@ -13,15 +13,15 @@
 //!
 //! A time limit ([`SimplifyOptions::time_limit`]) and the stop flag end it early with the
 //! path as it stands (every change was checked): where the exact stage of the checker
-//! must decide many edges ([`super::checker::ExactPairs`]), shortcuts can cost
+//! must decide many edges ([`crate::planning::checker::ExactPairs`]), shortcuts can cost
 //! milliseconds each.
 //!
 //! The cost is the joint-space L2 length. Buffers live in [`Simplifier`]: nothing is
 //! allocated once it has seen a path as long.
 
-use super::checker::{CheckScratch, Checker, EdgeMode};
-use super::rrt::SearchLimit;
-use super::sampler::Rng;
+use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
+use crate::planning::rrt::SearchLimit;
+use crate::planning::sampler::Rng;
 use std::time::Duration;
 
 /// Settings of the simplification.

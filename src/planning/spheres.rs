@@ -4,9 +4,9 @@
 //!
 //! **Sources.** A link's `<collision>` spheres are taken as given (the spherized Panda and
 //! UR5 of the benchmark); boxes, cylinders and capsules are covered by
-//! [`super::spherize::cover`] with overshoot at most [`SphereOptions::max_overshoot`].
+//! [`crate::planning::spherize::cover`] with overshoot at most [`SphereOptions::max_overshoot`].
 //! Meshes (resolved relative to the model file, as [`crate::collision`] does) are covered
-//! the same way from their signed distance ([`super::mesh_sdf`]): closed meshes with the
+//! the same way from their signed distance ([`crate::planning::mesh_sdf`]): closed meshes with the
 //! same two guarantees; open meshes on their surface only (a note in
 //! [`SphereModel::warnings`]). A mesh that cannot be found or read is reported there and
 //! left unchecked.
@@ -21,12 +21,12 @@
 //! `|q̇_k|`. Mimic bodies add `|multiplier| ρ_k` to their master's coordinate.
 //! [`SphereModel::rho`] stores, per sphere, these coefficients per coordinate.
 
-use super::mesh_sdf::MeshSdf;
-use super::spherize::{cover, cover_sdf, Primitive};
 use crate::collision::mesh::load_mesh;
 use crate::collision::resolve::{resolve_with, PackagePaths};
+use crate::core::spatial::{Se3, Vec3};
 use crate::model::{Model, Shape, WORLD};
-use crate::spatial::{Se3, Vec3};
+use crate::planning::mesh_sdf::MeshSdf;
+use crate::planning::spherize::{cover, cover_sdf, Primitive};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -206,7 +206,7 @@ impl SphereModel {
     /// World-frame centres of every sphere at `q`, in f64 (for reference checks and
     /// pictures, not the hot path).
     pub fn world_centers(&self, model: &Model, q: &[f64]) -> Vec<Vec3> {
-        let mut data = crate::data::Data::new(model);
+        let mut data = crate::model::data::Data::new(model);
         crate::kinematics::forward_kinematics(model, &mut data, q);
         let mut out = vec![Vec3::zeros(); self.spheres.len()];
         for ls in &self.links {
@@ -339,10 +339,10 @@ fn compute_cover(
     delta: f64,
 ) -> Result<NotedCover, String> {
     // Through the input guard: a FIFO or `/dev/zero` must not block or read forever.
-    let bytes = crate::io::read_input_max(path, crate::io::MAX_MESH_BYTES).ok();
+    let bytes = crate::core::files::read_input_max(path, crate::core::files::MAX_MESH_BYTES).ok();
     if let Some(c) = bytes
         .as_deref()
-        .and_then(|b| super::cover_cache::load(b, scale, delta))
+        .and_then(|b| crate::planning::cover_cache::load(b, scale, delta))
     {
         return Ok(c);
     }
@@ -362,7 +362,7 @@ fn compute_cover(
     }
     let note = (!notes.is_empty()).then(|| notes.join("; "));
     if let Some(b) = &bytes {
-        super::cover_cache::store(b, scale, delta, &spheres, note.as_deref());
+        crate::planning::cover_cache::store(b, scale, delta, &spheres, note.as_deref());
     }
     Ok((spheres, note))
 }

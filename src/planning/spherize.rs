@@ -1,7 +1,7 @@
 //! Sphere covers of collision primitives, with a stated maximum overshoot.
 //!
 //! The planner sees the robot as spheres. URDF `<sphere>` elements are taken as given; every
-//! other primitive (box, cylinder, capsule), and a mesh ([`super::mesh_sdf`]), is covered by
+//! other primitive (box, cylinder, capsule), and a mesh ([`crate::planning::mesh_sdf`]), is covered by
 //! spheres from its signed distance function `φ` (negative inside) by a greedy medial cover
 //! over adaptive cells:
 //!
@@ -84,7 +84,7 @@ pub fn cover(shape: &Primitive, delta: f64) -> (Vec<([f64; 3], f64)>, f64) {
 
 /// The greedy medial cover (module docs) of the shape with signed distance `sdf` inside
 /// the box `center ± he`, and the overshoot bound it meets (`delta`, raised past 400 000
-/// cells). Any signed distance works (a mesh's, see [`super::mesh_sdf`]); with an
+/// cells). Any signed distance works (a mesh's, see [`crate::planning::mesh_sdf`]); with an
 /// unsigned one (an open mesh) the spheres wrap the surface.
 pub fn cover_sdf(
     sdf: &dyn Fn([f64; 3]) -> f64,
@@ -269,7 +269,7 @@ fn cover_capsule(r: f64, h: f64, delta: f64) -> Vec<([f64; 3], f64)> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::planning::spherize::*;
 
     /// Checks both claims on a dense random sample: every point of the shape is inside
     /// some sphere, and no sphere reaches further than `delta` outside the shape.

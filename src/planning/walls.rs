@@ -9,9 +9,9 @@
 //! uniform in their ranges is free. A failed query names the first band it finds, as a
 //! likely cause.
 
-use super::checker::{CheckScratch, Checker};
-use super::sampler::{bounds, Rng};
 use crate::model::Model;
+use crate::planning::checker::{CheckScratch, Checker};
+use crate::planning::sampler::{bounds, Rng};
 
 /// Width of a slice of a joint's values (rad or m).
 pub const STEP: f64 = 0.05;

@@ -1,8 +1,8 @@
 //! The controllers' torque laws ([`Controller`]): computed torque and PD with gravity
 //! compensation, on the link side for rigid joints and on the motor side for elastic ones.
 
-use super::{Controller, Reference, Simulator};
 use crate::dynamics;
+use crate::sim::{Controller, Reference, Simulator};
 
 impl Simulator<'_> {
     /// Controller output at `(t, x)` into `self.tau` (joint torques, or motor torques with

@@ -1,9 +1,9 @@
 //! One integration step ([`Integrator`]): the closed-loop right-hand side `ẋ = f(t, x)`,
 //! semi-implicit Euler in the canonical momentum, classic RK4, and linearly implicit Euler.
 
-use super::{Controller, Integrator, Reference, SimError, Simulator};
-use crate::data::Data;
 use crate::dynamics;
+use crate::model::data::Data;
+use crate::sim::{Controller, Integrator, Reference, SimError, Simulator};
 use nalgebra::DMatrix;
 
 impl Simulator<'_> {

@@ -24,13 +24,13 @@
 //!
 //! Nothing allocates per step: every buffer lives in [`Simulator`].
 
-use crate::data::Data;
+mod energy_audit;
 use crate::dynamics::{Effects, Payload, SingularMassMatrix};
+use crate::model::data::Data;
 use crate::model::Model;
 use nalgebra::DMatrix;
 
 mod control;
-mod energy;
 mod integrate;
 mod run;
 mod stability;

@@ -1,12 +1,12 @@
 //! A run: check the settings, start in static equilibrium, then step, control, audit
 //! the energy and record samples until the duration, an interrupt or a divergence.
 
-use super::energy::EnergyBalance;
-use super::stability::diverged;
-use super::{
+use crate::dynamics;
+use crate::sim::energy_audit::EnergyBalance;
+use crate::sim::stability::diverged;
+use crate::sim::{
     Controller, NoHook, Reference, Sample, SimConfig, SimError, SimReport, Simulator, StepHook,
 };
-use crate::dynamics;
 use std::time::Instant;
 
 impl Simulator<'_> {

@@ -1,8 +1,8 @@
 //! Divergence: the stiffest joint-spring mode and the error that names the step, the mode
 //! and the fix.
 
-use super::{Integrator, SimError, Simulator};
 use crate::dynamics;
+use crate::sim::{Integrator, SimError, Simulator};
 use nalgebra::DMatrix;
 
 /// `x > 0` rounded down to three significant digits, so that a printed step limit is

@@ -4,7 +4,7 @@
 //! thermometer code [`Hits`] that the estimator reads. [`Counts::hits`] converts between
 //! the two after each doubling.
 
-use super::grid::{Grid, Hits};
+use crate::workspace::grid::{Grid, Hits};
 
 /// Two-bit saturating hit counts over the cells of a grid (cell `i` in bits
 /// `2 (i mod 32) …` of word `i / 32`).
@@ -63,8 +63,8 @@ impl Counts {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-    use crate::spatial::Vec3;
+    use crate::core::spatial::Vec3;
+    use crate::workspace::counts::*;
 
     /// Counts and the thermometer code agree with `Hits::hit`, cell by cell, across the
     /// halves of a word and across words.
@@ -86,6 +86,6 @@ mod tests {
             assert_eq!(got.at_least[k], h.at_least[k], "level {k}");
         }
         assert_eq!(got.singles_doubles(), h.singles_doubles());
-        assert!(super::super::grid::count_bits(&got.at_least[2]) >= 2);
+        assert!(crate::workspace::grid::count_bits(&got.at_least[2]) >= 2);
     }
 }

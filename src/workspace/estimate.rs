@@ -48,7 +48,7 @@ pub(crate) struct Stage {
     pub dilated: u64,
     /// The closing of the pooled occupancy: its scan, its occupied cells of `2h`, and its
     /// cells that no sample hit.
-    pub closed: super::grid::Scan,
+    pub closed: crate::workspace::grid::Scan,
     pub closed_coarse: u64,
     pub closed_unhit: u64,
     /// Boundary cells of the closed occupancy (occupied, with an empty face neighbour)
@@ -156,7 +156,7 @@ pub(crate) fn mean_sd(x: &[f64]) -> (f64, f64) {
 }
 
 /// Corrected measure `c (O − E/2 + (1 + D) H)` of a scanned occupancy.
-pub(crate) fn corrected_scan(s: &super::grid::Scan, cm: f64, dims: i32) -> f64 {
+pub(crate) fn corrected_scan(s: &crate::workspace::grid::Scan, cm: f64, dims: i32) -> f64 {
     (s.occupied as f64 - 0.5 * s.exposed as f64 + (1 + dims) as f64 * s.holes as f64) * cm
 }
 
@@ -249,7 +249,7 @@ pub(crate) fn estimate(stages: &[Stage], cm: f64, dims: i32) -> Estimate {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::workspace::estimate::*;
 
     #[test]
     fn tail_extrapolation_and_quantiles() {

@@ -14,8 +14,8 @@
 //! Layout: rows along x padded to a multiple of 64 cells (one row is `wpr` whole words),
 //! then y, then z. Padding and the two-cell margin around the bound are always empty.
 
-use crate::kinematics::batch::{Lanes, LANES};
-use crate::spatial::Vec3;
+use crate::core::spatial::Vec3;
+use crate::kinematics::fk_lanes::{Lanes, LANES};
 
 /// Largest grid, in cells (one bit each: 64 MiB per bitset; the volume pass keeps seven
 /// per replicate).
@@ -512,7 +512,7 @@ impl Hits {
         }
     }
 
-    /// One more hit in cell `i` (the reference for [`super::counts::Counts`]).
+    /// One more hit in cell `i` (the reference for [`crate::workspace::counts::Counts`]).
     #[cfg(test)]
     pub fn hit(&mut self, i: usize) {
         let [a, b, c] = &mut self.at_least;
@@ -602,7 +602,7 @@ pub(crate) fn set_bits(bits: &[u64]) -> impl Iterator<Item = usize> + '_ {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::workspace::grid::*;
 
     fn grid3(plane: Option<PlaneFrame>) -> Grid {
         Grid::new(1.0, &Vec3::zeros(), 4.0, plane, [0.0; 3]).expect("small")

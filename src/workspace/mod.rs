@@ -2,7 +2,7 @@
 //!
 //! [`sample_workspace`] draws joint configurations uniformly inside the sampling box
 //! ([`Model::sampling_bounds`]), runs forward kinematics of the tool origin eight
-//! configurations at a time (`f64` SIMD lanes, [`crate::kinematics::batch`]), and measures
+//! configurations at a time (`f64` SIMD lanes, [`crate::kinematics::fk_lanes`]), and measures
 //! the set of tool points on a grid of cubic voxels (edge [`WorkspaceOptions::voxel`]) —
 //! or, when the cloud is planar, of square pixels in its plane, reporting an area.
 //!
@@ -24,28 +24,29 @@
 
 mod counts;
 pub mod estimate;
-mod extras;
 mod grid;
-mod kernel;
+mod jacobian_pass;
 mod output;
+pub mod picture_geometry;
 mod plane;
 mod progress;
 mod result;
-mod sampler;
+mod sample_stream;
 pub mod sobol;
 mod volume;
+mod volume_kernel;
 
-pub use crate::kinematics::batch::Isa;
+pub use crate::kinematics::fk_lanes::Isa;
+pub use crate::workspace::jacobian_pass::{SamplePoint, VoxelStats};
 pub use estimate::{Estimate, IntervalKind};
-pub use extras::{SamplePoint, VoxelStats};
 pub use output::summary_lines;
 pub use result::{ConvergencePoint, ExtrasSummary, PlaneInfo, VoxelBias, WorkspaceResult};
 
+use crate::core::spatial::Vec3;
 use crate::model::{Model, WORLD};
-use crate::spatial::Vec3;
-use extras::{jacobian_pass, JacobianPass};
+use crate::workspace::jacobian_pass::{jacobian_pass, JacobianPass};
+use crate::workspace::sample_stream::{JointBox, QStream, RandomStream};
 use grid::Grid;
-use sampler::{JointBox, QStream, RandomStream};
 use serde::Serialize;
 use std::time::Instant;
 use volume::Ctx;
@@ -284,7 +285,7 @@ pub fn sample_workspace(
     }
     let jb = JointBox::new(model);
     let (center, radius) = reach_bound(model, tool, &jb);
-    let chain = crate::kinematics::batch::ToolChain::new(model, tool).expect("the tool moves");
+    let chain = crate::kinematics::fk_lanes::ToolChain::new(model, tool).expect("the tool moves");
     let mut warnings = Vec::new();
     let (shape, rots, tol) = pilot(model, opts, &jb, tool, radius);
     let mut planar = match opts.planar {
@@ -363,7 +364,7 @@ fn measure(
     ctx: &Ctx,
     opts: &WorkspaceOptions,
     planar: bool,
-    (shape, rots): (&plane::Shape, &[crate::spatial::Mat3]),
+    (shape, rots): (&plane::Shape, &[crate::core::spatial::Mat3]),
     passes: Doublings,
     warnings: &mut Vec<String>,
 ) -> Measured {
@@ -498,7 +499,7 @@ fn make_ctx<'a>(
     opts: &WorkspaceOptions,
     tool: usize,
     jb: &JointBox,
-    chain: &crate::kinematics::batch::ToolChain,
+    chain: &crate::kinematics::fk_lanes::ToolChain,
     (center, radius): (Vec3, f64),
     plane_frame: Option<grid::PlaneFrame>,
 ) -> Result<Ctx<'a>, WorkspaceError> {
@@ -571,10 +572,10 @@ fn pilot(
     jb: &JointBox,
     tool: usize,
     radius: f64,
-) -> (plane::Shape, Vec<crate::spatial::Mat3>, f64) {
+) -> (plane::Shape, Vec<crate::core::spatial::Mat3>, f64) {
     let mut pilot = Vec::with_capacity(4096);
     let mut rots = Vec::with_capacity(4096);
-    let mut data = crate::data::Data::new(model);
+    let mut data = crate::model::data::Data::new(model);
     let mut q = vec![0.0; model.nv];
     let mut s = RandomStream::new(opts.seed, u64::MAX, model.nv, 0);
     for _ in 0..4096 {

@@ -1,15 +1,15 @@
-//! CSV output of a workspace run, written atomically ([`crate::io::write_atomic`]): the
+//! CSV output of a workspace run, written atomically ([`crate::core::files::write_atomic`]): the
 //! kept sample points, and the occupied voxels with their flags and Jacobian statistics.
 
-use super::grid::set_bits;
-use super::WorkspaceResult;
+use crate::workspace::grid::set_bits;
+use crate::workspace::WorkspaceResult;
 use std::fmt::Write as _;
 use std::path::Path;
 
 impl WorkspaceResult {
     /// The kept sample points as CSV: one column per joint (in [`Self::joint_names`]
     /// order), then `x, y, z` (m, world), `manipulability`, `condition`. Empty (header
-    /// only) unless [`super::WorkspaceOptions::keep_points`] was set.
+    /// only) unless [`crate::workspace::WorkspaceOptions::keep_points`] was set.
     pub fn points_csv(&self) -> String {
         let mut s = String::new();
         for n in &self.joint_names {
@@ -31,7 +31,7 @@ impl WorkspaceResult {
 
     /// Writes [`Self::points_csv`] to `path` atomically.
     pub fn write_points_csv(&self, path: &Path) -> std::io::Result<()> {
-        crate::io::write_atomic(path, self.points_csv().as_bytes())
+        crate::core::files::write_atomic(path, self.points_csv().as_bytes())
     }
 
     /// Every occupied voxel (pixel) of the pooled occupancy as CSV: global index
@@ -48,7 +48,7 @@ impl WorkspaceResult {
         for cell in set_bits(&self.union) {
             let g = self.grid.global(cell);
             let c = self.grid.center(cell);
-            let b = super::grid::Grid::test(&self.boundary_bits, cell);
+            let b = crate::workspace::grid::Grid::test(&self.boundary_bits, cell);
             let _ = write!(
                 s,
                 "{},{},{},{},{},{},{}",
@@ -82,7 +82,7 @@ impl WorkspaceResult {
 
     /// Writes [`Self::voxels_csv`] to `path` atomically.
     pub fn write_voxels_csv(&self, path: &Path) -> std::io::Result<()> {
-        crate::io::write_atomic(path, self.voxels_csv().as_bytes())
+        crate::core::files::write_atomic(path, self.voxels_csv().as_bytes())
     }
 }
 

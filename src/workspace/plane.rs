@@ -7,8 +7,8 @@
 //! two world axes in order (x–z for an arm in the world x–z plane), so pixels line up with
 //! world axes when they can. The main pass re-checks every sample's distance to the plane.
 
-use super::grid::PlaneFrame;
-use crate::spatial::{Mat3, Vec3};
+use crate::core::spatial::{Mat3, Vec3};
+use crate::workspace::grid::PlaneFrame;
 
 /// What the pilot cloud looks like.
 #[derive(Clone, Debug)]

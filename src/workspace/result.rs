@@ -1,12 +1,12 @@
-//! What [`super::sample_workspace`] returns: the result, its voxel-bias block, the
+//! What [`crate::workspace::sample_workspace`] returns: the result, its voxel-bias block, the
 //! convergence series, the Jacobian-pass summary, and the queries on the pooled
 //! occupancy (which voxel is occupied, boundary, its statistics).
 
-use super::estimate::{Estimate, IntervalKind};
-use super::extras::{SamplePoint, VoxelStats};
-use super::grid::Grid;
-use super::Sampling;
-use crate::spatial::Vec3;
+use crate::core::spatial::Vec3;
+use crate::workspace::estimate::{Estimate, IntervalKind};
+use crate::workspace::grid::Grid;
+use crate::workspace::jacobian_pass::{SamplePoint, VoxelStats};
+use crate::workspace::Sampling;
 use serde::Serialize;
 
 /// The plane of a planar workspace.

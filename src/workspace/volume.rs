@@ -1,7 +1,7 @@
 //! The volume pass: `R` independent replicates, advanced together one doubling of the
-//! sample budget at a time (a *stage*) by the hot loop of [`super::kernel`] (eight
+//! sample budget at a time (a *stage*) by the hot loop of [`crate::workspace::volume_kernel`] (eight
 //! configurations at a time in `f64` SIMD lanes); after each stage the counts that
-//! [`super::estimate`] needs.
+//! [`crate::workspace::estimate`] needs.
 //!
 //! Every sample marks three grids:
 //! - its replicate's own grid, shifted by a uniform random offset in `[0, 2h)` per axis
@@ -17,14 +17,14 @@
 //! exactly the first `2^k` samples of every stream: the result depends on the seed only,
 //! not on the thread count or on how the budget was reached (fixed or adaptive).
 
-use super::estimate::Stage;
-use super::grid::{Grid, Hits};
-use super::kernel::Marks;
-use super::sampler::{derive_seed, JointBox, RandomStream, SobolStream};
-use super::Sampling;
-use crate::kinematics::batch::{Isa, ToolChain};
+use crate::core::spatial::Vec3;
+use crate::kinematics::fk_lanes::{Isa, ToolChain};
 use crate::model::Model;
-use crate::spatial::Vec3;
+use crate::workspace::estimate::Stage;
+use crate::workspace::grid::{Grid, Hits};
+use crate::workspace::sample_stream::{derive_seed, JointBox, RandomStream, SobolStream};
+use crate::workspace::volume_kernel::Marks;
+use crate::workspace::Sampling;
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 
@@ -48,7 +48,7 @@ pub(crate) struct Ctx<'a> {
     pub chain: ToolChain,
     /// Whether to use it (otherwise the scalar FK, one configuration at a time).
     pub batched: bool,
-    /// The instruction set of the hot loop ([`super::kernel`]).
+    /// The instruction set of the hot loop ([`crate::workspace::volume_kernel`]).
     pub isa: Isa,
 }
 
@@ -113,10 +113,10 @@ impl Replicate {
 }
 
 /// The estimate of one replicate on its own grid: the corrected measure of its closed
-/// occupancy (see [`super::estimate`]).
+/// occupancy (see [`crate::workspace::estimate`]).
 fn replicate_estimate(grid: &Grid, hits: &Hits) -> f64 {
     let s = grid.scan(&hits.closed_occupancy(grid));
-    super::estimate::corrected_scan(&s, grid.cell_measure(), grid.dims())
+    crate::workspace::estimate::corrected_scan(&s, grid.cell_measure(), grid.dims())
 }
 
 /// Advances every replicate to `per_replicate` samples (rayon, one task per replicate)
@@ -130,7 +130,7 @@ pub(crate) fn run_stage(
     let replicate_estimates: Vec<f64> = reps
         .par_iter_mut()
         .map(|rep| {
-            super::kernel::advance(rep, ctx, per_replicate, pb);
+            crate::workspace::volume_kernel::advance(rep, ctx, per_replicate, pb);
             replicate_estimate(&rep.marks.grid, &rep.marks.counts.hits())
         })
         .collect();
@@ -143,7 +143,7 @@ pub(crate) fn run_stage(
     let closed_bits = pooled.closed_occupancy(&ctx.est);
     Stage {
         samples: per_replicate * reps.len() as u64,
-        occupied: super::grid::count_bits(union),
+        occupied: crate::workspace::grid::count_bits(union),
         singles,
         doubles,
         inner: ctx.est.morph_count(union, true),

@@ -4,8 +4,8 @@
 #[cfg(feature = "rerun")]
 pub mod rrd;
 
+use armsim::core::spatial::{Mat3, Se3, Vec3};
 use armsim::model::Model;
-use armsim::spatial::{Mat3, Se3, Vec3};
 use std::path::PathBuf;
 
 /// The crate's root folder (where the tests run `armsim`).
@@ -29,7 +29,7 @@ pub fn run_json(rel: &str) -> serde_json::Value {
     serde_json::from_slice(&o.stdout).expect("JSON")
 }
 
-/// What [`armsim::scenario::check`] (parsing and validation, no run) must say of a broken
+/// What [`armsim::scenarios::check`] (parsing and validation, no run) must say of a broken
 /// scenario that `armsim run` refuses.
 pub enum CheckSays<'a> {
     /// It refuses the file at the same key.
@@ -53,14 +53,14 @@ pub fn assert_broken_scenarios(
     let dir = root().join("tests/broken_scenarios");
     for (file, line, key, msg) in broken {
         let path = dir.join(file);
-        let e = armsim::scenario::run_file(&path)
+        let e = armsim::scenarios::run_file(&path)
             .err()
             .unwrap_or_else(|| panic!("{file}: expected an error"));
         assert_eq!(e.line, Some(*line), "{file}: {e}");
         assert_eq!(e.key, *key, "{file}: {e}");
         assert!(e.message.contains(msg), "{file}: {e}");
         let text = std::fs::read_to_string(&path).unwrap();
-        let checked = armsim::scenario::check(file, &text).err().map(|e| e.key);
+        let checked = armsim::scenarios::check(file, &text).err().map(|e| e.key);
         match check {
             CheckSays::SameKey => assert_eq!(checked, Some(key.to_string()), "{file}: check"),
             CheckSays::Refuses => assert!(checked.is_some(), "{file}: check passes"),

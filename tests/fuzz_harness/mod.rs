@@ -6,9 +6,9 @@
 //! input must give an error whose message starts with the file name it was given.
 #![allow(dead_code)]
 
-use armsim::data::Data;
 use armsim::dynamics::gravity_torque;
 use armsim::kinematics::{forward_kinematics, update_frames};
+use armsim::model::data::Data;
 use armsim::model::{Model, ModelError};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -139,7 +139,7 @@ pub fn dh(data: &[u8]) {
 pub fn scenario(data: &[u8]) {
     if let Ok(text) = std::str::from_utf8(data) {
         let file = scenario_file();
-        if let Err(e) = armsim::scenario::check(file, text) {
+        if let Err(e) = armsim::scenarios::check(file, text) {
             assert_eq!(e.file, file, "error names another file: {e}");
             check_message(file, &e.to_string());
         }
@@ -150,7 +150,8 @@ pub fn scenario(data: &[u8]) {
 /// success, turn every transform into a pose (what the viewer draws) and load the robot
 /// description the recording carries as a model (what `view` builds geometry from).
 pub fn mcap(data: &[u8]) {
-    use armsim::recording::{mcap_in, tf::to_se3};
+    use armsim::io::record::mcap_in;
+    use armsim::io::record::tf::to_se3;
     match mcap_in::read_mcap_bytes(data, Path::new(MCAP_FILE)) {
         Ok(rec) => {
             let frames = rec.frames.iter().flat_map(|f| &f.tf);
@@ -226,7 +227,7 @@ pub fn srdf(data: &[u8]) {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    match armsim::planning::srdf::parse_srdf(text, SRDF_FILE) {
+    match armsim::model::parse::srdf::parse_srdf(text, SRDF_FILE) {
         Ok(s) => {
             for m in [bundled("ur5"), bundled("panda")] {
                 let (pairs, warnings) = s.disabled_pairs(m);

@@ -10,12 +10,12 @@
 #![allow(dead_code)]
 
 use armsim::collision::Obstacle;
-use armsim::data::Data;
+use armsim::core::spatial::{Mat3, Se3, Vec3};
 use armsim::kinematics;
+use armsim::model::data::Data;
+use armsim::model::parse::srdf;
 use armsim::model::{Model, Shape, WORLD};
 use armsim::planning::moveit;
-use armsim::planning::srdf;
-use armsim::spatial::{Mat3, Se3, Vec3};
 use std::collections::HashSet;
 use std::path::PathBuf;
 

@@ -7,13 +7,13 @@
 //!   `<float_array>`, and every index must name an existing position;
 //! - coordinates and node transforms must be finite, and placed vertices must stay finite;
 //! - the scene may place at most [`MAX_INSTANCES`] geometries and
-//!   [`super::MAX_TRIANGLES`] triangles in all, counted before any is placed (a small file
+//!   [`crate::collision::mesh::MAX_TRIANGLES`] triangles in all, counted before any is placed (a small file
 //!   placing one large geometry many times would otherwise expand without bound).
 //!
 //! Errors are plain messages naming the element and its line; the caller adds the file.
 
-use super::{MeshData, MAX_TRIANGLES};
-use crate::xml_guard::LineIndex;
+use crate::collision::mesh::{MeshData, MAX_TRIANGLES};
+use crate::core::xml_guard::LineIndex;
 use nalgebra::{Matrix4, Vector3, Vector4};
 use std::collections::HashMap;
 
@@ -276,7 +276,7 @@ fn node_transform(node: &Node, lx: &LineIndex) -> Result<Matrix4<f64>, String> {
                 if axis.norm() == 0.0 {
                     Matrix4::identity()
                 } else {
-                    let r = crate::spatial::axis_angle(&axis.normalize(), v[3].to_radians());
+                    let r = crate::core::spatial::axis_angle(&axis.normalize(), v[3].to_radians());
                     r.to_homogeneous()
                 }
             }
@@ -363,7 +363,7 @@ fn scene_instances(
 /// Parses COLLADA text (see the module docs for the subset and the checks).
 pub fn read_dae(text: &str) -> Result<MeshData, String> {
     let lx = LineIndex::new(text);
-    if let Some(pos) = crate::xml_guard::too_deep(text, MAX_DEPTH) {
+    if let Some(pos) = crate::core::xml_guard::too_deep(text, MAX_DEPTH) {
         return Err(format!(
             "DAE: line {}: elements nested deeper than {MAX_DEPTH} levels",
             lx.line(pos)

@@ -26,7 +26,7 @@
 //! Vertices with identical coordinates are merged, so that closedness (every edge shared
 //! by exactly two triangles) can be tested afterwards.
 //!
-//! Limits: a file is refused above [`crate::io::MAX_MESH_BYTES`] before it is read, and
+//! Limits: a file is refused above [`crate::core::files::MAX_MESH_BYTES`] before it is read, and
 //! a mesh of more than [`MAX_TRIANGLES`] triangles (a binary STL's declared count, checked
 //! before anything is allocated from it, or a DAE scene's placed total) is refused; every
 //! coordinate must be finite. Errors name the problem; the caller adds the file.
@@ -50,7 +50,7 @@ pub struct MeshData {
 }
 
 /// Most triangles in one mesh (after a DAE scene places its geometries): 5 million, what
-/// a binary STL of [`crate::io::MAX_MESH_BYTES`] holds.
+/// a binary STL of [`crate::core::files::MAX_MESH_BYTES`] holds.
 pub const MAX_TRIANGLES: usize = 5_000_000;
 
 impl MeshData {
@@ -130,14 +130,16 @@ pub fn load_mesh(path: &Path) -> Result<MeshData, String> {
         .to_ascii_lowercase();
     let mesh = match ext.as_str() {
         "stl" => {
-            let bytes = crate::io::read_input_max(path, crate::io::MAX_MESH_BYTES)
-                .map_err(|e| format!("cannot read: {e}"))?;
+            let bytes =
+                crate::core::files::read_input_max(path, crate::core::files::MAX_MESH_BYTES)
+                    .map_err(|e| format!("cannot read: {e}"))?;
             read_stl(&bytes)?
         }
         "obj" => read_obj(path)?,
         "dae" => {
-            let text = crate::io::read_input_string_max(path, crate::io::MAX_MESH_BYTES)
-                .map_err(|e| format!("cannot read: {e}"))?;
+            let text =
+                crate::core::files::read_input_string_max(path, crate::core::files::MAX_MESH_BYTES)
+                    .map_err(|e| format!("cannot read: {e}"))?;
             read_dae(&text)?
         }
         _ => {
@@ -252,7 +254,7 @@ fn read_stl_ascii(text: &str) -> Result<MeshData, String> {
 }
 
 fn read_obj(path: &Path) -> Result<MeshData, String> {
-    let bytes = crate::io::read_input_max(path, crate::io::MAX_MESH_BYTES)
+    let bytes = crate::core::files::read_input_max(path, crate::core::files::MAX_MESH_BYTES)
         .map_err(|e| format!("cannot read: {e}"))?;
     read_obj_bytes(&bytes)
 }
@@ -352,7 +354,7 @@ fn check_obj_indices(text: &str) -> Result<(), String> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::collision::mesh::*;
 
     #[test]
     fn binary_stl_with_solid_header_is_binary() {

@@ -54,18 +54,20 @@
 //! - `wrist-up` / `wrist-down`: `sin θ5 ≥ 0` / `< 0`, `θ5` the DH angle of joint 5 (equal
 //!   to `q5` for the bundled UR5 and Puma).
 
-mod dh;
-mod position;
+mod dh_family;
+mod position_ik;
 mod ur;
 mod wrist;
 
-pub use dh::{dh_transform, DhChain, DhRow};
-pub use position::{planar_2r_ik, rrp_ik, Planar2rParams, RrpParams};
+pub use crate::kinematics::ik::analytic::dh_family::{dh_transform, DhChain, DhRow};
+pub use crate::kinematics::ik::analytic::position_ik::{
+    planar_2r_ik, rrp_ik, Planar2rParams, RrpParams,
+};
 pub use ur::{ur_ik, ur_ik_with, UrParams};
 pub use wrist::{wrist_ik, wrist_ik_with, WristArm, WristParams};
 
+use crate::core::spatial::{Se3, Vec3};
 use crate::model::Model;
-use crate::spatial::{Se3, Vec3};
 use std::f64::consts::TAU;
 
 /// A solution is flagged singular when the relevant sine (elbow, wrist) or the wrist

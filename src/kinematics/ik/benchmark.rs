@@ -2,11 +2,11 @@
 //! the limits), solved from the middle of the limits with joint limits enforced; success
 //! rate and time statistics (median, p99, mean) of the single-target solve time.
 
-use super::numeric::{IkOptions, IkSolver, IkStatus};
-use crate::data::Data;
+use crate::core::spatial::Se3;
+use crate::kinematics::ik::numeric::{IkOptions, IkSolver, IkStatus};
 use crate::kinematics::{forward_kinematics, frame_placement};
+use crate::model::data::Data;
 use crate::model::Model;
-use crate::spatial::Se3;
 use rand::rngs::SmallRng;
 use rand::SeedableRng;
 

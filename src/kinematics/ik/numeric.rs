@@ -24,11 +24,11 @@
 //!
 //! Nothing allocates inside the iteration: all buffers live in [`IkSolver`].
 
-use crate::data::Data;
+use crate::core::linalg::{cholesky_in_place, cholesky_solve_in_place};
+use crate::core::spatial::{Mat3, Se3, Vec3};
 use crate::kinematics::{compute_joint_jacobians, frame_jacobian, frame_placement, Expressed};
-use crate::linalg::{cholesky_in_place, cholesky_solve_in_place};
+use crate::model::data::Data;
 use crate::model::Model;
-use crate::spatial::{Mat3, Se3, Vec3};
 use nalgebra::DMatrix;
 use rand::rngs::SmallRng;
 use rand::SeedableRng;

@@ -2,7 +2,7 @@
 //! limits as inequalities and a secondary goal in the null space of the task.
 //!
 //! Each step solves, with `e` the (clipped) pose error and `J` the world-aligned
-//! Jacobian (as in [`super::numeric`]):
+//! Jacobian (as in [`crate::kinematics::ik::numeric`]):
 //!
 //! 1. task: `min ½‖J Δq − e‖²_W + ½ ρ ‖Δq‖²`
 //!    s.t. `q_lo − q ≤ Δq ≤ q_hi − q` and `|Δq| ≤ v_max Δt`;
@@ -16,13 +16,13 @@
 //! velocity command of a resolved-rate controller. [`qp_ik`] pursues the secondary goal
 //! (its pull capped at 0.1 rad per step) during the first half of its step budget, then
 //! polishes the task alone. The QP solver allocates: this is a
-//! slower, more general method than [`super::numeric`] (see BENCHMARKS.md).
+//! slower, more general method than [`crate::kinematics::ik::numeric`] (see BENCHMARKS.md).
 
-use super::numeric::{rotation_log, IkResult, IkStatus};
-use crate::data::Data;
+use crate::core::spatial::Se3;
+use crate::kinematics::ik::numeric::{rotation_log, IkResult, IkStatus};
 use crate::kinematics::{compute_joint_jacobians, frame_jacobian, frame_placement, Expressed};
+use crate::model::data::Data;
 use crate::model::Model;
-use crate::spatial::Se3;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus, SupportedConeT,
@@ -173,7 +173,7 @@ pub fn qp_step(
     let mut e = DVector::zeros(rows);
     let ep = target.trans - cur.trans;
     let er = rotation_log(&(target.rot * cur.rot.transpose()));
-    let clip = |v: crate::spatial::Vec3| {
+    let clip = |v: crate::core::spatial::Vec3| {
         let nrm = v.norm();
         if nrm > opts.max_error {
             v * (opts.max_error / nrm)

@@ -5,4 +5,4 @@
 //! - [`scenario`]: the scenario files and their output.
 
 pub mod elements;
-pub mod scenario;
+pub mod friction_circle;

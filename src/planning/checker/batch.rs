@@ -1,9 +1,9 @@
 //! One batch of eight configurations: link bounds and spheres against the obstacles, then
 //! the self pairs, with the inflation of a continuous check (see the parent module's docs).
 
-use super::motion::{point_speed, sub};
-use super::{CheckScratch, Checker, CLEARANCE_RAMP};
 use crate::model::WORLD;
+use crate::planning::checker::motion::{point_speed, sub};
+use crate::planning::checker::{CheckScratch, Checker, CLEARANCE_RAMP};
 use crate::planning::lanes::{Mask, Pose, L, P3};
 use crate::planning::simd::{Simd, W};
 use crate::planning::spheres::LinkSpheres;

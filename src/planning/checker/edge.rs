@@ -1,7 +1,7 @@
 //! The edge checks: the coarse pass in rake order, the refinement of intervals whose
 //! inflated check failed, and the per-edge speed bounds (see the parent module's docs).
 
-use super::{CheckScratch, Checker, EdgeMode};
+use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
 use crate::planning::lanes::{Mask, L, N};
 use crate::planning::simd::Simd;
 

@@ -16,9 +16,9 @@
 //! Discrete edge checks (the search's) that fail on the spheres are decided at their
 //! points, on the exact geometry; the planner checks its path continuously afterwards.
 
-use super::{CheckScratch, Checker, EdgeMode};
 use crate::collision::{Certifier, CollisionData, CollisionModel, SegmentScratch};
 use crate::model::Model;
+use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
 use std::sync::Arc;
 
 /// The exact stage of a [`Checker`] (see the module docs).

@@ -15,7 +15,7 @@
 //! intervals, rounded up to a multiple of eight (the lanes of a batch), of half-width
 //! `h = 1/(2n)` in the parameter `t`. The check at an interval's
 //! centre with every sphere inflated by `e_s = v_s h − tol` covers the whole interval: by
-//! the motion bound of [`super::spheres`], over the interval no centre moves further than
+//! the motion bound of [`crate::planning::spheres`], over the interval no centre moves further than
 //! `v_s h` from where it was checked, with `v_s = Σ_k |b_k − a_k| ρ_{s,k}`; so nothing
 //! penetrates by more than `tol`.
 //!
@@ -201,7 +201,7 @@ pub struct Checker {
     pub opts: CheckOptions,
     #[cfg(target_arch = "x86_64")]
     avx2: Option<Avx2>,
-    /// The AVX2 code runs in its AVX-512 VL instantiation (see [`super::simd`]).
+    /// The AVX2 code runs in its AVX-512 VL instantiation (see [`crate::planning::simd`]).
     #[cfg(target_arch = "x86_64")]
     avx512vl: bool,
     /// Self pairs decided on the exact geometry after this checker's own checks.

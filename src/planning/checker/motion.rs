@@ -1,8 +1,8 @@
 //! Forward kinematics of the bodies in eight lanes, their twists along an edge, and the
 //! small vector helpers the speed bounds use.
 
-use super::{CheckScratch, Checker};
 use crate::model::WORLD;
+use crate::planning::checker::{CheckScratch, Checker};
 use crate::planning::lanes::{Pose, PoseM, L, P3};
 use crate::planning::simd::{Simd, W};
 

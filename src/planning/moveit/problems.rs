@@ -1,7 +1,7 @@
 //! Benchmark folders: `sceneNNNN.yaml` / `requestNNNN.yaml` pairs in a folder, and the
 //! `validity.json` that says which problems have a collision-free start and goal.
 
-use crate::planning::error::PlanningInputError;
+use crate::planning::plan_error::PlanningInputError;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -103,7 +103,7 @@ impl Validity {
 pub fn load_validity(path: impl AsRef<Path>) -> Result<Validity, PlanningInputError> {
     let path = path.as_ref();
     let file = path.display().to_string();
-    let text = crate::io::read_input_string(path)
+    let text = crate::core::files::read_input_string(path)
         .map_err(|e| PlanningInputError::new(&file, None, "file", format!("cannot read: {e}")))?;
     parse_validity(&text, &file)
 }

@@ -17,10 +17,10 @@
 //! Goals other than joint values (position or orientation constraints) are refused; goal
 //! constraints after the first (MoveIt's alternative goals) are ignored with a warning.
 
-use super::scene::components;
-use super::yaml::{Doc, Node};
 use crate::model::Model;
-use crate::planning::error::{PlanningInputError, PlanningInputWarning};
+use crate::planning::moveit::scene::components;
+use crate::planning::moveit::yaml::{Doc, Node};
+use crate::planning::plan_error::{PlanningInputError, PlanningInputWarning};
 
 /// A motion planning problem for one model: start and goal joint values, in the model's
 /// coordinate order ([`Model::dof_names`]).

@@ -13,11 +13,11 @@
 //! not diffs), frames other than the world (see [`WORLD_FRAMES`]). Everything else in the
 //! message (robot state, allowed collision matrix, colours, …) is ignored.
 
-use super::yaml::{kind, Doc, Node};
 use crate::collision::Obstacle;
+use crate::core::spatial::{Mat3, Se3, Vec3};
 use crate::model::Shape;
-use crate::planning::error::PlanningInputError;
-use crate::spatial::{Mat3, Se3, Vec3};
+use crate::planning::moveit::yaml::{kind, Doc, Node};
+use crate::planning::plan_error::PlanningInputError;
 use saphyr::{Scalar, YamlData};
 use std::collections::HashSet;
 

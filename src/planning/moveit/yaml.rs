@@ -2,7 +2,7 @@
 //! errors name the file, the line of the offending node, the element path and what was
 //! expected instead.
 
-use crate::planning::error::PlanningInputError;
+use crate::planning::plan_error::PlanningInputError;
 use saphyr::{LoadableYamlNode, MarkedYaml, Scalar, YamlData};
 use saphyr_parser::{Event, Parser};
 

@@ -20,13 +20,13 @@
 //! wrist rotation from the chosen `θ5, θ6`, so near the wrist singularity, where `θ6` is
 //! ill-conditioned, `θ4` absorbs its error and the pose stays exact.
 
-use super::dh::{dh_transform_sc, exact_sin_cos};
-use super::{
+use crate::core::spatial::{rot_z, Se3, Vec3};
+use crate::kinematics::ik::analytic::dh_family::{dh_transform_sc, exact_sin_cos};
+use crate::kinematics::ik::analytic::{
     fixed, is_quarter, shoulder_roots, twist_sign, Branch, DhChain, DhRow, IkError, RawSolution,
     Singularity, Sink, Unreachable, FREE_TOL, REACH_TOL, SINGULAR_TOL,
 };
 use crate::model::Model;
-use crate::spatial::{rot_z, Se3, Vec3};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Parameters of a UR-type arm: its DH rows (offsets included), the world → DH frame 0
@@ -150,7 +150,7 @@ impl UrParams {
 
     /// World placement of the target link at `q` (the table's own forward kinematics).
     pub fn fk(&self, q: &[f64; 6]) -> Se3 {
-        super::dh::table_fk(&self.base, &self.rows, &self.tool, q)
+        crate::kinematics::ik::analytic::dh_family::table_fk(&self.base, &self.rows, &self.tool, q)
     }
 }
 

@@ -19,13 +19,13 @@
 //! `θ4` from `Rz(θ4) = M (⁴R₆(θ5, θ6))ᵀ Rx(α4)ᵀ`, so that near `s5 = 0` `θ4` absorbs the
 //! error of `θ6` and the orientation stays exact.
 
-use super::dh::{dh_transform, dh_transform_sc, exact_sin_cos};
-use super::{
+use crate::core::spatial::{Mat3, Se3, Vec3};
+use crate::kinematics::ik::analytic::dh_family::{dh_transform, dh_transform_sc, exact_sin_cos};
+use crate::kinematics::ik::analytic::{
     fixed, is_quarter, shoulder_roots, twist_sign, Branch, DhChain, DhRow, IkError, RawSolution,
     Singularity, Sink, Unreachable, FREE_TOL, REACH_TOL, SINGULAR_TOL,
 };
 use crate::model::Model;
-use crate::spatial::{Mat3, Se3, Vec3};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The arm before the wrist.
@@ -194,7 +194,7 @@ impl WristParams {
 
     /// World placement of the target link at `q`.
     pub fn fk(&self, q: &[f64; 6]) -> Se3 {
-        super::dh::table_fk(&self.base, &self.rows, &self.tool, q)
+        crate::kinematics::ik::analytic::dh_family::table_fk(&self.base, &self.rows, &self.tool, q)
     }
 }
 
@@ -209,7 +209,7 @@ pub fn wrist_ik(
     wrist_ik_with(params, target, None, true, out)
 }
 
-/// [`wrist_ik`] with a seed and the limits optional (see [`super::ur_ik_with`]).
+/// [`wrist_ik`] with a seed and the limits optional (see [`crate::kinematics::ik::analytic::ur_ik_with`]).
 // One closed-form derivation read top to bottom (shoulder, wrist, elbow roots) on the IK
 // hot path: the branches share a dozen intermediate sines, cosines and transforms, which
 // helper functions would have to pass back and forth.

@@ -1,0 +1,7 @@
+//! Pictures as PNG bytes (plotters): the shared line panels and bar charts
+//! ([`panels`]), readable axis ticks ([`ticks`]), the torque-check chart
+//! ([`torque_chart`]) and the cam and gear-pair pictures ([`machine_plots`]).
+pub mod machine_plots;
+pub mod panels;
+pub mod ticks;
+pub(crate) mod torque_chart;

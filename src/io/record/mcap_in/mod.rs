@@ -1,0 +1,171 @@
+//! MCAP reader: any MCAP file with ROS 2 (CDR) messages of the types `mcap_out` writes,
+//! back into a [`Recording`] — armsim's own files and other tools' (`ros2 bag`, ...).
+//!
+//! Owned here: [`read_mcap`] and [`read_mcap_bytes`]. What is read:
+//!
+//! - `sensor_msgs/msg/JointState` (on `/joint_states`, else the first topic that has
+//!   them) → frames. Joint names come from the first message; later messages are matched
+//!   by name (a joint a message lacks keeps its previous value, NaN before the first;
+//!   extra names are ignored). `velocity`/`effort` may be empty. Frames are sorted by time.
+//! - `tf2_msgs/msg/TFMessage` on `/tf` → each transform goes to the frame nearest to its
+//!   stamp (replacing a transform with the same child there); without joint states, one
+//!   frame per distinct stamp (with empty `q`).
+//! - `/tf_static` → `header.static_tf` (one per child frame, last wins);
+//!   `std_msgs/msg/String` on `/robot_description` → `header.robot_description`.
+//! - `sensor_msgs/msg/PointCloud2` (any topic) → clouds: `x, y, z` float32 or float64, and
+//!   a scalar from the field `manipulability` (else `intensity`), any numeric type.
+//! - `diagnostic_msgs/msg/DiagnosticArray` on `/armsim/torque_check` (last message) and
+//!   `/armsim/collisions` → torque check and collision events.
+//! - `visualization_msgs/msg/MarkerArray` on `/armsim/obstacles` (last message) →
+//!   obstacles (see `obstacles::from_message`).
+//! - The metadata record `armsim` → name, joint names and effort limits (used when there
+//!   are no joint states, or to fill limits), the rest into `header.metadata`, sorted by key.
+//!   Effort limits otherwise come from the robot description's URDF, if it parses.
+//!
+//! Times are the messages' `header.stamp` minus the recording's epoch, in seconds, so that
+//! a recording starts at 0 whatever wall-clock time it was made at: the epoch is the
+//! metadata's `armsim.epoch_ns` (armsim's files, see `mcap_out`), else the earliest stamp
+//! of a joint state, transform, cloud or collision (other tools' files); it is returned as
+//! `header.epoch_ns` (`None` for a file with neither). A stamp before the epoch gives a
+//! negative time. Everything else is ignored: unknown topics, schemas, encodings,
+//! attachments.
+//!
+//! The file is untrusted input: records are parsed here with bounds checks (lengths are
+//! checked against the bytes left before anything is allocated), the `mcap` crate's
+//! streaming reader decompresses chunks with a record-length limit, and any malformed
+//! record or message is an error naming the file and the record or topic and message
+//! index — never a panic. Totals are bounded by the file size too, so that a small, highly
+//! compressed file cannot expand into gigabytes: at most max(size / 4, 2^20) messages,
+//! max(64 × size, 64 MiB) of message payload, and max(4 × size, 2^22) joint values filled in
+//! for joints that partial joint-state messages lack.
+
+mod assemble;
+mod chunks;
+mod cursor;
+mod records;
+use crate::io::record::mcap_in::chunks::{check_uncompressed_chunks, OP_CHUNK};
+use crate::io::record::mcap_in::records::{Channel, SchemaRec};
+use crate::io::record::obstacle_markers::ObstacleMarker;
+use crate::io::record::record_error::RecordError;
+use crate::io::record::ros2;
+use crate::io::record::{CollisionEvent, PointCloud, Recording, TorqueRow, Transform};
+use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+/// Smallest limit on one record inside a compressed chunk.
+const MIN_RECORD_LIMIT: usize = 64 << 20;
+/// Largest limit on one record inside a compressed chunk.
+const MAX_RECORD_LIMIT: usize = 1 << 30;
+/// Smallest limits on the messages, their total payload and the joint values filled in for
+/// joints a message lacks (they grow with the file; see [`Budget`]).
+const MIN_MESSAGES: usize = 1 << 20;
+const MIN_PAYLOAD: usize = 64 << 20;
+const MIN_FILLED: usize = 1 << 22;
+
+/// Limits that keep a small, highly compressed file from expanding into gigabytes of
+/// frames: what a legitimate recording of that size can hold, with a wide margin.
+struct Budget {
+    messages: usize,
+    payload: usize,
+    filled: usize,
+}
+
+impl Budget {
+    fn for_file(len: usize) -> Self {
+        Budget {
+            messages: (len / 4).max(MIN_MESSAGES),
+            payload: len.saturating_mul(64).max(MIN_PAYLOAD),
+            filled: len.saturating_mul(4).max(MIN_FILLED),
+        }
+    }
+}
+
+/// Reads an MCAP file into a [`Recording`] (see the module docs).
+pub fn read_mcap(path: &Path) -> Result<Recording, RecordError> {
+    let bytes = crate::core::files::read_input(path).map_err(|e| RecordError::io(path, e))?;
+    read_mcap_bytes(&bytes, path)
+}
+
+/// [`read_mcap`] on bytes already in memory; `file` names them in errors.
+pub fn read_mcap_bytes(bytes: &[u8], file: &Path) -> Result<Recording, RecordError> {
+    // Defence in depth: this module indexes nothing unchecked, but the decompressors are
+    // third-party code; a panic there becomes an error, not an abort of the caller.
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| read_inner(bytes, file)))
+        .unwrap_or_else(|_| {
+            Err(RecordError::malformed(
+                file,
+                "file",
+                "internal error: the MCAP decoder panicked",
+            ))
+        })
+}
+
+/// Everything collected while streaming through the file.
+#[derive(Default)]
+struct Collected {
+    schemas: HashMap<u16, SchemaRec>,
+    channels: HashMap<u16, Channel>,
+    /// Joint states per topic, and the topics in order of first message.
+    joint_states: HashMap<String, Vec<ros2::JointState>>,
+    joint_state_topics: Vec<String>,
+    tf: Vec<(u64, Transform)>,
+    static_tf: Vec<Transform>,
+    /// Child frame → its index in `static_tf` (last wins, in linear time).
+    static_index: HashMap<String, usize>,
+    robot_description: Option<String>,
+    /// Clouds and collision events with their stamps (ns; `t` is set once the epoch is
+    /// known).
+    clouds: Vec<(u64, PointCloud)>,
+    torque_check: Option<Vec<TorqueRow>>,
+    collisions: Vec<(u64, CollisionEvent)>,
+    obstacles: Option<Vec<ObstacleMarker>>,
+    metadata: Option<BTreeMap<String, String>>,
+    budget: Option<Budget>,
+}
+
+fn read_inner(bytes: &[u8], file: &Path) -> Result<Recording, RecordError> {
+    check_uncompressed_chunks(bytes).map_err(|(record, msg)| {
+        RecordError::malformed(
+            file,
+            format!("record {record} (opcode {OP_CHUNK:#04x})"),
+            msg,
+        )
+    })?;
+    let limit = bytes
+        .len()
+        .saturating_mul(16)
+        .clamp(MIN_RECORD_LIMIT, MAX_RECORD_LIMIT)
+        .max(bytes.len());
+    let mut reader = LinearReader::new_with_options(
+        LinearReaderOptions::default()
+            .with_record_length_limit(limit)
+            .with_validate_chunk_crcs(true),
+    );
+    let mut c = Collected {
+        budget: Some(Budget::for_file(bytes.len())),
+        ..Collected::default()
+    };
+    let mut rest = bytes;
+    let mut record = 0usize;
+    while let Some(event) = reader.next_event() {
+        match event.map_err(|e| RecordError::mcap(file, e))? {
+            LinearReadEvent::ReadRequest(need) => {
+                let n = need.max(1).min(rest.len());
+                let (head, tail) = rest.split_at(n);
+                reader.insert(n).copy_from_slice(head);
+                reader.notify_read(n);
+                rest = tail;
+            }
+            LinearReadEvent::Record { data, opcode } => {
+                record += 1;
+                c.record(opcode, data).map_err(|(ctx, msg)| {
+                    let ctx =
+                        ctx.unwrap_or_else(|| format!("record {record} (opcode {opcode:#04x})"));
+                    RecordError::malformed(file, ctx, msg)
+                })?;
+            }
+        }
+    }
+    c.into_recording(file)
+}

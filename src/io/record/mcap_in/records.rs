@@ -1,0 +1,278 @@
+//! The records and messages of the stream: schemas and channels (what each channel
+//! carries), messages decoded by kind into [`Collected`], and the armsim metadata record;
+//! the message budget is spent here.
+
+use crate::io::record::from_ros2::{cloud_from_msg, from_msg, stamp_nanos, torque_row};
+use crate::io::record::mcap_in::cursor::Cursor;
+use crate::io::record::mcap_in::Collected;
+use crate::io::record::mcap_out::{
+    METADATA_NAME, TOPIC_COLLISIONS, TOPIC_OBSTACLES, TOPIC_ROBOT_DESCRIPTION, TOPIC_TF,
+    TOPIC_TF_STATIC, TOPIC_TORQUE_CHECK,
+};
+use crate::io::record::obstacle_markers;
+use crate::io::record::ros2::{self, schema_is, RosMessage};
+use crate::io::record::CollisionEvent;
+use mcap::records::op;
+use std::collections::BTreeMap;
+
+/// What a channel carries, as far as this reader cares.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Kind {
+    JointState,
+    Tf,
+    TfStatic,
+    RobotDescription,
+    Cloud,
+    TorqueCheck,
+    Collisions,
+    Obstacles,
+    Ignored,
+}
+
+#[derive(PartialEq)]
+pub(super) struct SchemaRec {
+    name: String,
+    encoding: String,
+    data: Vec<u8>,
+}
+
+#[derive(PartialEq)]
+struct ChannelRec {
+    schema_id: u16,
+    topic: String,
+    message_encoding: String,
+    metadata: BTreeMap<String, String>,
+}
+
+pub(super) struct Channel {
+    rec: ChannelRec,
+    kind: Kind,
+    count: usize,
+}
+
+fn kind_of(schema: Option<&SchemaRec>, ch: &ChannelRec) -> Kind {
+    let Some(s) = schema else {
+        return Kind::Ignored;
+    };
+    if ch.message_encoding != ros2::MESSAGE_ENCODING {
+        return Kind::Ignored;
+    }
+    let is = |name: &str| schema_is(&s.name, name);
+    let topic = ch.topic.as_str();
+    if is(ros2::JointState::NAME) {
+        Kind::JointState
+    } else if is(ros2::TfMessage::NAME) && topic == TOPIC_TF {
+        Kind::Tf
+    } else if is(ros2::TfMessage::NAME) && topic == TOPIC_TF_STATIC {
+        Kind::TfStatic
+    } else if is(ros2::StringMsg::NAME) && topic == TOPIC_ROBOT_DESCRIPTION {
+        Kind::RobotDescription
+    } else if is(ros2::PointCloud2::NAME) {
+        Kind::Cloud
+    } else if is(ros2::DiagnosticArray::NAME) && topic == TOPIC_TORQUE_CHECK {
+        Kind::TorqueCheck
+    } else if is(ros2::DiagnosticArray::NAME) && topic == TOPIC_COLLISIONS {
+        Kind::Collisions
+    } else if is(ros2::MarkerArray::NAME) && topic == TOPIC_OBSTACLES {
+        Kind::Obstacles
+    } else {
+        Kind::Ignored
+    }
+}
+
+/// An error in a record: the context when it is a message (`topic ..., message ...`), and
+/// the message.
+pub(super) type RecErr = (Option<String>, String);
+
+impl Collected {
+    pub(super) fn record(&mut self, opcode: u8, data: &[u8]) -> Result<(), RecErr> {
+        let plain = |e: String| (None, e);
+        let mut cur = Cursor { buf: data };
+        match opcode {
+            op::SCHEMA => {
+                let id = cur.u16().map_err(plain)?;
+                let name = cur.string().map_err(plain)?;
+                let encoding = cur.string().map_err(plain)?;
+                let n = cur.len32().map_err(plain)?;
+                let data = cur.take(n).map_err(plain)?.to_vec();
+                if id == 0 {
+                    return Err(plain("schema id 0 is reserved".into()));
+                }
+                let rec = SchemaRec {
+                    name,
+                    encoding,
+                    data,
+                };
+                match self.schemas.get(&id) {
+                    Some(old) if *old != rec => {
+                        return Err(plain(format!("schema {id} redefined differently")))
+                    }
+                    Some(_) => {}
+                    None => {
+                        self.schemas.insert(id, rec);
+                    }
+                }
+            }
+            op::CHANNEL => {
+                let id = cur.u16().map_err(plain)?;
+                let schema_id = cur.u16().map_err(plain)?;
+                let topic = cur.string().map_err(plain)?;
+                let message_encoding = cur.string().map_err(plain)?;
+                let metadata = cur.map().map_err(plain)?;
+                let rec = ChannelRec {
+                    schema_id,
+                    topic,
+                    message_encoding,
+                    metadata,
+                };
+                let schema = match schema_id {
+                    0 => None,
+                    s => Some(self.schemas.get(&s).ok_or_else(|| {
+                        plain(format!(
+                            "channel '{}' refers to schema {s}, not defined before it",
+                            rec.topic
+                        ))
+                    })?),
+                };
+                match self.channels.get(&id) {
+                    Some(old) if old.rec != rec => {
+                        return Err(plain(format!("channel {id} redefined differently")))
+                    }
+                    Some(_) => {}
+                    None => {
+                        let kind = kind_of(schema, &rec);
+                        self.channels.insert(
+                            id,
+                            Channel {
+                                rec,
+                                kind,
+                                count: 0,
+                            },
+                        );
+                    }
+                }
+            }
+            op::MESSAGE => {
+                let channel_id = cur.u16().map_err(plain)?;
+                let _sequence = cur.u32().map_err(plain)?;
+                let _log_time = cur.u64().map_err(plain)?;
+                let _publish_time = cur.u64().map_err(plain)?;
+                if let Some(b) = self.budget.as_mut() {
+                    b.messages = b.messages.checked_sub(1).ok_or_else(|| {
+                        plain("more messages than a file of this size can hold".into())
+                    })?;
+                    b.payload = b.payload.checked_sub(cur.buf.len()).ok_or_else(|| {
+                        plain("the messages decompress to more data than a file of this size can hold".into())
+                    })?;
+                }
+                let ch = self.channels.get_mut(&channel_id).ok_or_else(|| {
+                    plain(format!(
+                        "message on channel {channel_id}, not defined before it"
+                    ))
+                })?;
+                let index = ch.count;
+                ch.count += 1;
+                let (kind, topic) = (ch.kind, ch.rec.topic.clone());
+                self.message(kind, &topic, cur.buf)
+                    .map_err(|e| (Some(format!("topic '{topic}', message {index}")), e))?;
+            }
+            op::METADATA => {
+                let name = cur.string().map_err(plain)?;
+                let map = cur.map().map_err(plain)?;
+                if name == METADATA_NAME {
+                    self.metadata = Some(map);
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn message(&mut self, kind: Kind, topic: &str, data: &[u8]) -> Result<(), String> {
+        fn dec<M: RosMessage>(data: &[u8]) -> Result<M, String> {
+            ros2::decode::<M>(data).map_err(|e| format!("{}: {e}", M::NAME))
+        }
+        match kind {
+            Kind::Ignored => {}
+            Kind::JointState => {
+                let m: ros2::JointState = dec(data)?;
+                let n = m.name.len();
+                if m.position.len() != n {
+                    return Err(format!("{} positions for {n} names", m.position.len()));
+                }
+                for (what, v) in [("velocities", &m.velocity), ("efforts", &m.effort)] {
+                    if !v.is_empty() && v.len() != n {
+                        return Err(format!("{} {what} for {n} names", v.len()));
+                    }
+                }
+                stamp_nanos(&m.header.stamp)?;
+                if !self.joint_states.contains_key(topic) {
+                    self.joint_state_topics.push(topic.to_string());
+                }
+                self.joint_states
+                    .entry(topic.to_string())
+                    .or_default()
+                    .push(m);
+            }
+            Kind::Tf | Kind::TfStatic => {
+                let m: ros2::TfMessage = dec(data)?;
+                for ts in m.transforms {
+                    let ns = stamp_nanos(&ts.header.stamp)?;
+                    let t = from_msg(ts);
+                    if kind == Kind::Tf {
+                        self.tf.push((ns, t));
+                    } else if let Some(&k) = self.static_index.get(&t.child) {
+                        self.static_tf[k] = t;
+                    } else {
+                        self.static_index
+                            .insert(t.child.clone(), self.static_tf.len());
+                        self.static_tf.push(t);
+                    }
+                }
+            }
+            Kind::RobotDescription => {
+                let m: ros2::StringMsg = dec(data)?;
+                self.robot_description = Some(m.data);
+            }
+            Kind::Cloud => {
+                let m: ros2::PointCloud2 = dec(data)?;
+                let ns = stamp_nanos(&m.header.stamp)?;
+                self.clouds.push((ns, cloud_from_msg(&m)?));
+            }
+            Kind::TorqueCheck => {
+                let m: ros2::DiagnosticArray = dec(data)?;
+                stamp_nanos(&m.header.stamp)?;
+                let rows = m
+                    .status
+                    .iter()
+                    .map(torque_row)
+                    .collect::<Result<Vec<_>, _>>()?;
+                self.torque_check = Some(rows);
+            }
+            Kind::Collisions => {
+                let m: ros2::DiagnosticArray = dec(data)?;
+                let ns = stamp_nanos(&m.header.stamp)?;
+                for s in &m.status {
+                    let get = |k: &str| {
+                        s.value(k)
+                            .map(str::to_string)
+                            .ok_or_else(|| format!("status '{}': no value '{k}'", s.name))
+                    };
+                    self.collisions.push((
+                        ns,
+                        CollisionEvent {
+                            t: 0.0,
+                            body_a: get("body_a")?,
+                            body_b: get("body_b")?,
+                        },
+                    ));
+                }
+            }
+            Kind::Obstacles => {
+                let m: ros2::MarkerArray = dec(data)?;
+                self.obstacles = Some(obstacle_markers::from_message(&m));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,114 @@
+//! Recordings of arm motions: the in-memory [`Recording`] that the scenario runner fills and
+//! the MCAP writer (`mcap_out`), the MCAP reader (`mcap_in`) and the Rerun logger
+//! (`rerun_out`) share.
+//!
+//! A recording is a header (joint names, limits, static frames, robot description,
+//! metadata, the wall-clock epoch of `t = 0`) and a time-ordered stream of [`Frame`]s,
+//! plus optional point clouds, a torque-check table, collision events and the scene's
+//! obstacles ([`obstacle_markers::ObstacleMarker`]). Writers stream frames one at a time so an
+//! interrupted run still leaves a valid file.
+
+mod from_ros2;
+pub mod mcap_in;
+pub mod mcap_out;
+mod model_header;
+pub mod obstacle_markers;
+pub mod record_error;
+pub mod rerun;
+pub mod ros2;
+pub mod tf;
+pub mod urdf_out;
+
+use serde::{Deserialize, Serialize};
+
+/// A rigid transform between two named frames (ROS `geometry_msgs/TransformStamped`
+/// without the stamp). Rotation is a unit quaternion `[x, y, z, w]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Transform {
+    pub parent: String,
+    pub child: String,
+    pub translation: [f64; 3],
+    pub rotation: [f64; 4],
+}
+
+/// One time step: joint positions, velocities and torques (in `joint_names` order) and the
+/// link poses at that time (one transform per link, parent → child as in the URDF tree).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Frame {
+    pub t: f64,
+    pub q: Vec<f64>,
+    pub qd: Vec<f64>,
+    pub tau: Vec<f64>,
+    pub tf: Vec<Transform>,
+}
+
+/// A point cloud (e.g. a sampled workspace) with one optional scalar per point
+/// (e.g. manipulability); `values` is empty or as long as `points`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct PointCloud {
+    pub t: f64,
+    pub frame: String,
+    pub points: Vec<[f32; 3]>,
+    pub values: Vec<f32>,
+}
+
+/// One row of a torque check (per joint).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TorqueRow {
+    pub joint: String,
+    pub peak_torque: f64,
+    pub rms_torque: f64,
+    pub peak_speed: f64,
+    pub peak_power: f64,
+    /// Effort limit (N·m or N); `None` when the model has none.
+    pub limit: Option<f64>,
+    /// Velocity limit; `None` when the model has none.
+    pub velocity_limit: Option<f64>,
+    /// Margin in % of the effort limit (negative when violated).
+    pub margin: Option<f64>,
+    pub ok: bool,
+    /// First time the joint exceeds a limit.
+    pub first_violation: Option<f64>,
+}
+
+/// A contact between two bodies (links or obstacles) at time `t`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CollisionEvent {
+    pub t: f64,
+    pub body_a: String,
+    pub body_b: String,
+}
+
+/// Everything that is known before the first frame.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Header {
+    /// Scenario (or recording) name.
+    pub name: String,
+    pub joint_names: Vec<String>,
+    /// Effort limit per joint (`None`: none in the model).
+    pub effort_limits: Vec<Option<f64>>,
+    /// Fixed frames (e.g. `world` → base link, fixed joints).
+    pub static_tf: Vec<Transform>,
+    /// URDF text of the robot, so viewers can rebuild it.
+    pub robot_description: Option<String>,
+    /// Free-form key/value metadata (scenario path, armsim version, ...).
+    pub metadata: Vec<(String, String)>,
+    /// Wall-clock time of `t = 0` in nanoseconds since the Unix epoch: an MCAP file's log
+    /// times and stamps are `epoch_ns + t`. `None`: the writer takes the wall clock when
+    /// it creates the file. The reader sets it (see `mcap_in`).
+    #[serde(default)]
+    pub epoch_ns: Option<u64>,
+}
+
+/// A whole recording in memory.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Recording {
+    pub header: Header,
+    pub frames: Vec<Frame>,
+    pub clouds: Vec<PointCloud>,
+    pub torque_check: Vec<TorqueRow>,
+    pub collisions: Vec<CollisionEvent>,
+    /// The scene's obstacles (fixed for the whole recording).
+    #[serde(default)]
+    pub obstacles: Vec<obstacle_markers::ObstacleMarker>,
+}

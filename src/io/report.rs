@@ -1,0 +1,104 @@
+//! What a scenario runner returns: the JSON document and the human summary. A leaf
+//! module, so the runners ([`crate::scenarios::arm`], [`crate::machines::linkage`], [`crate::machines::vibration::torsional`])
+//! do not import the dispatcher ([`crate::scenarios`]) that calls them.
+
+/// What a scenario run produced.
+#[derive(Debug, Clone)]
+pub struct Report {
+    /// The JSON document `armsim run --json` prints.
+    pub json: serde_json::Value,
+    /// The human-readable summary.
+    pub text: String,
+}
+
+/// `x` for a message: Rust's shortest form for ordinary magnitudes (`0.25`, `1500`),
+/// `e` notation for very large or very small ones (`1e308`, not 309 digits; `1e-300`),
+/// and `NaN`, `inf`, `-inf` as such.
+pub fn fmt_num(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() || a == 0.0 || (1e-4..1e7).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// `x` for a human report: six significant digits, trailing zeros dropped (`89`, not
+/// `89.00000000000001`), `e` notation for very large or very small magnitudes.
+pub fn human_num(x: f64) -> String {
+    let a = x.abs();
+    if !x.is_finite() || a == 0.0 {
+        return format!("{x}");
+    }
+    if !(1e-4..1e7).contains(&a) {
+        let s = format!("{x:.5e}");
+        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
+        let m = m.trim_end_matches('0').trim_end_matches('.');
+        return format!("{m}e{e}");
+    }
+    let decimals = (5 - a.log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s
+    }
+}
+
+/// A JSON value as human text: numbers by [`human_num`], `{"value_deg", "at_deg"}` as
+/// `V° at A°`, other objects as `key value, key value`, lists in brackets, null as `-`.
+pub fn human_json(v: &serde_json::Value) -> String {
+    use serde_json::Value;
+    match v {
+        Value::Null => "-".into(),
+        Value::Bool(b) => if *b { "yes" } else { "no" }.into(),
+        Value::Number(n) => n.as_f64().map_or_else(|| n.to_string(), human_num),
+        Value::String(s) => s.clone(),
+        Value::Array(a) => format!(
+            "[{}]",
+            a.iter().map(human_json).collect::<Vec<_>>().join(", ")
+        ),
+        Value::Object(o) => match (o.get("value_deg"), o.get("at_deg")) {
+            (Some(x), Some(at)) if o.len() == 2 => {
+                format!("{}° at {}°", human_json(x), human_json(at))
+            }
+            _ => o
+                .iter()
+                .map(|(k, x)| format!("{k} {}", human_json(x)))
+                .collect::<Vec<_>>()
+                .join(", "),
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::io::report::{fmt_num, human_json, human_num};
+
+    #[test]
+    fn human_text_rounds_and_names() {
+        assert_eq!(human_num(89.00000000000001), "89");
+        assert_eq!(human_num(0.123456789), "0.123457");
+        assert_eq!(human_num(-1234.5), "-1234.5");
+        assert_eq!(human_num(2.5e-7), "2.5e-7");
+        let v = serde_json::json!({"value_deg": 0.0, "at_deg": 89.00000000000001});
+        assert_eq!(human_json(&v), "0° at 89°");
+        let v = serde_json::json!({"force_N": 12.0, "lock": true});
+        assert_eq!(human_json(&v), "force_N 12, lock yes");
+    }
+
+    #[test]
+    fn numbers_in_messages_are_short() {
+        assert_eq!(fmt_num(0.25), "0.25");
+        assert_eq!(fmt_num(1500.0), "1500");
+        assert_eq!(fmt_num(1e308), "1e308");
+        assert_eq!(fmt_num(-2.5e-300), "-2.5e-300");
+        assert_eq!(fmt_num(f64::NAN), "NaN");
+        assert_eq!(fmt_num(0.0), "0");
+    }
+}

@@ -1,0 +1,89 @@
+//! Closed-chain planar mechanisms: loop closure with branch tracking, velocities and
+//! accelerations through the constraint Jacobian, kinetostatics, balancing, flywheels and
+//! machine motion; plus loop closure constraints on the spatial tree [`crate::model::Model`].
+//!
+//! The planar formulation is the body-coordinate one of Haug, *Computer-Aided Kinematics
+//! and Dynamics of Mechanical Systems* (1989), ch. 3 and 6, and Nikravesh, *Computer-Aided
+//! Analysis of Mechanical Systems* (1988), ch. 3–6: every moving link `i` has coordinates
+//! `(x_i, y_i, θ_i)` of its centre of mass and angle, and the joints and the driver give
+//! constraint equations `Φ(q, s) = 0` with `s` the input (crank angle or slider position).
+//!
+//! One algorithm per file:
+//! - [`linalg`]: the minimum-norm (SVD) solve everything above uses;
+//! - [`linkage`]: the description (ground points, links with named points and inertia,
+//!   pins, sliders, the driver);
+//! - [`constraints`]: `Φ`, its Jacobian `Φ_q`, `−Φ_t` and the acceleration right side `γ`;
+//! - [`position`]: Newton's method on `Φ(q, s) = 0`;
+//! - [`motion`]: `Φ_q q̇ = −Φ_t`, `Φ_q q̈ = γ` by a minimum-norm solve;
+//! - [`mobility`]: Grübler's count checked by the rank of `Φ_q`, singular positions;
+//! - [`branch`]: the structural groups of the linkage and their assembly-mode signs;
+//! - [`sweep`]: continuation over the input with branch tracking, dead centres, extremes;
+//! - [`fourbar`]: Grashof classification, transmission angle, closed-form four-bar;
+//! - [`kinetostatics`]: joint forces and driving effort from `M q̈ − Φ_qᵀ λ = Q`;
+//! - [`virtual_power`]: the driving effort from `Σ F·v + M ω = 0`;
+//! - [`balancing`]: rotor correction masses, slider-crank counterweights, shaking force;
+//! - [`flywheel`]: energy fluctuation and flywheel inertia;
+//! - [`flywheel_design`], [`flywheel_scenario`]: turning-moment diagrams, speed band,
+//!   rim, time check, work stroke and overload (`kind = "flywheel"`);
+//! - [`machine_motion`]: `J ω̇ = M_d(ω) − M_load` from rest;
+//! - [`spatial_loop`]: frame-coincidence constraints on the tree model and Newton
+//!   projection onto them;
+//! - [`synthesis`], [`synthesis_check`], [`synthesis_scenario`]: limit-position,
+//!   time-ratio and Freudenstein synthesis, checked by the linkage solver
+//!   (`kind = "synthesis"`);
+//! - [`centrode`], [`centrode_scenario`]: instant centres and the fixed and moving
+//!   centrodes along a tracked sweep (`kind = "centrodes"`);
+//! - [`catalog`]: standard linkages (slider-crank, four-bar, Scotch yoke) built in code;
+//! - [`scenario`] and [`report`]: `kind = "linkage"` scenario files and their output.
+
+pub mod branch;
+pub mod catalog;
+pub mod constraints;
+pub mod fourbar;
+pub mod kinetostatics;
+pub mod least_squares;
+pub mod linkage;
+pub mod mobility;
+pub mod position;
+pub mod sweep;
+pub mod velocity;
+pub mod virtual_power;
+pub use crate::machines::linkage::least_squares::MinNormSolve;
+pub use crate::machines::linkage::linkage::{
+    Driver, Joint, Link, Linkage, LinkageError, Slider, GROUND,
+};
+
+/// Planar vector.
+pub type Vec2 = nalgebra::Vector2<f64>;
+
+/// `A(θ) v`: `v` rotated by `θ` (counter-clockwise positive).
+#[inline]
+pub fn rotate(theta: f64, v: &Vec2) -> Vec2 {
+    let (s, c) = theta.sin_cos();
+    Vec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
+}
+
+/// `v` turned by +90°: `(−v_y, v_x)`. `d/dθ A(θ) v = perp(A(θ) v)`.
+#[inline]
+pub fn perp(v: &Vec2) -> Vec2 {
+    Vec2::new(-v.y, v.x)
+}
+
+/// Planar cross product `a × b = a_x b_y − a_y b_x` (the z component).
+#[inline]
+pub fn cross(a: &Vec2, b: &Vec2) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+/// Angle wrapped to `(−π, π]`.
+#[inline]
+pub fn wrap_angle(a: f64) -> f64 {
+    let t = std::f64::consts::TAU;
+    let mut x = a % t;
+    if x > std::f64::consts::PI {
+        x -= t;
+    } else if x <= -std::f64::consts::PI {
+        x += t;
+    }
+    x
+}

@@ -1,0 +1,312 @@
+//! The `[task]` section: the task type and its steps (joint or Cartesian waypoints, a
+//! line, pick and place, a planned move, a sequence), poses moved into the robot's base
+//! frame; the grasped part; and the `[planner]` settings when the task plans.
+
+use crate::core::diag::LocatedError as ScenarioError;
+use crate::model::Model;
+use crate::scenarios::arm::scene::limits::check_in_limits;
+use crate::scenarios::arm::scene::{
+    finite_pos, finite_pose, per_joint, pose_of, to_radians_if, Ctx, PerJoint, Sections, Step,
+    TaskStep,
+};
+use crate::scenarios::arm::schema::*;
+use std::ops::Range;
+use std::path::Path;
+
+/// The task's steps, and its type.
+// One match over the six task types, each arm a short list of steps sharing the closures
+// above it; splitting it would pass those closures around.
+#[allow(clippy::too_many_lines)]
+pub(super) fn steps(
+    sx: &Sections,
+    q0: &[f64],
+    lower: &[f64],
+    upper: &[f64],
+) -> Result<Vec<TaskStep>, ScenarioError> {
+    let cx = &sx.cx;
+    let file = sx.file;
+    let model = sx.model;
+    let names = &sx.names;
+    let base_inv = &sx.base_inv;
+    let deg = |x: f64, k: usize, degrees: bool| to_radians_if(model, x, k, degrees);
+    let tsec = file.task.get_ref();
+    let tdeg = tsec.degrees;
+    let joint_row = |v: &PerJoint, key: &str| -> Result<Vec<f64>, ScenarioError> {
+        let raw = per_joint(cx, v, key, names, q0)?;
+        let q: Vec<f64> = raw
+            .iter()
+            .enumerate()
+            .map(|(k, x)| deg(*x, k, tdeg))
+            .collect();
+        check_in_limits(cx, v, key, names, &q, lower, upper)?;
+        Ok(q)
+    };
+    let to_base = |p: &PoseSec| base_inv.mul(&pose_of(p));
+    let kind = tsec.kind.get_ref().as_str();
+    let need = |what: &str| {
+        cx.at(
+            file.task.span(),
+            format!("task.{what}"),
+            format!("task type '{kind}' needs task.{what}"),
+        )
+    };
+    let mut steps = Vec::new();
+    let push = |steps: &mut Vec<TaskStep>, step: Step, key: String, span: Range<usize>| {
+        steps.push(TaskStep {
+            step,
+            key,
+            line: Some(cx.line(&span)),
+        })
+    };
+    let check_pose = |p: &PoseSec, key: &str, span: Range<usize>| -> Result<(), ScenarioError> {
+        if finite_pose(p) {
+            Ok(())
+        } else {
+            Err(cx.at(span, key, "pose is not finite"))
+        }
+    };
+    match kind {
+        "joint_waypoints" => {
+            let w = tsec.waypoints.as_ref().ok_or_else(|| need("waypoints"))?;
+            if w.get_ref().is_empty() {
+                return Err(cx.at(w.span(), "task.waypoints", "no waypoints"));
+            }
+            for (i, row) in w.get_ref().iter().enumerate() {
+                let key = format!("task.waypoints[{i}]");
+                let q = joint_row(row, &key)?;
+                push(&mut steps, Step::Joint(q), key, row.span());
+            }
+        }
+        "cartesian_waypoints" => {
+            let w = tsec.poses.as_ref().ok_or_else(|| need("poses"))?;
+            if w.get_ref().is_empty() {
+                return Err(cx.at(w.span(), "task.poses", "no poses"));
+            }
+            for (i, p) in w.get_ref().iter().enumerate() {
+                let key = format!("task.poses[{i}]");
+                check_pose(p, &key, w.span())?;
+                push(&mut steps, Step::Pose(to_base(p)), key, w.span());
+            }
+        }
+        "line" => {
+            let g = tsec.goal.as_ref().ok_or_else(|| need("goal"))?;
+            check_pose(g.get_ref(), "task.goal", g.span())?;
+            push(&mut steps, Step::Line(to_base(g.get_ref())), "task.goal".into(), g.span());
+        }
+        "pick_and_place" => {
+            let pick = tsec.pick.as_ref().ok_or_else(|| need("pick"))?;
+            let place = tsec.place.as_ref().ok_or_else(|| need("place"))?;
+            check_pose(pick.get_ref(), "task.pick", pick.span())?;
+            check_pose(place.get_ref(), "task.place", place.span())?;
+            let a = match &tsec.approach {
+                None => 0.1,
+                Some(s) if s.get_ref().is_finite() && *s.get_ref() >= 0.0 => *s.get_ref(),
+                Some(s) => return Err(cx.at(s.span(), "task.approach", "must be finite and >= 0")),
+            };
+            let dwell = match &tsec.dwell {
+                None => 0.3,
+                Some(s) if s.get_ref().is_finite() && *s.get_ref() >= 0.0 => *s.get_ref(),
+                Some(s) => return Err(cx.at(s.span(), "task.dwell", "must be finite and >= 0")),
+            };
+            let above = |p: &PoseSec| {
+                let mut p = *p;
+                p.xyz[2] += a;
+                p
+            };
+            let planned = uses_planner(cx, tsec)?;
+            for (label, p) in [("pick", pick), ("place", place)] {
+                let key = format!("task.{label}");
+                let approach = to_base(&above(p.get_ref()));
+                let step = if planned { Step::Plan(Err(approach)) } else { Step::Pose(approach) };
+                push(&mut steps, step, format!("{key} (approach)"), p.span());
+                push(&mut steps, Step::Line(to_base(p.get_ref())), key.clone(), p.span());
+                if dwell > 0.0 {
+                    push(&mut steps, Step::Dwell(dwell), key.clone(), p.span());
+                }
+                let grip = if label == "pick" { Step::Attach } else { Step::Detach };
+                push(&mut steps, grip, key.clone(), p.span());
+                push(&mut steps, Step::Line(to_base(&above(p.get_ref()))), format!("{key} (retreat)"), p.span());
+            }
+            let back = if planned { Step::Plan(Ok(q0.to_vec())) } else { Step::Joint(q0.to_vec()) };
+            push(&mut steps, back, "initial.q (return)".into(), pick.span());
+        }
+        "plan" => {
+            let target = match (&tsec.goal, &tsec.goal_q) {
+                (Some(g), None) => {
+                    check_pose(g.get_ref(), "task.goal", g.span())?;
+                    Err(to_base(g.get_ref()))
+                }
+                (None, Some(j)) => Ok(joint_row(j, "task.goal_q")?),
+                _ => {
+                    return Err(cx.at(
+                        file.task.span(),
+                        "task.goal",
+                        "task type 'plan' needs exactly one of task.goal (a tool pose) and task.goal_q (joint values)",
+                    ))
+                }
+            };
+            push(&mut steps, Step::Plan(target), "task.goal".into(), file.task.span());
+        }
+        "sequence" => {
+            let list = tsec.steps.as_ref().ok_or_else(|| need("steps"))?;
+            if list.get_ref().is_empty() {
+                return Err(cx.at(list.span(), "task.steps", "no steps"));
+            }
+            for (i, s) in list.get_ref().iter().enumerate() {
+                let key = format!("task.steps[{i}]");
+                let st = s.get_ref();
+                let count = [st.joint.is_some(), st.pose.is_some(), st.line.is_some(), st.dwell.is_some()]
+                    .iter()
+                    .filter(|b| **b)
+                    .count();
+                if count != 1 {
+                    return Err(cx.at(
+                        s.span(),
+                        &key,
+                        "each step has exactly one of joint, pose, line, dwell",
+                    ));
+                }
+                let step = if let Some(j) = &st.joint {
+                    Step::Joint(joint_row(j, &format!("{key}.joint"))?)
+                } else if let Some(p) = &st.pose {
+                    check_pose(p, &key, s.span())?;
+                    Step::Pose(to_base(p))
+                } else if let Some(p) = &st.line {
+                    check_pose(p, &key, s.span())?;
+                    Step::Line(to_base(p))
+                } else {
+                    let d = st.dwell.expect("counted");
+                    if !(d.is_finite() && d > 0.0) {
+                        return Err(cx.at(s.span(), format!("{key}.dwell"), "must be positive"));
+                    }
+                    Step::Dwell(d)
+                };
+                push(&mut steps, step, key, s.span());
+            }
+        }
+        other => {
+            return Err(cx.at(
+                file.task.get_ref().kind.span(),
+                "task.type",
+                format!(
+                    "unknown task type '{other}' (expected joint_waypoints, cartesian_waypoints, line, pick_and_place, plan or sequence)"
+                ),
+            ))
+        }
+    }
+    Ok(steps)
+}
+
+/// The grasped part (only for pick and place).
+pub(super) fn part(
+    sx: &Sections,
+) -> Result<Option<crate::scenarios::arm::planner_setup::Part>, ScenarioError> {
+    let cx = &sx.cx;
+    let tsec = sx.file.task.get_ref();
+    let kind = tsec.kind.get_ref().as_str();
+    let part = match &tsec.part {
+        None => None,
+        Some(p) => {
+            let v = p.get_ref();
+            if kind != "pick_and_place" {
+                return Err(cx.at(
+                    p.span(),
+                    "task.part",
+                    "only a pick_and_place task grasps a part",
+                ));
+            }
+            if !(v.size.iter().all(|x| finite_pos(*x)) && v.xyz.iter().all(|x| x.is_finite())) {
+                return Err(cx.at(
+                    p.span(),
+                    "task.part",
+                    "size must be positive and xyz finite",
+                ));
+            }
+            Some(crate::scenarios::arm::planner_setup::Part {
+                size: v.size,
+                xyz: v.xyz,
+            })
+        }
+    };
+    Ok(part)
+}
+
+/// The `[planner]` settings when the task plans (the table is refused otherwise).
+pub(super) fn planner_settings(
+    cx: &Ctx,
+    file: &ArmFile,
+    dir: &Path,
+    model: &Model,
+    plans: bool,
+    warnings: &mut Vec<String>,
+) -> Result<Option<crate::scenarios::arm::planner_setup::PlannerSettings>, ScenarioError> {
+    let sec = file.planner.as_ref();
+    if !plans {
+        return match sec {
+            Some(s) => Err(cx.at(
+                s.span(),
+                "planner",
+                "the task plans nothing (use task type 'plan' or task.planner = \"rrt-connect\")",
+            )),
+            None => Ok(None),
+        };
+    }
+    let p = sec.map(|s| s.get_ref());
+    let ms = match p.and_then(|p| p.time_limit_ms.as_ref()) {
+        None => 1000.0,
+        Some(t) if finite_pos(*t.get_ref()) => *t.get_ref(),
+        Some(t) => return Err(cx.at(t.span(), "planner.time_limit_ms", "must be positive")),
+    };
+    let max_overshoot = match p.and_then(|p| p.max_overshoot.as_ref()) {
+        None => 0.01,
+        Some(t) if finite_pos(*t.get_ref()) => *t.get_ref(),
+        Some(t) => return Err(cx.at(t.span(), "planner.max_overshoot", "must be positive")),
+    };
+    let range = match p.and_then(|p| p.range.as_ref()) {
+        None => 1.0,
+        Some(t) if finite_pos(*t.get_ref()) && *t.get_ref() <= 100.0 => *t.get_ref(),
+        Some(t) => {
+            return Err(cx.at(
+                t.span(),
+                "planner.range",
+                "must be a positive joint-space distance (at most 100)",
+            ))
+        }
+    };
+    let srdf = match p.and_then(|p| p.srdf.as_ref()) {
+        None => None,
+        Some(f) => {
+            let path = dir.join(f.get_ref());
+            let (pairs, w) = crate::model::parse::srdf::load_disabled_pairs(&path, model)
+                .map_err(|e| cx.at(f.span(), "planner.srdf", e.to_string()))?;
+            warnings.extend(w.iter().map(|w| format!("{w}")));
+            Some((path.display().to_string(), pairs))
+        }
+    };
+    Ok(Some(
+        crate::scenarios::arm::planner_setup::PlannerSettings {
+            seed: p.and_then(|p| p.seed).unwrap_or(0),
+            time_limit: std::time::Duration::from_secs_f64(ms / 1e3),
+            simplify: p.and_then(|p| p.simplify).unwrap_or(true),
+            range,
+            max_overshoot,
+            srdf,
+        },
+    ))
+}
+
+/// Whether a pick-and-place plans its transfers (`task.planner`).
+fn uses_planner(cx: &Ctx, tsec: &TaskSec) -> Result<bool, ScenarioError> {
+    match &tsec.planner {
+        None => Ok(false),
+        Some(p) => match p.get_ref().as_str() {
+            "rrt-connect" => Ok(true),
+            "none" => Ok(false),
+            other => Err(cx.at(
+                p.span(),
+                "task.planner",
+                format!("unknown planner '{other}' (expected rrt-connect or none)"),
+            )),
+        },
+    }
+}

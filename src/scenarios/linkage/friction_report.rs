@@ -1,0 +1,105 @@
+//! The `friction` part of a linkage scenario's kinetostatics (`[kinetostatics]`
+//! `friction_coefficient`, `pin_radius`): every joint with friction circles
+//! ([`crate::machines::friction::friction_circle`]) at every sample of the sweep; the driving effort with and
+//! without friction, the friction power and the instantaneous efficiency at the reported
+//! inputs, and over a full turn the works of the driver and of friction per turn and the
+//! cycle efficiency `1 − W_f/W_d` (powers summed over equal steps of the input, i.e. equal
+//! times at constant speed).
+
+use crate::machines::friction::friction_circle::{solve_with_friction, JointFriction};
+use crate::machines::linkage::kinetostatics::Loads;
+use crate::machines::linkage::linkage::Linkage;
+use nalgebra::DVector;
+use serde_json::{json, Value};
+use std::fmt::Write;
+
+/// One sample: input `s` and `(q, q̇, q̈)`.
+pub type Sample<'a> = (f64, &'a DVector<f64>, &'a DVector<f64>, &'a DVector<f64>);
+
+/// Iteration limits of the friction solve.
+const TOL: f64 = 1e-10;
+const MAX_ITER: usize = 100;
+
+/// The report (JSON value and summary lines); `speed` is the driver's rate, `report_at`
+/// the inputs listed, `full_turn` whether the samples cover one turn of the crank.
+#[allow(clippy::too_many_arguments)]
+pub fn report(
+    l: &Linkage,
+    samples: &[Sample],
+    loads: &Loads,
+    speed: f64,
+    (coefficient, pin_radius): (f64, f64),
+    report_at: &[f64],
+    full_turn: bool,
+    text: &mut String,
+) -> Value {
+    let fr: Vec<JointFriction> = (0..l.joints.len())
+        .map(|joint| JointFriction {
+            joint,
+            coefficient,
+            pin_radius,
+        })
+        .collect();
+    let (mut wd, mut wf, mut worst, mut all_converged, mut most) =
+        (0.0, 0.0, f64::INFINITY, true, 0);
+    let mut at = Vec::new();
+    for (k, &(s, q, qd, qdd)) in samples.iter().enumerate() {
+        let w = solve_with_friction(l, q, qd, qdd, loads, speed, &fr, TOL, MAX_ITER);
+        all_converged &= w.converged;
+        most = most.max(w.iterations);
+        // The last sample of a full turn repeats the first.
+        if !(full_turn && k + 1 == samples.len() && samples.len() > 1) {
+            wd += w.driving_power;
+            wf += w.friction_power;
+        }
+        if let Some(e) = w.efficiency {
+            worst = worst.min(e);
+        }
+        if report_at
+            .iter()
+            .any(|r| (r - s).abs() < 1e-9 * (1.0 + r.abs()))
+        {
+            let _ = writeln!(
+                text,
+                "  friction at input {s:.6}: driving {:.6} (ideal {:.6}), friction power {:.4} W, efficiency {}",
+                w.real.driving,
+                w.ideal.driving,
+                w.friction_power,
+                w.efficiency.map_or("– (the driver does no work)".into(), |e| format!("{e:.6}"))
+            );
+            at.push(json!({
+                "input": s,
+                "driving_ideal": w.ideal.driving,
+                "driving": w.real.driving,
+                "friction_power": w.friction_power,
+                "driving_power": w.driving_power,
+                "efficiency": w.efficiency,
+                "iterations": w.iterations,
+                "converged": w.converged,
+            }));
+        }
+    }
+    let cycle = (full_turn && wd > 0.0).then(|| 1.0 - wf / wd);
+    // Works per turn: powers times the time of one input step at constant speed.
+    let dt = match samples {
+        [a, b, ..] if speed != 0.0 => ((b.0 - a.0) / speed).abs(),
+        _ => 0.0,
+    };
+    if let Some(c) = cycle {
+        let _ = writeln!(
+            text,
+            "  friction over the turn: efficiency 1 − W_f/W_d = {c:.6}"
+        );
+    }
+    json!({
+        "coefficient": coefficient,
+        "pin_radius": pin_radius,
+        "friction_circle_radius": coefficient * pin_radius,
+        "at": at,
+        "cycle_efficiency": cycle,
+        "work_per_turn": full_turn.then(|| json!({ "driver": wd * dt, "friction": wf * dt })),
+        "min_efficiency": worst.is_finite().then_some(worst),
+        "all_converged": all_converged,
+        "max_iterations": most,
+    })
+}

@@ -1,0 +1,231 @@
+//! The `[kinetostatics]`, `[[loads]]` and `[flywheel]` sections: gravity, the report
+//! positions, point forces and torques on links, pin friction, and the flywheel's speed
+//! and torque table, each error naming the file, the line and the key.
+
+use crate::core::diag::{all_finite, LocatedError as ScenarioError, Source};
+use crate::machines::linkage::kinetostatics::{Loads, PointForce};
+use crate::machines::linkage::linkage::Linkage;
+use crate::machines::linkage::Vec2;
+use crate::scenarios::linkage::{
+    moving_link, FlywheelScenario, FlywheelSpec, KinetoSpec, KinetostaticsScenario, LoadSpec,
+    MechanismScenario,
+};
+use toml::Spanned;
+
+/// The `[kinetostatics]` table with its `[[loads]]`: gravity, the report positions (the
+/// sweep's by default), the loads and the pin friction.
+pub(super) fn parse_kineto(
+    cx: &Source,
+    k: &Spanned<KinetoSpec>,
+    loads: &[Spanned<LoadSpec>],
+    l: &Linkage,
+    angle_input: bool,
+    sweep_report: &[f64],
+) -> Result<KinetostaticsScenario, ScenarioError> {
+    let span = k.span();
+    let ks = k.get_ref();
+    let g = ks.gravity.unwrap_or([0.0, -9.81]);
+    if !all_finite(&g) {
+        return Err(cx.err(
+            cx.key_line(&span, "gravity"),
+            "kinetostatics.gravity",
+            "non-finite",
+        ));
+    }
+    if angle_input && !ks.report_at.is_empty() {
+        return Err(cx.err(
+            cx.key_line(&span, "report_at"),
+            "kinetostatics.report_at",
+            "an angle driver: use report_at_deg",
+        ));
+    }
+    if !angle_input && !ks.report_at_deg.is_empty() {
+        return Err(cx.err(
+            cx.key_line(&span, "report_at_deg"),
+            "kinetostatics.report_at_deg",
+            "a slide driver: use report_at (m)",
+        ));
+    }
+    let mut report_at: Vec<f64> = if angle_input {
+        ks.report_at_deg.iter().map(|x| x.to_radians()).collect()
+    } else {
+        ks.report_at.clone()
+    };
+    if report_at.is_empty() {
+        report_at = sweep_report.to_vec();
+    }
+    let mut out = Loads {
+        gravity: Vec2::new(g[0], g[1]),
+        ..Default::default()
+    };
+    for (i, ls) in loads.iter().enumerate() {
+        parse_load(cx, i, ls, l, &mut out)?;
+    }
+    let friction = parse_pin_friction(cx, k)?;
+    Ok(KinetostaticsScenario {
+        loads: out,
+        friction,
+        report_at,
+    })
+}
+
+/// `loads[i]`: a force at a named point of a link, and/or a torque on it, into `out`.
+fn parse_load(
+    cx: &Source,
+    i: usize,
+    ls: &Spanned<LoadSpec>,
+    l: &Linkage,
+    out: &mut Loads,
+) -> Result<(), ScenarioError> {
+    let s = ls.get_ref();
+    let span = ls.span();
+    let key = format!("loads[{i}]");
+    let link = moving_link(cx, &l.links, &s.link, &span, (&key, "link"))?;
+    if s.force.is_none() && s.torque.is_none() {
+        return Err(cx.err(
+            cx.line(&span),
+            key,
+            "a load needs `force` (with `point`) or `torque`",
+        ));
+    }
+    if let Some(f) = s.force {
+        let pn = s.point.as_ref().ok_or_else(|| {
+            cx.err(
+                cx.key_line(&span, "force"),
+                format!("{key}.point"),
+                "missing: where the force acts",
+            )
+        })?;
+        let p = l.links[link].point(pn).ok_or_else(|| {
+            cx.err(
+                cx.key_line(&span, "point"),
+                format!("{key}.point"),
+                format!("link '{}' has no point '{pn}'", s.link),
+            )
+        })?;
+        if !all_finite(&f) {
+            return Err(cx.err(
+                cx.key_line(&span, "force"),
+                format!("{key}.force"),
+                "non-finite",
+            ));
+        }
+        out.forces.push(PointForce {
+            link,
+            p,
+            force: Vec2::new(f[0], f[1]),
+        });
+    }
+    if let Some(t) = s.torque {
+        if !t.is_finite() {
+            return Err(cx.err(
+                cx.key_line(&span, "torque"),
+                format!("{key}.torque"),
+                "non-finite",
+            ));
+        }
+        out.torques.push((link, t));
+    }
+    Ok(())
+}
+
+/// The pin friction `(coefficient, pin radius)`: none, or a coefficient in `[0, 1]` with
+/// a radius ≥ 0 (0 by default); a radius alone is an error.
+fn parse_pin_friction(
+    cx: &Source,
+    k: &Spanned<KinetoSpec>,
+) -> Result<Option<(f64, f64)>, ScenarioError> {
+    let span = k.span();
+    let ks = k.get_ref();
+    match (ks.friction_coefficient, ks.pin_radius) {
+        (None, None) => Ok(None),
+        (Some(f), r) if (0.0..=1.0).contains(&f) => {
+            let r = r.unwrap_or(0.0);
+            if !(r.is_finite() && r >= 0.0) {
+                return Err(cx.err(
+                    cx.key_line(&span, "pin_radius"),
+                    "kinetostatics.pin_radius",
+                    format!("must be a radius ≥ 0 (m), got {r}"),
+                ));
+            }
+            Ok(Some((f, r)))
+        }
+        (Some(f), _) => Err(cx.err(
+            cx.key_line(&span, "friction_coefficient"),
+            "kinetostatics.friction_coefficient",
+            format!("must be in [0, 1], got {f}"),
+        )),
+        (None, Some(_)) => Err(cx.err(
+            cx.key_line(&span, "pin_radius"),
+            "kinetostatics.pin_radius",
+            "a pin radius needs friction_coefficient (the friction circle is f r)",
+        )),
+    }
+}
+
+pub(super) fn parse_flywheel(
+    cx: &Source,
+    f: &Spanned<FlywheelSpec>,
+    mech: Option<&MechanismScenario>,
+) -> Result<FlywheelScenario, ScenarioError> {
+    let span = f.span();
+    let s = f.get_ref();
+    if !(s.speed_fluctuation.is_finite() && s.speed_fluctuation > 0.0) {
+        return Err(cx.err(
+            cx.key_line(&span, "speed_fluctuation"),
+            "flywheel.speed_fluctuation",
+            "must be positive",
+        ));
+    }
+    let speed = match (s.speed, mech) {
+        (Some(w), _) => w,
+        (None, Some(m)) if m.angle_input => m.speed,
+        _ => {
+            return Err(cx.err(
+                cx.line(&span),
+                "flywheel.speed",
+                "missing: the mean speed (rad/s)",
+            ))
+        }
+    };
+    if !(speed.is_finite() && speed != 0.0) {
+        return Err(cx.err(
+            cx.key_line(&span, "speed"),
+            "flywheel.speed",
+            "must be non-zero",
+        ));
+    }
+    let table = match &s.torque_deg {
+        Some(t) => {
+            if t.len() < 3
+                || t.iter().any(|r| !all_finite(r))
+                || t.windows(2).any(|w| w[1][0] <= w[0][0])
+            {
+                return Err(cx.err(
+                    cx.key_line(&span, "torque_deg"),
+                    "flywheel.torque_deg",
+                    "needs at least three finite [angle_deg, torque] rows with increasing angles",
+                ));
+            }
+            Some(t.iter().map(|r| (r[0].to_radians(), r[1])).collect())
+        }
+        None => {
+            if mech.and_then(|m| m.kinetostatics.as_ref()).is_none()
+                || !mech.is_some_and(|m| m.angle_input)
+            {
+                return Err(cx.err(
+                    cx.line(&span),
+                    "flywheel",
+                    "needs `torque_deg` or a crank-driven linkage with [kinetostatics]",
+                ));
+            }
+            None
+        }
+    };
+    Ok(FlywheelScenario {
+        delta: s.speed_fluctuation,
+        speed,
+        load: s.load,
+        table,
+    })
+}
