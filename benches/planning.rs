@@ -7,8 +7,8 @@
 //! from `armsim plan … --moveit-dir DIR --passes 5` (see BENCHMARKS.md).
 
 use armsim::collision::Obstacle;
-use armsim::model::parse::srdf;
 use armsim::model::Model;
+use armsim::planning::srdf;
 use armsim::planning::{moveit, PlanOptions, PlanStatus, Planner};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;

@@ -290,7 +290,7 @@ fn regressions_give_their_errors() {
             "stl_reader" => armsim::collision::mesh::read_stl(&bytes).err(),
             "obj_reader" => armsim::collision::mesh::read_obj_bytes(&bytes).err(),
             "dae_reader" => armsim::collision::mesh::read_dae(&text).err(),
-            "srdf_reader" => armsim::model::parse::srdf::parse_srdf(&text, h::SRDF_FILE)
+            "srdf_reader" => armsim::planning::srdf::parse_srdf(&text, h::SRDF_FILE)
                 .err()
                 .map(|e| e.to_string()),
             _ => armsim::scenarios::check(h::scenario_file(), &text)

@@ -7,8 +7,8 @@
 
 use armsim::collision::mesh::{load_mesh, read_dae, read_stl, MAX_TRIANGLES};
 use armsim::collision::{CollisionModel, CollisionOptions};
-use armsim::model::parse::srdf::{load_srdf, parse_srdf};
 use armsim::model::Model;
+use armsim::planning::srdf::{load_srdf, parse_srdf};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

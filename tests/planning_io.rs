@@ -8,10 +8,10 @@
 
 use armsim::collision::Obstacle;
 use armsim::core::spatial::{axis_angle, rot_z, Mat3, Vec3};
-use armsim::model::parse::srdf::{self, parse_srdf};
 use armsim::model::{Model, Shape};
 use armsim::planning::moveit::{self, parse_request, parse_scene, quaternion_matrix};
 use armsim::planning::plan_error::PlanningInputError;
+use armsim::planning::srdf::{self, parse_srdf};
 use std::path::PathBuf;
 
 const ROBOTS: [&str; 2] = ["panda", "ur5"];

@@ -109,13 +109,13 @@ fn legends_sit_right_of_the_charts_and_titles_name_the_scenario() {
     let svg_dir = dir.join("svg");
     std::fs::create_dir_all(&svg_dir).unwrap();
     let svg = svg_dir.join("t.svg");
-    out.torque
-        .write_plot_titled(
-            &svg,
-            armsim::motion::PlotFormat::Svg,
-            Some("ur5_pick_and_place"),
-        )
-        .unwrap();
+    armsim::io::plots::torque_chart::write_torque_plot(
+        &out.torque,
+        &svg,
+        armsim::io::plots::torque_chart::PlotFormat::Svg,
+        Some("ur5_pick_and_place"),
+    )
+    .unwrap();
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.contains("ur5_pick_and_place: joint torques vs effort limits"));
     assert!(text.contains("\n± effort limit\n") && text.contains("\ntorque\n"));
@@ -126,7 +126,7 @@ fn legends_sit_right_of_the_charts_and_titles_name_the_scenario() {
         "ur5_pick_and_place: simulation",
         "subtitle",
         &panels,
-        armsim::motion::PlotFormat::Svg,
+        armsim::io::plots::torque_chart::PlotFormat::Svg,
     )
     .unwrap();
     let text = std::fs::read_to_string(&svg).unwrap();

@@ -7,14 +7,14 @@ mod common;
 
 use armsim::core::spatial::{Se3, Vec3};
 use armsim::dynamics::{rnea, Effects, Friction, Rotor};
+use armsim::io::plots::torque_chart::{write_torque_plot, PlotFormat};
 use armsim::kinematics::{forward_kinematics, frame_placement};
 use armsim::model::data::Data;
 use armsim::model::Model;
 use armsim::motion::topp;
 use armsim::motion::{
     cartesian_line, check_torques, CartesianOptions, CheckOptions, JointLimits, LinearPath,
-    MinJerk, Path, PlotFormat, Quintic, TimeScaled, ToppOptions, Trajectory, TrajectoryError,
-    Trapezoidal,
+    MinJerk, Path, Quintic, TimeScaled, ToppOptions, Trajectory, TrajectoryError, Trapezoidal,
 };
 use nalgebra::{DMatrix, DVector, Rotation3, UnitQuaternion};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -1113,7 +1113,7 @@ fn torque_report_json_table_and_plots() {
     std::fs::create_dir_all(&dir).unwrap();
     let png_path = dir.join("torques.png");
     assert_eq!(PlotFormat::from_path(&png_path), Some(PlotFormat::Png));
-    rep.write_plot(&png_path, PlotFormat::Png).unwrap();
+    write_torque_plot(&rep, &png_path, PlotFormat::Png, None).unwrap();
     let file = std::fs::File::open(&png_path).unwrap();
     let mut reader = png::Decoder::new(std::io::BufReader::new(file))
         .read_info()
@@ -1131,7 +1131,7 @@ fn torque_report_json_table_and_plots() {
         "red {red} blue {blue} text {dark}"
     );
     let svg_path = dir.join("torques.svg");
-    rep.write_plot(&svg_path, PlotFormat::Svg).unwrap();
+    write_torque_plot(&rep, &svg_path, PlotFormat::Svg, None).unwrap();
     let svg = std::fs::read_to_string(&svg_path).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("shoulder_lift_joint"));
     // Written atomically: nothing but the two plots is left in the directory.
@@ -1277,12 +1277,10 @@ fn torque_check_streams_and_caps_the_plot() {
     assert_eq!(lean.samples, full.t.len());
     let dir = std::env::temp_dir().join(format!("armsim-traj-cap-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let e = lean
-        .write_plot(&dir.join("x.png"), PlotFormat::Png)
-        .unwrap_err();
+    let e = write_torque_plot(&lean, &dir.join("x.png"), PlotFormat::Png, None).unwrap_err();
     assert!(e.to_string().contains("keep_series"), "{e}");
     let png_path = dir.join("chain.png");
-    full.write_plot(&png_path, PlotFormat::Png).unwrap();
+    write_torque_plot(&full, &png_path, PlotFormat::Png, None).unwrap();
     let dec = png::Decoder::new(std::io::BufReader::new(
         std::fs::File::open(&png_path).unwrap(),
     ));

@@ -27,7 +27,7 @@ fn finite<'a>(
         .iter()
         .map(|(n, x)| {
             let big = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            format!("|{n}| {}", armsim::io::report::fmt_num(big))
+            format!("|{n}| {}", armsim::core::diag::fmt_num(big))
         })
         .collect();
     Err(format!(

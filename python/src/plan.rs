@@ -10,7 +10,7 @@ use crate::args::vector;
 use crate::errors::{err, require_file};
 use armsim::model::Model;
 use armsim::planning::{moveit, PairSource, PlanOptions, PlanResult, PlanStatus, Planner, PlanningRobot};
-use armsim::model::parse::srdf;
+use armsim::planning::srdf;
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

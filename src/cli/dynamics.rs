@@ -3,9 +3,9 @@
 //! forward-dynamics accelerations.
 
 use crate::cli::{link_id, load, parse_values, print_json, rows, ModelArgs};
+use armsim::core::diag::fmt_num;
 use armsim::core::spatial::{Inertia, Mat3, Vec3};
 use armsim::dynamics::{self, Effects, Friction, Payload, Rotor};
-use armsim::io::report::fmt_num;
 use armsim::model::data::Data;
 use armsim::model::Model;
 use clap::ValueEnum;

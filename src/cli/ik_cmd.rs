@@ -81,7 +81,7 @@ fn parse_pose(s: &str, position_only: bool, what: &str) -> Result<Se3, String> {
     if quat.norm() * big < 1e-9 {
         return Err(format!(
             "{what}: the quaternion's norm {} is too small to give a rotation",
-            armsim::io::report::fmt_num(quat.norm() * big)
+            armsim::core::diag::fmt_num(quat.norm() * big)
         ));
     }
     let r = nalgebra::UnitQuaternion::from_quaternion(quat).to_rotation_matrix();

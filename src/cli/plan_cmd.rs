@@ -12,10 +12,10 @@
 
 use crate::cli::plan_report::{self, Outcome, ReportHeader};
 use armsim::collision::Obstacle;
-use armsim::model::parse::srdf;
 use armsim::model::{LoadOptions, Model};
 use armsim::planning::acm::Acm;
 use armsim::planning::moveit::{self, problem_pairs};
+use armsim::planning::srdf;
 use armsim::planning::{PairSource, PlanOptions, Planner, PlanningRobot};
 use rayon::prelude::*;
 use std::collections::BTreeMap;

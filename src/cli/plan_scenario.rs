@@ -10,7 +10,7 @@
 
 use crate::cli::plan_cmd::PlanArgs;
 use crate::cli::plan_report::{self, Outcome, ReportHeader};
-use armsim::model::parse::srdf;
+use armsim::planning::srdf;
 use armsim::planning::PlanOptions;
 use std::path::Path;
 

@@ -248,7 +248,7 @@ fn check_budget(a: &WorkspaceArgs) -> Result<(), String> {
             "{key}: {} samples would be drawn, more than the budget of 2^32 = {MAX_SAMPLES} \
              (at about 10^7 samples per second, {} s): lower it, or pass --force to run it",
             a.samples.max(drawn),
-            armsim::io::report::fmt_num((drawn as f64 / 1e7).round())
+            armsim::core::diag::fmt_num((drawn as f64 / 1e7).round())
         ));
     }
     Ok(())

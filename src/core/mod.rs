@@ -6,6 +6,7 @@ pub mod diag;
 pub mod fastmath;
 pub mod files;
 pub mod interrupt;
+pub mod least_squares;
 pub mod linalg;
 pub mod spatial;
 pub mod xml_guard;

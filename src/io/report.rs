@@ -1,6 +1,6 @@
-//! What a scenario runner returns: the JSON document and the human summary. A leaf
-//! module, so the runners ([`crate::scenarios::arm`], [`crate::machines::linkage`], [`crate::machines::vibration::torsional`])
-//! do not import the dispatcher ([`crate::scenarios`]) that calls them.
+//! What a scenario runner or study returns: the JSON document and the human summary
+//! ([`Report`]), and the number formatting of human reports ([`human_num`],
+//! [`human_json`]).
 
 /// What a scenario run produced.
 #[derive(Debug, Clone)]
@@ -9,18 +9,6 @@ pub struct Report {
     pub json: serde_json::Value,
     /// The human-readable summary.
     pub text: String,
-}
-
-/// `x` for a message: Rust's shortest form for ordinary magnitudes (`0.25`, `1500`),
-/// `e` notation for very large or very small ones (`1e308`, not 309 digits; `1e-300`),
-/// and `NaN`, `inf`, `-inf` as such.
-pub fn fmt_num(x: f64) -> String {
-    let a = x.abs();
-    if !x.is_finite() || a == 0.0 || (1e-4..1e7).contains(&a) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
 }
 
 /// `x` for a human report: six significant digits, trailing zeros dropped (`89`, not
@@ -78,7 +66,8 @@ pub fn human_json(v: &serde_json::Value) -> String {
 
 #[cfg(test)]
 mod tests {
-    use crate::io::report::{fmt_num, human_json, human_num};
+    use crate::core::diag::fmt_num;
+    use crate::io::report::{human_json, human_num};
 
     #[test]
     fn human_text_rounds_and_names() {

@@ -217,7 +217,7 @@ pub fn project(
     while it < max_iter {
         let j = jacobian(model, data, closures, &q);
         let jf = j.select_columns(&free);
-        let sol = crate::machines::linkage::least_squares::min_norm_solve(&jf, &(-&r), None);
+        let sol = crate::core::least_squares::min_norm_solve(&jf, &(-&r), None);
         rank = sol.rank;
         rows = jf.nrows();
         if norm <= tol {
@@ -278,11 +278,7 @@ pub fn constrained_velocity(
     for &c in fixed {
         rhs -= j.column(c) * qd[c];
     }
-    let sol = crate::machines::linkage::least_squares::min_norm_solve(
-        &j.select_columns(&free),
-        &rhs,
-        None,
-    );
+    let sol = crate::core::least_squares::min_norm_solve(&j.select_columns(&free), &rhs, None);
     for (k, &c) in free.iter().enumerate() {
         qd[c] = sol.x[k];
     }

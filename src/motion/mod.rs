@@ -35,7 +35,6 @@ mod quintic;
 mod topp;
 pub mod torque_check;
 mod trapezoidal;
-pub use crate::io::plots::torque_chart::PlotFormat;
 pub use crate::motion::cartesian::{
     cartesian_line, CartesianMove, CartesianOptions, CartesianReport, SplinePath,
 };

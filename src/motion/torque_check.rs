@@ -19,7 +19,6 @@
 //! part's payload).
 
 use crate::dynamics::{inverse_dynamics, Effects};
-use crate::io::plots::torque_chart::{render, PlotFormat};
 use crate::model::data::Data;
 use crate::model::Model;
 use crate::motion::{time_grid, Trajectory, TrajectoryError};
@@ -389,32 +388,5 @@ impl TorqueReport {
             }
         );
         s
-    }
-
-    /// Renders `τ(t)` against the limits, one panel per joint, and writes it atomically
-    /// (rendered in memory, then [`crate::core::files::write_atomic`]).
-    pub fn write_plot(
-        &self,
-        path: &std::path::Path,
-        format: PlotFormat,
-    ) -> Result<(), TrajectoryError> {
-        self.write_plot_titled(path, format, None)
-    }
-
-    /// [`write_plot`](Self::write_plot) with the scenario's name in the title.
-    pub fn write_plot_titled(
-        &self,
-        path: &std::path::Path,
-        format: PlotFormat,
-        scenario: Option<&str>,
-    ) -> Result<(), TrajectoryError> {
-        if self.t.is_empty() {
-            return Err(TrajectoryError::Output(
-                "plot: the report kept no samples (CheckOptions::keep_series)".into(),
-            ));
-        }
-        let bytes = render(self, format, scenario).map_err(TrajectoryError::Output)?;
-        crate::core::files::write_atomic(path, &bytes)
-            .map_err(|e| TrajectoryError::Output(format!("{}: {e}", path.display())))
     }
 }

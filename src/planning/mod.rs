@@ -21,6 +21,7 @@ pub mod simd;
 pub mod simplify;
 pub mod spheres;
 pub mod spherize;
+pub mod srdf;
 pub mod walls;
 
 pub use checker::{CheckOptions, CheckScratch, Checker};

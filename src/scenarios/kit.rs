@@ -7,9 +7,9 @@
 //! `toml::Spanned`, so a value that parses but is out of range is still reported at its
 //! line.
 
+use crate::core::diag::fmt_num;
 use crate::core::diag::{line_at, LocatedError as ScenarioError};
 use crate::io::plots::panels::{render_panels, Panel};
-use crate::io::report::fmt_num;
 use serde::de::DeserializeOwned;
 use std::ops::Range;
 use std::path::{Path, PathBuf};

@@ -24,6 +24,7 @@ pub mod gear_train_report;
 pub mod isolation;
 pub mod kit;
 pub mod linkage;
+pub mod source;
 pub mod spans;
 pub mod synthesis;
 pub mod torsional;

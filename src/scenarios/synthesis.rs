@@ -208,7 +208,7 @@ fn parse_slider_crank(
                 format!(
                     "{} is out of range: the crank and the rod of one mechanism lie within a \
                      factor 1e9 of each other (at least 1e-9)",
-                    crate::io::report::fmt_num(r)
+                    crate::core::diag::fmt_num(r)
                 ),
             ));
         }

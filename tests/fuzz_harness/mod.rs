@@ -227,7 +227,7 @@ pub fn srdf(data: &[u8]) {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    match armsim::model::parse::srdf::parse_srdf(text, SRDF_FILE) {
+    match armsim::planning::srdf::parse_srdf(text, SRDF_FILE) {
         Ok(s) => {
             for m in [bundled("ur5"), bundled("panda")] {
                 let (pairs, warnings) = s.disabled_pairs(m);

@@ -13,9 +13,9 @@ use armsim::collision::Obstacle;
 use armsim::core::spatial::{Mat3, Se3, Vec3};
 use armsim::kinematics;
 use armsim::model::data::Data;
-use armsim::model::parse::srdf;
 use armsim::model::{Model, Shape, WORLD};
 use armsim::planning::moveit;
+use armsim::planning::srdf;
 use std::collections::HashSet;
 use std::path::PathBuf;
 

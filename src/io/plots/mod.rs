@@ -4,4 +4,4 @@
 pub mod machine_plots;
 pub mod panels;
 pub mod ticks;
-pub(crate) mod torque_chart;
+pub mod torque_chart;

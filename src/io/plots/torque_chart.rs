@@ -10,6 +10,7 @@
 
 use crate::io::plots::ticks::AxisTicks;
 use crate::motion::torque_check::TorqueReport;
+use crate::motion::TrajectoryError;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -385,4 +386,23 @@ fn draw_joint<DB: DrawingBackend>(
             .map_err(err)?;
     }
     Ok(())
+}
+
+/// Renders `τ(t)` against the limits, one panel per joint, and writes it atomically
+/// (rendered in memory, then [`crate::core::files::write_atomic`]); `scenario` names the
+/// scenario in the title.
+pub fn write_torque_plot(
+    report: &TorqueReport,
+    path: &std::path::Path,
+    format: PlotFormat,
+    scenario: Option<&str>,
+) -> Result<(), TrajectoryError> {
+    if report.t.is_empty() {
+        return Err(TrajectoryError::Output(
+            "plot: the report kept no samples (CheckOptions::keep_series)".into(),
+        ));
+    }
+    let bytes = render(report, format, scenario).map_err(TrajectoryError::Output)?;
+    crate::core::files::write_atomic(path, &bytes)
+        .map_err(|e| TrajectoryError::Output(format!("{}: {e}", path.display())))
 }

@@ -24,8 +24,8 @@
 //! exerts on the frame (the negatives of the ground reactions, the driver's reaction
 //! couple included).
 
+use crate::core::least_squares::min_norm_solve;
 use crate::machines::linkage::constraints::{jacobian_mat, row_owners, RowOwner};
-use crate::machines::linkage::least_squares::min_norm_solve;
 use crate::machines::linkage::linkage::{Driver, Joint, Linkage, GROUND};
 use crate::machines::linkage::{cross, rotate, Vec2};
 use nalgebra::DVector;

@@ -14,8 +14,8 @@
 //!   of its singular values measures the distance; below [`SINGULAR_TOL`] the position
 //!   counts as singular. The position itself remains solvable there.
 
+use crate::core::least_squares::{singular_values, RANK_TOL};
 use crate::machines::linkage::constraints::jacobian_mat;
-use crate::machines::linkage::least_squares::{singular_values, RANK_TOL};
 use crate::machines::linkage::linkage::{Joint, Linkage};
 use nalgebra::DVector;
 
@@ -58,7 +58,7 @@ pub fn mobility(l: &Linkage, q: &DVector<f64>) -> Mobility {
     let m = l.kinematic_rows();
     let jac = jacobian_mat(l, q);
     let kin = jac.rows(0, m).into_owned();
-    let rank = crate::machines::linkage::least_squares::rank(&kin);
+    let rank = crate::core::least_squares::rank(&kin);
     let dof = l.ncoords() as i64;
     Mobility {
         links: n,

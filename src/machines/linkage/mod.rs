@@ -41,14 +41,13 @@ pub mod catalog;
 pub mod constraints;
 pub mod fourbar;
 pub mod kinetostatics;
-pub mod least_squares;
 pub mod linkage;
 pub mod mobility;
 pub mod position;
 pub mod sweep;
 pub mod velocity;
 pub mod virtual_power;
-pub use crate::machines::linkage::least_squares::MinNormSolve;
+pub use crate::core::least_squares::MinNormSolve;
 pub use crate::machines::linkage::linkage::{
     Driver, Joint, Link, Linkage, LinkageError, Slider, GROUND,
 };

@@ -11,8 +11,8 @@
 //! starting point:
 //! the sweep ([`crate::machines::linkage::sweep`]) starts each solve from a prediction along the branch.
 
+use crate::core::least_squares::min_norm_solve;
 use crate::machines::linkage::constraints::{jacobian, residual, row_owners, RowOwner};
-use crate::machines::linkage::least_squares::min_norm_solve;
 use crate::machines::linkage::linkage::Linkage;
 use nalgebra::{DMatrix, DVector};
 

@@ -31,11 +31,11 @@
 //! the driver moved to it is singular). They are found by a sign change of the rate
 //! between samples and refined by regula falsi (Illinois) on the branch.
 
+use crate::core::least_squares::Factorization;
 use crate::machines::linkage::branch::{
     indicators, indicators_from, sign, structural_groups, Group, GROUP_SINGULAR_TOL,
 };
 use crate::machines::linkage::constraints::jacobian_mat;
-use crate::machines::linkage::least_squares::Factorization;
 use crate::machines::linkage::linkage::{Joint, Linkage, GROUND};
 use crate::machines::linkage::mobility::{conditioning, conditioning_from, Conditioning};
 use crate::machines::linkage::position::{solve_position, AssemblyError, NewtonOptions};
@@ -111,8 +111,8 @@ impl TrackError {
         match self {
             TrackError::Stuck { at, target, reason } => format!(
                 "the branch cannot be continued past input {}° (toward {}°): {reason}",
-                crate::io::report::fmt_num(at.to_degrees()),
-                crate::io::report::fmt_num(target.to_degrees())
+                crate::core::diag::fmt_num(at.to_degrees()),
+                crate::core::diag::fmt_num(target.to_degrees())
             ),
             e => e.to_string(),
         }

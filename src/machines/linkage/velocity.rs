@@ -16,8 +16,8 @@
 //! `q'' = d²q/ds²`; for any input motion `q̇ = q' ṡ`, `q̈ = q'' ṡ² + q' s̈`, because only
 //! the driver row depends on `s` (and linearly).
 
+use crate::core::least_squares::{min_norm_solve, Factorization, MinNormSolve};
 use crate::machines::linkage::constraints::{gamma, jacobian, jacobian_mat, velocity_rhs};
-use crate::machines::linkage::least_squares::{min_norm_solve, Factorization, MinNormSolve};
 use crate::machines::linkage::linkage::Linkage;
 use nalgebra::{DMatrix, DVector};
 

@@ -38,7 +38,7 @@ pub const DEFAULT_SIM_DT: f64 = 1e-3;
 
 /// `x` in the messages: plain for ordinary magnitudes, else in `e` notation.
 pub fn num(x: f64) -> String {
-    crate::io::report::fmt_num(x)
+    crate::core::diag::fmt_num(x)
 }
 
 /// The task step that lasts longest: `(key, line, duration)`.

@@ -7,11 +7,11 @@
 //! atomically.
 
 use crate::io::plots::ticks::AxisTicks;
+use crate::io::plots::torque_chart::PlotFormat;
 use crate::io::plots::torque_chart::{
     draw_legend, draw_title, encode_png, register_font, LegendEntry, TickedRange, HEADER_HEIGHT,
     LEGEND_WIDTH, MAX_TICKS, PALETTE,
 };
-use crate::motion::PlotFormat;
 use crate::scenarios::arm::run::SimSample;
 use crate::scenarios::arm::scene::Scene;
 use plotters::prelude::*;

@@ -3,7 +3,7 @@
 //! checked to be a regular position from which the sweep's start is reachable), and the
 //! outputs asked for (four-bar, coupler curves, kinetostatics, counterweight).
 
-use crate::io::report::fmt_num;
+use crate::core::diag::fmt_num;
 use crate::scenarios::kit::MAX_SCALE_RATIO;
 use crate::scenarios::linkage::*;
 
@@ -599,9 +599,9 @@ fn report_points_in_reach(
     let (lo, hi) = (sw.from.min(sw.to), sw.from.max(sw.to));
     let shown = |x: f64| {
         if sw.angle_input {
-            format!("{}°", crate::io::report::fmt_num(x.to_degrees()))
+            format!("{}°", crate::core::diag::fmt_num(x.to_degrees()))
         } else {
-            format!("{} m", crate::io::report::fmt_num(x))
+            format!("{} m", crate::core::diag::fmt_num(x))
         }
     };
     for (i, &x) in points.iter().enumerate() {
@@ -618,7 +618,7 @@ fn report_points_in_reach(
                 shown(away),
                 shown(sw.from),
                 shown(sw.to),
-                crate::io::report::fmt_num(MAX_REPORT_STEPS),
+                crate::core::diag::fmt_num(MAX_REPORT_STEPS),
                 shown(max_step)
             )));
         }

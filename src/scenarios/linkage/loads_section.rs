@@ -2,7 +2,7 @@
 //! positions, point forces and torques on links, pin friction, and the flywheel's speed
 //! and torque table, each error naming the file, the line and the key.
 
-use crate::core::diag::{all_finite, LocatedError as ScenarioError, Source};
+use crate::core::diag::{all_finite, LocatedError as ScenarioError};
 use crate::machines::linkage::kinetostatics::{Loads, PointForce};
 use crate::machines::linkage::linkage::Linkage;
 use crate::machines::linkage::Vec2;
@@ -10,6 +10,7 @@ use crate::scenarios::linkage::{
     moving_link, FlywheelScenario, FlywheelSpec, KinetoSpec, KinetostaticsScenario, LoadSpec,
     MechanismScenario,
 };
+use crate::scenarios::source::Source;
 use toml::Spanned;
 
 /// The `[kinetostatics]` table with its `[[loads]]`: gravity, the report positions (the

@@ -1,10 +1,11 @@
 //! The `[rotor_balance]` and `[machine_motion]` sections: the rotor's masses and
 //! correction planes, and the machine's inertia, drive characteristic and time steps.
 
-use crate::core::diag::{all_finite, LocatedError as ScenarioError, Source};
+use crate::core::diag::{all_finite, LocatedError as ScenarioError};
 use crate::machines::balancing::RotorMass;
 use crate::machines::flywheel::machine_motion::Characteristic;
 use crate::scenarios::linkage::{MachineScenario, MachineSpec, RotorScenario, RotorSpec};
+use crate::scenarios::source::Source;
 use toml::Spanned;
 
 pub(super) fn parse_rotor(

@@ -11,12 +11,13 @@ pub use crate::scenarios::torsional::torsional_report::report;
 
 mod torsional_report;
 
-use crate::core::diag::{line_at, LocatedError as ScenarioError, Source};
+use crate::core::diag::{line_at, LocatedError as ScenarioError};
 use crate::io::report::Report;
 use crate::machines::vibration::torsional::forced::Excitation;
 use crate::machines::vibration::torsional::identify::{DampingParameter, Measurement};
 use crate::machines::vibration::torsional::modes::undamped_modes;
 use crate::machines::vibration::torsional::torsional_chain::{ChainError, TorsionalChain};
+use crate::scenarios::source::Source;
 use serde::Deserialize;
 use std::path::Path;
 use toml::Spanned;

@@ -2,11 +2,12 @@
 //! simulation streams into it, finished here), the Rerun log, the plots and CSV files.
 
 use crate::core::diag::LocatedError as ScenarioError;
+use crate::io::plots::torque_chart::{write_torque_plot, PlotFormat};
 use crate::io::record::mcap_out::McapWriter;
 use crate::io::record::obstacle_markers::{markers_of, ObstacleMarker};
 use crate::io::record::{CollisionEvent, Header, TorqueRow};
 use crate::model::data::Data;
-use crate::motion::{PlotFormat, TorqueReport, Trajectory};
+use crate::motion::{TorqueReport, Trajectory};
 use crate::scenarios::arm::run::SimSample;
 use crate::scenarios::arm::scene::Scene;
 use crate::scenarios::arm::sim_plots as plots;
@@ -221,8 +222,7 @@ pub(super) fn write_files(cx: &OutputContext) -> Result<Vec<String>, ScenarioErr
     if let Some(fmt) = scene.outputs.torque_plot {
         let ext = if fmt == PlotFormat::Png { "png" } else { "svg" };
         let p = out_dir.join(format!("{}_torques.{ext}", scene.name));
-        torque
-            .write_plot_titled(&p, fmt, Some(&scene.name))
+        write_torque_plot(torque, &p, fmt, Some(&scene.name))
             .map_err(|e| out_err(e.to_string()))?;
         outputs.push(p.display().to_string());
         if !samples.is_empty() {

@@ -115,7 +115,7 @@ pub struct SimSettings {
 #[derive(Clone, Debug)]
 pub struct Outputs {
     pub dir: Option<PathBuf>,
-    pub torque_plot: Option<crate::motion::PlotFormat>,
+    pub torque_plot: Option<crate::io::plots::torque_chart::PlotFormat>,
     pub report: bool,
     pub trajectory_csv: bool,
     pub simulation_csv: bool,
@@ -184,7 +184,7 @@ pub struct Scene {
 }
 
 /// Error context: the file and its text (the crate's one error builder).
-pub type Ctx<'a> = crate::core::diag::Source<'a>;
+pub type Ctx<'a> = crate::scenarios::source::Source<'a>;
 
 /// What the sections after `[model]` read: the file, the model, its coordinate names,
 /// the tool and the base pose.
@@ -384,7 +384,7 @@ fn get_f(
             key,
             format!(
                 "must be finite and positive (got {})",
-                crate::io::report::fmt_num(*s.get_ref())
+                crate::core::diag::fmt_num(*s.get_ref())
             ),
         )),
     }

@@ -2,7 +2,7 @@
 //! format, report, CSV files, MCAP recording).
 
 use crate::core::diag::LocatedError as ScenarioError;
-use crate::motion::PlotFormat;
+use crate::io::plots::torque_chart::PlotFormat;
 use crate::scenarios::arm::scene::{Outputs, Sections};
 use std::path::PathBuf;
 
@@ -11,10 +11,10 @@ pub(super) fn torque_plot(sx: &Sections) -> Result<Option<PlotFormat>, ScenarioE
     let cx = &sx.cx;
     let osec = sx.file.outputs.as_ref().map(|o| o.get_ref());
     let torque_plot = match osec.and_then(|o| o.torque_plot.as_ref()) {
-        None => Some(crate::motion::PlotFormat::Png),
+        None => Some(crate::io::plots::torque_chart::PlotFormat::Png),
         Some(p) => match p.get_ref().as_str() {
-            "png" => Some(crate::motion::PlotFormat::Png),
-            "svg" => Some(crate::motion::PlotFormat::Svg),
+            "png" => Some(crate::io::plots::torque_chart::PlotFormat::Png),
+            "svg" => Some(crate::io::plots::torque_chart::PlotFormat::Svg),
             "none" => None,
             other => {
                 return Err(cx.at(

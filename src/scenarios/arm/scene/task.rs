@@ -277,7 +277,7 @@ pub(super) fn planner_settings(
         None => None,
         Some(f) => {
             let path = dir.join(f.get_ref());
-            let (pairs, w) = crate::model::parse::srdf::load_disabled_pairs(&path, model)
+            let (pairs, w) = crate::planning::srdf::load_disabled_pairs(&path, model)
                 .map_err(|e| cx.at(f.span(), "planner.srdf", e.to_string()))?;
             warnings.extend(w.iter().map(|w| format!("{w}")));
             Some((path.display().to_string(), pairs))

@@ -121,7 +121,7 @@ pub fn min_norm_solve(
 
 #[cfg(test)]
 mod tests {
-    use crate::machines::linkage::least_squares::*;
+    use crate::core::least_squares::*;
 
     #[test]
     fn min_norm_of_a_rank_one_system_and_the_nearest_to_a_reference() {

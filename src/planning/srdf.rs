@@ -14,7 +14,7 @@
 //! `<enable_collisions>` elements. Filtering the pairs is linear (hash sets).
 //!
 //! ```
-//! use armsim::model::parse::srdf::parse_srdf;
+//! use armsim::planning::srdf::parse_srdf;
 //! let srdf = parse_srdf(
 //!     r#"<robot name="r"><disable_collisions link1="a" link2="b" reason="Adjacent"/></robot>"#,
 //!     "r.srdf",
