@@ -1509,7 +1509,7 @@ fn every_linkage_scenario_runs() {
         }
         let rel = format!("scenarios/{}", p.file_name().unwrap().to_string_lossy());
         let sc = parse(&rel, &text).unwrap_or_else(|e| panic!("{e}"));
-        let r = armsim::scenarios::linkage::report::report(&sc);
+        let r = armsim::scenarios::linkage::report::report(&sc, armsim::scenarios::linkage::NAME);
         assert!(r.json.get("error").is_none(), "{rel}: {}", r.json["error"]);
         assert!(
             r.json.get("stopped").is_none(),

@@ -1,15 +1,18 @@
-//! The textbook's machines beyond arms and linkages (TEXTBOOK_SYSTEMS_2): gear trains and
-//! gear geometry, cams, friction and efficiency. Each topic is a library module with its
-//! scenario `kind`; they share exact arithmetic ([`rational`]) and error location
-//! ([`spans`]).
+//! The machines of the theory-of-machines texts, as algorithms (no file formats, no
+//! pictures; their scenario kinds live in [`crate::scenarios`]):
 //!
-//! - [`gears`]: gear trains (`kind = "gear_train"`, Willis' method, torques with mesh
-//!   losses, coaxiality and assembly) and gear geometry (`kind = "gear_pair"`, involute
-//!   spur/helical, internal, rack, crossed helical, worm and bevel pairs);
-//! - [`cam`]: disc cams (`kind = "cam"`, follower laws, profiles, curvature, pressure
-//!   angle, base radius and offset by search);
-//! - [`friction`]: friction elements and efficiency (`kind = "friction"`);
-//! - [`plots`]: the cam and gear-pair pictures written with `armsim run --out DIR`.
+//! - [`linkage`]: closed-chain planar mechanisms (loop closure, velocities, mobility,
+//!   branches, sweeps, kinetostatics);
+//! - [`synthesis`]: four-bar and slider-crank synthesis, checked by the linkage solver;
+//! - [`instant_centres`]: instant centres and centrodes;
+//! - [`balancing`]: rotor correction masses, slider-crank counterweights, modal balancing
+//!   of flexible rotors;
+//! - [`flywheel`]: flywheel sizing and design, machine motion reduced to the input shaft;
+//! - [`friction`]: friction elements and efficiency, friction circles in joints;
+//! - [`gearing`]: gear trains (Willis' method, torques, assembly) and involute, crossed
+//!   helical, worm and bevel pair geometry, with exact rational ratios;
+//! - [`cams`]: disc cams (follower laws, profiles, curvature, pressure angle);
+//! - [`vibration`]: torsional chains, flexible rotors and vibration isolation.
 
 pub mod balancing;
 pub mod cams;

@@ -76,7 +76,7 @@ struct LimitSpec {
 pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
     let file = path.display().to_string();
     let sc = parse(&file, text)?;
-    let mut r = report(&sc);
+    let mut r = report(&sc, NAME);
     let panels = crate::io::plots::machine_plots::cam_panels(&r.json);
     if let Some(p) = crate::scenarios::kit::write_plot(
         out_dir,
@@ -327,7 +327,7 @@ pub fn parse(file: &str, text: &str) -> Result<CamScenario, ScenarioError> {
         name: f.name.clone().unwrap_or_else(|| {
             Path::new(file)
                 .file_stem()
-                .map_or("cam".into(), |s| s.to_string_lossy().into_owned())
+                .map_or(NAME.into(), |s| s.to_string_lossy().into_owned())
         }),
         omega,
         steps,
@@ -387,4 +387,29 @@ fn motion(cx: &Ctx, ms: &Spanned<MotionSpec>, moving: &str) -> Result<Motion, Sc
         rise_law,
         return_law,
     })
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "cam";
+
+/// The registry entry of `kind = "cam"` ([`crate::scenarios::KINDS`]).
+pub struct CamKind;
+
+impl crate::scenarios::kind::ScenarioKind for CamKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text).map(drop)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text, opts.out_dir.as_deref())
+    }
 }

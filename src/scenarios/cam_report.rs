@@ -225,14 +225,14 @@ fn eccentric_report(sc: &CamScenario, c: &Eccentric, text: &mut String) -> Value
 }
 
 /// The report (see the module docs).
-pub fn report(sc: &CamScenario) -> Report {
+pub fn report(sc: &CamScenario, kind_name: &str) -> Report {
     let mut text = format!("Cam '{}'\n", sc.name);
     let (body, kind) = match &sc.cam {
         Cam::Law(m, f) => (law_report(sc, m, f, &mut text), "law"),
         Cam::Eccentric(c) => (eccentric_report(sc, c, &mut text), "eccentric"),
     };
     let mut json =
-        json!({ "scenario": sc.name, "kind": "cam", "cam": kind, "omega_rad_s": sc.omega });
+        json!({ "scenario": sc.name, "kind": kind_name, "cam": kind, "omega_rad_s": sc.omega });
     if let (Value::Object(dst), Value::Object(src)) = (&mut json, body) {
         dst.extend(src);
     }

@@ -281,7 +281,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
     .ok();
     writeln!(text, "  Kennedy's construction agrees within {kennedy_err:.3e}; arc lengths fixed {af:.6}, moving {am:.6} (finite runs)").ok();
     let j = json!({
-        "kind": "centrodes", "name": sc.name, "mechanism": section,
+        "kind": NAME, "name": sc.name, "mechanism": section,
         "link": l.links[body].name,
         "input_deg": pts.iter().map(|p| p.input.to_degrees()).collect::<Vec<_>>(),
         "fixed": pts.iter().map(|p| pt(p.fixed)).collect::<Vec<_>>(),
@@ -326,7 +326,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             ..Default::default()
         },
     ];
-    finish_with_plot(ctx, out_dir, (&sc.name, "centrodes"), (&panels, 2), j, text)
+    finish_with_plot(ctx, out_dir, (&sc.name, NAME), (&panels, 2), j, text)
 }
 
 /// The four-bar's frame, crank, coupler, rocker, assembly mode and start angle (rad),
@@ -368,4 +368,29 @@ fn four_bar_input(
             .unwrap_or(45.0)
             .to_radians(),
     ))
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "centrodes";
+
+/// The registry entry of `kind = "centrodes"` ([`crate::scenarios::KINDS`]).
+pub struct CentrodesKind;
+
+impl crate::scenarios::kind::ScenarioKind for CentrodesKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text).map(drop)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text, opts.out_dir.as_deref())
+    }
 }

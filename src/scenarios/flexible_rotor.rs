@@ -522,7 +522,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         0.8 * w1 * 30.0 / PI
     )
     .ok();
-    let mut j = json!({ "kind": "flexible_rotor", "name": sc.name, "length": sc.rotor.length(), "elements": fe[0].x.len() - 1, "modes": modes, "rigid_limit": 0.8 * w1 });
+    let mut j = json!({ "kind": NAME, "name": sc.name, "length": sc.rotor.length(), "elements": fe[0].x.len() - 1, "modes": modes, "rigid_limit": 0.8 * w1 });
     if let Some(ws) = sc.max_speed {
         let rigid = ws <= 0.8 * w1;
         writeln!(
@@ -562,4 +562,29 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
             "force_sum": x.iter().sum::<f64>(), "moment_sum": x.iter().zip(planes).map(|(a, b)| a * b).sum::<f64>() });
     }
     finish_with_plot(ctx, out_dir, (&sc.name, "rotor"), (&panels, 1), j, text)
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "flexible_rotor";
+
+/// The registry entry of `kind = "flexible_rotor"` ([`crate::scenarios::KINDS`]).
+pub struct FlexibleRotorKind;
+
+impl crate::scenarios::kind::ScenarioKind for FlexibleRotorKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text).map(drop)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text, opts.out_dir.as_deref())
+    }
 }

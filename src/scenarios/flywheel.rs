@@ -518,7 +518,7 @@ fn cycle_panels(c: &Cycle, s: &fd::CycleSizing, tc: &fd::TimeCheck, panels: &mut
 /// Computes the report of a parsed scenario.
 pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
     let mut text = format!("flywheel: {}\n", sc.name);
-    let mut j = json!({ "kind": "flywheel", "name": sc.name });
+    let mut j = json!({ "kind": NAME, "name": sc.name });
     let mut panels = Vec::new();
     if let Some(c) = &sc.cycle {
         j["cycle"] = cycle_json(c, &mut text, &mut panels);
@@ -540,5 +540,30 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         writeln!(text, "overload: |M_d − M_c| = {:.4} N m, ε ≤ {eps} rad/s²: J ≥ {jt:.5} kg m², flywheel {jf:.5} kg m²", (d - l).abs()).ok();
         j["overload"] = json!({ "required_inertia": jt, "machine_inertia": machine, "flywheel_inertia": jf, "gd2": 4.0 * fd::G * jf });
     }
-    finish_with_plot(ctx, out_dir, (&sc.name, "flywheel"), (&panels, 1), j, text)
+    finish_with_plot(ctx, out_dir, (&sc.name, NAME), (&panels, 1), j, text)
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "flywheel";
+
+/// The registry entry of `kind = "flywheel"` ([`crate::scenarios::KINDS`]).
+pub struct FlywheelKind;
+
+impl crate::scenarios::kind::ScenarioKind for FlywheelKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text).map(drop)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text, opts.out_dir.as_deref())
+    }
 }

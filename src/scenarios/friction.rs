@@ -96,7 +96,7 @@ fn compute(file: &str, text: &str) -> Result<Report, ScenarioError> {
     let name = f.name.clone().unwrap_or_else(|| {
         Path::new(file)
             .file_stem()
-            .map_or("friction".into(), |s| s.to_string_lossy().into_owned())
+            .map_or(NAME.into(), |s| s.to_string_lossy().into_owned())
     });
     let mut text_out = format!("Friction '{name}'\n");
     let mut out = Vec::new();
@@ -119,7 +119,7 @@ fn compute(file: &str, text: &str) -> Result<Report, ScenarioError> {
         out.push(v);
     }
     let mut json =
-        json!({ "scenario": name, "kind": "friction", "elements": out, "total_torque_Nm": total });
+        json!({ "scenario": name, "kind": NAME, "elements": out, "total_torque_Nm": total });
     if let Some(n) = f.speed_rpm {
         json["speed_rpm"] = json!(n);
         json["friction_power_W"] = json!(total * n * PI / 30.0);
@@ -492,4 +492,29 @@ fn band_brake(e: &Element, label: String, need: &Need, err: &Err) -> Result<Valu
             json!(bb.force * r / (need("load_drum_diameter", Some(d), 1e-9, 1e3)? / 2.0));
     }
     Ok(v)
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "friction";
+
+/// The registry entry of `kind = "friction"` ([`crate::scenarios::KINDS`]).
+pub struct FrictionKind;
+
+impl crate::scenarios::kind::ScenarioKind for FrictionKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        _opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text)
+    }
 }

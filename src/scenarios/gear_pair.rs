@@ -61,7 +61,7 @@ struct PairTable {
 pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
     let file = path.display().to_string();
     let sc = parse(&file, text)?;
-    let mut r = report(&sc);
+    let mut r = report(&sc, NAME);
     let panels = crate::io::plots::machine_plots::pair_panels(&r.json);
     if let Some(p) = crate::scenarios::kit::write_plot(
         out_dir,
@@ -95,7 +95,7 @@ pub fn parse(file: &str, text: &str) -> Result<PairScenario, ScenarioError> {
         name: f.name.clone().unwrap_or_else(|| {
             Path::new(file)
                 .file_stem()
-                .map_or("gear_pair".into(), |s| s.to_string_lossy().into_owned())
+                .map_or(NAME.into(), |s| s.to_string_lossy().into_owned())
         }),
         cases,
     })
@@ -507,4 +507,29 @@ fn spatial_case(
         }
     };
     Ok(spatial)
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "gear_pair";
+
+/// The registry entry of `kind = "gear_pair"` ([`crate::scenarios::KINDS`]).
+pub struct GearPairKind;
+
+impl crate::scenarios::kind::ScenarioKind for GearPairKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text).map(drop)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text, opts.out_dir.as_deref())
+    }
 }

@@ -385,7 +385,7 @@ fn spatial_json(c: &PairCase, s: &SpatialCase, text: &mut String) -> Value {
 }
 
 /// The report (see the module docs).
-pub fn report(sc: &PairScenario) -> Report {
+pub fn report(sc: &PairScenario, kind_name: &str) -> Report {
     let mut text = format!("Gear pairs '{}'\n", sc.name);
     let mut pairs = Vec::new();
     for c in &sc.cases {
@@ -397,7 +397,7 @@ pub fn report(sc: &PairScenario) -> Report {
         pairs.push(v);
     }
     Report {
-        json: json!({ "scenario": sc.name, "kind": "gear_pair", "pairs": pairs }),
+        json: json!({ "scenario": sc.name, "kind": kind_name, "pairs": pairs }),
         text,
     }
 }

@@ -109,7 +109,7 @@ pub const MAX_GEARS: usize = 64;
 /// Runs a gear-train scenario: [`parse`], then the report.
 pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
     let sc = parse(&path.display().to_string(), text)?;
-    report(&sc).map_err(|e| locate_plain(&path.display().to_string(), text, &e))
+    report(&sc, NAME).map_err(|e| locate_plain(&path.display().to_string(), text, &e))
 }
 
 /// A gear-train file as an arm joint's transmission ([`crate::scenarios::gear_train_report::Transmission`]):
@@ -123,7 +123,7 @@ pub fn transmission_from_file(
     let kind = toml::from_str::<toml::Table>(&text)
         .ok()
         .and_then(|t| t.get("kind").and_then(|k| k.as_str().map(str::to_string)));
-    if kind.as_deref() != Some("gear_train") {
+    if kind.as_deref() != Some(NAME) {
         return Err(ScenarioError::new(
             &file,
             None,
@@ -378,7 +378,7 @@ pub fn parse(file: &str, text: &str) -> Result<TrainScenario, ScenarioError> {
         name: f.name.clone().unwrap_or_else(|| {
             Path::new(file)
                 .file_stem()
-                .map_or("gear_train".into(), |s| s.to_string_lossy().into_owned())
+                .map_or(NAME.into(), |s| s.to_string_lossy().into_owned())
         }),
         unit,
         train,
@@ -612,4 +612,29 @@ fn build_meshes(f: &FileSpec, gears: &[Gear], default_eta: f64) -> Result<Vec<Me
         });
     }
     Ok(meshes)
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "gear_train";
+
+/// The registry entry of `kind = "gear_train"` ([`crate::scenarios::KINDS`]).
+pub struct GearTrainKind;
+
+impl crate::scenarios::kind::ScenarioKind for GearTrainKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text).map(drop)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        _opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text)
+    }
 }

@@ -188,7 +188,7 @@ fn willis_json(sc: &TrainScenario, text: &mut String) -> Result<Vec<Value>, Trai
 }
 
 /// The report (see the module docs).
-pub fn report(sc: &TrainScenario) -> Result<Report, TrainError> {
+pub fn report(sc: &TrainScenario, kind_name: &str) -> Result<Report, TrainError> {
     let t = &sc.train;
     let omega = sc.omega();
     let mut text = String::new();
@@ -244,7 +244,7 @@ pub fn report(sc: &TrainScenario) -> Result<Report, TrainError> {
     }
     let mut json = json!({
         "scenario": sc.name,
-        "kind": "gear_train",
+        "kind": kind_name,
         "classification": class,
         "speed_unit": sc.unit,
         "mobility": { "structural": w, "kinematic": dof, "moving_links": n, "lower_pairs": p5, "gear_meshes": p4 },

@@ -486,7 +486,7 @@ fn curves_json(
 /// Computes the report of a parsed scenario.
 pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
     let mut text = format!("isolation: {}\n", sc.name);
-    let mut j = json!({ "kind": "isolation", "name": sc.name });
+    let mut j = json!({ "kind": NAME, "name": sc.name });
     let mut panels = Vec::new();
     if sc.mount.is_some() {
         j["mount"] = mount_json(sc, &mut text);
@@ -548,5 +548,30 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
         });
         j["absorber"] = v;
     }
-    finish_with_plot(ctx, out_dir, (&sc.name, "isolation"), (&panels, 1), j, text)
+    finish_with_plot(ctx, out_dir, (&sc.name, NAME), (&panels, 1), j, text)
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "isolation";
+
+/// The registry entry of `kind = "isolation"` ([`crate::scenarios::KINDS`]).
+pub struct IsolationKind;
+
+impl crate::scenarios::kind::ScenarioKind for IsolationKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text).map(drop)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text, opts.out_dir.as_deref())
+    }
 }

@@ -690,7 +690,7 @@ fn function_json(
 /// Computes the report of a parsed scenario.
 pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
     let mut text = format!("synthesis: {}\n", sc.name);
-    let mut j = json!({ "kind": "synthesis", "name": sc.name });
+    let mut j = json!({ "kind": NAME, "name": sc.name });
     let mut panels = Vec::new();
     if let Some(s) = &sc.crank_rocker {
         j["crank_rocker"] = crank_rocker_json(ctx, s, &mut text)?;
@@ -704,5 +704,30 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
     if let Some(s) = &sc.function {
         j["function"] = function_json(ctx, s, &mut text, &mut panels)?;
     }
-    finish_with_plot(ctx, out_dir, (&sc.name, "synthesis"), (&panels, 1), j, text)
+    finish_with_plot(ctx, out_dir, (&sc.name, NAME), (&panels, 1), j, text)
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "synthesis";
+
+/// The registry entry of `kind = "synthesis"` ([`crate::scenarios::KINDS`]).
+pub struct SynthesisKind;
+
+impl crate::scenarios::kind::ScenarioKind for SynthesisKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text).map(drop)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text, opts.out_dir.as_deref())
+    }
 }

@@ -1,12 +1,11 @@
-//! Disc cams (TEXTBOOK_SYSTEMS_2 §3), `kind = "cam"`:
+//! Disc cams (TEXTBOOK_SYSTEMS_2 §3):
 //!
 //! - [`laws`]: follower motion laws and dwell–rise–dwell–return timing;
 //! - [`profile`]: law cams with translating (knife, roller, flat) and oscillating
 //!   (knife, roller) followers: profiles, curvature, pressure angle, base-radius and
 //!   offset search;
 //! - [`eccentric`]: the circular eccentric cam (translating followers, oscillating flat
-//!   face);
-//! - [`scenario`] and [`report`]: the scenario files and their output.
+//!   face).
 pub mod eccentric;
 pub mod laws;
 pub mod profile;

@@ -1,8 +1,8 @@
-//! Friction and efficiency (TEXTBOOK_SYSTEMS_2 §4), `kind = "friction"`:
+//! Friction and efficiency (TEXTBOOK_SYSTEMS_2 §4):
 //!
 //! - [`elements`]: closed forms for inclines, slides, screws, wedges, journals, collars,
 //!   rolling, band brakes and belts; efficiency, reverse efficiency, self-locking;
-//! - [`scenario`]: the scenario files and their output.
+//! - [`friction_circle`]: friction in a linkage's joints by friction circles.
 
 pub mod elements;
 pub mod friction_circle;

@@ -1,17 +1,17 @@
-//! Gear trains (TEXTBOOK_SYSTEMS_2 §1). One concern per file:
+//! Gears (TEXTBOOK_SYSTEMS_2 §1 and §2). One concern per file:
 //!
-//! - [`train`]: the description (gears, bodies, carriers, meshes), mesh frames, mobility
-//!   and classification;
+//! - [`train`]: the gear-train description (gears, bodies, carriers, meshes), mesh
+//!   frames, mobility and classification;
 //! - [`assembly`]: coaxiality, missing tooth counts, equal-spacing assembly and neighbour
 //!   conditions;
 //! - [`willis`]: exact speeds by Willis' method (null space of the mesh equations);
 //! - [`torques`]: torques from equilibrium with mesh efficiencies (relative power flow);
-//! - [`train_scenario`] and [`train_report`]: `kind = "gear_train"` files and output;
+//! - [`rational`]: exact rational numbers for the ratios;
 //! - [`involute`]: `inv`, its inverse, thickness at a radius, flank points;
 //! - [`pair`]: involute spur/helical pairs (external, internal, rack);
-//! - [`spatial`]: crossed helical, worm and bevel pairs;
-//! - [`design`]: the textbook's pair design for a centre distance (balanced sliding);
-//! - [`pair_scenario`] and [`pair_report`]: `kind = "gear_pair"` files and output.
+//! - [`crossed_axes`]: crossed helical, worm and bevel pairs;
+//! - [`pair_design`]: the textbook's pair design for a centre distance (balanced
+//!   sliding).
 //!
 //! ```
 //! use armsim::machines::gearing::rational::Ratio;

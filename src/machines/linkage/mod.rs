@@ -1,6 +1,5 @@
 //! Closed-chain planar mechanisms: loop closure with branch tracking, velocities and
-//! accelerations through the constraint Jacobian, kinetostatics, balancing, flywheels and
-//! machine motion; plus loop closure constraints on the spatial tree [`crate::model::Model`].
+//! accelerations through the constraint Jacobian, mobility, and kinetostatics.
 //!
 //! The planar formulation is the body-coordinate one of Haug, *Computer-Aided Kinematics
 //! and Dynamics of Mechanical Systems* (1989), ch. 3 and 6, and Nikravesh, *Computer-Aided
@@ -8,33 +7,24 @@
 //! `(x_i, y_i, θ_i)` of its centre of mass and angle, and the joints and the driver give
 //! constraint equations `Φ(q, s) = 0` with `s` the input (crank angle or slider position).
 //!
-//! One algorithm per file:
-//! - [`linalg`]: the minimum-norm (SVD) solve everything above uses;
+//! One algorithm per file (the minimum-norm solve they share is
+//! [`crate::core::least_squares`]):
 //! - [`linkage`]: the description (ground points, links with named points and inertia,
 //!   pins, sliders, the driver);
 //! - [`constraints`]: `Φ`, its Jacobian `Φ_q`, `−Φ_t` and the acceleration right side `γ`;
 //! - [`position`]: Newton's method on `Φ(q, s) = 0`;
-//! - [`motion`]: `Φ_q q̇ = −Φ_t`, `Φ_q q̈ = γ` by a minimum-norm solve;
+//! - [`velocity`]: `Φ_q q̇ = −Φ_t`, `Φ_q q̈ = γ` by a minimum-norm solve;
 //! - [`mobility`]: Grübler's count checked by the rank of `Φ_q`, singular positions;
 //! - [`branch`]: the structural groups of the linkage and their assembly-mode signs;
 //! - [`sweep`]: continuation over the input with branch tracking, dead centres, extremes;
 //! - [`fourbar`]: Grashof classification, transmission angle, closed-form four-bar;
 //! - [`kinetostatics`]: joint forces and driving effort from `M q̈ − Φ_qᵀ λ = Q`;
 //! - [`virtual_power`]: the driving effort from `Σ F·v + M ω = 0`;
-//! - [`balancing`]: rotor correction masses, slider-crank counterweights, shaking force;
-//! - [`flywheel`]: energy fluctuation and flywheel inertia;
-//! - [`flywheel_design`], [`flywheel_scenario`]: turning-moment diagrams, speed band,
-//!   rim, time check, work stroke and overload (`kind = "flywheel"`);
-//! - [`machine_motion`]: `J ω̇ = M_d(ω) − M_load` from rest;
-//! - [`spatial_loop`]: frame-coincidence constraints on the tree model and Newton
-//!   projection onto them;
-//! - [`synthesis`], [`synthesis_check`], [`synthesis_scenario`]: limit-position,
-//!   time-ratio and Freudenstein synthesis, checked by the linkage solver
-//!   (`kind = "synthesis"`);
-//! - [`centrode`], [`centrode_scenario`]: instant centres and the fixed and moving
-//!   centrodes along a tracked sweep (`kind = "centrodes"`);
-//! - [`catalog`]: standard linkages (slider-crank, four-bar, Scotch yoke) built in code;
-//! - [`scenario`] and [`report`]: `kind = "linkage"` scenario files and their output.
+//! - [`catalog`]: standard linkages (slider-crank, four-bar, Scotch yoke) built in code.
+//!
+//! Synthesis, centrodes, balancing, flywheels and friction circles are siblings in
+//! [`crate::machines`]; loop closure on the spatial tree is
+//! [`crate::kinematics::spatial_loop`].
 
 pub mod branch;
 pub mod catalog;

@@ -1,4 +1,4 @@
-//! The linkage part of a `kind = "linkage"` scenario, read section by section: the links,
+//! The linkage part of a linkage scenario, read section by section: the links,
 //! the ground points, the sliders, the driver, the sweep, the assembly (from `[guess]`,
 //! checked to be a regular position from which the sweep's start is reachable), and the
 //! outputs asked for (four-bar, coupler curves, kinetostatics, counterweight).
@@ -17,7 +17,10 @@ pub(super) fn parse_mechanism(
     let sliders = parse_sliders(cx, spec, &links)?;
     let (driver, angle_input, dspan) = parse_driver(cx, spec, &links, &link_lines)?;
     let d = spec.driver.as_ref().expect("parsed").get_ref();
-    let lname = spec.name.clone().unwrap_or_else(|| "linkage".into());
+    let lname = spec
+        .name
+        .clone()
+        .unwrap_or_else(|| crate::scenarios::linkage::NAME.into());
     let linkage = Linkage::with_shared_pins(lname, ground, links, sliders, driver);
     linkage
         .validate()

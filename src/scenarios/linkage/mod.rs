@@ -314,7 +314,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         Path::new(file)
             .file_stem()
             .and_then(|s| s.to_str())
-            .unwrap_or("linkage")
+            .unwrap_or(NAME)
             .to_string()
     });
     let mechanism = match &spec.links {
@@ -498,5 +498,30 @@ fn text_line_of_table(text: &str, table: &str) -> Option<usize> {
 /// Runs a linkage scenario: parses it and produces the report.
 pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
     let sc = parse(&path.display().to_string(), text)?;
-    Ok(crate::scenarios::linkage::report::report(&sc))
+    Ok(crate::scenarios::linkage::report::report(&sc, NAME))
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "linkage";
+
+/// The registry entry of `kind = "linkage"` ([`crate::scenarios::KINDS`]).
+pub struct LinkageKind;
+
+impl crate::scenarios::kind::ScenarioKind for LinkageKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text).map(drop)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        _opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text)
+    }
 }

@@ -156,7 +156,7 @@ struct Identification {
 
 /// Runs a torsional-chain scenario: [`parse`], then [`report`].
 pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
-    report(&parse(&path.display().to_string(), text)?)
+    report(&parse(&path.display().to_string(), text)?, NAME)
 }
 
 /// The `[chain]` table: names, inertias, stiffnesses and dampers, validated, at most
@@ -655,4 +655,29 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         time_check,
         ident,
     })
+}
+
+/// The `kind` value of these scenario files.
+pub const NAME: &str = "torsional";
+
+/// The registry entry of `kind = "torsional"` ([`crate::scenarios::KINDS`]).
+pub struct TorsionalKind;
+
+impl crate::scenarios::kind::ScenarioKind for TorsionalKind {
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
+        parse(file, text).map(drop)
+    }
+
+    fn run(
+        &self,
+        path: &std::path::Path,
+        text: &str,
+        _opts: &crate::scenarios::kind::RunOptions,
+    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
+        run(path, text)
+    }
 }

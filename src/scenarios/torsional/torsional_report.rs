@@ -390,7 +390,7 @@ fn identification_report(
 
 /// The analyses of a parsed scenario: modes, damped modes, forced response, time-domain
 /// check and identification.
-pub fn report(sc: &Scenario) -> Result<Report, ScenarioError> {
+pub fn report(sc: &Scenario, kind_name: &str) -> Result<Report, ScenarioError> {
     let Scenario {
         file,
         name,
@@ -452,7 +452,7 @@ pub fn report(sc: &Scenario) -> Result<Report, ScenarioError> {
 
     let mut json = json!({
         "scenario": name,
-        "kind": "torsional",
+        "kind": kind_name,
         "masses": masses,
         "shafts": shafts,
         "modes": modes_json,

@@ -1,9 +1,9 @@
 //! Torsional drivetrain chains (TEXTBOOK_SYSTEMS §3): rigid disks on massless shafts with
 //! absolute and relative damping, `J φ̈ + B φ̇ + K φ = M(t)`. One algorithm per file:
 //!
-//! - [`chain`]: the model, its matrices, and the same chain as an armsim
+//! - [`torsional_chain`]: the model, its matrices, and the same chain as an armsim
 //!   [`crate::model::Model`] (coaxial revolute joints, coordinates = twists);
-//! - [`gear`]: gear stages and referral to the input speed (`× i²`);
+//! - [`gear_stages`]: gear stages and referral to the input speed (`× i²`);
 //! - [`modes`]: undamped modes, `K x = p² J x` (symmetric eigen of `J^{-1/2} K J^{-1/2}`);
 //! - [`damped`]: damped complex modes, `(λ² J + λ B + K) x = 0` via the 2n state form;
 //! - [`forced`]: forced steady state per engine order, speed sweeps, critical speeds;
@@ -13,13 +13,7 @@
 //!   (Levenberg–Marquardt, standard errors from `σ² (JᵀJ)⁻¹`);
 //! - [`holzer`]: Holzer transfer matrices, residual torque, node-count bisection;
 //! - [`lr`]: Rutishauser's LR iteration (a second eigenvalue route);
-//! - [`absorber`]: tuned absorber and Lanchester damper closed forms;
-//! - [`flexible_rotor`], [`rotor_transfer`], [`rotor_balancing`], [`rotor_scenario`]:
-//!   bending of a flexible rotor (a continuous drivetrain): finite elements checked by
-//!   transfer matrices, unbalance response, modal balancing (`kind = "flexible_rotor"`);
-//! - [`isolation`], [`isolation_scenario`]: 1-DOF mounts, transmissibility, isolator
-//!   selection, shock mounts and the dynamic absorber (`kind = "isolation"`);
-//! - [`scenario`]: `kind = "torsional"` scenario files for `armsim run`.
+//! - [`absorber`]: tuned absorber and Lanchester damper closed forms.
 //!
 //! ```
 //! use armsim::machines::vibration::torsional::torsional_chain::TorsionalChain;

@@ -17,43 +17,9 @@ use crate::motion::{check_torques, check_torques_switched, CheckOptions, TorqueR
 use crate::scenarios::arm::contact::ContactReport;
 use crate::scenarios::arm::scene::Scene;
 use crate::scenarios::arm::task_motion::{plan, Plan};
+pub use crate::scenarios::kind::RunOptions;
 use serde_json::{json, Map, Value};
-use std::path::PathBuf;
 use std::time::Instant;
-
-/// Options of a run that do not come from the file.
-#[derive(Clone)]
-pub struct RunOptions {
-    /// Output directory (overrides `[outputs] dir`; default `out/<name>`).
-    pub out_dir: Option<PathBuf>,
-    /// Write output files at all.
-    pub write_files: bool,
-    /// Polled during the simulation: `true` stops it (SIGINT).
-    pub stop: fn() -> bool,
-    /// Also log the run to Rerun (an `.rrd` file or a spawned viewer).
-    pub rerun: Option<crate::io::record::rerun::rerun_out::RerunSink>,
-    /// Directories searched first for `package://` mesh URIs (`--package-path`).
-    pub package_path: Vec<PathBuf>,
-    /// Keep the recording's robot description's mesh URIs as the model file writes them
-    /// instead of absolute `file://` URIs (`--keep-mesh-uris`).
-    pub keep_mesh_uris: bool,
-    /// Refuse a model that loads only with warnings (`--strict`).
-    pub strict: bool,
-}
-
-impl Default for RunOptions {
-    fn default() -> Self {
-        RunOptions {
-            out_dir: None,
-            write_files: true,
-            stop: || false,
-            rerun: None,
-            package_path: Vec::new(),
-            keep_mesh_uris: false,
-            strict: false,
-        }
-    }
-}
 
 /// One recorded simulation sample.
 #[derive(Clone, Debug)]

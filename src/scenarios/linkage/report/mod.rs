@@ -574,11 +574,11 @@ fn machine_motion_json(mm: &MachineScenario, json: &mut Map<String, Value>, text
 }
 
 /// Builds the report of a parsed scenario.
-pub fn report(sc: &Scenario) -> Report {
+pub fn report(sc: &Scenario, kind_name: &str) -> Report {
     let mut json = Map::new();
     let mut text = String::new();
     json.insert("name".into(), json!(sc.name));
-    json.insert("kind".into(), json!("linkage"));
+    json.insert("kind".into(), json!(kind_name));
     let _ = writeln!(text, "{} ({})", sc.name, sc.file);
     if let Some(d) = &sc.description {
         json.insert("description".into(), json!(d));

@@ -1,0 +1,53 @@
+//! What a scenario kind is to the registry ([`crate::scenarios::KINDS`]): the name its
+//! files give in `kind = "…"`, a check that parses and validates a file without running
+//! it, and a run that returns the [`Report`]. Also the [`RunOptions`] every run takes.
+
+use crate::core::diag::LocatedError as ScenarioError;
+use crate::io::report::Report;
+use std::path::{Path, PathBuf};
+
+/// One scenario kind. Each kind's module implements it on a unit struct; the registry
+/// lists them.
+pub trait ScenarioKind: Sync {
+    /// The value of the file's top-level `kind` key.
+    fn name(&self) -> &'static str;
+    /// Parses and validates `text` (named `file` in messages): no analyses, no files
+    /// written (the fuzz targets' entry).
+    fn check(&self, file: &str, text: &str) -> Result<(), ScenarioError>;
+    /// Runs the scenario read from `path` (its text is `text`).
+    fn run(&self, path: &Path, text: &str, opts: &RunOptions) -> Result<Report, ScenarioError>;
+}
+
+/// Options of a run that do not come from the file.
+#[derive(Clone)]
+pub struct RunOptions {
+    /// Output directory (overrides `[outputs] dir`; default `out/<name>`).
+    pub out_dir: Option<PathBuf>,
+    /// Write output files at all.
+    pub write_files: bool,
+    /// Polled during the simulation: `true` stops it (SIGINT).
+    pub stop: fn() -> bool,
+    /// Also log the run to Rerun (an `.rrd` file or a spawned viewer).
+    pub rerun: Option<crate::io::record::rerun::rerun_out::RerunSink>,
+    /// Directories searched first for `package://` mesh URIs (`--package-path`).
+    pub package_path: Vec<PathBuf>,
+    /// Keep the recording's robot description's mesh URIs as the model file writes them
+    /// instead of absolute `file://` URIs (`--keep-mesh-uris`).
+    pub keep_mesh_uris: bool,
+    /// Refuse a model that loads only with warnings (`--strict`).
+    pub strict: bool,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions {
+            out_dir: None,
+            write_files: true,
+            stop: || false,
+            rerun: None,
+            package_path: Vec::new(),
+            keep_mesh_uris: false,
+            strict: false,
+        }
+    }
+}
