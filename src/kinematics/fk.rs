@@ -12,7 +12,6 @@
 //! the classical acceleration of a point (see [`frame_classical_acceleration`]).
 
 use crate::core::spatial::{column, unit, Mat3, Motion, Se3, Vec3};
-use crate::kinematics::jacobian::Expressed;
 use crate::model::data::Data;
 use crate::model::{BodyKind, Model, WORLD};
 
@@ -314,6 +313,28 @@ pub fn frame_classical_acceleration(
         _ => {
             let r = frame_placement(model, data, link).rot;
             Motion::new(r * local.v, r * local.w)
+        }
+    }
+}
+
+/// Which expression a Jacobian or velocity is given in (see [`crate::kinematics::jacobian`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Expressed {
+    /// World axes, world origin as reference point.
+    World,
+    /// Frame axes, frame origin.
+    Local,
+    /// World axes, frame origin.
+    WorldAligned,
+}
+
+impl Expressed {
+    /// CLI spelling.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Expressed::World => "world",
+            Expressed::Local => "local",
+            Expressed::WorldAligned => "world-aligned",
         }
     }
 }

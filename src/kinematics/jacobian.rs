@@ -25,27 +25,7 @@ use crate::model::data::Data;
 use crate::model::{BodyKind, Model, WORLD};
 use nalgebra::DMatrix;
 
-/// Which expression a Jacobian or velocity is given in (see the module docs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Expressed {
-    /// World axes, world origin as reference point.
-    World,
-    /// Frame axes, frame origin.
-    Local,
-    /// World axes, frame origin.
-    WorldAligned,
-}
-
-impl Expressed {
-    /// CLI spelling.
-    pub fn as_str(&self) -> &'static str {
-        match self {
-            Expressed::World => "world",
-            Expressed::Local => "local",
-            Expressed::WorldAligned => "world-aligned",
-        }
-    }
-}
+pub use crate::kinematics::fk::Expressed;
 
 #[inline(always)]
 fn world_subspace(kind: BodyKind, o_m_i: &Se3) -> Motion {

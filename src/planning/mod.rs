@@ -12,6 +12,7 @@ pub mod lanes;
 pub mod mesh_sdf;
 pub mod moveit;
 pub mod plan_error;
+pub mod plan_options;
 pub mod planner;
 pub mod rrt;
 pub mod sampler;

@@ -11,57 +11,17 @@
 
 use crate::collision::Obstacle;
 use crate::model::Model;
-use crate::planning::checker::{CheckOptions, CheckScratch, Checker, EdgeMode};
+use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
 use crate::planning::environment::Environment;
-use crate::planning::rrt::{Rrt, RrtOptions, SearchEnd, SearchLimit};
-use crate::planning::sampler::{bounds, Sampler, SamplerKind};
+pub use crate::planning::plan_options::PlanOptions;
+use crate::planning::rrt::{Rrt, SearchEnd, SearchLimit};
+use crate::planning::sampler::{bounds, Sampler};
 use crate::planning::setup::PlanningRobot;
-use crate::planning::simplify::{path_length, Simplifier, SimplifyOptions};
-use crate::planning::spheres::SphereOptions;
+use crate::planning::simplify::{path_length, Simplifier};
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
-
-/// Everything a query can be told.
-#[derive(Clone, Debug)]
-pub struct PlanOptions {
-    /// Seed of the sampler and of the simplifier's random choices.
-    pub seed: u64,
-    /// Wall-clock limit of the search (simplification is not counted).
-    pub time_limit: Option<Duration>,
-    /// Simplify the path.
-    pub simplify: bool,
-    /// Sample sequence.
-    pub sampler: SamplerKind,
-    /// Search settings.
-    pub rrt: RrtOptions,
-    /// Collision-check settings.
-    pub check: CheckOptions,
-    /// Simplification settings.
-    pub simplifier: SimplifyOptions,
-    /// Sphere generation settings.
-    pub spheres: SphereOptions,
-    /// Raised (by a Ctrl-C handler, another thread) to stop the set-up's sampling and the
-    /// search; the query then fails with the reason "interrupted".
-    pub stop: Option<Arc<AtomicBool>>,
-}
-
-impl Default for PlanOptions {
-    fn default() -> Self {
-        Self {
-            seed: 0,
-            time_limit: None,
-            simplify: true,
-            sampler: SamplerKind::Halton,
-            rrt: RrtOptions::default(),
-            check: CheckOptions::default(),
-            simplifier: SimplifyOptions::default(),
-            spheres: SphereOptions::default(),
-            stop: None,
-        }
-    }
-}
+use std::time::Instant;
 
 /// How a query ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

@@ -2,6 +2,7 @@
 //! table, the plots and a reading generated from the numbers), one PNG per plot and
 //! `tradeoffs.json` (every figure), all written atomically into one directory.
 
+use crate::io::report::fmt_ns;
 use crate::studies::tradeoffs::formulations::NAMES as FORMULATIONS;
 use crate::studies::tradeoffs::ik_study::{ANALYTIC, NUMERIC, QP};
 use crate::studies::tradeoffs::integrators::{median_step_us, Outcome, METHODS};
@@ -15,21 +16,6 @@ use std::path::{Path, PathBuf};
 pub const MARKDOWN: &str = "tradeoffs.md";
 /// File name of the JSON figures.
 pub const JSON: &str = "tradeoffs.json";
-
-/// `12.3 µs`, `4.56 ms`, `789 ns` from nanoseconds.
-pub fn fmt_ns(ns: f64) -> String {
-    if !ns.is_finite() {
-        "–".into()
-    } else if ns >= 1e9 {
-        format!("{:.2} s", ns * 1e-9)
-    } else if ns >= 1e6 {
-        format!("{:.2} ms", ns * 1e-6)
-    } else if ns >= 1e3 {
-        format!("{:.2} µs", ns * 1e-3)
-    } else {
-        format!("{ns:.0} ns")
-    }
-}
 
 /// `1.2e-5` (or `0` / `–`).
 pub fn sci(x: f64) -> String {

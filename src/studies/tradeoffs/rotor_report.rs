@@ -3,7 +3,7 @@
 //! reading (the fitted convergence order and the elements each mode needs for 0.1 %).
 
 use crate::io::plots::panels::{render_panels, Legend, Panel, Series, PALETTE};
-use crate::studies::tradeoffs::markdown::fmt_ns;
+use crate::io::report::fmt_ns;
 use crate::studies::tradeoffs::rotor_study::{RotorCase, RotorStudy, MODES};
 use std::fmt::Write as _;
 

@@ -1,0 +1,52 @@
+//! [`PlanOptions`]: everything a planning query can be told (seed, time limit, sampler,
+//! search, collision-check, simplification and sphere settings, the stop flag), shared by
+//! the robot's set-up and the planner.
+
+use crate::planning::checker::CheckOptions;
+use crate::planning::rrt::RrtOptions;
+use crate::planning::sampler::SamplerKind;
+use crate::planning::simplify::SimplifyOptions;
+use crate::planning::spheres::SphereOptions;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::Duration;
+
+/// Everything a query can be told.
+#[derive(Clone, Debug)]
+pub struct PlanOptions {
+    /// Seed of the sampler and of the simplifier's random choices.
+    pub seed: u64,
+    /// Wall-clock limit of the search (simplification is not counted).
+    pub time_limit: Option<Duration>,
+    /// Simplify the path.
+    pub simplify: bool,
+    /// Sample sequence.
+    pub sampler: SamplerKind,
+    /// Search settings.
+    pub rrt: RrtOptions,
+    /// Collision-check settings.
+    pub check: CheckOptions,
+    /// Simplification settings.
+    pub simplifier: SimplifyOptions,
+    /// Sphere generation settings.
+    pub spheres: SphereOptions,
+    /// Raised (by a Ctrl-C handler, another thread) to stop the set-up's sampling and the
+    /// search; the query then fails with the reason "interrupted".
+    pub stop: Option<Arc<AtomicBool>>,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            time_limit: None,
+            simplify: true,
+            sampler: SamplerKind::Halton,
+            rrt: RrtOptions::default(),
+            check: CheckOptions::default(),
+            simplifier: SimplifyOptions::default(),
+            spheres: SphereOptions::default(),
+            stop: None,
+        }
+    }
+}
