@@ -2,9 +2,11 @@
 //! files give in `kind = "…"`, a check that parses and validates a file without running
 //! it, and a run that returns the [`Report`]. Also the [`RunOptions`] every run takes.
 
-use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::report::Report;
 use std::path::{Path, PathBuf};
+
+/// An error in a scenario file (the crate's one located error).
+pub type ScenarioError = crate::core::diag::LocatedError;
 
 /// One scenario kind. Each kind's module implements it on a unit struct; the registry
 /// lists them.

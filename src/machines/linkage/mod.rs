@@ -33,7 +33,7 @@ pub mod fourbar;
 pub mod kinetostatics;
 pub mod linkage;
 pub mod mobility;
-pub mod plane;
+pub mod planar;
 pub mod position;
 pub mod sweep;
 pub mod velocity;
@@ -43,4 +43,4 @@ pub use crate::machines::linkage::linkage::{
     Driver, Joint, Link, Linkage, LinkageError, Slider, GROUND,
 };
 
-pub use crate::machines::linkage::plane::{cross, perp, rotate, wrap_angle, Vec2};
+pub use crate::machines::linkage::planar::{cross, perp, rotate, wrap_angle, Vec2};
