@@ -8,7 +8,7 @@ use crate::machines::cams::eccentric::{Eccentric, EccentricFollower};
 use crate::machines::cams::laws::{Law, Motion};
 use crate::machines::cams::profile::Follower;
 use crate::scenarios::cam_report::{report, Cam, CamScenario};
-use crate::scenarios::spans::{in_range, Ctx};
+use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
 use std::fmt::Write;
 use std::path::Path;
@@ -206,7 +206,7 @@ fn law_follower(
 }
 
 /// The `[limits]` pressure angles (rad), rise and return.
-fn pressure_limits(cx: &Ctx, l: &Spanned<LimitSpec>) -> Result<(f64, f64), ScenarioError> {
+fn pressure_limits(cx: &Source, l: &Spanned<LimitSpec>) -> Result<(f64, f64), ScenarioError> {
     let ls = l.get_ref();
     let a = ls.pressure_angle_deg;
     let b = ls.return_pressure_angle_deg.unwrap_or(a);
@@ -224,7 +224,7 @@ fn pressure_limits(cx: &Ctx, l: &Spanned<LimitSpec>) -> Result<(f64, f64), Scena
 }
 
 /// The cam speed (rad/s, default 1) and the steps per turn (default 360).
-fn speed_and_steps(cx: &Ctx, f: &FileSpec) -> Result<(f64, usize), ScenarioError> {
+fn speed_and_steps(cx: &Source, f: &FileSpec) -> Result<(f64, usize), ScenarioError> {
     let omega = match &f.speed_rpm {
         None => 1.0,
         Some(n) if in_range(*n.get_ref(), 1e-9, 1e7) => n.get_ref() * std::f64::consts::PI / 30.0,
@@ -240,7 +240,7 @@ fn speed_and_steps(cx: &Ctx, f: &FileSpec) -> Result<(f64, usize), ScenarioError
 
 /// Parses and checks `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<CamScenario, ScenarioError> {
-    let cx = Ctx::new(file, text);
+    let cx = Source::new(file, text);
     let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
     let (omega, steps) = speed_and_steps(&cx, &f)?;
     let fs = &f.follower;
@@ -336,7 +336,7 @@ pub fn parse(file: &str, text: &str) -> Result<CamScenario, ScenarioError> {
     })
 }
 
-fn motion(cx: &Ctx, ms: &Spanned<MotionSpec>, moving: &str) -> Result<Motion, ScenarioError> {
+fn motion(cx: &Source, ms: &Spanned<MotionSpec>, moving: &str) -> Result<Motion, ScenarioError> {
     let m = ms.get_ref();
     let err = |k: &str, msg: String| cx.field(ms.span(), k, format!("motion.{k}"), msg);
     let stroke = match (moving, m.stroke, m.swing_deg) {

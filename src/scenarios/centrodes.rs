@@ -13,7 +13,8 @@ use crate::machines::linkage::linkage::Linkage;
 use crate::machines::linkage::position::NewtonOptions;
 use crate::machines::linkage::sweep::{sweep, State, SweepOptions};
 use crate::machines::linkage::Vec2;
-use crate::scenarios::kit::{finish_with_plot, scenario_name, Ctx};
+use crate::scenarios::kit::{finish_with_plot, scenario_name};
+use crate::scenarios::source::Source;
 use nalgebra::DVector;
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -80,7 +81,7 @@ pub struct Scenario {
 
 /// Parses and validates `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
-    let ctx = Ctx::new(file, text);
+    let ctx = Source::new(file, text);
     let f: File = ctx.parse()?;
     let step = f
         .step_deg
@@ -179,7 +180,7 @@ fn pt(p: Option<Vec2>) -> Value {
 /// The mechanism assembled at its start angle: the linkage, the assembled coordinates,
 /// the start angle and the section it came from.
 fn assemble(
-    ctx: &Ctx,
+    ctx: &Source,
     sc: &Scenario,
 ) -> Result<(Linkage, DVector<f64>, f64, &'static str), ScenarioError> {
     if let Some((g, a, b, c, mode, s0)) = sc.four_bar {
@@ -250,7 +251,11 @@ fn kennedy_error(l: &Linkage, sc: &Scenario, samples: &[State], pts: &[CentrePoi
 }
 
 /// Computes the report of a parsed scenario.
-pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
+pub fn report(
+    ctx: &Source,
+    sc: &Scenario,
+    out_dir: Option<&Path>,
+) -> Result<Report, ScenarioError> {
     let (l, guess, start, section) = assemble(ctx, sc)?;
     let opts = SweepOptions {
         from: 0.0,
@@ -332,7 +337,7 @@ pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report
 /// The four-bar's frame, crank, coupler, rocker, assembly mode and start angle (rad),
 /// checked.
 fn four_bar_input(
-    ctx: &Ctx,
+    ctx: &Source,
     fb: &FourBarIn,
 ) -> Result<(f64, f64, f64, f64, f64, f64), ScenarioError> {
     let mode = match &fb.assembly {

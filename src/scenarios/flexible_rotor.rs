@@ -11,7 +11,8 @@ use crate::machines::vibration::rotor::{
     fe_modes, unbalance_response, Bearing, Disc, Rotor, RotorMode, Segment,
 };
 use crate::machines::vibration::rotor_transfer::critical_speeds;
-use crate::scenarios::kit::{finish_with_plot, scenario_name, Ctx};
+use crate::scenarios::kit::{finish_with_plot, scenario_name};
+use crate::scenarios::source::Source;
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
@@ -127,7 +128,7 @@ pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, Sc
 }
 
 fn segment(
-    ctx: &Ctx,
+    ctx: &Source,
     s: &Spanned<SegmentIn>,
     i: usize,
     mat: (Option<f64>, Option<f64>),
@@ -179,7 +180,7 @@ fn segment(
 }
 
 /// A position along the shaft `[0, len]` (rounding outside by 1e-12 relative is clamped).
-fn on_shaft(ctx: &Ctx, v: &F, key: String, len: f64) -> Result<f64, ScenarioError> {
+fn on_shaft(ctx: &Source, v: &F, key: String, len: f64) -> Result<f64, ScenarioError> {
     let x = ctx.finite(v, &key)?;
     if !(-1e-12 * len..=len * (1.0 + 1e-12)).contains(&x) {
         return Err(ctx.at(
@@ -192,7 +193,11 @@ fn on_shaft(ctx: &Ctx, v: &F, key: String, len: f64) -> Result<f64, ScenarioErro
 }
 
 /// The `[[discs]]`: position, mass, unbalance and its phase.
-fn parse_discs(ctx: &Ctx, discs: &[Spanned<DiscIn>], len: f64) -> Result<Vec<Disc>, ScenarioError> {
+fn parse_discs(
+    ctx: &Source,
+    discs: &[Spanned<DiscIn>],
+    len: f64,
+) -> Result<Vec<Disc>, ScenarioError> {
     let mut out = Vec::new();
     for (i, d) in discs.iter().enumerate() {
         let k = format!("discs[{i}]");
@@ -215,7 +220,7 @@ fn parse_discs(ctx: &Ctx, discs: &[Spanned<DiscIn>], len: f64) -> Result<Vec<Dis
 
 /// The `[[bearings]]`: position and stiffness (none: rigid).
 fn parse_bearings(
-    ctx: &Ctx,
+    ctx: &Source,
     bearings: &[Spanned<BearingIn>],
     len: f64,
 ) -> Result<Vec<Bearing>, ScenarioError> {
@@ -232,7 +237,7 @@ fn parse_bearings(
 }
 
 /// The `[response]` speeds, rad/s.
-fn response_speeds(ctx: &Ctx, r: &ResponseIn) -> Result<Vec<f64>, ScenarioError> {
+fn response_speeds(ctx: &Source, r: &ResponseIn) -> Result<Vec<f64>, ScenarioError> {
     let v = r.speeds_rpm.get_ref();
     if v.is_empty() || v.len() > MAX_SPEEDS {
         return Err(ctx.at(
@@ -253,7 +258,7 @@ fn response_speeds(ctx: &Ctx, r: &ResponseIn) -> Result<Vec<f64>, ScenarioError>
 /// The `[modal_balancing]` section: planes, target mode, other modes kept, rigid-body
 /// conditions, modal unbalance.
 fn parse_balancing(
-    ctx: &Ctx,
+    ctx: &Source,
     b: &BalancingIn,
     modes: usize,
     len: f64,
@@ -314,7 +319,7 @@ fn parse_balancing(
 
 /// Parses and validates `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
-    let ctx = Ctx::new(file, text);
+    let ctx = Source::new(file, text);
     let f: File = ctx.parse()?;
     let e = f
         .shaft
@@ -474,7 +479,11 @@ fn unbalance_rows(
 }
 
 /// Computes the report of a parsed scenario.
-pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
+pub fn report(
+    ctx: &Source,
+    sc: &Scenario,
+    out_dir: Option<&Path>,
+) -> Result<Report, ScenarioError> {
     let fe = fe_modes(&sc.rotor, sc.elements, sc.modes)
         .ok_or_else(|| ctx.section("shaft", "the eigenproblem failed"))?;
     let top = fe.last().map_or(1.0, |m| m.omega) * 1.3;

@@ -8,7 +8,8 @@ use crate::io::plots::panels::{Panel, Series, PALETTE};
 use crate::io::report::Report;
 use crate::machines::flywheel::design::{self as fd, Torque};
 use crate::machines::flywheel::machine_motion::Characteristic;
-use crate::scenarios::kit::{finish_with_plot, scenario_name, Ctx};
+use crate::scenarios::kit::{finish_with_plot, scenario_name};
+use crate::scenarios::source::Source;
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
@@ -108,7 +109,7 @@ pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, Sc
 }
 
 fn table(
-    ctx: &Ctx,
+    ctx: &Source,
     t: &Spanned<Vec<[F; 2]>>,
     key: &str,
     period: f64,
@@ -141,7 +142,7 @@ fn table(
 }
 
 fn torque(
-    ctx: &Ctx,
+    ctx: &Source,
     c: (Option<&F>, Option<&Table>),
     name: &str,
     period: f64,
@@ -160,7 +161,7 @@ fn torque(
     }
 }
 
-fn parse_cycle(ctx: &Ctx, c: &CycleIn) -> Result<Cycle, ScenarioError> {
+fn parse_cycle(ctx: &Source, c: &CycleIn) -> Result<Cycle, ScenarioError> {
     let period = match &c.period_deg {
         Some(p) => ctx.positive(p, "cycle.period_deg")?.to_radians(),
         None => 2.0 * PI,
@@ -211,7 +212,7 @@ fn parse_cycle(ctx: &Ctx, c: &CycleIn) -> Result<Cycle, ScenarioError> {
 
 /// The cycle's mean speed and fluctuation: `speed` (or `speed_rpm`) with
 /// `speed_fluctuation`, or a `speed_band`.
-fn cycle_speed(ctx: &Ctx, c: &CycleIn) -> Result<(f64, f64), ScenarioError> {
+fn cycle_speed(ctx: &Source, c: &CycleIn) -> Result<(f64, f64), ScenarioError> {
     let omega = match (&c.speed, &c.speed_rpm, &c.speed_band) {
         (Some(w), None, _) => Some(ctx.positive(w, "cycle.speed")?),
         (None, Some(n), _) => Some(ctx.positive(n, "cycle.speed_rpm")? * PI / 30.0),
@@ -252,7 +253,7 @@ fn cycle_speed(ctx: &Ctx, c: &CycleIn) -> Result<(f64, f64), ScenarioError> {
 
 /// Parses and validates `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
-    let ctx = Ctx::new(file, text);
+    let ctx = Source::new(file, text);
     let f: File = ctx.parse()?;
     ctx.any_section(
         &[f.cycle.is_some(), f.stroke.is_some(), f.overload.is_some()],
@@ -283,7 +284,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
 
 /// A cycle with its load set (none given: the constant that does the drive's work) and
 /// checked for a steady state (zero net work over a period).
-fn steady_cycle(ctx: &Ctx, mut c: Cycle) -> Result<Cycle, ScenarioError> {
+fn steady_cycle(ctx: &Source, mut c: Cycle) -> Result<Cycle, ScenarioError> {
     if matches!(c.load, Torque::Constant(x) if x.is_nan()) {
         let s = fd::size_cycle(
             &c.drive,
@@ -319,7 +320,7 @@ fn steady_cycle(ctx: &Ctx, mut c: Cycle) -> Result<Cycle, ScenarioError> {
 /// The `[stroke]` section: drive characteristic, load, angle, speed band, machine inertia.
 #[allow(clippy::type_complexity)]
 fn parse_stroke(
-    ctx: &Ctx,
+    ctx: &Source,
     s: &StrokeIn,
 ) -> Result<(Characteristic, f64, f64, [f64; 2], f64), ScenarioError> {
     let coeffs = ctx.finite_list(&s.drive, "stroke.drive")?;
@@ -362,7 +363,7 @@ fn parse_stroke(
 }
 
 /// The `[overload]` section: drive, load, largest deceleration, machine inertia.
-fn parse_overload(ctx: &Ctx, o: &OverloadIn) -> Result<(f64, f64, f64, f64), ScenarioError> {
+fn parse_overload(ctx: &Source, o: &OverloadIn) -> Result<(f64, f64, f64, f64), ScenarioError> {
     Ok((
         ctx.finite(&o.drive, "overload.drive")?,
         ctx.finite(&o.load, "overload.load")?,
@@ -516,7 +517,11 @@ fn cycle_panels(c: &Cycle, s: &fd::CycleSizing, tc: &fd::TimeCheck, panels: &mut
 }
 
 /// Computes the report of a parsed scenario.
-pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
+pub fn report(
+    ctx: &Source,
+    sc: &Scenario,
+    out_dir: Option<&Path>,
+) -> Result<Report, ScenarioError> {
     let mut text = format!("flywheel: {}\n", sc.name);
     let mut j = json!({ "kind": NAME, "name": sc.name });
     let mut panels = Vec::new();

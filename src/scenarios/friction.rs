@@ -7,7 +7,7 @@
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::report::Report;
 use crate::machines::friction::elements as el;
-use crate::scenarios::spans::{in_range, Ctx};
+use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
@@ -80,7 +80,7 @@ pub fn parse(file: &str, text: &str) -> Result<(), ScenarioError> {
 }
 
 fn compute(file: &str, text: &str) -> Result<Report, ScenarioError> {
-    let cx = Ctx::new(file, text);
+    let cx = Source::new(file, text);
     let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
     if f.element.is_empty() {
         return Err(cx.top(
@@ -209,7 +209,7 @@ fn screw(
 }
 
 /// One element: its JSON and its friction torque (N m, 0 when it has none).
-fn element(cx: &Ctx, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), ScenarioError> {
+fn element(cx: &Source, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), ScenarioError> {
     let e = s.get_ref();
     let err = |k: &str, m: String| cx.field(s.span(), k, format!("element[{i}].{k}"), m);
     let need = |k: &str, v: Option<f64>, lo: f64, hi: f64| -> Result<f64, ScenarioError> {

@@ -7,7 +7,7 @@ use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::report::Report;
 use crate::machines::gearing::pair::{validate, PairKind, PairSpec};
 use crate::scenarios::gear_pair_report::{report, PairCase, PairScenario, SpatialCase};
-use crate::scenarios::spans::{in_range, Ctx};
+use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
 use std::fmt::Write;
 use std::path::Path;
@@ -79,7 +79,7 @@ pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, Sc
 
 /// Parses and checks `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<PairScenario, ScenarioError> {
-    let cx = Ctx::new(file, text);
+    let cx = Source::new(file, text);
     let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
     if f.pair.is_empty() {
         return Err(cx.top("kind", "a gear_pair file needs at least one [[pair]] table"));
@@ -103,7 +103,7 @@ pub fn parse(file: &str, text: &str) -> Result<PairScenario, ScenarioError> {
 
 /// Errors at `pair[i]`, located at its table.
 struct At<'c> {
-    cx: &'c Ctx<'c>,
+    cx: &'c Source<'c>,
     span: std::ops::Range<usize>,
     i: usize,
 }
@@ -160,7 +160,7 @@ fn tips_reach(
 }
 
 fn case(
-    cx: &Ctx,
+    cx: &Source,
     f: &FileSpec,
     i: usize,
     s: &Spanned<PairTable>,

@@ -7,7 +7,7 @@ use crate::io::report::Report;
 use crate::machines::gearing::assembly::{planet_checks, resolve_teeth};
 use crate::machines::gearing::train::{Body, Element, Gear, GearTrain, Mesh, MeshKind, TrainError};
 use crate::scenarios::gear_train_report::{report, Query, TrainScenario};
-use crate::scenarios::spans::{in_range, Ctx};
+use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
 use std::path::Path;
 use toml::Spanned;
@@ -161,7 +161,7 @@ fn locate_plain(file: &str, _text: &str, e: &TrainError) -> ScenarioError {
 /// member gets one input; inputs and fixed members take no given torque).
 #[allow(clippy::type_complexity)]
 fn inputs_and_torques(
-    cx: &Ctx,
+    cx: &Source,
     f: &FileSpec,
     train: &GearTrain,
 ) -> Result<(Vec<(usize, f64)>, Vec<(usize, f64)>), ScenarioError> {
@@ -214,7 +214,11 @@ fn inputs_and_torques(
 }
 
 /// The `[[willis]]` queries: from, to and a carrier of the train.
-fn willis_queries(cx: &Ctx, f: &FileSpec, train: &GearTrain) -> Result<Vec<Query>, ScenarioError> {
+fn willis_queries(
+    cx: &Source,
+    f: &FileSpec,
+    train: &GearTrain,
+) -> Result<Vec<Query>, ScenarioError> {
     let mut willis = Vec::new();
     for (i, s) in f.willis.iter().enumerate() {
         let w = s.get_ref();
@@ -247,7 +251,7 @@ fn willis_queries(cx: &Ctx, f: &FileSpec, train: &GearTrain) -> Result<Vec<Query
 
 /// The speed unit (`rpm` by default) and the default mesh efficiency (1), with the
 /// module checked when given.
-fn units(cx: &Ctx, f: &FileSpec) -> Result<(String, f64), ScenarioError> {
+fn units(cx: &Source, f: &FileSpec) -> Result<(String, f64), ScenarioError> {
     let unit = match &f.speed_unit {
         None => "rpm".to_string(),
         Some(u) if u.get_ref() == "rpm" || u.get_ref() == "rad/s" => u.get_ref().clone(),
@@ -276,7 +280,7 @@ fn units(cx: &Ctx, f: &FileSpec) -> Result<(String, f64), ScenarioError> {
 
 /// The `coaxial` groups as body indices.
 fn coaxial_groups(
-    cx: &Ctx,
+    cx: &Source,
     f: &FileSpec,
     train: &GearTrain,
 ) -> Result<Vec<Vec<usize>>, ScenarioError> {
@@ -301,7 +305,7 @@ fn coaxial_groups(
 /// Parses and checks `text` (the contents of `file`): the structure, tooth counts,
 /// coaxiality, assembly, mobility and the inputs.
 pub fn parse(file: &str, text: &str) -> Result<TrainScenario, ScenarioError> {
-    let cx = Ctx::new(file, text);
+    let cx = Source::new(file, text);
     let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
     let locate = |e: TrainError| -> ScenarioError {
         let (table, i, span) = match e.element {

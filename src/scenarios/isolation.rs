@@ -7,7 +7,8 @@ use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::plots::panels::{Panel, Series, PALETTE};
 use crate::io::report::Report;
 use crate::machines::vibration::isolator as iso;
-use crate::scenarios::kit::{finish_with_plot, scenario_name, Ctx};
+use crate::scenarios::kit::{finish_with_plot, scenario_name};
+use crate::scenarios::source::Source;
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::f64::consts::PI;
@@ -119,7 +120,7 @@ pub struct Scenario {
     absorber: Option<AbsorberSpec>,
 }
 
-fn speed(ctx: &Ctx, sec: &str, rpm: Option<&F>, w: Option<&F>) -> Result<f64, ScenarioError> {
+fn speed(ctx: &Source, sec: &str, rpm: Option<&F>, w: Option<&F>) -> Result<f64, ScenarioError> {
     match (rpm, w) {
         (Some(n), None) => Ok(ctx.positive(n, &format!("{sec}.speed_rpm"))? * PI / 30.0),
         (None, Some(w)) => ctx.positive(w, &format!("{sec}.frequency")),
@@ -132,7 +133,7 @@ fn speed(ctx: &Ctx, sec: &str, rpm: Option<&F>, w: Option<&F>) -> Result<f64, Sc
     }
 }
 
-fn list(ctx: &Ctx, v: &FList, key: &str, lo: f64) -> Result<Vec<f64>, ScenarioError> {
+fn list(ctx: &Source, v: &FList, key: &str, lo: f64) -> Result<Vec<f64>, ScenarioError> {
     if v.get_ref().is_empty() || v.get_ref().len() > 10_000 {
         return Err(ctx.at(v.span(), key, "needs 1 … 10000 values"));
     }
@@ -155,7 +156,7 @@ fn list(ctx: &Ctx, v: &FList, key: &str, lo: f64) -> Result<Vec<f64>, ScenarioEr
 }
 
 /// The `[mount]` section: mass, stiffness and damping.
-fn parse_mount(ctx: &Ctx, m: &MountIn) -> Result<(f64, f64, Damping), ScenarioError> {
+fn parse_mount(ctx: &Source, m: &MountIn) -> Result<(f64, f64, Damping), ScenarioError> {
     let mass = ctx.positive(&m.mass, "mount.mass")?;
     let c = ctx.positive(&m.stiffness, "mount.stiffness")?;
     let d = match (&m.damping, &m.damping_ratio, &m.loss_factor) {
@@ -177,7 +178,7 @@ fn parse_mount(ctx: &Ctx, m: &MountIn) -> Result<(f64, f64, Damping), ScenarioEr
 
 /// The `[excitation]` section: speed, which load (0 force, 1 unbalance, 2 base motion) and its size.
 fn parse_excitation(
-    ctx: &Ctx,
+    ctx: &Source,
     e: &ExcitationIn,
     has_mount: bool,
 ) -> Result<(f64, usize, f64), ScenarioError> {
@@ -213,7 +214,7 @@ fn parse_excitation(
 }
 
 /// The `[curves]` section: damping ratios, frequency ratios, hysteretic or not.
-fn parse_curves(ctx: &Ctx, c: &CurvesIn) -> Result<(Vec<f64>, Vec<f64>, bool), ScenarioError> {
+fn parse_curves(ctx: &Source, c: &CurvesIn) -> Result<(Vec<f64>, Vec<f64>, bool), ScenarioError> {
     Ok((
         list(ctx, &c.damping_ratios, "curves.damping_ratios", 0.0)?,
         c.frequency_ratios
@@ -226,7 +227,7 @@ fn parse_curves(ctx: &Ctx, c: &CurvesIn) -> Result<(Vec<f64>, Vec<f64>, bool), S
 }
 
 /// The `[selection]` section: mass, speed, largest transmissibility, damping ratio.
-fn parse_selection(ctx: &Ctx, s: &SelectionIn) -> Result<(f64, f64, f64, f64), ScenarioError> {
+fn parse_selection(ctx: &Source, s: &SelectionIn) -> Result<(f64, f64, f64, f64), ScenarioError> {
     let m = ctx.positive(&s.mass, "selection.mass")?;
     let w = speed(ctx, "selection", s.speed_rpm.as_ref(), s.frequency.as_ref())?;
     let tr = ctx.between(
@@ -252,7 +253,7 @@ fn parse_selection(ctx: &Ctx, s: &SelectionIn) -> Result<(f64, f64, f64, f64), S
 }
 
 /// The `[impact]` section: mass, stiffness, damping ratio and impact velocity.
-fn parse_impact(ctx: &Ctx, i: &ImpactIn) -> Result<(f64, f64, f64, f64), ScenarioError> {
+fn parse_impact(ctx: &Source, i: &ImpactIn) -> Result<(f64, f64, f64, f64), ScenarioError> {
     let m = ctx.positive(&i.mass, "impact.mass")?;
     let c = ctx.positive(&i.stiffness, "impact.stiffness")?;
     let eps = ctx.between(&i.damping_ratio, "impact.damping_ratio", 0.0, 1.0)?;
@@ -289,7 +290,7 @@ fn parse_impact(ctx: &Ctx, i: &ImpactIn) -> Result<(f64, f64, f64, f64), Scenari
 }
 
 /// The `[absorber]` section: mass ratio, tuning, damping ratio, frequency ratios.
-fn parse_absorber(ctx: &Ctx, a: &AbsorberIn) -> Result<AbsorberSpec, ScenarioError> {
+fn parse_absorber(ctx: &Source, a: &AbsorberIn) -> Result<AbsorberSpec, ScenarioError> {
     Ok((
         ctx.positive(&a.mass_ratio, "absorber.mass_ratio")?,
         a.tuning
@@ -310,7 +311,7 @@ fn parse_absorber(ctx: &Ctx, a: &AbsorberIn) -> Result<AbsorberSpec, ScenarioErr
 
 /// Parses and validates `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
-    let ctx = Ctx::new(file, text);
+    let ctx = Source::new(file, text);
     let f: File = ctx.parse()?;
     ctx.any_section(
         &[
@@ -484,7 +485,11 @@ fn curves_json(
 }
 
 /// Computes the report of a parsed scenario.
-pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
+pub fn report(
+    ctx: &Source,
+    sc: &Scenario,
+    out_dir: Option<&Path>,
+) -> Result<Report, ScenarioError> {
     let mut text = format!("isolation: {}\n", sc.name);
     let mut j = json!({ "kind": NAME, "name": sc.name });
     let mut panels = Vec::new();

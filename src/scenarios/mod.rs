@@ -23,7 +23,6 @@ pub mod kind;
 pub mod kit;
 pub mod linkage;
 pub mod source;
-pub mod spans;
 pub mod synthesis;
 pub mod torsional;
 

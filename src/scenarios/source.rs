@@ -1,8 +1,14 @@
-//! [`Source`]: the error builder bound to one scenario file and its text, which turns the
-//! byte spans of `toml::Spanned` values into lines.
+//! [`Source`]: the one error context of the scenario readers, bound to a file and its
+//! text. It deserialises the whole file (unknown keys, wrong types and missing keys
+//! located), turns the byte spans of `toml::Spanned` values and tables into lines
+//! (`at`, `field`, `key_line`, `section`, `top`), and checks spanned numbers at their
+//! line (`finite`, `positive`, `length`, `ratio`, `count`, …).
 
-use crate::core::diag::{assigns, line_at, LocatedError};
+use crate::core::diag::{assigns, fmt_num, line_at, LocatedError};
+use crate::scenarios::kit::{LENGTHS, MAX_RATIO, MAX_SCALE_RATIO};
+use serde::de::DeserializeOwned;
 use std::ops::Range;
+use toml::Spanned;
 
 /// Error builder bound to one file and its text: turns byte spans (from
 /// `toml::Spanned`) into lines.
@@ -54,13 +60,17 @@ impl<'a> Source<'a> {
             .unwrap_or(start)
     }
 
-    /// An error on the line of the `[name]` section header (no line if there is none).
+    /// An error on the line of the `[name]` or `[[name]]` header (no line when the file
+    /// has none).
     pub fn section(&self, name: &str, msg: impl Into<String>) -> LocatedError {
-        let header = format!("[{name}]");
+        let (a, b) = (format!("[{name}]"), format!("[[{name}]]"));
         let line = self
             .text
             .lines()
-            .position(|l| l.trim_start().starts_with(&header))
+            .position(|l| {
+                let t = l.trim_start();
+                t.starts_with(&a) || t.starts_with(&b)
+            })
             .map(|i| i + 1);
         LocatedError::new(self.file, line, name, msg)
     }
@@ -81,6 +91,259 @@ impl<'a> Source<'a> {
             Some(s) => Err(self.at(s.span(), key, msg)),
         }
     }
+
+    /// Deserialises the whole file (unknown keys, wrong types and missing keys located).
+    pub fn parse<T: DeserializeOwned>(&self) -> Result<T, LocatedError> {
+        toml::from_str(self.text).map_err(|e| LocatedError::from_toml(self.file, self.text, &e))
+    }
+
+    /// `Ok` when at least one of the sections is `present`, else `msg` at line 1 of the
+    /// file (a file that asks for nothing).
+    pub fn any_section(&self, present: &[bool], msg: &str) -> Result<(), LocatedError> {
+        if present.iter().any(|p| *p) {
+            Ok(())
+        } else {
+            Err(LocatedError::new(self.file, Some(1), "file", msg))
+        }
+    }
+
+    /// A finite number.
+    pub fn finite(&self, v: &Spanned<f64>, key: &str) -> Result<f64, LocatedError> {
+        let x = *v.get_ref();
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.at(v.span(), key, "must be a finite number"))
+        }
+    }
+
+    /// A finite number `> 0`.
+    pub fn positive(&self, v: &Spanned<f64>, key: &str) -> Result<f64, LocatedError> {
+        let x = self.finite(v, key)?;
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.at(
+                v.span(),
+                key,
+                format!("must be positive, got {}", fmt_num(x)),
+            ))
+        }
+    }
+
+    /// A finite number `≥ 0`.
+    pub fn non_negative(&self, v: &Spanned<f64>, key: &str) -> Result<f64, LocatedError> {
+        let x = self.finite(v, key)?;
+        if x >= 0.0 {
+            Ok(x)
+        } else {
+            Err(self.at(
+                v.span(),
+                key,
+                format!("must not be negative, got {}", fmt_num(x)),
+            ))
+        }
+    }
+
+    /// A finite number in the open interval `(lo, hi)`.
+    pub fn between(
+        &self,
+        v: &Spanned<f64>,
+        key: &str,
+        lo: f64,
+        hi: f64,
+    ) -> Result<f64, LocatedError> {
+        let x = self.finite(v, key)?;
+        if x > lo && x < hi {
+            Ok(x)
+        } else {
+            Err(self.at(
+                v.span(),
+                key,
+                format!(
+                    "must lie strictly between {} and {}, got {}",
+                    fmt_num(lo),
+                    fmt_num(hi),
+                    fmt_num(x)
+                ),
+            ))
+        }
+    }
+
+    /// A length: finite, positive and within [`LENGTHS`] (so that the products and squares
+    /// of a mechanism's lengths stay finite and normal).
+    pub fn length(&self, v: &Spanned<f64>, key: &str) -> Result<f64, LocatedError> {
+        let x = self.positive(v, key)?;
+        if (LENGTHS.0..=LENGTHS.1).contains(&x) {
+            Ok(x)
+        } else {
+            Err(self.at(
+                v.span(),
+                key,
+                format!(
+                    "{} is out of range: a length lies in {}..{}",
+                    fmt_num(x),
+                    fmt_num(LENGTHS.0),
+                    fmt_num(LENGTHS.1)
+                ),
+            ))
+        }
+    }
+
+    /// A length `x` (at `v`) of the mechanism whose size is `scale` (named `scale_key`): the
+    /// two within [`MAX_SCALE_RATIO`] of each other.
+    pub fn same_scale(
+        &self,
+        v: &Spanned<f64>,
+        key: &str,
+        (scale, scale_key): (f64, &str),
+    ) -> Result<(), LocatedError> {
+        let x = *v.get_ref();
+        let r = x / scale;
+        if (1.0 / MAX_SCALE_RATIO..=MAX_SCALE_RATIO).contains(&r) {
+            Ok(())
+        } else {
+            Err(self.at(
+                v.span(),
+                key,
+                format!(
+                    "{} is {} times {scale_key} ({}): the lengths of one mechanism lie within a \
+                     factor {} of each other",
+                    fmt_num(x),
+                    fmt_num(r),
+                    fmt_num(scale),
+                    fmt_num(MAX_SCALE_RATIO)
+                ),
+            ))
+        }
+    }
+
+    /// A time or velocity ratio: finite, above 1 (at least 1 when `or_equal`), and at most
+    /// [`MAX_RATIO`] (beyond it the mechanism is a limit position, not a mechanism).
+    pub fn ratio(&self, v: &Spanned<f64>, key: &str, or_equal: bool) -> Result<f64, LocatedError> {
+        let k = self.finite(v, key)?;
+        let low = if or_equal { k < 1.0 } else { k <= 1.0 };
+        if low {
+            let bound = if or_equal { "be at least" } else { "exceed" };
+            return Err(self.at(v.span(), key, format!("must {bound} 1, got {}", fmt_num(k))));
+        }
+        if k > MAX_RATIO {
+            return Err(self.at(
+                v.span(),
+                key,
+                format!(
+                    "{} is out of range: at most {:e} (a larger ratio leaves the quick stroke \
+                     less than 4e-4° of the crank's turn)",
+                    fmt_num(k),
+                    MAX_RATIO
+                ),
+            ));
+        }
+        Ok(k)
+    }
+
+    /// An optional number `> 0` (`None` when absent).
+    pub fn positive_opt(
+        &self,
+        v: Option<&Spanned<f64>>,
+        key: &str,
+    ) -> Result<Option<f64>, LocatedError> {
+        v.map(|v| self.positive(v, key)).transpose()
+    }
+
+    /// An optional number `≥ 0`, `default` when absent.
+    pub fn non_negative_or(
+        &self,
+        v: Option<&Spanned<f64>>,
+        key: &str,
+        default: f64,
+    ) -> Result<f64, LocatedError> {
+        Ok(v.map(|v| self.non_negative(v, key))
+            .transpose()?
+            .unwrap_or(default))
+    }
+
+    /// An optional count in `range`, `default` when absent.
+    pub fn count(
+        &self,
+        v: Option<&Spanned<usize>>,
+        key: &str,
+        default: usize,
+        range: std::ops::RangeInclusive<usize>,
+    ) -> Result<usize, LocatedError> {
+        match v {
+            None => Ok(default),
+            Some(p) if range.contains(p.get_ref()) => Ok(*p.get_ref()),
+            Some(p) => Err(self.at(
+                p.span(),
+                key,
+                format!("must lie in {}..={}", range.start(), range.end()),
+            )),
+        }
+    }
+
+    /// Every element finite; the key of element `i` is `key[i]`.
+    pub fn finite_list(
+        &self,
+        v: &Spanned<Vec<Spanned<f64>>>,
+        key: &str,
+    ) -> Result<Vec<f64>, LocatedError> {
+        v.get_ref()
+            .iter()
+            .enumerate()
+            .map(|(i, x)| self.finite(x, &format!("{key}[{i}]")))
+            .collect()
+    }
+
+    /// An error at the line where `field` is assigned inside the table `span` (or at the
+    /// table's start when the field is not written there).
+    pub fn field(
+        &self,
+        span: Range<usize>,
+        field: &str,
+        key: impl Into<String>,
+        msg: impl Into<String>,
+    ) -> LocatedError {
+        let start = span.start.min(self.text.len());
+        let end = span.end.min(self.text.len()).max(start);
+        let body = &self.text[start..end];
+        let mut off = 0;
+        let mut at = start;
+        for l in body.split_inclusive('\n') {
+            let t = l.trim_start().trim_start_matches('{').trim_start();
+            let hit = t
+                .strip_prefix(field)
+                .is_some_and(|r| r.trim_start().starts_with('='))
+                || l.contains(&format!(", {field} ="))
+                || l.contains(&format!("{{ {field} ="));
+            if hit {
+                at = start + off;
+                break;
+            }
+            off += l.len();
+        }
+        LocatedError::new(self.file, Some(line_at(self.text, at)), key, msg)
+    }
+
+    /// An error at the line of a top-level `key = …` (or no line).
+    pub fn top(&self, key: &str, msg: impl Into<String>) -> LocatedError {
+        LocatedError::new(
+            self.file,
+            crate::core::diag::line_of_key(self.text, key),
+            key,
+            msg,
+        )
+    }
+
+    /// A deserialisation error of the whole file.
+    pub fn toml(&self, e: &toml::de::Error) -> LocatedError {
+        LocatedError::from_toml(self.file, self.text, e)
+    }
+}
+
+/// Checks that `x` is finite and within `[lo, hi]`.
+pub fn in_range(x: f64, lo: f64, hi: f64) -> bool {
+    x.is_finite() && x >= lo && x <= hi
 }
 
 #[cfg(test)]

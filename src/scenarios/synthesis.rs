@@ -10,7 +10,8 @@ use crate::machines::linkage::fourbar;
 use crate::machines::linkage::Vec2;
 use crate::machines::synthesis::verify::{self as chk, RockerTrack};
 use crate::machines::synthesis::{self as syn, Function, FunctionMap};
-use crate::scenarios::kit::{finish_with_plot, scenario_name, Ctx};
+use crate::scenarios::kit::{finish_with_plot, scenario_name};
+use crate::scenarios::source::Source;
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::fmt::Write;
@@ -123,7 +124,7 @@ pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, Sc
 }
 
 fn one_of<'a>(
-    ctx: &Ctx,
+    ctx: &Source,
     section: &str,
     a: (&str, Option<&'a F>),
     b: (&str, Option<&'a F>),
@@ -141,7 +142,7 @@ fn one_of<'a>(
 }
 
 /// The `[crank_rocker]` section: rocker, frame, limit positions, and the pivot direction or the time ratio.
-fn parse_crank_rocker(ctx: &Ctx, s: &CrankRockerIn) -> Result<CrankRockerSpec, ScenarioError> {
+fn parse_crank_rocker(ctx: &Source, s: &CrankRockerIn) -> Result<CrankRockerSpec, ScenarioError> {
     let k = "crank_rocker";
     let rocker = ctx.length(&s.rocker, "crank_rocker.rocker")?;
     let frame = ctx.length(&s.frame, "crank_rocker.frame")?;
@@ -188,7 +189,7 @@ fn parse_crank_rocker(ctx: &Ctx, s: &CrankRockerIn) -> Result<CrankRockerSpec, S
 
 /// The `[slider_crank]` section: stroke, time ratio, and the rod ratio (`Ok`) or the offset (`Err`).
 fn parse_slider_crank(
-    ctx: &Ctx,
+    ctx: &Source,
     s: &SliderCrankIn,
 ) -> Result<(f64, f64, Result<f64, f64>), ScenarioError> {
     let h = ctx.length(&s.stroke, "slider_crank.stroke")?;
@@ -223,7 +224,7 @@ fn parse_slider_crank(
 
 /// The `[shaper]` section: stroke, frame, the time or velocity ratio (and which), rod.
 fn parse_shaper(
-    ctx: &Ctx,
+    ctx: &Source,
     s: &ShaperIn,
 ) -> Result<(f64, f64, f64, bool, Option<f64>), ScenarioError> {
     let h = ctx.length(&s.stroke, "shaper.stroke")?;
@@ -254,7 +255,7 @@ fn parse_shaper(
 
 /// Parses and validates `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
-    let ctx = Ctx::new(file, text);
+    let ctx = Source::new(file, text);
     let f: File = ctx.parse()?;
     ctx.any_section(
         &[
@@ -294,7 +295,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     })
 }
 
-fn pair_deg(ctx: &Ctx, v: &Spanned<[F; 2]>, key: &str) -> Result<[f64; 2], ScenarioError> {
+fn pair_deg(ctx: &Source, v: &Spanned<[F; 2]>, key: &str) -> Result<[f64; 2], ScenarioError> {
     let a = v.get_ref();
     Ok([
         ctx.finite(&a[0], &format!("{key}[0]"))?,
@@ -302,7 +303,7 @@ fn pair_deg(ctx: &Ctx, v: &Spanned<[F; 2]>, key: &str) -> Result<[f64; 2], Scena
     ])
 }
 
-fn parse_function(ctx: &Ctx, s: &FunctionIn) -> Result<FunctionSpec, ScenarioError> {
+fn parse_function(ctx: &Source, s: &FunctionIn) -> Result<FunctionSpec, ScenarioError> {
     let frame = ctx.length(&s.frame, "function.frame")?;
     let samples = match &s.samples {
         None => 360,
@@ -332,7 +333,7 @@ fn parse_function(ctx: &Ctx, s: &FunctionIn) -> Result<FunctionSpec, ScenarioErr
 
 /// `[function]` given by three precision points `[crank, rocker]` (degrees).
 fn function_by_points(
-    ctx: &Ctx,
+    ctx: &Source,
     p: &Spanned<Vec<[F; 2]>>,
     frame: f64,
     samples: usize,
@@ -368,7 +369,7 @@ fn function_by_points(
 /// `[function]` given by a named function `y = f(x)` over `x_range`, mapped linearly to
 /// the crank and rocker ranges, with Chebyshev (or the given) precision points.
 fn function_by_name(
-    ctx: &Ctx,
+    ctx: &Source,
     s: &FunctionIn,
     name: &Spanned<String>,
     frame: f64,
@@ -391,7 +392,7 @@ fn function_by_name(
         )
     })?;
     fn need<'a>(
-        ctx: &Ctx,
+        ctx: &Source,
         v: &'a Option<Spanned<[F; 2]>>,
         key: &str,
     ) -> Result<&'a Spanned<[F; 2]>, ScenarioError> {
@@ -457,7 +458,7 @@ fn function_by_name(
 }
 
 fn crank_rocker_json(
-    ctx: &Ctx,
+    ctx: &Source,
     s: &CrankRockerSpec,
     text: &mut String,
 ) -> Result<Value, ScenarioError> {
@@ -533,7 +534,7 @@ fn crank_rocker_json(
 }
 
 fn slider_crank_json(
-    ctx: &Ctx,
+    ctx: &Source,
     (h, k, which): (f64, f64, Result<f64, f64>),
     text: &mut String,
 ) -> Result<Value, ScenarioError> {
@@ -568,7 +569,7 @@ fn slider_crank_json(
 }
 
 fn shaper_json(
-    ctx: &Ctx,
+    ctx: &Source,
     (h, d, k, by_v, rod): (f64, f64, f64, bool, Option<f64>),
     text: &mut String,
 ) -> Result<Value, ScenarioError> {
@@ -595,7 +596,7 @@ fn shaper_json(
 }
 
 fn function_json(
-    ctx: &Ctx,
+    ctx: &Source,
     s: &FunctionSpec,
     text: &mut String,
     panels: &mut Vec<Panel>,
@@ -688,7 +689,11 @@ fn function_json(
 }
 
 /// Computes the report of a parsed scenario.
-pub fn report(ctx: &Ctx, sc: &Scenario, out_dir: Option<&Path>) -> Result<Report, ScenarioError> {
+pub fn report(
+    ctx: &Source,
+    sc: &Scenario,
+    out_dir: Option<&Path>,
+) -> Result<Report, ScenarioError> {
     let mut text = format!("synthesis: {}\n", sc.name);
     let mut j = json!({ "kind": NAME, "name": sc.name });
     let mut panels = Vec::new();

@@ -12,7 +12,7 @@ use crate::scenarios::arm::schema::*;
 /// The named effects (each once, known, in [`EFFECT_NAMES`] order); a parameter table
 /// for an effect left out is a warning, a needed one missing an error.
 pub(super) fn named(
-    cx: &crate::scenarios::arm::scene::Ctx,
+    cx: &crate::scenarios::source::Source,
     file: &ArmFile,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<&'static str>, ScenarioError> {

@@ -3,9 +3,8 @@
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::motion::JointLimits;
-use crate::scenarios::arm::scene::{
-    per_joint, positive_all, to_radians_if, Ctx, PerJoint, Sections,
-};
+use crate::scenarios::arm::scene::{per_joint, positive_all, to_radians_if, PerJoint, Sections};
+use crate::scenarios::source::Source;
 
 /// The position limits: the model's, narrowed by `limits.lower`/`limits.upper`.
 pub(super) fn position_limits(sx: &Sections) -> Result<(Vec<f64>, Vec<f64>), ScenarioError> {
@@ -133,7 +132,7 @@ pub(super) fn rate_limits(sx: &Sections) -> Result<RateLimits, ScenarioError> {
 }
 
 /// `limits.jerk`: finite and positive values; a joint a table leaves out has none.
-fn jerk_limits(cx: &Ctx, v: &PerJoint, names: &[String]) -> Result<Vec<f64>, ScenarioError> {
+fn jerk_limits(cx: &Source, v: &PerJoint, names: &[String]) -> Result<Vec<f64>, ScenarioError> {
     let mut vals = per_joint(cx, v, "limits.jerk", names, &vec![1.0; names.len()])?;
     for (k, x) in vals.iter_mut().enumerate() {
         if let toml::Value::Table(t) = v.get_ref() {
@@ -226,7 +225,7 @@ pub(super) fn initial(
 }
 
 pub(super) fn check_in_limits(
-    cx: &Ctx,
+    cx: &Source,
     v: &PerJoint,
     key: &str,
     names: &[String],
@@ -252,7 +251,7 @@ pub(super) fn check_in_limits(
 /// `limits.<what>`: the model's limits, or the given positive values, none above the
 /// model's (a scenario may only be more careful than its robot).
 fn within_model(
-    cx: &Ctx,
+    cx: &Source,
     given: Option<&PerJoint>,
     what: &str,
     names: &[String],

@@ -24,6 +24,7 @@ use crate::dynamics::Effects;
 use crate::model::{Model, ModelSpec};
 use crate::motion::JointLimits;
 use crate::scenarios::arm::schema::*;
+use crate::scenarios::source::Source;
 use crate::sim::{Controller, Integrator};
 use std::path::{Path, PathBuf};
 use toml::Spanned;
@@ -184,12 +185,11 @@ pub struct Scene {
 }
 
 /// Error context: the file and its text (the crate's one error builder).
-pub type Ctx<'a> = crate::scenarios::source::Source<'a>;
 
 /// What the sections after `[model]` read: the file, the model, its coordinate names,
 /// the tool and the base pose.
 struct Sections<'a> {
-    cx: Ctx<'a>,
+    cx: Source<'a>,
     file: &'a ArmFile,
     dir: &'a Path,
     model: &'a Model,
@@ -215,7 +215,7 @@ use crate::core::diag::finite_positive as finite_pos;
 /// Reads a per-joint value: a number for all, a list in joint order, or a table by joint
 /// name over `default`.
 pub fn per_joint(
-    cx: &Ctx,
+    cx: &Source,
     v: &PerJoint,
     key: &str,
     names: &[String],
@@ -323,7 +323,7 @@ fn closest<'a>(name: &str, names: &'a [String]) -> Option<&'a str> {
 /// `v` read per joint ([`per_joint`], `default` where absent) and checked `> 0` (`≥ 0`
 /// with `allow_zero`); `default` itself when `v` is absent.
 fn per_joint_checked(
-    cx: &Ctx,
+    cx: &Source,
     v: Option<&PerJoint>,
     key: &str,
     names: &[String],
@@ -339,7 +339,7 @@ fn per_joint_checked(
 }
 
 fn positive_all(
-    cx: &Ctx,
+    cx: &Source,
     v: &PerJoint,
     key: &str,
     names: &[String],
@@ -371,7 +371,7 @@ fn finite_pose(p: &PoseSec) -> bool {
 }
 
 fn get_f(
-    cx: &Ctx,
+    cx: &Source,
     v: &Option<Spanned<f64>>,
     key: &str,
     default: f64,
@@ -404,7 +404,7 @@ pub fn build_with(
     package_path: &[PathBuf],
 ) -> Result<Scene, ScenarioError> {
     let fname = path.display().to_string();
-    let cx = Ctx { file: &fname, text };
+    let cx = Source { file: &fname, text };
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut warnings = Vec::new();
     let name = model::scene_name(&cx, path, file)?;

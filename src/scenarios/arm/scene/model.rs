@@ -6,13 +6,18 @@ use crate::collision::resolve::{resolve_spec_meshes, PackagePaths};
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::core::spatial::{Se3, Vec3};
 use crate::model::{Model, ModelSpec, Shape};
-use crate::scenarios::arm::scene::{closest, get_f, Ctx};
+use crate::scenarios::arm::scene::{closest, get_f};
 use crate::scenarios::arm::schema::*;
+use crate::scenarios::source::Source;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
 /// The scenario's name: `name`, else the file stem (it names the output files).
-pub(super) fn scene_name(cx: &Ctx, path: &Path, file: &ArmFile) -> Result<String, ScenarioError> {
+pub(super) fn scene_name(
+    cx: &Source,
+    path: &Path,
+    file: &ArmFile,
+) -> Result<String, ScenarioError> {
     let name = match &file.name {
         Some(n) if n.get_ref().trim().is_empty() => {
             return Err(cx.at(n.span(), "name", "the name is empty"))
@@ -46,7 +51,7 @@ pub(super) struct ModelSection {
 /// Loads the model (skeleton radius from `[collision]`), checks the base pose and finds
 /// the tool link; loader notes go to `warnings`.
 pub(super) fn load(
-    cx: &Ctx,
+    cx: &Source,
     file: &ArmFile,
     dir: &Path,
     package_path: &[PathBuf],
@@ -113,7 +118,7 @@ pub(super) fn load(
 
 /// The link called `s` (with a "did you mean" hint when there is none).
 pub(super) fn link_by_name(
-    cx: &Ctx,
+    cx: &Source,
     model: &Model,
     s: &Spanned<String>,
     key: &str,
@@ -220,7 +225,7 @@ type Loaded = (
 /// The package search paths: `cli` first, then `model.package_path` (relative to the
 /// scenario's directory `dir`), then the environment.
 fn package_paths(
-    cx: &Ctx,
+    cx: &Source,
     dir: &Path,
     sec: &ModelSec,
     cli: &[PathBuf],
@@ -246,7 +251,7 @@ fn package_paths(
 
 /// Loads the model named by `[model]`; `cli` are the command line's package paths.
 fn load_model(
-    cx: &Ctx,
+    cx: &Source,
     dir: &Path,
     sec: &Spanned<ModelSec>,
     skeleton: Option<f64>,

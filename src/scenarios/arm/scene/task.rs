@@ -6,10 +6,10 @@ use crate::core::diag::LocatedError as ScenarioError;
 use crate::model::Model;
 use crate::scenarios::arm::scene::limits::check_in_limits;
 use crate::scenarios::arm::scene::{
-    finite_pos, finite_pose, per_joint, pose_of, to_radians_if, Ctx, PerJoint, Sections, Step,
-    TaskStep,
+    finite_pos, finite_pose, per_joint, pose_of, to_radians_if, PerJoint, Sections, Step, TaskStep,
 };
 use crate::scenarios::arm::schema::*;
+use crate::scenarios::source::Source;
 use std::ops::Range;
 use std::path::Path;
 
@@ -233,7 +233,7 @@ pub(super) fn part(
 
 /// The `[planner]` settings when the task plans (the table is refused otherwise).
 pub(super) fn planner_settings(
-    cx: &Ctx,
+    cx: &Source,
     file: &ArmFile,
     dir: &Path,
     model: &Model,
@@ -296,7 +296,7 @@ pub(super) fn planner_settings(
 }
 
 /// Whether a pick-and-place plans its transfers (`task.planner`).
-fn uses_planner(cx: &Ctx, tsec: &TaskSec) -> Result<bool, ScenarioError> {
+fn uses_planner(cx: &Source, tsec: &TaskSec) -> Result<bool, ScenarioError> {
     match &tsec.planner {
         None => Ok(false),
         Some(p) => match p.get_ref().as_str() {

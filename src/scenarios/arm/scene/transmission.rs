@@ -5,9 +5,10 @@
 //! `crate::dynamics::effects`: armature `(I_m + J_train) N²`, motor torque `τ/(N η)`).
 
 use crate::dynamics::Rotor;
-use crate::scenarios::arm::scene::{Ctx, Sections};
+use crate::scenarios::arm::scene::Sections;
 use crate::scenarios::gear_train::transmission_from_file;
 use crate::scenarios::gear_train_report::Transmission;
+use crate::scenarios::source::Source;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use toml::Spanned;
@@ -32,7 +33,7 @@ pub(super) fn apply(
     trains: &Spanned<BTreeMap<String, Spanned<String>>>,
     rotor: &mut Rotor,
 ) -> Result<Vec<JointTransmission>, crate::core::diag::LocatedError> {
-    let cx: &Ctx = &sx.cx;
+    let cx: &Source = &sx.cx;
     let mut out = Vec::new();
     for (joint, rel) in trains.get_ref() {
         let key = format!("rotor_inertia.gear_train.{joint}");

@@ -61,13 +61,13 @@ fn point_world(l: &Linkage, st: &State, name: &str) -> Vec2 {
     l.point_position(&st.q, b, &p)
 }
 
-struct Ctx<'a> {
+struct ReportCtx<'a> {
     m: &'a MechanismScenario,
     l: &'a Linkage,
     points: Vec<(String, usize, Vec2)>,
 }
 
-impl Ctx<'_> {
+impl ReportCtx<'_> {
     fn input_key(&self) -> &'static str {
         if self.m.angle_input {
             "input_deg"
@@ -223,7 +223,7 @@ impl Ctx<'_> {
 }
 
 /// Min/max of `f` over states, with where.
-fn extreme(ctx: &Ctx, states: &[&State], f: &dyn Fn(&State) -> f64) -> Value {
+fn extreme(ctx: &ReportCtx, states: &[&State], f: &dyn Fn(&State) -> f64) -> Value {
     let mut lo = (f64::INFINITY, 0.0);
     let mut hi = (f64::NEG_INFINITY, 0.0);
     for st in states {
@@ -244,7 +244,7 @@ fn extreme(ctx: &Ctx, states: &[&State], f: &dyn Fn(&State) -> f64) -> Value {
     Value::Object(o)
 }
 
-fn extremes_json(ctx: &Ctx, tracker: &Tracker, rows: &[Row]) -> Value {
+fn extremes_json(ctx: &ReportCtx, tracker: &Tracker, rows: &[Row]) -> Value {
     let l = ctx.l;
     let samples: Vec<State> = rows.iter().map(|r| r.st.clone()).collect();
     let all: Vec<&State> = samples.iter().collect();
@@ -357,7 +357,7 @@ fn state_at(tracker: &Tracker, samples: &[State], s: f64) -> Option<State> {
 
 fn counterweight(
     m: &MechanismScenario,
-    ctx: &Ctx,
+    ctx: &ReportCtx,
     cw: &crate::scenarios::linkage::CounterweightScenario,
     rows: &[Row],
     json: &mut Map<String, Value>,

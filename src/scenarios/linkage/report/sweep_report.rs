@@ -175,7 +175,7 @@ fn follower_json(f: &sweep::Follower, mine: &[&sweep::DeadCentre], full_turn: bo
 
 /// The text of one report point (input `s`): points' positions, velocities and
 /// accelerations, the links' angles and rates, the transmission angle, singularity.
-fn point_text(ctx: &Ctx, r: &Row, s: f64, text: &mut String) {
+fn point_text(ctx: &ReportCtx, r: &Row, s: f64, text: &mut String) {
     let l = ctx.l;
     let _ = writeln!(text, "\nat input {:.4}{}:", ctx.input(s), ctx.unit());
     let _ = writeln!(
@@ -229,7 +229,7 @@ fn point_text(ctx: &Ctx, r: &Row, s: f64, text: &mut String) {
 
 /// The kinetostatics text at input `s`: the driving effort both ways, inertia forces,
 /// joint forces and the shaking force.
-fn kinetostatics_text(ctx: &Ctx, r: &Row, s: f64, text: &mut String) {
+fn kinetostatics_text(ctx: &ReportCtx, r: &Row, s: f64, text: &mut String) {
     let (m, l) = (ctx.m, ctx.l);
     let (ks, vp) = r.kin.as_ref().expect("loads given");
     let _ = writeln!(
@@ -296,7 +296,7 @@ fn kinetostatics_text(ctx: &Ctx, r: &Row, s: f64, text: &mut String) {
 /// The sweep's summary lines: samples and residual, where it stopped, singular positions,
 /// dead centres, followers' stroke, swing and time ratio, the transmission angle range.
 fn sweep_text(
-    ctx: &Ctx,
+    ctx: &ReportCtx,
     sw: &Sweep,
     (sing, dcs): (&[f64], &[sweep::DeadCentre]),
     followers_json: &Map<String, Value>,
@@ -369,7 +369,7 @@ fn sweep_text(
 /// methods over the sweep, and the counterweight; returns the driving effort over a full
 /// turn (for the flywheel).
 fn kinetostatics_section(
-    ctx: &Ctx,
+    ctx: &ReportCtx,
     k: &KinetostaticsScenario,
     (tracker, samples, rows): (&Tracker, &[State], &[Row]),
     full_turn: bool,
@@ -439,7 +439,7 @@ fn coupler_curves(m: &MechanismScenario, samples: &[State]) -> Value {
 /// The dead centres (input and follower position) and each follower's summary, into
 /// `json`; returns the followers' summaries.
 fn dead_centre_json(
-    ctx: &Ctx,
+    ctx: &ReportCtx,
     fol: &[(String, sweep::Follower)],
     dcs: &[sweep::DeadCentre],
     full_turn: bool,
@@ -469,7 +469,7 @@ pub(super) fn mechanism(
     text: &mut String,
 ) -> Option<Vec<(f64, f64)>> {
     let l = &m.linkage;
-    let ctx = Ctx {
+    let ctx = ReportCtx {
         m,
         l,
         points: named_points(l),
