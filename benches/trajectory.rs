@@ -8,7 +8,7 @@ use armsim::dynamics::{Effects, Friction, Rotor};
 use armsim::model::Model;
 use armsim::motion::topp;
 use armsim::motion::{
-    check_torques, CheckOptions, JointLimits, MinJerk, Quintic, ToppOptions, Trajectory,
+    check_torques, JointLimits, MinJerk, Quintic, ToppOptions, TorqueCheckOptions, Trajectory,
     Trapezoidal,
 };
 use std::time::Instant;
@@ -127,7 +127,7 @@ fn main() {
         rotor: Some(Rotor::from_model(&ur5, 0.9)),
         ..Default::default()
     };
-    let opts = CheckOptions {
+    let opts = TorqueCheckOptions {
         dt: 1e-5,
         ..Default::default()
     };

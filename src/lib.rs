@@ -1,7 +1,7 @@
 //! # armsim
 //!
 //! Robot manipulator kinematics and dynamics in f64: an immutable [`model::Model`] built
-//! from URDF or Denavit–Hartenberg tables, a reusable [`data::Data`] workspace, and one
+//! from URDF or Denavit–Hartenberg tables, a reusable [`Data`] workspace, and one
 //! algorithm per file. See the README for the command-line tool and
 //! `docs/architecture.md` for the layers.
 //!
@@ -25,11 +25,11 @@
 //! # }
 //! ```
 //!
-//! The [`model::Model`] / [`data::Data`] functions underneath stay the API for hot loops
+//! The [`model::Model`] / [`Data`] functions underneath stay the API for hot loops
 //! (as in Pinocchio):
 //!
 //! ```
-//! use armsim::{model::Model, data::Data, kinematics};
+//! use armsim::{kinematics, model::Model, Data};
 //! let (model, _warnings) = Model::build(armsim::model::chain::chain_spec(3)).unwrap();
 //! let mut data = Data::new(&model);
 //! kinematics::forward_kinematics(&model, &mut data, &[0.3, 0.0, 0.2]);

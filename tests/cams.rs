@@ -5,8 +5,10 @@
 //! distance r_r from the pitch curve, the base-radius search at its limit — and the
 //! broken files.
 
-use armsim::machines::cams::laws::{Law, Motion};
-use armsim::machines::cams::profile::{min_prime_radius, pressure_angle_numeric, sample, Follower};
+use armsim::machines::cams::laws::{Law, MotionLaw};
+use armsim::machines::cams::profile::{
+    min_prime_radius, pressure_angle_numeric, sample, CamFollower,
+};
 use serde_json::Value;
 use std::f64::consts::PI;
 
@@ -21,8 +23,8 @@ fn close(a: f64, b: f64, tol: f64, what: &str) {
     assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
 }
 
-fn design_motion() -> Motion {
-    Motion {
+fn design_motion() -> MotionLaw {
+    MotionLaw {
         stroke: 25.0,
         rise: 120f64.to_radians(),
         dwell_top: 60f64.to_radians(),
@@ -233,7 +235,7 @@ fn law_derivatives_match_finite_differences() {
 #[test]
 fn pressure_angle_formula_agrees_with_the_profile_geometry() {
     let m = design_motion();
-    let f = Follower::Translating {
+    let f = CamFollower::Translating {
         offset: 5.0,
         roller: 8.0,
         r0: 40.0,
@@ -248,7 +250,7 @@ fn pressure_angle_formula_agrees_with_the_profile_geometry() {
             &format!("α at {phi}"),
         );
     }
-    let f = Follower::Oscillating {
+    let f = CamFollower::Oscillating {
         arm: 120.0,
         pivot: 150.0,
         roller: 0.0,
@@ -269,7 +271,7 @@ fn pressure_angle_formula_agrees_with_the_profile_geometry() {
 fn curvature_and_working_profile_agree_with_the_point_cloud() {
     let m = design_motion();
     let rr = 8.0;
-    let f = Follower::Translating {
+    let f = CamFollower::Translating {
         offset: 5.0,
         roller: rr,
         r0: 40.0,
@@ -311,7 +313,7 @@ fn minimum_base_radius_reaches_the_pressure_angle_limit() {
     let e = 5.0;
     let n = 7200;
     let r0 = min_prime_radius(&m, e, ar, aret, n);
-    let f = Follower::Translating {
+    let f = CamFollower::Translating {
         offset: e,
         roller: 0.0,
         r0,

@@ -4,8 +4,8 @@
 //! trajectories, and the exact closest approach against the brute-force minimum.
 
 use armsim::collision::{
-    half_path_bound, CertifyOptions, CollisionData, CollisionModel, CollisionOptions, Motion,
-    Obstacle, Scope, TrajectoryOptions,
+    half_path_bound, CertifiedMotion, CertifyOptions, CollisionData, CollisionModel,
+    CollisionOptions, Obstacle, Scope, TrajectoryOptions,
 };
 use armsim::core::spatial::Vec3;
 use armsim::model::{LoadOptions, Model};
@@ -143,7 +143,7 @@ fn certifier_catches_a_collision_strictly_between_two_samples_that_the_sample_ch
         .check_trajectory(&model, &mut cd, &times, &qs, &topts)
         .unwrap();
     assert!(samples_only.first_collision.is_none(), "the samples see it");
-    let motion = Motion {
+    let motion = CertifiedMotion {
         times: &times,
         sample: &sample,
         accel_bound: &[6.0 * pi],
@@ -315,7 +315,7 @@ fn exact_minimum_distance_equals_the_brute_force_minimum_over_the_samples() {
     let qdd = std::cell::RefCell::new(vec![0.0; 6]);
     let sample =
         |t: f64, q: &mut [f64], qd: &mut [f64]| traj.sample(t, q, qd, &mut qdd.borrow_mut());
-    let motion = Motion {
+    let motion = CertifiedMotion {
         times: &times,
         sample: &sample,
         accel_bound: &[5.0; 6],

@@ -4,7 +4,7 @@
 //! and located errors for broken files.
 
 use armsim::machines::vibration::rotor::{
-    fe_modes, pinned_pinned_speed, unbalance_response, Bearing, Disc, Rotor, Segment,
+    fe_modes, pinned_pinned_speed, unbalance_response, Bearing, Disc, FlexibleRotor, Segment,
 };
 use armsim::machines::vibration::rotor_transfer::critical_speeds;
 use serde_json::Value;
@@ -72,8 +72,8 @@ fn modal_balancing_masses_match_the_closed_forms() {
     close(&v["modal_balancing"]["moment_sum"], 0.0, 1e-12, "Σ x X");
 }
 
-fn overhung() -> Rotor {
-    Rotor {
+fn overhung() -> FlexibleRotor {
+    FlexibleRotor {
         segments: vec![
             Segment::circular(0.7, 0.06, 0.0, 2.1e11, 7850.0),
             Segment::circular(0.5, 0.04, 0.0, 2.1e11, 7850.0),

@@ -359,7 +359,7 @@ mod friction_circles {
     use armsim::machines::friction::friction_circle::{solve_with_friction, JointFriction};
     use armsim::machines::linkage::catalog;
     use armsim::machines::linkage::kinetostatics::{Loads, PointForce};
-    use armsim::machines::linkage::linkage::{Driver, Link, Linkage, GROUND};
+    use armsim::machines::linkage::linkage::{Driver, Linkage, PlanarLink, GROUND};
     use armsim::machines::linkage::position::NewtonOptions;
     use armsim::machines::linkage::sweep::{sweep, SweepOptions};
     use armsim::machines::linkage::virtual_power::driving_effort;
@@ -372,7 +372,7 @@ mod friction_circles {
         let l = Linkage::with_shared_pins(
             "crank",
             vec![("A".into(), Vec2::zeros())],
-            vec![Link::binary("AB", "A", "B", r)],
+            vec![PlanarLink::binary("AB", "A", "B", r)],
             Vec::new(),
             Driver::Angle {
                 link: 0,

@@ -22,8 +22,8 @@ use armsim::machines::linkage::position::{solve_position, NewtonOptions};
 use armsim::machines::linkage::sweep::{sweep, State, Sweep, SweepOptions, Tracker};
 use armsim::machines::linkage::velocity::{solve_acceleration, solve_velocity};
 use armsim::machines::linkage::virtual_power;
-use armsim::machines::linkage::{Driver, Link, Linkage, Slider, Vec2, GROUND};
-use armsim::scenarios::linkage::{parse, MechanismScenario, Scenario};
+use armsim::machines::linkage::{Driver, Linkage, PlanarLink, Slider, Vec2, GROUND};
+use armsim::scenarios::linkage::{parse, LinkageScenario, MechanismScenario};
 use nalgebra::DVector;
 use serde_json::Value;
 use std::f64::consts::PI;
@@ -34,7 +34,7 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn scenario(rel: &str) -> Scenario {
+fn scenario(rel: &str) -> LinkageScenario {
     let p = root().join(rel);
     let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{rel}: {e}"));
     parse(rel, &text).unwrap_or_else(|e| panic!("{e}"))
@@ -713,8 +713,8 @@ fn redundant_constraints_are_found_by_rank_where_grubler_fails() {
             ("D".into(), Vec2::new(0.2, 0.0)),
         ],
         vec![
-            Link::binary("AB", "A", "B", 0.1),
-            Link::new(
+            PlanarLink::binary("AB", "A", "B", 0.1),
+            PlanarLink::new(
                 "BC",
                 vec![
                     ("B".into(), Vec2::zeros()),
@@ -722,8 +722,8 @@ fn redundant_constraints_are_found_by_rank_where_grubler_fails() {
                     ("C".into(), Vec2::new(0.2, 0.0)),
                 ],
             ),
-            Link::binary("DC", "D", "C", 0.1),
-            Link::binary("EF", "E", "F", 0.1),
+            PlanarLink::binary("DC", "D", "C", 0.1),
+            PlanarLink::binary("EF", "E", "F", 0.1),
         ],
         Vec::new(),
         Driver::Angle {
@@ -785,7 +785,7 @@ fn test_linkages() -> Vec<(Linkage, DVector<f64>)> {
     let mut sc = catalog::slider_crank(0.1, 0.3, 0.02);
     sc.links[0].com = Vec2::new(0.03, 0.01);
     sc.joints
-        .push(armsim::machines::linkage::Joint::Slider(Slider {
+        .push(armsim::machines::linkage::PlanarJoint::Slider(Slider {
             name: "extra".into(),
             link: 2,
             p: Vec2::new(0.01, 0.02),
@@ -1047,10 +1047,10 @@ fn kinetostatic_joint_forces_balance_each_link() {
         }
         for jf in &k.joint_forces {
             let at = match &heavy.joints[jf.joint] {
-                armsim::machines::linkage::Joint::Revolute { a, pa, .. } => {
+                armsim::machines::linkage::PlanarJoint::Revolute { a, pa, .. } => {
                     heavy.point_position(&q, *a, pa)
                 }
-                armsim::machines::linkage::Joint::Slider(s) => {
+                armsim::machines::linkage::PlanarJoint::Slider(s) => {
                     heavy.point_position(&q, s.link, &s.p)
                 }
             };

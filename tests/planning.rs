@@ -211,10 +211,10 @@ fn same_seed_gives_bitwise_identical_paths_across_planners_and_queries() {
 
 #[test]
 fn every_instruction_set_gives_bitwise_identical_paths() {
-    use armsim::planning::checker::Isa;
+    use armsim::planning::checker::CheckerIsa;
     let robot = Robot::load("ur5");
     let best = planner(&robot, &[], PlanOptions::default()).checker.isa();
-    let isas: Vec<Isa> = [Isa::Baseline, Isa::Avx2, Isa::Avx512Vl]
+    let isas: Vec<CheckerIsa> = [CheckerIsa::Baseline, CheckerIsa::Avx2, CheckerIsa::Avx512Vl]
         .into_iter()
         .filter(|&i| i <= best)
         .collect();

@@ -1,5 +1,5 @@
 //! The trade-offs report (`armsim tradeoffs`): the five studies run at their smoke-test
-//! sizes (`Mode::Tiny`, seconds) through the library, and the figures they produce are
+//! sizes (`StudyMode::Tiny`, seconds) through the library, and the figures they produce are
 //! checked for structure and for the physics and numerics they should show (a tighter
 //! IK tolerance gives a smaller residual, RK4's energy error falls with the step, ABA
 //! and CRBA agree, Sobol' beats random sampling once the grid is covered, …). The
@@ -8,18 +8,18 @@
 //! time: the machines are shared.
 
 use armsim::studies::tradeoffs::ik_study as ik;
-use armsim::studies::tradeoffs::integrators::Outcome;
+use armsim::studies::tradeoffs::integrators::IntegratorOutcome;
 use armsim::studies::tradeoffs::markdown as report;
-use armsim::studies::tradeoffs::{self, Mode, Options, Report};
+use armsim::studies::tradeoffs::{self, Options, StudyMode, TradeoffsReport};
 use armsim::workspace::Sampling;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
 /// The tiny report, measured once for all tests.
-fn tiny() -> &'static Report {
-    static REPORT: OnceLock<Report> = OnceLock::new();
-    REPORT.get_or_init(|| tradeoffs::run(&Options::new(Mode::Tiny)).expect("the studies run"))
+fn tiny() -> &'static TradeoffsReport {
+    static REPORT: OnceLock<TradeoffsReport> = OnceLock::new();
+    REPORT.get_or_init(|| tradeoffs::run(&Options::new(StudyMode::Tiny)).expect("the studies run"))
 }
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -35,7 +35,7 @@ fn finite_positive(x: f64) -> bool {
 #[test]
 fn ik_rows_cover_every_method_and_tolerance_and_tighter_tolerances_give_smaller_residuals() {
     let st = &tiny().ik;
-    let tols = ik::IkConfig::for_mode(Mode::Tiny).tolerances;
+    let tols = ik::IkConfig::for_mode(StudyMode::Tiny).tolerances;
     assert_eq!(st.robot, "ur5");
     assert_eq!(st.analytic_kind.as_deref(), Some("ur"));
     for m in [ik::NUMERIC, ik::QP, ik::ANALYTIC] {
@@ -84,7 +84,7 @@ fn ik_rows_cover_every_method_and_tolerance_and_tighter_tolerances_give_smaller_
 #[test]
 fn integrators_show_rk4_order_symplectic_first_order_and_explicit_blow_up_on_springs() {
     let st = &tiny().integrators;
-    let dts = tradeoffs::integrators::IntegratorConfig::for_mode(Mode::Tiny).dts;
+    let dts = tradeoffs::integrators::IntegratorConfig::for_mode(StudyMode::Tiny).dts;
     assert_eq!(st.cases.len(), 2);
     assert_eq!(st.cells.len(), 2 * 3 * dts.len());
     let energy = |case: &str, m: &str| -> Vec<f64> {
@@ -125,7 +125,11 @@ fn integrators_show_rk4_order_symplectic_first_order_and_explicit_blow_up_on_spr
     assert!(dts.iter().all(|dt| dt * w > 2.83));
     for m in ["semi_implicit_euler", "rk4"] {
         for c in st.series("elastic", m) {
-            assert!(matches!(c.energy, Outcome::Diverged { .. }), "{m} {}", c.dt);
+            assert!(
+                matches!(c.energy, IntegratorOutcome::Diverged { .. }),
+                "{m} {}",
+                c.dt
+            );
             assert!(c.tracking.diverged() && c.wall_s.is_none());
         }
         assert_eq!(st.largest_stable_dt("elastic", m), None);
@@ -139,7 +143,7 @@ fn integrators_show_rk4_order_symplectic_first_order_and_explicit_blow_up_on_spr
 #[test]
 fn dynamics_formulations_agree_and_are_timed_up_to_their_caps() {
     let st = &tiny().formulations;
-    let cfg = tradeoffs::formulations::FormulationConfig::for_mode(Mode::Tiny);
+    let cfg = tradeoffs::formulations::FormulationConfig::for_mode(StudyMode::Tiny);
     assert_eq!(st.rows.iter().map(|r| r.dof).collect::<Vec<_>>(), cfg.dofs);
     for r in &st.rows {
         for k in 0..3 {

@@ -13,8 +13,8 @@ use armsim::model::data::Data;
 use armsim::model::Model;
 use armsim::motion::topp;
 use armsim::motion::{
-    cartesian_line, check_torques, CartesianOptions, CheckOptions, JointLimits, LinearPath,
-    MinJerk, Path, Quintic, TimeScaled, ToppOptions, Trajectory, TrajectoryError, Trapezoidal,
+    cartesian_line, check_torques, CartesianOptions, JointLimits, LinearPath, MinJerk, Path,
+    Quintic, TimeScaled, ToppOptions, TorqueCheckOptions, Trajectory, TrajectoryError, Trapezoidal,
 };
 use nalgebra::{DMatrix, DVector, Rotation3, UnitQuaternion};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -603,7 +603,7 @@ fn torque_feasible_trapezoid(
     eff: &Effects,
 ) -> TimeScaled<Trapezoidal> {
     let feasible = |traj: &TimeScaled<Trapezoidal>| {
-        let opts = CheckOptions {
+        let opts = TorqueCheckOptions {
             dt: 2e-3,
             effort_limit: Some(effort.to_vec()),
             velocity_limit: Some(vec![f64::INFINITY; m.nv]),
@@ -879,7 +879,7 @@ fn torque_check_agrees_with_an_independent_recomputation() {
         ..Default::default()
     };
     let traj = MinJerk::new(&ur5_waypoints(), &ur5_limits(&m)).unwrap();
-    let opts = CheckOptions {
+    let opts = TorqueCheckOptions {
         dt: 0.01,
         ..Default::default()
     };
@@ -955,7 +955,7 @@ fn first_violation_is_found_where_the_torque_crosses_the_limit() {
         t: 2.0,
     };
     let dt = 0.01;
-    let opts = CheckOptions {
+    let opts = TorqueCheckOptions {
         dt,
         effort_limit: Some(vec![0.5 * peak1, 2.0 * peak2]),
         velocity_limit: Some(vec![10.0, 10.0]),
@@ -1005,7 +1005,7 @@ fn first_violation_is_found_where_the_torque_crosses_the_limit() {
         w,
         t: 2.0,
     };
-    let opts = CheckOptions {
+    let opts = TorqueCheckOptions {
         dt,
         effort_limit: Some(vec![f64::INFINITY; 2]),
         velocity_limit: Some(vec![10.0, 0.5 * 0.5 * w]),
@@ -1047,7 +1047,7 @@ fn first_speed_violation_is_interpolated() {
     }
     let m = planar();
     let (b, w, dt) = (0.4, 2.5, 0.005);
-    let opts = CheckOptions {
+    let opts = TorqueCheckOptions {
         dt,
         effort_limit: Some(vec![f64::INFINITY; 2]),
         velocity_limit: Some(vec![1.0, 0.5 * b * w]),
@@ -1069,7 +1069,7 @@ fn torque_report_json_table_and_plots() {
     let traj = MinJerk::new(&ur5_waypoints(), &ur5_limits(&m)).unwrap();
     let mut eff_lim = m.effort_limit.clone();
     eff_lim[1] = 20.0; // the shoulder cannot hold the arm with this: a violation to show
-    let opts = CheckOptions {
+    let opts = TorqueCheckOptions {
         dt: 0.005,
         effort_limit: Some(eff_lim),
         velocity_limit: None,
@@ -1197,7 +1197,7 @@ fn sampling_and_checking_do_not_allocate_per_sample() {
     }
     let eff = Effects::gravity(m.gravity);
     let count = |dt: f64| {
-        let opts = CheckOptions {
+        let opts = TorqueCheckOptions {
             dt,
             ..Default::default()
         };
@@ -1263,7 +1263,7 @@ fn torque_check_streams_and_caps_the_plot() {
     let eff = Effects::gravity(Vec3::new(0.0, 0.0, -9.81));
     let effort: Vec<f64> = (0..n).map(|k| 50.0 + k as f64).collect();
     let with = |keep_series: bool| {
-        let opts = CheckOptions {
+        let opts = TorqueCheckOptions {
             dt: 0.01,
             effort_limit: Some(effort.clone()),
             velocity_limit: None,

@@ -10,7 +10,7 @@
 //! problem N times and reports the median times (the VAMP anchor's protocol; the paths of
 //! the passes must be identical, which is checked).
 
-use crate::cli::plan_report::{self, Outcome, ReportHeader};
+use crate::cli::plan_report::{self, PlanOutcome, ReportHeader};
 use armsim::collision::Obstacle;
 use armsim::model::{LoadOptions, Model};
 use armsim::planning::acm::Acm;
@@ -128,7 +128,7 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
         eprintln!("note: {}", acm_note(acm, robot.setup_time_s));
     }
     let solve = |inp: &Input| solve(&robot, &opts, a.passes, inp);
-    let outcomes: Vec<Outcome> = if a.threads == 1 {
+    let outcomes: Vec<PlanOutcome> = if a.threads == 1 {
         inputs.iter().map(solve).collect::<Result<_, _>>()?
     } else {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -325,7 +325,7 @@ fn solve(
     opts: &PlanOptions,
     passes: usize,
     inp: &Input,
-) -> Result<Outcome, String> {
+) -> Result<PlanOutcome, String> {
     let mut planner = Planner::for_robot(robot.clone(), opts.clone());
     planner
         .set_obstacles(&inp.obstacles)
@@ -342,7 +342,7 @@ fn solve(
     }
     result.plan_time_us = plan_report::median(&mut plan);
     result.simplify_time_us = plan_report::median(&mut simplify);
-    Ok(Outcome {
+    Ok(PlanOutcome {
         scene: inp.scene_label.clone(),
         problem: inp.id.clone(),
         result,

@@ -15,7 +15,7 @@ use std::fmt::Write as _;
 
 /// One planned problem.
 #[derive(Debug)]
-pub struct Outcome {
+pub struct PlanOutcome {
     /// The folder's name (scene kind, e.g. `table_pick`).
     pub scene: String,
     /// The problem id (`NNNN`).
@@ -74,7 +74,7 @@ struct Stats {
     iterations: [f64; 2],
 }
 
-fn stats(outcomes: &[&Outcome]) -> Stats {
+fn stats(outcomes: &[&PlanOutcome]) -> Stats {
     let solved: Vec<&PlanResult> = outcomes
         .iter()
         .map(|o| &o.result)
@@ -120,8 +120,8 @@ fn stats(outcomes: &[&Outcome]) -> Stats {
 }
 
 /// The scenes in order of first appearance, each with its outcomes.
-fn by_scene(outcomes: &[Outcome]) -> Vec<(String, Vec<&Outcome>)> {
-    let mut out: Vec<(String, Vec<&Outcome>)> = Vec::new();
+fn by_scene(outcomes: &[PlanOutcome]) -> Vec<(String, Vec<&PlanOutcome>)> {
+    let mut out: Vec<(String, Vec<&PlanOutcome>)> = Vec::new();
     for o in outcomes {
         match out.iter_mut().find(|(s, _)| *s == o.scene) {
             Some((_, v)) => v.push(o),
@@ -157,7 +157,7 @@ fn stats_json(scene: &str, s: &Stats) -> Value {
 }
 
 /// The JSON output (pretty-printed, with a trailing newline).
-pub fn json(h: &ReportHeader, outcomes: &[Outcome]) -> String {
+pub fn json(h: &ReportHeader, outcomes: &[PlanOutcome]) -> String {
     let results: Vec<Value> = outcomes
         .iter()
         .map(|o| {
@@ -180,7 +180,7 @@ pub fn json(h: &ReportHeader, outcomes: &[Outcome]) -> String {
         .iter()
         .map(|(s, v)| stats_json(s, &stats(v)))
         .collect();
-    let all: Vec<&Outcome> = outcomes.iter().collect();
+    let all: Vec<&PlanOutcome> = outcomes.iter().collect();
     scenes.push(stats_json("ALL", &stats(&all)));
     let v = json!({
         "joints": h.model.dof_names(),
@@ -216,7 +216,7 @@ fn status_name(s: PlanStatus) -> &'static str {
 }
 
 /// The text output: a table per scene, then the summary.
-pub fn text(h: &ReportHeader, outcomes: &[Outcome]) -> String {
+pub fn text(h: &ReportHeader, outcomes: &[PlanOutcome]) -> String {
     let mut t = String::new();
     let limit = h
         .time_limit_ms
@@ -266,7 +266,7 @@ pub fn text(h: &ReportHeader, outcomes: &[Outcome]) -> String {
     let hdr = "| scene | solved/valid/total | plan med | plan mean | plan p95 | plan max | simp med | simp mean | total med | total mean | init cost med | simp cost med | iters med | iters max |";
     let _ = writeln!(t, "{hdr}");
     let _ = writeln!(t, "|{}", "---|".repeat(hdr.matches('|').count() - 1));
-    let all: Vec<&Outcome> = outcomes.iter().collect();
+    let all: Vec<&PlanOutcome> = outcomes.iter().collect();
     let mut rows: Vec<(&str, Stats)> = groups.iter().map(|(s, v)| (s.as_str(), stats(v))).collect();
     if groups.len() > 1 {
         rows.push(("ALL", stats(&all)));

@@ -9,7 +9,7 @@
 //! cannot be planned stops the command with the step's location, as `armsim run` does.
 
 use crate::cli::plan_cmd::PlanArgs;
-use crate::cli::plan_report::{self, Outcome, ReportHeader};
+use crate::cli::plan_report::{self, PlanOutcome, ReportHeader};
 use armsim::planning::srdf;
 use armsim::planning::PlanOptions;
 use std::path::Path;
@@ -61,7 +61,7 @@ pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, Stri
     let time_limit_ms = settings.time_limit.as_secs_f64() * 1e3;
     let simplify = settings.simplify;
     let range = settings.range;
-    let mut outcomes: Vec<Outcome> = Vec::new();
+    let mut outcomes: Vec<PlanOutcome> = Vec::new();
     let mut times: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
     for pass in 0..a.passes {
         let plan = armsim::scenarios::arm::task_motion::plan(&scene).map_err(|e| e.to_string())?;
@@ -79,7 +79,7 @@ pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, Stri
         for (k, seg) in plan.planned_segments.into_iter().enumerate() {
             if pass == 0 {
                 times.push((Vec::new(), Vec::new()));
-                outcomes.push(Outcome {
+                outcomes.push(PlanOutcome {
                     scene: scene.name.clone(),
                     problem: seg.step.clone(),
                     result: seg.result.clone(),

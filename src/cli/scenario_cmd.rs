@@ -172,13 +172,13 @@ pub fn view(a: &ViewArgs) -> Result<(), String> {
 /// `armsim tradeoffs`: runs the studies, writes the report, prints the files written.
 pub fn tradeoffs(a: &TradeoffsArgs) -> Result<(), String> {
     let (out, quick, tiny, quiet) = (a.out.as_path(), a.quick, a.tiny, a.quiet);
-    use armsim::studies::tradeoffs::{self, Mode, Options};
+    use armsim::studies::tradeoffs::{self, Options, StudyMode};
     let mode = if tiny {
-        Mode::Tiny
+        StudyMode::Tiny
     } else if quick {
-        Mode::Quick
+        StudyMode::Quick
     } else {
-        Mode::Full
+        StudyMode::Full
     };
     // Fail on an unwritable directory before spending minutes measuring.
     std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;

@@ -3,7 +3,7 @@
 //! approaches at the samples are found without measuring every pair at every sample.
 //!
 //! **Curve bound.** On an interval `[t_k, t_k+1]` of length `h`, let `A_j` bound `|q̈_j|`
-//! along the motion ([`Motion::accel_bound`]) and `v_j = |q̇_j(t_k)|`, `w_j = |q̇_j(t_k+1)|`.
+//! along the motion ([`CertifiedMotion::accel_bound`]) and `v_j = |q̇_j(t_k)|`, `w_j = |q̇_j(t_k+1)|`.
 //! Then `|q̇_j(t_k + s)| ≤ v_j + A_j s` and `≤ w_j + A_j (h − s)`, so the joint's path length
 //! over the first half is at most `v_j h/2 + A_j h²/8` and over the second half at most
 //! `w_j h/2 + A_j h²/8` — along the actual (smoothed, timed) curve, whatever its shape
@@ -40,7 +40,7 @@ use serde::Serialize;
 pub type SampleFn<'a> = dyn Fn(f64, &mut [f64], &mut [f64]) + 'a;
 
 /// The motion to certify.
-pub struct Motion<'a> {
+pub struct CertifiedMotion<'a> {
     /// Sample times, strictly increasing.
     pub times: &'a [f64],
     /// Writes `q(t)` and `q̇(t)` for any `t` in `[times[0], times[last]]`.
@@ -120,7 +120,7 @@ pub struct Certificate {
 
 /// The sampled motion and its per-half-interval path-length bounds.
 pub(super) struct Work<'m> {
-    pub(super) motion: &'m Motion<'m>,
+    pub(super) motion: &'m CertifiedMotion<'m>,
     pub(super) n: usize,
     pub(super) nv: usize,
     pub(super) nobj: usize,
@@ -186,7 +186,7 @@ impl Certifier {
         cm: &CollisionModel,
         model: &Model,
         cd: &mut CollisionData,
-        motion: &Motion,
+        motion: &CertifiedMotion,
         opts: &CertifyOptions,
     ) -> Result<Certificate, CollisionError> {
         let (mut w, mut known) = self.start(cm, model, cd, motion, opts)?;
@@ -232,7 +232,7 @@ impl Certifier {
         cm: &CollisionModel,
         model: &Model,
         cd: &mut CollisionData,
-        motion: &'m Motion<'m>,
+        motion: &'m CertifiedMotion<'m>,
         opts: &CertifyOptions,
     ) -> Result<(Work<'m>, Vec<Known>), CollisionError> {
         check(model, motion, opts).map_err(CollisionError::Trajectory)?;
@@ -509,7 +509,7 @@ fn sample_motion<'m>(
     cm: &CollisionModel,
     model: &Model,
     cd: &mut CollisionData,
-    motion: &'m Motion<'m>,
+    motion: &'m CertifiedMotion<'m>,
 ) -> Work<'m> {
     let (n, nv, nobj) = (motion.times.len(), model.nv, cm.objects.len());
     let mut qs = vec![0.0; n * nv];
@@ -553,7 +553,7 @@ fn sample_motion<'m>(
 }
 
 /// Times strictly increasing and finite, bounds of the model's size, valid options.
-fn check(model: &Model, m: &Motion, opts: &CertifyOptions) -> Result<(), String> {
+fn check(model: &Model, m: &CertifiedMotion, opts: &CertifyOptions) -> Result<(), String> {
     if m.times.is_empty() {
         return Err("no sample times".into());
     }

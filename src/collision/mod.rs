@@ -86,7 +86,9 @@ mod shape;
 mod trajectory;
 
 pub use bounds::{half_path_bound, Certifier, Evaluations};
-pub use certify::{Certificate, CertifyOptions, ClearanceBound, Motion, SampleFn, SampleMin};
+pub use certify::{
+    Certificate, CertifiedMotion, CertifyOptions, ClearanceBound, SampleFn, SampleMin,
+};
 pub use obstacle::{Obstacle, ObstacleShape, ObstacleSpec};
 pub use segment::SegmentScratch;
 pub use shape::{CollisionShape, ShapeKind, MAX_COORD};

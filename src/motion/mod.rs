@@ -44,7 +44,7 @@ pub use crate::motion::topp::{
     topp, LinearPath, ToppMethod, ToppOptions, ToppStats, ToppTrajectory,
 };
 pub use crate::motion::torque_check::{
-    check_torques, check_torques_switched, CheckOptions, JointCheck, TorqueReport,
+    check_torques, check_torques_switched, JointCheck, TorqueCheckOptions, TorqueReport,
 };
 pub use crate::motion::trapezoidal::Trapezoidal;
 

@@ -26,7 +26,7 @@ use std::fmt::Write as _;
 
 /// Options of [`check_torques`].
 #[derive(Clone, Debug)]
-pub struct CheckOptions {
+pub struct TorqueCheckOptions {
     /// Largest sample step (s).
     pub dt: f64,
     /// Effort limits replacing the model's (one per coordinate).
@@ -38,9 +38,9 @@ pub struct CheckOptions {
     pub keep_series: bool,
 }
 
-impl Default for CheckOptions {
+impl Default for TorqueCheckOptions {
     fn default() -> Self {
-        CheckOptions {
+        TorqueCheckOptions {
             dt: 1e-3,
             effort_limit: None,
             velocity_limit: None,
@@ -137,13 +137,16 @@ pub fn check_torques(
     model: &Model,
     traj: &dyn Trajectory,
     effects: &Effects,
-    opts: &CheckOptions,
+    opts: &TorqueCheckOptions,
 ) -> Result<TorqueReport, TrajectoryError> {
     check_torques_switched(model, traj, effects, effects, (f64::NAN, f64::NAN), opts)
 }
 
 /// The effort and velocity limits (the options', else the model's), checked positive.
-fn limits(model: &Model, opts: &CheckOptions) -> Result<(Vec<f64>, Vec<f64>), TrajectoryError> {
+fn limits(
+    model: &Model,
+    opts: &TorqueCheckOptions,
+) -> Result<(Vec<f64>, Vec<f64>), TrajectoryError> {
     let n = model.nv;
     let effort = opts
         .effort_limit
@@ -206,7 +209,7 @@ pub fn check_torques_switched(
     outside: &Effects,
     inside: &Effects,
     window: (f64, f64),
-    opts: &CheckOptions,
+    opts: &TorqueCheckOptions,
 ) -> Result<TorqueReport, TrajectoryError> {
     inside.validate(model).map_err(TrajectoryError::Invalid)?;
     let effects = outside;

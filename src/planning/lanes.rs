@@ -1,5 +1,5 @@
 //! Eight-lane geometry for the checker: stored lanes ([`L`], 32-byte aligned), points and
-//! poses in registers ([`P3`], [`Pose`]) over a [`Simd`] token, one robot configuration
+//! poses in registers ([`P3`], [`LanePose`]) over a [`Simd`] token, one robot configuration
 //! per lane (structure of arrays, as in VAMP).
 
 use crate::planning::simd::{Simd, W};
@@ -81,7 +81,7 @@ impl<S: Simd> P3<S> {
 
 /// A rotation (row-major) and translation per lane, in registers.
 #[derive(Clone, Copy)]
-pub struct Pose<S: Simd> {
+pub struct LanePose<S: Simd> {
     /// `r[row][col]`.
     pub r: [[W<S>; 3]; 3],
     /// Translation.
@@ -116,12 +116,12 @@ impl Default for PoseM {
     }
 }
 
-impl<S: Simd> Pose<S> {
+impl<S: Simd> LanePose<S> {
     /// The same constant pose in every lane.
     #[inline(always)]
-    pub fn splat(tok: S, r: &[[f32; 3]; 3], t: &[f32; 3]) -> Pose<S> {
+    pub fn splat(tok: S, r: &[[f32; 3]; 3], t: &[f32; 3]) -> LanePose<S> {
         let z = tok.splat(0.0);
-        let mut out = Pose {
+        let mut out = LanePose {
             r: [[z; 3]; 3],
             t: P3::splat(tok, t),
         };
@@ -135,9 +135,9 @@ impl<S: Simd> Pose<S> {
 
     /// Loads a stored pose.
     #[inline(always)]
-    pub fn load(tok: S, m: &PoseM) -> Pose<S> {
+    pub fn load(tok: S, m: &PoseM) -> LanePose<S> {
         let z = tok.splat(0.0);
-        let mut out = Pose {
+        let mut out = LanePose {
             r: [[z; 3]; 3],
             t: P3::load(tok, &m.t),
         };

@@ -162,7 +162,7 @@ pub fn avx512vl_detected() -> bool {
 
 /// The instruction sets the checker's code is built for, lowest first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Isa {
+pub enum CheckerIsa {
     /// Baseline x86-64 (two SSE2 registers per eight lanes), or scalar code elsewhere.
     Baseline,
     /// AVX2 + FMA.

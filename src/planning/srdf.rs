@@ -53,8 +53,8 @@ pub struct LinkPair {
 
 /// A `<group>`.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct Group {
-    /// Group name.
+pub struct SrdfGroup {
+    /// SrdfGroup name.
     pub name: String,
     /// `<chain base_link tip_link>` entries.
     pub chains: Vec<(String, String)>,
@@ -82,7 +82,7 @@ pub struct Srdf {
     /// Lines of `<disable_default_collisions>` elements (not applied).
     pub disable_default_lines: Vec<usize>,
     /// Planning groups, in file order.
-    pub groups: Vec<Group>,
+    pub groups: Vec<SrdfGroup>,
 }
 
 /// Reads an SRDF file.
@@ -232,10 +232,10 @@ pub fn parse_srdf(text: &str, file: &str) -> Result<Srdf, PlanningInputError> {
             }
             "disable_default_collisions" => srdf.disable_default_lines.push(line(n)),
             "group" => {
-                let mut g = Group {
+                let mut g = SrdfGroup {
                     name: attr(n, "name")?,
                     line: line(n),
-                    ..Group::default()
+                    ..SrdfGroup::default()
                 };
                 for c in n.children().filter(|c| c.is_element()) {
                     match c.tag_name().name() {

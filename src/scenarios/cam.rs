@@ -5,8 +5,8 @@
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::report::Report;
 use crate::machines::cams::eccentric::{Eccentric, EccentricFollower};
-use crate::machines::cams::laws::{Law, Motion};
-use crate::machines::cams::profile::Follower;
+use crate::machines::cams::laws::{Law, MotionLaw};
+use crate::machines::cams::profile::CamFollower;
 use crate::scenarios::cam_report::{report, Cam, CamScenario};
 use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
@@ -156,9 +156,9 @@ fn law_follower(
     roller: f64,
     ferr: &FollowerErr,
     positive: &PositiveLen,
-) -> Result<Follower, ScenarioError> {
+) -> Result<CamFollower, ScenarioError> {
     Ok(match (fo.kind.as_str(), moving) {
-        ("flat", "translating") => Follower::Flat {
+        ("flat", "translating") => CamFollower::Flat {
             rb: positive("base_radius", fo.base_radius)?,
         },
         ("flat", _) => {
@@ -179,7 +179,7 @@ fn law_follower(
                     ),
                 ));
             }
-            Follower::Translating {
+            CamFollower::Translating {
                 offset: fo.offset,
                 roller,
                 r0,
@@ -195,7 +195,7 @@ fn law_follower(
                     "the arm cannot reach the base circle (|l − d| < r0 < l + d)".into(),
                 ));
             }
-            Follower::Oscillating {
+            CamFollower::Oscillating {
                 arm,
                 pivot,
                 roller,
@@ -336,7 +336,7 @@ pub fn parse(file: &str, text: &str) -> Result<CamScenario, ScenarioError> {
     })
 }
 
-fn motion(cx: &Source, ms: &Spanned<MotionSpec>, moving: &str) -> Result<Motion, ScenarioError> {
+fn motion(cx: &Source, ms: &Spanned<MotionSpec>, moving: &str) -> Result<MotionLaw, ScenarioError> {
     let m = ms.get_ref();
     let err = |k: &str, msg: String| cx.field(ms.span(), k, format!("motion.{k}"), msg);
     let stroke = match (moving, m.stroke, m.swing_deg) {
@@ -379,7 +379,7 @@ fn motion(cx: &Source, ms: &Spanned<MotionSpec>, moving: &str) -> Result<Motion,
             ),
         ));
     }
-    Ok(Motion {
+    Ok(MotionLaw {
         stroke,
         rise: m.rise_deg.to_radians(),
         dwell_top: m.dwell_top_deg.to_radians(),
@@ -392,24 +392,9 @@ fn motion(cx: &Source, ms: &Spanned<MotionSpec>, moving: &str) -> Result<Motion,
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "cam";
 
-/// The registry entry of `kind = "cam"` ([`crate::scenarios::KINDS`]).
-pub struct CamKind;
-
-impl crate::scenarios::kind::ScenarioKind for CamKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        parse(file, text).map(drop)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text, opts.out_dir.as_deref())
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| parse(file, text).map(drop),
+    run: |path, text, opts| run(path, text, opts.out_dir.as_deref()),
+};

@@ -8,9 +8,9 @@ use crate::io::report::Report;
 use crate::machines::cams::eccentric::{
     eval as ecc_eval, initial_theta, Eccentric, EccentricFollower,
 };
-use crate::machines::cams::laws::Motion;
+use crate::machines::cams::laws::MotionLaw;
 use crate::machines::cams::profile::{
-    min_flat_base_radius, min_prime_radius, optimum_offset, sample, Follower,
+    min_flat_base_radius, min_prime_radius, optimum_offset, sample, CamFollower,
 };
 use serde_json::{json, Value};
 use std::f64::consts::PI;
@@ -20,7 +20,7 @@ use std::fmt::Write;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Cam {
     /// Driven by a motion law.
-    Law(Motion, Follower),
+    Law(MotionLaw, CamFollower),
     /// An eccentric disc.
     Eccentric(Eccentric),
 }
@@ -54,7 +54,7 @@ fn extreme(values: &[f64], phis: &[f64], pick: impl Fn(usize) -> bool) -> Value 
 
 /// Angles (deg) where `s'` (order 1: infinite acceleration) or `s''` (order 2: infinite
 /// jerk) jumps.
-fn jumps(m: &Motion, order: usize) -> Vec<f64> {
+fn jumps(m: &MotionLaw, order: usize) -> Vec<f64> {
     let mut out = Vec::new();
     let b = [
         0.0,
@@ -78,7 +78,7 @@ fn jumps(m: &Motion, order: usize) -> Vec<f64> {
     out
 }
 
-fn law_report(sc: &CamScenario, m: &Motion, f: &Follower, text: &mut String) -> Value {
+fn law_report(sc: &CamScenario, m: &MotionLaw, f: &CamFollower, text: &mut String) -> Value {
     let w = sc.omega;
     let samples: Vec<_> = (0..=sc.steps)
         .map(|k| sample(m, f, 2.0 * PI * k as f64 / sc.steps as f64))
@@ -88,8 +88,8 @@ fn law_report(sc: &CamScenario, m: &Motion, f: &Follower, text: &mut String) -> 
     let rise = |k: usize| samples[k].s[1] > 1e-12;
     let ret = |k: usize| samples[k].s[1] < -1e-12;
     let roller = match *f {
-        Follower::Translating { roller, .. } | Follower::Oscillating { roller, .. } => roller,
-        Follower::Flat { .. } => 0.0,
+        CamFollower::Translating { roller, .. } | CamFollower::Oscillating { roller, .. } => roller,
+        CamFollower::Flat { .. } => 0.0,
     };
     let rho_min = samples
         .iter()
@@ -98,7 +98,7 @@ fn law_report(sc: &CamScenario, m: &Motion, f: &Follower, text: &mut String) -> 
         .fold(f64::INFINITY, f64::min);
     let concave = samples.iter().any(|s| s.rho_pitch < 0.0);
     let undercut = match f {
-        Follower::Flat { .. } => samples.iter().any(|s| s.rho_pitch < 0.0),
+        CamFollower::Flat { .. } => samples.iter().any(|s| s.rho_pitch < 0.0),
         _ => roller > 0.0 && rho_min < roller,
     };
     let mut summary = json!({
@@ -111,16 +111,16 @@ fn law_report(sc: &CamScenario, m: &Motion, f: &Follower, text: &mut String) -> 
         "infinite_acceleration_at_deg": jumps(m, 1),
         "infinite_jerk_at_deg": jumps(m, 2),
     });
-    if let Follower::Flat { .. } = f {
+    if let CamFollower::Flat { .. } = f {
         summary["min_flat_base_radius"] = json!(min_flat_base_radius(m, sc.steps.max(3600)));
     }
-    if let (Some((ar, aret)), Follower::Translating { offset, .. }) = (sc.limits, f) {
+    if let (Some((ar, aret)), CamFollower::Translating { offset, .. }) = (sc.limits, f) {
         let n = sc.steps.max(3600);
         let (e_opt, r_opt) = optimum_offset(m, ar, aret, n);
         summary["min_base_radius"] = json!(min_prime_radius(m, *offset, ar, aret, n));
         summary["optimum_offset"] = json!({ "offset": e_opt, "base_radius": r_opt });
     }
-    if let (Some((ar, _)), Follower::Oscillating { arm, .. }) = (sc.limits, f) {
+    if let (Some((ar, _)), CamFollower::Oscillating { arm, .. }) = (sc.limits, f) {
         let x = arm * (0..=sc.steps).map(|k| samples[k].s[1]).fold(0.0, f64::max);
         summary["book_lowest_position_radius"] = json!(x / ar.tan());
     }
@@ -156,7 +156,7 @@ fn law_report(sc: &CamScenario, m: &Motion, f: &Follower, text: &mut String) -> 
     }
     json!({
         // What `s` measures: the follower's travel (translating, flat) or its swing in rad.
-        "follower_motion": if matches!(f, Follower::Oscillating { .. }) { "oscillating" } else { "translating" },
+        "follower_motion": if matches!(f, CamFollower::Oscillating { .. }) { "oscillating" } else { "translating" },
         "samples": {
             "phi_deg": phis.iter().map(|p| p.to_degrees()).collect::<Vec<_>>(),
             "s": samples.iter().map(|s| s.s[0]).collect::<Vec<_>>(),

@@ -68,7 +68,7 @@ struct SliderCrankIn {
 
 /// A parsed centrode scenario.
 #[derive(Clone, Debug)]
-pub struct Scenario {
+pub struct CentrodesScenario {
     /// Its name.
     pub name: String,
     /// `(g, a, b, c, mode, start)` or `None` for a slider-crank.
@@ -80,7 +80,7 @@ pub struct Scenario {
 }
 
 /// Parses and validates `text` (the contents of `file`).
-pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
+pub fn parse(file: &str, text: &str) -> Result<CentrodesScenario, ScenarioError> {
     let ctx = Source::new(file, text);
     let f: File = ctx.parse()?;
     let step = f
@@ -154,7 +154,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
             "file",
             "no mechanism: add [four_bar], [slider_crank] or [slotted_lever]",
         )),
-        1 => Ok(Scenario {
+        1 => Ok(CentrodesScenario {
             name: scenario_name(f.name.as_deref(), file),
             four_bar,
             slider_crank,
@@ -181,7 +181,7 @@ fn pt(p: Option<Vec2>) -> Value {
 /// the start angle and the section it came from.
 fn assemble(
     ctx: &Source,
-    sc: &Scenario,
+    sc: &CentrodesScenario,
 ) -> Result<(Linkage, DVector<f64>, f64, &'static str), ScenarioError> {
     if let Some((g, a, b, c, mode, s0)) = sc.four_bar {
         let l = catalog::four_bar(g, a, b, c);
@@ -220,7 +220,12 @@ fn assemble(
 
 /// The largest distance between the fixed centrode and Kennedy's instant centre over
 /// the sweep (points farther than 1000 link lengths left out).
-fn kennedy_error(l: &Linkage, sc: &Scenario, samples: &[State], pts: &[CentrePoint]) -> f64 {
+fn kennedy_error(
+    l: &Linkage,
+    sc: &CentrodesScenario,
+    samples: &[State],
+    pts: &[CentrePoint],
+) -> f64 {
     // Kennedy: the crank line A–B meets the rocker line D–C (or the normal to the slide
     // at C, or the normal to the slot through the lever pivot C) in the link's instant
     // centre.
@@ -253,7 +258,7 @@ fn kennedy_error(l: &Linkage, sc: &Scenario, samples: &[State], pts: &[CentrePoi
 /// Computes the report of a parsed scenario.
 pub fn report(
     ctx: &Source,
-    sc: &Scenario,
+    sc: &CentrodesScenario,
     out_dir: Option<&Path>,
 ) -> Result<Report, ScenarioError> {
     let (l, guess, start, section) = assemble(ctx, sc)?;
@@ -378,24 +383,9 @@ fn four_bar_input(
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "centrodes";
 
-/// The registry entry of `kind = "centrodes"` ([`crate::scenarios::KINDS`]).
-pub struct CentrodesKind;
-
-impl crate::scenarios::kind::ScenarioKind for CentrodesKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        parse(file, text).map(drop)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text, opts.out_dir.as_deref())
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| parse(file, text).map(drop),
+    run: |path, text, opts| run(path, text, opts.out_dir.as_deref()),
+};

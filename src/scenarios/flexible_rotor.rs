@@ -8,7 +8,7 @@ use crate::io::plots::panels::{Panel, Series, PALETTE};
 use crate::io::report::Report;
 use crate::machines::balancing::modal::{modal_amplification, modal_balance};
 use crate::machines::vibration::rotor::{
-    fe_modes, unbalance_response, Bearing, Disc, Rotor, RotorMode, Segment,
+    fe_modes, unbalance_response, Bearing, Disc, FlexibleRotor, RotorMode, Segment,
 };
 use crate::machines::vibration::rotor_transfer::critical_speeds;
 use crate::scenarios::kit::{finish_with_plot, scenario_name};
@@ -101,11 +101,11 @@ struct BalancingIn {
 
 /// A parsed and validated flexible-rotor scenario.
 #[derive(Clone, Debug)]
-pub struct Scenario {
+pub struct FlexibleRotorScenario {
     /// Its name.
     pub name: String,
     /// The rotor.
-    pub rotor: Rotor,
+    pub rotor: FlexibleRotor,
     /// Modes to report.
     pub modes: usize,
     /// Finite elements (about).
@@ -318,7 +318,7 @@ fn parse_balancing(
 }
 
 /// Parses and validates `text` (the contents of `file`).
-pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
+pub fn parse(file: &str, text: &str) -> Result<FlexibleRotorScenario, ScenarioError> {
     let ctx = Source::new(file, text);
     let f: File = ctx.parse()?;
     let e = f
@@ -381,7 +381,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         None => Vec::new(),
         Some(r) => response_speeds(&ctx, r)?,
     };
-    let rotor = Rotor {
+    let rotor = FlexibleRotor {
         segments,
         discs,
         bearings,
@@ -394,7 +394,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         .as_ref()
         .map(|b| parse_balancing(&ctx, b, modes, len))
         .transpose()?;
-    Ok(Scenario {
+    Ok(FlexibleRotorScenario {
         name: scenario_name(f.name.as_deref(), file),
         rotor,
         modes,
@@ -409,7 +409,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
 /// deflection, at the discs, modal amplification; `critical` where the solve is singular),
 /// a text line and the response plot.
 fn unbalance_rows(
-    sc: &Scenario,
+    sc: &FlexibleRotorScenario,
     fe: &[RotorMode],
     text: &mut String,
     panels: &mut Vec<Panel>,
@@ -481,7 +481,7 @@ fn unbalance_rows(
 /// Computes the report of a parsed scenario.
 pub fn report(
     ctx: &Source,
-    sc: &Scenario,
+    sc: &FlexibleRotorScenario,
     out_dir: Option<&Path>,
 ) -> Result<Report, ScenarioError> {
     let fe = fe_modes(&sc.rotor, sc.elements, sc.modes)
@@ -576,24 +576,9 @@ pub fn report(
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "flexible_rotor";
 
-/// The registry entry of `kind = "flexible_rotor"` ([`crate::scenarios::KINDS`]).
-pub struct FlexibleRotorKind;
-
-impl crate::scenarios::kind::ScenarioKind for FlexibleRotorKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        parse(file, text).map(drop)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text, opts.out_dir.as_deref())
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| parse(file, text).map(drop),
+    run: |path, text, opts| run(path, text, opts.out_dir.as_deref()),
+};

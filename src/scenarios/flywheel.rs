@@ -90,7 +90,7 @@ struct Cycle {
 
 /// A parsed and validated flywheel scenario.
 #[derive(Clone, Debug)]
-pub struct Scenario {
+pub struct FlywheelDesignScenario {
     /// Its name.
     pub name: String,
     cycle: Option<Cycle>,
@@ -252,7 +252,7 @@ fn cycle_speed(ctx: &Source, c: &CycleIn) -> Result<(f64, f64), ScenarioError> {
 }
 
 /// Parses and validates `text` (the contents of `file`).
-pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
+pub fn parse(file: &str, text: &str) -> Result<FlywheelDesignScenario, ScenarioError> {
     let ctx = Source::new(file, text);
     let f: File = ctx.parse()?;
     ctx.any_section(
@@ -274,7 +274,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         .as_ref()
         .map(|o| parse_overload(&ctx, o))
         .transpose()?;
-    Ok(Scenario {
+    Ok(FlywheelDesignScenario {
         name: scenario_name(f.name.as_deref(), file),
         cycle,
         stroke,
@@ -519,7 +519,7 @@ fn cycle_panels(c: &Cycle, s: &fd::CycleSizing, tc: &fd::TimeCheck, panels: &mut
 /// Computes the report of a parsed scenario.
 pub fn report(
     ctx: &Source,
-    sc: &Scenario,
+    sc: &FlywheelDesignScenario,
     out_dir: Option<&Path>,
 ) -> Result<Report, ScenarioError> {
     let mut text = format!("flywheel: {}\n", sc.name);
@@ -551,24 +551,9 @@ pub fn report(
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "flywheel";
 
-/// The registry entry of `kind = "flywheel"` ([`crate::scenarios::KINDS`]).
-pub struct FlywheelKind;
-
-impl crate::scenarios::kind::ScenarioKind for FlywheelKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        parse(file, text).map(drop)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text, opts.out_dir.as_deref())
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| parse(file, text).map(drop),
+    run: |path, text, opts| run(path, text, opts.out_dir.as_deref()),
+};

@@ -497,24 +497,9 @@ fn band_brake(e: &Element, label: String, need: &Need, err: &Err) -> Result<Valu
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "friction";
 
-/// The registry entry of `kind = "friction"` ([`crate::scenarios::KINDS`]).
-pub struct FrictionKind;
-
-impl crate::scenarios::kind::ScenarioKind for FrictionKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        parse(file, text)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        _opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text)
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| parse(file, text),
+    run: |path, text, _opts| run(path, text),
+};

@@ -5,7 +5,9 @@
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::report::Report;
 use crate::machines::gearing::assembly::{planet_checks, resolve_teeth};
-use crate::machines::gearing::train::{Body, Element, Gear, GearTrain, Mesh, MeshKind, TrainError};
+use crate::machines::gearing::train::{
+    Element, Gear, GearTrain, Mesh, MeshKind, TrainBody, TrainError,
+};
 use crate::scenarios::gear_train_report::{report, Query, TrainScenario};
 use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
@@ -399,8 +401,8 @@ pub fn parse(file: &str, text: &str) -> Result<TrainScenario, ScenarioError> {
 
 /// The `[[gear]]` tables: the gears and the bodies they sit on (gears naming one body
 /// share it).
-fn gears_and_bodies(f: &FileSpec) -> Result<(Vec<Gear>, Vec<Body>), TrainError> {
-    let mut bodies: Vec<Body> = Vec::new();
+fn gears_and_bodies(f: &FileSpec) -> Result<(Vec<Gear>, Vec<TrainBody>), TrainError> {
+    let mut bodies: Vec<TrainBody> = Vec::new();
     let mut gears = Vec::new();
     for (i, s) in f.gear.iter().enumerate() {
         let g = s.get_ref();
@@ -449,7 +451,7 @@ fn gears_and_bodies(f: &FileSpec) -> Result<(Vec<Gear>, Vec<Body>), TrainError> 
                 b
             }
             None => {
-                bodies.push(Body {
+                bodies.push(TrainBody {
                     name: body_name,
                     carrier: None,
                     fixed: g.fixed,
@@ -495,7 +497,7 @@ fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
         if !in_range(c.inertia, 0.0, 1e12) {
             return Err(err("inertia", "must be a finite number ≥ 0".into()));
         }
-        bodies.push(Body {
+        bodies.push(TrainBody {
             name: c.name.clone(),
             carrier: None,
             fixed: c.fixed,
@@ -621,24 +623,9 @@ fn build_meshes(f: &FileSpec, gears: &[Gear], default_eta: f64) -> Result<Vec<Me
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "gear_train";
 
-/// The registry entry of `kind = "gear_train"` ([`crate::scenarios::KINDS`]).
-pub struct GearTrainKind;
-
-impl crate::scenarios::kind::ScenarioKind for GearTrainKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        parse(file, text).map(drop)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        _opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text)
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| parse(file, text).map(drop),
+    run: |path, text, _opts| run(path, text),
+};

@@ -108,7 +108,7 @@ enum Damping {
 
 /// A parsed and validated isolation scenario.
 #[derive(Clone, Debug)]
-pub struct Scenario {
+pub struct IsolationScenario {
     /// Its name.
     pub name: String,
     mount: Option<(f64, f64, Damping)>,
@@ -310,7 +310,7 @@ fn parse_absorber(ctx: &Source, a: &AbsorberIn) -> Result<AbsorberSpec, Scenario
 }
 
 /// Parses and validates `text` (the contents of `file`).
-pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
+pub fn parse(file: &str, text: &str) -> Result<IsolationScenario, ScenarioError> {
     let ctx = Source::new(file, text);
     let f: File = ctx.parse()?;
     ctx.any_section(
@@ -350,7 +350,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         .as_ref()
         .map(|x| parse_absorber(&ctx, x))
         .transpose()?;
-    Ok(Scenario {
+    Ok(IsolationScenario {
         name: scenario_name(f.name.as_deref(), file),
         mount,
         excitation,
@@ -366,7 +366,7 @@ pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, Sc
     crate::scenarios::kit::parse_and_report(path, text, out_dir, parse, report)
 }
 
-fn mount_json(sc: &Scenario, text: &mut String) -> Value {
+fn mount_json(sc: &IsolationScenario, text: &mut String) -> Value {
     let Some((m, c, d)) = sc.mount else {
         return Value::Null;
     };
@@ -487,7 +487,7 @@ fn curves_json(
 /// Computes the report of a parsed scenario.
 pub fn report(
     ctx: &Source,
-    sc: &Scenario,
+    sc: &IsolationScenario,
     out_dir: Option<&Path>,
 ) -> Result<Report, ScenarioError> {
     let mut text = format!("isolation: {}\n", sc.name);
@@ -559,24 +559,9 @@ pub fn report(
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "isolation";
 
-/// The registry entry of `kind = "isolation"` ([`crate::scenarios::KINDS`]).
-pub struct IsolationKind;
-
-impl crate::scenarios::kind::ScenarioKind for IsolationKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        parse(file, text).map(drop)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text, opts.out_dir.as_deref())
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| parse(file, text).map(drop),
+    run: |path, text, opts| run(path, text, opts.out_dir.as_deref()),
+};

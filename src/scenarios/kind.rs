@@ -1,6 +1,7 @@
 //! What a scenario kind is to the registry ([`crate::scenarios::KINDS`]): the name its
 //! files give in `kind = "…"`, a check that parses and validates a file without running
-//! it, and a run that returns the [`Report`]. Also the [`RunOptions`] every run takes.
+//! it, and a run that returns the [`Report`] ([`ScenarioKind`]). Also the [`RunOptions`]
+//! every run takes and the [`ScenarioError`] every reader returns.
 
 use crate::io::report::Report;
 use std::path::{Path, PathBuf};
@@ -8,16 +9,16 @@ use std::path::{Path, PathBuf};
 /// An error in a scenario file (the crate's one located error).
 pub type ScenarioError = crate::core::diag::LocatedError;
 
-/// One scenario kind. Each kind's module implements it on a unit struct; the registry
-/// lists them.
-pub trait ScenarioKind: Sync {
+/// One scenario kind: each kind's module defines one as `pub const KIND` and the
+/// registry lists them.
+pub struct ScenarioKind {
     /// The value of the file's top-level `kind` key.
-    fn name(&self) -> &'static str;
+    pub name: &'static str,
     /// Parses and validates `text` (named `file` in messages): no analyses, no files
     /// written (the fuzz targets' entry).
-    fn check(&self, file: &str, text: &str) -> Result<(), ScenarioError>;
+    pub check: fn(file: &str, text: &str) -> Result<(), ScenarioError>,
     /// Runs the scenario read from `path` (its text is `text`).
-    fn run(&self, path: &Path, text: &str, opts: &RunOptions) -> Result<Report, ScenarioError>;
+    pub run: fn(path: &Path, text: &str, opts: &RunOptions) -> Result<Report, ScenarioError>,
 }
 
 /// Options of a run that do not come from the file.

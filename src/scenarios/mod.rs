@@ -4,8 +4,9 @@
 //! friction, vibration) and builds a [`Report`] (the JSON document and a human summary);
 //! errors are [`ScenarioError`]s naming the file, the line and the key.
 //!
-//! Adding a kind: write its module (a unit struct implementing [`ScenarioKind`], see
-//! [`kind`]), then add `pub mod` and one entry of [`KINDS`] below. Nothing else names it.
+//! Adding a kind: write its module (with a `pub const KIND:` [`ScenarioKind`]: the name, a
+//! check and a run), then add `pub mod` and one entry of [`KINDS`] below. Nothing else
+//! names it.
 
 pub mod arm;
 pub mod cam;
@@ -33,24 +34,24 @@ pub use crate::io::report::Report;
 pub use crate::scenarios::kind::{RunOptions, ScenarioError, ScenarioKind};
 
 /// Every scenario kind. The first is the one a file without a `kind` key gets.
-pub static KINDS: &[&dyn ScenarioKind] = &[
-    &arm::ArmKind,
-    &linkage::LinkageKind,
-    &torsional::TorsionalKind,
-    &gear_train::GearTrainKind,
-    &gear_pair::GearPairKind,
-    &cam::CamKind,
-    &friction::FrictionKind,
-    &synthesis::SynthesisKind,
-    &flywheel::FlywheelKind,
-    &flexible_rotor::FlexibleRotorKind,
-    &isolation::IsolationKind,
-    &centrodes::CentrodesKind,
+pub static KINDS: &[&ScenarioKind] = &[
+    &arm::KIND,
+    &linkage::KIND,
+    &torsional::KIND,
+    &gear_train::KIND,
+    &gear_pair::KIND,
+    &cam::KIND,
+    &friction::KIND,
+    &synthesis::KIND,
+    &flywheel::KIND,
+    &flexible_rotor::KIND,
+    &isolation::KIND,
+    &centrodes::KIND,
 ];
 
 /// Every `kind` name, for the messages: `"arm", "linkage", … or "centrodes"`.
 fn kind_names() -> String {
-    let names: Vec<String> = KINDS.iter().map(|k| format!("\"{}\"", k.name())).collect();
+    let names: Vec<String> = KINDS.iter().map(|k| format!("\"{}\"", k.name)).collect();
     match names.split_last() {
         Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
         _ => names.join(""),
@@ -59,7 +60,7 @@ fn kind_names() -> String {
 
 /// Parses `text` as TOML (refusing an empty file) and finds the kind its `kind` key
 /// names (the first of [`KINDS`] when there is none).
-pub fn kind(file: &str, text: &str) -> Result<&'static dyn ScenarioKind, ScenarioError> {
+pub fn kind(file: &str, text: &str) -> Result<&'static ScenarioKind, ScenarioError> {
     if text.trim().is_empty() {
         return Err(ScenarioError::new(
             file,
@@ -76,7 +77,7 @@ pub fn kind(file: &str, text: &str) -> Result<&'static dyn ScenarioKind, Scenari
         Some(toml::Value::String(k)) => KINDS
             .iter()
             .copied()
-            .find(|kind| kind.name() == k.as_str())
+            .find(|kind| kind.name == k.as_str())
             .ok_or_else(|| {
                 kind_error(format!(
                     "unknown scenario kind '{k}' (expected {})",
@@ -97,7 +98,7 @@ pub fn run_file_with(path: &Path, opts: &RunOptions) -> Result<Report, ScenarioE
     let file = path.display().to_string();
     let text = crate::core::files::read_input_string(path)
         .map_err(|e| ScenarioError::new(&file, None, "file", format!("cannot read: {e}")))?;
-    kind(&file, &text)?.run(path, &text, opts)
+    (kind(&file, &text)?.run)(path, &text, opts)
 }
 
 /// Parses and validates scenario text without running the analyses (the fuzz targets'
@@ -106,7 +107,7 @@ pub fn run_file_with(path: &Path, opts: &RunOptions) -> Result<Report, ScenarioE
 /// planning ([`crate::scenarios::arm::load`]: model file read relative to `file`, no IK,
 /// no run).
 pub fn check(file: &str, text: &str) -> Result<(), ScenarioError> {
-    kind(file, text)?.check(file, text)
+    (kind(file, text)?.check)(file, text)
 }
 
 #[cfg(test)]
@@ -115,7 +116,7 @@ mod tests {
 
     #[test]
     fn every_kind_has_its_own_name_and_the_message_lists_them_all() {
-        let mut names: Vec<&str> = KINDS.iter().map(|k| k.name()).collect();
+        let mut names: Vec<&str> = KINDS.iter().map(|k| k.name).collect();
         assert_eq!(names.len(), 12);
         names.sort();
         names.dedup();
@@ -126,9 +127,9 @@ mod tests {
             "{msg}"
         );
         assert_eq!(
-            kind("f", "kind = \"cam\"\n").map(|k| k.name()).ok(),
+            kind("f", "kind = \"cam\"\n").map(|k| k.name).ok(),
             Some("cam")
         );
-        assert_eq!(kind("f", "x = 1\n").map(|k| k.name()).ok(), Some("arm"));
+        assert_eq!(kind("f", "x = 1\n").map(|k| k.name).ok(), Some("arm"));
     }
 }

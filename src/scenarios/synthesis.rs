@@ -106,7 +106,7 @@ pub struct FunctionSpec {
 
 /// A parsed and validated synthesis scenario.
 #[derive(Clone, Debug)]
-pub struct Scenario {
+pub struct SynthesisScenario {
     /// The scenario's name.
     pub name: String,
     crank_rocker: Option<CrankRockerSpec>,
@@ -254,7 +254,7 @@ fn parse_shaper(
 }
 
 /// Parses and validates `text` (the contents of `file`).
-pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
+pub fn parse(file: &str, text: &str) -> Result<SynthesisScenario, ScenarioError> {
     let ctx = Source::new(file, text);
     let f: File = ctx.parse()?;
     ctx.any_section(
@@ -286,7 +286,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         .as_ref()
         .map(|s| parse_function(&ctx, s))
         .transpose()?;
-    Ok(Scenario {
+    Ok(SynthesisScenario {
         name: scenario_name(f.name.as_deref(), file),
         crank_rocker,
         slider_crank,
@@ -691,7 +691,7 @@ fn function_json(
 /// Computes the report of a parsed scenario.
 pub fn report(
     ctx: &Source,
-    sc: &Scenario,
+    sc: &SynthesisScenario,
     out_dir: Option<&Path>,
 ) -> Result<Report, ScenarioError> {
     let mut text = format!("synthesis: {}\n", sc.name);
@@ -715,24 +715,9 @@ pub fn report(
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "synthesis";
 
-/// The registry entry of `kind = "synthesis"` ([`crate::scenarios::KINDS`]).
-pub struct SynthesisKind;
-
-impl crate::scenarios::kind::ScenarioKind for SynthesisKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        parse(file, text).map(drop)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text, opts.out_dir.as_deref())
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| parse(file, text).map(drop),
+    run: |path, text, opts| run(path, text, opts.out_dir.as_deref()),
+};

@@ -22,7 +22,7 @@
 //! `m_rec r ω² (cos φ + (r/l) cos 2φ)` to first order in `r/l`.
 
 pub mod modal;
-use crate::machines::linkage::linkage::Link;
+use crate::machines::linkage::linkage::PlanarLink;
 use crate::machines::linkage::Vec2;
 use serde::Serialize;
 
@@ -161,7 +161,7 @@ pub fn slider_crank_counterweight(m: &SliderCrankMasses, k: f64, radius: f64) ->
 
 /// Adds a point mass `m` at link-frame point `p` to a link (new centre of mass, and the
 /// inertia about it by the parallel-axis theorem).
-pub fn add_point_mass(link: &mut Link, m: f64, p: Vec2) {
+pub fn add_point_mass(link: &mut PlanarLink, m: f64, p: Vec2) {
     let m0 = link.mass;
     let total = m0 + m;
     if total == 0.0 {

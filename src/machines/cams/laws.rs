@@ -1,6 +1,6 @@
 //! Follower motion laws and dwell–rise–dwell–return timing (TEXTBOOK_SYSTEMS_2 §3,
 //! program CAMLAN). A law gives the lift fraction and its derivatives in `u = φ/Φ`;
-//! [`Motion`] turns them into `s(φ)` and the geometric derivatives `s' = ds/dφ`, `s''`,
+//! [`MotionLaw`] turns them into `s(φ)` and the geometric derivatives `s' = ds/dφ`, `s''`,
 //! `s'''` over the whole turn (the return is `h − law`, with the signs flipped).
 
 use std::f64::consts::PI;
@@ -82,7 +82,7 @@ impl Law {
 
 /// Dwell–rise–dwell–return timing with a lift `h` (mm, or radians of swing).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Motion {
+pub struct MotionLaw {
     /// Lift.
     pub stroke: f64,
     /// Rise angle, top dwell, return angle (rad); the bottom dwell is the rest of the turn.
@@ -110,7 +110,7 @@ pub enum Phase {
     DwellBottom,
 }
 
-impl Motion {
+impl MotionLaw {
     /// The bottom dwell `2π − (rise + dwell + return)`.
     pub fn dwell_bottom(&self) -> f64 {
         2.0 * PI - self.rise - self.dwell_top - self.ret

@@ -10,11 +10,11 @@
 //! `P'' = R(−φ)(q'' − 2J q' − q)` (`J` the quarter turn), and its radius of curvature is
 //! `ρ = −|P'|³ / (P' × P'')` (positive where the cam is convex).
 
-use crate::machines::cams::laws::Motion;
+use crate::machines::cams::laws::MotionLaw;
 
 /// The follower.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Follower {
+pub enum CamFollower {
     /// Translating knife-edge (`roller = 0`) or roller, axis offset `e`, pitch-circle
     /// (prime) radius `r0`.
     Translating {
@@ -46,12 +46,12 @@ pub enum Follower {
 
 /// One sample of the turn.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Sample {
+pub struct CamSample {
     /// Cam angle (rad).
     pub phi: f64,
     /// `[s, s', s'', s''']` (mm or rad, per radian of cam angle).
     pub s: [f64; 4],
-    /// Follower point (pitch curve) in the cam frame.
+    /// CamFollower point (pitch curve) in the cam frame.
     pub pitch: [f64; 2],
     /// Working profile point in the cam frame.
     pub working: [f64; 2],
@@ -77,16 +77,16 @@ fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
     a[0] * b[1] - a[1] * b[0]
 }
 
-/// Follower point and its first two derivatives in φ (fixed frame), with the follower's
+/// CamFollower point and its first two derivatives in φ (fixed frame), with the follower's
 /// direction of motion.
-fn follower_point(f: &Follower, s: [f64; 4]) -> ([f64; 2], [f64; 2], [f64; 2], [f64; 2]) {
+fn follower_point(f: &CamFollower, s: [f64; 4]) -> ([f64; 2], [f64; 2], [f64; 2], [f64; 2]) {
     match *f {
-        Follower::Translating { offset, r0, .. } => {
+        CamFollower::Translating { offset, r0, .. } => {
             let s0 = (r0 * r0 - offset * offset).max(0.0).sqrt();
             ([offset, s0 + s[0]], [0.0, s[1]], [0.0, s[2]], [0.0, 1.0])
         }
-        Follower::Flat { rb } => ([s[1], rb + s[0]], [s[2], s[1]], [s[3], s[2]], [0.0, 1.0]),
-        Follower::Oscillating { arm, pivot, r0, .. } => {
+        CamFollower::Flat { rb } => ([s[1], rb + s[0]], [s[2], s[1]], [s[3], s[2]], [0.0, 1.0]),
+        CamFollower::Oscillating { arm, pivot, r0, .. } => {
             let c0 = ((arm * arm + pivot * pivot - r0 * r0) / (2.0 * arm * pivot)).clamp(-1.0, 1.0);
             let psi = c0.acos() + s[0];
             let (sn, cs) = psi.sin_cos();
@@ -103,7 +103,7 @@ fn follower_point(f: &Follower, s: [f64; 4]) -> ([f64; 2], [f64; 2], [f64; 2], [
 }
 
 /// The pitch/working point, curvature and pressure angle at `φ`.
-pub fn sample(m: &Motion, f: &Follower, phi: f64) -> Sample {
+pub fn sample(m: &MotionLaw, f: &CamFollower, phi: f64) -> CamSample {
     let s = m.eval(phi);
     let (q, q1, q2, dir) = follower_point(f, s);
     let jq = jay(q);
@@ -118,27 +118,27 @@ pub fn sample(m: &Motion, f: &Follower, phi: f64) -> Sample {
         -na.powi(3) / k
     };
     let roller = match *f {
-        Follower::Translating { roller, .. } | Follower::Oscillating { roller, .. } => roller,
-        Follower::Flat { .. } => 0.0,
+        CamFollower::Translating { roller, .. } | CamFollower::Oscillating { roller, .. } => roller,
+        CamFollower::Flat { .. } => 0.0,
     };
     // Outward normal of the pitch curve, in the fixed frame: J t.
     let t = [a[0] / na, a[1] / na];
     let n = jay(t);
     let w = [q[0] - roller * n[0], q[1] - roller * n[1]];
     let pressure = match *f {
-        Follower::Translating { offset, r0, .. } => {
+        CamFollower::Translating { offset, r0, .. } => {
             let s0 = (r0 * r0 - offset * offset).max(0.0).sqrt();
             ((s[1] - offset) / (s[0] + s0)).atan()
         }
-        Follower::Flat { .. } => 0.0,
-        Follower::Oscillating { .. } => {
+        CamFollower::Flat { .. } => 0.0,
+        CamFollower::Oscillating { .. } => {
             let dn = (dir[0] * dir[0] + dir[1] * dir[1]).sqrt();
             ((n[0] * dir[0] + n[1] * dir[1]).abs() / dn)
                 .clamp(0.0, 1.0)
                 .acos()
         }
     };
-    Sample {
+    CamSample {
         phi,
         s,
         pitch: rot(-phi, q),
@@ -152,7 +152,7 @@ pub fn sample(m: &Motion, f: &Follower, phi: f64) -> Sample {
 /// The pressure angle from the geometry alone (a second route): the angle between the
 /// pitch curve's normal and the follower's direction of motion, from finite differences of
 /// the cam-frame pitch curve.
-pub fn pressure_angle_numeric(m: &Motion, f: &Follower, phi: f64) -> f64 {
+pub fn pressure_angle_numeric(m: &MotionLaw, f: &CamFollower, phi: f64) -> f64 {
     let h = 1e-5;
     let p = |x: f64| sample(m, f, x).pitch;
     let (pa, pb) = (p(phi - h), p(phi + h));
@@ -168,7 +168,13 @@ pub fn pressure_angle_numeric(m: &Motion, f: &Follower, phi: f64) -> f64 {
 /// Smallest prime radius of a translating knife/roller follower with offset `e` that
 /// keeps `|α| ≤ α_rise` while rising and `≤ α_return` while returning:
 /// `s₀ ≥ |s' − e|/tan α − s` at every sample, `r₀ = √(s₀² + e²)`.
-pub fn min_prime_radius(m: &Motion, e: f64, alpha_rise: f64, alpha_return: f64, n: usize) -> f64 {
+pub fn min_prime_radius(
+    m: &MotionLaw,
+    e: f64,
+    alpha_rise: f64,
+    alpha_return: f64,
+    n: usize,
+) -> f64 {
     let mut s0: f64 = 1e-9;
     for k in 0..n {
         let phi = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
@@ -185,7 +191,7 @@ pub fn min_prime_radius(m: &Motion, e: f64, alpha_rise: f64, alpha_return: f64, 
 
 /// The offset that minimises [`min_prime_radius`] (ternary search over `|e| ≤ max|s'|`),
 /// with that radius.
-pub fn optimum_offset(m: &Motion, alpha_rise: f64, alpha_return: f64, n: usize) -> (f64, f64) {
+pub fn optimum_offset(m: &MotionLaw, alpha_rise: f64, alpha_return: f64, n: usize) -> (f64, f64) {
     let vmax = (0..n)
         .map(|k| m.eval(2.0 * std::f64::consts::PI * k as f64 / n as f64)[1].abs())
         .fold(0.0, f64::max);
@@ -206,7 +212,7 @@ pub fn optimum_offset(m: &Motion, alpha_rise: f64, alpha_return: f64, n: usize) 
 /// Smallest base radius of a flat-faced translating follower: `ρ = R_b + s + s'' ≥ 0`,
 /// so `R_b ≥ max(−(s + s''))`, sampled `n` times per turn plus both sides of every
 /// segment boundary and of the parabolic switch point.
-pub fn min_flat_base_radius(m: &Motion, n: usize) -> f64 {
+pub fn min_flat_base_radius(m: &MotionLaw, n: usize) -> f64 {
     let mut phis: Vec<f64> = (0..n)
         .map(|k| 2.0 * std::f64::consts::PI * k as f64 / n as f64)
         .collect();

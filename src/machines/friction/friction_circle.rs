@@ -18,7 +18,7 @@
 //! [`crate::machines::linkage::virtual_power`]).
 
 use crate::machines::linkage::kinetostatics::{solve, Kinetostatics, Loads, PointForce};
-use crate::machines::linkage::linkage::{Joint, Linkage, GROUND};
+use crate::machines::linkage::linkage::{Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::{perp, rotate, Vec2};
 use nalgebra::DVector;
 
@@ -75,7 +75,7 @@ fn friction_loads(
             continue;
         };
         match &l.joints[jf.joint] {
-            Joint::Revolute { a, b, .. } => {
+            PlanarJoint::Revolute { a, b, .. } => {
                 let w = omega_rel(qd, *a, *b);
                 let m = jf.coefficient * jf.pin_radius * r.force.norm();
                 // Couple −sgn(w) m on a, +sgn(w) m on b.
@@ -91,7 +91,7 @@ fn friction_loads(
                 }
                 loss += m * w.abs();
             }
-            Joint::Slider(s) => {
+            PlanarJoint::Slider(s) => {
                 let x = l.point_position(q, s.link, &s.p);
                 let theta_g = if s.guide == GROUND {
                     0.0

@@ -94,7 +94,7 @@ pub struct Gear {
 
 /// A rigid rotating body: a gear block or a carrier.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Body {
+pub struct TrainBody {
     /// Name (a gear's body name, or the carrier's name).
     pub name: String,
     /// The carrier (body index) whose arm holds this body's axis; `None` = the frame.
@@ -134,7 +134,7 @@ pub struct GearTrain {
     /// Gears.
     pub gears: Vec<Gear>,
     /// Bodies (gear blocks first, in order of first appearance, then carriers).
-    pub bodies: Vec<Body>,
+    pub bodies: Vec<TrainBody>,
     /// Meshes.
     pub meshes: Vec<Mesh>,
     /// Groups of bodies stated to be coaxial (besides carriers and their central gears).

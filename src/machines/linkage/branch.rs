@@ -23,7 +23,7 @@ use nalgebra::{DMatrix, DVector};
 
 /// One structural group: equations (rows of `Φ_q`) and the coordinates they determine.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Group {
+pub struct StructuralGroup {
     /// Rows of `Φ_q`, ascending.
     pub rows: Vec<usize>,
     /// Columns (coordinates), ascending.
@@ -161,7 +161,7 @@ fn tarjan(edges: &[Vec<usize>]) -> Vec<Vec<usize>> {
 /// The structural groups with more than one equation (the loops), from the pattern of
 /// `Φ_q` near `q`. Redundant equations (dependent rows at `q`) are left out first. Empty
 /// when the driven system is not square (more inputs needed) or has no perfect matching.
-pub fn structural_groups(l: &Linkage, q: &DVector<f64>) -> Vec<Group> {
+pub fn structural_groups(l: &Linkage, q: &DVector<f64>) -> Vec<StructuralGroup> {
     let jac_q = jacobian_mat(l, q);
     let rows = independent_rows(&jac_q);
     let n = l.ncoords();
@@ -191,7 +191,7 @@ pub fn structural_groups(l: &Linkage, q: &DVector<f64>) -> Vec<Group> {
                 .collect()
         })
         .collect();
-    let mut groups: Vec<Group> = tarjan(&edges)
+    let mut groups: Vec<StructuralGroup> = tarjan(&edges)
         .into_iter()
         .filter(|comp| comp.len() > 1)
         .map(|comp| {
@@ -206,7 +206,7 @@ pub fn structural_groups(l: &Linkage, q: &DVector<f64>) -> Vec<Group> {
                 .map(|&k| l.links[k].name.as_str())
                 .collect::<Vec<_>>()
                 .join("+");
-            Group {
+            StructuralGroup {
                 rows: rs,
                 cols: cs,
                 links,
@@ -219,12 +219,12 @@ pub fn structural_groups(l: &Linkage, q: &DVector<f64>) -> Vec<Group> {
 }
 
 /// Each group's branch indicator at `q`: `det(block) / Π ‖block row‖`.
-pub fn indicators(l: &Linkage, groups: &[Group], q: &DVector<f64>) -> Vec<f64> {
+pub fn indicators(l: &Linkage, groups: &[StructuralGroup], q: &DVector<f64>) -> Vec<f64> {
     indicators_from(groups, &jacobian_mat(l, q))
 }
 
 /// Each group's branch indicator from the driven Jacobian `jac`.
-pub fn indicators_from(groups: &[Group], jac: &DMatrix<f64>) -> Vec<f64> {
+pub fn indicators_from(groups: &[StructuralGroup], jac: &DMatrix<f64>) -> Vec<f64> {
     groups
         .iter()
         .map(|g| {

@@ -7,7 +7,7 @@
 //! loop exactly, so a guess only has to pick the branch.
 
 use crate::machines::linkage::fourbar;
-use crate::machines::linkage::linkage::{Driver, Link, Linkage, Slider, GROUND};
+use crate::machines::linkage::linkage::{Driver, Linkage, PlanarLink, Slider, GROUND};
 use crate::machines::linkage::Vec2;
 use nalgebra::DVector;
 use std::collections::HashMap;
@@ -18,16 +18,16 @@ fn pts(v: &[(&str, Vec2)]) -> HashMap<String, Vec2> {
 
 /// Slider-crank: crank `AB` (length `r`) about ground `A = (0, 0)`, rod `BC` (length `l`),
 /// block `slider` with pin `C` sliding along the x axis at height `e` (the offset).
-/// Massless; add masses with [`Link::with_mass`] on `links`. The driver is the crank
+/// Massless; add masses with [`PlanarLink::with_mass`] on `links`. The driver is the crank
 /// angle.
 pub fn slider_crank(r: f64, l: f64, e: f64) -> Linkage {
     Linkage::with_shared_pins(
         format!("slider-crank r={r} l={l} e={e}"),
         vec![("A".into(), Vec2::zeros())],
         vec![
-            Link::binary("AB", "A", "B", r),
-            Link::binary("BC", "B", "C", l),
-            Link::new("slider", vec![("C".into(), Vec2::zeros())]),
+            PlanarLink::binary("AB", "A", "B", r),
+            PlanarLink::binary("BC", "B", "C", l),
+            PlanarLink::new("slider", vec![("C".into(), Vec2::zeros())]),
         ],
         vec![Slider {
             name: "C".into(),
@@ -70,9 +70,9 @@ pub fn four_bar(g: f64, a: f64, b: f64, c: f64) -> Linkage {
         format!("four-bar {g}/{a}/{b}/{c}"),
         vec![("A".into(), Vec2::zeros()), ("D".into(), Vec2::new(g, 0.0))],
         vec![
-            Link::binary("AB", "A", "B", a),
-            Link::binary("BC", "B", "C", b),
-            Link::binary("DC", "D", "C", c),
+            PlanarLink::binary("AB", "A", "B", a),
+            PlanarLink::binary("BC", "B", "C", b),
+            PlanarLink::binary("DC", "D", "C", c),
         ],
         Vec::new(),
         Driver::Angle {
@@ -103,8 +103,8 @@ pub fn scotch_yoke(r: f64) -> Linkage {
         format!("Scotch yoke r={r}"),
         vec![("A".into(), Vec2::zeros())],
         vec![
-            Link::binary("AB", "A", "B", r),
-            Link::new("yoke", vec![("Y".into(), Vec2::zeros())]),
+            PlanarLink::binary("AB", "A", "B", r),
+            PlanarLink::new("yoke", vec![("Y".into(), Vec2::zeros())]),
         ],
         vec![
             Slider {
@@ -151,9 +151,9 @@ pub fn slotted_lever(g: f64, r: f64) -> Linkage {
         format!("slotted lever AB={r} AC={g}"),
         vec![("A".into(), Vec2::zeros()), ("C".into(), Vec2::new(g, 0.0))],
         vec![
-            Link::binary("AB", "A", "B", r),
-            Link::new("block", vec![("B".into(), Vec2::zeros())]),
-            Link::new("lever", vec![("C".into(), Vec2::zeros())]),
+            PlanarLink::binary("AB", "A", "B", r),
+            PlanarLink::new("block", vec![("B".into(), Vec2::zeros())]),
+            PlanarLink::new("lever", vec![("C".into(), Vec2::zeros())]),
         ],
         vec![Slider {
             name: "B".into(),

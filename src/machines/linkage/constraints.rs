@@ -19,7 +19,7 @@
 //! In general `γ = −(Φ_q q̇)_q q̇ − 2 Φ_qt q̇ − Φ_tt` (Haug eq. 3.1.11); the tests check these
 //! closed forms against finite differences of `Φ_q q̇`.
 
-use crate::machines::linkage::linkage::{Driver, Joint, Linkage, GROUND};
+use crate::machines::linkage::linkage::{Driver, Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::{perp, Vec2};
 use nalgebra::{DMatrix, DVector};
 
@@ -37,11 +37,11 @@ pub fn row_owners(l: &Linkage) -> Vec<RowOwner> {
     let mut v = Vec::with_capacity(l.nrows());
     for (k, j) in l.joints.iter().enumerate() {
         match j {
-            Joint::Revolute { .. } => {
+            PlanarJoint::Revolute { .. } => {
                 v.push(RowOwner::Joint(k, "x"));
                 v.push(RowOwner::Joint(k, "y"));
             }
-            Joint::Slider(s) => {
+            PlanarJoint::Slider(s) => {
                 v.push(RowOwner::Joint(k, "line"));
                 if s.prismatic.is_some() {
                     v.push(RowOwner::Joint(k, "angle"));
@@ -71,13 +71,13 @@ pub fn residual(l: &Linkage, q: &DVector<f64>, s: f64, out: &mut DVector<f64>) {
     let mut r = 0;
     for j in &l.joints {
         match j {
-            Joint::Revolute { a, pa, b, pb, .. } => {
+            PlanarJoint::Revolute { a, pa, b, pb, .. } => {
                 let d = l.point_position(q, *a, pa) - l.point_position(q, *b, pb);
                 out[r] = d.x;
                 out[r + 1] = d.y;
                 r += 2;
             }
-            Joint::Slider(sl) => {
+            PlanarJoint::Slider(sl) => {
                 let d = l.point_position(q, sl.link, &sl.p)
                     - l.point_position(q, sl.guide, &sl.through);
                 let n = crate::machines::linkage::rotate(theta(q, sl.guide), &perp(&sl.dir));
@@ -118,7 +118,7 @@ pub fn jacobian(l: &Linkage, q: &DVector<f64>, out: &mut DMatrix<f64>) {
     let mut r = 0;
     for j in &l.joints {
         match j {
-            Joint::Revolute { a, pa, b, pb, .. } => {
+            PlanarJoint::Revolute { a, pa, b, pb, .. } => {
                 let ta = perp(&l.arm(q, *a, pa));
                 let tb = perp(&l.arm(q, *b, pb));
                 put(out, r, *a, 1.0, 0.0, ta.x);
@@ -129,7 +129,7 @@ pub fn jacobian(l: &Linkage, q: &DVector<f64>, out: &mut DMatrix<f64>) {
                 }
                 r += 2;
             }
-            Joint::Slider(sl) => {
+            PlanarJoint::Slider(sl) => {
                 let d = l.point_position(q, sl.link, &sl.p)
                     - l.point_position(q, sl.guide, &sl.through);
                 let n = crate::machines::linkage::rotate(theta(q, sl.guide), &perp(&sl.dir));
@@ -173,7 +173,7 @@ pub fn gamma(l: &Linkage, q: &DVector<f64>, qd: &DVector<f64>, sdd: f64, out: &m
     let mut r = 0;
     for j in &l.joints {
         match j {
-            Joint::Revolute { a, pa, b, pb, .. } => {
+            PlanarJoint::Revolute { a, pa, b, pb, .. } => {
                 let wa = omega(qd, *a);
                 let wb = omega(qd, *b);
                 let g = l.arm(q, *a, pa) * (wa * wa)
@@ -186,7 +186,7 @@ pub fn gamma(l: &Linkage, q: &DVector<f64>, qd: &DVector<f64>, sdd: f64, out: &m
                 out[r + 1] = g.y;
                 r += 2;
             }
-            Joint::Slider(sl) => {
+            PlanarJoint::Slider(sl) => {
                 let wl = omega(qd, sl.link);
                 let wg = omega(qd, sl.guide);
                 let d = l.point_position(q, sl.link, &sl.p)

@@ -26,7 +26,7 @@
 
 use crate::core::least_squares::min_norm_solve;
 use crate::machines::linkage::constraints::{jacobian_mat, row_owners, RowOwner};
-use crate::machines::linkage::linkage::{Driver, Joint, Linkage, GROUND};
+use crate::machines::linkage::linkage::{Driver, Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::{cross, rotate, Vec2};
 use nalgebra::DVector;
 
@@ -85,9 +85,9 @@ pub fn applied_forces(l: &Linkage, q: &DVector<f64>, loads: &Loads) -> DVector<f
 /// The reaction of one joint.
 #[derive(Clone, Debug, PartialEq)]
 pub struct JointForce {
-    /// Joint index in [`Linkage::joints`].
+    /// PlanarJoint index in [`Linkage::joints`].
     pub joint: usize,
-    /// Joint name.
+    /// PlanarJoint name.
     pub name: String,
     /// The link the force acts on (a moving link).
     pub on: usize,
@@ -106,7 +106,7 @@ pub struct Kinetostatics {
     pub lambda: DVector<f64>,
     /// Driving torque (angle driver, N m) or force (slide driver, N): the driver's `λ`.
     pub driving: f64,
-    /// Joint reactions, in joint order.
+    /// PlanarJoint reactions, in joint order.
     pub joint_forces: Vec<JointForce>,
     /// d'Alembert inertia force `−m a_G` and couple `−J α` of each link.
     pub inertia: Vec<(Vec2, f64)>,
@@ -134,7 +134,7 @@ fn joint_force(
 ) -> (JointForce, usize) {
     let j = &l.joints[k];
     match j {
-        Joint::Revolute { name, a, pa, b, .. } => {
+        PlanarJoint::Revolute { name, a, pa, b, .. } => {
             let f_on_a = Vec2::new(lambda[r], lambda[r + 1]);
             let (on, by, f) = if *a == GROUND {
                 (*b, *a, -f_on_a)
@@ -156,7 +156,7 @@ fn joint_force(
             };
             (jf, 2)
         }
-        Joint::Slider(s) => {
+        PlanarJoint::Slider(s) => {
             let theta_g = if s.guide == GROUND {
                 0.0
             } else {
@@ -187,7 +187,7 @@ fn joint_force(
     }
 }
 
-/// Joint forces and driving effort for the motion `(q, q̇, q̈)` under `loads`.
+/// PlanarJoint forces and driving effort for the motion `(q, q̇, q̈)` under `loads`.
 pub fn solve(l: &Linkage, q: &DVector<f64>, qdd: &DVector<f64>, loads: &Loads) -> Kinetostatics {
     let m = mass_diagonal(l);
     let rhs = m.component_mul(qdd) - applied_forces(l, q, loads);

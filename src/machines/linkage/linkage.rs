@@ -21,7 +21,7 @@ pub const GROUND: usize = usize::MAX;
 
 /// A moving rigid link.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Link {
+pub struct PlanarLink {
     /// Name (as in the scenario file).
     pub name: String,
     /// Named points in the link frame.
@@ -34,7 +34,7 @@ pub struct Link {
     pub inertia: f64,
 }
 
-impl Link {
+impl PlanarLink {
     /// A massless link with the given points.
     pub fn new(name: impl Into<String>, points: Vec<(String, Vec2)>) -> Self {
         Self {
@@ -65,7 +65,7 @@ impl Link {
         self
     }
 
-    /// Link-frame coordinates of the named point.
+    /// PlanarLink-frame coordinates of the named point.
     pub fn point(&self, name: &str) -> Option<Vec2> {
         self.points.iter().find(|(n, _)| n == name).map(|(_, p)| *p)
     }
@@ -95,7 +95,7 @@ pub struct Slider {
 
 /// A joint.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Joint {
+pub enum PlanarJoint {
     /// Pin: point `pa` of link `a` coincides with point `pb` of link `b` (either may be
     /// [`GROUND`], whose points are world points).
     Revolute {
@@ -114,20 +114,20 @@ pub enum Joint {
     Slider(Slider),
 }
 
-impl Joint {
+impl PlanarJoint {
     /// The joint's name.
     pub fn name(&self) -> &str {
         match self {
-            Joint::Revolute { name, .. } => name,
-            Joint::Slider(s) => &s.name,
+            PlanarJoint::Revolute { name, .. } => name,
+            PlanarJoint::Slider(s) => &s.name,
         }
     }
 
     /// Number of constraint equations.
     pub fn rows(&self) -> usize {
         match self {
-            Joint::Revolute { .. } => 2,
-            Joint::Slider(s) => 1 + usize::from(s.prismatic.is_some()),
+            PlanarJoint::Revolute { .. } => 2,
+            PlanarJoint::Slider(s) => 1 + usize::from(s.prismatic.is_some()),
         }
     }
 }
@@ -183,9 +183,9 @@ pub struct Linkage {
     /// Named ground points (world coordinates).
     pub ground: Vec<(String, Vec2)>,
     /// Moving links; link `i` owns coordinates `3i .. 3i + 3`.
-    pub links: Vec<Link>,
+    pub links: Vec<PlanarLink>,
     /// Joints, in constraint-row order.
-    pub joints: Vec<Joint>,
+    pub joints: Vec<PlanarJoint>,
     /// The driver (its equation is the last row of `Φ`).
     pub driver: Driver,
 }
@@ -197,7 +197,7 @@ impl Linkage {
     pub fn with_shared_pins(
         name: impl Into<String>,
         ground: Vec<(String, Vec2)>,
-        links: Vec<Link>,
+        links: Vec<PlanarLink>,
         sliders: Vec<Slider>,
         driver: Driver,
     ) -> Self {
@@ -226,7 +226,7 @@ impl Linkage {
                     })
                     .collect();
                 for &(o, po) in owners.iter().skip(1) {
-                    l.joints.push(Joint::Revolute {
+                    l.joints.push(PlanarJoint::Revolute {
                         name: pname.clone(),
                         a: owners[0].0,
                         pa: owners[0].1,
@@ -236,7 +236,8 @@ impl Linkage {
                 }
             }
         }
-        l.joints.extend(sliders.into_iter().map(Joint::Slider));
+        l.joints
+            .extend(sliders.into_iter().map(PlanarJoint::Slider));
         l
     }
 
@@ -252,7 +253,7 @@ impl Linkage {
 
     /// Number of joint constraint equations (without the driver).
     pub fn kinematic_rows(&self) -> usize {
-        self.joints.iter().map(Joint::rows).sum()
+        self.joints.iter().map(PlanarJoint::rows).sum()
     }
 
     /// Index of a link by name.
@@ -441,12 +442,12 @@ impl Linkage {
         }
         for j in &self.joints {
             match j {
-                Joint::Revolute { name, a, b, .. } => {
+                PlanarJoint::Revolute { name, a, b, .. } => {
                     if !body_ok(*a) || !body_ok(*b) || a == b {
                         return Err(invalid(format!("joint '{name}'"), "bad link indices"));
                     }
                 }
-                Joint::Slider(s) => {
+                PlanarJoint::Slider(s) => {
                     if !body_ok(s.guide) || s.link >= nl || s.link == s.guide {
                         return Err(invalid(format!("slider '{}'", s.name), "bad link indices"));
                     }

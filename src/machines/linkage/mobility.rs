@@ -16,7 +16,7 @@
 
 use crate::core::least_squares::{singular_values, RANK_TOL};
 use crate::machines::linkage::constraints::jacobian_mat;
-use crate::machines::linkage::linkage::{Joint, Linkage};
+use crate::machines::linkage::linkage::{Linkage, PlanarJoint};
 use nalgebra::DVector;
 
 /// `σ_min / σ_max` below which the driven Jacobian counts as singular.
@@ -33,7 +33,7 @@ pub struct Mobility {
     pub half_joints: usize,
     /// `3 (n − 1) − 2 j₁ − j₂`.
     pub grubler: i64,
-    /// Joint constraint equations.
+    /// PlanarJoint constraint equations.
     pub equations: usize,
     /// Rank of the joint Jacobian at the position checked.
     pub rank: usize,
@@ -49,9 +49,9 @@ pub fn mobility(l: &Linkage, q: &DVector<f64>) -> Mobility {
     let mut half = 0;
     for j in &l.joints {
         match j {
-            Joint::Revolute { .. } => full += 1,
-            Joint::Slider(s) if s.prismatic.is_some() => full += 1,
-            Joint::Slider(_) => half += 1,
+            PlanarJoint::Revolute { .. } => full += 1,
+            PlanarJoint::Slider(s) if s.prismatic.is_some() => full += 1,
+            PlanarJoint::Slider(_) => half += 1,
         }
     }
     let n = l.links.len() + 1;

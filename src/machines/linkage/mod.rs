@@ -40,7 +40,7 @@ pub mod velocity;
 pub mod virtual_power;
 pub use crate::core::least_squares::MinNormSolve;
 pub use crate::machines::linkage::linkage::{
-    Driver, Joint, Link, Linkage, LinkageError, Slider, GROUND,
+    Driver, Linkage, LinkageError, PlanarJoint, PlanarLink, Slider, GROUND,
 };
 
 pub use crate::machines::linkage::planar::{cross, perp, rotate, wrap_angle, Vec2};

@@ -33,10 +33,10 @@
 
 use crate::core::least_squares::Factorization;
 use crate::machines::linkage::branch::{
-    indicators, indicators_from, sign, structural_groups, Group, GROUP_SINGULAR_TOL,
+    indicators, indicators_from, sign, structural_groups, StructuralGroup, GROUP_SINGULAR_TOL,
 };
 use crate::machines::linkage::constraints::jacobian_mat;
-use crate::machines::linkage::linkage::{Joint, Linkage, GROUND};
+use crate::machines::linkage::linkage::{Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::mobility::{conditioning, conditioning_from, Conditioning};
 use crate::machines::linkage::position::{solve_position, AssemblyError, NewtonOptions};
 use crate::machines::linkage::velocity::path_derivatives_with;
@@ -122,7 +122,7 @@ impl TrackError {
 enum Reject {
     NoConvergence(String),
     Jump,
-    /// Group `g` changed sign; its indicator at the rejected point.
+    /// StructuralGroup `g` changed sign; its indicator at the rejected point.
     Flip(usize, f64),
 }
 
@@ -132,7 +132,7 @@ pub struct Tracker<'a> {
     /// The linkage.
     pub linkage: &'a Linkage,
     /// Its structural groups (fixed at assembly).
-    pub groups: Vec<Group>,
+    pub groups: Vec<StructuralGroup>,
     /// Newton options.
     pub newton: NewtonOptions,
     /// Largest step (input units).
@@ -152,7 +152,12 @@ const MAX_STEP_REL: f64 = 2.0_f64.to_radians();
 
 impl<'a> Tracker<'a> {
     /// A tracker continuing from `state` (a state of a previous sweep of `l`).
-    pub fn resume(l: &'a Linkage, groups: Vec<Group>, state: State, newton: NewtonOptions) -> Self {
+    pub fn resume(
+        l: &'a Linkage,
+        groups: Vec<StructuralGroup>,
+        state: State,
+        newton: NewtonOptions,
+    ) -> Self {
         let unit = match l.driver {
             crate::machines::linkage::Driver::Angle { .. } => 1.0,
             crate::machines::linkage::Driver::Slide { .. } => l.length_scale(),
@@ -454,7 +459,7 @@ pub struct Sweep {
     /// Samples from `from` to `to` (fewer if the branch ended).
     pub samples: Vec<State>,
     /// The structural groups whose indicators the states carry.
-    pub groups: Vec<Group>,
+    pub groups: Vec<StructuralGroup>,
     /// Singular positions passed (inputs).
     pub singular_positions: Vec<f64>,
     /// Why the sweep stopped early, if it did.
@@ -514,7 +519,7 @@ pub fn followers(l: &Linkage) -> Vec<(String, Follower)> {
     let mut v = Vec::new();
     for j in &l.joints {
         match j {
-            Joint::Revolute { a, b, .. } => {
+            PlanarJoint::Revolute { a, b, .. } => {
                 let k = if *a == GROUND {
                     *b
                 } else if *b == GROUND {
@@ -526,7 +531,7 @@ pub fn followers(l: &Linkage) -> Vec<(String, Follower)> {
                     v.push((l.links[k].name.clone(), Follower::Rocker(k)));
                 }
             }
-            Joint::Slider(s) => {
+            PlanarJoint::Slider(s) => {
                 if s.guide == GROUND && s.link != driven {
                     let k = l.joints.iter().position(|x| x == j).expect("own joint");
                     v.push((l.links[s.link].name.clone(), Follower::Slide(k)));
@@ -542,7 +547,7 @@ pub fn follower_value(l: &Linkage, f: &Follower, st: &State) -> (f64, f64) {
     match f {
         Follower::Rocker(k) => (st.q[3 * k + 2], st.dq[3 * k + 2]),
         Follower::Slide(j) => {
-            let Joint::Slider(s) = &l.joints[*j] else {
+            let PlanarJoint::Slider(s) = &l.joints[*j] else {
                 unreachable!("slide follower on a slider joint")
             };
             let p = l.point_position(&st.q, s.link, &s.p);

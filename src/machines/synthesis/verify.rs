@@ -6,7 +6,7 @@
 
 use crate::machines::linkage::catalog;
 use crate::machines::linkage::fourbar;
-use crate::machines::linkage::linkage::{Driver, Link, Linkage, Slider, GROUND};
+use crate::machines::linkage::linkage::{Driver, Linkage, PlanarLink, Slider, GROUND};
 use crate::machines::linkage::position::NewtonOptions;
 use crate::machines::linkage::sweep::{dead_centres, sweep, Sweep, SweepOptions};
 use crate::machines::linkage::{wrap_angle, Vec2};
@@ -164,8 +164,8 @@ pub fn check_slotted_lever(d: f64, r: f64, lever: f64) -> Result<LimitCheck, Str
             ("O4".into(), Vec2::zeros()),
         ],
         vec![
-            Link::binary("crank", "O2", "A", r),
-            Link::binary("lever", "O4", "B", lever),
+            PlanarLink::binary("crank", "O2", "A", r),
+            PlanarLink::binary("lever", "O4", "B", lever),
         ],
         vec![Slider {
             name: "A".into(),

@@ -59,7 +59,7 @@ pub struct Bearing {
 
 /// A rotor.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Rotor {
+pub struct FlexibleRotor {
     /// Segments from `x = 0`.
     pub segments: Vec<Segment>,
     /// Discs.
@@ -102,7 +102,7 @@ impl RotorMode {
     }
 }
 
-impl Rotor {
+impl FlexibleRotor {
     /// Total length (m).
     pub fn length(&self) -> f64 {
         self.segments.iter().map(|s| s.length).sum()
@@ -210,7 +210,7 @@ fn reduce(a: &DMatrix<f64>, free: &[usize]) -> DMatrix<f64> {
 /// The lowest `count` modes by finite elements with about `elements` elements; `None`
 /// when the mass matrix is not positive definite (no mass) or the rotor floats (fewer
 /// than two constraints make rigid-body modes, reported as speed 0).
-pub fn fe_modes(rotor: &Rotor, elements: usize, count: usize) -> Option<Vec<RotorMode>> {
+pub fn fe_modes(rotor: &FlexibleRotor, elements: usize, count: usize) -> Option<Vec<RotorMode>> {
     let x = rotor.nodes(elements);
     let (k, m, held) = rotor.matrices(&x);
     let free: Vec<usize> = (0..k.nrows()).filter(|i| !held.contains(i)).collect();
@@ -259,7 +259,7 @@ pub fn pinned_pinned_speed(n: usize, ei: f64, mu: f64, l: f64) -> f64 {
 /// direct solve of `(K − ω² M) y = ω² U` (the in-phase and quadrature parts of the
 /// rotating unbalance, no damping); `None` at a critical speed.
 pub fn unbalance_response(
-    rotor: &Rotor,
+    rotor: &FlexibleRotor,
     elements: usize,
     omega: f64,
 ) -> Option<(Vec<f64>, Vec<f64>)> {

@@ -1,4 +1,4 @@
-//! Critical speeds of a [`Rotor`] by exact transfer matrices (Myklestad–Prohl with the
+//! Critical speeds of a [`FlexibleRotor`] by exact transfer matrices (Myklestad–Prohl with the
 //! continuous-beam field matrix): the second route behind [`crate::machines::vibration::rotor`]'s
 //! finite elements.
 //!
@@ -10,7 +10,7 @@
 //! adds its reaction as a new unknown. The end conditions (pinned: `y = M = 0`; free:
 //! `M = V = 0`) leave a 2 × 2 determinant whose zeros in `ω` are the critical speeds.
 
-use crate::machines::vibration::rotor::Rotor;
+use crate::machines::vibration::rotor::FlexibleRotor;
 use nalgebra::{Matrix4, SMatrix};
 
 type Z = SMatrix<f64, 4, 2>;
@@ -55,7 +55,7 @@ fn normalise(z: &mut Z) {
 }
 
 /// The end-condition determinant at `omega` (its zeros are the critical speeds).
-pub fn determinant(rotor: &Rotor, omega: f64) -> f64 {
+pub fn determinant(rotor: &FlexibleRotor, omega: f64) -> f64 {
     let len = rotor.length();
     let tol = 1e-9 * len;
     let rigid_at = |x: f64| {
@@ -123,7 +123,7 @@ pub fn determinant(rotor: &Rotor, omega: f64) -> f64 {
 
 /// Critical speeds below `omega_max`: sign changes of [`determinant`] on `scan` steps,
 /// refined by bisection.
-pub fn critical_speeds(rotor: &Rotor, omega_max: f64, scan: usize) -> Vec<f64> {
+pub fn critical_speeds(rotor: &FlexibleRotor, omega_max: f64, scan: usize) -> Vec<f64> {
     let lo = omega_max * 1e-4;
     let step = (omega_max - lo) / scan as f64;
     let mut out = Vec::new();

@@ -4,7 +4,7 @@
 use crate::model::WORLD;
 use crate::planning::checker::motion::{point_speed, sub};
 use crate::planning::checker::{CheckScratch, Checker, CLEARANCE_RAMP};
-use crate::planning::lanes::{Mask, Pose, L, P3};
+use crate::planning::lanes::{LanePose, Mask, L, P3};
 use crate::planning::simd::{Simd, W};
 use crate::planning::spheres::LinkSpheres;
 
@@ -43,7 +43,7 @@ impl Checker {
             }
         }
         // Groups are ordered by body: a body's pose is loaded once for all its groups.
-        let mut loaded: Option<(usize, Pose<S>)> = None;
+        let mut loaded: Option<(usize, LanePose<S>)> = None;
         for g in (0..sm.links.len()).rev() {
             let ls = &sm.links[g];
             s.placed[g] = false;
@@ -125,7 +125,7 @@ impl Checker {
         &self,
         tok: S,
         c: usize,
-        pose: &Pose<S>,
+        pose: &LanePose<S>,
         pad: W<S>,
         h: W<S>,
         s: &mut CheckScratch,
@@ -192,7 +192,7 @@ impl Checker {
         &self,
         tok: S,
         g: usize,
-        pose: &Pose<S>,
+        pose: &LanePose<S>,
         h: W<S>,
         s: &mut CheckScratch,
     ) {

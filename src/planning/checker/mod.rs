@@ -68,7 +68,7 @@ pub use exact::{ExactPairs, ExactScratch};
 use crate::model::{Model, WORLD};
 use crate::planning::environment::Environment;
 use crate::planning::lanes::{Mask, P3m, PoseM, L, P3};
-pub use crate::planning::simd::Isa;
+pub use crate::planning::simd::CheckerIsa;
 #[cfg(target_arch = "x86_64")]
 use crate::planning::simd::{avx512vl_detected, Avx2, Sse2};
 use crate::planning::simd::{Scalar, Simd};
@@ -271,28 +271,28 @@ impl Checker {
     }
 
     /// The instruction set the checks run on (the best the CPU has, unless limited).
-    pub fn isa(&self) -> Isa {
+    pub fn isa(&self) -> CheckerIsa {
         #[cfg(target_arch = "x86_64")]
         {
             match (self.avx2, self.avx512vl) {
-                (Some(_), true) => Isa::Avx512Vl,
-                (Some(_), false) => Isa::Avx2,
-                (None, _) => Isa::Baseline,
+                (Some(_), true) => CheckerIsa::Avx512Vl,
+                (Some(_), false) => CheckerIsa::Avx2,
+                (None, _) => CheckerIsa::Baseline,
             }
         }
         #[cfg(not(target_arch = "x86_64"))]
-        Isa::Baseline
+        CheckerIsa::Baseline
     }
 
     /// Runs the checks on at most `max` (to compare instruction sets, or to reproduce a
     /// baseline run). Every instruction set gives the same answers.
-    pub fn limit_isa(&mut self, max: Isa) {
+    pub fn limit_isa(&mut self, max: CheckerIsa) {
         #[cfg(target_arch = "x86_64")]
         {
-            if max < Isa::Avx2 {
+            if max < CheckerIsa::Avx2 {
                 self.avx2 = None;
             }
-            self.avx512vl &= max >= Isa::Avx512Vl && self.avx2.is_some();
+            self.avx512vl &= max >= CheckerIsa::Avx512Vl && self.avx2.is_some();
         }
         #[cfg(not(target_arch = "x86_64"))]
         let _ = max;

@@ -3,7 +3,7 @@
 
 use crate::model::WORLD;
 use crate::planning::checker::{CheckScratch, Checker};
-use crate::planning::lanes::{Pose, PoseM, L, P3};
+use crate::planning::lanes::{LanePose, PoseM, L, P3};
 use crate::planning::simd::{Simd, W};
 
 impl Checker {
@@ -14,7 +14,7 @@ impl Checker {
         &self,
         tok: S,
         i: usize,
-        pose: &Pose<S>,
+        pose: &LanePose<S>,
         s: &CheckScratch,
     ) -> (P3<S>, P3<S>) {
         let b = &self.bodies[i];
@@ -84,26 +84,32 @@ impl Checker {
 
     /// The pose of body `b` (or the world) stored by this batch.
     #[inline(always)]
-    pub(super) fn stored_pose<S: Simd>(&self, tok: S, b: usize, s: &CheckScratch) -> Pose<S> {
+    pub(super) fn stored_pose<S: Simd>(&self, tok: S, b: usize, s: &CheckScratch) -> LanePose<S> {
         if b == WORLD {
             let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-            Pose::splat(tok, &identity, &[0.0; 3])
+            LanePose::splat(tok, &identity, &[0.0; 3])
         } else {
-            Pose::load(tok, &s.poses[b])
+            LanePose::load(tok, &s.poses[b])
         }
     }
 
     /// `oM_parent · placement · J(q)` of body `i` in every lane.
     #[inline(always)]
-    pub(super) fn body_pose<S: Simd>(&self, tok: S, i: usize, q: &[L], poses: &[PoseM]) -> Pose<S> {
+    pub(super) fn body_pose<S: Simd>(
+        &self,
+        tok: S,
+        i: usize,
+        q: &[L],
+        poses: &[PoseM],
+    ) -> LanePose<S> {
         let b = &self.bodies[i];
         let qi = tok
             .load(&q[b.q_index])
             .mul_add(tok.splat(b.mult), tok.splat(b.offset));
         let mut out = if b.parent == WORLD {
-            Pose::splat(tok, &b.rot, &b.trans)
+            LanePose::splat(tok, &b.rot, &b.trans)
         } else {
-            let p = Pose::load(tok, &poses[b.parent]);
+            let p = LanePose::load(tok, &poses[b.parent]);
             let t = p.act(tok, &b.trans);
             let r = if b.rot_identity {
                 p.r
@@ -122,7 +128,7 @@ impl Checker {
                 }
                 r
             };
-            Pose { r, t }
+            LanePose { r, t }
         };
         if b.revolute {
             let (sn, cs) = qi.sin_cos();

@@ -20,8 +20,8 @@
 //!   summed). The minimum distances are the exact ones over the samples.
 
 use crate::collision::{
-    Certificate, Certifier, CertifyOptions, ClearanceBound, CollisionData, CollisionModel,
-    CollisionOptions, Motion, SampleMin, Scope,
+    Certificate, CertifiedMotion, Certifier, CertifyOptions, ClearanceBound, CollisionData,
+    CollisionModel, CollisionOptions, SampleMin, Scope,
 };
 use crate::io::record::PointCloud;
 use crate::kinematics::{forward_kinematics, frame_placement};
@@ -190,7 +190,7 @@ fn certify_range(
     let qdd = RefCell::new(vec![0.0; model.nv]);
     let sample =
         |t: f64, q: &mut [f64], qd: &mut [f64]| traj.sample(t, q, qd, &mut qdd.borrow_mut());
-    let motion = Motion {
+    let motion = CertifiedMotion {
         times,
         sample: &sample,
         accel_bound,

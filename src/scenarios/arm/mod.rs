@@ -56,24 +56,9 @@ pub fn run(path: &Path, text: &str, opts: &RunOptions) -> Result<Outcome, Scenar
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "arm";
 
-/// The registry entry of `kind = "arm"` ([`crate::scenarios::KINDS`]).
-pub struct ArmKind;
-
-impl crate::scenarios::kind::ScenarioKind for ArmKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        load(std::path::Path::new(file), text).map(drop)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text, opts).map(|o| o.report)
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| load(std::path::Path::new(file), text).map(drop),
+    run: |path, text, opts| run(path, text, opts).map(|o| o.report),
+};

@@ -17,7 +17,7 @@ use crate::scenarios::arm::scene::Scene;
 use plotters::prelude::*;
 
 /// One panel: a caption, a y label and named curves `(t, y)`.
-pub struct Panel {
+pub struct SimPanel {
     pub caption: String,
     pub y_label: String,
     pub curves: Vec<(String, Vec<(f64, f64)>)>,
@@ -29,7 +29,7 @@ const PANEL_HEIGHT: u32 = 240;
 
 /// The panels of a run's simulation plot: the tracking error `q − q_ref` and the applied
 /// (motor, for elastic joints) torques, one curve per joint in the palette's order.
-pub fn simulation_panels(scene: &Scene, samples: &[SimSample]) -> Vec<Panel> {
+pub fn simulation_panels(scene: &Scene, samples: &[SimSample]) -> Vec<SimPanel> {
     let names = scene.model.dof_names();
     let per_joint = |f: &dyn Fn(&SimSample, usize) -> f64| {
         names
@@ -44,12 +44,12 @@ pub fn simulation_panels(scene: &Scene, samples: &[SimSample]) -> Vec<Panel> {
             .collect()
     };
     vec![
-        Panel {
+        SimPanel {
             caption: "tracking error q - q_ref".into(),
             y_label: "rad or m".into(),
             curves: per_joint(&|s, k| s.q[k] - s.q_ref[k]),
         },
-        Panel {
+        SimPanel {
             caption: if scene.effects.elasticity.is_some() {
                 "motor torques".into()
             } else {
@@ -62,7 +62,7 @@ pub fn simulation_panels(scene: &Scene, samples: &[SimSample]) -> Vec<Panel> {
 }
 
 /// The time range of a panel's finite points (`[0, 1]` without any).
-fn time_range(p: &Panel) -> (f64, f64) {
+fn time_range(p: &SimPanel) -> (f64, f64) {
     let (mut t0, mut t1) = (f64::MAX, f64::MIN);
     for &(t, y) in p.curves.iter().flat_map(|c| c.1.iter()) {
         if t.is_finite() && y.is_finite() {
@@ -79,7 +79,7 @@ fn time_range(p: &Panel) -> (f64, f64) {
 
 /// The y axis of a panel as drawn: its finite values padded by 5 % of their span, with
 /// the ticks and labels of [`AxisTicks`].
-pub fn y_axis(p: &Panel) -> AxisTicks {
+pub fn y_axis(p: &SimPanel) -> AxisTicks {
     let (mut y0, mut y1) = (f64::MAX, f64::MIN);
     for &(t, y) in p.curves.iter().flat_map(|c| c.1.iter()) {
         if t.is_finite() && y.is_finite() {
@@ -96,7 +96,7 @@ pub fn y_axis(p: &Panel) -> AxisTicks {
 
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
-    p: &Panel,
+    p: &SimPanel,
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
     let (chart_area, legend_area) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
@@ -145,7 +145,7 @@ fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, plotters::coord::Shift>,
     title: &str,
     subtitle: &str,
-    panels: &[Panel],
+    panels: &[SimPanel],
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
     root.fill(&WHITE).map_err(err)?;
@@ -164,7 +164,7 @@ pub fn write(
     path: &std::path::Path,
     title: &str,
     subtitle: &str,
-    panels: &[Panel],
+    panels: &[SimPanel],
     format: PlotFormat,
 ) -> Result<(), String> {
     register_font();

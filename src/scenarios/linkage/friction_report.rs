@@ -14,7 +14,7 @@ use serde_json::{json, Value};
 use std::fmt::Write;
 
 /// One sample: input `s` and `(q, q̇, q̈)`.
-pub type Sample<'a> = (f64, &'a DVector<f64>, &'a DVector<f64>, &'a DVector<f64>);
+pub type FrictionSample<'a> = (f64, &'a DVector<f64>, &'a DVector<f64>, &'a DVector<f64>);
 
 /// Iteration limits of the friction solve.
 const TOL: f64 = 1e-10;
@@ -25,7 +25,7 @@ const MAX_ITER: usize = 100;
 #[allow(clippy::too_many_arguments)]
 pub fn report(
     l: &Linkage,
-    samples: &[Sample],
+    samples: &[FrictionSample],
     loads: &Loads,
     speed: f64,
     (coefficient, pin_radius): (f64, f64),

@@ -87,7 +87,7 @@ pub(super) fn parse_mechanism(
 }
 
 /// The links in file order, with the line each starts on.
-fn parse_links(cx: &Source, spec: &Spec) -> Result<(Vec<Link>, Vec<usize>), ScenarioError> {
+fn parse_links(cx: &Source, spec: &Spec) -> Result<(Vec<PlanarLink>, Vec<usize>), ScenarioError> {
     let links_spec = spec.links.as_ref().expect("checked by the caller");
     // File order (the map is sorted by name): by span.
     let mut order: Vec<(&String, &Spanned<LinkSpec>)> = links_spec.iter().collect();
@@ -170,7 +170,11 @@ fn parse_ground(cx: &Source, spec: &Spec) -> Result<Vec<(String, Vec2)>, Scenari
 }
 
 /// The sliders (prismatic or pin-in-slot), each on a link and a guide.
-fn parse_sliders(cx: &Source, spec: &Spec, links: &[Link]) -> Result<Vec<Slider>, ScenarioError> {
+fn parse_sliders(
+    cx: &Source,
+    spec: &Spec,
+    links: &[PlanarLink],
+) -> Result<Vec<Slider>, ScenarioError> {
     let mut sliders = Vec::new();
     for (k, sp) in spec.sliders.iter().enumerate() {
         let s = sp.get_ref();
@@ -242,7 +246,7 @@ fn parse_sliders(cx: &Source, spec: &Spec, links: &[Link]) -> Result<Vec<Slider>
 fn parse_driver(
     cx: &Source,
     spec: &Spec,
-    links: &[Link],
+    links: &[PlanarLink],
     link_lines: &[usize],
 ) -> Result<(Driver, bool, std::ops::Range<usize>), ScenarioError> {
     let Some(dsp) = &spec.driver else {
@@ -486,7 +490,7 @@ fn assemble(
                     format!("sliders[{}]", k - n_pins),
                 ),
                 Some(k) => match &linkage.joints[k] {
-                    crate::machines::linkage::Joint::Revolute { b, .. } if *b != GROUND => {
+                    crate::machines::linkage::PlanarJoint::Revolute { b, .. } if *b != GROUND => {
                         (link_lines[*b], format!("links.{}", linkage.links[*b].name))
                     }
                     _ => (cx.line(dspan), "driver".to_string()),

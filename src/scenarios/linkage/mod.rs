@@ -18,7 +18,7 @@ use crate::io::report::Report;
 use crate::machines::balancing::RotorMass;
 use crate::machines::flywheel::machine_motion::Characteristic;
 use crate::machines::linkage::kinetostatics::Loads;
-use crate::machines::linkage::linkage::{Driver, Link, Linkage, Slider, GROUND};
+use crate::machines::linkage::linkage::{Driver, Linkage, PlanarLink, Slider, GROUND};
 use crate::machines::linkage::position::{solve_position, NewtonOptions};
 use crate::machines::linkage::sweep::SweepOptions;
 use crate::machines::linkage::Vec2;
@@ -283,7 +283,7 @@ pub struct MachineScenario {
 
 /// A parsed and validated linkage scenario.
 #[derive(Clone, Debug)]
-pub struct Scenario {
+pub struct LinkageScenario {
     /// The file.
     pub file: String,
     /// Name.
@@ -307,7 +307,7 @@ fn unit(v: [f64; 2]) -> Option<Vec2> {
 }
 
 /// Parses and validates `text` (the contents of `file`); assembles the linkage once.
-pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
+pub fn parse(file: &str, text: &str) -> Result<LinkageScenario, ScenarioError> {
     let spec: Spec = toml::from_str(text).map_err(|e| ScenarioError::from_toml(file, text, &e))?;
     let cx = Source::new(file, text);
     let name = spec.name.clone().unwrap_or_else(|| {
@@ -362,7 +362,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
             "nothing to do: give a linkage ([links.*]), [rotor_balance], [flywheel] or [machine_motion]",
         ));
     }
-    Ok(Scenario {
+    Ok(LinkageScenario {
         file: file.to_string(),
         name,
         description: spec.description.clone(),
@@ -373,7 +373,11 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
     })
 }
 
-fn parse_link(cx: &Source, name: &str, sp: &Spanned<LinkSpec>) -> Result<Link, ScenarioError> {
+fn parse_link(
+    cx: &Source,
+    name: &str,
+    sp: &Spanned<LinkSpec>,
+) -> Result<PlanarLink, ScenarioError> {
     let line = cx.line(&sp.span());
     let key = format!("links.{name}");
     let s = sp.get_ref();
@@ -452,7 +456,7 @@ fn parse_link(cx: &Source, name: &str, sp: &Spanned<LinkSpec>) -> Result<Link, S
         None if s.ends.is_some() => (points[0].1 + points[1].1) * 0.5,
         None => Vec2::zeros(),
     };
-    Ok(Link {
+    Ok(PlanarLink {
         name: name.to_string(),
         points,
         mass,
@@ -465,7 +469,7 @@ fn parse_link(cx: &Source, name: &str, sp: &Spanned<LinkSpec>) -> Result<Link, S
 /// `span` that names it as `table.key`.
 fn moving_link(
     cx: &Source,
-    links: &[Link],
+    links: &[PlanarLink],
     name: &str,
     span: &std::ops::Range<usize>,
     (table, key): (&str, &str),
@@ -481,7 +485,7 @@ fn moving_link(
         })
 }
 
-fn body_of(links: &[Link], name: &str) -> Option<usize> {
+fn body_of(links: &[PlanarLink], name: &str) -> Option<usize> {
     if name == "ground" {
         Some(GROUND)
     } else {
@@ -504,24 +508,9 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "linkage";
 
-/// The registry entry of `kind = "linkage"` ([`crate::scenarios::KINDS`]).
-pub struct LinkageKind;
-
-impl crate::scenarios::kind::ScenarioKind for LinkageKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        parse(file, text).map(drop)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        _opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text)
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| parse(file, text).map(drop),
+    run: |path, text, _opts| run(path, text),
+};

@@ -129,7 +129,7 @@ pub const MAX_TIME_STEPS: f64 = 1e7;
 
 /// A parsed and validated torsional scenario: what [`report`] computes on.
 #[derive(Clone, Debug)]
-pub struct Scenario {
+pub struct TorsionalScenario {
     file: String,
     name: String,
     chain: TorsionalChain,
@@ -602,7 +602,7 @@ fn parse_identification(
 
 /// Parses and validates `text` (the contents of `file`) without the analyses (the modes
 /// of the chain are computed only to check a time step).
-pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
+pub fn parse(file: &str, text: &str) -> Result<TorsionalScenario, ScenarioError> {
     let ctx = Source::new(file, text);
     let sc: ScenarioFile =
         toml::from_str(text).map_err(|e| ScenarioError::from_toml(ctx.file, text, &e))?;
@@ -645,7 +645,7 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
         .as_ref()
         .map(|idn| parse_identification(&ctx, idn, exc.as_ref(), &chain))
         .transpose()?;
-    Ok(Scenario {
+    Ok(TorsionalScenario {
         name: sc.name.clone().unwrap_or_else(|| ctx.file.to_string()),
         file: ctx.file.to_string(),
         chain,
@@ -660,24 +660,9 @@ pub fn parse(file: &str, text: &str) -> Result<Scenario, ScenarioError> {
 /// The `kind` value of these scenario files.
 pub const NAME: &str = "torsional";
 
-/// The registry entry of `kind = "torsional"` ([`crate::scenarios::KINDS`]).
-pub struct TorsionalKind;
-
-impl crate::scenarios::kind::ScenarioKind for TorsionalKind {
-    fn name(&self) -> &'static str {
-        NAME
-    }
-
-    fn check(&self, file: &str, text: &str) -> Result<(), crate::core::diag::LocatedError> {
-        parse(file, text).map(drop)
-    }
-
-    fn run(
-        &self,
-        path: &std::path::Path,
-        text: &str,
-        _opts: &crate::scenarios::kind::RunOptions,
-    ) -> Result<crate::io::report::Report, crate::core::diag::LocatedError> {
-        run(path, text)
-    }
-}
+/// The registry entry of these files ([`crate::scenarios::KINDS`]).
+pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
+    name: NAME,
+    check: |file, text| parse(file, text).map(drop),
+    run: |path, text, _opts| run(path, text),
+};

@@ -15,7 +15,7 @@ use crate::machines::vibration::torsional::modes::{undamped_modes, Mode, CPM_PER
 use crate::machines::vibration::torsional::time::steady_state_by_integration;
 use crate::machines::vibration::torsional::torsional_chain::TorsionalChain;
 use crate::machines::vibration::torsional::GearedChain;
-use crate::scenarios::torsional::{Identification, Scenario};
+use crate::scenarios::torsional::{Identification, TorsionalScenario};
 use serde_json::{json, Value};
 use std::fmt::Write;
 
@@ -390,8 +390,8 @@ fn identification_report(
 
 /// The analyses of a parsed scenario: modes, damped modes, forced response, time-domain
 /// check and identification.
-pub fn report(sc: &Scenario, kind_name: &str) -> Result<Report, ScenarioError> {
-    let Scenario {
+pub fn report(sc: &TorsionalScenario, kind_name: &str) -> Result<Report, ScenarioError> {
+    let TorsionalScenario {
         file,
         name,
         chain,

@@ -39,19 +39,19 @@ pub struct EffectConfig {
 
 impl EffectConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::Mode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
         match mode {
-            crate::studies::tradeoffs::Mode::Tiny => EffectConfig {
+            crate::studies::tradeoffs::StudyMode::Tiny => EffectConfig {
                 passes: 2,
                 rounds: 9,
                 round_ns: 5e4,
             },
-            crate::studies::tradeoffs::Mode::Quick => EffectConfig {
+            crate::studies::tradeoffs::StudyMode::Quick => EffectConfig {
                 passes: 5,
                 rounds: 41,
                 round_ns: 1e5,
             },
-            crate::studies::tradeoffs::Mode::Full => EffectConfig {
+            crate::studies::tradeoffs::StudyMode::Full => EffectConfig {
                 passes: 11,
                 rounds: 101,
                 round_ns: 2e5,

@@ -42,9 +42,9 @@ pub struct FormulationConfig {
 
 impl FormulationConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::Mode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
         match mode {
-            crate::studies::tradeoffs::Mode::Tiny => FormulationConfig {
+            crate::studies::tradeoffs::StudyMode::Tiny => FormulationConfig {
                 dofs: vec![2, 4, 8],
                 max_dof_trace: 4,
                 max_dof_energy: 4,
@@ -52,7 +52,7 @@ impl FormulationConfig {
                 round_ns: 5e4,
                 agreement_states: 8,
             },
-            crate::studies::tradeoffs::Mode::Quick => FormulationConfig {
+            crate::studies::tradeoffs::StudyMode::Quick => FormulationConfig {
                 dofs: vec![2, 4, 6, 8, 12, 16, 24, 32, 48, 64],
                 max_dof_trace: 12,
                 max_dof_energy: 12,
@@ -60,7 +60,7 @@ impl FormulationConfig {
                 round_ns: 1e5,
                 agreement_states: 32,
             },
-            crate::studies::tradeoffs::Mode::Full => FormulationConfig {
+            crate::studies::tradeoffs::StudyMode::Full => FormulationConfig {
                 dofs: vec![2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64],
                 max_dof_trace: 32,
                 max_dof_energy: 32,

@@ -49,24 +49,24 @@ pub struct IkConfig {
 
 impl IkConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::Mode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
         let decades = |lo: i32| (3..=lo).map(|k| 10f64.powi(-k)).collect::<Vec<_>>();
         match mode {
-            crate::studies::tradeoffs::Mode::Tiny => IkConfig {
+            crate::studies::tradeoffs::StudyMode::Tiny => IkConfig {
                 targets: 6,
                 tolerances: vec![1e-3, 1e-6, 1e-9, 1e-12],
                 budget_ms: 20.0,
                 analytic_repeats: 5,
                 numeric_repeats: 3,
             },
-            crate::studies::tradeoffs::Mode::Quick => IkConfig {
+            crate::studies::tradeoffs::StudyMode::Quick => IkConfig {
                 targets: 40,
                 tolerances: decades(12),
                 budget_ms: 50.0,
                 analytic_repeats: 21,
                 numeric_repeats: 5,
             },
-            crate::studies::tradeoffs::Mode::Full => IkConfig {
+            crate::studies::tradeoffs::StudyMode::Full => IkConfig {
                 targets: 200,
                 tolerances: decades(12),
                 budget_ms: 50.0,

@@ -37,14 +37,14 @@ pub struct IntegratorConfig {
 
 impl IntegratorConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::Mode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
         let (dts, duration) = match mode {
-            crate::studies::tradeoffs::Mode::Tiny => (vec![4e-3, 2e-3, 1e-3], 0.2),
-            crate::studies::tradeoffs::Mode::Quick => (
+            crate::studies::tradeoffs::StudyMode::Tiny => (vec![4e-3, 2e-3, 1e-3], 0.2),
+            crate::studies::tradeoffs::StudyMode::Quick => (
                 vec![1e-2, 3e-3, 1e-3, 7e-4, 5e-4, 3e-4, 1e-4, 3e-5, 1e-5],
                 0.5,
             ),
-            crate::studies::tradeoffs::Mode::Full => (
+            crate::studies::tradeoffs::StudyMode::Full => (
                 vec![
                     1e-2, 5e-3, 2e-3, 1e-3, 7e-4, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5,
                 ],
@@ -86,7 +86,7 @@ impl Reference for Wave {
 /// What one run gave.
 #[derive(Clone, Debug, Serialize)]
 #[serde(tag = "status", rename_all = "snake_case")]
-pub enum Outcome {
+pub enum IntegratorOutcome {
     /// Finished: the figure of merit.
     Value {
         /// Relative energy error or tracking error (rad).
@@ -104,18 +104,18 @@ pub enum Outcome {
     },
 }
 
-impl Outcome {
+impl IntegratorOutcome {
     /// The figure, when the run finished.
     pub fn value(&self) -> Option<f64> {
         match self {
-            Outcome::Value { value } => Some(*value),
+            IntegratorOutcome::Value { value } => Some(*value),
             _ => None,
         }
     }
 
     /// Whether the run diverged.
     pub fn diverged(&self) -> bool {
-        matches!(self, Outcome::Diverged { .. })
+        matches!(self, IntegratorOutcome::Diverged { .. })
     }
 }
 
@@ -129,9 +129,9 @@ pub struct IntegratorCell {
     /// Step (s).
     pub dt: f64,
     /// Relative energy error of the free run.
-    pub energy: Outcome,
+    pub energy: IntegratorOutcome,
     /// Largest tracking error of the computed-torque run (rad).
-    pub tracking: Outcome,
+    pub tracking: IntegratorOutcome,
     /// Wall time of the tracking run (s), when it finished.
     pub wall_s: Option<f64>,
     /// Wall time per step of the tracking run (µs).
@@ -203,11 +203,11 @@ pub const METHODS: [Integrator; 3] = [
 fn outcome(
     r: &Result<crate::sim::SimReport, SimError>,
     f: impl Fn(&crate::sim::SimReport) -> f64,
-) -> Outcome {
+) -> IntegratorOutcome {
     match r {
-        Ok(rep) => Outcome::Value { value: f(rep) },
-        Err(SimError::Diverged { t, .. }) => Outcome::Diverged { t: *t },
-        Err(e) => Outcome::Failed {
+        Ok(rep) => IntegratorOutcome::Value { value: f(rep) },
+        Err(SimError::Diverged { t, .. }) => IntegratorOutcome::Diverged { t: *t },
+        Err(e) => IntegratorOutcome::Failed {
             message: e.to_string(),
         },
     }

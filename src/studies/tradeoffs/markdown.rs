@@ -5,9 +5,9 @@
 use crate::io::report::fmt_ns;
 use crate::studies::tradeoffs::formulations::NAMES as FORMULATIONS;
 use crate::studies::tradeoffs::ik_study::{ANALYTIC, NUMERIC, QP};
-use crate::studies::tradeoffs::integrators::{median_step_us, Outcome, METHODS};
+use crate::studies::tradeoffs::integrators::{median_step_us, IntegratorOutcome, METHODS};
 pub use crate::studies::tradeoffs::report_plots::{plots, workspace_convergence_png};
-use crate::studies::tradeoffs::{log_slope, Report};
+use crate::studies::tradeoffs::{log_slope, TradeoffsReport};
 use crate::workspace::Sampling;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -42,7 +42,7 @@ fn pct(x: f64) -> String {
 
 /// Writes the PNGs, `tradeoffs.md` and `tradeoffs.json` into `dir` (created if needed),
 /// each atomically. Returns the paths written.
-pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, String> {
+pub fn write(report: &TradeoffsReport, dir: &Path) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
     let mut written = Vec::new();
     let mut put = |name: &str, bytes: &[u8]| -> Result<(), String> {
@@ -63,7 +63,7 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, String> {
 }
 
 /// The Markdown report.
-pub fn markdown(r: &Report) -> String {
+pub fn markdown(r: &TradeoffsReport) -> String {
     let mut s = String::new();
     let m = &r.machine;
     let _ = writeln!(s, "# armsim trade-offs report\n");
@@ -74,9 +74,9 @@ pub fn markdown(r: &Report) -> String {
          so expect a few per cent of noise between runs. The raw figures are in [`{JSON}`]({JSON}).\n",
         r.mode.as_str(),
         match r.mode {
-            crate::studies::tradeoffs::Mode::Full => "",
-            crate::studies::tradeoffs::Mode::Quick => " (reduced sizes: `--quick`; run without it for the full study)",
-            crate::studies::tradeoffs::Mode::Tiny => " (smoke-test sizes: the numbers are coarse)",
+            crate::studies::tradeoffs::StudyMode::Full => "",
+            crate::studies::tradeoffs::StudyMode::Quick => " (reduced sizes: `--quick`; run without it for the full study)",
+            crate::studies::tradeoffs::StudyMode::Tiny => " (smoke-test sizes: the numbers are coarse)",
         }
     );
     let load1 = m
@@ -129,7 +129,7 @@ pub fn markdown(r: &Report) -> String {
     s
 }
 
-fn ik_section(s: &mut String, r: &Report) {
+fn ik_section(s: &mut String, r: &TradeoffsReport) {
     let st = &r.ik;
     let _ = writeln!(s, "## 1. Inverse kinematics: tolerance × method\n");
     let _ = writeln!(
@@ -186,7 +186,7 @@ fn ik_section(s: &mut String, r: &Report) {
 }
 
 /// The generated reading of the IK study.
-pub fn ik_reading(r: &Report) -> String {
+pub fn ik_reading(r: &TradeoffsReport) -> String {
     let st = &r.ik;
     let mut out = Vec::new();
     let ends = |m: &str| {
@@ -240,15 +240,15 @@ pub fn ik_reading(r: &Report) -> String {
     out.join(" ")
 }
 
-fn outcome_cell(o: &Outcome) -> String {
+fn outcome_cell(o: &IntegratorOutcome) -> String {
     match o {
-        Outcome::Value { value } => sci(*value),
-        Outcome::Diverged { t } => format!("**diverged** (t = {t:.3} s)"),
-        Outcome::Failed { message } => format!("failed: {message}"),
+        IntegratorOutcome::Value { value } => sci(*value),
+        IntegratorOutcome::Diverged { t } => format!("**diverged** (t = {t:.3} s)"),
+        IntegratorOutcome::Failed { message } => format!("failed: {message}"),
     }
 }
 
-fn integrator_section(s: &mut String, r: &Report) {
+fn integrator_section(s: &mut String, r: &TradeoffsReport) {
     let st = &r.integrators;
     let _ = writeln!(s, "## 2. Integrators: step size × method\n");
     let _ = writeln!(
@@ -303,7 +303,7 @@ fn integrator_section(s: &mut String, r: &Report) {
 
 /// Observed order of `method` on `case`: the log-log slope of the energy error over the
 /// (up to) four smallest finished steps whose error is above the rounding floor.
-pub fn observed_order(r: &Report, case: &str, method: &str) -> Option<f64> {
+pub fn observed_order(r: &TradeoffsReport, case: &str, method: &str) -> Option<f64> {
     let mut pts: Vec<(f64, f64)> = r
         .integrators
         .series(case, method)
@@ -317,7 +317,7 @@ pub fn observed_order(r: &Report, case: &str, method: &str) -> Option<f64> {
 }
 
 /// The generated reading of the integrator study.
-pub fn integrator_reading(r: &Report) -> String {
+pub fn integrator_reading(r: &TradeoffsReport) -> String {
     let st = &r.integrators;
     let mut out = Vec::new();
     for case in &st.cases {
@@ -412,7 +412,7 @@ pub fn integrator_reading(r: &Report) -> String {
     out.join(" ")
 }
 
-fn formulation_section(s: &mut String, r: &Report) {
+fn formulation_section(s: &mut String, r: &TradeoffsReport) {
     let st = &r.formulations;
     let _ = writeln!(s, "## 3. Dynamics formulations: time vs DOF\n");
     let _ = writeln!(
@@ -452,7 +452,7 @@ fn formulation_section(s: &mut String, r: &Report) {
 }
 
 /// The generated reading of the formulation study.
-pub fn formulation_reading(r: &Report) -> String {
+pub fn formulation_reading(r: &TradeoffsReport) -> String {
     let st = &r.formulations;
     let mut out = Vec::new();
     let slopes: Vec<String> = (0..FORMULATIONS.len())
@@ -531,7 +531,7 @@ pub fn formulation_reading(r: &Report) -> String {
     out.join(" ")
 }
 
-fn workspace_section(s: &mut String, r: &Report) {
+fn workspace_section(s: &mut String, r: &TradeoffsReport) {
     let st = &r.workspace;
     let _ = writeln!(s, "## 4. Workspace sampling: samples × scheme\n");
     let _ = writeln!(
@@ -609,7 +609,7 @@ fn samples_to_reach(
 }
 
 /// The generated reading of the workspace study.
-pub fn workspace_reading(r: &Report) -> String {
+pub fn workspace_reading(r: &TradeoffsReport) -> String {
     let st = &r.workspace;
     let mut out = Vec::new();
     let goal = 0.05;
@@ -686,7 +686,7 @@ pub fn workspace_reading(r: &Report) -> String {
     out.join(" ")
 }
 
-fn effects_section(s: &mut String, r: &Report) {
+fn effects_section(s: &mut String, r: &TradeoffsReport) {
     let st = &r.effects;
     let _ = writeln!(s, "## 5. Effects: cost of each effect\n");
     let _ = writeln!(
@@ -723,7 +723,7 @@ fn effects_section(s: &mut String, r: &Report) {
 }
 
 /// The generated reading of the effects study.
-pub fn effects_reading(r: &Report) -> String {
+pub fn effects_reading(r: &TradeoffsReport) -> String {
     let st = &r.effects;
     let singles: Vec<&crate::studies::tradeoffs::effects_study::EffectRow> = st
         .rows

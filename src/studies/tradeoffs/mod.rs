@@ -2,7 +2,7 @@
 //! robustness and features cost in time, each a table, at least one plot and a reading of
 //! the numbers, written as `tradeoffs.md` plus PNGs.
 //!
-//! This module owns the study driver ([`run`]), the sizes of the three modes ([`Mode`]),
+//! This module owns the study driver ([`run`]), the sizes of the three modes ([`StudyMode`]),
 //! the shared measurement helpers ([`Stats`], [`time_calls`]) and the machine description
 //! ([`MachineInfo`]). The studies live one per file:
 //!
@@ -34,7 +34,7 @@ use std::time::Instant;
 /// How big the studies are.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Mode {
+pub enum StudyMode {
     /// Seconds: the smoke run the tests use (numbers are real but coarse).
     Tiny,
     /// Under 3 minutes on a 2-core machine.
@@ -43,13 +43,13 @@ pub enum Mode {
     Full,
 }
 
-impl Mode {
+impl StudyMode {
     /// Name used in the report.
     pub fn as_str(&self) -> &'static str {
         match self {
-            Mode::Tiny => "tiny",
-            Mode::Quick => "quick",
-            Mode::Full => "full",
+            StudyMode::Tiny => "tiny",
+            StudyMode::Quick => "quick",
+            StudyMode::Full => "full",
         }
     }
 }
@@ -58,7 +58,7 @@ impl Mode {
 #[derive(Clone, Debug)]
 pub struct Options {
     /// Study sizes.
-    pub mode: Mode,
+    pub mode: StudyMode,
     /// Progress lines on standard error.
     pub progress: bool,
     /// Seed of every random choice (targets, states, sample streams).
@@ -67,7 +67,7 @@ pub struct Options {
 
 impl Options {
     /// `mode` with progress off and the default seed.
-    pub fn new(mode: Mode) -> Self {
+    pub fn new(mode: StudyMode) -> Self {
         Self {
             mode,
             progress: false,
@@ -272,9 +272,9 @@ pub fn utc_now() -> String {
 
 /// Everything the report shows.
 #[derive(Clone, Debug, Serialize)]
-pub struct Report {
-    /// Mode the studies ran in.
-    pub mode: Mode,
+pub struct TradeoffsReport {
+    /// StudyMode the studies ran in.
+    pub mode: StudyMode,
     /// Machine and build.
     pub machine: MachineInfo,
     /// Study 1.
@@ -296,7 +296,7 @@ pub struct Report {
 }
 
 /// Runs the six studies at the sizes of `opts.mode`.
-pub fn run(opts: &Options) -> Result<Report, String> {
+pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
     let start = Instant::now();
     let mut machine = MachineInfo::probe();
     let mut study_seconds = Vec::new();
@@ -326,7 +326,7 @@ pub fn run(opts: &Options) -> Result<Report, String> {
     let rotor = rotor_study::run(opts, &rotor_study::RotorConfig::for_mode(opts.mode))?;
     timed("rotor", t);
     machine.load_end = load_average();
-    Ok(Report {
+    Ok(TradeoffsReport {
         mode: opts.mode,
         machine,
         ik,

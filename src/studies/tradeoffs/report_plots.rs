@@ -6,12 +6,12 @@ use crate::io::plots::panels::{
 };
 use crate::studies::tradeoffs::formulations::NAMES as FORMULATIONS;
 use crate::studies::tradeoffs::ik_study::{ANALYTIC, NUMERIC, QP};
-use crate::studies::tradeoffs::integrators::{Outcome, METHODS};
-use crate::studies::tradeoffs::Report;
+use crate::studies::tradeoffs::integrators::{IntegratorOutcome, METHODS};
+use crate::studies::tradeoffs::TradeoffsReport;
 use crate::workspace::Sampling;
 
 /// Every plot of the report as `(file name, PNG bytes)`.
-pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
+pub fn plots(r: &TradeoffsReport) -> Result<Vec<(String, Vec<u8>)>, String> {
     let mut out = Vec::new();
     ik_plots(r, &mut out)?;
     integrator_plots(r, &mut out)?;
@@ -29,7 +29,7 @@ pub fn plots(r: &Report) -> Result<Vec<(String, Vec<u8>)>, String> {
 type Plots = Vec<(String, Vec<u8>)>;
 
 /// The IK plots: solve time (median and p99) and success rate against tolerance.
-fn ik_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
+fn ik_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
     let methods = [NUMERIC, QP, ANALYTIC];
     let ik_series =
         |f: &dyn Fn(&crate::studies::tradeoffs::ik_study::IkRow) -> f64| -> Vec<Series> {
@@ -124,13 +124,14 @@ fn integrator_panel(
     let mut flags = Vec::new();
     for (i, m) in METHODS.iter().enumerate() {
         let cells = st.series(&case.name, m.as_str());
-        let pick = |c: &crate::studies::tradeoffs::integrators::IntegratorCell| -> Outcome {
-            if tracking {
-                c.tracking.clone()
-            } else {
-                c.energy.clone()
-            }
-        };
+        let pick =
+            |c: &crate::studies::tradeoffs::integrators::IntegratorCell| -> IntegratorOutcome {
+                if tracking {
+                    c.tracking.clone()
+                } else {
+                    c.energy.clone()
+                }
+            };
         series.push(Series {
             label: m.as_str().into(),
             points: cells
@@ -174,7 +175,7 @@ fn integrator_panel(
 }
 
 /// The integrator plots: energy and tracking error against the step (diverged runs flagged), and tracking error against wall time.
-fn integrator_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
+fn integrator_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
     let st = &r.integrators;
     let energy_panels: Vec<Panel> = st
         .cases
@@ -254,7 +255,7 @@ fn integrator_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
 }
 
 /// The dynamics-formulation plot: time per call against DOF.
-fn formulation_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
+fn formulation_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
     let fs = &r.formulations;
     out.push((
         "dynamics_time.png".to_string(),
@@ -286,7 +287,7 @@ fn formulation_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
 }
 
 /// The workspace plots: error against samples (random and Sobol') and the estimator's convergence.
-fn workspace_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
+fn workspace_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
     let ws = &r.workspace;
     let ws_panels: Vec<Panel> = ws
         .cases
@@ -353,7 +354,7 @@ fn workspace_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
 }
 
 /// The effects plot: cost of each effect relative to the bare rigid model.
-fn effects_plots(r: &Report, out: &mut Plots) -> Result<(), String> {
+fn effects_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
     let ef = &r.effects;
     let cats: Vec<String> = ef.rows.iter().map(|r| r.name.clone()).collect();
     out.push((

@@ -14,7 +14,7 @@
 //! mode needs more elements for the same error.
 
 use crate::machines::vibration::rotor::{
-    fe_modes, pinned_pinned_speed, Bearing, Disc, Rotor, Segment,
+    fe_modes, pinned_pinned_speed, Bearing, Disc, FlexibleRotor, Segment,
 };
 use crate::machines::vibration::rotor_transfer::critical_speeds;
 use crate::studies::tradeoffs::{log_slope, time_calls, Options, Stats};
@@ -36,13 +36,13 @@ pub struct RotorConfig {
 
 impl RotorConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::Mode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
         let (elements, rounds, round_ns) = match mode {
-            crate::studies::tradeoffs::Mode::Tiny => (vec![2, 4, 8, 16], 5, 2e5),
-            crate::studies::tradeoffs::Mode::Quick => {
+            crate::studies::tradeoffs::StudyMode::Tiny => (vec![2, 4, 8, 16], 5, 2e5),
+            crate::studies::tradeoffs::StudyMode::Quick => {
                 (vec![2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64], 15, 1e6)
             }
-            crate::studies::tradeoffs::Mode::Full => (
+            crate::studies::tradeoffs::StudyMode::Full => (
                 vec![2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128],
                 41,
                 2e6,
@@ -95,8 +95,8 @@ pub struct RotorStudy {
 }
 
 /// The FX-3 shaft, pinned at both ends.
-pub fn uniform_shaft() -> Rotor {
-    Rotor {
+pub fn uniform_shaft() -> FlexibleRotor {
+    FlexibleRotor {
         segments: vec![Segment::circular(1.5, 0.05, 0.0, 2.1e11, 7850.0)],
         discs: Vec::new(),
         bearings: vec![
@@ -113,7 +113,7 @@ pub fn uniform_shaft() -> Rotor {
 }
 
 /// A stepped shaft with two discs on an elastic and a rigid bearing.
-pub fn stepped_rotor() -> Rotor {
+pub fn stepped_rotor() -> FlexibleRotor {
     let s = |l: f64, d: f64| Segment::circular(l, d, 0.0, 2.1e11, 7850.0);
     let disc = |at: f64, mass: f64| Disc {
         at,
@@ -121,7 +121,7 @@ pub fn stepped_rotor() -> Rotor {
         unbalance: 0.0,
         phase: 0.0,
     };
-    Rotor {
+    FlexibleRotor {
         segments: vec![s(0.3, 0.06), s(0.3, 0.04), s(0.2, 0.06)],
         discs: vec![disc(0.25, 12.0), disc(0.55, 6.0)],
         bearings: vec![
@@ -141,7 +141,7 @@ fn case(
     opts: &Options,
     cfg: &RotorConfig,
     name: &str,
-    rotor: &Rotor,
+    rotor: &FlexibleRotor,
     method: &str,
     reference: Vec<f64>,
 ) -> Result<RotorCase, String> {

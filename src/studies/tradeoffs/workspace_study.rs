@@ -44,9 +44,9 @@ pub struct WorkspaceConfig {
 
 impl WorkspaceConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::Mode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
         match mode {
-            crate::studies::tradeoffs::Mode::Tiny => WorkspaceConfig {
+            crate::studies::tradeoffs::StudyMode::Tiny => WorkspaceConfig {
                 exponents: vec![6, 9, 12],
                 replicates: 8,
                 seeds: 3,
@@ -54,7 +54,7 @@ impl WorkspaceConfig {
                 voxel_rrp: None,
                 convergence_samples: 1 << 18,
             },
-            crate::studies::tradeoffs::Mode::Quick => WorkspaceConfig {
+            crate::studies::tradeoffs::StudyMode::Quick => WorkspaceConfig {
                 exponents: (4..=14).collect(),
                 replicates: 8,
                 seeds: 4,
@@ -62,7 +62,7 @@ impl WorkspaceConfig {
                 voxel_rrp: Some(0.25),
                 convergence_samples: 1 << 22,
             },
-            crate::studies::tradeoffs::Mode::Full => WorkspaceConfig {
+            crate::studies::tradeoffs::StudyMode::Full => WorkspaceConfig {
                 exponents: (4..=17).collect(),
                 replicates: 8,
                 seeds: 8,

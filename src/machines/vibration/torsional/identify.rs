@@ -51,7 +51,7 @@ pub struct Measurement {
 
 /// The fit result.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Estimate {
+pub struct DampingEstimate {
     /// Estimated coefficients.
     pub values: Vec<f64>,
     /// Standard errors `sqrt(diag Cov)`.
@@ -251,7 +251,7 @@ pub fn identify_damping(
     params: &[DampingParameter],
     data: &[Measurement],
     initial: &[f64],
-) -> Result<Estimate, IdentifyError> {
+) -> Result<DampingEstimate, IdentifyError> {
     check(base, exc, params, data)?;
     let p = params.len();
     if initial.len() != p {
@@ -323,7 +323,7 @@ pub fn identify_damping(
     let sigma2 = rss / dof;
     let covariance = inv * sigma2;
     let std_errors = (0..p).map(|j| covariance[(j, j)].max(0.0).sqrt()).collect();
-    Ok(Estimate {
+    Ok(DampingEstimate {
         values: theta,
         std_errors,
         covariance,

@@ -13,7 +13,7 @@ use crate::core::spatial::Inertia;
 use crate::dynamics::{Effects, Payload};
 use crate::io::record::mcap_out::wall_clock_ns;
 use crate::io::report::Report;
-use crate::motion::{check_torques, check_torques_switched, CheckOptions, TorqueReport};
+use crate::motion::{check_torques, check_torques_switched, TorqueCheckOptions, TorqueReport};
 use crate::scenarios::arm::contact::ContactReport;
 use crate::scenarios::arm::scene::Scene;
 use crate::scenarios::arm::task_motion::{plan, Plan};
@@ -184,7 +184,7 @@ fn check_torque_sweep(scene: &Scene, plan: &Plan) -> Result<Sweep, ScenarioError
         } else {
             effects_with_mass(scene, *m).map_err(|e| fail("payload", e))?
         };
-        let copts = CheckOptions {
+        let copts = TorqueCheckOptions {
             dt: scene.check_dt,
             effort_limit: Some(scene.check_effort.clone()),
             velocity_limit: Some(scene.check_velocity.clone()),

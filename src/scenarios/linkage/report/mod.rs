@@ -10,12 +10,14 @@ use crate::machines::flywheel;
 use crate::machines::flywheel::machine_motion;
 use crate::machines::linkage::fourbar;
 use crate::machines::linkage::kinetostatics::{self, Loads};
-use crate::machines::linkage::linkage::{Joint, Linkage, GROUND};
+use crate::machines::linkage::linkage::{Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::sweep::{stationary_states, State, Tracker};
 use crate::machines::linkage::virtual_power;
 use crate::machines::linkage::Vec2;
 use crate::scenarios::linkage::report::sweep_report::mechanism;
-use crate::scenarios::linkage::{MachineScenario, MechanismScenario, RotorScenario, Scenario};
+use crate::scenarios::linkage::{
+    LinkageScenario, MachineScenario, MechanismScenario, RotorScenario,
+};
 use nalgebra::DVector;
 use serde_json::{json, Map, Value};
 use std::f64::consts::TAU;
@@ -120,7 +122,7 @@ impl ReportCtx<'_> {
     fn sample_json(
         &self,
         r: &Row,
-        groups: &[crate::machines::linkage::branch::Group],
+        groups: &[crate::machines::linkage::branch::StructuralGroup],
         dead: &[String],
     ) -> Value {
         let l = self.l;
@@ -369,10 +371,10 @@ fn counterweight(
     // The crank's ground pivot, the crank pin (crank–rod) and the piston pin (rod–slider).
     let pin = |a: usize, b: usize| {
         l.joints.iter().find_map(|j| match j {
-            Joint::Revolute {
+            PlanarJoint::Revolute {
                 a: x, pa, b: y, pb, ..
             } if (*x == a && *y == b) => Some((*pa, *pb)),
-            Joint::Revolute {
+            PlanarJoint::Revolute {
                 a: x, pa, b: y, pb, ..
             } if (*x == b && *y == a) => Some((*pb, *pa)),
             _ => None,
@@ -574,7 +576,7 @@ fn machine_motion_json(mm: &MachineScenario, json: &mut Map<String, Value>, text
 }
 
 /// Builds the report of a parsed scenario.
-pub fn report(sc: &Scenario, kind_name: &str) -> Report {
+pub fn report(sc: &LinkageScenario, kind_name: &str) -> Report {
     let mut json = Map::new();
     let mut text = String::new();
     json.insert("name".into(), json!(sc.name));
