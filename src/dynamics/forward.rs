@@ -32,15 +32,8 @@ pub fn forward_dynamics<'a>(
     v: &[f64],
     tau: &[f64],
 ) -> Result<&'a [f64], SingularMassMatrix> {
-    forward(
-        model,
-        data,
-        &Applied::of_model(model),
-        Method::Auto,
-        q,
-        v,
-        tau,
-    )
+    let model_effects = Applied::of_model(model);
+    forward(model, data, &model_effects, Method::Auto, q, v, tau)
 }
 
 /// [`forward_dynamics`] always through the mass matrix (CRBA + Cholesky), whatever the

@@ -160,6 +160,30 @@ impl Simplifier {
         std::mem::swap(path, &mut self.tmp);
     }
 
+    /// Runs `attempt` (given the path and its waypoint count) until it has failed
+    /// `tries_per_point` times per waypoint in a row (a success resets the count), the
+    /// limit is reached, or only the two ends are left.
+    fn until_stuck(
+        &mut self,
+        path: &mut Vec<f32>,
+        nv: usize,
+        limit: &SearchLimit,
+        mut attempt: impl FnMut(&mut Self, &mut Vec<f32>, usize) -> bool,
+    ) {
+        let mut fails = 0;
+        while fails < self.opts.tries_per_point * (path.len() / nv) {
+            let n = path.len() / nv;
+            if limit.reached().is_some() || n <= 2 {
+                return;
+            }
+            if attempt(self, path, n) {
+                fails = 0;
+            } else {
+                fails += 1;
+            }
+        }
+    }
+
     /// Random pairs of waypoints joined directly where free.
     fn reduce(
         &mut self,
@@ -170,31 +194,16 @@ impl Simplifier {
         rng: &mut Rng,
         limit: &SearchLimit,
     ) {
-        let mut fails = 0;
-        while fails < self.opts.tries_per_point * (path.len() / nv) {
-            if limit.reached().is_some() {
-                return;
-            }
-            let n = path.len() / nv;
-            if n <= 2 {
-                return;
-            }
+        self.until_stuck(path, nv, limit, |_, path, n| {
             let i = rng.below(n - 2);
             let j = i + 2 + rng.below((n - i - 2).min(1 + n / 3));
-            if j >= n
-                || !c.edge_free(
-                    &path[i * nv..][..nv],
-                    &path[j * nv..][..nv],
-                    EdgeMode::Continuous,
-                    s,
-                )
-            {
-                fails += 1;
-                continue;
+            let (a, b) = (&path[i * nv..][..nv], &path[j.min(n - 1) * nv..][..nv]);
+            if j >= n || !c.edge_free(a, b, EdgeMode::Continuous, s) {
+                return false;
             }
             path.drain((i + 1) * nv..j * nv);
-            fails = 0;
-        }
+            true
+        });
     }
 
     /// Random points along the path joined where free and shorter.
@@ -207,51 +216,41 @@ impl Simplifier {
         rng: &mut Rng,
         limit: &SearchLimit,
     ) {
-        let mut fails = 0;
-        while fails < self.opts.tries_per_point * (path.len() / nv) {
-            if limit.reached().is_some() {
-                return;
-            }
-            let n = path.len() / nv;
-            if n <= 2 {
-                return;
-            }
-            self.cum.clear();
-            self.cum.push(0.0);
+        self.until_stuck(path, nv, limit, |me, path, n| {
+            me.cum.clear();
+            me.cum.push(0.0);
             for k in 1..n {
                 let d = dist(&path[(k - 1) * nv..][..nv], &path[k * nv..][..nv]);
-                self.cum.push(self.cum[k - 1] + d);
+                me.cum.push(me.cum[k - 1] + d);
             }
-            let total = self.cum[n - 1];
+            let total = me.cum[n - 1];
             let (mut u, mut v) = (rng.next_f64() as f32 * total, rng.next_f64() as f32 * total);
             if u > v {
                 std::mem::swap(&mut u, &mut v);
             }
             // Segments holding u and v: waypoints si..si+1 and sj..sj+1.
-            let si = self.cum.partition_point(|&x| x <= u).clamp(1, n - 1) - 1;
-            let sj = self.cum.partition_point(|&x| x <= v).clamp(1, n - 1) - 1;
+            let si = me.cum.partition_point(|&x| x <= u).clamp(1, n - 1) - 1;
+            let sj = me.cum.partition_point(|&x| x <= v).clamp(1, n - 1) - 1;
             if sj <= si {
-                fails += 1;
-                continue;
+                return false;
             }
-            self.point_at(path, nv, si, u, true);
-            self.point_at(path, nv, sj, v, false);
-            let direct = dist(&self.a, &self.b);
+            me.point_at(path, nv, si, u, true);
+            me.point_at(path, nv, sj, v, false);
+            let direct = dist(&me.a, &me.b);
             if direct >= (v - u) * (1.0 - 1e-4)
-                || !c.edge_free(&self.a, &self.b, EdgeMode::Continuous, s)
+                || !c.edge_free(&me.a, &me.b, EdgeMode::Continuous, s)
             {
-                fails += 1;
-                continue;
+                return false;
             }
             // Waypoints si+1..=sj are replaced by a, b.
-            self.tmp.clear();
-            self.tmp.extend_from_slice(&path[..(si + 1) * nv]);
-            self.tmp.extend_from_slice(&self.a);
-            self.tmp.extend_from_slice(&self.b);
-            self.tmp.extend_from_slice(&path[(sj + 1) * nv..]);
-            std::mem::swap(path, &mut self.tmp);
-            fails = 0;
-        }
+            me.tmp.clear();
+            me.tmp.extend_from_slice(&path[..(si + 1) * nv]);
+            me.tmp.extend_from_slice(&me.a);
+            me.tmp.extend_from_slice(&me.b);
+            me.tmp.extend_from_slice(&path[(sj + 1) * nv..]);
+            std::mem::swap(path, &mut me.tmp);
+            true
+        });
     }
 
     /// The point at arc length `x` on segment `seg`, into `a` (or `b`).

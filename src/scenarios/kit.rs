@@ -7,13 +7,6 @@ use crate::io::plots::panels::{render_panels, Panel};
 use crate::scenarios::source::Source;
 use std::path::{Path, PathBuf};
 
-/// The range of a length (any consistent unit).
-pub const LENGTHS: (f64, f64) = (1e-100, 1e100);
-/// The lengths of one mechanism lie within this factor of each other.
-pub const MAX_SCALE_RATIO: f64 = 1e9;
-/// The largest time or velocity ratio.
-pub const MAX_RATIO: f64 = 1e6;
-
 /// Writes `panels` under `title` as `<dir>/<stem>.png` (atomically) when `dir` is given;
 /// returns the path written.
 pub fn write_plot(

@@ -5,10 +5,16 @@
 //! line (`finite`, `positive`, `length`, `ratio`, `count`, …).
 
 use crate::core::diag::{assigns, fmt_num, line_at, LocatedError};
-use crate::scenarios::kit::{LENGTHS, MAX_RATIO, MAX_SCALE_RATIO};
 use serde::de::DeserializeOwned;
 use std::ops::Range;
 use toml::Spanned;
+
+/// The range of a length (any consistent unit).
+pub const LENGTHS: (f64, f64) = (1e-100, 1e100);
+/// The lengths of one mechanism lie within this factor of each other.
+pub const MAX_SCALE_RATIO: f64 = 1e9;
+/// The largest time or velocity ratio.
+pub const MAX_RATIO: f64 = 1e6;
 
 /// Error builder bound to one file and its text: turns byte spans (from
 /// `toml::Spanned`) into lines.

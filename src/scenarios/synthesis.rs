@@ -202,7 +202,7 @@ fn parse_slider_crank(
     )?;
     let which = if by_ratio {
         let r = ctx.between(v, "slider_crank.rod_ratio", 0.0, 1.0)?;
-        if r < 1.0 / crate::scenarios::kit::MAX_SCALE_RATIO {
+        if r < 1.0 / crate::scenarios::source::MAX_SCALE_RATIO {
             return Err(ctx.at(
                 v.span(),
                 "slider_crank.rod_ratio",

@@ -4,8 +4,8 @@
 //! outputs asked for (four-bar, coupler curves, kinetostatics, counterweight).
 
 use crate::core::diag::fmt_num;
-use crate::scenarios::kit::MAX_SCALE_RATIO;
 use crate::scenarios::linkage::*;
+use crate::scenarios::source::MAX_SCALE_RATIO;
 
 /// Parses the linkage sections into a [`MechanismScenario`] (assembled once).
 pub(super) fn parse_mechanism(

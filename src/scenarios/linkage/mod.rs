@@ -390,7 +390,7 @@ fn parse_link(
                 "missing: a link with `ends` needs its `length` (m)",
             ));
         };
-        let (lo, hi) = crate::scenarios::kit::LENGTHS;
+        let (lo, hi) = crate::scenarios::source::LENGTHS;
         if !(len.is_finite() && len > 0.0) {
             return Err(cx.err(
                 cx.key_line(&sp.span(), "length"),
