@@ -358,8 +358,8 @@ mod friction_circles {
     //! equal the friction's loss (virtual power, no joint forces) at every position.
     use armsim::machines::friction::friction_circle::{solve_with_friction, JointFriction};
     use armsim::machines::linkage::catalog;
+    use armsim::machines::linkage::description::{Driver, Linkage, PlanarLink, GROUND};
     use armsim::machines::linkage::kinetostatics::{Loads, PointForce};
-    use armsim::machines::linkage::linkage::{Driver, Linkage, PlanarLink, GROUND};
     use armsim::machines::linkage::position::NewtonOptions;
     use armsim::machines::linkage::sweep::{sweep, SweepOptions};
     use armsim::machines::linkage::virtual_power::driving_effort;

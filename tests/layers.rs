@@ -557,7 +557,7 @@ const KNOWN_CYCLES: &[&[&str]] = &[
         "kinematics/ik/analytic/ur.rs",
         "kinematics/ik/analytic/wrist.rs",
     ],
-    &["machines/linkage/linkage.rs", "machines/linkage/mod.rs"],
+    &["machines/linkage/description.rs", "machines/linkage/mod.rs"],
     &[
         "planning/acm.rs",
         "planning/mesh_sdf.rs",

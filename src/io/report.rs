@@ -64,6 +64,21 @@ pub fn human_json(v: &serde_json::Value) -> String {
     }
 }
 
+/// `12.3 µs`, `4.56 ms`, `789 ns` from nanoseconds.
+pub fn fmt_ns(ns: f64) -> String {
+    if !ns.is_finite() {
+        "–".into()
+    } else if ns >= 1e9 {
+        format!("{:.2} s", ns * 1e-9)
+    } else if ns >= 1e6 {
+        format!("{:.2} ms", ns * 1e-6)
+    } else if ns >= 1e3 {
+        format!("{:.2} µs", ns * 1e-3)
+    } else {
+        format!("{ns:.0} ns")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use crate::core::diag::fmt_num;
@@ -89,20 +104,5 @@ mod tests {
         assert_eq!(fmt_num(-2.5e-300), "-2.5e-300");
         assert_eq!(fmt_num(f64::NAN), "NaN");
         assert_eq!(fmt_num(0.0), "0");
-    }
-}
-
-/// `12.3 µs`, `4.56 ms`, `789 ns` from nanoseconds.
-pub fn fmt_ns(ns: f64) -> String {
-    if !ns.is_finite() {
-        "–".into()
-    } else if ns >= 1e9 {
-        format!("{:.2} s", ns * 1e-9)
-    } else if ns >= 1e6 {
-        format!("{:.2} ms", ns * 1e-6)
-    } else if ns >= 1e3 {
-        format!("{:.2} µs", ns * 1e-3)
-    } else {
-        format!("{ns:.0} ns")
     }
 }

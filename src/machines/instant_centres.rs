@@ -10,7 +10,7 @@
 //! interval are equal. For a four-bar the centre of the coupler is also Kennedy's
 //! intersection of the crank and rocker lines.
 
-use crate::machines::linkage::linkage::Linkage;
+use crate::machines::linkage::description::Linkage;
 use crate::machines::linkage::sweep::State;
 use crate::machines::linkage::{perp, rotate, Vec2};
 

@@ -9,7 +9,7 @@ use crate::io::plots::panels::{Panel, Series, PALETTE};
 use crate::io::report::Report;
 use crate::machines::instant_centres::{arc_lengths, centrodes, line_intersection, CentrePoint};
 use crate::machines::linkage::catalog;
-use crate::machines::linkage::linkage::Linkage;
+use crate::machines::linkage::description::Linkage;
 use crate::machines::linkage::position::NewtonOptions;
 use crate::machines::linkage::sweep::{sweep, State, SweepOptions};
 use crate::machines::linkage::Vec2;

@@ -22,7 +22,7 @@
 //! `m_rec r ω² (cos φ + (r/l) cos 2φ)` to first order in `r/l`.
 
 pub mod modal;
-use crate::machines::linkage::linkage::PlanarLink;
+use crate::machines::linkage::description::PlanarLink;
 use crate::machines::linkage::Vec2;
 use serde::Serialize;
 

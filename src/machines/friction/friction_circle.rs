@@ -17,8 +17,8 @@
 //! power with friction exceeds the frictionless one by exactly `N_f` (checked through
 //! [`crate::machines::linkage::virtual_power`]).
 
+use crate::machines::linkage::description::{Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::kinetostatics::{solve, Kinetostatics, Loads, PointForce};
-use crate::machines::linkage::linkage::{Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::{perp, rotate, Vec2};
 use nalgebra::DVector;
 

@@ -18,7 +18,7 @@
 //! far the group is from singular.
 
 use crate::machines::linkage::constraints::jacobian_mat;
-use crate::machines::linkage::linkage::Linkage;
+use crate::machines::linkage::description::Linkage;
 use nalgebra::{DMatrix, DVector};
 
 /// One structural group: equations (rows of `Φ_q`) and the coordinates they determine.

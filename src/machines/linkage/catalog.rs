@@ -6,8 +6,8 @@
 //! Guesses come from the closed forms (circle intersections); the solver then closes the
 //! loop exactly, so a guess only has to pick the branch.
 
+use crate::machines::linkage::description::{Driver, Linkage, PlanarLink, Slider, GROUND};
 use crate::machines::linkage::fourbar;
-use crate::machines::linkage::linkage::{Driver, Linkage, PlanarLink, Slider, GROUND};
 use crate::machines::linkage::Vec2;
 use nalgebra::DVector;
 use std::collections::HashMap;

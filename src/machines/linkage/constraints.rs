@@ -19,7 +19,7 @@
 //! In general `γ = −(Φ_q q̇)_q q̇ − 2 Φ_qt q̇ − Φ_tt` (Haug eq. 3.1.11); the tests check these
 //! closed forms against finite differences of `Φ_q q̇`.
 
-use crate::machines::linkage::linkage::{Driver, Linkage, PlanarJoint, GROUND};
+use crate::machines::linkage::description::{Driver, Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::{perp, Vec2};
 use nalgebra::{DMatrix, DVector};
 

@@ -26,7 +26,7 @@
 
 use crate::core::least_squares::min_norm_solve;
 use crate::machines::linkage::constraints::{jacobian_mat, row_owners, RowOwner};
-use crate::machines::linkage::linkage::{Driver, Linkage, PlanarJoint, GROUND};
+use crate::machines::linkage::description::{Driver, Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::{cross, rotate, Vec2};
 use nalgebra::DVector;
 

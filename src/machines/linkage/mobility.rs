@@ -16,7 +16,7 @@
 
 use crate::core::least_squares::{singular_values, RANK_TOL};
 use crate::machines::linkage::constraints::jacobian_mat;
-use crate::machines::linkage::linkage::{Linkage, PlanarJoint};
+use crate::machines::linkage::description::{Linkage, PlanarJoint};
 use nalgebra::DVector;
 
 /// `σ_min / σ_max` below which the driven Jacobian counts as singular.

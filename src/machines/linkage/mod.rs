@@ -9,7 +9,7 @@
 //!
 //! One algorithm per file (the minimum-norm solve they share is
 //! [`crate::core::least_squares`]):
-//! - [`linkage`]: the description (ground points, links with named points and inertia,
+//! - [`description`]: the description (ground points, links with named points and inertia,
 //!   pins, sliders, the driver);
 //! - [`constraints`]: `Φ`, its Jacobian `Φ_q`, `−Φ_t` and the acceleration right side `γ`;
 //! - [`position`]: Newton's method on `Φ(q, s) = 0`;
@@ -29,9 +29,9 @@
 pub mod branch;
 pub mod catalog;
 pub mod constraints;
+pub mod description;
 pub mod fourbar;
 pub mod kinetostatics;
-pub mod linkage;
 pub mod mobility;
 pub mod planar;
 pub mod position;
@@ -39,7 +39,7 @@ pub mod sweep;
 pub mod velocity;
 pub mod virtual_power;
 pub use crate::core::least_squares::MinNormSolve;
-pub use crate::machines::linkage::linkage::{
+pub use crate::machines::linkage::description::{
     Driver, Linkage, LinkageError, PlanarJoint, PlanarLink, Slider, GROUND,
 };
 

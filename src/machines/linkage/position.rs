@@ -13,7 +13,7 @@
 
 use crate::core::least_squares::min_norm_solve;
 use crate::machines::linkage::constraints::{jacobian, residual, row_owners, RowOwner};
-use crate::machines::linkage::linkage::Linkage;
+use crate::machines::linkage::description::Linkage;
 use nalgebra::{DMatrix, DVector};
 
 /// Largest angle change per Newton iteration (rad).

@@ -36,7 +36,7 @@ use crate::machines::linkage::branch::{
     indicators, indicators_from, sign, structural_groups, StructuralGroup, GROUP_SINGULAR_TOL,
 };
 use crate::machines::linkage::constraints::jacobian_mat;
-use crate::machines::linkage::linkage::{Linkage, PlanarJoint, GROUND};
+use crate::machines::linkage::description::{Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::mobility::{conditioning, conditioning_from, Conditioning};
 use crate::machines::linkage::position::{solve_position, AssemblyError, NewtonOptions};
 use crate::machines::linkage::velocity::path_derivatives_with;

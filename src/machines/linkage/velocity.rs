@@ -18,7 +18,7 @@
 
 use crate::core::least_squares::{min_norm_solve, Factorization, MinNormSolve};
 use crate::machines::linkage::constraints::{gamma, jacobian, jacobian_mat, velocity_rhs};
-use crate::machines::linkage::linkage::Linkage;
+use crate::machines::linkage::description::Linkage;
 use nalgebra::{DMatrix, DVector};
 
 /// Solves `Φ_q q̇ = −Φ_t` for input rate `sd`.

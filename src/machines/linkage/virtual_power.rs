@@ -10,8 +10,8 @@
 //! It uses only velocities and accelerations, never the joint forces, so it checks the
 //! Lagrange-multiplier route of [`crate::machines::linkage::kinetostatics`] independently.
 
+use crate::machines::linkage::description::Linkage;
 use crate::machines::linkage::kinetostatics::Loads;
-use crate::machines::linkage::linkage::Linkage;
 use crate::machines::linkage::Vec2;
 use nalgebra::DVector;
 

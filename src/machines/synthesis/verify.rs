@@ -5,8 +5,8 @@
 //! derives from the closed forms.
 
 use crate::machines::linkage::catalog;
+use crate::machines::linkage::description::{Driver, Linkage, PlanarLink, Slider, GROUND};
 use crate::machines::linkage::fourbar;
-use crate::machines::linkage::linkage::{Driver, Linkage, PlanarLink, Slider, GROUND};
 use crate::machines::linkage::position::NewtonOptions;
 use crate::machines::linkage::sweep::{dead_centres, sweep, Sweep, SweepOptions};
 use crate::machines::linkage::{wrap_angle, Vec2};

@@ -7,8 +7,8 @@
 //! times at constant speed).
 
 use crate::machines::friction::friction_circle::{solve_with_friction, JointFriction};
+use crate::machines::linkage::description::Linkage;
 use crate::machines::linkage::kinetostatics::Loads;
-use crate::machines::linkage::linkage::Linkage;
 use nalgebra::DVector;
 use serde_json::{json, Value};
 use std::fmt::Write;

@@ -3,8 +3,8 @@
 //! and torque table, each error naming the file, the line and the key.
 
 use crate::core::diag::{all_finite, LocatedError as ScenarioError};
+use crate::machines::linkage::description::Linkage;
 use crate::machines::linkage::kinetostatics::{Loads, PointForce};
-use crate::machines::linkage::linkage::Linkage;
 use crate::machines::linkage::Vec2;
 use crate::scenarios::linkage::{
     moving_link, FlywheelScenario, FlywheelSpec, KinetoSpec, KinetostaticsScenario, LoadSpec,

@@ -184,8 +184,6 @@ pub struct Scene {
     pub planner_disabled: Vec<[String; 2]>,
 }
 
-/// Error context: the file and its text (the crate's one error builder).
-
 /// What the sections after `[model]` read: the file, the model, its coordinate names,
 /// the tool and the base pose.
 struct Sections<'a> {
