@@ -1,4 +1,4 @@
-//! Flywheel design beyond [`crate::machines::flywheel::size`] (TEXTBOOK_SYSTEMS_2 §6; problem book
+//! Flywheel design beyond [`crate::machines::flywheel::size`] (docs/references.md §M6; problem book
 //! ch. 4): turning-moment diagrams given as periodic tables, the speed band, the machine's
 //! own inertia, moving the flywheel to another shaft, rim sizing, a time-domain check, a
 //! work stroke against a speed-dependent motor, and the deceleration limit of an

@@ -1,4 +1,4 @@
-//! Torques in a gear train from static equilibrium with mesh losses (TEXTBOOK_SYSTEMS_2
+//! Torques in a gear train from static equilibrium with mesh losses (docs/references.md
 //! §1), in steady motion (no inertia torques).
 //!
 //! Each mesh `e` carries an unknown tooth torque `t_e` on its first gear (about that

@@ -59,7 +59,7 @@ pub fn section(s: &mut String, st: &RotorStudy) {
         s,
         "`fe_modes` (Hermite cubic beam elements, consistent mass, Cholesky + symmetric eigen-solver) for the \
          lowest {MODES} critical speeds against references that need no elements: the closed form on the uniform \
-         pinned shaft of TEXTBOOK_SYSTEMS_2 FX-3, the exact transfer matrices on a stepped rotor with two discs, an \
+         pinned shaft of docs/references.md FX-3, the exact transfer matrices on a stepped rotor with two discs, an \
          elastic and a rigid bearing. Elements as used (the rotor's stations add some); time of one eigen-solve, \
          median over rounds.\n"
     );
