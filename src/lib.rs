@@ -37,6 +37,8 @@
 //! assert!((tip.trans.z - 0.2).abs() < 1e-12);
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod collision;
 pub mod core;
 pub mod dynamics;

@@ -85,9 +85,11 @@ pub struct ClearanceBound {
     pub distance: f64,
     /// The span (s): the half-intervals around the sample it comes from.
     pub from: f64,
+    /// End of the span (s).
     pub to: f64,
-    /// The pair.
+    /// The pair: the first body.
     pub a: Body,
+    /// The second body.
     pub b: Body,
 }
 

@@ -26,6 +26,7 @@ pub struct Wall {
     pub coordinate: usize,
     /// Its blocked values.
     pub from: f64,
+    /// Upper end of the blocked values.
     pub to: f64,
 }
 

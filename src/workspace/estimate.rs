@@ -109,10 +109,12 @@ pub struct Estimate {
     pub remaining_bounds: Option<[f64; 2]>,
     /// Cells hit exactly once and exactly twice (pooled grid).
     pub singles: u64,
+    /// Cells hit exactly twice (pooled grid).
     pub doubles: u64,
     /// Inner cells × `c` and dilated occupancy × `c`: brackets under regularity (see the
     /// docs).
     pub inner: f64,
+    /// Dilated occupancy × `c`: the upper bracket.
     pub outer: f64,
     /// Samples per occupied cell.
     pub samples_per_cell: f64,

@@ -25,9 +25,13 @@ use serde::{Deserialize, Serialize};
 /// without the stamp). Rotation is a unit quaternion `[x, y, z, w]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Transform {
+    /// The parent frame.
     pub parent: String,
+    /// The child frame.
     pub child: String,
+    /// Translation of the child in the parent (m).
     pub translation: [f64; 3],
+    /// Rotation of the child in the parent, `[x, y, z, w]`.
     pub rotation: [f64; 4],
 }
 
@@ -35,10 +39,15 @@ pub struct Transform {
 /// link poses at that time (one transform per link, parent → child as in the URDF tree).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct Frame {
+    /// Time since the start (s).
     pub t: f64,
+    /// Joint positions (rad or m).
     pub q: Vec<f64>,
+    /// Joint velocities (rad/s or m/s).
     pub qd: Vec<f64>,
+    /// Joint torques (N·m or N).
     pub tau: Vec<f64>,
+    /// Link poses at this time.
     pub tf: Vec<Transform>,
 }
 
@@ -46,19 +55,28 @@ pub struct Frame {
 /// (e.g. manipulability); `values` is empty or as long as `points`.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct PointCloud {
+    /// Time (s).
     pub t: f64,
+    /// The frame the points are given in.
     pub frame: String,
+    /// The points (m).
     pub points: Vec<[f32; 3]>,
+    /// One scalar per point, or none.
     pub values: Vec<f32>,
 }
 
 /// One row of a torque check (per joint).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TorqueRow {
+    /// The joint.
     pub joint: String,
+    /// Largest absolute torque (N·m or N).
     pub peak_torque: f64,
+    /// Root-mean-square torque (N·m or N).
     pub rms_torque: f64,
+    /// Largest absolute speed (rad/s or m/s).
     pub peak_speed: f64,
+    /// Largest absolute mechanical power (W).
     pub peak_power: f64,
     /// Effort limit (N·m or N); `None` when the model has none.
     pub limit: Option<f64>,
@@ -66,6 +84,7 @@ pub struct TorqueRow {
     pub velocity_limit: Option<f64>,
     /// Margin in % of the effort limit (negative when violated).
     pub margin: Option<f64>,
+    /// Within every limit.
     pub ok: bool,
     /// First time the joint exceeds a limit.
     pub first_violation: Option<f64>,
@@ -74,8 +93,11 @@ pub struct TorqueRow {
 /// A contact between two bodies (links or obstacles) at time `t`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CollisionEvent {
+    /// Time (s).
     pub t: f64,
+    /// The first body.
     pub body_a: String,
+    /// The second body.
     pub body_b: String,
 }
 
@@ -84,6 +106,7 @@ pub struct CollisionEvent {
 pub struct Header {
     /// Scenario (or recording) name.
     pub name: String,
+    /// The moving joints, in the order of every frame's vectors.
     pub joint_names: Vec<String>,
     /// Effort limit per joint (`None`: none in the model).
     pub effort_limits: Vec<Option<f64>>,
@@ -103,10 +126,15 @@ pub struct Header {
 /// A whole recording in memory.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct Recording {
+    /// What is known before the first frame.
     pub header: Header,
+    /// The time steps, in time order.
     pub frames: Vec<Frame>,
+    /// Point clouds (e.g. a sampled workspace).
     pub clouds: Vec<PointCloud>,
+    /// The torque check, one row per joint.
     pub torque_check: Vec<TorqueRow>,
+    /// Contacts found along the motion.
     pub collisions: Vec<CollisionEvent>,
     /// The scene's obstacles (fixed for the whole recording).
     #[serde(default)]

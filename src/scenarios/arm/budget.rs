@@ -25,9 +25,13 @@ pub const MAX_CHECK_SAMPLES: f64 = 1e7;
 /// Where a setting was written (1-based line), for the budget messages.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SettingLines {
+    /// Line of `simulation.dt`.
     pub dt: Option<usize>,
+    /// Line of `simulation.settle`.
     pub settle: Option<usize>,
+    /// Line of `simulation.record_rate`.
     pub record_rate: Option<usize>,
+    /// Line of `trajectory.check_dt`.
     pub check_dt: Option<usize>,
 }
 

@@ -32,7 +32,9 @@ pub fn built_count() -> usize {
 /// What happened in the contact scene.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct ContactReport {
+    /// Box centre at the start (m).
     pub box_start: [f64; 3],
+    /// Box centre at the end (m).
     pub box_end: [f64; 3],
     /// Horizontal distance the box moved (m).
     pub box_displacement_m: f64,
@@ -43,6 +45,7 @@ pub struct ContactReport {
     /// Mean horizontal contact force while the box slides at a steady speed (N), and the
     /// Coulomb value `μ m g` it should match.
     pub sliding_force_n: Option<f64>,
+    /// The Coulomb force `μ m g` the sliding force should match (N).
     pub coulomb_force_n: f64,
     /// First contact time (s).
     pub first_contact_s: Option<f64>,

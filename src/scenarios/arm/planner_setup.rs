@@ -76,6 +76,7 @@ pub struct ScenePlanners {
     pub segments: usize,
     /// Search iterations and planning time over the segments.
     pub iterations: usize,
+    /// Planning time over the segments (µs).
     pub plan_time_us: f64,
     /// Simplification time over the segments (µs).
     pub simplify_time_us: f64,

@@ -17,28 +17,46 @@ pub type PerJoint = Spanned<toml::Value>;
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ArmFile {
+    /// `kind = "arm"` or absent.
     pub kind: Option<String>,
+    /// The scenario name (default: the file stem); names the output files.
     pub name: Option<Spanned<String>>,
+    /// Free text, shown in the report.
     pub description: Option<String>,
+    /// `[model]`: the robot file, base pose and tool.
     pub model: Spanned<ModelSec>,
     /// The effects the scene calls for (required; `[]` for rigid bodies only).
     pub effects: Spanned<Vec<Spanned<String>>>,
+    /// `[gravity]` (only with the `gravity` effect).
     pub gravity: Option<Spanned<GravitySec>>,
+    /// `[friction]` (only with the `friction` effect).
     pub friction: Option<Spanned<FrictionSec>>,
+    /// `[rotor_inertia]` (only with the `rotor_inertia` effect).
     pub rotor_inertia: Option<Spanned<RotorSec>>,
+    /// `[joint_elasticity]` (only with the `joint_elasticity` effect).
     pub joint_elasticity: Option<Spanned<ElasticSec>>,
+    /// `[payload]` (only with the `payload` effect).
     pub payload: Option<Spanned<PayloadSec>>,
+    /// `[contact]` (only with the `contact` effect).
     pub contact: Option<Spanned<ContactSec>>,
+    /// `[initial]`: the start configuration.
     pub initial: Option<Spanned<InitialSec>>,
+    /// `[limits]`: planning limits.
     pub limits: Option<Spanned<LimitsSec>>,
+    /// `[[obstacles]]`: fixed shapes in scene axes.
     #[serde(default)]
     pub obstacles: Vec<Spanned<ObstacleSpec>>,
+    /// `[collision]`: the collision check of the motion.
     pub collision: Option<Spanned<CollisionSec>>,
     /// Settings of the motion planner (task `plan`, or `planner = "rrt-connect"`).
     pub planner: Option<Spanned<PlannerSec>>,
+    /// `[task]`: what the arm does.
     pub task: Spanned<TaskSec>,
+    /// `[trajectory]`: the timing profile and its settings.
     pub trajectory: Option<Spanned<TrajectorySec>>,
+    /// `[simulation]`: controller, integrator and step.
     pub simulation: Option<Spanned<SimulationSec>>,
+    /// `[outputs]`: the files written.
     pub outputs: Option<Spanned<OutputsSec>>,
 }
 
@@ -74,10 +92,15 @@ pub struct GravitySec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FrictionSec {
+    /// Viscous coefficient per joint (N·m·s/rad or N·s/m).
     pub viscous: Option<PerJoint>,
+    /// Coulomb friction per joint (N·m or N).
     pub coulomb: Option<PerJoint>,
+    /// Static friction per joint, at least the Coulomb value (N·m or N).
     pub stiction: Option<PerJoint>,
+    /// Stribeck velocity per joint (rad/s or m/s).
     pub stribeck_velocity: Option<PerJoint>,
+    /// Velocity scale of the smooth sign function (rad/s or m/s).
     pub smoothing: Option<Spanned<f64>>,
 }
 
@@ -85,8 +108,11 @@ pub struct FrictionSec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RotorSec {
+    /// Motor-side rotor inertia per joint (kg·m²).
     pub inertia: Option<PerJoint>,
+    /// Gear ratio motor : joint per joint.
     pub gear_ratio: Option<PerJoint>,
+    /// Gear efficiency per joint, in (0, 1].
     pub efficiency: Option<PerJoint>,
     /// Joint name → `kind = "gear_train"` file (relative to the scenario): the joint's
     /// ratio, efficiency and added inertia come from the train.
@@ -97,8 +123,11 @@ pub struct RotorSec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ElasticSec {
+    /// Joint stiffness per joint (N·m/rad or N/m); required.
     pub stiffness: PerJoint,
+    /// Joint damping per joint (N·m·s/rad or N·s/m); default 0.
     pub damping: Option<PerJoint>,
+    /// Reflected motor inertia `I_m N²` per joint (kg·m²); default from the rotor data.
     pub motor_inertia: Option<PerJoint>,
 }
 
@@ -122,7 +151,9 @@ pub struct PayloadSec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSec {
+    /// The fixed table.
     pub table: Spanned<ContactBox>,
+    /// The box the arm pushes (`box` in the file).
     #[serde(rename = "box")]
     pub object: Spanned<ContactBody>,
     /// Link whose origin carries the pusher sphere (default: the tool).
@@ -140,8 +171,11 @@ pub struct ContactSec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactBox {
+    /// Edge lengths (m).
     pub size: [f64; 3],
+    /// Centre in scene axes (m).
     pub xyz: [f64; 3],
+    /// Friction coefficient (default 0.5).
     #[serde(default = "default_mu")]
     pub friction: f64,
 }
@@ -150,9 +184,13 @@ pub struct ContactBox {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactBody {
+    /// Edge lengths (m).
     pub size: [f64; 3],
+    /// Initial centre in scene axes (m).
     pub xyz: [f64; 3],
+    /// Mass (kg).
     pub mass: f64,
+    /// Friction coefficient (default 0.5).
     #[serde(default = "default_mu")]
     pub friction: f64,
 }
@@ -165,6 +203,7 @@ fn default_mu() -> f64 {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialSec {
+    /// Joint values per joint (rad or m; degrees with `degrees`).
     pub q: PerJoint,
     /// Angles in degrees instead of radians (revolute joints).
     #[serde(default)]
@@ -175,10 +214,16 @@ pub struct InitialSec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LimitsSec {
+    /// Velocity limits per joint (rad/s or m/s); default the model's.
     pub velocity: Option<PerJoint>,
+    /// Acceleration limits per joint (rad/s² or m/s²); default 4 × the velocity limit
+    /// per second.
     pub acceleration: Option<PerJoint>,
+    /// Effort limits per joint (N·m or N) the torque check judges against; default the model's.
     pub effort: Option<PerJoint>,
+    /// Lower position limits per joint, inside the model's.
     pub lower: Option<PerJoint>,
+    /// Upper position limits per joint, inside the model's.
     pub upper: Option<PerJoint>,
     /// Fraction of the velocity limits the planner may use, in (0, 1].
     pub velocity_scale: Option<Spanned<f64>>,
@@ -190,14 +235,19 @@ pub struct LimitsSec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CollisionSec {
+    /// Check the motion for collisions (default true).
     #[serde(default = "yes")]
     pub enabled: bool,
+    /// Check link pairs against each other too (default true).
     #[serde(default = "yes")]
     pub self_collision: bool,
+    /// Link–link or link–obstacle pairs never checked.
     #[serde(default)]
     pub disabled_pairs: Vec<Spanned<[String; 2]>>,
+    /// In collision when the signed distance is at most this (m; default 0).
     #[serde(default)]
     pub margin: f64,
+    /// Replace meshes by their convex hulls (conservative, faster).
     #[serde(default)]
     pub convex_hulls: bool,
     /// Give links whose meshes are missing capsules of this radius along their bones.
@@ -214,7 +264,9 @@ fn yes() -> bool {
 #[derive(Deserialize, Clone, Copy)]
 #[serde(deny_unknown_fields)]
 pub struct PoseSec {
+    /// Position (m).
     pub xyz: [f64; 3],
+    /// Orientation, URDF roll-pitch-yaw (rad).
     #[serde(default)]
     pub rpy: [f64; 3],
 }
@@ -237,6 +289,8 @@ pub struct StepSec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TaskSec {
+    /// The task type (`type` in the file): `joint_waypoints`, `cartesian_waypoints`,
+    /// `line`, `pick_and_place`, `plan` or `sequence`.
     #[serde(rename = "type")]
     pub kind: Spanned<String>,
     /// `joint_waypoints`: joint values (each row in joint order).
@@ -255,6 +309,7 @@ pub struct TaskSec {
     pub part: Option<Spanned<PartSec>>,
     /// `pick_and_place`.
     pub pick: Option<Spanned<PoseSec>>,
+    /// `pick_and_place`: the place pose.
     pub place: Option<Spanned<PoseSec>>,
     /// Approach height above pick and place (m, scene z).
     pub approach: Option<Spanned<f64>>,
@@ -306,6 +361,7 @@ pub struct PartSec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrajectorySec {
+    /// The timing profile (`trapezoidal`, `quintic`, `minimum_jerk` or `time_optimal`).
     #[serde(rename = "type")]
     pub kind: Option<Spanned<String>>,
     /// TOPP grid intervals per segment.
@@ -324,16 +380,22 @@ pub struct TrajectorySec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SimulationSec {
+    /// Simulate the motion (default true).
     #[serde(default = "yes")]
     pub enabled: bool,
+    /// `computed_torque`, `pd_gravity` or `none`.
     pub controller: Option<Spanned<String>>,
+    /// `semi_implicit_euler`, `rk4` or `implicit` (the default with elastic joints).
     pub integrator: Option<Spanned<String>>,
+    /// Integration step (s).
     pub dt: Option<Spanned<f64>>,
     /// Simulated time (s); default the motion plus `settle`.
     pub duration: Option<Spanned<f64>>,
     /// Time simulated after the motion ends (s).
     pub settle: Option<Spanned<f64>>,
+    /// Proportional gain per joint (computed torque 1/s²; PD + gravity N·m/rad).
     pub kp: Option<PerJoint>,
+    /// Derivative gain per joint (computed torque 1/s; PD + gravity N·m·s/rad).
     pub kd: Option<PerJoint>,
     /// Samples recorded per second.
     pub record_rate: Option<Spanned<f64>>,

@@ -18,8 +18,11 @@ use plotters::prelude::*;
 
 /// One panel: a caption, a y label and named curves `(t, y)`.
 pub struct SimPanel {
+    /// The panel caption.
     pub caption: String,
+    /// The y-axis label.
     pub y_label: String,
+    /// Named curves of `(t, y)` points.
     pub curves: Vec<(String, Vec<(f64, f64)>)>,
 }
 

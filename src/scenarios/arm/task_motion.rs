@@ -89,7 +89,9 @@ pub struct PieceInfo {
     pub kind: &'static str,
     /// Where it comes from in the file.
     pub from: String,
+    /// Start time (s).
     pub start_s: f64,
+    /// Duration (s).
     pub duration_s: f64,
     /// Joint values at its end, by joint name.
     pub end_q: serde_json::Map<String, serde_json::Value>,
@@ -97,11 +99,15 @@ pub struct PieceInfo {
 
 /// The planned motion.
 pub struct Plan {
+    /// The timed joint trajectory.
     pub trajectory: Sequence,
+    /// The pieces of the motion, in order.
     pub pieces: Vec<PieceInfo>,
     /// The configurations the task passes through (start, each step end).
     pub waypoints: Vec<Vec<f64>>,
+    /// IK solves the planning used.
     pub ik_solves: usize,
+    /// Wall time of the planning (s).
     pub planning_time_s: f64,
     /// When the task grasps a part: the attach and detach times (s); `None` when the
     /// payload (if any) is carried throughout.

@@ -24,26 +24,38 @@ use std::time::Instant;
 /// One recorded simulation sample.
 #[derive(Clone, Debug)]
 pub struct SimSample {
+    /// Time (s).
     pub t: f64,
+    /// Joint positions (rad or m).
     pub q: Vec<f64>,
+    /// Joint velocities (rad/s or m/s).
     pub qd: Vec<f64>,
+    /// Applied joint torques (N·m or N).
     pub tau: Vec<f64>,
+    /// The reference the controller tracks (rad or m).
     pub q_ref: Vec<f64>,
 }
 
 /// Everything a run produced, for callers that want more than the report (tests,
 /// recordings).
 pub struct Outcome {
+    /// The validated scenario.
     pub scene: Scene,
+    /// The planned motion.
     pub plan: Plan,
+    /// The torque check of the motion.
     pub torque: TorqueReport,
     /// `(payload mass, report)` of each sweep entry.
     pub sweep: Vec<(f64, TorqueReport)>,
+    /// The recorded simulation samples.
     pub samples: Vec<SimSample>,
+    /// What happened in the contact scene, with the `contact` effect.
     pub contact: Option<ContactReport>,
     /// How often each effect's code ran in the simulation.
     pub effect_runs: Option<crate::dynamics::EffectRuns>,
+    /// Whether the contact pipeline was built.
     pub contact_built: bool,
+    /// The report (JSON and text).
     pub report: Report,
 }
 
