@@ -1,5 +1,5 @@
-//! The bounds that continuous certification ([`crate::collision::certify`]) rests on, built once per
-//! scene: per shape a convex stand-in and a bounding sphere, and per tested pair the
+//! The bounds that continuous certification ([`crate::collision::certify`]) rests on, built once
+//! per scene: per shape a convex stand-in and a bounding sphere, and per tested pair the
 //! motion coefficients `ρ` of its relative motion.
 //!
 //! **Lower bounds of a pair's distance at one configuration**, cheapest first

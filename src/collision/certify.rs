@@ -3,8 +3,8 @@
 //! approaches at the samples are found without measuring every pair at every sample.
 //!
 //! **Curve bound.** On an interval `[t_k, t_k+1]` of length `h`, let `A_j` bound `|q̈_j|`
-//! along the motion ([`CertifiedMotion::accel_bound`]) and `v_j = |q̇_j(t_k)|`, `w_j = |q̇_j(t_k+1)|`.
-//! Then `|q̇_j(t_k + s)| ≤ v_j + A_j s` and `≤ w_j + A_j (h − s)`, so the joint's path length
+//! along the motion ([`CertifiedMotion::accel_bound`]) and `v_j = |q̇_j(t_k)|`, `w_j =
+//! |q̇_j(t_k+1)|`. Then `|q̇_j(t_k + s)| ≤ v_j + A_j s` and `≤ w_j + A_j (h − s)`, so the joint's path length
 //! over the first half is at most `v_j h/2 + A_j h²/8` and over the second half at most
 //! `w_j h/2 + A_j h²/8` — along the actual (smoothed, timed) curve, whatever its shape
 //! between the samples. With the pair's motion coefficients `ρ` ([`crate::collision::bounds`]), a

@@ -59,8 +59,8 @@
 //! `ROS_PACKAGE_PATH`, `AMENT_PREFIX_PATH` and the model's folder tree). A mesh that
 //! cannot be *found* is, by default, skipped with a warning naming the model file, link
 //! and URI, and the links left without any shape are listed by
-//! [`CollisionModel::unprotected_links`]; [`MissingMeshes::Error`] makes it an error. A mesh that is found but
-//! cannot be read is always an error.
+//! [`CollisionModel::unprotected_links`]; [`MissingMeshes::Error`] makes it an error. A mesh that
+//! is found but cannot be read is always an error.
 //!
 //! ```
 //! use armsim::collision::{CollisionData, CollisionModel, CollisionOptions, Obstacle, Scope};

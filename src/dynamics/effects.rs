@@ -5,9 +5,9 @@
 //! effect's code ran, so tests can prove a left-out effect never executes.
 //!
 //! Models:
-//! - **Friction** (per coordinate): `τ_f(q̇) = b q̇ + [F_c + (F_s − F_c) e^{−(q̇/v_s)²}] tanh(q̇/ε)`:
-//!   viscous, Coulomb and Stribeck stiction, regularised by `tanh` with a small `ε`. The
-//!   regularisation keeps the torque continuous and smooth through `q̇ = 0` (bounded slope
+//! - **Friction** (per coordinate): `τ_f(q̇) = b q̇ + [F_c + (F_s − F_c) e^{−(q̇/v_s)²}]
+//!   tanh(q̇/ε)`: viscous, Coulomb and Stribeck stiction, regularised by `tanh` with a small `ε`.
+//!   The regularisation keeps the torque continuous and smooth through `q̇ = 0` (bounded slope
 //!   `F_s/ε`): no sign-function chattering for the integrators, no event detection, and
 //!   zero friction at rest so a static torque check is not biased. The price is a creep
 //!   velocity of order `ε` under loads below stiction; `ε = 1e-3` rad/s by default.
@@ -15,8 +15,8 @@
 //!   mass-matrix diagonal, on top of the model's own `model.armature` (which every
 //!   algorithm includes; the loaders leave it zero and put the file's `motor_inertia` and
 //!   `gear_ratio` here, so a rotor is counted once) (the rotors' gyroscopic coupling is
-//!   neglected, as in the usual armature model); motor torque `τ_m = τ/(N η)` when the motor drives (`τ q̇ ≥ 0`) and
-//!   `τ η / N` when it is back-driven.
+//!   neglected, as in the usual armature model); motor torque `τ_m = τ/(N η)` when the motor drives
+//!   (`τ q̇ ≥ 0`) and `τ η / N` when it is back-driven.
 //! - **Elasticity** (Spong's reduced flexible-joint model, the two-mass torsional chain in
 //!   each joint): link side `M(q) q̈ + h(q, q̇) = τ_s`, motor side `B θ̈ + τ_s = τ_m`, with
 //!   `τ_s = K (θ − q) + D (θ̇ − q̇)`. The motor angles `θ` are extra states.

@@ -1,8 +1,8 @@
 //! Kinetic and potential energy: `T = ½ Σ v_iᵀ I_i v_i + ½ Σ I_a,k q̇_k²` (body velocities,
-//! body inertias, the model's armature) and `V = −Σ m_i gᵀ c_i` (world centres of mass); and the gradient `∂T/∂q` at fixed
-//! `q̇` (the force a symplectic integrator needs for a configuration-dependent mass
-//! matrix); and both energies with the enabled effects ([`energies_with`]: rotor armature
-//! and payload included).
+//! body inertias, the model's armature) and `V = −Σ m_i gᵀ c_i` (world centres of mass); and the
+//! gradient `∂T/∂q` at fixed `q̇` (the force a symplectic integrator needs for a
+//! configuration-dependent mass matrix); and both energies with the enabled effects
+//! ([`energies_with`]: rotor armature and payload included).
 
 use crate::core::spatial::{InertiaO, Vec3};
 use crate::dynamics::effects::{mass_matrix, Effects};

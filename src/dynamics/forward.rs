@@ -5,8 +5,8 @@
 //!
 //! - ABA ([`crate::dynamics::aba`], O(n)) when every body has its own coordinate;
 //! - with mimic joints, or when asked for ([`forward_dynamics_crba`]), the projected mass
-//!   matrix from [`crate::dynamics::crba`] and the bias from [`crate::dynamics::rnea`], solved by an in-place
-//!   Cholesky factorisation `M = L Lᵀ` (no allocation).
+//!   matrix from [`crate::dynamics::crba`] and the bias from [`crate::dynamics::rnea`], solved by
+//!   an in-place Cholesky factorisation `M = L Lᵀ` (no allocation).
 //!
 //! Either way a `q̈` with a NaN or an infinite entry is a [`SingularMassMatrix`] error: a
 //! failed Cholesky pivot reports that pivot and its value, a non-finite result the first

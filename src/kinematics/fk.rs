@@ -7,8 +7,8 @@
 //! - `a_i = liMi⁻¹ · a_parent + S_i q̈_i + v_i ×ₘ S_i q̇_i`,
 //!
 //! with `S_i = (0, e_k)` for revolute and `(e_k, 0)` for prismatic bodies, `e_k` the body's
-//! joint axis (x, y or z of the body frame, see [`crate::model`]). Velocities and accelerations are spatial
-//! quantities expressed in the body frame; `a` is Featherstone's spatial acceleration, not
+//! joint axis (x, y or z of the body frame, see [`crate::model`]). Velocities and accelerations are
+//! spatial quantities expressed in the body frame; `a` is Featherstone's spatial acceleration, not
 //! the classical acceleration of a point (see [`frame_classical_acceleration`]).
 
 use crate::core::spatial::{column, unit, Mat3, Motion, Se3, Vec3};

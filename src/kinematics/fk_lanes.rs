@@ -3,9 +3,9 @@
 //!
 //! [`ToolChain`] walks the bodies from the root to the link's body once, at build time,
 //! and [`ToolChain::positions`] then runs the same recursion as
-//! [`crate::kinematics::forward_kinematics`] + [`crate::kinematics::frame_placement`] for eight configurations:
-//! `oMi = oM_parent · placement_i · J_i(q_i)`, the placement's rotation applied as a column
-//! shuffle when it is a signed permutation, the joint as a two-column rotation or a
+//! [`crate::kinematics::forward_kinematics`] + [`crate::kinematics::frame_placement`] for eight
+//! configurations: `oMi = oM_parent · placement_i · J_i(q_i)`, the placement's rotation applied as
+//! a column shuffle when it is a signed permutation, the joint as a two-column rotation or a
 //! column shift, `sin`/`cos` by [`crate::core::fastmath::sin_cos`]'s branch-free algorithm per
 //! lane. Rotations that no later translation uses (after the last body whose origin or
 //! stroke moves the link origin, e.g. a wrist roll under a tool on its axis) are skipped.

@@ -12,8 +12,8 @@
 //!   "classical" Jacobian `[ṗ; ω] = J q̇` used for task-space control and IK.
 //!
 //! Columns: the world motion subspace of body `i` is `S_i^w = Ad(oMi) S_i`; for a
-//! revolute joint `(p_i × a_i, a_i)`, for a prismatic one `(a_i, 0)`, `a_i` its world axis. Its derivative is
-//! `Ṡ_i^w = v_i^w ×ₘ S_i^w` (the world velocity of body `i`, RBDA eq. 2.36 with
+//! revolute joint `(p_i × a_i, a_i)`, for a prismatic one `(a_i, 0)`, `a_i` its world axis. Its
+//! derivative is `Ṡ_i^w = v_i^w ×ₘ S_i^w` (the world velocity of body `i`, RBDA eq. 2.36 with
 //! Ad a Lie-algebra homomorphism). The other expressions follow from
 //! `J_L = Ad(oMf)⁻¹ J_W`, `J̇_L = Ad(oMf)⁻¹ J̇_W − v_f ×ₘ J_L`, and
 //! `J_A = [J_W,v + J_W,ω × p; J_W,ω]`, `J̇_A = [J̇_W,v + J̇_W,ω × p + J_W,ω × ṗ; J̇_W,ω]`.

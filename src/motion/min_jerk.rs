@@ -178,7 +178,8 @@ impl MinJerk {
                 let row = 2 * (k - 1) + r;
                 let left = &maps[k - 1][end_row]; // segment k−1, x = [p,v,a]_{k−1}, [p,v,a]_k
                 let right = &maps[k][start_row]; // segment k,   x = [p,v,a]_k,   [p,v,a]_{k+1}
-                                                 // Knot index of each x entry for both segments, and the sign.
+                                                 // Knot index of each x entry for both segments,
+                                                 // and the sign.
                 for (coefs, first_knot, sign) in [(left, k - 1, 1.0), (right, k, -1.0)] {
                     for (i, &c) in coefs.iter().enumerate() {
                         let knot = first_knot + i / 3;

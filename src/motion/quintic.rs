@@ -13,7 +13,8 @@
 //!
 //! The general quintic Hermite segment on `[0, h]` with end values `(p, v, a)` at both ends
 //! has (the quintic with assigned end conditions, e.g. Biagiotti & Melchiorri,
-//! *Trajectory Planning for Automatic Machines and Robots*, 2008, ch. 2) `c₀ = p₀`, `c₁ = v₀`, `c₂ = a₀/2`,
+//! *Trajectory Planning for Automatic Machines and Robots*, 2008, ch. 2) `c₀ = p₀`, `c₁ = v₀`, `c₂
+//! = a₀/2`,
 //!
 //! - `c₃ = (20Δp − (8v₁ + 12v₀)h − (3a₀ − a₁)h²) / (2h³)`,
 //! - `c₄ = (−30Δp + (14v₁ + 16v₀)h + (3a₀ − 2a₁)h²) / (2h⁴)`,

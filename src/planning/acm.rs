@@ -116,7 +116,8 @@ pub struct Acm {
 }
 
 impl Acm {
-    /// The disabled pairs as name pairs (what [`crate::planning::self_pairs::from_disabled`] takes).
+    /// The disabled pairs as name pairs (what [`crate::planning::self_pairs::from_disabled`]
+    /// takes).
     pub fn disabled_names(&self) -> Vec<(String, String)> {
         self.disabled
             .iter()
@@ -404,8 +405,9 @@ pub fn sample_configs(model: &Model, n: usize, seed: u64) -> Vec<Vec<f64>> {
 }
 
 /// For each candidate pair, whether it touched (the spheres first, then the exact
-/// geometry where there is one) in any of `opts.samples` random configurations (split over the rayon threads in fixed chunks: the answer does not depend
-/// on the thread count). `None` when `stop` was raised.
+/// geometry where there is one) in any of `opts.samples` random configurations (split over the
+/// rayon threads in fixed chunks: the answer does not depend on the thread count). `None` when
+/// `stop` was raised.
 fn never_pass(
     model: &Model,
     sm: &SphereModel,

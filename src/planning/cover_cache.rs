@@ -1,7 +1,7 @@
 //! Sphere covers of mesh files, and allowed-collision matrices, kept on disk between
-//! runs, so that a robot's set-up pays for them once per machine. A cover is stored under a key made of the mesh file's
-//! bytes (FNV-1a hash and length), the scale, the overshoot and [`VERSION`] (raised when
-//! the cover algorithm changes); a file that is missing, unreadable or malformed is
+//! runs, so that a robot's set-up pays for them once per machine. A cover is stored under a key
+//! made of the mesh file's bytes (FNV-1a hash and length), the scale, the overshoot and [`VERSION`]
+//! (raised when the cover algorithm changes); a file that is missing, unreadable or malformed is
 //! ignored and the cover computed again.
 //!
 //! The folder is `$ARMSIM_CACHE_DIR`, else `$XDG_CACHE_HOME/armsim`, else

@@ -1,8 +1,9 @@
 //! The robot half of a planner, built once and shared by every query and thread: the
 //! sphere model of the collision geometry, the self-collision pairs (from an SRDF, or from
 //! the allowed-collision matrix computed as MoveIt's Setup Assistant computes it,
-//! [`crate::planning::acm`]), and the exact collision model that names what a rejected start or goal
-//! touches. A scene (the obstacles) is given per query ([`crate::planning::Planner::set_obstacles`]).
+//! [`crate::planning::acm`]), and the exact collision model that names what a rejected start or
+//! goal touches. A scene (the obstacles) is given per query
+//! ([`crate::planning::Planner::set_obstacles`]).
 //!
 //! Set-up reports its own time ([`PlanningRobot::setup_time_s`]); the search time limit
 //! starts with the query. The matrix's sampling polls the stop flag of the options.

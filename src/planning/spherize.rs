@@ -1,8 +1,8 @@
 //! Sphere covers of collision primitives, with a stated maximum overshoot.
 //!
 //! The planner sees the robot as spheres. URDF `<sphere>` elements are taken as given; every
-//! other primitive (box, cylinder, capsule), and a mesh ([`crate::planning::mesh_sdf`]), is covered by
-//! spheres from its signed distance function `φ` (negative inside) by a greedy medial cover
+//! other primitive (box, cylinder, capsule), and a mesh ([`crate::planning::mesh_sdf`]), is covered
+//! by spheres from its signed distance function `φ` (negative inside) by a greedy medial cover
 //! over adaptive cells:
 //!
 //! 1. **Cells.** The shape's bounding box is cut into cubes, each split in eight while it

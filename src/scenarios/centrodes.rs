@@ -1,8 +1,8 @@
 //! `kind = "centrodes"` scenarios (format in `docs/centrodes.md`): the fixed and moving
 //! centrodes of a four-bar's coupler, a slider-crank's rod or a slotted lever's block,
 //! traced by the linkage
-//! solver over a turn of the crank ([`crate::machines::instant_centres`]), with Kennedy's construction as
-//! the check and the rolling (equal arc length) condition.
+//! solver over a turn of the crank ([`crate::machines::instant_centres`]), with Kennedy's
+//! construction as the check and the rolling (equal arc length) condition.
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::plots::panels::{Panel, Series, PALETTE};

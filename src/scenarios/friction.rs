@@ -1,8 +1,8 @@
 //! `kind = "friction"` scenario files (format in `docs/machines.md`): a list of
 //! `[[element]]` tables (screw, slide, rolling, wedge, incline, journal, collar, belt,
 //! band brake),
-//! each computed by [`crate::machines::friction::elements`]; torques of the elements add up, and a shaft
-//! speed turns the total into a friction power.
+//! each computed by [`crate::machines::friction::elements`]; torques of the elements add up, and a
+//! shaft speed turns the total into a friction power.
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::report::Report;

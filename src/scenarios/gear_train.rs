@@ -114,8 +114,9 @@ pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
     report(&sc, NAME).map_err(|e| locate_plain(&path.display().to_string(), text, &e))
 }
 
-/// A gear-train file as an arm joint's transmission ([`crate::scenarios::gear_train_report::Transmission`]):
-/// the file must name its `output` and have one degree of freedom.
+/// A gear-train file as an arm joint's transmission
+/// ([`crate::scenarios::gear_train_report::Transmission`]): the file must name its `output` and
+/// have one degree of freedom.
 pub fn transmission_from_file(
     path: &Path,
 ) -> Result<crate::scenarios::gear_train_report::Transmission, ScenarioError> {

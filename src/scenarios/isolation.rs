@@ -176,7 +176,8 @@ fn parse_mount(ctx: &Source, m: &MountIn) -> Result<(f64, f64, Damping), Scenari
     Ok((mass, c, d))
 }
 
-/// The `[excitation]` section: speed, which load (0 force, 1 unbalance, 2 base motion) and its size.
+/// The `[excitation]` section: speed, which load (0 force, 1 unbalance, 2 base motion) and its
+/// size.
 fn parse_excitation(
     ctx: &Source,
     e: &ExcitationIn,

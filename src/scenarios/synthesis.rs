@@ -141,7 +141,8 @@ fn one_of<'a>(
     }
 }
 
-/// The `[crank_rocker]` section: rocker, frame, limit positions, and the pivot direction or the time ratio.
+/// The `[crank_rocker]` section: rocker, frame, limit positions, and the pivot direction or the
+/// time ratio.
 fn parse_crank_rocker(ctx: &Source, s: &CrankRockerIn) -> Result<CrankRockerSpec, ScenarioError> {
     let k = "crank_rocker";
     let rocker = ctx.length(&s.rocker, "crank_rocker.rocker")?;
@@ -187,7 +188,8 @@ fn parse_crank_rocker(ctx: &Source, s: &CrankRockerIn) -> Result<CrankRockerSpec
     })
 }
 
-/// The `[slider_crank]` section: stroke, time ratio, and the rod ratio (`Ok`) or the offset (`Err`).
+/// The `[slider_crank]` section: stroke, time ratio, and the rod ratio (`Ok`) or the offset
+/// (`Err`).
 fn parse_slider_crank(
     ctx: &Source,
     s: &SliderCrankIn,

@@ -16,8 +16,8 @@
 //!   `τ = K_p e + K_d ė + g(q)`, or none. With elastic joints the controller acts on the
 //!   motor side: `τ_m = τ_ff + B q̈_d + K_p B (θ_d − θ) + K_d B (q̇_d − θ̇)` with
 //!   `τ_ff = ID(q_d, q̇_d, q̈_d)` and the motor reference `θ_d = q_d + K⁻¹ τ_ff` (so the
-//!   springs carry the link torques without sag) for computed torque, `K_p (q_d − θ) + K_d (q̇_d − θ̇) + g(q_d)`
-//!   for PD (gravity compensated at the desired configuration, Tomei's controller).
+//!   springs carry the link torques without sag) for computed torque, `K_p (q_d − θ) + K_d (q̇_d −
+//!   θ̇) + g(q_d)` for PD (gravity compensated at the desired configuration, Tomei's controller).
 //! - Energy audit: with no friction, no joint damping and no external wrench,
 //!   `E(t) − E(0) = ∫ τ·q̇ dt` (actuator work; motor side with elastic joints); the report
 //!   gives the largest violation relative to the energy scale.

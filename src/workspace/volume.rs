@@ -1,6 +1,6 @@
 //! The volume pass: `R` independent replicates, advanced together one doubling of the
-//! sample budget at a time (a *stage*) by the hot loop of [`crate::workspace::volume_kernel`] (eight
-//! configurations at a time in `f64` SIMD lanes); after each stage the counts that
+//! sample budget at a time (a *stage*) by the hot loop of [`crate::workspace::volume_kernel`]
+//! (eight configurations at a time in `f64` SIMD lanes); after each stage the counts that
 //! [`crate::workspace::estimate`] needs.
 //!
 //! Every sample marks three grids:

@@ -7,8 +7,8 @@
 //!   `<float_array>`, and every index must name an existing position;
 //! - coordinates and node transforms must be finite, and placed vertices must stay finite;
 //! - the scene may place at most [`MAX_INSTANCES`] geometries and
-//!   [`crate::collision::mesh::MAX_TRIANGLES`] triangles in all, counted before any is placed (a small file
-//!   placing one large geometry many times would otherwise expand without bound).
+//!   [`crate::collision::mesh::MAX_TRIANGLES`] triangles in all, counted before any is placed (a
+//!   small file placing one large geometry many times would otherwise expand without bound).
 //!
 //! Errors are plain messages naming the element and its line; the caller adds the file.
 

@@ -34,9 +34,9 @@ const PLAIN_MIN: f64 = 1e-2;
 
 impl AxisTicks {
     /// Ticks for an axis over `[lo, hi]`: at least 2 and at most `max_ticks` of them
-    /// (`max_ticks` below 5 counts as 5, which guarantees the 2). A non-finite range becomes `[0, 1]`; an empty one (`lo == hi`) is
-    /// widened by 10 % of `|lo|` on each side, or to `[-1, 1]` around zero; reversed ends
-    /// are swapped.
+    /// (`max_ticks` below 5 counts as 5, which guarantees the 2). A non-finite range becomes `[0,
+    /// 1]`; an empty one (`lo == hi`) is widened by 10 % of `|lo|` on each side, or to `[-1, 1]`
+    /// around zero; reversed ends are swapped.
     pub fn new(lo: f64, hi: f64, max_ticks: usize) -> Self {
         let (lo, hi) = usable_range(lo, hi);
         let max_ticks = max_ticks.max(5);

@@ -8,8 +8,8 @@
 //! two bodies. A slider's normal force `N` brings the force `f |N|` along the guide,
 //! against the relative sliding velocity (the couple of a prismatic joint's edge
 //! pressures is left out). These friction loads are added to the applied loads and
-//! [`crate::machines::linkage::kinetostatics::solve`] is repeated with the reactions it returns until the
-//! driving effort settles (the directions of relative motion come from the kinematics
+//! [`crate::machines::linkage::kinetostatics::solve`] is repeated with the reactions it returns
+//! until the driving effort settles (the directions of relative motion come from the kinematics
 //! and do not change; the magnitudes form a contraction for small friction).
 //!
 //! Instantaneous efficiency `η = 1 − N_f/N_d`: `N_f` the power the friction loads take

@@ -9,7 +9,8 @@
 //! rough guess converges to the nearby assembly mode rather than being thrown into another
 //! by one long first step. Which assembly mode the solution lands in is decided by the
 //! starting point:
-//! the sweep ([`crate::machines::linkage::sweep`]) starts each solve from a prediction along the branch.
+//! the sweep ([`crate::machines::linkage::sweep`]) starts each solve from a prediction along the
+//! branch.
 
 use crate::core::least_squares::min_norm_solve;
 use crate::machines::linkage::constraints::{jacobian, residual, row_owners, RowOwner};

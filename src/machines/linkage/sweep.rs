@@ -9,8 +9,8 @@
 //! 2. the corrector is small against the step, `‖q_new − q_pred‖∞ ≤ 0.1 ‖q_new − q‖∞`
 //!    (+ a rounding floor): a jump to the other assembly mode moves the solution a finite
 //!    distance that does not shrink with the step;
-//! 3. no group's branch indicator ([`crate::machines::linkage::branch`]) changes sign, unless one end of the
-//!    step is singular for that group (|indicator| < `GROUP_SINGULAR_TOL`).
+//! 3. no group's branch indicator ([`crate::machines::linkage::branch`]) changes sign, unless one
+//!    end of the step is singular for that group (|indicator| < `GROUP_SINGULAR_TOL`).
 //!
 //! A rejected step is halved; a sign change that survives is located by regula falsi on
 //! the indicator and the tracker lands on the singular position itself (a change point,
@@ -21,8 +21,8 @@
 //! where the branch goes on through (a change point), its velocity and acceleration are
 //! the limit along the branch: with `D(ε) = ½ (q'(s − ε) + q'(s + ε))` evaluated on the
 //! tracked branch at `ε`, `ε/2`, `ε/4` (`ε` = 0.01 rad), two Richardson steps leave an `O(ε⁶)`
-//! error; the solves at `s ± ε` are conditioned like `1/ε`, which is why `ε` is not smaller. Where the
-//! branch ends (a limit position: the input cannot move further) the right side of
+//! error; the solves at `s ± ε` are conditioned like `1/ε`, which is why `ε` is not smaller. Where
+//! the branch ends (a limit position: the input cannot move further) the right side of
 //! `Φ_q q' = e_s` is inconsistent and the state is marked locked.
 //!
 //! **Dead centres** of a follower (a link pinned to the ground other than the driven one,

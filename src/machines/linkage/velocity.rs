@@ -8,8 +8,8 @@
 //! Both are solved by the minimum-norm SVD solve, optionally nearest to a reference
 //! (`x = x_ref + Φ_q⁺ (b − Φ_q x_ref)`): where `Φ_q` is singular but the right side is
 //! consistent (a change point, where two branches cross), the reference picks the
-//! branch's value; [`crate::machines::linkage::sweep`] refines that by the limit along the branch. The
-//! consistency residual `‖Φ_q x − b‖` tells a consistent singular system (finite motion)
+//! branch's value; [`crate::machines::linkage::sweep`] refines that by the limit along the branch.
+//! The consistency residual `‖Φ_q x − b‖` tells a consistent singular system (finite motion)
 //! from a locked one (the input cannot move there).
 //!
 //! With `ṡ = 1, s̈ = 0` the solutions are the path derivatives `q' = dq/ds` and

@@ -25,7 +25,8 @@
 //! `K_i = { x ≥ 0 : ∃u, (u, x) ∈ Ω_i, x + 2Δ_i u ∈ K_{i+1} }`,
 //!
 //! each end of `K_i` one two-variable LP in `(u, x)` (`min x` and `max x`), solved exactly by
-//! [`crate::motion::topp::lp2`]. An empty `K_i`, or `0 ∉ K_0`, means no motion from rest to rest exists.
+//! [`crate::motion::topp::lp2`]. An empty `K_i`, or `0 ∉ K_0`, means no motion from rest to rest
+//! exists.
 //!
 //! **Forward pass** (their eq. 16, greedy): `x_0 = 0`, then for each stage the largest
 //! admissible control that keeps the state controllable,

@@ -41,9 +41,10 @@
 //! `D' = ĝ·c'` at the check point from the bodies' twists, and `D''` bounded below (for a
 //! convex obstacle `D'' ≥ −|c''|`, the distance to a convex solid being convex; for a
 //! sphere pair `D'' ≥ −|x''| − V²/(r − tol)`). Spheres sliding past a surface or each other
-//! pass with a second-order inflation ([`crate::planning::environment::EnvObstacle::rate_overlaps`],
-//! `Checker::distance_rate_hit`). With both, 8 intervals per unit (was 32) check the Panda
-//! and UR5 paths, and their plan-time medians fall by a fifth (UR5) to a third (Panda).
+//! pass with a second-order inflation
+//! ([`crate::planning::environment::EnvObstacle::rate_overlaps`], `Checker::distance_rate_hit`).
+//! With both, 8 intervals per unit (was 32) check the Panda and UR5 paths, and their plan-time
+//! medians fall by a fifth (UR5) to a third (Panda).
 //!
 //! Intervals are visited in *rake* order (lane `ℓ` takes
 //! intervals `ℓm, ℓm + 1, …`, `m = ⌈n/8⌉`), so a collision anywhere on the edge shows up in

@@ -15,9 +15,10 @@
 //!   per-pair displacement bound; bounding volumes, then convex hulls, then exact meshes
 //!   only near contact; bisection where the samples cannot prove an interval). With a
 //!   part, the samples inside `[attach, detach]` are certified with a second scene whose
-//!   model carries the part as a box on the tool link ([`crate::scenarios::arm::planner_setup::with_part`]);
-//!   the results are merged (first collision in time, the smallest distances, counts
-//!   summed). The minimum distances are the exact ones over the samples.
+//!   model carries the part as a box on the tool link
+//!   ([`crate::scenarios::arm::planner_setup::with_part`]); the results are merged (first collision
+//!   in time, the smallest distances, counts summed). The minimum distances are the exact ones over
+//!   the samples.
 
 use crate::collision::{
     Certificate, CertifiedMotion, Certifier, CertifyOptions, ClearanceBound, CollisionData,

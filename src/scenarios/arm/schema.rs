@@ -2,8 +2,8 @@
 //! refuses unknown keys, and every value keeps its span so that errors found after
 //! parsing (a misspelt joint, contradictory limits) still name the line.
 //!
-//! `scenarios/README.md` documents the format; [`crate::scenarios::arm::scene`] turns these structures
-//! into a validated [`crate::scenarios::arm::scene::Scene`].
+//! `scenarios/README.md` documents the format; [`crate::scenarios::arm::scene`] turns these
+//! structures into a validated [`crate::scenarios::arm::scene::Scene`].
 
 use crate::collision::ObstacleSpec;
 use serde::Deserialize;

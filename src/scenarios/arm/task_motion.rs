@@ -7,8 +7,8 @@
 //!   (trapezoidal and quintic stop at each waypoint; the minimum-jerk spline passes
 //!   through them); time-optimal timing runs TOPP on each straight joint segment, with
 //!   the scene's torque limits and effects.
-//! - A planned step ([`Step::Plan`]) runs RRT-Connect ([`crate::scenarios::arm::planner_setup`]) from the current
-//!   configuration (with the grasped part on the tool between [`Step::Attach`] and
+//! - A planned step ([`Step::Plan`]) runs RRT-Connect ([`crate::scenarios::arm::planner_setup`])
+//!   from the current configuration (with the grasped part on the tool between [`Step::Attach`] and
 //!   [`Step::Detach`]) and times the path as one smooth motion through its via points by
 //!   TOPP with the effects of that interval (the payload only while the part is held).
 //! - A straight line keeps its tool-speed timing, or is re-timed by TOPP along its IK

@@ -1,8 +1,8 @@
 //! The `friction` part of a linkage scenario's kinetostatics (`[kinetostatics]`
 //! `friction_coefficient`, `pin_radius`): every joint with friction circles
-//! ([`crate::machines::friction::friction_circle`]) at every sample of the sweep; the driving effort with and
-//! without friction, the friction power and the instantaneous efficiency at the reported
-//! inputs, and over a full turn the works of the driver and of friction per turn and the
+//! ([`crate::machines::friction::friction_circle`]) at every sample of the sweep; the driving
+//! effort with and without friction, the friction power and the instantaneous efficiency at the
+//! reported inputs, and over a full turn the works of the driver and of friction per turn and the
 //! cycle efficiency `1 − W_f/W_d` (powers summed over equal steps of the input, i.e. equal
 //! times at constant speed).
 

@@ -174,7 +174,8 @@ fn integrator_panel(
     }
 }
 
-/// The integrator plots: energy and tracking error against the step (diverged runs flagged), and tracking error against wall time.
+/// The integrator plots: energy and tracking error against the step (diverged runs flagged), and
+/// tracking error against wall time.
 fn integrator_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
     let st = &r.integrators;
     let energy_panels: Vec<Panel> = st

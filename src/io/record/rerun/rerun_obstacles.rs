@@ -1,11 +1,11 @@
-//! Rerun output of a recording's obstacles ([`crate::io::record::obstacle_markers::ObstacleMarker`]): each
-//! shape as a static entity `world/obstacles/<name>/shape_<k>` in world coordinates —
-//! `CUBE` as `Boxes3D`, `SPHERE` as `Ellipsoids3D` (half sizes = scale / 2), `CYLINDER` as
-//! `Cylinders3D` (radius = the larger of scale x, y over 2, length = scale z), meshes as
-//! `Mesh3D` (the file loaded with [`crate::collision::mesh`], scale baked in) — labelled
-//! with the obstacle's name on its first shape. A marker's pose is in its frame: `world`
-//! (or an empty frame id) as is, another frame at that frame's first pose in the recording
-//! (obstacles are static).
+//! Rerun output of a recording's obstacles
+//! ([`crate::io::record::obstacle_markers::ObstacleMarker`]): each shape as a static entity
+//! `world/obstacles/<name>/shape_<k>` in world coordinates — `CUBE` as `Boxes3D`, `SPHERE` as
+//! `Ellipsoids3D` (half sizes = scale / 2), `CYLINDER` as `Cylinders3D` (radius = the larger of
+//! scale x, y over 2, length = scale z), meshes as `Mesh3D` (the file loaded with
+//! [`crate::collision::mesh`], scale baked in) — labelled with the obstacle's name on its first
+//! shape. A marker's pose is in its frame: `world` (or an empty frame id) as is, another frame at
+//! that frame's first pose in the recording (obstacles are static).
 
 use crate::collision::mesh::load_mesh;
 use crate::collision::resolve::resolve_uri;

@@ -1,6 +1,6 @@
 //! Rerun output when armsim is built without the `rerun` feature (`--no-default-features`,
-//! as the fuzz targets are): the types of [`crate::io::record::rerun::rerun_sink`] and the log calls of
-//! `rerun_out`, which refuse with [`RerunError::NotBuilt`] before doing any work.
+//! as the fuzz targets are): the types of [`crate::io::record::rerun::rerun_sink`] and the log
+//! calls of `rerun_out`, which refuse with [`RerunError::NotBuilt`] before doing any work.
 
 pub use crate::io::record::rerun::rerun_sink::*;
 use crate::io::record::{PointCloud, Recording};

@@ -209,7 +209,8 @@ pub fn wrist_ik(
     wrist_ik_with(params, target, None, true, out)
 }
 
-/// [`wrist_ik`] with a seed and the limits optional (see [`crate::kinematics::ik::analytic::ur_ik_with`]).
+/// [`wrist_ik`] with a seed and the limits optional (see
+/// [`crate::kinematics::ik::analytic::ur_ik_with`]).
 // One closed-form derivation read top to bottom (shoulder, wrist, elbow roots) on the IK
 // hot path: the branches share a dozen intermediate sines, cosines and transforms, which
 // helper functions would have to pass back and forth.

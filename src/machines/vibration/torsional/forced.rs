@@ -12,7 +12,8 @@
 //! `[[K − ν²J, −νB], [νB, K − ν²J]] [S; C] = [M_s; M_c]`,
 //! solved by LU. Amplitudes `|φ_k| = sqrt(S_k² + C_k²)`, shaft torque amplitudes
 //! `c_k |φ_{k+1} − φ_k|`. (In phasors `φ = Re(X e^{iνt})`, `X = C − iS`, this is
-//! `(K − ν²J + iνB) X = M_c − i M_s`, the form [`crate::machines::vibration::torsional::identify`] differentiates.)
+//! `(K − ν²J + iνB) X = M_c − i M_s`, the form [`crate::machines::vibration::torsional::identify`]
+//! differentiates.)
 //!
 //! **Critical speeds.** Mode `r` (frequency `f_r` in cycles/min) is excited by order `k`
 //! at `n = f_r / k` rpm. How strongly depends on the phase sum

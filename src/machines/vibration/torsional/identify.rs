@@ -9,8 +9,9 @@
 //!
 //! **Model.** For a measurement (order `k`, speed `w`, shaft `s`) the phasor response
 //! `X = D⁻¹ F`, `D = K − ν²J + iνB(θ)`, `F = M_c − i M_s` (the complex form of the block
-//! system in [`crate::machines::vibration::torsional::forced`]), torque amplitude `T = c_s |X_{s+1} − X_s|`. Derivatives:
-//! `∂X/∂θ_j = −D⁻¹ (iν B_j X)`, `∂T/∂θ_j = c_s Re(conj(Z) ∂Z)/|Z|`, `Z = X_{s+1} − X_s`.
+//! system in [`crate::machines::vibration::torsional::forced`]), torque amplitude `T = c_s |X_{s+1}
+//! − X_s|`. Derivatives: `∂X/∂θ_j = −D⁻¹ (iν B_j X)`, `∂T/∂θ_j = c_s Re(conj(Z) ∂Z)/|Z|`, `Z =
+//! X_{s+1} − X_s`.
 //!
 //! **Fit.** Residuals `r_i = ln T_i(θ) − ln T_i^meas` (a measurement error proportional
 //! to the amplitude). Levenberg–Marquardt: `(JᵀJ + μ diag JᵀJ) δ = −Jᵀ r`, accept when the

@@ -9,8 +9,8 @@
 //! transients have died out and takes the Fourier coefficients of the last period,
 //! `S = (2/N) Σ φ(t_j) sin νt_j`, `C = (2/N) Σ φ(t_j) cos νt_j` (exact for trigonometric
 //! polynomials on the uniform periodic grid), to compare with the harmonic solution of
-//! [`crate::machines::vibration::torsional::forced`]. The rigid-body offset a free chain keeps after the transient is a
-//! constant and drops out of both sums.
+//! [`crate::machines::vibration::torsional::forced`]. The rigid-body offset a free chain keeps
+//! after the transient is a constant and drops out of both sums.
 
 use crate::machines::vibration::torsional::forced::HarmonicResponse;
 use crate::machines::vibration::torsional::torsional_chain::TorsionalChain;

@@ -226,8 +226,8 @@ fn check_torque_sweep(scene: &Scene, plan: &Plan) -> Result<Sweep, ScenarioError
 }
 
 /// The collision report of the planned motion, with its certificate (collisions between
-/// samples and every limit's worst margin, see [`crate::scenarios::arm::checks`]), and the tool path it
-/// sweeps.
+/// samples and every limit's worst margin, see [`crate::scenarios::arm::checks`]), and the tool
+/// path it sweeps.
 fn check_collisions(
     scene: &Scene,
     plan: &Plan,
