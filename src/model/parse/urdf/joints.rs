@@ -59,15 +59,13 @@ pub(super) fn read_joint(
     .map_err(|b| rd.fail(b, &el))?;
     let line = Some(rd.line(node));
     let Some(jtype) = jtype else {
-        return Ok(expand(
-            rd,
-            node,
-            &el,
-            type_name,
-            (&parent, &child),
-            origin,
-            axis,
-        ));
+        let floating = type_name == "floating";
+        let line = Some(rd.line(node));
+        let (joints, links, msgs) = expand(name, floating, (&parent, &child), origin, axis, line);
+        for msg in msgs {
+            rd.warn(node, &el, msg);
+        }
+        return Ok((joints, links));
     };
     let mut js = JointSpec::new(name, jtype, parent, child);
     js.origin = origin;
@@ -132,23 +130,41 @@ fn limits(
         }
         ve[k] = v;
     }
-    // URDF writes 0 for "not given" on velocity/effort: treat 0 as unlimited.
+    Ok(limits_of(
+        jtype,
+        lower.unwrap_or(0.0),
+        upper.unwrap_or(0.0),
+        ve[0],
+        ve[1],
+    ))
+}
+
+/// A joint's [`Limits`] from the numbers of its `<limit>` (`lower`/`upper` 0 when not
+/// given): none on a fixed joint, no position limits on a continuous one, and a zero
+/// velocity or effort read as "not given", hence unlimited (URDF writes 0 for that).
+pub(crate) fn limits_of(
+    jtype: JointType,
+    lower: f64,
+    upper: f64,
+    effort: f64,
+    velocity: f64,
+) -> Limits {
     let positive_or_inf = |v: f64| if v > 0.0 { v } else { f64::INFINITY };
-    Ok(match jtype {
+    match jtype {
         JointType::Fixed => Limits::unlimited(),
         JointType::Continuous => Limits {
             lower: f64::NEG_INFINITY,
             upper: f64::INFINITY,
-            velocity: positive_or_inf(ve[1]),
-            effort: positive_or_inf(ve[0]),
+            velocity: positive_or_inf(velocity),
+            effort: positive_or_inf(effort),
         },
         _ => Limits {
-            lower: lower.unwrap_or(0.0),
-            upper: upper.unwrap_or(0.0),
-            velocity: positive_or_inf(ve[1]),
-            effort: positive_or_inf(ve[0]),
+            lower,
+            upper,
+            velocity: positive_or_inf(velocity),
+            effort: positive_or_inf(effort),
         },
-    })
+    }
 }
 
 /// The first `<mimic joint multiplier offset>`.
@@ -177,18 +193,20 @@ fn mimic(
 /// `origin · T(x, y, z) · Rz(yaw) Ry(pitch) Rx(roll)`, Pinocchio's free-flyer pose in
 /// Euler angles (singular at pitch ±90°). A planar joint `J` becomes `J_x`, `J_y`, `J_yaw`
 /// in the joint frame's xy plane, which is where Pinocchio puts it whatever the `<axis>`.
-/// The links between are massless and named `J_x_link`, … .
-fn expand(
-    rd: &mut Reader<'_>,
-    node: Node<'_, '_>,
-    el: &str,
-    type_name: &str,
+/// The links between are massless and named `J_x_link`, … . Returns the joints, the links
+/// and the warnings to report on the joint (what it was modelled as; a planar `<axis>`
+/// that is not z). Shared by the reader and [`super::interop`].
+pub(crate) fn expand(
+    name: &str,
+    floating: bool,
     (parent, child): (&str, &str),
     origin: Se3,
     axis: Vec3,
-) -> (Vec<JointSpec>, Vec<LinkSpec>) {
+    line: Option<usize>,
+) -> (Vec<JointSpec>, Vec<LinkSpec>, Vec<String>) {
     use JointType::{Continuous as C, Prismatic as P};
-    let steps: &[(&str, JointType, Vec3)] = if type_name == "floating" {
+    let type_name = if floating { "floating" } else { "planar" };
+    let steps: &[(&str, JointType, Vec3)] = if floating {
         &[
             ("x", P, Vec3::new(1.0, 0.0, 0.0)),
             ("y", P, Vec3::new(0.0, 1.0, 0.0)),
@@ -204,33 +222,23 @@ fn expand(
             ("yaw", C, Vec3::new(0.0, 0.0, 1.0)),
         ]
     };
-    let name = node.attribute("name").unwrap_or_default();
     let names: Vec<String> = steps.iter().map(|s| format!("{name}_{}", s.0)).collect();
-    let how = if type_name == "floating" {
+    let how = if floating {
         "translations along the joint frame's axes, then rotations Rz(yaw) Ry(pitch) Rx(roll), singular at pitch ±90°"
     } else {
         "translations in the joint frame's xy plane, then a rotation about its z, as Pinocchio places a planar joint"
     };
-    rd.warn(
-        node,
-        el,
-        format!(
-            "{type_name} joint: modelled as the one-axis joints {} ({how})",
-            names.join(", ")
-        ),
-    );
+    let mut warnings = vec![format!(
+        "{type_name} joint: modelled as the one-axis joints {} ({how})",
+        names.join(", ")
+    )];
     let n = axis.norm();
-    if type_name == "planar" && n > 0.0 && (axis.z.abs() - n).abs() > 1e-12 * n {
-        rd.warn(
-            node,
-            el,
-            format!(
-                "planar joint: <axis xyz=\"{} {} {}\"> is not the joint frame's z: ignored (the plane is the joint frame's xy, as in Pinocchio)",
-                axis.x, axis.y, axis.z
-            ),
-        );
+    if !floating && n > 0.0 && (axis.z.abs() - n).abs() > 1e-12 * n {
+        warnings.push(format!(
+            "planar joint: <axis xyz=\"{} {} {}\"> is not the joint frame's z: ignored (the plane is the joint frame's xy, as in Pinocchio)",
+            axis.x, axis.y, axis.z
+        ));
     }
-    let line = Some(rd.line(node));
     let mut joints = Vec::new();
     let mut links = Vec::new();
     let mut prev = parent.to_string();
@@ -251,5 +259,5 @@ fn expand(
         joints.push(js);
         prev = next;
     }
-    (joints, links)
+    (joints, links, warnings)
 }

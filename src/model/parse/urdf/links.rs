@@ -4,7 +4,7 @@
 //! left out (or what urdfdom keeps of it is kept) with a warning that says what was done
 //! instead. The one error here is a negative moment of inertia written on the diagonal.
 
-use crate::core::spatial::{Inertia, Mat3, Vec3};
+use crate::core::spatial::{Inertia, Mat3, Se3, Vec3};
 use crate::model::parse::urdf::{Bad, Node, Reader};
 use crate::model::spec::{Geometry, LinkSpec, Shape};
 use crate::model::ModelError;
@@ -127,6 +127,14 @@ fn inertial(rd: &mut Reader<'_>, node: Node<'_, '_>, el: &str) -> Result<Inertia
             Err(b) => return Ok(point(rd, b)),
         }
     }
+    inertia_of(mass, v, &frame).map_err(|msg| rd.err(i, el, msg))
+}
+
+/// The inertia of mass `mass` with tensor `[ixx, ixy, ixz, iyy, iyz, izz]` about its
+/// centre in the `<inertial>` frame `frame`, in the link frame; a negative moment written
+/// on the diagonal is refused (the message says which). Shared by the reader and
+/// [`super::interop`].
+pub(crate) fn inertia_of(mass: f64, v: [f64; 6], frame: &Se3) -> Result<Inertia, String> {
     let [xx, xy, xz, yy, yz, zz] = v;
     // A negative moment written on the diagonal is not a rigid body, whatever the axes.
     let tol = crate::model::clamp_tolerance(xx.max(yy).max(zz));
@@ -134,14 +142,10 @@ fn inertial(rd: &mut Reader<'_>, node: Node<'_, '_>, el: &str) -> Result<Inertia
         .into_iter()
         .find(|&(_, d)| d < -tol)
     {
-        return Err(rd.err(
-            i,
-            el,
-            format!("<inertia {a}=\"{d}\">: a moment of inertia cannot be negative (beyond the {tol:.1e} kg m² of rounding that is clamped)"),
-        ));
+        return Err(format!("<inertia {a}=\"{d}\">: a moment of inertia cannot be negative (beyond the {tol:.1e} kg m² of rounding that is clamped)"));
     }
     let tensor = Mat3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
-    Ok(Inertia::new(mass, Vec3::zeros(), tensor).transformed(&frame))
+    Ok(Inertia::new(mass, Vec3::zeros(), tensor).transformed(frame))
 }
 
 /// A `<visual>` or `<collision>`'s origin and shape; `None` (with a warning) when either

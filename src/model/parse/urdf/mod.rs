@@ -14,8 +14,10 @@
 //!   joints may be listed in any order; mesh URIs are kept as written.
 //!
 //! Links, materials and geometry are read in [`links`], joints in [`joints`] (where
-//! floating and planar joints become chains of one-axis joints).
+//! floating and planar joints become chains of one-axis joints); [`interop`] takes and gives
+//! `urdf_rs::Robot`s through the same rules.
 
+mod interop;
 mod joints;
 mod links;
 use crate::core::spatial::{rpy_to_matrix, Se3, Vec3};
