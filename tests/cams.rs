@@ -1,4 +1,4 @@
-//! Cams (docs/references.md §M3): every published checkpoint through `armsim run --json`
+//! Cams (docs/reference_data.md §M3): every published checkpoint through `armsim run --json`
 //! on its bundled scenario, and independent routes — the eccentric cam's closed forms,
 //! the laws' derivatives by finite differences, the pressure angle from the profile's
 //! geometry, the curvature from three-point circles, the roller's working profile at

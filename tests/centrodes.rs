@@ -1,4 +1,4 @@
-//! Centrodes (`kind = "centrodes"`): docs/references.md §M9's checkpoints through
+//! Centrodes (`kind = "centrodes"`): docs/reference_data.md §M9's checkpoints through
 //! `armsim run --json` — the antiparallelogram's elliptic centrodes (272) and the
 //! isosceles slider-crank's Cardan circles (273) — checked point by point against the
 //! closed-form curves, against Kennedy's construction, and by the rolling condition

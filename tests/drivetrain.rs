@@ -1,4 +1,4 @@
-//! Torsional drivetrain chains (docs/references.md §S3): every result is checked against an
+//! Torsional drivetrain chains (docs/reference_data.md §S3): every result is checked against an
 //! independent route — published frequencies, closed forms, Holzer tables, the LR
 //! iteration, perturbation estimates, time integration, the rigid-body engine (CRBA,
 //! ABA, the flexible-joint model), finite differences, Monte Carlo.
@@ -67,7 +67,7 @@ const FIRING: [f64; 6] = [0.0, 120.0, 240.0, 180.0, 300.0, 60.0];
 const A_CYL: f64 = 16_800.0;
 const A_PROP: f64 = 237_300.0;
 
-/// The 11-mass ship shafting of the report (docs/references.md §S3), undamped.
+/// The 11-mass ship shafting of the report (docs/reference_data.md §S3), undamped.
 fn ship_undamped() -> TorsionalChain {
     let names = [
         "front_end",

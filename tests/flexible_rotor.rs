@@ -1,4 +1,4 @@
-//! Flexible rotors (`kind = "flexible_rotor"`): docs/references.md §M7's checkpoints through
+//! Flexible rotors (`kind = "flexible_rotor"`): docs/reference_data.md §M7's checkpoints through
 //! `armsim run --json`, finite elements against exact transfer matrices and the
 //! pinned–pinned closed form, the direct unbalance response against modal superposition,
 //! and located errors for broken files.

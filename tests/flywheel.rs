@@ -1,5 +1,5 @@
-//! Flywheel sizing (`kind = "flywheel"`): the problem book's checkpoints (docs/references.md
-//! §6) through `armsim run --json`, against closed forms (a sine turning moment, the linear
+//! Flywheel sizing (`kind = "flywheel"`): the problem book's checkpoints (docs/reference_data.md
+//! §M6) through `armsim run --json`, against closed forms (a sine turning moment, the linear
 //! motor's integral), the older [`flywheel::size`] on the same samples, and RK4 time
 //! runs; located errors for broken files.
 

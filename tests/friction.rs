@@ -1,4 +1,4 @@
-//! Friction and efficiency (docs/references.md §M4): the published checkpoints through
+//! Friction and efficiency (docs/reference_data.md §M4): the published checkpoints through
 //! `armsim run --json` on the bundled scenarios, independent routes (Euler's belt law by
 //! integrating `dS/dθ = f S`, band brakes by that integration and lever moments, the screw as an incline of angle λ, the collar torques by
 //! integrating the pressure over the annulus), and the broken files.

@@ -1,4 +1,4 @@
-//! Gear geometry (docs/references.md §M2): every published checkpoint through `armsim run
+//! Gear geometry (docs/reference_data.md §M2): every published checkpoint through `armsim run
 //! --json` on its bundled scenario (re-derived values where the sheet says the book is
 //! wrong), and independent routes: the zero-backlash condition on the working pitch
 //! circles, the rolling-cone condition of bevel pairs, equal normal pitches of crossed

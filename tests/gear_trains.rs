@@ -1,4 +1,4 @@
-//! Gear trains (docs/references.md §M1): every published checkpoint through `armsim run
+//! Gear trains (docs/reference_data.md §M1): every published checkpoint through `armsim run
 //! --json` on its bundled scenario, and independent routes — the pitch-point velocity
 //! check of the graphical method, closed-form planetary efficiencies, the mobility count
 //! against the null-space dimension — plus the broken files.

@@ -1,4 +1,4 @@
-//! Vibration isolation (`kind = "isolation"`): docs/references.md §M8's checkpoints through
+//! Vibration isolation (`kind = "isolation"`): docs/reference_data.md §M8's checkpoints through
 //! `armsim run --json`, the closed forms against numerical peak searches, the impact
 //! formula against an RK4 run, Den Hartog's formula against a direct two-mass solve, and
 //! located errors for broken files.

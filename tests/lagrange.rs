@@ -150,7 +150,7 @@ fn coriolis_times_velocity_plus_gravity_equals_rnea_bias() {
 
 #[test]
 fn planar_2r_trace_form_matches_the_textbook_closed_form() {
-    // docs/references.md §S1 checkpoint, in the z-up frame of robots/planar_2r.toml.
+    // docs/reference_data.md §S1 checkpoint, in the z-up frame of robots/planar_2r.toml.
     let m = common::load("robots/planar_2r.toml");
     let (l, m1, m2, g) = (0.5f64, 2.0f64, 1.0f64, 9.81f64);
     let mut d = Data::new(&m);

@@ -87,7 +87,7 @@ fn cli(args: &[&str]) -> std::process::Output {
 }
 
 // ---------------------------------------------------------------------------------------
-// Oil pump (§2a).
+// Oil pump (docs/reference_data.md §S2a).
 
 #[test]
 fn oil_pump_reproduces_the_published_table_at_150_degrees() {
@@ -356,7 +356,7 @@ fn oil_pump_json_has_the_sweep_contract() {
 }
 
 // ---------------------------------------------------------------------------------------
-// Problem-book slider-cranks (§2b), against the closed form x_C(φ).
+// Problem-book slider-cranks (docs/reference_data.md §S2b), against the closed form x_C(φ).
 
 /// `(x_C, dx/dφ, d²x/dφ², rod angle β, dβ/dφ, d²β/dφ²)` of a slider-crank with crank
 /// `r`, rod `l`, offset `e`, slider to the right.
@@ -868,7 +868,8 @@ fn slide_driven_slider_crank_inverts_the_crank_driven_ratio() {
 }
 
 // ---------------------------------------------------------------------------------------
-// Kinetostatics (§2b): joint forces vs virtual power, against dT/dt by hand.
+// Kinetostatics (docs/reference_data.md §S2b): joint forces vs virtual power, against dT/dt
+// by hand.
 
 #[test]
 fn slider_crank_kinetostatics_matches_virtual_power_and_the_book() {

@@ -1,5 +1,5 @@
 //! Four-bar and slider-crank synthesis (`kind = "synthesis"`): the problem book's
-//! checkpoints (docs/references.md §M5) through `armsim run --json` on the bundled
+//! checkpoints (docs/reference_data.md §M5) through `armsim run --json` on the bundled
 //! scenarios, each result also run through the linkage solver, plus closed forms written
 //! out here (circle intersections, the stroke equation) and located errors for broken
 //! files.

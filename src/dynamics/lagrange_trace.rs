@@ -1,6 +1,6 @@
 //! Lagrange's equations of the second kind in the textbook's **trace / pseudo-inertia
 //! form** (the robot chapter of the source textbook, restated in
-//! docs/references.md §S1; the same form as Uicker's and Paul's 4×4-matrix dynamics).
+//! docs/reference_data.md §S1; the same form as Uicker's and Paul's 4×4-matrix dynamics).
 //! It is O(n⁴): the slow, transparent reference the recursive algorithms are checked
 //! against, not a production path.
 //!

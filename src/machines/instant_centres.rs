@@ -1,4 +1,4 @@
-//! Instant centres and centrodes (docs/references.md §M9; problem book ch. 12): the
+//! Instant centres and centrodes (docs/reference_data.md §M9; problem book ch. 12): the
 //! instant centre of a link relative to the ground along a tracked sweep of any linkage,
 //! its locus on the ground (the fixed centrode) and on the link (the moving centrode).
 //!

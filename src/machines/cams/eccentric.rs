@@ -1,4 +1,4 @@
-//! The circular eccentric cam (docs/references.md §M3, CM-1 and CM-5): a disc of radius
+//! The circular eccentric cam (docs/reference_data.md §M3, CM-1 and CM-5): a disc of radius
 //! `R` whose centre `A` turns at eccentricity `a` about the cam axis `O`, at
 //! `A = (−a sin φ, −a cos φ)` (the follower at its lowest at `φ = 0`).
 //!

@@ -1,4 +1,4 @@
-//! Follower motion laws and dwell–rise–dwell–return timing (docs/references.md §M3,
+//! Follower motion laws and dwell–rise–dwell–return timing (docs/reference_data.md §M3,
 //! program CAMLAN). A law gives the lift fraction and its derivatives in `u = φ/Φ`;
 //! [`MotionLaw`] turns them into `s(φ)` and the geometric derivatives `s' = ds/dφ`, `s''`,
 //! `s'''` over the whole turn (the return is `h − law`, with the signs flipped).

@@ -1,4 +1,4 @@
-//! Disc cams (docs/references.md §M3):
+//! Disc cams (docs/reference_data.md §M3):
 //!
 //! - [`laws`]: follower motion laws and dwell–rise–dwell–return timing;
 //! - [`profile`]: law cams with translating (knife, roller, flat) and oscillating

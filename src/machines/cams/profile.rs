@@ -1,4 +1,4 @@
-//! Disc cams driven by a motion law (docs/references.md §M3): the follower displacement,
+//! Disc cams driven by a motion law (docs/reference_data.md §M3): the follower displacement,
 //! the pitch and working profiles in the cam frame, their radii of curvature, the
 //! pressure angle over the whole turn, and the minimum base radius and best offset by
 //! search (the admissible region of CAMLAN's `s–s'` diagram).

@@ -1,7 +1,7 @@
-//! Flywheel design beyond [`crate::machines::flywheel::size`] (docs/references.md §M6; problem book
-//! ch. 4): turning-moment diagrams given as periodic tables, the speed band, the machine's
-//! own inertia, moving the flywheel to another shaft, rim sizing, a time-domain check, a
-//! work stroke against a speed-dependent motor, and the deceleration limit of an
+//! Flywheel design beyond [`crate::machines::flywheel::size`] (docs/reference_data.md §M6;
+//! problem book ch. 4): turning-moment diagrams given as periodic tables, the speed band, the
+//! machine's own inertia, moving the flywheel to another shaft, rim sizing, a time-domain
+//! check, a work stroke against a speed-dependent motor, and the deceleration limit of an
 //! overload.
 //!
 //! - **Cycle sizing**: `E(φ) = ∫ (M_d − M_c) dφ` over one period, `ΔE = max E − min E`,

@@ -1,4 +1,4 @@
-//! Friction elements (docs/references.md §M4): closed forms for inclines, slides, screws,
+//! Friction elements (docs/reference_data.md §M4): closed forms for inclines, slides, screws,
 //! wedges, journals, pivots and collars, rolling resistance, band brakes (simple,
 //! differential, summing) and belts, with
 //! efficiency, reverse efficiency and self-locking. SI units (N, m, rad) unless a name

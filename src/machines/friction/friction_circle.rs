@@ -1,4 +1,4 @@
-//! Friction in a linkage's joints by friction circles (docs/references.md §M4 "beyond the
+//! Friction in a linkage's joints by friction circles (docs/reference_data.md §M4 "beyond the
 //! book": the efficiency of a mechanism over its cycle), iterated because the reactions
 //! depend on the friction they cause.
 //!

@@ -1,4 +1,4 @@
-//! Friction and efficiency (docs/references.md §M4):
+//! Friction and efficiency (docs/reference_data.md §M4):
 //!
 //! - [`elements`]: closed forms for inclines, slides, screws, wedges, journals, collars,
 //!   rolling, band brakes and belts; efficiency, reverse efficiency, self-locking;

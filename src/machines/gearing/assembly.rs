@@ -1,4 +1,4 @@
-//! Geometric conditions of a gear train (docs/references.md §M1): coaxiality of standard
+//! Geometric conditions of a gear train (docs/reference_data.md §M1): coaxiality of standard
 //! gears (`A = m (z₁ + z₂)/2` external, `m (z₂ − z₁)/2` internal, equal along every
 //! branch that joins one axis to another), missing tooth counts found from those
 //! equations, the equal-spacing assembly condition of planets and the neighbour (tip

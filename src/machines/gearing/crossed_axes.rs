@@ -1,4 +1,4 @@
-//! Gears on non-parallel axes (docs/references.md §M2, ch. 9): crossed helical pairs,
+//! Gears on non-parallel axes (docs/reference_data.md §M2, ch. 9): crossed helical pairs,
 //! worm drives (lead angle, sliding speed, efficiency, self-locking) and bevel pairs
 //! (pitch-cone angles, Tredgold's virtual spur gears, undercut and the contact ratio of
 //! the virtual pair).

@@ -1,4 +1,4 @@
-//! Involute functions (docs/references.md §M2): `inv x = tan x − x` and its inverse,
+//! Involute functions (docs/reference_data.md §M2): `inv x = tan x − x` and its inverse,
 //! tooth thickness at any radius, the point where a tooth becomes pointed, and points of
 //! the involute flank.
 

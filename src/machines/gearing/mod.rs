@@ -1,4 +1,4 @@
-//! Gears (docs/references.md §M1 and §2). One concern per file:
+//! Gears (docs/reference_data.md §M1 and §M2). One concern per file:
 //!
 //! - [`train`]: the gear-train description (gears, bodies, carriers, meshes), mesh
 //!   frames, mobility and classification;

@@ -1,4 +1,4 @@
-//! Involute spur and helical pairs (docs/references.md §M2): radii, tooth thickness,
+//! Involute spur and helical pairs (docs/reference_data.md §M2): radii, tooth thickness,
 //! profile shift, working pressure angle and centre distance, contact ratio, undercut,
 //! pointed teeth and interference, for external pairs, internal pairs and a pinion with a
 //! rack. Helical gears are computed in the transverse plane (`m_t = m_n / cos β`,

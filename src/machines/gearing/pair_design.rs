@@ -1,5 +1,5 @@
 //! The textbook's pair design for a given centre distance (program BANHRANG,
-//! docs/references.md §M2 (c)): tooth counts from `A`, `m` and the ratio, the total shift
+//! docs/reference_data.md §M2 (c)): tooth counts from `A`, `m` and the ratio, the total shift
 //! the centre distance needs, and the split of the shift between the gears that balances
 //! the specific sliding at the two ends of the path of contact, subject to no undercut,
 //! tip thickness ≥ 0.4 m and contact ratio ≥ 1.1.

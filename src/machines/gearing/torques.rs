@@ -1,5 +1,5 @@
-//! Torques in a gear train from static equilibrium with mesh losses (docs/references.md
-//! §1), in steady motion (no inertia torques).
+//! Torques in a gear train from static equilibrium with mesh losses (docs/reference_data.md
+//! §M1), in steady motion (no inertia torques).
 //!
 //! Each mesh `e` carries an unknown tooth torque `t_e` on its first gear (about that
 //! gear's axis). Seen from the mesh's carrier `H`, the relative power flows from the

@@ -1,4 +1,4 @@
-//! The gear-train description (docs/references.md §M1): gears with tooth counts, the
+//! The gear-train description (docs/reference_data.md §M1): gears with tooth counts, the
 //! bodies they sit on (a compound block `2/2'` is two gears on one body), carriers that
 //! hold planet axes, and the meshes between gears (external/internal spur, bevel, worm or
 //! crossed, with a sign for the non-parallel ones). This file owns the structure: the

@@ -1,4 +1,4 @@
-//! Speeds of every body of a gear train by Willis' method (docs/references.md §M1), in
+//! Speeds of every body of a gear train by Willis' method (docs/reference_data.md §M1), in
 //! exact rational arithmetic. Each mesh seen from its carrier `H` (the frame for fixed
 //! axes) gives one linear equation
 //!

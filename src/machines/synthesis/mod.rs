@@ -1,4 +1,4 @@
-//! Four-bar and slider-crank synthesis (docs/references.md §M5; problem book ch. 7):
+//! Four-bar and slider-crank synthesis (docs/reference_data.md §M5; problem book ch. 7):
 //! limit-position and time-ratio synthesis of the crank-rocker, the offset slider-crank
 //! and the crank–slotted-lever quick return, and Freudenstein's three-point function
 //! generation. The results are checked by running them through the linkage solver

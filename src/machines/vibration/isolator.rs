@@ -1,4 +1,4 @@
-//! Vibration isolation (docs/references.md §M8; textbook vol. 2 ch. 17): the 1-DOF mount
+//! Vibration isolation (docs/reference_data.md §M8; textbook vol. 2 ch. 17): the 1-DOF mount
 //! an arm base or a machine stands on, its transmissibility with viscous or hysteretic
 //! (rubber) damping, isolator selection, shock mounts, and the dynamic absorber.
 //!

@@ -1,4 +1,4 @@
-//! Flexible rotors (docs/references.md §M7; textbook vol. 2 ch. 16): a shaft of uniform
+//! Flexible rotors (docs/reference_data.md §M7; textbook vol. 2 ch. 16): a shaft of uniform
 //! segments (Euler–Bernoulli, no shear, no gyroscopics) carrying point discs on rigid or
 //! elastic bearings, in one plane of whirl. Critical speeds and mode shapes by finite
 //! elements (this file; Hermite cubic elements with the consistent mass matrix,

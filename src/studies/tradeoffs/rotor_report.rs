@@ -59,9 +59,9 @@ pub fn section(s: &mut String, st: &RotorStudy) {
         s,
         "`fe_modes` (Hermite cubic beam elements, consistent mass, Cholesky + symmetric eigen-solver) for the \
          lowest {MODES} critical speeds against references that need no elements: the closed form on the uniform \
-         pinned shaft of docs/references.md FX-3, the exact transfer matrices on a stepped rotor with two discs, an \
-         elastic and a rigid bearing. Elements as used (the rotor's stations add some); time of one eigen-solve, \
-         median over rounds.\n"
+         pinned shaft of docs/reference_data.md FX-3, the exact transfer matrices on a stepped rotor with two \
+         discs, an elastic and a rigid bearing. Elements as used (the rotor's stations add some); time of \
+         one eigen-solve, median over rounds.\n"
     );
     for c in &st.cases {
         let refs: Vec<String> = c.reference.iter().map(|w| format!("{w:.3}")).collect();

@@ -1,7 +1,7 @@
 //! Study 6, flexible-rotor discretisation: finite-element count against critical-speed
 //! error and time, on two rotors whose critical speeds are known without the elements:
 //!
-//! - **uniform shaft** (docs/references.md FX-3: steel, d = 50 mm, l = 1.5 m, pinned
+//! - **uniform shaft** (docs/reference_data.md FX-3: steel, d = 50 mm, l = 1.5 m, pinned
 //!   ends): `ω_n = n² π² sqrt(EI/(μ l⁴))`, the closed form;
 //! - **stepped rotor with discs** (a 0.8 m shaft of 60 and 40 mm steps, two discs, an
 //!   elastic and a rigid bearing): the exact transfer matrices of

@@ -1,5 +1,5 @@
 //! Vibration absorbers on a disk `J_r` excited at `ν = j w` (order `j`, shaft speed `w`)
-//! (docs/references.md §S3, textbook extras). Both replace the disk and its attachment by
+//! (docs/reference_data.md §S3, textbook extras). Both replace the disk and its attachment by
 //! an equivalent disk for the forced response.
 //!
 //! - **Tuned (spring) absorber**: a disk `J_a` on a spring `c_a` to `J_r`, tuned to

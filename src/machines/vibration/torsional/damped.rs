@@ -1,5 +1,5 @@
 //! Damped (complex) modes: the quadratic eigenproblem `(λ² J + λ B + K) x = 0`
-//! (docs/references.md §S3) through its 2n first-order (companion) form.
+//! (docs/reference_data.md §S3) through its 2n first-order (companion) form.
 //!
 //! - **Eigenvalues.** With `y = J^{1/2} φ` and the frequency scale `s` (the largest
 //!   `sqrt(K_kk/J_k)`), the state `z = (s y, ẏ)` obeys `ż = A z` with

@@ -1,5 +1,5 @@
 //! Forced steady state per harmonic order, speed sweeps and the critical-speed table
-//! (docs/references.md §S3).
+//! (docs/reference_data.md §S3).
 //!
 //! **Excitation.** Cylinder `j` (a disk of the chain) fires at crank angle `α_j`; the
 //! order-`k` harmonic of its torque at shaft speed `w` is

@@ -1,4 +1,4 @@
-//! Gear stages and referral to the input shaft (docs/references.md §S3).
+//! Gear stages and referral to the input shaft (docs/reference_data.md §S3).
 //!
 //! A [`GearedChain`] is an input chain followed by stages; stage `s` turns at speed ratio
 //! `i_s = n_out/n_in` relative to the segment before it, so its disks turn at the

@@ -1,4 +1,4 @@
-//! Holzer's method with transfer matrices (docs/references.md §S3, textbook extras).
+//! Holzer's method with transfer matrices (docs/reference_data.md §S3, textbook extras).
 //!
 //! The state at a station is `(φ, M)`: the disk angle and the torque in the shaft that
 //! leaves it, `M_k = c_k (φ_{k+1} − φ_k)`. Across disk `k` at frequency `W` (point matrix)

@@ -1,4 +1,4 @@
-//! Damping identification from measured shaft-torque amplitudes (docs/references.md §S3):
+//! Damping identification from measured shaft-torque amplitudes (docs/reference_data.md §S3):
 //! a nonlinear least-squares fit of the forced-response model, Levenberg–Marquardt with
 //! an analytic Jacobian.
 //!

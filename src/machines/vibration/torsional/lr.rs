@@ -1,5 +1,5 @@
 //! Rutishauser's LR eigen-iteration on the tridiagonal matrix of the chain
-//! (docs/references.md §S3, textbook extras): a second route to `p²`, independent of
+//! (docs/reference_data.md §S3, textbook extras): a second route to `p²`, independent of
 //! nalgebra's symmetric QR.
 //!
 //! `S = J^{-1/2} K J^{-1/2}` is symmetric tridiagonal (diagonal `d_k = (c_{k−1}+c_k)/J_k`,

@@ -1,4 +1,4 @@
-//! Torsional drivetrain chains (docs/references.md §S3): rigid disks on massless shafts with
+//! Torsional drivetrain chains (docs/reference_data.md §S3): rigid disks on massless shafts with
 //! absolute and relative damping, `J φ̈ + B φ̇ + K φ = M(t)`. One algorithm per file:
 //!
 //! - [`torsional_chain`]: the model, its matrices, and the same chain as an armsim

@@ -1,5 +1,5 @@
 //! Undamped natural modes: the generalised symmetric eigenproblem `K x = p² J x`
-//! (docs/references.md §S3), solved as the standard symmetric problem
+//! (docs/reference_data.md §S3), solved as the standard symmetric problem
 //! `(J^{-1/2} K J^{-1/2}) v = p² v`, `x = J^{-1/2} v` (J diagonal and positive), with
 //! nalgebra's symmetric eigen-decomposition (Householder tridiagonalisation + implicit QR).
 //!

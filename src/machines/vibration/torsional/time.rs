@@ -1,4 +1,4 @@
-//! Time-domain integration of `J φ̈ + B φ̇ + K φ = M(t)` (docs/references.md §S3) with the
+//! Time-domain integration of `J φ̈ + B φ̇ + K φ = M(t)` (docs/reference_data.md §S3) with the
 //! classical fourth-order Runge–Kutta method on the state `(φ, φ̇)`:
 //! `k₁ = f(t, y)`, `k₂ = f(t + h/2, y + h k₁/2)`, `k₃ = f(t + h/2, y + h k₂/2)`,
 //! `k₄ = f(t + h, y + h k₃)`, `y ← y + h (k₁ + 2k₂ + 2k₃ + k₄)/6`,

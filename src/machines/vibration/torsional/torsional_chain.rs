@@ -7,7 +7,7 @@
 //! `J_k φ̈_k + (a_k + b_{k−1} + b_k) φ̇_k − b_{k−1} φ̇_{k−1} − b_k φ̇_{k+1}
 //!  + (c_{k−1} + c_k) φ_k − c_{k−1} φ_{k−1} − c_k φ_{k+1} = M_k(t)`
 //!
-//! (docs/references.md §S3; shafts `k` join disks `k` and `k+1`, 0-based, so `K` and the
+//! (docs/reference_data.md §S3; shafts `k` join disks `k` and `k+1`, 0-based, so `K` and the
 //! relative part of `B` are tridiagonal and `J` is diagonal). The chain is free at both
 //! ends (no stiffness to ground): `K` has the rigid-body null vector `(1, …, 1)`.
 //!
