@@ -302,8 +302,8 @@ fn a_geometry_instanced_twice_gives_both_copies_in_place() {
     );
     let c = census(&m);
     let want = [-0.25, -0.5, -0.5, 1.5, 0.5, 3.25];
-    for k in 0..6 {
-        assert!((c.bbox[k] - want[k]).abs() < 1e-12, "bbox {:?}", c.bbox);
+    for (got, want) in c.bbox.iter().zip(want) {
+        assert!((got - want).abs() < 1e-12, "bbox {:?}", c.bbox);
     }
     assert!((c.volume6 - 6.75).abs() < 1e-12, "6V {}", c.volume6);
     assert!(c.closed);
@@ -317,4 +317,53 @@ fn a_geometry_instanced_twice_gives_both_copies_in_place() {
             "{p:?}"
         );
     }
+}
+
+/// The checks armsim keeps around mesh-loader's OBJ and STL parsers: an OBJ face index
+/// named with its line (0 is no index), an OBJ's triangles counted before mesh-loader
+/// allocates them, lines ended by a lone `\r` counted too, and an ASCII STL whose length
+/// would fit binary records not read as binary.
+#[test]
+fn checks_around_mesh_loader() {
+    use armsim::collision::mesh::{read_obj_bytes, read_stl, MAX_TRIANGLES};
+    let e = read_obj_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 0 1 2\n").unwrap_err();
+    assert_eq!(
+        e,
+        "OBJ: line 5: index 0 of a vertex is out of range (3 in the file, from 1)"
+    );
+    let e = read_obj_bytes(b"v 0 0 0\nv 1 0 0\nf 1 2 4\n").unwrap_err();
+    assert_eq!(
+        e,
+        "OBJ: line 3: index 4 of a vertex is out of range (2 in the file, from 1)"
+    );
+    // One polygon of MAX_TRIANGLES + 3 corners: MAX_TRIANGLES + 1 triangles.
+    let mut big = b"v 0 0 0\nf".to_vec();
+    big.extend(std::iter::repeat_n(&b" 1"[..], MAX_TRIANGLES + 3).flatten());
+    let e = read_obj_bytes(&big).unwrap_err();
+    assert_eq!(
+        e,
+        format!(
+            "OBJ: the faces make 5000001 triangles, more than the mesh limit of {MAX_TRIANGLES}"
+        )
+    );
+    // Old Mac line ends: the face is read (and was checked).
+    let m = read_obj_bytes(b"v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r").unwrap();
+    assert_eq!((m.vertices.len(), m.triangles.len()), (3, 1));
+    assert_eq!(m.vertices[1], [1.0, 0.0, 0.0]);
+    let e = read_obj_bytes(b"v 0 0 0\rv 1 0 0\rf 1 2 3\r").unwrap_err();
+    assert!(e.starts_with("OBJ: line 1: index 3 of a vertex"), "{e}");
+    // 134 bytes (84 + 50), not a binary STL by its declared count (spaces): ASCII, and
+    // without a facet it is refused with mesh-loader's place, not read as a binary record.
+    let mut t = b"solid x\nhello".to_vec();
+    t.resize(134, b' ');
+    let e = read_stl(&t).unwrap_err();
+    assert_eq!(
+        e,
+        "ASCII STL: line 2, column 1: expected facet normal or endsolid"
+    );
+    // A solid name that is not ASCII: mesh-loader would try the 134 bytes as binary.
+    let mut t = "solid é\n".as_bytes().to_vec();
+    t.resize(134, b' ');
+    let e = read_stl(&t).unwrap_err();
+    assert!(e.starts_with("ASCII STL: unreadable after 'solid'"), "{e}");
 }
