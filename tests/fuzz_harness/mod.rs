@@ -195,7 +195,7 @@ pub fn stl(data: &[u8]) {
     mesh(armsim::collision::mesh::read_stl(data));
 }
 
-/// The `obj_reader` target: Wavefront OBJ bytes (through `tobj`).
+/// The `obj_reader` target: Wavefront OBJ bytes (through `mesh-loader`).
 pub fn obj(data: &[u8]) {
     mesh(armsim::collision::mesh::read_obj_bytes(data));
 }

@@ -11,6 +11,21 @@
 //!   small file placing one large geometry many times would otherwise expand without bound).
 //!
 //! Errors are plain messages naming the element and its line; the caller adds the file.
+//!
+//! Why this reader and not `mesh-loader`'s (which reads STL and OBJ for armsim, issue 27),
+//! as of mesh-loader 0.1.13 (`src/collada/instance.rs`, `iter.rs`):
+//! - placements: it builds one mesh per `<geometry>`, its transform looked up in a map
+//!   keyed by the geometry URL that every `<instance_geometry>` overwrites, so a geometry
+//!   instanced by two nodes comes out once, at the last node's place
+//!   (`tests/mesh_reference.rs`, `a_geometry_instanced_twice_gives_both_copies_in_place`,
+//!   is the case: mesh-loader gives 12 triangles at z ∈ [2.75, 3.25], this reader 24);
+//! - `<unit meter>` is folded into the transform of the visual scene's root only, so a
+//!   geometry no node instances is not scaled;
+//! - hostile input: positions are indexed without a bounds check and accessor sizes are
+//!   `assert!`ed (panics), transforms are f32, and nesting is not pre-scanned (roxmltree
+//!   recurses once per level);
+//! - its geometry parse without placement is not public, so it cannot be used for the
+//!   geometry alone under armsim's placement.
 
 use crate::collision::mesh::{MeshData, MAX_TRIANGLES};
 use crate::core::xml_guard::LineIndex;

@@ -1,14 +1,25 @@
 //! Mesh files for collision geometry, read into one indexed triangle list.
 //!
 //! Formats, chosen by the file extension (case-insensitive):
-//! - **STL**, binary and ASCII. A file is binary when its size is exactly
-//!   `84 + 50 n` bytes with `n` the triangle count stored at byte 80 (so binary files whose
-//!   80-byte header starts with `solid`, as many CAD exports do, are read correctly);
-//!   otherwise it must be ASCII (`solid … facet … vertex x y z … endsolid`, several solids
-//!   allowed). Normals are ignored.
-//! - **OBJ** (Wavefront), through `tobj`: every object and group, polygons triangulated as
-//!   fans; materials are not read.
-//! - **DAE** (COLLADA 1.4/1.5), a subset read with `roxmltree`:
+//! - **STL**, binary and ASCII, parsed by the `mesh-loader` crate. armsim decides which:
+//!   a file is binary when its size is exactly `84 + 50 n` bytes with `n` the triangle
+//!   count stored at byte 80 (so binary files whose 80-byte header starts with `solid`, as
+//!   many CAD exports do, are read correctly); otherwise it must be ASCII text starting
+//!   with `solid` (`solid … facet normal … outer loop … vertex x y z … endloop endfacet …
+//!   endsolid`, several solids allowed). Normals are ignored. mesh-loader's own rule
+//!   differs (it tries ASCII first whenever the text starts with `solid`, and takes a
+//!   binary file's count from its length, ignoring the declared one), so armsim keeps its
+//!   rule and hands mesh-loader only input that its rule has classified (see
+//!   `read_stl_binary` and `read_stl_ascii`).
+//! - **OBJ** (Wavefront), parsed by `mesh-loader`: every group, polygons triangulated as
+//!   fans; points, lines and materials are not read. armsim checks the face indices first
+//!   (naming the line) and counts the triangles they make against [`MAX_TRIANGLES`].
+//! - **DAE** (COLLADA 1.4/1.5): armsim's own reader ([`read_dae`], with `roxmltree`), not
+//!   mesh-loader's: mesh-loader 0.1.13 places each geometry once, with the transform of
+//!   the last node walked that instances it (a geometry placed twice comes out once), it
+//!   scales by `<unit meter>` only through the instanced visual scene's root, and it
+//!   indexes positions unchecked and asserts on accessor sizes (a panic on hostile input);
+//!   its per-geometry parse is not public. The subset read:
 //!   - every `<geometry>/<mesh>` of `<library_geometries>`: `<source>` `<float_array>`s
 //!     (with the `<accessor>` stride), `<vertices>`/`<input semantic="POSITION">`, and the
 //!     primitives `<triangles>`, `<polylist>` (with `<vcount>`, polygons fanned) and
@@ -16,20 +27,30 @@
 //!     (the index stride is the largest `offset` + 1);
 //!   - placement: the nodes of the `<visual_scene>` named by `<scene>` (else the first)
 //!     are walked, composing `<matrix>`, `<translate>`, `<rotate>` and `<scale>` in order,
-//!     and each `<instance_geometry>` is placed with its node's transform; when the scene
-//!     instantiates no geometry, every geometry is taken untransformed;
-//!   - `<asset><unit meter="…">` scales the result;
+//!     and each `<instance_geometry>` is placed with its node's transform (a geometry
+//!     instanced by several nodes is placed once per node); when the scene instantiates no
+//!     geometry, every geometry is taken untransformed;
+//!   - `<asset><unit meter="…">` scales the result (placed or not);
 //!   - not supported: `<lines>`, `<linestrips>`, `<trifans>`, `<tristrips>` (skipped),
 //!     `<instance_node>`, `<library_nodes>`, controllers/skinning, and `<up_axis>`
 //!     (ignored: coordinates are used as written).
 //!
-//! Vertices with identical coordinates are merged, so that closedness (every edge shared
-//! by exactly two triangles) can be tested afterwards.
+//! Precision: mesh-loader reads coordinates as f32 (binary STL stores f32 anyway); an
+//! ASCII STL or OBJ coordinate is the f32 nearest to the decimal written, within 6e-8 of
+//! it relatively (DAE coordinates are f64). `tests/mesh_reference.rs` checks that every
+//! bundled mesh gives the counts, bounding box, volume and closedness of the f64 readers.
+//!
+//! Vertices with identical coordinates are merged (mesh-loader gives three unshared
+//! vertices per face), so that closedness (every edge shared by exactly two triangles)
+//! can be tested afterwards.
 //!
 //! Limits: a file is refused above [`crate::core::files::MAX_MESH_BYTES`] before it is read, and
 //! a mesh of more than [`MAX_TRIANGLES`] triangles (a binary STL's declared count, checked
-//! before anything is allocated from it, or a DAE scene's placed total) is refused; every
-//! coordinate must be finite. Errors name the problem; the caller adds the file.
+//! before anything is allocated from it; an OBJ's faces, counted before mesh-loader
+//! parses them; a DAE scene's placed total) is refused; every coordinate must be finite
+//! (mesh-loader turns an out-of-range decimal into an f32 infinity, refused here). Errors
+//! name the problem, with mesh-loader's line and column where it gives them; the caller
+//! adds the file.
 
 mod dae;
 pub use dae::read_dae;
@@ -170,85 +191,130 @@ pub fn read_stl(bytes: &[u8]) -> Result<MeshData, String> {
                     "binary STL of {n} triangles: more than the mesh limit of {MAX_TRIANGLES}"
                 ));
             }
-            return read_stl_binary(&bytes[84..], n);
+            return read_stl_binary(bytes, n);
         }
     }
-    let text = std::str::from_utf8(bytes).map_err(|_| {
-        "not a binary STL (the size is not 84 + 50 × the triangle count) and not ASCII text"
-            .to_string()
+    if std::str::from_utf8(bytes).is_err() {
+        return Err(
+            "not a binary STL (the size is not 84 + 50 × the triangle count) and not ASCII text"
+                .to_string(),
+        );
+    }
+    read_stl_ascii(bytes)
+}
+
+/// A binary STL of `n` declared triangles (`n` already checked against its length and
+/// [`MAX_TRIANGLES`]), parsed by `mesh-loader`. mesh-loader tries ASCII first when the
+/// header starts with `solid` (as many CAD exports' do) and takes the triangle count from
+/// the length: such a header is blanked in a copy, so that armsim's detection rule decides.
+fn read_stl_binary(bytes: &[u8], n: usize) -> Result<MeshData, String> {
+    let blanked;
+    let bytes = if starts_with_solid(bytes) {
+        let mut b = bytes.to_vec();
+        b[..80].fill(0);
+        blanked = b;
+        &blanked[..]
+    } else {
+        bytes
+    };
+    let scene = mesh_loader::stl::from_slice(bytes).map_err(|e| format!("binary STL: {e}"))?;
+    let got: usize = scene.meshes.iter().map(|m| m.faces.len()).sum();
+    if got != n {
+        return Err(format!(
+            "binary STL: {got} triangles read where {n} are declared"
+        ));
+    }
+    weld(&scene.meshes, MAX_TRIANGLES).map_err(|e| format!("binary STL: {e}"))
+}
+
+/// Whether `bytes` start with `solid` after spaces and line breaks (where `mesh-loader`
+/// takes a file for ASCII STL).
+fn starts_with_solid(bytes: &[u8]) -> bool {
+    let start = bytes
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(bytes.len());
+    bytes[start..].starts_with(b"solid")
+}
+
+/// An ASCII STL (not of binary length), parsed by `mesh-loader` (`solid … facet normal …
+/// outer loop … vertex x y z … endloop endfacet … endsolid`, several solids allowed).
+/// mesh-loader falls back to binary when its ASCII parse fails early and the length would
+/// fit 50-byte records; armsim's rule says this file is not binary, so it is given with
+/// three bytes of whitespace appended when the fallback could apply (no 50-byte fit then).
+fn read_stl_ascii(bytes: &[u8]) -> Result<MeshData, String> {
+    if !starts_with_solid(bytes) {
+        return Err(
+            "not a binary STL (the size is not 84 + 50 × the triangle count) and not an \
+             ASCII STL (it does not start with 'solid')"
+                .to_string(),
+        );
+    }
+    let padded;
+    let fits_binary = bytes.len() >= 84 && (bytes.len() - 84) % 50 <= 2;
+    let bytes = if fits_binary {
+        let mut b = Vec::with_capacity(bytes.len() + 3);
+        b.extend_from_slice(bytes);
+        b.extend_from_slice(b"\n \n");
+        padded = b;
+        &padded[..]
+    } else {
+        bytes
+    };
+    let scene = mesh_loader::stl::from_slice(bytes).map_err(|e| {
+        let e = e.to_string();
+        if e.contains("failed to determine STL storage representation") {
+            "ASCII STL: unreadable after 'solid' (an ASCII name and a line end, then \
+             'facet normal x y z', expected)"
+                .to_string()
+        } else {
+            format!("ASCII STL: {}", located(&e))
+        }
     })?;
-    read_stl_ascii(text)
+    weld(&scene.meshes, MAX_TRIANGLES).map_err(|e| format!("ASCII STL: {e}"))
 }
 
-/// The `n` records of a binary STL body (`n` already checked against its length and
-/// [`MAX_TRIANGLES`]).
-fn read_stl_binary(body: &[u8], n: usize) -> Result<MeshData, String> {
+/// A `mesh-loader` message `MESSAGE (LINE:COLUMN)` as `line LINE, column COLUMN: MESSAGE`
+/// (other messages unchanged).
+fn located(e: &str) -> String {
+    let place = e
+        .strip_suffix(')')
+        .and_then(|s| s.rsplit_once(" ("))
+        .and_then(|(msg, at)| Some((msg, at.split_once(':')?)))
+        .filter(|(_, (l, c))| l.parse::<usize>().is_ok() && c.parse::<usize>().is_ok());
+    match place {
+        Some((msg, (l, c))) => format!("line {l}, column {c}: {msg}"),
+        None => e.to_string(),
+    }
+}
+
+/// Merges `mesh-loader` meshes into one [`MeshData`], welding identical positions
+/// (mesh-loader gives three unshared f32 vertices per face). More than `max` triangles in
+/// all is an error, and so is a face index out of range (not expected from mesh-loader).
+fn weld(meshes: &[mesh_loader::Mesh], max: usize) -> Result<MeshData, String> {
+    let total: usize = meshes.iter().map(|m| m.faces.len()).sum();
+    if total > max {
+        return Err(format!(
+            "{total} triangles: more than the mesh limit of {max}"
+        ));
+    }
     let mut mesh = MeshData::default();
-    let mut index = HashMap::with_capacity(n);
-    let f = |b: &[u8], k: usize| f32::from_le_bytes([b[k], b[k + 1], b[k + 2], b[k + 3]]) as f64;
-    for (k, rec) in body.chunks_exact(50).take(n).enumerate() {
-        // 12 bytes of normal, then three vertices.
-        let v = |j: usize| {
-            let o = 12 + 12 * j;
-            [f(rec, o), f(rec, o + 4), f(rec, o + 8)]
+    let mut index = HashMap::with_capacity(total / 2);
+    let mut k = 0usize;
+    for m in meshes {
+        let p = |i: u32| -> Result<[f64; 3], String> {
+            m.vertices
+                .get(i as usize)
+                .map(|v| v.map(f64::from))
+                .ok_or_else(|| format!("vertex index {i} out of range"))
         };
-        mesh.push_triangle(&mut index, [v(0), v(1), v(2)])
-            .map_err(|e| format!("binary STL: triangle {}: {e}", k + 1))?;
-    }
-    Ok(mesh)
-}
-
-fn read_stl_ascii(text: &str) -> Result<MeshData, String> {
-    let mut tokens = text.split_ascii_whitespace();
-    match tokens.next() {
-        Some(t) if t.eq_ignore_ascii_case("solid") => {}
-        _ => {
-            return Err(
-                "not a binary STL (the size is not 84 + 50 × the triangle count) and not an \
-                 ASCII STL (it does not start with 'solid')"
-                    .to_string(),
-            )
+        for f in &m.faces {
+            k += 1;
+            let tri = (|| Ok::<_, String>([p(f[0])?, p(f[1])?, p(f[2])?]))()
+                .map_err(|e| format!("triangle {k}: {e}"))?;
+            mesh.push_triangle(&mut index, tri)
+                .map_err(|e| format!("triangle {k}: {e}"))?;
         }
-    }
-    let mut mesh = MeshData::default();
-    let mut index = HashMap::new();
-    let mut corners: Vec<[f64; 3]> = Vec::with_capacity(4);
-    let mut nvert = 0usize;
-    while let Some(t) = tokens.next() {
-        if t.eq_ignore_ascii_case("vertex") {
-            let mut p = [0.0; 3];
-            for c in &mut p {
-                let s = tokens
-                    .next()
-                    .ok_or_else(|| format!("ASCII STL: vertex {} is cut short", nvert + 1))?;
-                *c = s.parse::<f64>().map_err(|_| {
-                    format!("ASCII STL: vertex {}: '{s}' is not a number", nvert + 1)
-                })?;
-            }
-            nvert += 1;
-            corners.push(p);
-        } else if t.eq_ignore_ascii_case("endloop") {
-            if corners.len() != 3 {
-                return Err(format!(
-                    "ASCII STL: a facet loop has {} vertices, expected 3",
-                    corners.len()
-                ));
-            }
-            if mesh.triangles.len() >= MAX_TRIANGLES {
-                return Err(format!(
-                    "ASCII STL: more than the mesh limit of {MAX_TRIANGLES} triangles"
-                ));
-            }
-            mesh.push_triangle(&mut index, [corners[0], corners[1], corners[2]])
-                .map_err(|e| format!("ASCII STL: vertex {nvert}: {e}"))?;
-            corners.clear();
-        }
-    }
-    if !corners.is_empty() {
-        return Err("ASCII STL: the last facet loop is not closed ('endloop')".to_string());
-    }
-    if nvert == 0 {
-        return Err("ASCII STL: no 'vertex' found".to_string());
     }
     Ok(mesh)
 }
@@ -259,57 +325,42 @@ fn read_obj(path: &Path) -> Result<MeshData, String> {
     read_obj_bytes(&bytes)
 }
 
-/// Parses Wavefront OBJ bytes (materials are not read).
-// `..Default::default()` fills the fields behind tobj features another crate may enable.
-#[allow(clippy::needless_update)]
+/// Parses Wavefront OBJ bytes with `mesh-loader` (every group; polygons fanned; points,
+/// lines and materials are not read). The faces are checked first by armsim
+/// ([`check_obj_indices`]): indices in range, with the line named, and at most
+/// [`MAX_TRIANGLES`] triangles before mesh-loader allocates them.
 pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
-    // Lossy: tobj reads the lines before the first one that is not UTF-8 (then fails),
-    // and those lines are the same in the lossy text.
-    check_obj_indices(&String::from_utf8_lossy(bytes))?;
-    let mut reader = std::io::Cursor::new(bytes);
-    let opts = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
-    // Materials are not needed: every `mtllib` is answered with "not loaded".
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut reader, &opts, |_| Err(tobj::LoadError::OpenFileFailed))
-            .map_err(|e| format!("OBJ: {e}"))?;
-    let mut mesh = MeshData::default();
-    let mut index = HashMap::new();
-    for m in &models {
-        let pos = &m.mesh.positions;
-        let p = |i: u32| -> Result<[f64; 3], String> {
-            let i = i as usize;
-            pos.get(3 * i..3 * i + 3)
-                .map(|s| [s[0], s[1], s[2]])
-                .ok_or_else(|| format!("OBJ: object '{}': vertex index out of range", m.name))
-        };
-        if mesh.triangles.len() + m.mesh.indices.len() / 3 > MAX_TRIANGLES {
-            return Err(format!(
-                "OBJ: more than the mesh limit of {MAX_TRIANGLES} triangles"
-            ));
-        }
-        for t in m.mesh.indices.chunks_exact(3) {
-            mesh.push_triangle(&mut index, [p(t[0])?, p(t[1])?, p(t[2])?])
-                .map_err(|e| format!("OBJ: object '{}': {e}", m.name))?;
-        }
+    // Lossy: the lines that are UTF-8 keep their text (mesh-loader reads bytes).
+    let tris = check_obj_indices(&String::from_utf8_lossy(bytes))?;
+    if tris > MAX_TRIANGLES {
+        return Err(format!(
+            "OBJ: the faces make {tris} triangles, more than the mesh limit of {MAX_TRIANGLES}"
+        ));
     }
-    Ok(mesh)
+    // Materials are not needed: every `mtllib` is answered with "not loaded" (and with
+    // no path given, mesh-loader asks for none).
+    let scene = mesh_loader::obj::from_slice(bytes, None, |_| {
+        Err::<Vec<u8>, _>(std::io::Error::other("materials are not read"))
+    })
+    .map_err(|e| format!("OBJ: {}", located(&e.to_string())))?;
+    weld(&scene.meshes, MAX_TRIANGLES).map_err(|e| format!("OBJ: {e}"))
 }
 
-/// Checks every face and line index of an OBJ before `tobj` sees it: tobj 4.0.5 turns a
-/// relative index reaching before the first element (`f 1/-11` after one `vt`) into a
-/// huge one and overflows (`vt * 2 + 1`) or indexes out of bounds, a panic. A negative
-/// index must stay within the elements of its kind read so far, a positive one within
-/// those of the whole file.
-fn check_obj_indices(text: &str) -> Result<(), String> {
+/// Checks every face and line index of an OBJ before `mesh-loader` parses it, and counts
+/// the triangles its faces make. mesh-loader bounds-checks indices too, but names the end
+/// of the file as the place; this names the line. A negative (relative) index must stay
+/// within the elements of its kind read so far, a positive one within those of the whole
+/// file, and 0 is no index. Lines are split at `\n` and at a lone `\r` (mesh-loader ends a
+/// line at either), so no face escapes the count.
+fn check_obj_indices(text: &str) -> Result<usize, String> {
     let kinds = ["vertex", "texture coordinate", "normal"];
+    let lines = || {
+        text.split('\n')
+            .enumerate()
+            .flat_map(|(n, l)| l.split('\r').map(move |l| (n + 1, l)))
+    };
     let mut total = [0usize; 3];
-    for l in text.lines() {
+    for (_, l) in lines() {
         match l.split_whitespace().next() {
             Some("v") => total[0] += 1,
             Some("vt") => total[1] += 1,
@@ -318,35 +369,56 @@ fn check_obj_indices(text: &str) -> Result<(), String> {
         }
     }
     let mut seen = [0usize; 3];
-    for (n, l) in text.lines().enumerate() {
+    let mut triangles = 0usize;
+    for (n, l) in lines() {
         let mut words = l.split_whitespace();
         match words.next() {
             Some("v") => seen[0] += 1,
             Some("vt") => seen[1] += 1,
             Some("vn") => seen[2] += 1,
-            Some("f" | "l") => {
+            Some(w @ ("f" | "l")) => {
+                let mut corners = 0usize;
                 for w in words {
-                    for (k, part) in w.split('/').take(3).enumerate() {
-                        let Ok(x) = part.parse::<isize>() else {
-                            continue; // empty (v//vn) or malformed: tobj decides
-                        };
-                        let (bad, limit) = if x < 0 {
-                            (x.unsigned_abs() > seen[k], seen[k])
-                        } else {
-                            (x as usize > total[k], total[k])
-                        };
-                        if bad {
-                            return Err(format!(
-                                "OBJ: line {}: index {x} of a {} is out of range ({limit} {})",
-                                n + 1,
-                                kinds[k],
-                                if x < 0 { "before it" } else { "in the file" }
-                            ));
-                        }
-                    }
+                    corners += 1;
+                    check_obj_corner(w, n, &seen, &total, &kinds)?;
+                }
+                if w == "f" {
+                    triangles += corners.saturating_sub(2);
                 }
             }
             _ => {}
+        }
+    }
+    Ok(triangles)
+}
+
+/// One `v/vt/vn` corner of a face or line on line `n` (see [`check_obj_indices`]).
+fn check_obj_corner(
+    w: &str,
+    n: usize,
+    seen: &[usize; 3],
+    total: &[usize; 3],
+    kinds: &[&str; 3],
+) -> Result<(), String> {
+    for (k, part) in w.split('/').take(3).enumerate() {
+        let Ok(x) = part.parse::<isize>() else {
+            continue; // empty (v//vn) or malformed: mesh-loader decides
+        };
+        let (bad, limit) = if x < 0 {
+            (x.unsigned_abs() > seen[k], seen[k])
+        } else {
+            (x == 0 || x as usize > total[k], total[k])
+        };
+        if bad {
+            return Err(format!(
+                "OBJ: line {n}: index {x} of a {} is out of range ({limit} {})",
+                kinds[k],
+                if x < 0 {
+                    "before it"
+                } else {
+                    "in the file, from 1"
+                }
+            ));
         }
     }
     Ok(())
@@ -378,7 +450,16 @@ mod tests {
     #[test]
     fn ascii_stl_rejects_a_four_vertex_loop() {
         let t = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid\n";
-        assert!(read_stl(t.as_bytes()).unwrap_err().contains("4 vertices"));
+        let e = read_stl(t.as_bytes()).unwrap_err();
+        assert_eq!(e, "ASCII STL: line 7, column 1: expected endloop");
+        let t = "solid x\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n      vertex 1 0 x\n";
+        let e = read_stl(t.as_bytes()).unwrap_err();
+        assert!(e.starts_with("ASCII STL: line 5, column "), "{e}");
+        assert!(e.ends_with(": error while parsing a float"), "{e}");
+        // mesh-loader reads 1e39 as an f32 infinity: refused by armsim's finite check.
+        let t = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1e39 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
+        let e = read_stl(t.as_bytes()).unwrap_err();
+        assert_eq!(e, "ASCII STL: triangle 1: vertex (inf, 0, 0) is not finite");
     }
 
     #[test]
