@@ -16,7 +16,9 @@ use crate::core::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMa
 use crate::core::spatial::Vec3;
 use crate::dynamics::aba::aba_impl;
 use crate::dynamics::crba::crba_impl;
-use crate::dynamics::effects::{gather_wrenches, ExternalWrench, Friction, Payload, Rotor};
+use crate::dynamics::effects::{
+    gather_wrenches, Effects, ExternalWrench, Friction, Payload, Rotor,
+};
 use crate::dynamics::rnea::rnea_impl;
 use crate::dynamics::terms::Terms;
 use crate::kinematics::forward_kinematics;
@@ -220,4 +222,72 @@ fn all_finite(qdd: &[f64]) -> Result<(), SingularMassMatrix> {
         None => Ok(()),
         Some(pivot) => Err(SingularMassMatrix::at(pivot, 0.0)),
     }
+}
+
+/// Forward dynamics with `effects` (rigid joints): `q̈` into `data.qdd`, through the one
+/// dispatcher of [`crate::dynamics::forward_dynamics`] (ABA, or CRBA + Cholesky with mimic joints;
+/// a non-finite `q̈` is an error).
+pub fn forward_dynamics_with<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    effects: &Effects,
+    q: &[f64],
+    qd: &[f64],
+    tau: &[f64],
+) -> Result<&'a [f64], SingularMassMatrix> {
+    data.effects_used = effects.set();
+    let applied = Applied {
+        gravity: effects.gravity.as_ref(),
+        friction: effects.friction.as_ref(),
+        rotor: effects.rotor.as_ref(),
+        payload: effects.payload.as_ref(),
+        external: &effects.external,
+    };
+    forward(model, data, &applied, Method::Auto, q, qd, tau)
+}
+
+/// Flexible-joint forward dynamics (Spong's model, see the module docs). Link
+/// accelerations go to `data.qdd`, motor accelerations to `thetadd`. Friction, when
+/// included, acts on the motor side; `effects.rotor` is ignored here (the motor inertia is
+/// `effects.elasticity.motor_inertia`). Panics if `effects.elasticity` is `None`.
+#[allow(clippy::too_many_arguments)]
+pub fn elastic_forward_dynamics<'a>(
+    model: &Model,
+    data: &'a mut Data,
+    effects: &Effects,
+    q: &[f64],
+    qd: &[f64],
+    theta: &[f64],
+    thetad: &[f64],
+    tau_m: &[f64],
+    thetadd: &mut [f64],
+) -> Result<&'a [f64], SingularMassMatrix> {
+    let el = effects
+        .elasticity
+        .as_ref()
+        .expect("elastic_forward_dynamics needs effects.elasticity");
+    data.effect_runs.elasticity += 1;
+    let mut spring = std::mem::take(&mut data.scratch_spring);
+    for k in 0..model.nv {
+        spring[k] = el.stiffness[k] * (theta[k] - q[k]) + el.damping[k] * (thetad[k] - qd[k]);
+        let fric = effects
+            .friction
+            .as_ref()
+            .map_or(0.0, |f| f.torque(k, thetad[k]));
+        thetadd[k] = (tau_m[k] - spring[k] - fric) / el.motor_inertia[k];
+    }
+    if effects.friction.is_some() {
+        data.effect_runs.friction += 1;
+    }
+    let link_side = Applied {
+        gravity: effects.gravity.as_ref(),
+        friction: None,
+        rotor: None,
+        payload: effects.payload.as_ref(),
+        external: &effects.external,
+    };
+    let r = forward(model, data, &link_side, Method::Auto, q, qd, &spring).map(|_| ());
+    data.effects_used = effects.set();
+    data.scratch_spring = spring;
+    r.map(|()| &data.qdd[..])
 }

@@ -31,12 +31,13 @@ pub use aba::{aba, aba_with_forces};
 pub use crba::crba;
 pub(crate) use crba::crba_impl;
 pub use effects::{
-    elastic_forward_dynamics, forward_dynamics_with, inverse_dynamics, mass_matrix, Effects,
-    Elasticity, ExternalWrench, Friction, Payload, Rotor,
+    inverse_dynamics, mass_matrix, Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor,
 };
 pub(crate) use energy::kinetic_energy_gradient_impl;
 pub use energy::{energies_with, kinetic_energy, kinetic_energy_gradient, potential_energy};
-pub use forward::{forward_dynamics, forward_dynamics_crba};
+pub use forward::{
+    elastic_forward_dynamics, forward_dynamics, forward_dynamics_crba, forward_dynamics_with,
+};
 pub use lagrange_energy::{
     coriolis_matrix, gravity_torque_energy, lagrange_energy, mass_matrix_derivatives,
     mass_matrix_energy,
