@@ -295,11 +295,16 @@ fn mesh_messages_name_the_real_reason() {
         let e = armsim::planning::PlanningRobot::new(&model, None, &opts)
             .err()
             .unwrap();
+        let armsim::planning::plan_error::PlanSetupError::NoGeometry { unusable, .. } = &e else {
+            panic!("{e:?}");
+        };
+        assert_eq!(unusable.len(), 1, "{e}");
+        let msg = e.to_string();
         assert!(
-            e.contains("no collision geometry the planner can use")
-                && e.contains("link 'l1'")
-                && e.contains("fifo.stl is not a regular file"),
-            "{e}"
+            msg.contains("no collision geometry the planner can use")
+                && msg.contains("link 'l1'")
+                && msg.contains("fifo.stl is not a regular file"),
+            "{msg}"
         );
     }
 }

@@ -58,7 +58,8 @@ pub fn plan<'py>(py: Python<'py>, model: &Model, a: PlanArgs<'py>) -> PyResult<B
             stop: Some(stop),
             ..opts
         };
-        let mut planner = Planner::new(model, &obstacles, pairs.as_deref(), opts)?;
+        let mut planner = Planner::new(model, &obstacles, pairs.as_deref(), opts)
+            .map_err(|e| e.to_string())?;
         Ok(planner.plan(&start, &goal))
     })?;
     result_dict(py, model, r.map_err(err)?)

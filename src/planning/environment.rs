@@ -14,6 +14,7 @@
 use crate::collision::Obstacle;
 use crate::model::Shape;
 use crate::planning::lanes::{Mask, P3};
+use crate::planning::plan_error::PlanSetupError;
 use crate::planning::simd::{Simd, W};
 
 /// Shape of an [`EnvObstacle`].
@@ -53,7 +54,7 @@ pub struct Environment {
 
 impl Environment {
     /// Converts obstacles; meshes are refused with the obstacle's name.
-    pub fn new(obstacles: &[Obstacle]) -> Result<Environment, String> {
+    pub fn new(obstacles: &[Obstacle]) -> Result<Environment, PlanSetupError> {
         let mut env = Environment::default();
         for o in obstacles {
             env.push(o)?;
@@ -62,7 +63,7 @@ impl Environment {
     }
 
     /// Adds one obstacle.
-    pub fn push(&mut self, o: &Obstacle) -> Result<(), String> {
+    pub fn push(&mut self, o: &Obstacle) -> Result<(), PlanSetupError> {
         let f = |x: f64| x as f32;
         let (shape, bound) = match &o.shape {
             Shape::Sphere { radius } => (EnvShape::Sphere(f(*radius)), *radius),
@@ -80,11 +81,13 @@ impl Environment {
                 radius + length / 2.0,
             ),
             Shape::Mesh { uri, .. } => {
-                return Err(format!(
-                    "obstacle '{}': mesh obstacles ('{uri}') are not supported by the planner; \
-                     use boxes, spheres, cylinders or capsules",
-                    o.name
-                ))
+                return Err(PlanSetupError::Obstacle {
+                    name: o.name.clone(),
+                    problem: format!(
+                        "mesh obstacles ('{uri}') are not supported by the planner; use boxes, \
+                         spheres, cylinders or capsules"
+                    ),
+                })
             }
         };
         let r = o.pose.rot;

@@ -13,6 +13,7 @@ use crate::collision::Obstacle;
 use crate::model::Model;
 use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
 use crate::planning::environment::Environment;
+use crate::planning::plan_error::PlanSetupError;
 pub use crate::planning::plan_options::PlanOptions;
 use crate::planning::rrt::{Rrt, SearchEnd, SearchLimit};
 use crate::planning::sampler::{bounds, Sampler};
@@ -89,7 +90,7 @@ impl Planner {
         obstacles: &[Obstacle],
         disabled: Option<&[(String, String)]>,
         opts: PlanOptions,
-    ) -> Result<Planner, String> {
+    ) -> Result<Planner, PlanSetupError> {
         let robot = Arc::new(PlanningRobot::new(model, disabled, &opts)?);
         Ok(Planner::in_scene(robot, Environment::new(obstacles)?, opts))
     }
@@ -129,7 +130,7 @@ impl Planner {
 
     /// Sets the scene: the obstacles the next queries plan among (meshes are refused with
     /// the obstacle's name).
-    pub fn set_obstacles(&mut self, obstacles: &[Obstacle]) -> Result<(), String> {
+    pub fn set_obstacles(&mut self, obstacles: &[Obstacle]) -> Result<(), PlanSetupError> {
         let env = Environment::new(obstacles)?;
         self.checker = self.robot.checker(env, self.opts.check);
         self.scratch = self.checker.scratch();
@@ -147,7 +148,7 @@ impl Planner {
         obstacles: &[Obstacle],
         start: &[f64],
         goal: &[f64],
-    ) -> Result<PlanResult, String> {
+    ) -> Result<PlanResult, PlanSetupError> {
         self.set_obstacles(obstacles)?;
         Ok(self.plan(start, goal))
     }

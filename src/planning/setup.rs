@@ -12,6 +12,7 @@ use crate::collision::{CollisionData, CollisionModel, CollisionOptions};
 use crate::model::Model;
 use crate::planning::acm::{self, Acm, AcmOptions, SpherePoser};
 use crate::planning::environment::Environment;
+use crate::planning::plan_error::PlanSetupError;
 use crate::planning::self_pairs;
 use crate::planning::spheres::SphereModel;
 use crate::planning::spherize::Primitive;
@@ -108,7 +109,7 @@ impl PlanningRobot {
         model: &Model,
         disabled: Option<&[(String, String)]>,
         opts: &PlanOptions,
-    ) -> Result<PlanningRobot, String> {
+    ) -> Result<PlanningRobot, PlanSetupError> {
         Self::with_extra_disabled(model, disabled, &[], opts)
     }
 
@@ -119,19 +120,15 @@ impl PlanningRobot {
         disabled: Option<&[(String, String)]>,
         extra: &[(String, String)],
         opts: &PlanOptions,
-    ) -> Result<PlanningRobot, String> {
+    ) -> Result<PlanningRobot, PlanSetupError> {
         let t0 = Instant::now();
         let mut sopts = opts.spheres.clone();
         let spheres = SphereModel::new(model, &sopts);
         if spheres.is_empty() {
-            let mut msg = format!(
-                "model '{}' has no collision geometry the planner can use",
-                model.name
-            );
-            if !spheres.warnings.is_empty() {
-                msg += &format!(": {}", spheres.warnings.join("; "));
-            }
-            return Err(msg);
+            return Err(PlanSetupError::NoGeometry {
+                model: model.name.clone(),
+                unusable: spheres.warnings.clone(),
+            });
         }
         let copts = CollisionOptions {
             package_path: opts.spheres.package_path.clone(),
@@ -154,9 +151,7 @@ impl PlanningRobot {
                     ..Default::default()
                 };
                 let acm = acm::compute_cached(model, &spheres, exact.as_ref(), &aopts, stop)
-                    .ok_or_else(|| {
-                        "interrupted while computing the allowed-collision matrix".to_string()
-                    })?;
+                    .ok_or(PlanSetupError::Interrupted)?;
                 let mut off = acm.disabled_names();
                 off.extend(extra.iter().cloned());
                 let pairs = self_pairs::from_disabled(model, &spheres, &off);

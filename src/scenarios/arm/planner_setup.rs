@@ -142,9 +142,10 @@ impl ScenePlanners {
                      srdf: Option<&[(String, String)]>,
                      opts: &PlanOptions|
          -> Result<Planner, String> {
-            let robot = PlanningRobot::with_extra_disabled(m, srdf, &link_pairs, opts)?;
+            let robot = PlanningRobot::with_extra_disabled(m, srdf, &link_pairs, opts)
+                .map_err(|e| e.to_string())?;
             let mut p = Planner::for_robot(std::sync::Arc::new(robot), opts.clone());
-            p.set_obstacles(&obstacles)?;
+            p.set_obstacles(&obstacles).map_err(|e| e.to_string())?;
             Ok(p)
         };
         let srdf = settings.srdf.as_ref().map(|(_, pairs)| pairs.as_slice());
