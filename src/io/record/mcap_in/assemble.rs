@@ -3,7 +3,7 @@
 //! placed on the nearest frame, effort limits, and the header.
 
 use crate::io::record::from_ros2::stamp_nanos;
-use crate::io::record::mcap_in::Collected;
+use crate::io::record::mcap_in::collected::Collected;
 use crate::io::record::mcap_out::{
     KEY_EFFORT_LIMITS, KEY_EPOCH, KEY_JOINT_NAMES, KEY_NAME, METADATA_NAME, TOPIC_JOINT_STATES,
     TOPIC_ROBOT_DESCRIPTION,

@@ -41,46 +41,20 @@
 
 mod assemble;
 mod chunks;
+mod collected;
 mod cursor;
 mod records;
 use crate::io::record::mcap_in::chunks::{check_uncompressed_chunks, OP_CHUNK};
-use crate::io::record::mcap_in::records::{Channel, SchemaRec};
-use crate::io::record::obstacle_markers::ObstacleMarker;
+use crate::io::record::mcap_in::collected::{Budget, Collected};
 use crate::io::record::record_error::RecordError;
-use crate::io::record::ros2;
-use crate::io::record::{CollisionEvent, PointCloud, Recording, TorqueRow, Transform};
+use crate::io::record::Recording;
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
-use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 /// Smallest limit on one record inside a compressed chunk.
 const MIN_RECORD_LIMIT: usize = 64 << 20;
 /// Largest limit on one record inside a compressed chunk.
 const MAX_RECORD_LIMIT: usize = 1 << 30;
-/// Smallest limits on the messages, their total payload and the joint values filled in for
-/// joints a message lacks (they grow with the file; see [`Budget`]).
-const MIN_MESSAGES: usize = 1 << 20;
-const MIN_PAYLOAD: usize = 64 << 20;
-const MIN_FILLED: usize = 1 << 22;
-
-/// Limits that keep a small, highly compressed file from expanding into gigabytes of
-/// frames: what a legitimate recording of that size can hold, with a wide margin.
-struct Budget {
-    messages: usize,
-    payload: usize,
-    filled: usize,
-}
-
-impl Budget {
-    fn for_file(len: usize) -> Self {
-        Budget {
-            messages: (len / 4).max(MIN_MESSAGES),
-            payload: len.saturating_mul(64).max(MIN_PAYLOAD),
-            filled: len.saturating_mul(4).max(MIN_FILLED),
-        }
-    }
-}
-
 /// Reads an MCAP file into a [`Recording`] (see the module docs).
 pub fn read_mcap(path: &Path) -> Result<Recording, RecordError> {
     let bytes = crate::core::files::read_input(path).map_err(|e| RecordError::io(path, e))?;
@@ -99,29 +73,6 @@ pub fn read_mcap_bytes(bytes: &[u8], file: &Path) -> Result<Recording, RecordErr
                 "internal error: the MCAP decoder panicked",
             ))
         })
-}
-
-/// Everything collected while streaming through the file.
-#[derive(Default)]
-struct Collected {
-    schemas: HashMap<u16, SchemaRec>,
-    channels: HashMap<u16, Channel>,
-    /// Joint states per topic, and the topics in order of first message.
-    joint_states: HashMap<String, Vec<ros2::JointState>>,
-    joint_state_topics: Vec<String>,
-    tf: Vec<(u64, Transform)>,
-    static_tf: Vec<Transform>,
-    /// Child frame → its index in `static_tf` (last wins, in linear time).
-    static_index: HashMap<String, usize>,
-    robot_description: Option<String>,
-    /// Clouds and collision events with their stamps (ns; `t` is set once the epoch is
-    /// known).
-    clouds: Vec<(u64, PointCloud)>,
-    torque_check: Option<Vec<TorqueRow>>,
-    collisions: Vec<(u64, CollisionEvent)>,
-    obstacles: Option<Vec<ObstacleMarker>>,
-    metadata: Option<BTreeMap<String, String>>,
-    budget: Option<Budget>,
 }
 
 fn read_inner(bytes: &[u8], file: &Path) -> Result<Recording, RecordError> {

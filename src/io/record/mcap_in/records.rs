@@ -3,8 +3,8 @@
 //! the message budget is spent here.
 
 use crate::io::record::from_ros2::{cloud_from_msg, from_msg, stamp_nanos, torque_row};
+use crate::io::record::mcap_in::collected::{Channel, ChannelRec, Collected, Kind, SchemaRec};
 use crate::io::record::mcap_in::cursor::Cursor;
-use crate::io::record::mcap_in::Collected;
 use crate::io::record::mcap_out::{
     METADATA_NAME, TOPIC_COLLISIONS, TOPIC_OBSTACLES, TOPIC_ROBOT_DESCRIPTION, TOPIC_TF,
     TOPIC_TF_STATIC, TOPIC_TORQUE_CHECK,
@@ -13,42 +13,6 @@ use crate::io::record::obstacle_markers;
 use crate::io::record::ros2::{self, schema_is, RosMessage};
 use crate::io::record::CollisionEvent;
 use mcap::records::op;
-use std::collections::BTreeMap;
-
-/// What a channel carries, as far as this reader cares.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Kind {
-    JointState,
-    Tf,
-    TfStatic,
-    RobotDescription,
-    Cloud,
-    TorqueCheck,
-    Collisions,
-    Obstacles,
-    Ignored,
-}
-
-#[derive(PartialEq)]
-pub(super) struct SchemaRec {
-    name: String,
-    encoding: String,
-    data: Vec<u8>,
-}
-
-#[derive(PartialEq)]
-struct ChannelRec {
-    schema_id: u16,
-    topic: String,
-    message_encoding: String,
-    metadata: BTreeMap<String, String>,
-}
-
-pub(super) struct Channel {
-    rec: ChannelRec,
-    kind: Kind,
-    count: usize,
-}
 
 fn kind_of(schema: Option<&SchemaRec>, ch: &ChannelRec) -> Kind {
     let Some(s) = schema else {
