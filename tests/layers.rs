@@ -707,3 +707,30 @@ fn the_checker_finds_a_planted_cycle_an_upward_import_and_a_reexport() {
         "let s = \"\"; \nf(' ');"
     );
 }
+
+#[test]
+fn no_two_public_types_share_a_name() {
+    // The ROS 2 message structs keep their ROS names beside the recording's own types.
+    const ROS_NAMES: [&str; 2] = ["Header", "Transform"];
+    let (files, texts) = library();
+    let mut seen: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for f in files.values() {
+        for line in texts[f].lines() {
+            let t = line.trim_start();
+            for kw in ["pub struct ", "pub enum ", "pub trait ", "pub type "] {
+                if let Some(rest) = t.strip_prefix(kw) {
+                    let name: String = rest
+                        .chars()
+                        .take_while(|c| c.is_alphanumeric() || *c == '_')
+                        .collect();
+                    seen.entry(name).or_default().push(f.clone());
+                }
+            }
+        }
+    }
+    seen.retain(|name, v| v.len() > 1 && !ROS_NAMES.contains(&name.as_str()));
+    assert!(seen.is_empty(), "{seen:#?}");
+    for name in ROS_NAMES {
+        assert!(texts["io/record/ros2.rs"].contains(&format!("pub struct {name}")));
+    }
+}
