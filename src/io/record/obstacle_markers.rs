@@ -22,11 +22,11 @@
 use crate::collision::resolve::resolve_uri;
 use crate::collision::Obstacle;
 use crate::core::spatial::{Se3, Vec3};
+use crate::io::record::recording::Transform;
+pub use crate::io::record::recording::{MarkerShape, ObstacleMarker};
 use crate::io::record::ros2;
 use crate::io::record::tf::{to_se3, to_transform};
-use crate::io::record::Transform;
 use crate::model::Shape;
-use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Namespace of the shape markers.
@@ -37,37 +37,6 @@ pub const NS_LABELS: &str = "obstacle_names";
 pub const COLOR: [f32; 4] = [0.62, 0.68, 0.78, 0.85];
 /// Letter height of the name labels (m) and their clearance above the obstacle.
 const LABEL_HEIGHT: f64 = 0.05;
-
-/// The primitive of a marker.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum MarkerShape {
-    /// A box; `scale` = side lengths.
-    Cube,
-    /// An ellipsoid; `scale` = diameters.
-    Sphere,
-    /// A cylinder along local z; `scale` = (diameter x, diameter y, length).
-    Cylinder,
-    /// A mesh file; `scale` per axis.
-    Mesh {
-        /// `file://` URI (or the URI as written when the file was not found).
-        uri: String,
-    },
-}
-
-/// One drawable shape of an obstacle, as a ROS marker describes it.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ObstacleMarker {
-    /// The obstacle's name (shared by the shapes of one obstacle).
-    pub name: String,
-    /// The primitive.
-    pub shape: MarkerShape,
-    /// Its size (see [`MarkerShape`]).
-    pub scale: [f64; 3],
-    /// Pose of the shape's centre: `parent` is the frame, `child` the name.
-    pub pose: Transform,
-    /// RGBA in `[0, 1]`.
-    pub color: [f32; 4],
-}
 
 /// The markers of `obstacles`, whose poses are in a frame placed at `frame_pose` in
 /// `frame` (e.g. the robot base in `world`); mesh URIs are resolved against `mesh_dir`.
