@@ -52,16 +52,22 @@ impl<'a> Source<'a> {
         line_at(self.text, span.start)
     }
 
-    /// Line of `key =` inside `span` (falling back to the span's first line).
+    /// Line of `key =` inside `span`, also inside an inline table (`{ key =`, `, key =`);
+    /// the span's first line when the key is not written there.
     pub fn key_line(&self, span: &Range<usize>, key: &str) -> usize {
         let start = self.line(span);
         let end = line_at(self.text, span.end);
+        let (inline_first, inline_next) = (format!("{{ {key} ="), format!(", {key} ="));
         self.text
             .lines()
             .enumerate()
             .skip(start - 1)
             .take(end + 1 - start)
-            .find(|(_, l)| assigns(l, key))
+            .find(|(_, l)| {
+                assigns(l.trim_start().trim_start_matches('{'), key)
+                    || l.contains(&inline_first)
+                    || l.contains(&inline_next)
+            })
             .map(|(i, _)| i + 1)
             .unwrap_or(start)
     }
@@ -302,7 +308,7 @@ impl<'a> Source<'a> {
     }
 
     /// An error at the line where `field` is assigned inside the table `span` (or at the
-    /// table's start when the field is not written there).
+    /// table's start when the field is not written there; see [`Source::key_line`]).
     pub fn field(
         &self,
         span: Range<usize>,
@@ -310,25 +316,7 @@ impl<'a> Source<'a> {
         key: impl Into<String>,
         msg: impl Into<String>,
     ) -> LocatedError {
-        let start = span.start.min(self.text.len());
-        let end = span.end.min(self.text.len()).max(start);
-        let body = &self.text[start..end];
-        let mut off = 0;
-        let mut at = start;
-        for l in body.split_inclusive('\n') {
-            let t = l.trim_start().trim_start_matches('{').trim_start();
-            let hit = t
-                .strip_prefix(field)
-                .is_some_and(|r| r.trim_start().starts_with('='))
-                || l.contains(&format!(", {field} ="))
-                || l.contains(&format!("{{ {field} ="));
-            if hit {
-                at = start + off;
-                break;
-            }
-            off += l.len();
-        }
-        LocatedError::new(self.file, Some(line_at(self.text, at)), key, msg)
+        self.err(self.key_line(&span, field), key, msg)
     }
 
     /// An error at the line of a top-level `key = …` (or no line).
@@ -366,6 +354,16 @@ mod tests {
         assert_eq!(cx.key_line(&(b..t.len()), "z"), 3);
         assert_eq!(line_of_key(t, "y"), Some(4));
         assert_eq!(cx.section("b", "m").line, Some(3));
+        // Inside inline tables, and the same line through `field`.
+        let t = "p = [\n  { a = 1, b = 2 },\n  { b = 3,\n    a = 4 },\n]\n[[q]]\n";
+        let cx = Source::new("f.toml", t);
+        let second = t.find("{ b = 3").unwrap()..t.find("]\n[[").unwrap();
+        assert_eq!(cx.key_line(&(0..t.len()), "b"), 2);
+        assert_eq!(cx.key_line(&second, "a"), 4);
+        assert_eq!(cx.field(second.clone(), "b", "p[1].b", "m").line, Some(3));
+        assert_eq!(cx.field(second, "c", "p[1].c", "m").line, Some(3));
+        assert_eq!(cx.section("q", "m").line, Some(6));
+        assert_eq!(cx.section("r", "m").line, None);
     }
 
     #[test]
