@@ -346,6 +346,15 @@ fn checks_around_mesh_loader() {
             "OBJ: the faces make 5000001 triangles, more than the mesh limit of {MAX_TRIANGLES}"
         )
     );
+    // A UTF-8 byte-order mark is skipped; UTF-16 is refused (the pre-scan reads UTF-8).
+    let m = read_obj_bytes(b"\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    assert_eq!((m.vertices.len(), m.triangles.len()), (3, 1));
+    let utf16: Vec<u8> = "\u{feff}v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+        .encode_utf16()
+        .flat_map(u16::to_le_bytes)
+        .collect();
+    let e = read_obj_bytes(&utf16).unwrap_err();
+    assert_eq!(e, "OBJ: UTF-16 text is not read (save the file as UTF-8)");
     // Old Mac line ends: the face is read (and was checked).
     let m = read_obj_bytes(b"v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r").unwrap();
     assert_eq!((m.vertices.len(), m.triangles.len()), (3, 1));

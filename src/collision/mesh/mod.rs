@@ -330,8 +330,15 @@ fn read_obj(path: &Path) -> Result<MeshData, String> {
 /// ([`check_obj_indices`]): indices in range, with the line named, and at most
 /// [`MAX_TRIANGLES`] triangles before mesh-loader allocates them.
 pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
-    // Lossy: the lines that are UTF-8 keep their text (mesh-loader reads bytes).
-    let tris = check_obj_indices(&String::from_utf8_lossy(bytes))?;
+    // mesh-loader decodes UTF-16 (with a byte-order mark) before parsing, which the
+    // pre-scan would not see through: refused, as tobj did.
+    if bytes.starts_with(&[0xFE, 0xFF]) || bytes.starts_with(&[0xFF, 0xFE]) {
+        return Err("OBJ: UTF-16 text is not read (save the file as UTF-8)".to_string());
+    }
+    // Lossy: the lines that are UTF-8 keep their text (mesh-loader reads bytes); a UTF-8
+    // byte-order mark is skipped, as mesh-loader does.
+    let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let tris = check_obj_indices(&String::from_utf8_lossy(text))?;
     if tris > MAX_TRIANGLES {
         return Err(format!(
             "OBJ: the faces make {tris} triangles, more than the mesh limit of {MAX_TRIANGLES}"
