@@ -3,94 +3,29 @@
 //! with each effect switched on alone, then all together. A left-out effect costs nothing.
 //! Run: `cargo bench --bench effects`.
 
-use armsim::core::spatial::{Inertia, Mat3, Vec3};
-use armsim::dynamics::{self, Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor};
+use armsim::core::spatial::Vec3;
+use armsim::dynamics::{self, Effects, Elasticity};
 use armsim::model::data::Data;
 use armsim::model::Model;
+use armsim::studies::tradeoffs::effects_study;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 
+/// The trade-offs report's effect sets (bare, each effect alone), without the elastic ones
+/// (their forward dynamics carries motor states: timed apart below), plus every rigid
+/// effect at once.
 fn effect_sets(m: &Model) -> Vec<(&'static str, Effects)> {
-    let n = m.nv;
-    let tool = m
-        .links
-        .iter()
-        .position(|l| l.body == m.nbodies() - 1)
-        .unwrap();
-    let g = Some(Vec3::new(0.0, 0.0, -9.81));
-    let friction = Friction {
-        viscous: vec![0.5; n],
-        coulomb: vec![1.0; n],
-        stiction: vec![1.5; n],
-        stribeck_velocity: vec![0.1; n],
-        smoothing: 1e-3,
-    };
-    let rotor = Rotor {
-        inertia: vec![1e-4; n],
-        gear_ratio: vec![100.0; n],
-        efficiency: vec![0.9; n],
-    };
-    let payload = Payload::new(
-        m,
-        tool,
-        Inertia::new(3.0, Vec3::new(0.0, 0.0, 0.08), Mat3::identity() * 5e-3),
-    )
-    .unwrap();
-    let wrench = vec![ExternalWrench {
-        link: tool,
-        force: Vec3::new(0.0, 0.0, -20.0),
-        moment: Vec3::zeros(),
-    }];
-    let bare = Effects::default();
-    vec![
-        ("bare", bare.clone()),
-        (
-            "gravity",
-            Effects {
-                gravity: g,
-                ..bare.clone()
-            },
-        ),
-        (
-            "friction",
-            Effects {
-                friction: Some(friction.clone()),
-                ..bare.clone()
-            },
-        ),
-        (
-            "rotor",
-            Effects {
-                rotor: Some(rotor.clone()),
-                ..bare.clone()
-            },
-        ),
-        (
-            "payload",
-            Effects {
-                payload: Some(payload.clone()),
-                ..bare.clone()
-            },
-        ),
-        (
-            "external",
-            Effects {
-                external: wrench.clone(),
-                ..bare.clone()
-            },
-        ),
-        (
-            "all_rigid",
-            Effects {
-                gravity: g,
-                friction: Some(friction),
-                rotor: Some(rotor),
-                elasticity: None,
-                payload: Some(payload),
-                external: wrench,
-            },
-        ),
-    ]
+    let sets = effects_study::effect_sets(m).unwrap();
+    let mut rigid: Vec<(&'static str, Effects)> = sets
+        .into_iter()
+        .map(|(name, _, e)| (name, e))
+        .filter(|(name, _)| *name != "elasticity")
+        .collect();
+    for (name, e) in rigid.iter_mut().filter(|(name, _)| *name == "all") {
+        *name = "all_rigid";
+        e.elasticity = None;
+    }
+    rigid
 }
 
 fn effects_benches(c: &mut Criterion) {

@@ -1,26 +1,9 @@
 //! The CLI's JSON contracts (other tools script against them), its text output, and its
 //! behaviour on bad or extreme input: non-zero exit with a message, never a panic.
 
-use serde_json::Value;
-use std::process::{Command, Output};
-
-fn armsim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_armsim"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args(args)
-        .output()
-        .expect("run armsim")
-}
-
-fn json(args: &[&str]) -> Value {
-    let o = armsim(args);
-    assert!(
-        o.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{args:?}: not JSON: {e}"))
-}
+mod common;
+use common::{armsim, cli_json as json};
+use std::process::Command;
 
 fn fails_with(args: &[&str], needle: &str) {
     let o = armsim(args);
@@ -82,30 +65,28 @@ fn info_json_lists_joints_in_coordinate_order_with_limits_and_mimic() {
     );
 }
 
+/// A frame of `armsim fk --json`: its `translation` and its row-major `rotation`.
+fn frame_pose(frame: &serde_json::Value) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let numbers = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let rows = frame["rotation"].as_array().unwrap();
+    (
+        numbers(&frame["translation"]),
+        rows.iter().map(numbers).collect(),
+    )
+}
+
 #[test]
 fn fk_json_gives_world_translation_and_row_major_rotation() {
     let v = json(&["fk", "robots/ur5.urdf", "--q", UR5_Q, "--json"]);
     assert_eq!(v["joints"].as_array().unwrap().len(), 6);
     assert_eq!(v["joints"][0], "shoulder_pan_joint");
-    let tool = &v["frames"]["tool0"];
-    let t: Vec<f64> = tool["translation"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
-    let r: Vec<Vec<f64>> = tool["rotation"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|row| {
-            row.as_array()
-                .unwrap()
-                .iter()
-                .map(|x| x.as_f64().unwrap())
-                .collect()
-        })
-        .collect();
+    let (t, r) = frame_pose(&v["frames"]["tool0"]);
     // Against the library.
     let (m, _) =
         armsim::model::Model::load(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/ur5.urdf"))
@@ -386,25 +367,7 @@ fn a_closed_output_pipe_is_not_a_panic() {
 fn ur5_tool_target() -> String {
     // A reachable UR5 target: FK of a known configuration.
     let fk = json(&["fk", "robots/ur5.urdf", "--q", UR5_Q, "--json"]);
-    let t = &fk["frames"]["tool0"];
-    let p: Vec<f64> = t["translation"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
-    let r: Vec<Vec<f64>> = t["rotation"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|row| {
-            row.as_array()
-                .unwrap()
-                .iter()
-                .map(|x| x.as_f64().unwrap())
-                .collect()
-        })
-        .collect();
+    let (p, r) = frame_pose(&fk["frames"]["tool0"]);
     let m = nalgebra::Matrix3::from_fn(|i, j| r[i][j]);
     let q = nalgebra::UnitQuaternion::from_matrix(&m);
     format!("{},{},{},{},{},{},{}", p[0], p[1], p[2], q.w, q.i, q.j, q.k)

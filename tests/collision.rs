@@ -4,6 +4,10 @@
 //! against the primitive box they describe, missing meshes, and the allocation-free hot
 //! loop.
 
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocs;
+
 use armsim::collision::{
     Body, CollisionData, CollisionError, CollisionModel, CollisionOptions, MissingMeshes, Obstacle,
     ObstacleSpec, Scope, ShapeKind, TrajectoryOptions,
@@ -11,36 +15,7 @@ use armsim::collision::{
 use armsim::core::spatial::{Se3, Vec3};
 use armsim::model::{Geometry, JointSpec, JointType, LinkSpec, Model, ModelSpec, Shape};
 use rand::{Rng, SeedableRng};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::path::PathBuf;
-
-// ---------------------------------------------------------------------------------------
-// Per-thread allocation counter (tests run on parallel threads).
-
-struct Counting;
-thread_local! {
-    static ALLOCS: Cell<usize> = const { Cell::new(0) };
-}
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(p, l, n) }
-    }
-}
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocs() -> usize {
-    ALLOCS.with(|c| c.get())
-}
 
 // ---------------------------------------------------------------------------------------
 // Helpers and closed-form references.

@@ -3,7 +3,12 @@
 //! iteration, perturbation estimates, time integration, the rigid-body engine (CRBA,
 //! ABA, the flexible-joint model), finite differences, Monte Carlo.
 
-use armsim::core::spatial::{Inertia, Mat3, Se3, Vec3};
+mod common;
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocs;
+
+use armsim::core::spatial::Vec3;
 use armsim::dynamics::{self, Effects, Elasticity};
 use armsim::machines::vibration::torsional::absorber::{
     lanchester_damper, lanchester_optimum_damping, tuned_absorber_inertia,
@@ -25,39 +30,9 @@ use armsim::machines::vibration::torsional::time::{
 };
 use armsim::machines::vibration::torsional::{GearStage, GearedChain, TorsionalChain};
 use armsim::model::data::Data;
-use armsim::model::{JointSpec, JointType, LinkSpec, Model, ModelSpec};
 use nalgebra::{Complex, DMatrix};
 use rand::{rngs::SmallRng, Rng, SeedableRng};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::path::PathBuf;
-
-// ---------------------------------------------------------------------------------------
-// Allocation counter (per thread, so parallel tests do not disturb each other).
-
-struct Counting;
-thread_local! {
-    static ALLOCS: Cell<usize> = const { Cell::new(0) };
-}
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(p, l, n) }
-    }
-}
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocs() -> usize {
-    ALLOCS.with(|c| c.get())
-}
 
 // ---------------------------------------------------------------------------------------
 // Data.
@@ -975,35 +950,12 @@ fn crba_of_the_chain_model_is_diag_j_in_absolute_angles() {
     }
 }
 
-fn single_joint(jl: f64) -> Model {
-    let base = LinkSpec::new("base");
-    let mut arm = LinkSpec::new("arm");
-    arm.inertial = Inertia::new(
-        1.0,
-        Vec3::zeros(),
-        Mat3::from_diagonal(&Vec3::new(jl, jl, jl)),
-    );
-    let j = JointSpec::new("joint", JointType::Continuous, "base", "arm");
-    Model::build(ModelSpec {
-        name: "one".into(),
-        source: "<test>".into(),
-        root_offset: Se3::identity(),
-        links: vec![base, arm],
-        joints: vec![j],
-        urdf_text: None,
-        gravity: None,
-        warnings: Vec::new(),
-    })
-    .unwrap()
-    .0
-}
-
 #[test]
 fn flexible_joint_and_two_mass_chain_agree() {
     // Spong's flexible joint (motor inertia J_m, spring k, damper d, link inertia J_l)
     // is the two-mass chain (J_m, J_l; c = k, b = d), motor first.
     let (jm, jl, k, d) = (0.2, 0.8, 400.0, 0.6);
-    let m = single_joint(jl);
+    let m = common::single_joint(jl);
     let e = Effects {
         elasticity: Some(Elasticity {
             stiffness: vec![k],

@@ -6,11 +6,11 @@
 
 mod common;
 
-use armsim::core::spatial::{Inertia, Mat3, Se3, Vec3};
+use armsim::core::spatial::{Inertia, Mat3, Vec3};
 use armsim::dynamics::{self, Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor};
 use armsim::kinematics::{self, Expressed};
 use armsim::model::data::Data;
-use armsim::model::{JointSpec, JointType, LinkSpec, Model, ModelSpec};
+use armsim::model::Model;
 use nalgebra::DMatrix;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
@@ -255,36 +255,10 @@ fn forward_dynamics_inverts_inverse_dynamics_with_every_effect() {
     }
 }
 
-/// One revolute joint about z carrying a body of inertia `jl` about the axis.
-fn single_joint(jl: f64) -> Model {
-    let mut base = LinkSpec::new("base");
-    base.line = None;
-    let mut arm = LinkSpec::new("arm");
-    arm.inertial = Inertia::new(
-        1.0,
-        Vec3::zeros(),
-        Mat3::from_diagonal(&Vec3::new(jl, jl, jl)),
-    );
-    let mut j = JointSpec::new("joint", JointType::Continuous, "base", "arm");
-    j.origin = Se3::identity();
-    Model::build(ModelSpec {
-        name: "one".into(),
-        source: "<test>".into(),
-        root_offset: Se3::identity(),
-        links: vec![base, arm],
-        joints: vec![j],
-        urdf_text: None,
-        gravity: None,
-        warnings: Vec::new(),
-    })
-    .unwrap()
-    .0
-}
-
 #[test]
 fn flexible_joint_oscillates_at_the_two_mass_frequency() {
     let (jl, jm, k) = (0.8, 0.2, 400.0);
-    let m = single_joint(jl);
+    let m = common::single_joint(jl);
     let e = Effects {
         elasticity: Some(Elasticity {
             stiffness: vec![k],

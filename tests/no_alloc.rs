@@ -4,6 +4,10 @@
 //! collision checks allocate nothing, and a planning query allocates the same few buffers
 //! whatever its number of iterations.
 
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocs;
+
 mod common;
 mod plan_common;
 
@@ -16,41 +20,6 @@ use armsim::planning::checker::EdgeMode;
 use armsim::planning::rrt::RrtOptions;
 use armsim::planning::{PlanOptions, PlanStatus, Planner};
 use nalgebra::DMatrix;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
-struct Counting;
-thread_local! {
-    /// Allocations made by this thread (the test harness's own threads allocate while a
-    /// test measures: printing results, starting the next test).
-    static MINE: Cell<usize> = const { Cell::new(0) };
-}
-
-fn count() {
-    let _ = MINE.try_with(|c| c.set(c.get() + 1));
-}
-
-/// Allocations made so far by the calling thread.
-fn allocs() -> usize {
-    MINE.with(|c| c.get())
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(p, l, n) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
 
 /// The counter is global: the tests of this file run one at a time.
 static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());

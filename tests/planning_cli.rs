@@ -7,30 +7,13 @@ mod plan_common;
 
 use armsim::planning::moveit;
 use plan_common::{bench, Robot};
+mod common;
+use common::{armsim, cli_json as json};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 const PANDA: &str = "robots/spherized/panda_spherized.urdf";
 const PANDA_SRDF: &str = "robots/spherized/panda.srdf";
-
-fn armsim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_armsim"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args(args)
-        .output()
-        .expect("run armsim")
-}
-
-fn json(args: &[&str]) -> Value {
-    let o = armsim(args);
-    assert!(
-        o.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{args:?}: not JSON: {e}"))
-}
 
 fn fails_with(args: &[&str], needle: &str) -> String {
     let o = armsim(args);

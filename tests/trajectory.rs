@@ -3,6 +3,10 @@
 //! quaternion slerp, analytic time-optimal motions, RNEA plus hand-written friction and
 //! rotor terms, and analytic violation times.
 
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocs;
+
 mod common;
 
 use armsim::core::spatial::{Se3, Vec3};
@@ -17,36 +21,6 @@ use armsim::motion::{
     Quintic, TimeScaled, ToppOptions, TorqueCheckOptions, Trajectory, TrajectoryError, Trapezoidal,
 };
 use nalgebra::{DMatrix, DVector, Rotation3, UnitQuaternion};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
-/// Counts the allocations of the current thread (tests run in parallel).
-struct Counting;
-
-thread_local! {
-    static ALLOCS: Cell<usize> = const { Cell::new(0) };
-}
-
-fn allocs() -> usize {
-    ALLOCS.with(|c| c.get())
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(p, l, n) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
 
 /// Peaks of `|q̇_j|` and `|q̈_j|` on a uniform grid of `k + 1` samples.
 fn peaks(traj: &dyn Trajectory, k: usize) -> (Vec<f64>, Vec<f64>) {
@@ -557,40 +531,6 @@ fn topp_on_a_line_matches_bang_coast_bang() {
     // The synchronised trapezoid on the same segment is that same optimum.
     let tr = Trapezoidal::new(&[q0, q1], &lim).unwrap();
     assert!((tr.duration() - want).abs() < 1e-12);
-}
-
-/// A pure-inertia torque limit: the planar arm without gravity turning joint 1 only, with
-/// joint 2 held at 0.7 rad. Then `τ₁ = M₁₁(q₂) q̈₁` exactly (no velocity products act on
-/// joint 1 while `q̇₂ = 0`), and the time-optimal motion is bang–bang at `τ₁ = ±τ_max`:
-/// `T = 2 √(D M₁₁ / τ_max)`, with `M₁₁` from the closed form in `robots/planar_2r.toml`.
-#[test]
-fn topp_torque_limited_inertia_matches_bang_bang() {
-    let m = planar();
-    let q2 = 0.7f64;
-    let dist = 1.5;
-    let (l, m1, m2) = (0.5f64, 2.0, 1.0);
-    let m11 = m1 * l * l / 3.0 + m2 * l * l * (4.0 / 3.0 + q2.cos());
-    let tau_max = 2.0;
-    let lim = JointLimits {
-        velocity: vec![100.0, 100.0],
-        acceleration: vec![1000.0, 1000.0],
-        effort: vec![tau_max, f64::INFINITY],
-        jerk: None,
-    };
-    let path = LinearPath::new(vec![0.0, q2], vec![dist, q2]).unwrap();
-    let tp = topp(&m, path, &lim, &Effects::default(), &ToppOptions::default()).unwrap();
-    let want = 2.0 * (dist * m11 / tau_max).sqrt();
-    let got = tp.duration();
-    println!(
-        "torque-limited: {got:.6} s, bang-bang {want:.6} s, {:?}",
-        tp.stats()
-    );
-    assert!(
-        got >= want * (1.0 - 1e-6) && got <= want * (1.0 + 2e-3),
-        "{got} vs {want}"
-    );
-    let r = verify(&m, &tp, &lim, None, 20_000);
-    assert!(r[2] <= 1.0 + 1e-6 && r[2] > 0.999, "{r:?}");
 }
 
 /// The trapezoidal motion slowed down uniformly (the smallest factor, by bisection on the

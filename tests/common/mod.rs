@@ -13,20 +13,31 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// Runs the `armsim` binary with `args` from the crate root.
+pub fn armsim(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_armsim"))
+        .current_dir(root())
+        .args(args)
+        .output()
+        .expect("run armsim")
+}
+
+/// `armsim ARGS` from the crate root, its standard output parsed as JSON; fails the test
+/// on a non-zero exit (with the program's standard error) or output that is not JSON.
+pub fn cli_json(args: &[&str]) -> serde_json::Value {
+    let o = armsim(args);
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{args:?}: not JSON: {e}"))
+}
+
 /// `armsim run REL --json` from the crate root, parsed; fails the test on a non-zero exit
 /// with the program's standard error.
 pub fn run_json(rel: &str) -> serde_json::Value {
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_armsim"))
-        .current_dir(root())
-        .args(["run", rel, "--json"])
-        .output()
-        .expect("run armsim");
-    assert!(
-        o.status.success(),
-        "{rel}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    serde_json::from_slice(&o.stdout).expect("JSON")
+    cli_json(&["run", rel, "--json"])
 }
 
 /// What [`armsim::scenarios::check`] (parsing and validation, no run) must say of a broken
@@ -158,4 +169,51 @@ pub fn test_models(chain_len: usize) -> Vec<(String, Model)> {
             .0,
     ));
     v
+}
+
+/// One continuous joint about z carrying a 1 kg body whose inertia about every axis
+/// through its centre (on the axis) is `jl`: `M = jl`.
+pub fn single_joint(jl: f64) -> Model {
+    use armsim::core::spatial::Inertia;
+    use armsim::model::{JointSpec, JointType, LinkSpec, ModelSpec};
+    let base = LinkSpec::new("base");
+    let mut arm = LinkSpec::new("arm");
+    arm.inertial = Inertia::new(
+        1.0,
+        Vec3::zeros(),
+        Mat3::from_diagonal(&Vec3::new(jl, jl, jl)),
+    );
+    let j = JointSpec::new("joint", JointType::Continuous, "base", "arm");
+    Model::build(ModelSpec {
+        name: "one".into(),
+        source: "<test>".into(),
+        root_offset: Se3::identity(),
+        links: vec![base, arm],
+        joints: vec![j],
+        urdf_text: None,
+        gravity: None,
+        warnings: Vec::new(),
+    })
+    .unwrap()
+    .0
+}
+
+/// The textbook closed form of `robots/planar_2r.toml` (two uniform 0.5 m links of 2 kg
+/// and 1 kg, gravity 9.81 along −z, docs/reference_data.md §S1): the mass matrix
+/// `[m11, m12, m22]` and the inverse dynamics `τ = M q̈ + h(q, q̇) + g(q)`.
+pub fn planar_2r_closed_form(q: &[f64], qd: &[f64], qdd: &[f64]) -> ([f64; 3], [f64; 2]) {
+    let (l, m1, m2, g) = (0.5f64, 2.0f64, 1.0f64, 9.81f64);
+    let (c2, s2) = (q[1].cos(), q[1].sin());
+    let m11 = m1 * l * l / 3.0 + m2 * l * l * (4.0 / 3.0 + c2);
+    let m12 = m2 * l * l * (1.0 / 3.0 + c2 / 2.0);
+    let m22 = m2 * l * l / 3.0;
+    let h1 = -m2 * l * l * s2 * (qd[0] * qd[1] + qd[1] * qd[1] / 2.0);
+    let h2 = m2 * l * l * s2 * qd[0] * qd[0] / 2.0;
+    let g1 = (m1 / 2.0 + m2) * g * l * q[0].cos() + m2 / 2.0 * g * l * (q[0] + q[1]).cos();
+    let g2 = m2 / 2.0 * g * l * (q[0] + q[1]).cos();
+    let tau = [
+        m11 * qdd[0] + m12 * qdd[1] + h1 + g1,
+        m12 * qdd[0] + m22 * qdd[1] + h2 + g2,
+    ];
+    ([m11, m12, m22], tau)
 }
