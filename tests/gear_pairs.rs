@@ -375,6 +375,28 @@ fn root_circle_inside_base_circle_up_to_41_teeth() {
     close(2.0 / (1.0 - 20f64.to_radians().cos()), 33.2, 0.05, "220");
 }
 
+/// An internal gear's tooth is the space of the external involute gear with the same
+/// teeth: at its tip radius `ra` (inside the pitch circle) its thickness is the circular
+/// pitch at `ra`, `2π ra/z`, less the external tooth's thickness there; by hand for the
+/// bundled 40-tooth internal gear of problem 200 (m = 10, ra = 190): 9.668 mm.
+#[test]
+fn internal_tooth_at_the_tip_is_the_external_space() {
+    let g = pair(&PairSpec {
+        kind: PairKind::Internal,
+        teeth: [20, 40],
+        ..spur([20, 40], [0.0, 0.0])
+    });
+    let ring = &g.gears[1];
+    assert!(ring.internal && ring.ra < ring.r, "{ring:?}");
+    let z = ring.teeth as f64;
+    let space = 2.0 * PI * ring.ra / z - thickness_at(PI * 10.0 - ring.s, ring.r, ring.rb, ring.ra);
+    close(ring.s_tip, space, 1e-12, "s_a (internal) = external space");
+    let aa = (ring.rb / ring.ra).acos();
+    let by_hand = 2.0 * 190.0 * (PI * 10.0 / 2.0 / 400.0 - inv(20f64.to_radians()) + inv(aa));
+    close(ring.s_tip, by_hand, 1e-12, "s_a by hand");
+    close(ring.s_tip, 9.6685, 5e-4, "s_a rounded");
+}
+
 #[test]
 fn internal_interference_root_is_exact() {
     // At the exact smallest pinion O2N1 = ra2 (continuous tooth count, m = 1).

@@ -114,7 +114,7 @@ fn num(x: f64) -> Value {
 
 /// One tooth (left flank reversed, then the right flank) from `max(r_f, r_b)` to `r_a`.
 fn tooth_profile(g: &GearGeometry, n: usize) -> Vec<[f64; 2]> {
-    if g.ra <= g.rb || !g.s_tip.is_finite() {
+    if g.internal || g.ra <= g.rb || !g.s_tip.is_finite() {
         return Vec::new();
     }
     let right = flank_points(g.s, g.r, g.rb, g.rf, g.ra, n);
@@ -190,7 +190,7 @@ fn planar_json(c: &PairCase, spec: &PairSpec, g: &PairGeometry, text: &mut Strin
     for (k, gg) in g.gears.iter().enumerate() {
         let _ = writeln!(
             text,
-            "  gear {}: z = {}, r = {:.4}, rb = {:.4}, ra = {:.4}, rf = {:.4}, s = {:.4}, s_a = {:.4}, x_min = {:.4}{}{}",
+            "  gear {}: z = {}, r = {:.4}, rb = {:.4}, ra = {:.4}, rf = {:.4}, s = {:.4}, s_a = {}, x_min = {:.4}{}{}",
             k + 1,
             gg.teeth,
             gg.r,
@@ -198,7 +198,7 @@ fn planar_json(c: &PairCase, spec: &PairSpec, g: &PairGeometry, text: &mut Strin
             gg.ra,
             gg.rf,
             gg.s,
-            gg.s_tip,
+            if gg.s_tip.is_finite() { format!("{:.4}", gg.s_tip) } else { "– (tip inside the base circle)".into() },
             gg.x_min,
             if gg.undercut { ", UNDERCUT" } else { "" },
             if gg.s_tip.is_finite() && gg.s_tip < 0.4 * spec.module { ", tip thinner than 0.4 m" } else { "" }

@@ -35,6 +35,15 @@ pub fn thickness_at(s: f64, r: f64, rb: f64, ry: f64) -> f64 {
     2.0 * ry * (s / (2.0 * r) + inv(alpha) - inv(ay))
 }
 
+/// Thickness (arc) at radius `ry ≥ rb` of an internal gear's tooth whose thickness at the
+/// pitch radius `r` is `s`: the tooth is the space of an external involute, so it thins
+/// towards the centre, `s_y = 2 r_y (s/(2r) − inv α + inv α_y)`.
+pub fn internal_thickness_at(s: f64, r: f64, rb: f64, ry: f64) -> f64 {
+    let alpha = (rb / r).acos();
+    let ay = (rb / ry).clamp(-1.0, 1.0).acos();
+    2.0 * ry * (s / (2.0 * r) - inv(alpha) + inv(ay))
+}
+
 /// The root of `f` in `[lo, hi]` by bisection (`f(lo)`, `f(hi)` of opposite signs).
 pub fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> Option<f64> {
     let (mut flo, fhi) = (f(lo), f(hi));

@@ -4,7 +4,9 @@
 //! rack. Helical gears are computed in the transverse plane (`m_t = m_n / cos β`,
 //! `tan α_t = tan α_n / cos β`) plus the overlap ratio `ε_β = B sin β/(π m_n)`.
 
-use crate::machines::gearing::involute::{bisect, inv, inv_inverse, thickness_at};
+use crate::machines::gearing::involute::{
+    bisect, internal_thickness_at, inv, inv_inverse, thickness_at,
+};
 use std::f64::consts::PI;
 
 /// Which pair.
@@ -60,7 +62,10 @@ pub struct GearGeometry {
     pub rf: f64,
     /// Transverse tooth thickness on the pitch circle.
     pub s: f64,
-    /// Tooth thickness at the tip (arc).
+    /// An internal gear (its teeth point towards the centre, its tip circle is inside).
+    pub internal: bool,
+    /// Tooth thickness at the tip (arc); NaN when the tip circle lies inside the base
+    /// circle (no involute there).
     pub s_tip: f64,
     /// Virtual tooth count `z / cos³ β`.
     pub zv: f64,
@@ -231,8 +236,11 @@ fn gear(p: &PairSpec, k: usize, mt: f64, at: f64, dy: f64) -> GearGeometry {
         ra,
         rf,
         s,
-        s_tip: if internal || ra < rb {
+        internal,
+        s_tip: if ra < rb {
             f64::NAN
+        } else if internal {
+            internal_thickness_at(s, r, rb, ra)
         } else {
             thickness_at(s, r, rb, ra)
         },
