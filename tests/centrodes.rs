@@ -192,6 +192,12 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "step_deg",
         "strictly between",
     ),
+    (
+        "centrodes_start_out_of_range.toml",
+        10,
+        "four_bar.start_deg",
+        "strictly between -3600 and 3600",
+    ),
 ];
 
 #[test]

@@ -734,3 +734,33 @@ fn messages_name_the_joint_and_the_real_reason() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A result that is not finite is an error naming the file, never a printed NaN with exit
+/// 0: a two-plane balance whose mass lies 1e308 m along the shaft gives an infinite
+/// moment. Nothing goes to standard output.
+#[test]
+fn a_non_finite_result_is_an_error_not_a_printed_nan() {
+    let dir = std::env::temp_dir().join(format!("armsim_nonfinite_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string("scenarios/rotor_two_plane_balancing.toml").unwrap();
+    let bad = text.replace(
+        "positions = [0.0, 0.1, 0.2, 0.3]",
+        "positions = [0.0, 0.1, 0.2, 1e308]",
+    );
+    assert_ne!(bad, text);
+    let f = dir.join("far_mass.toml");
+    std::fs::write(&f, bad).unwrap();
+    let o = armsim(&["run", f.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        o.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(
+        err.contains("far_mass.toml") && err.contains("result: a result is not finite"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

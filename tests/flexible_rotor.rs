@@ -267,6 +267,12 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "bearings[1].stiffness",
         "must be positive",
     ),
+    (
+        "flexible_rotor_material_without_diameter.toml",
+        6,
+        "shaft.youngs_modulus",
+        "applies to segments given by `diameter` only",
+    ),
 ];
 
 #[test]

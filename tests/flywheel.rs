@@ -234,6 +234,12 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "unknown field",
     ),
     ("flywheel_drive_twice.toml", 4, "cycle.drive", "not both"),
+    (
+        "flywheel_density_without_rim.toml",
+        8,
+        "cycle.density",
+        "applies to the rim only",
+    ),
 ];
 
 #[test]

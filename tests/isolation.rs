@@ -242,9 +242,44 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "absorber.mass_ratio",
         "invalid type",
     ),
+    (
+        "isolation_restitution_with_velocity.toml",
+        8,
+        "impact.restitution",
+        "applies to a striking mass only",
+    ),
 ];
 
 #[test]
 fn broken_isolation_scenarios_give_located_errors() {
     common::assert_broken_scenarios("isolation_", BROKEN, common::CheckSays::SameKey);
+}
+
+/// Without damping the transmissibility peak at resonance is unbounded: the report says so
+/// in words (`"unbounded": true`, text "unbounded"), and the plotted curve leaves out the
+/// pole instead of printing `inf`.
+#[test]
+fn an_undamped_peak_is_reported_unbounded_not_inf() {
+    let dir = std::env::temp_dir().join(format!("armsim_undamped_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("undamped.toml");
+    std::fs::write(
+        &f,
+        "kind = \"isolation\"\n[curves]\ndamping_ratios = [0.0, 0.1]\nfrequency_ratios = [3.0]\n",
+    )
+    .unwrap();
+    let o = common::armsim(&["run", f.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        text.contains("ε = 0: TR peak unbounded (no damping) at q = 1.00000"),
+        "{text}"
+    );
+    let v = common::cli_json(&["run", f.to_str().unwrap(), "--json"]);
+    let curves = v["curves"].as_array().unwrap_or_else(|| panic!("{v}"));
+    assert_eq!(curves[0]["peak"]["unbounded"], true);
+    assert_eq!(curves[1]["peak"]["unbounded"], false);
+    // ε = 0.1: TR_max = sqrt(1 + 4ε²q²)/sqrt((1-q²)² + 4ε²q²) at its peak, finite.
+    assert!(curves[1]["peak"]["transmissibility"].as_f64().unwrap() > 5.0);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -379,6 +379,12 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "shaper.stroke",
         "invalid type",
     ),
+    (
+        "synthesis_precision_angle_out_of_range.toml",
+        7,
+        "function.precision_deg[0]",
+        "strictly between -3600 and 3600",
+    ),
 ];
 
 #[test]

@@ -11,6 +11,17 @@ pub struct Report {
     pub text: String,
 }
 
+impl Report {
+    /// The first line of the human summary that shows a non-finite number (`NaN`, `inf`
+    /// or `-inf` as a word), trimmed: a result that must not be printed as an answer.
+    pub fn non_finite_line(&self) -> Option<&str> {
+        self.text.lines().map(str::trim).find(|l| {
+            l.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == '.'))
+                .any(|w| matches!(w, "NaN" | "inf"))
+        })
+    }
+}
+
 /// `x` for a human report: six significant digits, trailing zeros dropped (`89`, not
 /// `89.00000000000001`), `e` notation for very large or very small magnitudes.
 pub fn human_num(x: f64) -> String {

@@ -115,7 +115,7 @@ pub fn parse(file: &str, text: &str) -> Result<CentrodesScenario, ScenarioError>
                 .unwrap_or(0.0),
             s.start_deg
                 .as_ref()
-                .map(|x| ctx.finite(x, "slider_crank.start_deg"))
+                .map(|x| ctx.angle_deg(x, "slider_crank.start_deg"))
                 .transpose()?
                 .unwrap_or(45.0)
                 .to_radians(),
@@ -136,7 +136,7 @@ pub fn parse(file: &str, text: &str) -> Result<CentrodesScenario, ScenarioError>
             },
             s.start_deg
                 .as_ref()
-                .map(|x| ctx.finite(x, "slotted_lever.start_deg"))
+                .map(|x| ctx.angle_deg(x, "slotted_lever.start_deg"))
                 .transpose()?
                 .unwrap_or(45.0)
                 .to_radians(),
@@ -373,7 +373,7 @@ fn four_bar_input(
         mode,
         fb.start_deg
             .as_ref()
-            .map(|s| ctx.finite(s, "four_bar.start_deg"))
+            .map(|s| ctx.angle_deg(s, "four_bar.start_deg"))
             .transpose()?
             .unwrap_or(45.0)
             .to_radians(),

@@ -209,7 +209,7 @@ fn parse_discs(
             phase: v
                 .phase_deg
                 .as_ref()
-                .map(|p| ctx.finite(p, &format!("{k}.phase_deg")))
+                .map(|p| ctx.angle_deg(p, &format!("{k}.phase_deg")))
                 .transpose()?
                 .unwrap_or(0.0)
                 .to_radians(),
@@ -348,6 +348,25 @@ pub fn parse(file: &str, text: &str) -> Result<FlexibleRotorScenario, ScenarioEr
         .enumerate()
         .map(|(i, s)| segment(&ctx, s, i, (e, rho)))
         .collect::<Result<Vec<_>, _>>()?;
+    let by_diameter = f
+        .shaft
+        .segments
+        .get_ref()
+        .iter()
+        .any(|s| s.get_ref().diameter.is_some());
+    for (key, v) in [
+        ("shaft.youngs_modulus", &f.shaft.youngs_modulus),
+        ("shaft.density", &f.shaft.density),
+    ] {
+        if let (Some(v), false) = (v, by_diameter) {
+            return Err(ctx.at(
+                v.span(),
+                key,
+                "applies to segments given by `diameter` only; every segment here gives `ei` \
+                 and `mass_per_length`",
+            ));
+        }
+    }
     let len: f64 = segments.iter().map(|s| s.length).sum();
     let discs = parse_discs(&ctx, &f.discs, len)?;
     let bearings = parse_bearings(&ctx, f.bearings.get_ref(), len)?;

@@ -190,6 +190,13 @@ fn parse_cycle(ctx: &Source, c: &CycleIn) -> Result<Cycle, ScenarioError> {
         1..=MAX_PERIODS,
     )?;
     let transfer = ctx.positive_opt(c.transfer_speed.as_ref(), "cycle.transfer_speed")?;
+    if let (Some(d), None) = (&c.density, &c.rim_diameter) {
+        return Err(ctx.at(
+            d.span(),
+            "cycle.density",
+            "applies to the rim only: give `rim_diameter` with it",
+        ));
+    }
     let rho = ctx
         .positive_opt(c.density.as_ref(), "cycle.density")?
         .unwrap_or(7850.0);

@@ -260,7 +260,17 @@ fn parse_impact(ctx: &Source, i: &ImpactIn) -> Result<(f64, f64, f64, f64), Scen
     let eps = ctx.between(&i.damping_ratio, "impact.damping_ratio", 0.0, 1.0)?;
     let v =
         match (&i.velocity, &i.striking_mass, &i.striking_velocity) {
-            (Some(v), None, None) => ctx.positive(v, "impact.velocity")?,
+            (Some(v), None, None) => {
+                if let Some(l) = &i.restitution {
+                    return Err(ctx.at(
+                        l.span(),
+                        "impact.restitution",
+                        "applies to a striking mass only: give `striking_mass` and \
+                         `striking_velocity`, or drop it with `velocity`",
+                    ));
+                }
+                ctx.positive(v, "impact.velocity")?
+            }
             (None, Some(m1), Some(v1)) => {
                 let lam = i
                     .restitution
@@ -452,16 +462,27 @@ fn curves_json(
             iso::transmissibility_peak(e)
         };
         let ap = (!*hyst && e < 0.5f64.sqrt()).then(|| iso::amplitude_peak(e));
+        // Without damping the resonance peak is unbounded: said in words, not as `inf`.
+        let peak = |x: f64| {
+            if x.is_finite() {
+                format!("{x:.4}")
+            } else {
+                "unbounded (no damping)".into()
+            }
+        };
         writeln!(
             text,
-            "  {} {e}: TR peak {pv:.4} at q = {pq:.5}{}",
+            "  {} {e}: TR peak {} at q = {pq:.5}{}",
             if *hyst { "loss factor" } else { "ε =" },
-            ap.map(|(q, a)| format!(", amplitude peak {a:.4} at q = {q:.5}"))
+            peak(pv),
+            ap.map(|(q, a)| format!(", amplitude peak {} at q = {q:.5}", peak(a)))
                 .unwrap_or_default()
         )
         .ok();
-        out.push(json!({ "damping": e, "peak": { "q": pq, "transmissibility": pv },
-            "amplitude_peak": ap.map(|(q, a)| json!({ "q": q, "amplitude_factor": a })), "at": at }));
+        out.push(json!({ "damping": e,
+            "peak": { "q": pq, "transmissibility": pv, "unbounded": !pv.is_finite() },
+            "amplitude_peak": ap.map(|(q, a)| json!({ "q": q, "amplitude_factor": a, "unbounded": !a.is_finite() })),
+            "at": at }));
         series.push(Series {
             label: format!("{} = {e}", if *hyst { "ε0" } else { "ε" }),
             points: (1..=400)
@@ -469,6 +490,7 @@ fn curves_json(
                     let q = 4.0 * k as f64 / 400.0;
                     (q, tr(q))
                 })
+                .filter(|p| p.1.is_finite())
                 .collect(),
             color: PALETTE[i % PALETTE.len()],
             dashed: false,

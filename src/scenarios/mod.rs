@@ -93,12 +93,26 @@ pub fn run_file(path: &Path) -> Result<Report, ScenarioError> {
     run_file_with(path, &RunOptions::default())
 }
 
-/// Reads a scenario file and runs it with `opts` (output directory, interrupt).
+/// Reads a scenario file and runs it with `opts` (output directory, interrupt). A report
+/// whose summary would show a non-finite number (`NaN`, `inf`) is refused with that line:
+/// never a printed NaN with exit 0.
 pub fn run_file_with(path: &Path, opts: &RunOptions) -> Result<Report, ScenarioError> {
     let file = path.display().to_string();
     let text = crate::core::files::read_input_string(path)
         .map_err(|e| ScenarioError::new(&file, None, "file", format!("cannot read: {e}")))?;
-    (kind(&file, &text)?.run)(path, &text, opts)
+    let report = (kind(&file, &text)?.run)(path, &text, opts)?;
+    match report.non_finite_line() {
+        Some(line) => Err(ScenarioError::new(
+            &file,
+            None,
+            "result",
+            format!(
+                "a result is not finite ({line}): an input lies outside the range where this \
+                 analysis means something; check the magnitudes of the values it depends on"
+            ),
+        )),
+        None => Ok(report),
+    }
 }
 
 /// Parses and validates scenario text without running the analyses (the fuzz targets'

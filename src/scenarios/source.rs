@@ -15,6 +15,10 @@ pub const LENGTHS: (f64, f64) = (1e-100, 1e100);
 pub const MAX_SCALE_RATIO: f64 = 1e9;
 /// The largest time or velocity ratio.
 pub const MAX_RATIO: f64 = 1e6;
+/// Largest magnitude of an angle given in degrees (ten turns): positions, limits and
+/// ranges beyond it are typing errors, and the trackers that step through them would
+/// never end.
+pub const MAX_ANGLE_DEG: f64 = 3600.0;
 
 /// Error builder bound to one file and its text: turns byte spans (from
 /// `toml::Spanned`) into lines.
@@ -180,6 +184,11 @@ impl<'a> Source<'a> {
                 ),
             ))
         }
+    }
+
+    /// An angle in degrees: finite and strictly within ±[`MAX_ANGLE_DEG`].
+    pub fn angle_deg(&self, v: &Spanned<f64>, key: &str) -> Result<f64, LocatedError> {
+        self.between(v, key, -MAX_ANGLE_DEG, MAX_ANGLE_DEG)
     }
 
     /// A length: finite, positive and within [`LENGTHS`] (so that the products and squares

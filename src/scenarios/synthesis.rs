@@ -154,9 +154,9 @@ fn parse_crank_rocker(ctx: &Source, s: &CrankRockerIn) -> Result<CrankRockerSpec
     )?;
     let lim = s.rocker_limits_deg.get_ref();
     let limits = [
-        ctx.finite(&lim[0], "crank_rocker.rocker_limits_deg[0]")?
+        ctx.angle_deg(&lim[0], "crank_rocker.rocker_limits_deg[0]")?
             .to_radians(),
-        ctx.finite(&lim[1], "crank_rocker.rocker_limits_deg[1]")?
+        ctx.angle_deg(&lim[1], "crank_rocker.rocker_limits_deg[1]")?
             .to_radians(),
     ];
     if crate::machines::linkage::wrap_angle(limits[0] - limits[1]).abs() < 1e-9 {
@@ -174,7 +174,7 @@ fn parse_crank_rocker(ctx: &Source, s: &CrankRockerIn) -> Result<CrankRockerSpec
     )?;
     let task = if by_dir {
         let a = ctx
-            .finite(v, "crank_rocker.pivot_direction_deg")?
+            .angle_deg(v, "crank_rocker.pivot_direction_deg")?
             .to_radians();
         CrankRockerTask::Pivot(Vec2::new(frame * a.cos(), frame * a.sin()))
     } else {
@@ -297,11 +297,25 @@ pub fn parse(file: &str, text: &str) -> Result<SynthesisScenario, ScenarioError>
     })
 }
 
-fn pair_deg(ctx: &Source, v: &Spanned<[F; 2]>, key: &str) -> Result<[f64; 2], ScenarioError> {
+/// A `[start, end]` pair of finite numbers; angles (`degrees`) within
+/// ±[`MAX_ANGLE_DEG`](crate::scenarios::source::MAX_ANGLE_DEG).
+fn pair(
+    ctx: &Source,
+    v: &Spanned<[F; 2]>,
+    key: &str,
+    degrees: bool,
+) -> Result<[f64; 2], ScenarioError> {
     let a = v.get_ref();
+    let one = |x: &F, k: String| {
+        if degrees {
+            ctx.angle_deg(x, &k)
+        } else {
+            ctx.finite(x, &k)
+        }
+    };
     Ok([
-        ctx.finite(&a[0], &format!("{key}[0]"))?,
-        ctx.finite(&a[1], &format!("{key}[1]"))?,
+        one(&a[0], format!("{key}[0]"))?,
+        one(&a[1], format!("{key}[1]"))?,
     ])
 }
 
@@ -355,8 +369,8 @@ fn function_by_points(
     for (i, pair) in pts.iter().enumerate() {
         let k = format!("function.precision_deg[{i}]");
         points[i] = (
-            ctx.finite(&pair[0], &k)?.to_radians(),
-            ctx.finite(&pair[1], &k)?.to_radians(),
+            ctx.angle_deg(&pair[0], &k)?.to_radians(),
+            ctx.angle_deg(&pair[1], &k)?.to_radians(),
         );
     }
     Ok(FunctionSpec {
@@ -401,16 +415,23 @@ fn function_by_name(
         v.as_ref()
             .ok_or_else(|| ctx.section("function", format!("missing: `{key}` (with `function`)")))
     }
-    let x = pair_deg(ctx, need(ctx, &s.x_range, "x_range")?, "function.x_range")?;
-    let phi = pair_deg(
+    let x = pair(
+        ctx,
+        need(ctx, &s.x_range, "x_range")?,
+        "function.x_range",
+        false,
+    )?;
+    let phi = pair(
         ctx,
         need(ctx, &s.crank_range_deg, "crank_range_deg")?,
         "function.crank_range_deg",
+        true,
     )?;
-    let psi = pair_deg(
+    let psi = pair(
         ctx,
         need(ctx, &s.rocker_range_deg, "rocker_range_deg")?,
         "function.rocker_range_deg",
+        true,
     )?;
     let xr = s.x_range.as_ref().map(|v| v.span()).unwrap_or(0..0);
     let (y0, y1) = (f.eval(x[0]), f.eval(x[1]));
