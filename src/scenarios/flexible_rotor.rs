@@ -317,6 +317,27 @@ fn parse_balancing(
     Ok((planes, target, others, rigid, au))
 }
 
+/// The shaft's material is refused when no segment is given by its diameter (the key
+/// would not apply).
+fn material_applies(ctx: &Source, shaft: &ShaftIn) -> Result<(), ScenarioError> {
+    let segments = shaft.segments.get_ref();
+    let by_diameter = segments.iter().any(|s| s.get_ref().diameter.is_some());
+    for (key, v) in [
+        ("shaft.youngs_modulus", &shaft.youngs_modulus),
+        ("shaft.density", &shaft.density),
+    ] {
+        if let (Some(v), false) = (v, by_diameter) {
+            return Err(ctx.at(
+                v.span(),
+                key,
+                "applies to segments given by `diameter` only; every segment here gives `ei` \
+                 and `mass_per_length`",
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Parses and validates `text` (the contents of `file`).
 pub fn parse(file: &str, text: &str) -> Result<FlexibleRotorScenario, ScenarioError> {
     let ctx = Source::new(file, text);
@@ -348,25 +369,7 @@ pub fn parse(file: &str, text: &str) -> Result<FlexibleRotorScenario, ScenarioEr
         .enumerate()
         .map(|(i, s)| segment(&ctx, s, i, (e, rho)))
         .collect::<Result<Vec<_>, _>>()?;
-    let by_diameter = f
-        .shaft
-        .segments
-        .get_ref()
-        .iter()
-        .any(|s| s.get_ref().diameter.is_some());
-    for (key, v) in [
-        ("shaft.youngs_modulus", &f.shaft.youngs_modulus),
-        ("shaft.density", &f.shaft.density),
-    ] {
-        if let (Some(v), false) = (v, by_diameter) {
-            return Err(ctx.at(
-                v.span(),
-                key,
-                "applies to segments given by `diameter` only; every segment here gives `ei` \
-                 and `mass_per_length`",
-            ));
-        }
-    }
+    material_applies(&ctx, &f.shaft)?;
     let len: f64 = segments.iter().map(|s| s.length).sum();
     let discs = parse_discs(&ctx, &f.discs, len)?;
     let bearings = parse_bearings(&ctx, f.bearings.get_ref(), len)?;
