@@ -415,3 +415,75 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
 fn broken_cam_scenarios_give_located_errors() {
     common::assert_broken_scenarios("cam_", BROKEN, common::CheckSays::Refuses);
 }
+
+/// A flat face on a base circle below the minimum: the profile's radius of curvature is the
+/// signed `ρ = R_b + s + s''` (it goes negative just after the switch of the parabolic
+/// rise: the face would cut a swallowtail), its least value is `R_b − R_b,min` with the
+/// report's own minimum, and the sign agrees with the geometry — where ρ < 0 the contact
+/// point runs backwards along the face. The report says the profile is concave and
+/// undercut; on the bundled 40 mm circle it is neither.
+#[test]
+fn flat_face_below_the_minimum_base_radius_is_undercut() {
+    let m = MotionLaw {
+        stroke: 30.0,
+        rise: 90f64.to_radians(),
+        dwell_top: 0.0,
+        ret: 90f64.to_radians(),
+        rise_law: Law::Parabolic,
+        return_law: Law::Parabolic,
+    };
+    let rb_min = 480.0 / (PI * PI) - 15.0;
+    let rb = 20.0;
+    let f = CamFollower::Flat { rb };
+    let mut least = f64::INFINITY;
+    let (mut negative, mut positive) = (0, 0);
+    for k in 0..3600 {
+        let phi = 2.0 * PI * (k as f64 + 0.5) / 3600.0;
+        let s = sample(&m, &f, phi);
+        let [_, _, s2, _] = s.s;
+        close(s.rho_pitch, rb + s.s[0] + s2, 1e-9, "ρ = Rb + s + s''");
+        least = least.min(s.rho_pitch);
+        // The contact point's speed along the face, by central differences in the cam
+        // frame turned back to the fixed frame: its sign is the sign of ρ.
+        let h = 1e-6;
+        let (a, c) = (
+            sample(&m, &f, phi - h).working,
+            sample(&m, &f, phi + h).working,
+        );
+        let (sn, cs) = phi.sin_cos();
+        let along = cs * (c[0] - a[0]) - sn * (c[1] - a[1]);
+        if s.rho_pitch.abs() > 1e-3 {
+            let same = (along > 0.0) == (s.rho_pitch > 0.0);
+            if s.rho_pitch < 0.0 {
+                negative += 1;
+            } else {
+                positive += 1;
+            }
+            assert!(
+                same || along.abs() < 1e-9,
+                "φ = {phi}: ρ {} vs {along}",
+                s.rho_pitch
+            );
+        }
+    }
+    assert!(negative > 0 && positive > 0, "{negative} {positive}");
+    close(
+        least,
+        rb - rb_min,
+        0.05,
+        "least ρ = Rb − Rb_min (0.1° samples)",
+    );
+
+    let dir = std::env::temp_dir().join(format!("armsim_flat_cam_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string("scenarios/cam_cm2_flat_min_base_radius.toml").unwrap();
+    let file = dir.join("flat_20.toml");
+    std::fs::write(&file, text.replace("base_radius = 40", "base_radius = 20")).unwrap();
+    let small = common::cli_json(&["run", file.to_str().unwrap(), "--json"]);
+    let bundled = run_json("scenarios/cam_cm2_flat_min_base_radius.toml");
+    for (v, bad) in [(&small, true), (&bundled, false)] {
+        assert_eq!(v["summary"]["concave_parts"], bad, "{}", v["summary"]);
+        assert_eq!(v["summary"]["undercut"], bad, "{}", v["summary"]);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -112,10 +112,13 @@ pub fn sample(m: &MotionLaw, f: &CamFollower, phi: f64) -> CamSample {
     let b = [q2[0] - 2.0 * jq1[0] - q[0], q2[1] - 2.0 * jq1[1] - q[1]];
     let na = (a[0] * a[0] + a[1] * a[1]).sqrt();
     let k = cross(a, b);
-    let rho = if k.abs() < 1e-300 {
-        f64::INFINITY
-    } else {
-        -na.powi(3) / k
+    let rho = match *f {
+        // The profile is the envelope of the face: ρ = R_b + s + s'' (signed). The
+        // contact point's own curve runs backwards where ρ < 0 (a swallowtail), so its
+        // parametric curvature would only give |ρ| there.
+        CamFollower::Flat { rb } => rb + s[0] + s[2],
+        _ if k.abs() < 1e-300 => f64::INFINITY,
+        _ => -na.powi(3) / k,
     };
     let roller = match *f {
         CamFollower::Translating { roller, .. } | CamFollower::Oscillating { roller, .. } => roller,
