@@ -591,18 +591,6 @@ const KNOWN_CYCLES: &[&[&str]] = &[
         "scenarios/arm/run/write_outputs.rs",
         "scenarios/arm/sim_plots.rs",
     ],
-    &[
-        "scenarios/linkage/linkage_section.rs",
-        "scenarios/linkage/loads_section.rs",
-        "scenarios/linkage/mod.rs",
-        "scenarios/linkage/report/mod.rs",
-        "scenarios/linkage/report/sweep_report.rs",
-        "scenarios/linkage/rotor_machine_sections.rs",
-    ],
-    &[
-        "scenarios/torsional/mod.rs",
-        "scenarios/torsional/torsional_report.rs",
-    ],
 ];
 
 #[test]
