@@ -562,15 +562,6 @@ const KNOWN_CYCLES: &[&[&str]] = &[
         "planning/checker/mod.rs",
     ],
     &[
-        "studies/tradeoffs/effects_study.rs",
-        "studies/tradeoffs/formulations.rs",
-        "studies/tradeoffs/ik_study.rs",
-        "studies/tradeoffs/integrators.rs",
-        "studies/tradeoffs/mod.rs",
-        "studies/tradeoffs/rotor_study.rs",
-        "studies/tradeoffs/workspace_study.rs",
-    ],
-    &[
         "scenarios/arm/budget.rs",
         "scenarios/arm/planner_setup.rs",
         "scenarios/arm/scene/effect_sections.rs",
