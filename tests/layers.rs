@@ -533,16 +533,6 @@ const KNOWN_CYCLES: &[&[&str]] = &[
         "workspace/volume_kernel.rs",
     ],
     &[
-        "io/record/rerun/rerun_blueprint.rs",
-        "io/record/rerun/rerun_geometry.rs",
-        "io/record/rerun/rerun_motion.rs",
-        "io/record/rerun/rerun_obstacles.rs",
-        "io/record/rerun/rerun_out.rs",
-        "io/record/rerun/rerun_plots.rs",
-        "io/record/rerun/rerun_scene.rs",
-        "io/record/rerun/rerun_workspace.rs",
-    ],
-    &[
         "kinematics/ik/analytic.rs",
         "kinematics/ik/analytic/dh_family.rs",
         "kinematics/ik/analytic/position_ik.rs",

@@ -6,7 +6,7 @@
 use crate::collision::mesh::{load_mesh, MeshData};
 use crate::collision::resolve::resolve_uri;
 use crate::core::spatial::{Se3, Vec3};
-use crate::io::record::rerun::rerun_out::{child, f32x3, link_entity, quat_xyzw, sdk};
+use crate::io::record::rerun::rerun_entities::{child, f32x3, link_entity, quat_xyzw, sdk};
 use crate::io::record::rerun::rerun_sink::{RerunError, RerunReport};
 use crate::io::record::rerun::rerun_tree::Tree;
 use crate::model::{Geometry, ModelSpec, Shape};
