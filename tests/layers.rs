@@ -551,13 +551,6 @@ const KNOWN_CYCLES: &[&[&str]] = &[
         "planning/checker/exact.rs",
         "planning/checker/mod.rs",
     ],
-    &[
-        "scenarios/arm/run/arm_report.rs",
-        "scenarios/arm/run/mod.rs",
-        "scenarios/arm/run/simulate.rs",
-        "scenarios/arm/run/write_outputs.rs",
-        "scenarios/arm/sim_plots.rs",
-    ],
 ];
 
 #[test]
