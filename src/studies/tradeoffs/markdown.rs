@@ -53,7 +53,7 @@ pub fn write(report: &TradeoffsReport, dir: &Path) -> Result<Vec<PathBuf>, Strin
         written.push(p);
         Ok(())
     };
-    let plots = plots(report)?;
+    let plots = plots(report).map_err(|e| e.to_string())?;
     for (name, bytes) in &plots {
         put(name, bytes)?;
     }
