@@ -39,7 +39,7 @@ pub enum RecordError {
         context: String,
         /// What is wrong.
         #[source]
-        fault: RecordFault,
+        fault: Box<RecordFault>,
     },
     /// A record or message of the file is malformed.
     #[error("{}: {context}: {message}", file.display())]
@@ -83,7 +83,7 @@ impl RecordError {
         RecordError::Record {
             file: file.into(),
             context: context.into(),
-            fault,
+            fault: Box::new(fault),
         }
     }
 

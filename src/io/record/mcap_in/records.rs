@@ -3,7 +3,9 @@
 //! the message budget is spent here.
 
 use crate::io::record::from_ros2::{cloud_from_msg, from_msg, stamp_nanos, torque_row};
-use crate::io::record::mcap_in::collected::{Channel, ChannelRec, Collected, Kind, SchemaRec};
+use crate::io::record::mcap_in::collected::{
+    Budget, Channel, ChannelRec, Collected, Kind, SchemaRec,
+};
 use crate::io::record::mcap_in::cursor::Cursor;
 use crate::io::record::mcap_in::record_fault::RecordFault;
 use crate::io::record::mcap_out::{
@@ -44,6 +46,19 @@ fn kind_of(schema: Option<&SchemaRec>, ch: &ChannelRec) -> Kind {
     } else {
         Kind::Ignored
     }
+}
+
+/// Takes one message of `payload` bytes from the budget `b`.
+fn spend(b: &mut Budget, payload: usize) -> Result<(), RecordFault> {
+    b.messages = b
+        .messages
+        .checked_sub(1)
+        .ok_or(RecordFault::TooManyMessages)?;
+    b.payload = b
+        .payload
+        .checked_sub(payload)
+        .ok_or(RecordFault::TooMuchPayload)?;
+    Ok(())
 }
 
 /// An error in a record: the context when it is a message (`topic ..., message ...`), and
@@ -124,14 +139,7 @@ impl Collected {
                 let _log_time = cur.u64().map_err(plain)?;
                 let _publish_time = cur.u64().map_err(plain)?;
                 if let Some(b) = self.budget.as_mut() {
-                    b.messages = b
-                        .messages
-                        .checked_sub(1)
-                        .ok_or_else(|| plain(RecordFault::TooManyMessages))?;
-                    b.payload = b
-                        .payload
-                        .checked_sub(cur.buf.len())
-                        .ok_or_else(|| plain(RecordFault::TooMuchPayload))?;
+                    spend(b, cur.buf.len()).map_err(plain)?;
                 }
                 let ch = self
                     .channels
