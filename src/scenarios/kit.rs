@@ -23,7 +23,7 @@ pub fn write_plot(
         return Ok(None);
     }
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
-    let bytes = render_panels(title, panels, cols, (640, 420))?;
+    let bytes = render_panels(title, panels, cols, (640, 420)).map_err(|e| e.to_string())?;
     let safe: String = stem
         .chars()
         .map(|c| {

@@ -4,6 +4,7 @@
 //! charts. Text uses the bundled font through the torque-check plot's setup
 //! ([`crate::io::plots::torque_chart`]), so no system font is needed.
 
+use crate::io::plots::plot_error::PlotError;
 /// The report's colours: armsim's chart palette.
 pub use crate::io::plots::torque_chart::PALETTE;
 use crate::io::plots::torque_chart::{encode_png, register_font};
@@ -334,8 +335,11 @@ fn legend_position(legend: Legend) -> SeriesLabelPosition {
     }
 }
 
-fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    p: &Panel,
+) -> Result<(), PlotError> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::draw(e);
     let Bounds {
         x: (x0, x1),
         y: (y0, y1),
@@ -435,7 +439,7 @@ pub fn render_panels(
     panels: &[Panel],
     cols: usize,
     panel_size: (u32, u32),
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, PlotError> {
     register_font();
     let cols = cols.clamp(1, panels.len().max(1));
     let rows = panels.len().div_ceil(cols).max(1);
@@ -443,7 +447,7 @@ pub fn render_panels(
     let mut buf = vec![0u8; (size.0 * size.1 * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
-        let err = |e: DrawingAreaErrorKind<_>| format!("plot: {e}");
+        let err = |e: DrawingAreaErrorKind<_>| PlotError::draw(e);
         root.fill(&WHITE).map_err(err)?;
         let root = root.titled(title, ("sans-serif", 20)).map_err(err)?;
         for (area, p) in root.split_evenly((rows, cols)).iter().zip(panels) {
@@ -476,12 +480,12 @@ pub fn render_bars(
     reference: Option<f64>,
     fmt: &dyn Fn(f64) -> String,
     size: (u32, u32),
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, PlotError> {
     register_font();
     let mut buf = vec![0u8; (size.0 * size.1 * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
-        let err = |e: DrawingAreaErrorKind<_>| format!("plot: {e}");
+        let err = |e: DrawingAreaErrorKind<_>| PlotError::draw(e);
         root.fill(&WHITE).map_err(err)?;
         let n = categories.len().max(1);
         let top = groups

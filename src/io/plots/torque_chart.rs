@@ -8,6 +8,7 @@
 //! Vera license, see `assets/fonts/LICENSE-DejaVu.txt`) through plotters' `ab_glyph`
 //! renderer, so no system font is needed.
 
+use crate::io::plots::plot_error::PlotError;
 use crate::io::plots::ticks::AxisTicks;
 use crate::motion::torque_check::TorqueReport;
 use crate::motion::TrajectoryError;
@@ -95,7 +96,7 @@ pub(crate) fn render(
     report: &TorqueReport,
     format: PlotFormat,
     scenario: Option<&str>,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, PlotError> {
     register_font();
     let n = panel_joints(report).len().max(1) as u32;
     let size = (WIDTH, PANEL_HEIGHT * n + HEADER_HEIGHT);
@@ -105,7 +106,7 @@ pub(crate) fn render(
             {
                 let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
                 draw(report, scenario, &root)?;
-                root.present().map_err(|e| format!("plot: {e}"))?;
+                root.present().map_err(PlotError::draw)?;
             }
             encode_png(&buf, size)
         }
@@ -114,23 +115,21 @@ pub(crate) fn render(
             {
                 let root = SVGBackend::with_string(&mut s, size).into_drawing_area();
                 draw(report, scenario, &root)?;
-                root.present().map_err(|e| format!("plot: {e}"))?;
+                root.present().map_err(PlotError::draw)?;
             }
             Ok(s.into_bytes())
         }
     }
 }
 
-pub(crate) fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, String> {
+pub(crate) fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, PlotError> {
     let mut out = Vec::new();
     {
         let mut enc = png::Encoder::new(&mut out, w, h);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
-        let mut writer = enc.write_header().map_err(|e| format!("png: {e}"))?;
-        writer
-            .write_image_data(rgb)
-            .map_err(|e| format!("png: {e}"))?;
+        let mut writer = enc.write_header().map_err(PlotError::png)?;
+        writer.write_image_data(rgb).map_err(PlotError::png)?;
     }
     Ok(out)
 }
@@ -191,8 +190,8 @@ pub(crate) fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     entries: &[LegendEntry],
     top: i32,
-) -> Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+) -> Result<(), PlotError> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::draw(e);
     let font = ("sans-serif", 12).into_font().color(&BLACK);
     for (k, e) in entries.iter().enumerate() {
         let y = top + 16 * k as i32;
@@ -223,8 +222,8 @@ pub(crate) fn draw_title<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
     subtitle: &str,
-) -> Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+) -> Result<(), PlotError> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::draw(e);
     let big = ("sans-serif", 17).into_font().color(&BLACK);
     let small = ("sans-serif", 12).into_font().color(&RGBColor(60, 60, 60));
     area.draw(&Text::new(title.to_string(), (10, 3), big))
@@ -238,8 +237,8 @@ fn draw<DB: DrawingBackend>(
     report: &TorqueReport,
     scenario: Option<&str>,
     root: &DrawingArea<DB, Shift>,
-) -> Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+) -> Result<(), PlotError> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::draw(e);
     root.fill(&WHITE).map_err(err)?;
     let effects = if report.effects.is_empty() {
         "rigid body".to_string()
@@ -312,8 +311,8 @@ fn draw_joint<DB: DrawingBackend>(
     j: usize,
     t_end: f64,
     area: &DrawingArea<DB, Shift>,
-) -> Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+) -> Result<(), PlotError> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::draw(e);
     let row = &report.joints[j];
     let lim = row.limit;
     let top = if lim.is_finite() {
@@ -402,7 +401,8 @@ pub fn write_torque_plot(
             "plot: the report kept no samples (CheckOptions::keep_series)".into(),
         ));
     }
-    let bytes = render(report, format, scenario).map_err(TrajectoryError::Output)?;
+    let bytes =
+        render(report, format, scenario).map_err(|e| TrajectoryError::Output(e.to_string()))?;
     crate::core::files::write_atomic(path, &bytes)
         .map_err(|e| TrajectoryError::Output(format!("{}: {e}", path.display())))
 }

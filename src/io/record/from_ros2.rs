@@ -4,17 +4,17 @@
 //! diagnostic statuses. Every offset is checked against the data before it is read.
 
 use crate::io::record::mcap_out::CLOUD_SCALAR_FIELD;
+use crate::io::record::message_error::MessageError;
 use crate::io::record::ros2::{self, datatype, level};
 use crate::io::record::{PointCloud, TorqueRow, Transform};
 
 /// A stamp in nanoseconds since the Unix epoch; an error for an invalid `nanosec` or a
 /// stamp before 1970.
-pub(super) fn stamp_nanos(t: &ros2::Time) -> Result<u64, String> {
+pub(super) fn stamp_nanos(t: &ros2::Time) -> Result<u64, MessageError> {
     if t.nanosec >= 1_000_000_000 {
-        return Err(format!("time stamp nanosec {} ≥ 1e9", t.nanosec));
+        return Err(MessageError::StampNanosec(t.nanosec));
     }
-    t.to_nanos()
-        .ok_or_else(|| format!("time stamp before the epoch ({} s)", t.sec))
+    t.to_nanos().ok_or(MessageError::StampBeforeEpoch(t.sec))
 }
 
 /// A transform from its message (stamp dropped).
@@ -56,29 +56,33 @@ fn read_value(data: &[u8], off: usize, dt: u8, big_endian: bool) -> Option<f64> 
 }
 
 /// A point cloud from its message, stamped at `t = 0` (the reader sets the time).
-pub(super) fn cloud_from_msg(m: &ros2::PointCloud2) -> Result<PointCloud, String> {
+pub(super) fn cloud_from_msg(m: &ros2::PointCloud2) -> Result<PointCloud, MessageError> {
     let step = m.point_step as usize;
     let field = |name: &str| m.fields.iter().find(|f| f.name == name);
-    let check = |f: &ros2::PointField| -> Result<(usize, u8), String> {
-        let size = datatype::size(f.datatype)
-            .ok_or_else(|| format!("field '{}': unknown datatype {}", f.name, f.datatype))?;
+    let check = |f: &ros2::PointField| -> Result<(usize, u8), MessageError> {
+        let size = datatype::size(f.datatype).ok_or_else(|| MessageError::UnknownDatatype {
+            name: f.name.clone(),
+            datatype: f.datatype,
+        })?;
         let off = f.offset as usize;
         if off.checked_add(size).is_none_or(|end| end > step) {
-            return Err(format!(
-                "field '{}' (offset {}, {size} bytes) does not fit the point step {step}",
-                f.name, f.offset
-            ));
+            return Err(MessageError::FieldOutsidePoint {
+                name: f.name.clone(),
+                offset: f.offset,
+                size,
+                step,
+            });
         }
         Ok((off, f.datatype))
     };
     let mut xyz = [(0usize, 0u8); 3];
     for (slot, name) in xyz.iter_mut().zip(["x", "y", "z"]) {
-        let f = field(name).ok_or_else(|| format!("no field '{name}'"))?;
+        let f = field(name).ok_or_else(|| MessageError::NoField(name.to_string()))?;
         if f.datatype != datatype::FLOAT32 && f.datatype != datatype::FLOAT64 {
-            return Err(format!(
-                "field '{name}' has datatype {} (expected FLOAT32 or FLOAT64)",
-                f.datatype
-            ));
+            return Err(MessageError::CoordinateType {
+                name: name.to_string(),
+                datatype: f.datatype,
+            });
         }
         *slot = check(f)?;
     }
@@ -87,25 +91,24 @@ pub(super) fn cloud_from_msg(m: &ros2::PointCloud2) -> Result<PointCloud, String
         None => None,
     };
     let (w, h) = (m.width as usize, m.height as usize);
-    let row_len = w
-        .checked_mul(step)
-        .ok_or_else(|| "width × point_step overflows".to_string())?;
+    let row_len = w.checked_mul(step).ok_or(MessageError::RowOverflow)?;
     let row_step = m.row_step as usize;
     if h > 1 && row_step < row_len {
-        return Err(format!(
-            "row_step {row_step} is shorter than width × point_step = {row_len}"
-        ));
+        return Err(MessageError::RowStepShort { row_step, row_len });
     }
     if w > 0 && h > 0 {
         let need = (h - 1)
             .checked_mul(row_step)
             .and_then(|x| x.checked_add(row_len))
-            .ok_or_else(|| "cloud size overflows".to_string())?;
+            .ok_or(MessageError::CloudOverflow)?;
         if need > m.data.len() {
-            return Err(format!(
-                "{w}×{h} points of {step} bytes need {need} bytes, the data has {}",
-                m.data.len()
-            ));
+            return Err(MessageError::DataShort {
+                width: w,
+                height: h,
+                step,
+                need,
+                have: m.data.len(),
+            });
         }
     }
     // Bounded by the data length: every point takes at least 4 bytes of it.
@@ -117,8 +120,7 @@ pub(super) fn cloud_from_msg(m: &ros2::PointCloud2) -> Result<PointCloud, String
         for c in 0..w {
             let base = r * row_step + c * step;
             let get = |(off, dt): (usize, u8)| {
-                read_value(&m.data, base + off, dt, be)
-                    .ok_or_else(|| format!("point {} lies outside the data", r * w + c))
+                read_value(&m.data, base + off, dt, be).ok_or(MessageError::PointOutside(r * w + c))
             };
             points.push([
                 get(xyz[0])? as f32,
@@ -139,19 +141,27 @@ pub(super) fn cloud_from_msg(m: &ros2::PointCloud2) -> Result<PointCloud, String
 }
 
 /// A torque-check row from its status: numbers as text, `none` or absent for no value.
-pub(super) fn torque_row(s: &ros2::DiagnosticStatus) -> Result<TorqueRow, String> {
-    let opt = |k: &str| -> Result<Option<f64>, String> {
+pub(super) fn torque_row(s: &ros2::DiagnosticStatus) -> Result<TorqueRow, MessageError> {
+    let opt = |k: &str| -> Result<Option<f64>, MessageError> {
         match s.value(k) {
             None | Some("none") => Ok(None),
             Some(v) => v
                 .trim()
                 .parse::<f64>()
                 .map(Some)
-                .map_err(|e| format!("status '{}': {k} = '{v}': {e}", s.name)),
+                .map_err(|e| MessageError::NotANumber {
+                    status: s.name.clone(),
+                    key: k.to_string(),
+                    value: v.to_string(),
+                    source: e,
+                }),
         }
     };
-    let num = |k: &str| -> Result<f64, String> {
-        opt(k)?.ok_or_else(|| format!("status '{}': no value '{k}'", s.name))
+    let num = |k: &str| -> Result<f64, MessageError> {
+        opt(k)?.ok_or_else(|| MessageError::MissingValue {
+            status: s.name.clone(),
+            key: k.to_string(),
+        })
     };
     Ok(TorqueRow {
         joint: s.name.clone(),

@@ -11,6 +11,7 @@
 mod from_ros2;
 pub mod mcap_in;
 pub mod mcap_out;
+pub mod message_error;
 mod model_header;
 pub mod obstacle_markers;
 pub mod record_error;

@@ -1,5 +1,6 @@
 //! [`RecordError`]: the errors of the MCAP writer and reader, each naming the file.
 
+use crate::io::record::mcap_in::record_fault::RecordFault;
 use std::path::PathBuf;
 
 /// A recording could not be written or read.
@@ -28,6 +29,17 @@ pub enum RecordError {
         file: PathBuf,
         /// What is wrong.
         message: String,
+    },
+    /// A record or message of the file is malformed (found by the reader's own checks).
+    #[error("{}: {context}: {fault}", file.display())]
+    Record {
+        /// The recording file.
+        file: PathBuf,
+        /// Where: `topic '/tf', message 12` or `record 3 (opcode 0x06)`.
+        context: String,
+        /// What is wrong.
+        #[source]
+        fault: Box<RecordFault>,
     },
     /// A record or message of the file is malformed.
     #[error("{}: {context}: {message}", file.display())]
@@ -60,6 +72,18 @@ impl RecordError {
         RecordError::Invalid {
             file: file.into(),
             message: message.into(),
+        }
+    }
+
+    pub(crate) fn record(
+        file: impl Into<PathBuf>,
+        context: impl Into<String>,
+        fault: RecordFault,
+    ) -> Self {
+        RecordError::Record {
+            file: file.into(),
+            context: context.into(),
+            fault: Box::new(fault),
         }
     }
 

@@ -11,7 +11,8 @@
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::motion::Trajectory;
-use crate::scenarios::arm::scene::Scene;
+use crate::scenarios::arm::scene::arm_scene::Scene;
+pub use crate::scenarios::arm::scene::arm_scene::SettingLines;
 use crate::scenarios::arm::task_motion::Plan;
 
 /// At most this many simulation steps (simulated time / `simulation.dt`).
@@ -21,19 +22,6 @@ pub const MAX_RECORDED: f64 = 1e7;
 /// At most this many samples of the dense torque, limits and CSV passes (motion duration
 /// / `trajectory.check_dt`).
 pub const MAX_CHECK_SAMPLES: f64 = 1e7;
-
-/// Where a setting was written (1-based line), for the budget messages.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct SettingLines {
-    /// Line of `simulation.dt`.
-    pub dt: Option<usize>,
-    /// Line of `simulation.settle`.
-    pub settle: Option<usize>,
-    /// Line of `simulation.record_rate`.
-    pub record_rate: Option<usize>,
-    /// Line of `trajectory.check_dt`.
-    pub check_dt: Option<usize>,
-}
 
 /// The default step of the dense checks (s).
 pub const DEFAULT_CHECK_DT: f64 = 1e-3;

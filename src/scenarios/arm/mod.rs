@@ -9,6 +9,7 @@
 //! - [`plan`]: the task as one timed trajectory;
 //! - [`budget`]: the work budgets of a run (steps and samples), checked before the work;
 //! - [`planned`]: the RRT-Connect planners of a scene and smooth planned paths;
+//! - [`planner_settings`]: the validated `[planner]` settings and the grasped part;
 //! - [`checks`]: the collision check with the grasped part, the planned tool path;
 //! - [`contact`]: the rapier3d contact scene, built only for the `contact` effect;
 //! - [`run`]: the end-to-end run and its report;
@@ -18,6 +19,7 @@
 pub mod budget;
 pub mod checks;
 pub mod contact;
+pub mod planner_settings;
 pub mod planner_setup;
 pub mod run;
 pub mod scene;

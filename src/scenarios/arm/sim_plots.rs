@@ -6,6 +6,7 @@
 //! are tiny or huge), drawn with plotters like the torque check's plot and written
 //! atomically.
 
+use crate::io::plots::plot_error::PlotError;
 use crate::io::plots::ticks::AxisTicks;
 use crate::io::plots::torque_chart::PlotFormat;
 use crate::io::plots::torque_chart::{
@@ -100,8 +101,8 @@ pub fn y_axis(p: &SimPanel) -> AxisTicks {
 fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     p: &SimPanel,
-) -> Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+) -> Result<(), PlotError> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::draw(e);
     let (chart_area, legend_area) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
     let (t0, t1) = time_range(p);
     let x = AxisTicks::new(t0, t1, MAX_TICKS + 4);
@@ -149,8 +150,8 @@ fn draw<DB: DrawingBackend>(
     title: &str,
     subtitle: &str,
     panels: &[SimPanel],
-) -> Result<(), String> {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("plot: {e}");
+) -> Result<(), PlotError> {
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::draw(e);
     root.fill(&WHITE).map_err(err)?;
     let (header, body) = root.split_vertically(HEADER_HEIGHT);
     draw_title(&header, title, subtitle)?;
@@ -170,6 +171,17 @@ pub fn write(
     panels: &[SimPanel],
     format: PlotFormat,
 ) -> Result<(), String> {
+    let bytes = render(title, subtitle, panels, format).map_err(|e| e.to_string())?;
+    crate::core::files::write_atomic(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The panels under `title` (large) and `subtitle`, as bytes in `format`.
+fn render(
+    title: &str,
+    subtitle: &str,
+    panels: &[SimPanel],
+    format: PlotFormat,
+) -> Result<Vec<u8>, PlotError> {
     register_font();
     let size = (
         WIDTH,
@@ -181,7 +193,7 @@ pub fn write(
             {
                 let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
                 draw(&root, title, subtitle, panels)?;
-                root.present().map_err(|e| format!("plot: {e}"))?;
+                root.present().map_err(PlotError::draw)?;
             }
             encode_png(&buf, size)?
         }
@@ -190,10 +202,10 @@ pub fn write(
             {
                 let root = SVGBackend::with_string(&mut s, size).into_drawing_area();
                 draw(&root, title, subtitle, panels)?;
-                root.present().map_err(|e| format!("plot: {e}"))?;
+                root.present().map_err(PlotError::draw)?;
             }
             s.into_bytes()
         }
     };
-    crate::core::files::write_atomic(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))
+    Ok(bytes)
 }

@@ -25,7 +25,7 @@ use crate::motion::{
 };
 use crate::planning::Planner;
 use crate::scenarios::arm::planner_setup::{smooth_path, ScenePlanners};
-use crate::scenarios::arm::scene::{Scene, Step, TaskStep, Timing};
+use crate::scenarios::arm::scene::arm_scene::{Scene, Step, TaskStep, Timing};
 use std::time::Duration;
 
 /// A motion made of pieces played one after the other.

@@ -4,8 +4,21 @@
 //! outputs asked for (four-bar, coupler curves, kinetostatics, counterweight).
 
 use crate::core::diag::fmt_num;
-use crate::scenarios::linkage::*;
+use crate::core::diag::{all_finite, LocatedError as ScenarioError};
+use crate::machines::linkage::description::{Driver, Linkage, PlanarLink, Slider, GROUND};
+use crate::machines::linkage::position::{solve_position, NewtonOptions};
+use crate::machines::linkage::sweep::SweepOptions;
+use crate::machines::linkage::Vec2;
+use crate::scenarios::linkage::linkage_scenario::{MechanismScenario, NAME};
+use crate::scenarios::linkage::linkage_spec::{
+    body_of, moving_link, text_line_of_table, unit, LinkSpec, Spec, SweepSpec,
+};
+use crate::scenarios::linkage::loads_section::{parse_counterweight, parse_kineto};
+use crate::scenarios::source::Source;
 use crate::scenarios::source::MAX_SCALE_RATIO;
+use nalgebra::DVector;
+use std::collections::HashMap;
+use toml::Spanned;
 
 /// Parses the linkage sections into a [`MechanismScenario`] (assembled once).
 pub(super) fn parse_mechanism(
@@ -17,10 +30,7 @@ pub(super) fn parse_mechanism(
     let sliders = parse_sliders(cx, spec, &links)?;
     let (driver, angle_input, dspan) = parse_driver(cx, spec, &links, &link_lines)?;
     let d = spec.driver.as_ref().expect("parsed").get_ref();
-    let lname = spec
-        .name
-        .clone()
-        .unwrap_or_else(|| crate::scenarios::linkage::NAME.into());
+    let lname = spec.name.clone().unwrap_or_else(|| NAME.into());
     let linkage = Linkage::with_shared_pins(lname, ground, links, sliders, driver);
     linkage
         .validate()
@@ -671,50 +681,94 @@ fn parse_curves(cx: &Source, spec: &Spec, linkage: &Linkage) -> Result<Curves, S
     Ok((four_bar, coupler_curves))
 }
 
-/// The `[counterweight]` (needs the kinetostatics).
-fn parse_counterweight(
+fn parse_link(
     cx: &Source,
-    spec: &Spec,
-    linkage: &Linkage,
-    has_kinetostatics: bool,
-) -> Result<Option<CounterweightScenario>, ScenarioError> {
-    let counterweight = match &spec.counterweight {
-        None => None,
-        Some(c) => {
-            let span = c.span();
-            let cs = c.get_ref();
-            let find = |key: &str, n: &str| {
-                moving_link(cx, &linkage.links, n, &span, ("counterweight", key))
-            };
-            if !has_kinetostatics {
-                return Err(cx.err(
-                    cx.line(&span),
-                    "counterweight",
-                    "needs [kinetostatics] (the shaking force comes from it)",
-                ));
-            }
-            if !(cs.radius.is_finite() && cs.radius > 0.0) {
-                return Err(cx.err(
-                    cx.key_line(&span, "radius"),
-                    "counterweight.radius",
-                    "must be positive",
-                ));
-            }
-            if !(cs.fraction.is_finite() && (0.0..=1.0).contains(&cs.fraction)) {
-                return Err(cx.err(
-                    cx.key_line(&span, "fraction"),
-                    "counterweight.fraction",
-                    "must be in [0, 1]",
-                ));
-            }
-            Some(CounterweightScenario {
-                crank: find("crank", &cs.crank)?,
-                rod: find("rod", &cs.rod)?,
-                slider: find("slider", &cs.slider)?,
-                fraction: cs.fraction,
-                radius: cs.radius,
-            })
+    name: &str,
+    sp: &Spanned<LinkSpec>,
+) -> Result<PlanarLink, ScenarioError> {
+    let line = cx.line(&sp.span());
+    let key = format!("links.{name}");
+    let s = sp.get_ref();
+    let mut points: Vec<(String, Vec2)> = Vec::new();
+    if let Some([a, b]) = &s.ends {
+        let Some(len) = s.length else {
+            return Err(cx.err(
+                line,
+                format!("{key}.length"),
+                "missing: a link with `ends` needs its `length` (m)",
+            ));
+        };
+        let (lo, hi) = crate::scenarios::source::LENGTHS;
+        if !(len.is_finite() && len > 0.0) {
+            return Err(cx.err(
+                cx.key_line(&sp.span(), "length"),
+                format!("{key}.length"),
+                format!("must be a positive length, got {len}"),
+            ));
         }
+        if !(lo..=hi).contains(&len) {
+            return Err(cx.err(
+                cx.key_line(&sp.span(), "length"),
+                format!("{key}.length"),
+                format!("{len:e} is out of range: a length lies in {lo:e}..{hi:e}"),
+            ));
+        }
+        if a == b {
+            return Err(cx.err(line, format!("{key}.ends"), "the two ends must differ"));
+        }
+        points.push((a.clone(), Vec2::zeros()));
+        points.push((b.clone(), Vec2::new(len, 0.0)));
+    } else if s.length.is_some() {
+        return Err(cx.err(
+            cx.key_line(&sp.span(), "length"),
+            format!("{key}.length"),
+            "`length` needs `ends = [\"P\", \"Q\"]` (the points it separates)",
+        ));
+    }
+    for (pn, p) in s.points.iter().flatten() {
+        if !all_finite(p) {
+            return Err(cx.err(line, format!("{key}.points.{pn}"), "non-finite coordinates"));
+        }
+        if points.iter().any(|(n, _)| n == pn) {
+            return Err(cx.err(
+                line,
+                format!("{key}.points.{pn}"),
+                "point given twice (also in `ends`)",
+            ));
+        }
+        points.push((pn.clone(), Vec2::new(p[0], p[1])));
+    }
+    if points.is_empty() {
+        return Err(cx.err(line, key, "a link needs `ends` and `length`, or `points`"));
+    }
+    let mass = s.mass.unwrap_or(0.0);
+    let inertia = s.inertia.unwrap_or(0.0);
+    for (k, v) in [("mass", mass), ("inertia", inertia)] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(cx.err(
+                cx.key_line(&sp.span(), k),
+                format!("{key}.{k}"),
+                format!("must be ≥ 0, got {v}"),
+            ));
+        }
+    }
+    let com = match s.com {
+        Some(c) if !all_finite(&c) => {
+            return Err(cx.err(
+                cx.key_line(&sp.span(), "com"),
+                format!("{key}.com"),
+                "non-finite",
+            ))
+        }
+        Some(c) => Vec2::new(c[0], c[1]),
+        None if s.ends.is_some() => (points[0].1 + points[1].1) * 0.5,
+        None => Vec2::zeros(),
     };
-    Ok(counterweight)
+    Ok(PlanarLink {
+        name: name.to_string(),
+        points,
+        mass,
+        com,
+        inertia,
+    })
 }

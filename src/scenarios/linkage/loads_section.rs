@@ -1,14 +1,17 @@
-//! The `[kinetostatics]`, `[[loads]]` and `[flywheel]` sections: gravity, the report
-//! positions, point forces and torques on links, pin friction, and the flywheel's speed
-//! and torque table, each error naming the file, the line and the key.
+//! The `[kinetostatics]`, `[[loads]]`, `[counterweight]` and `[flywheel]` sections:
+//! gravity, the report positions, point forces and torques on links, pin friction, the
+//! counterweight's links, and the flywheel's speed and torque table, each error naming
+//! the file, the line and the key.
 
 use crate::core::diag::{all_finite, LocatedError as ScenarioError};
 use crate::machines::linkage::description::Linkage;
 use crate::machines::linkage::kinetostatics::{Loads, PointForce};
 use crate::machines::linkage::Vec2;
-use crate::scenarios::linkage::{
-    moving_link, FlywheelScenario, FlywheelSpec, KinetoSpec, KinetostaticsScenario, LoadSpec,
-    MechanismScenario,
+use crate::scenarios::linkage::linkage_scenario::{
+    CounterweightScenario, FlywheelScenario, KinetostaticsScenario, MechanismScenario,
+};
+use crate::scenarios::linkage::linkage_spec::{
+    moving_link, FlywheelSpec, KinetoSpec, LoadSpec, Spec,
 };
 use crate::scenarios::source::Source;
 use toml::Spanned;
@@ -229,4 +232,52 @@ pub(super) fn parse_flywheel(
         load: s.load,
         table,
     })
+}
+
+/// The `[counterweight]` (needs the kinetostatics).
+pub(super) fn parse_counterweight(
+    cx: &Source,
+    spec: &Spec,
+    linkage: &Linkage,
+    has_kinetostatics: bool,
+) -> Result<Option<CounterweightScenario>, ScenarioError> {
+    let counterweight = match &spec.counterweight {
+        None => None,
+        Some(c) => {
+            let span = c.span();
+            let cs = c.get_ref();
+            let find = |key: &str, n: &str| {
+                moving_link(cx, &linkage.links, n, &span, ("counterweight", key))
+            };
+            if !has_kinetostatics {
+                return Err(cx.err(
+                    cx.line(&span),
+                    "counterweight",
+                    "needs [kinetostatics] (the shaking force comes from it)",
+                ));
+            }
+            if !(cs.radius.is_finite() && cs.radius > 0.0) {
+                return Err(cx.err(
+                    cx.key_line(&span, "radius"),
+                    "counterweight.radius",
+                    "must be positive",
+                ));
+            }
+            if !(cs.fraction.is_finite() && (0.0..=1.0).contains(&cs.fraction)) {
+                return Err(cx.err(
+                    cx.key_line(&span, "fraction"),
+                    "counterweight.fraction",
+                    "must be in [0, 1]",
+                ));
+            }
+            Some(CounterweightScenario {
+                crank: find("crank", &cs.crank)?,
+                rod: find("rod", &cs.rod)?,
+                slider: find("slider", &cs.slider)?,
+                fraction: cs.fraction,
+                radius: cs.radius,
+            })
+        }
+    };
+    Ok(counterweight)
 }

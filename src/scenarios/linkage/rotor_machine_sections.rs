@@ -4,7 +4,8 @@
 use crate::core::diag::{all_finite, LocatedError as ScenarioError};
 use crate::machines::balancing::RotorMass;
 use crate::machines::flywheel::machine_motion::Characteristic;
-use crate::scenarios::linkage::{MachineScenario, MachineSpec, RotorScenario, RotorSpec};
+use crate::scenarios::linkage::linkage_scenario::{MachineScenario, RotorScenario};
+use crate::scenarios::linkage::linkage_spec::{MachineSpec, RotorSpec};
 use crate::scenarios::source::Source;
 use toml::Spanned;
 

@@ -10,6 +10,10 @@
 pub use crate::scenarios::torsional::torsional_report::report;
 
 mod torsional_report;
+mod torsional_scenario;
+
+use torsional_scenario::Identification;
+pub use torsional_scenario::TorsionalScenario;
 
 use crate::core::diag::{line_at, LocatedError as ScenarioError};
 use crate::io::report::Report;
@@ -126,33 +130,6 @@ pub const MAX_SWEEP_WORK: f64 = 1e11;
 
 /// Most RK4 steps of a time check (`periods × steps_per_period`), as for machine motion.
 pub const MAX_TIME_STEPS: f64 = 1e7;
-
-/// A parsed and validated torsional scenario: what [`report`] computes on.
-#[derive(Clone, Debug)]
-pub struct TorsionalScenario {
-    file: String,
-    name: String,
-    chain: TorsionalChain,
-    rated: Option<f64>,
-    exc: Option<Excitation>,
-    speeds: Option<Vec<f64>>,
-    /// Order index, speed (rpm), periods, steps per period.
-    time_check: Option<(usize, f64, usize, usize)>,
-    ident: Option<Identification>,
-}
-
-/// The damping identification asked for: the chain without the fitted dampers, the
-/// parameters, the measurements, the initial and the nominal values.
-#[derive(Clone, Debug)]
-struct Identification {
-    base: TorsionalChain,
-    params: Vec<DampingParameter>,
-    data: Vec<Measurement>,
-    initial: Vec<f64>,
-    nominal: Vec<f64>,
-    /// Line of `[identification]`, for a fit that fails.
-    line: usize,
-}
 
 /// Runs a torsional-chain scenario: [`parse`], then [`report`].
 pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {

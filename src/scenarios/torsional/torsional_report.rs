@@ -15,7 +15,7 @@ use crate::machines::vibration::torsional::modes::{undamped_modes, Mode, CPM_PER
 use crate::machines::vibration::torsional::time::steady_state_by_integration;
 use crate::machines::vibration::torsional::torsional_chain::TorsionalChain;
 use crate::machines::vibration::torsional::GearedChain;
-use crate::scenarios::torsional::{Identification, TorsionalScenario};
+use crate::scenarios::torsional::torsional_scenario::{Identification, TorsionalScenario};
 use serde_json::{json, Value};
 use std::fmt::Write;
 

@@ -22,7 +22,8 @@ use crate::dynamics::{
 use crate::model::data::Data;
 use crate::model::Model;
 use crate::studies::bench::{random_states, random_unit_states, STATES};
-use crate::studies::tradeoffs::{time_rounds, Options, Stats};
+use crate::studies::tradeoffs::study_options::Options;
+use crate::studies::tradeoffs::study_timing::{time_rounds, Stats};
 use serde::Serialize;
 use std::hint::black_box;
 
@@ -39,19 +40,19 @@ pub struct EffectConfig {
 
 impl EffectConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::study_options::StudyMode) -> Self {
         match mode {
-            crate::studies::tradeoffs::StudyMode::Tiny => EffectConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Tiny => EffectConfig {
                 passes: 2,
                 rounds: 9,
                 round_ns: 5e4,
             },
-            crate::studies::tradeoffs::StudyMode::Quick => EffectConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Quick => EffectConfig {
                 passes: 5,
                 rounds: 41,
                 round_ns: 1e5,
             },
-            crate::studies::tradeoffs::StudyMode::Full => EffectConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Full => EffectConfig {
                 passes: 11,
                 rounds: 101,
                 round_ns: 2e5,
@@ -190,7 +191,7 @@ pub fn effect_sets(m: &Model) -> Result<Vec<(&'static str, String, Effects)>, St
 
 /// Runs the study on the iiwa 14.
 pub fn run(opts: &Options, cfg: &EffectConfig) -> Result<EffectStudy, String> {
-    let model = crate::studies::tradeoffs::bundled_robot("iiwa14.urdf")?;
+    let model = crate::studies::tradeoffs::bundled_robots::bundled_robot("iiwa14.urdf")?;
     let n = model.nv;
     let sets = effect_sets(&model)?;
     for (name, _, e) in &sets {

@@ -19,7 +19,8 @@ use crate::dynamics::{aba, forward_dynamics_crba, lagrange_energy, lagrange_trac
 use crate::model::data::Data;
 use crate::model::{chain, Model};
 use crate::studies::bench::{random_states, random_unit_states, STATES};
-use crate::studies::tradeoffs::{time_calls, Options, Stats};
+use crate::studies::tradeoffs::study_options::Options;
+use crate::studies::tradeoffs::study_timing::{time_calls, Stats};
 use serde::Serialize;
 use std::hint::black_box;
 
@@ -42,9 +43,9 @@ pub struct FormulationConfig {
 
 impl FormulationConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::study_options::StudyMode) -> Self {
         match mode {
-            crate::studies::tradeoffs::StudyMode::Tiny => FormulationConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Tiny => FormulationConfig {
                 dofs: vec![2, 4, 8],
                 max_dof_trace: 4,
                 max_dof_energy: 4,
@@ -52,7 +53,7 @@ impl FormulationConfig {
                 round_ns: 5e4,
                 agreement_states: 8,
             },
-            crate::studies::tradeoffs::StudyMode::Quick => FormulationConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Quick => FormulationConfig {
                 dofs: vec![2, 4, 6, 8, 12, 16, 24, 32, 48, 64],
                 max_dof_trace: 12,
                 max_dof_energy: 12,
@@ -60,7 +61,7 @@ impl FormulationConfig {
                 round_ns: 1e5,
                 agreement_states: 32,
             },
-            crate::studies::tradeoffs::StudyMode::Full => FormulationConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Full => FormulationConfig {
                 dofs: vec![2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64],
                 max_dof_trace: 32,
                 max_dof_energy: 32,

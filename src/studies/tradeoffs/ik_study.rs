@@ -25,7 +25,8 @@ use crate::kinematics::ik::{rotation_log, IkOptions, IkSolver, IkStatus};
 use crate::kinematics::{forward_kinematics, frame_placement};
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::studies::tradeoffs::{Options, Stats};
+use crate::studies::tradeoffs::study_options::Options;
+use crate::studies::tradeoffs::study_timing::Stats;
 use rand::rngs::SmallRng;
 use rand::SeedableRng;
 use serde::Serialize;
@@ -49,24 +50,24 @@ pub struct IkConfig {
 
 impl IkConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::study_options::StudyMode) -> Self {
         let decades = |lo: i32| (3..=lo).map(|k| 10f64.powi(-k)).collect::<Vec<_>>();
         match mode {
-            crate::studies::tradeoffs::StudyMode::Tiny => IkConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Tiny => IkConfig {
                 targets: 6,
                 tolerances: vec![1e-3, 1e-6, 1e-9, 1e-12],
                 budget_ms: 20.0,
                 analytic_repeats: 5,
                 numeric_repeats: 3,
             },
-            crate::studies::tradeoffs::StudyMode::Quick => IkConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Quick => IkConfig {
                 targets: 40,
                 tolerances: decades(12),
                 budget_ms: 50.0,
                 analytic_repeats: 21,
                 numeric_repeats: 5,
             },
-            crate::studies::tradeoffs::StudyMode::Full => IkConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Full => IkConfig {
                 targets: 200,
                 tolerances: decades(12),
                 budget_ms: 50.0,
@@ -298,7 +299,7 @@ fn analytic_rows(
 
 /// Runs the study on the UR5.
 pub fn run(opts: &Options, cfg: &IkConfig) -> Result<IkStudy, String> {
-    let model = crate::studies::tradeoffs::bundled_robot("ur5.urdf")?;
+    let model = crate::studies::tradeoffs::bundled_robots::bundled_robot("ur5.urdf")?;
     let link_name = "tool0";
     let link = model
         .link_id(link_name)

@@ -19,7 +19,8 @@
 use crate::dynamics::{Effects, Elasticity};
 use crate::model::Model;
 use crate::sim::{Controller, Hold, Integrator, Reference, SimConfig, SimError, Simulator};
-use crate::studies::tradeoffs::{Options, Stats};
+use crate::studies::tradeoffs::study_options::Options;
+use crate::studies::tradeoffs::study_timing::Stats;
 use serde::Serialize;
 
 /// Sizes of the integrator study.
@@ -37,14 +38,16 @@ pub struct IntegratorConfig {
 
 impl IntegratorConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::study_options::StudyMode) -> Self {
         let (dts, duration) = match mode {
-            crate::studies::tradeoffs::StudyMode::Tiny => (vec![4e-3, 2e-3, 1e-3], 0.2),
-            crate::studies::tradeoffs::StudyMode::Quick => (
+            crate::studies::tradeoffs::study_options::StudyMode::Tiny => {
+                (vec![4e-3, 2e-3, 1e-3], 0.2)
+            }
+            crate::studies::tradeoffs::study_options::StudyMode::Quick => (
                 vec![1e-2, 3e-3, 1e-3, 7e-4, 5e-4, 3e-4, 1e-4, 3e-5, 1e-5],
                 0.5,
             ),
-            crate::studies::tradeoffs::StudyMode::Full => (
+            crate::studies::tradeoffs::study_options::StudyMode::Full => (
                 vec![
                     1e-2, 5e-3, 2e-3, 1e-3, 7e-4, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5,
                 ],
@@ -261,7 +264,7 @@ fn cases(model: &Model, q0: &[f64], cfg: &IntegratorConfig) -> Vec<(IntegratorCa
 
 /// Runs the study on the iiwa 14.
 pub fn run(opts: &Options, cfg: &IntegratorConfig) -> Result<IntegratorStudy, String> {
-    let model = crate::studies::tradeoffs::bundled_robot("iiwa14.urdf")?;
+    let model = crate::studies::tradeoffs::bundled_robots::bundled_robot("iiwa14.urdf")?;
     let n = model.nv;
     let q0: Vec<f64> = [0.3, 0.6, -0.4, -1.2, 0.5, 0.8, 0.2]
         .iter()

@@ -7,7 +7,8 @@ use crate::studies::tradeoffs::formulations::NAMES as FORMULATIONS;
 use crate::studies::tradeoffs::ik_study::{ANALYTIC, NUMERIC, QP};
 use crate::studies::tradeoffs::integrators::{median_step_us, IntegratorOutcome, METHODS};
 pub use crate::studies::tradeoffs::report_plots::{plots, workspace_convergence_png};
-use crate::studies::tradeoffs::{log_slope, TradeoffsReport};
+use crate::studies::tradeoffs::study_timing::log_slope;
+use crate::studies::tradeoffs::TradeoffsReport;
 use crate::workspace::Sampling;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -52,7 +53,7 @@ pub fn write(report: &TradeoffsReport, dir: &Path) -> Result<Vec<PathBuf>, Strin
         written.push(p);
         Ok(())
     };
-    let plots = plots(report)?;
+    let plots = plots(report).map_err(|e| e.to_string())?;
     for (name, bytes) in &plots {
         put(name, bytes)?;
     }
@@ -74,9 +75,9 @@ pub fn markdown(r: &TradeoffsReport) -> String {
          so expect a few per cent of noise between runs. The raw figures are in [`{JSON}`]({JSON}).\n",
         r.mode.as_str(),
         match r.mode {
-            crate::studies::tradeoffs::StudyMode::Full => "",
-            crate::studies::tradeoffs::StudyMode::Quick => " (reduced sizes: `--quick`; run without it for the full study)",
-            crate::studies::tradeoffs::StudyMode::Tiny => " (smoke-test sizes: the numbers are coarse)",
+            crate::studies::tradeoffs::study_options::StudyMode::Full => "",
+            crate::studies::tradeoffs::study_options::StudyMode::Quick => " (reduced sizes: `--quick`; run without it for the full study)",
+            crate::studies::tradeoffs::study_options::StudyMode::Tiny => " (smoke-test sizes: the numbers are coarse)",
         }
     );
     let load1 = m

@@ -2,9 +2,10 @@
 //! robustness and features cost in time, each a table, at least one plot and a reading of
 //! the numbers, written as `tradeoffs.md` plus PNGs.
 //!
-//! This module owns the study driver ([`run`]), the sizes of the three modes ([`StudyMode`]),
-//! the shared measurement helpers ([`Stats`], [`time_calls`]) and the machine description
-//! ([`MachineInfo`]). The studies live one per file:
+//! This module owns the study driver ([`run`]) and the machine description
+//! ([`MachineInfo`]); it re-exports the sizes of the three modes ([`StudyMode`], from
+//! `study_options.rs`) and the shared measurement helpers ([`Stats`], [`time_calls`], from
+//! `study_timing.rs`). The studies live one per file:
 //!
 //! - [`ik`]: IK tolerance × method (numeric damped least squares, QP, analytic) on the UR5;
 //! - [`integrators`]: step size × integrator on a rigid and an elastic-joint iiwa 14;
@@ -28,169 +29,15 @@ pub mod rotor_report;
 pub mod rotor_study;
 pub mod workspace_study;
 
+mod bundled_robots;
+mod study_options;
+mod study_timing;
+
+pub use study_options::{Options, StudyMode};
+pub use study_timing::{log_slope, time_calls, time_rounds, Stats};
+
 use serde::Serialize;
 use std::time::Instant;
-
-/// How big the studies are.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum StudyMode {
-    /// Seconds: the smoke run the tests use (numbers are real but coarse).
-    Tiny,
-    /// Under 3 minutes on a 2-core machine.
-    Quick,
-    /// Under 20 minutes on a 2-core machine.
-    Full,
-}
-
-impl StudyMode {
-    /// Name used in the report.
-    pub fn as_str(&self) -> &'static str {
-        match self {
-            StudyMode::Tiny => "tiny",
-            StudyMode::Quick => "quick",
-            StudyMode::Full => "full",
-        }
-    }
-}
-
-/// Options of [`run`].
-#[derive(Clone, Debug)]
-pub struct Options {
-    /// Study sizes.
-    pub mode: StudyMode,
-    /// Progress lines on standard error.
-    pub progress: bool,
-    /// Seed of every random choice (targets, states, sample streams).
-    pub seed: u64,
-}
-
-impl Options {
-    /// `mode` with progress off and the default seed.
-    pub fn new(mode: StudyMode) -> Self {
-        Self {
-            mode,
-            progress: false,
-            seed: 0x7ade_0ff5,
-        }
-    }
-
-    /// Prints a progress line to standard error when asked to.
-    pub fn say(&self, msg: impl AsRef<str>) {
-        if self.progress {
-            eprintln!("tradeoffs: {}", msg.as_ref());
-        }
-    }
-}
-
-/// Summary statistics of a sample (times in the caller's unit).
-#[derive(Clone, Copy, Debug, Default, Serialize)]
-pub struct Stats {
-    /// Number of values.
-    pub count: usize,
-    /// Median.
-    pub median: f64,
-    /// 99th percentile (nearest rank).
-    pub p99: f64,
-    /// Smallest.
-    pub min: f64,
-    /// Largest.
-    pub max: f64,
-    /// Mean.
-    pub mean: f64,
-}
-
-impl Stats {
-    /// Statistics of `values` (NaNs ignored; all zeros when empty).
-    pub fn of(values: &[f64]) -> Stats {
-        let mut v: Vec<f64> = values.iter().copied().filter(|x| !x.is_nan()).collect();
-        if v.is_empty() {
-            return Stats::default();
-        }
-        v.sort_by(f64::total_cmp);
-        let n = v.len();
-        let median = if n % 2 == 1 {
-            v[n / 2]
-        } else {
-            0.5 * (v[n / 2 - 1] + v[n / 2])
-        };
-        let rank = ((0.99 * n as f64).ceil() as usize).clamp(1, n) - 1;
-        Stats {
-            count: n,
-            median,
-            p99: v[rank],
-            min: v[0],
-            max: v[n - 1],
-            mean: v.iter().sum::<f64>() / n as f64,
-        }
-    }
-}
-
-/// Times `f` (called with a running call index, to cycle over prepared inputs): a round is
-/// as many calls as take about `round_ns` (calibrated on a warm-up), and the result is
-/// the per-call time in nanoseconds over `rounds` rounds (median and p99 across rounds).
-/// `f` should not allocate. Rounds are kept short (a fraction of a scheduler slice) so
-/// that on a loaded machine most of them run uninterrupted and the median is the
-/// uncontended cost, while the p99 shows the interruptions.
-pub fn time_calls(rounds: usize, round_ns: f64, f: impl FnMut(usize)) -> Stats {
-    Stats::of(&time_rounds(rounds, round_ns, f))
-}
-
-/// [`time_calls`] returning the per-call time of every round (ns).
-pub fn time_rounds(rounds: usize, round_ns: f64, mut f: impl FnMut(usize)) -> Vec<f64> {
-    // Calibrate: double the batch until it takes a tenth of a round.
-    let mut k = 0usize;
-    let mut batch = 1usize;
-    let per_call = loop {
-        let t = Instant::now();
-        for _ in 0..batch {
-            f(k);
-            k += 1;
-        }
-        let ns = t.elapsed().as_nanos() as f64;
-        if ns >= 0.1 * round_ns || batch >= 1 << 24 {
-            break ns / batch as f64;
-        }
-        batch *= 2;
-    };
-    let per_round = ((round_ns / per_call.max(1.0)).ceil() as usize).clamp(1, 1 << 26);
-    // Warm-up round.
-    for _ in 0..per_round {
-        f(k);
-        k += 1;
-    }
-    (0..rounds.max(1))
-        .map(|_| {
-            let t = Instant::now();
-            for _ in 0..per_round {
-                f(k);
-                k += 1;
-            }
-            t.elapsed().as_nanos() as f64 / per_round as f64
-        })
-        .collect()
-}
-
-/// Least-squares slope of `log10 y` against `log10 x` over the points with positive,
-/// finite coordinates (`None` with fewer than two).
-pub fn log_slope(points: &[(f64, f64)]) -> Option<f64> {
-    let p: Vec<(f64, f64)> = points
-        .iter()
-        .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite())
-        .map(|(x, y)| (x.log10(), y.log10()))
-        .collect();
-    if p.len() < 2 {
-        return None;
-    }
-    let n = p.len() as f64;
-    let (mx, my) = (
-        p.iter().map(|a| a.0).sum::<f64>() / n,
-        p.iter().map(|a| a.1).sum::<f64>() / n,
-    );
-    let sxx: f64 = p.iter().map(|a| (a.0 - mx).powi(2)).sum();
-    let sxy: f64 = p.iter().map(|a| (a.0 - mx) * (a.1 - my)).sum();
-    (sxx > 0.0).then(|| sxy / sxx)
-}
 
 /// The machine and build the report was measured on.
 #[derive(Clone, Debug, Serialize)]
@@ -338,59 +185,4 @@ pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
         study_seconds,
         total_seconds: start.elapsed().as_secs_f64(),
     })
-}
-
-/// The robots the studies use, embedded so the command runs without the source tree.
-const ROBOTS: [(&str, &str); 4] = [
-    (
-        "ur5.urdf",
-        include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/ur5.urdf")),
-    ),
-    (
-        "iiwa14.urdf",
-        include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/iiwa14.urdf")),
-    ),
-    (
-        "planar_2r.toml",
-        include_str!(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/robots/planar_2r.toml"
-        )),
-    ),
-    (
-        "textbook_spherical_rrp.toml",
-        include_str!(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/robots/textbook_spherical_rrp.toml"
-        )),
-    ),
-];
-
-/// The text of a bundled robot file (`robots/NAME`, embedded at build time).
-pub(crate) fn robot_text(name: &str) -> Result<&'static str, String> {
-    ROBOTS
-        .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(_, t)| *t)
-        .ok_or_else(|| format!("robots/{name} is not embedded"))
-}
-
-/// Builds a model from the text of a URDF (`.urdf`) or DH table (`.toml`) file.
-pub(crate) fn model_from_text(text: &str, file: &str) -> Result<crate::model::Model, String> {
-    use crate::model::parse::{dh_table as dh, urdf};
-    use crate::model::Model;
-    let spec = if file.ends_with(".urdf") {
-        urdf::parse(text, file)
-    } else {
-        dh::parse(text, file)
-    }
-    .map_err(|e| e.to_string())?;
-    Model::build(spec)
-        .map(|(m, _)| m)
-        .map_err(|e| e.to_string())
-}
-
-/// A bundled robot (`robots/NAME`), from the embedded text.
-pub(crate) fn bundled_robot(name: &str) -> Result<crate::model::Model, String> {
-    model_from_text(robot_text(name)?, &format!("robots/{name}"))
 }

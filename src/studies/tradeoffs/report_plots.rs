@@ -4,6 +4,7 @@
 use crate::io::plots::panels::{
     render_bars, render_panels, BarGroup, Flag, Legend, Panel, Series, PALETTE,
 };
+use crate::io::plots::plot_error::PlotError;
 use crate::studies::tradeoffs::formulations::NAMES as FORMULATIONS;
 use crate::studies::tradeoffs::ik_study::{ANALYTIC, NUMERIC, QP};
 use crate::studies::tradeoffs::integrators::{IntegratorOutcome, METHODS};
@@ -11,7 +12,7 @@ use crate::studies::tradeoffs::TradeoffsReport;
 use crate::workspace::Sampling;
 
 /// Every plot of the report as `(file name, PNG bytes)`.
-pub fn plots(r: &TradeoffsReport) -> Result<Vec<(String, Vec<u8>)>, String> {
+pub fn plots(r: &TradeoffsReport) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
     let mut out = Vec::new();
     ik_plots(r, &mut out)?;
     integrator_plots(r, &mut out)?;
@@ -29,7 +30,7 @@ pub fn plots(r: &TradeoffsReport) -> Result<Vec<(String, Vec<u8>)>, String> {
 type Plots = Vec<(String, Vec<u8>)>;
 
 /// The IK plots: solve time (median and p99) and success rate against tolerance.
-fn ik_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
+fn ik_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), PlotError> {
     let methods = [NUMERIC, QP, ANALYTIC];
     let ik_series =
         |f: &dyn Fn(&crate::studies::tradeoffs::ik_study::IkRow) -> f64| -> Vec<Series> {
@@ -176,7 +177,7 @@ fn integrator_panel(
 
 /// The integrator plots: energy and tracking error against the step (diverged runs flagged), and
 /// tracking error against wall time.
-fn integrator_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
+fn integrator_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), PlotError> {
     let st = &r.integrators;
     let energy_panels: Vec<Panel> = st
         .cases
@@ -256,7 +257,7 @@ fn integrator_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> 
 }
 
 /// The dynamics-formulation plot: time per call against DOF.
-fn formulation_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
+fn formulation_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), PlotError> {
     let fs = &r.formulations;
     out.push((
         "dynamics_time.png".to_string(),
@@ -288,7 +289,7 @@ fn formulation_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String>
 }
 
 /// The workspace plots: error against samples (random and Sobol') and the estimator's convergence.
-fn workspace_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
+fn workspace_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), PlotError> {
     let ws = &r.workspace;
     let ws_panels: Vec<Panel> = ws
         .cases
@@ -355,7 +356,7 @@ fn workspace_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
 }
 
 /// The effects plot: cost of each effect relative to the bare rigid model.
-fn effects_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
+fn effects_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), PlotError> {
     let ef = &r.effects;
     let cats: Vec<String> = ef.rows.iter().map(|r| r.name.clone()).collect();
     out.push((
@@ -391,7 +392,7 @@ fn effects_plots(r: &TradeoffsReport, out: &mut Plots) -> Result<(), String> {
 /// the closed form against samples.
 pub fn workspace_convergence_png(
     c: &crate::studies::tradeoffs::workspace_study::ConvergenceRun,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, PlotError> {
     let pts = &c.points;
     let xs = |f: &dyn Fn(&crate::workspace::ConvergencePoint) -> Option<f64>| -> Vec<(f64, f64)> {
         pts.iter()

@@ -3,12 +3,13 @@
 //! reading (the fitted convergence order and the elements each mode needs for 0.1 %).
 
 use crate::io::plots::panels::{render_panels, Legend, Panel, Series, PALETTE};
+use crate::io::plots::plot_error::PlotError;
 use crate::io::report::fmt_ns;
 use crate::studies::tradeoffs::rotor_study::{RotorCase, RotorStudy, MODES};
 use std::fmt::Write as _;
 
 /// `rotor_error.png`: relative error against elements per mode (solid), per rotor.
-pub fn png(st: &RotorStudy) -> Result<Vec<u8>, String> {
+pub fn png(st: &RotorStudy) -> Result<Vec<u8>, PlotError> {
     let panels: Vec<Panel> = st
         .cases
         .iter()

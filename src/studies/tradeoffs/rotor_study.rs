@@ -17,7 +17,8 @@ use crate::machines::vibration::rotor::{
     fe_modes, pinned_pinned_speed, Bearing, Disc, FlexibleRotor, Segment,
 };
 use crate::machines::vibration::rotor_transfer::critical_speeds;
-use crate::studies::tradeoffs::{log_slope, time_calls, Options, Stats};
+use crate::studies::tradeoffs::study_options::Options;
+use crate::studies::tradeoffs::study_timing::{log_slope, time_calls, Stats};
 use serde::Serialize;
 
 /// Modes compared.
@@ -36,13 +37,15 @@ pub struct RotorConfig {
 
 impl RotorConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::study_options::StudyMode) -> Self {
         let (elements, rounds, round_ns) = match mode {
-            crate::studies::tradeoffs::StudyMode::Tiny => (vec![2, 4, 8, 16], 5, 2e5),
-            crate::studies::tradeoffs::StudyMode::Quick => {
+            crate::studies::tradeoffs::study_options::StudyMode::Tiny => {
+                (vec![2, 4, 8, 16], 5, 2e5)
+            }
+            crate::studies::tradeoffs::study_options::StudyMode::Quick => {
                 (vec![2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64], 15, 1e6)
             }
-            crate::studies::tradeoffs::StudyMode::Full => (
+            crate::studies::tradeoffs::study_options::StudyMode::Full => (
                 vec![2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128],
                 41,
                 2e6,

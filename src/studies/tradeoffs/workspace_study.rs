@@ -19,7 +19,8 @@
 //! doubling of the samples.
 
 use crate::model::Model;
-use crate::studies::tradeoffs::{Options, Stats};
+use crate::studies::tradeoffs::study_options::Options;
+use crate::studies::tradeoffs::study_timing::Stats;
 use crate::workspace::{sample_workspace, Sampling, WorkspaceOptions};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -44,9 +45,9 @@ pub struct WorkspaceConfig {
 
 impl WorkspaceConfig {
     /// The sizes of `mode`.
-    pub fn for_mode(mode: crate::studies::tradeoffs::StudyMode) -> Self {
+    pub fn for_mode(mode: crate::studies::tradeoffs::study_options::StudyMode) -> Self {
         match mode {
-            crate::studies::tradeoffs::StudyMode::Tiny => WorkspaceConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Tiny => WorkspaceConfig {
                 exponents: vec![6, 9, 12],
                 replicates: 8,
                 seeds: 3,
@@ -54,7 +55,7 @@ impl WorkspaceConfig {
                 voxel_rrp: None,
                 convergence_samples: 1 << 18,
             },
-            crate::studies::tradeoffs::StudyMode::Quick => WorkspaceConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Quick => WorkspaceConfig {
                 exponents: (4..=14).collect(),
                 replicates: 8,
                 seeds: 4,
@@ -62,7 +63,7 @@ impl WorkspaceConfig {
                 voxel_rrp: Some(0.25),
                 convergence_samples: 1 << 22,
             },
-            crate::studies::tradeoffs::StudyMode::Full => WorkspaceConfig {
+            crate::studies::tradeoffs::study_options::StudyMode::Full => WorkspaceConfig {
                 exponents: (4..=17).collect(),
                 replicates: 8,
                 seeds: 8,
@@ -159,7 +160,8 @@ pub fn rrp_truth() -> f64 {
 
 /// The convergence run: Sobol', 8 replicates, 5 cm voxels.
 fn convergence_run(opts: &Options, samples: u64) -> Result<ConvergenceRun, String> {
-    let model = crate::studies::tradeoffs::bundled_robot("textbook_spherical_rrp.toml")?;
+    let model =
+        crate::studies::tradeoffs::bundled_robots::bundled_robot("textbook_spherical_rrp.toml")?;
     let voxel = 0.05;
     opts.say(format!("workspace: convergence run, R-R-P, N = {samples}"));
     let o = WorkspaceOptions {
@@ -191,7 +193,7 @@ impl WorkspaceStudy {
 
 /// The planar 2R of `robots/planar_2r.toml` with link lengths `l1`, `l2`.
 pub fn planar_2r(l1: f64, l2: f64) -> Result<Model, String> {
-    let text = crate::studies::tradeoffs::robot_text("planar_2r.toml")?;
+    let text = crate::studies::tradeoffs::bundled_robots::robot_text("planar_2r.toml")?;
     if text.matches("a = 0.5").count() != 2 {
         return Err("planar_2r.toml: expected two 'a = 0.5' lines".into());
     }
@@ -200,7 +202,10 @@ pub fn planar_2r(l1: f64, l2: f64) -> Result<Model, String> {
         &format!("a = {l2}"),
         1,
     );
-    crate::studies::tradeoffs::model_from_text(&text, "planar_2r (lengths changed).toml")
+    crate::studies::tradeoffs::bundled_robots::model_from_text(
+        &text,
+        "planar_2r (lengths changed).toml",
+    )
 }
 
 /// Runs the study.
@@ -233,7 +238,7 @@ pub fn run(opts: &Options, cfg: &WorkspaceConfig) -> Result<WorkspaceStudy, Stri
                 unit: "m³",
                 voxel: h,
             },
-            crate::studies::tradeoffs::bundled_robot("textbook_spherical_rrp.toml")?,
+            crate::studies::tradeoffs::bundled_robots::bundled_robot("textbook_spherical_rrp.toml")?,
         ));
     }
     let mut rows = Vec::new();

@@ -2,6 +2,7 @@
 //! record that runs past its chunk's end is an error here, not an overflow there.
 
 use crate::io::record::mcap_in::cursor::Cursor;
+use crate::io::record::mcap_in::record_fault::RecordFault;
 
 /// MCAP magic (start and end of a file).
 const MAGIC: &[u8] = b"\x89MCAP0\r\n";
@@ -17,7 +18,7 @@ pub(super) const OP_CHUNK: u8 = 0x06;
 /// inconsistent ends this scan quietly and is left to the reader's own errors. The reader
 /// streams, so a chunk cut short by the end of the file is checked as far as it goes.
 /// Returns the record number and the message.
-pub(super) fn check_uncompressed_chunks(bytes: &[u8]) -> Result<(), (usize, String)> {
+pub(super) fn check_uncompressed_chunks(bytes: &[u8]) -> Result<(), (usize, RecordFault)> {
     let Some(mut rest) = bytes.strip_prefix(MAGIC) else {
         return Ok(());
     };
@@ -47,14 +48,14 @@ pub(super) fn check_uncompressed_chunks(bytes: &[u8]) -> Result<(), (usize, Stri
 /// uncompressed size and CRC, compression, then `compressed_size` bytes of records): with no
 /// compression, every inner record (opcode, u64 length, content) must end within the
 /// declared records.
-fn check_chunk_records(body: &[u8]) -> Result<(), String> {
+fn check_chunk_records(body: &[u8]) -> Result<(), RecordFault> {
     let mut c = Cursor { buf: body };
     let header = (|| {
         c.take(8 + 8 + 8 + 4)?;
         let n = c.len32()?;
         let compression = c.take(n)?;
         let size = c.u64()?;
-        Ok::<_, String>((compression.is_empty(), size))
+        Ok::<_, RecordFault>((compression.is_empty(), size))
     })();
     let Ok((true, size)) = header else {
         return Ok(());
@@ -72,11 +73,12 @@ fn check_chunk_records(body: &[u8]) -> Result<(), String> {
             return Ok(());
         };
         if left < 9 || len > left - 9 {
-            return Err(format!(
-                "chunk: the record at byte {at} of its {size} bytes of records declares {len} \
-                 bytes of content, more than the {} left",
-                left.saturating_sub(9)
-            ));
+            return Err(RecordFault::ChunkOverrun {
+                at,
+                size,
+                len,
+                left: left.saturating_sub(9),
+            });
         }
         at += 9 + len;
     }

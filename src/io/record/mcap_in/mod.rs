@@ -43,6 +43,7 @@ mod assemble;
 mod chunks;
 mod collected;
 mod cursor;
+pub mod record_fault;
 mod records;
 use crate::io::record::mcap_in::chunks::{check_uncompressed_chunks, OP_CHUNK};
 use crate::io::record::mcap_in::collected::{Budget, Collected};
@@ -76,11 +77,11 @@ pub fn read_mcap_bytes(bytes: &[u8], file: &Path) -> Result<Recording, RecordErr
 }
 
 fn read_inner(bytes: &[u8], file: &Path) -> Result<Recording, RecordError> {
-    check_uncompressed_chunks(bytes).map_err(|(record, msg)| {
-        RecordError::malformed(
+    check_uncompressed_chunks(bytes).map_err(|(record, fault)| {
+        RecordError::record(
             file,
             format!("record {record} (opcode {OP_CHUNK:#04x})"),
-            msg,
+            fault,
         )
     })?;
     let limit = bytes
@@ -110,10 +111,10 @@ fn read_inner(bytes: &[u8], file: &Path) -> Result<Recording, RecordError> {
             }
             LinearReadEvent::Record { data, opcode } => {
                 record += 1;
-                c.record(opcode, data).map_err(|(ctx, msg)| {
+                c.record(opcode, data).map_err(|(ctx, fault)| {
                     let ctx =
                         ctx.unwrap_or_else(|| format!("record {record} (opcode {opcode:#04x})"));
-                    RecordError::malformed(file, ctx, msg)
+                    RecordError::record(file, ctx, fault)
                 })?;
             }
         }

@@ -3,12 +3,16 @@
 //! the message budget is spent here.
 
 use crate::io::record::from_ros2::{cloud_from_msg, from_msg, stamp_nanos, torque_row};
-use crate::io::record::mcap_in::collected::{Channel, ChannelRec, Collected, Kind, SchemaRec};
+use crate::io::record::mcap_in::collected::{
+    Budget, Channel, ChannelRec, Collected, Kind, SchemaRec,
+};
 use crate::io::record::mcap_in::cursor::Cursor;
+use crate::io::record::mcap_in::record_fault::RecordFault;
 use crate::io::record::mcap_out::{
     METADATA_NAME, TOPIC_COLLISIONS, TOPIC_OBSTACLES, TOPIC_ROBOT_DESCRIPTION, TOPIC_TF,
     TOPIC_TF_STATIC, TOPIC_TORQUE_CHECK,
 };
+use crate::io::record::message_error::MessageError;
 use crate::io::record::obstacle_markers;
 use crate::io::record::ros2::{self, schema_is, RosMessage};
 use crate::io::record::CollisionEvent;
@@ -44,13 +48,26 @@ fn kind_of(schema: Option<&SchemaRec>, ch: &ChannelRec) -> Kind {
     }
 }
 
+/// Takes one message of `payload` bytes from the budget `b`.
+fn spend(b: &mut Budget, payload: usize) -> Result<(), RecordFault> {
+    b.messages = b
+        .messages
+        .checked_sub(1)
+        .ok_or(RecordFault::TooManyMessages)?;
+    b.payload = b
+        .payload
+        .checked_sub(payload)
+        .ok_or(RecordFault::TooMuchPayload)?;
+    Ok(())
+}
+
 /// An error in a record: the context when it is a message (`topic ..., message ...`), and
 /// the message.
-pub(super) type RecErr = (Option<String>, String);
+pub(super) type RecErr = (Option<String>, RecordFault);
 
 impl Collected {
     pub(super) fn record(&mut self, opcode: u8, data: &[u8]) -> Result<(), RecErr> {
-        let plain = |e: String| (None, e);
+        let plain = |e: RecordFault| (None, e);
         let mut cur = Cursor { buf: data };
         match opcode {
             op::SCHEMA => {
@@ -60,7 +77,7 @@ impl Collected {
                 let n = cur.len32().map_err(plain)?;
                 let data = cur.take(n).map_err(plain)?.to_vec();
                 if id == 0 {
-                    return Err(plain("schema id 0 is reserved".into()));
+                    return Err(plain(RecordFault::SchemaIdZero));
                 }
                 let rec = SchemaRec {
                     name,
@@ -69,7 +86,7 @@ impl Collected {
                 };
                 match self.schemas.get(&id) {
                     Some(old) if *old != rec => {
-                        return Err(plain(format!("schema {id} redefined differently")))
+                        return Err(plain(RecordFault::SchemaRedefined(id)))
                     }
                     Some(_) => {}
                     None => {
@@ -92,15 +109,15 @@ impl Collected {
                 let schema = match schema_id {
                     0 => None,
                     s => Some(self.schemas.get(&s).ok_or_else(|| {
-                        plain(format!(
-                            "channel '{}' refers to schema {s}, not defined before it",
-                            rec.topic
-                        ))
+                        plain(RecordFault::UnknownSchema {
+                            topic: rec.topic.clone(),
+                            schema: s,
+                        })
                     })?),
                 };
                 match self.channels.get(&id) {
                     Some(old) if old.rec != rec => {
-                        return Err(plain(format!("channel {id} redefined differently")))
+                        return Err(plain(RecordFault::ChannelRedefined(id)))
                     }
                     Some(_) => {}
                     None => {
@@ -122,23 +139,17 @@ impl Collected {
                 let _log_time = cur.u64().map_err(plain)?;
                 let _publish_time = cur.u64().map_err(plain)?;
                 if let Some(b) = self.budget.as_mut() {
-                    b.messages = b.messages.checked_sub(1).ok_or_else(|| {
-                        plain("more messages than a file of this size can hold".into())
-                    })?;
-                    b.payload = b.payload.checked_sub(cur.buf.len()).ok_or_else(|| {
-                        plain("the messages decompress to more data than a file of this size can hold".into())
-                    })?;
+                    spend(b, cur.buf.len()).map_err(plain)?;
                 }
-                let ch = self.channels.get_mut(&channel_id).ok_or_else(|| {
-                    plain(format!(
-                        "message on channel {channel_id}, not defined before it"
-                    ))
-                })?;
+                let ch = self
+                    .channels
+                    .get_mut(&channel_id)
+                    .ok_or_else(|| plain(RecordFault::UnknownChannel(channel_id)))?;
                 let index = ch.count;
                 ch.count += 1;
                 let (kind, topic) = (ch.kind, ch.rec.topic.clone());
                 self.message(kind, &topic, cur.buf)
-                    .map_err(|e| (Some(format!("topic '{topic}', message {index}")), e))?;
+                    .map_err(|e| (Some(format!("topic '{topic}', message {index}")), e.into()))?;
             }
             op::METADATA => {
                 let name = cur.string().map_err(plain)?;
@@ -152,9 +163,12 @@ impl Collected {
         Ok(())
     }
 
-    fn message(&mut self, kind: Kind, topic: &str, data: &[u8]) -> Result<(), String> {
-        fn dec<M: RosMessage>(data: &[u8]) -> Result<M, String> {
-            ros2::decode::<M>(data).map_err(|e| format!("{}: {e}", M::NAME))
+    fn message(&mut self, kind: Kind, topic: &str, data: &[u8]) -> Result<(), MessageError> {
+        fn dec<M: RosMessage>(data: &[u8]) -> Result<M, MessageError> {
+            ros2::decode::<M>(data).map_err(|source| MessageError::Decode {
+                message_type: M::NAME,
+                source,
+            })
         }
         match kind {
             Kind::Ignored => {}
@@ -162,11 +176,19 @@ impl Collected {
                 let m: ros2::JointState = dec(data)?;
                 let n = m.name.len();
                 if m.position.len() != n {
-                    return Err(format!("{} positions for {n} names", m.position.len()));
+                    return Err(MessageError::JointArrays {
+                        count: m.position.len(),
+                        what: "positions",
+                        names: n,
+                    });
                 }
                 for (what, v) in [("velocities", &m.velocity), ("efforts", &m.effort)] {
                     if !v.is_empty() && v.len() != n {
-                        return Err(format!("{} {what} for {n} names", v.len()));
+                        return Err(MessageError::JointArrays {
+                            count: v.len(),
+                            what,
+                            names: n,
+                        });
                     }
                 }
                 stamp_nanos(&m.header.stamp)?;
@@ -220,7 +242,10 @@ impl Collected {
                     let get = |k: &str| {
                         s.value(k)
                             .map(str::to_string)
-                            .ok_or_else(|| format!("status '{}': no value '{k}'", s.name))
+                            .ok_or_else(|| MessageError::MissingValue {
+                                status: s.name.clone(),
+                                key: k.to_string(),
+                            })
                     };
                     self.collisions.push((
                         ns,

@@ -5,6 +5,8 @@
 #[cfg(feature = "rerun")]
 mod rerun_blueprint;
 #[cfg(feature = "rerun")]
+mod rerun_entities;
+#[cfg(feature = "rerun")]
 mod rerun_geometry;
 #[cfg(feature = "rerun")]
 mod rerun_motion;
@@ -20,8 +22,12 @@ pub mod rerun_out;
 #[cfg(feature = "rerun")]
 mod rerun_plots;
 #[cfg(feature = "rerun")]
+mod rerun_recording;
+#[cfg(feature = "rerun")]
 mod rerun_scene;
 pub mod rerun_sink;
+#[cfg(feature = "rerun")]
+mod rerun_stream;
 #[cfg(feature = "rerun")]
 mod rerun_tree;
 #[cfg(feature = "rerun")]

@@ -9,7 +9,8 @@
 //! layout ([`send_workspace`]): the 3-D view beside the workspace report, and entities
 //! that are present but hidden (blueprint visibility, `EntityBehavior`).
 
-use crate::io::record::rerun::rerun_out::{path, RerunError, APP_ID};
+use crate::io::record::rerun::rerun_entities::path;
+use crate::io::record::rerun::rerun_sink::{RerunError, APP_ID};
 use crate::io::record::Recording;
 use rerun::external::re_log_types::{BlueprintActivationCommand, LogMsg, RecordingId};
 use rerun::external::re_sdk_types::blueprint::{archetypes as bp, components as bc};

@@ -6,7 +6,7 @@
 use crate::collision::mesh::{load_mesh, MeshData};
 use crate::collision::resolve::resolve_uri;
 use crate::core::spatial::{Se3, Vec3};
-use crate::io::record::rerun::rerun_out::{child, f32x3, link_entity, quat_xyzw, sdk};
+use crate::io::record::rerun::rerun_entities::{child, f32x3, link_entity, quat_xyzw, sdk};
 use crate::io::record::rerun::rerun_sink::{RerunError, RerunReport};
 use crate::io::record::rerun::rerun_tree::Tree;
 use crate::model::{Geometry, ModelSpec, Shape};
@@ -225,7 +225,8 @@ pub(super) fn log_geometry(
         .then(|| Path::new(&spec.source).parent())
         .flatten();
     let base = mesh_base.or(spec_dir);
-    let mut meshes: HashMap<String, Result<MeshData, String>> = HashMap::new();
+    // Each mesh is read once: `None` when it could not be (the reason is in `failed`).
+    let mut meshes: HashMap<String, Option<MeshData>> = HashMap::new();
     let mut failed: BTreeMap<String, String> = BTreeMap::new();
     let mut boxes = HashMap::new();
     for link in &spec.links {
@@ -239,19 +240,19 @@ pub(super) fn log_geometry(
             let vent = child(&ent, &format!("visual_{k}"));
             if let Shape::Mesh { uri, scale } = &g.shape {
                 let loaded = meshes.entry(uri.clone()).or_insert_with(|| {
-                    resolve_uri(uri, base)
+                    let read = resolve_uri(uri, base)
                         .map_err(|e| e.0)
-                        .and_then(|p| load_mesh(&p).map_err(|e| format!("{}: {e}", p.display())))
+                        .and_then(|p| load_mesh(&p).map_err(|e| format!("{}: {e}", p.display())));
+                    read.map_err(|why| failed.insert(uri.clone(), why)).ok()
                 });
                 let m = match loaded {
-                    Ok(m) if !m.triangles.is_empty() => m,
-                    Ok(_) => {
+                    Some(m) if !m.triangles.is_empty() => m,
+                    Some(_) => {
                         failed.insert(uri.clone(), "no triangles".into());
                         mesh_missing = true;
                         continue;
                     }
-                    Err(e) => {
-                        failed.insert(uri.clone(), e.clone());
+                    None => {
                         mesh_missing = true;
                         continue;
                     }

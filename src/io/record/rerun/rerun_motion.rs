@@ -2,9 +2,10 @@
 //! parent to child origins, and the tool link's path.
 
 use crate::core::spatial::Se3;
-use crate::io::record::rerun::rerun_out::{
-    f32x3, link_entity, path, quat_xyzw, sdk, send_timed, RerunError, RerunReport,
+use crate::io::record::rerun::rerun_entities::{
+    f32x3, link_entity, path, quat_xyzw, sdk, send_timed,
 };
+use crate::io::record::rerun::rerun_sink::{RerunError, RerunReport};
 use crate::io::record::rerun::rerun_tree::Tree;
 use rerun::{archetypes, RecordingStream};
 

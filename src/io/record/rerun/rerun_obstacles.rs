@@ -11,7 +11,7 @@ use crate::collision::mesh::load_mesh;
 use crate::collision::resolve::resolve_uri;
 use crate::core::spatial::{Se3, Vec3};
 use crate::io::record::obstacle_markers::{MarkerShape, ObstacleMarker};
-use crate::io::record::rerun::rerun_out::path;
+use crate::io::record::rerun::rerun_entities::path;
 use crate::io::record::rerun::rerun_sink::{RerunError, RerunReport};
 use crate::io::record::tf::to_se3;
 use nalgebra::{Rotation3, UnitQuaternion};

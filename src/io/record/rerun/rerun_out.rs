@@ -35,56 +35,16 @@
 //! failed run never leaves a partial `.rrd`. Spawning starts the external `rerun` viewer
 //! (from PyPI `rerun-sdk`, same version as the `rerun` crate) and streams to it.
 
-use crate::core::spatial::{Mat3, Se3, Vec3};
-use crate::io::record::rerun::rerun_obstacles::log_obstacles;
-use crate::io::record::{Frame, PointCloud, Recording};
-use crate::model::ModelSpec;
-use nalgebra::{Rotation3, UnitQuaternion};
-use rerun::{
-    archetypes, EntityPath, EntityPathPart, RecordingStream, RecordingStreamBuilder, TimeColumn,
-};
-use std::collections::HashMap;
-use std::path::Path;
-
-use crate::io::record::rerun::rerun_geometry::log_geometry;
-pub(crate) use crate::io::record::rerun::rerun_geometry::{log_primitive, vertex_normals};
-use crate::io::record::rerun::rerun_motion::{log_links, log_skeleton, log_tool_path};
-use crate::io::record::rerun::rerun_plots::{
-    log_clouds, log_collisions, log_joint_plots, log_reports, log_texts,
-};
+pub use crate::io::record::rerun::rerun_entities::{link_entity, path};
 pub use crate::io::record::rerun::rerun_sink::*;
-use crate::io::record::rerun::rerun_tree::Tree;
 pub use crate::io::record::rerun::rerun_workspace::log_workspace_scene;
 
-pub(super) fn sdk(e: impl std::fmt::Display) -> RerunError {
-    RerunError::Sdk(e.to_string())
-}
-
-/// Sends `cols` for `ent` as one chunk on the [`TIMELINE`], one row per time in `times`.
-pub(super) fn send_timed(
-    stream: &RecordingStream,
-    ent: impl Into<EntityPath>,
-    times: impl IntoIterator<Item = f64>,
-    cols: impl IntoIterator<Item = rerun::SerializedComponentColumn>,
-) -> Result<(), RerunError> {
-    stream
-        .send_columns(ent, [TimeColumn::new_duration_secs(TIMELINE, times)], cols)
-        .map_err(sdk)
-}
-
-/// `world/robot/<link>`, the link name as one (escaped) path part.
-pub fn link_entity(link: &str) -> EntityPath {
-    path(&["world", "robot", link])
-}
-
-/// An entity path from unescaped parts.
-pub fn path(parts: &[&str]) -> EntityPath {
-    EntityPath::new(parts.iter().map(|p| EntityPathPart::new(*p)).collect())
-}
-
-pub(super) fn child(base: &EntityPath, part: &str) -> EntityPath {
-    base.join(&EntityPath::new(vec![EntityPathPart::new(part)]))
-}
+use crate::io::record::rerun::rerun_recording::log_with;
+use crate::io::record::rerun::rerun_stream::{check_sink, finish, open};
+use crate::io::record::{PointCloud, Recording};
+use crate::model::ModelSpec;
+use rerun::RecordingStream;
+use std::path::Path;
 
 /// Logs `rec` to `sink`. Geometry comes from `spec`, else from the URDF in
 /// `rec.header.robot_description`, else only frames and points are drawn. Mesh URIs are
@@ -179,81 +139,6 @@ pub fn log_workspace(cloud: &PointCloud, sink: &RerunSink) -> Result<RerunReport
     log_recording(&rec, None, None, sink)
 }
 
-pub(super) fn check_sink(sink: &RerunSink) -> Result<(), RerunError> {
-    if let RerunSink::Save(p) = sink {
-        let out = |msg: String| RerunError::Output {
-            path: p.clone(),
-            msg,
-        };
-        if p.file_name().is_none() {
-            return Err(out("not a file name".into()));
-        }
-        if p.is_dir() {
-            return Err(out("is a directory".into()));
-        }
-        let dir = match p.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        if !dir.is_dir() {
-            return Err(out(format!("directory '{}' does not exist", dir.display())));
-        }
-    }
-    Ok(())
-}
-
-pub(super) type Storage = Option<rerun::sink::MemorySinkStorage>;
-
-pub(super) fn open(sink: &RerunSink, name: &str) -> Result<(RecordingStream, Storage), RerunError> {
-    let b = RecordingStreamBuilder::new(APP_ID)
-        .enabled(true)
-        .recording_name(name);
-    match sink {
-        RerunSink::Save(_) => b.memory().map(|(s, st)| (s, Some(st))).map_err(sdk),
-        RerunSink::Spawn => b
-            .spawn()
-            .map(|s| (s, None))
-            .map_err(|e| RerunError::Viewer(format!("{e} (is `rerun` on PATH?)"))),
-    }
-    .inspect(|(s, _)| {
-        // Only the `time` timeline: no log_tick / log_time columns.
-        s.set_log_tick_enabled(false);
-        s.set_log_time_enabled(false);
-    })
-}
-
-pub(super) fn finish(
-    stream: &RecordingStream,
-    storage: Storage,
-    sink: &RerunSink,
-) -> Result<Option<u64>, RerunError> {
-    match (sink, storage) {
-        (RerunSink::Save(p), Some(st)) => {
-            let bytes = st.drain_as_bytes().map_err(sdk)?;
-            crate::core::files::write_atomic(p, &bytes).map_err(|e| RerunError::Output {
-                path: p.clone(),
-                msg: format!("cannot write: {e}"),
-            })?;
-            Ok(Some(bytes.len() as u64))
-        }
-        _ => {
-            stream
-                .flush_blocking()
-                .map_err(|e| RerunError::Viewer(e.to_string()))?;
-            Ok(None)
-        }
-    }
-}
-
-pub(super) fn quat_xyzw(r: &Mat3) -> [f32; 4] {
-    let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(*r));
-    [q.i as f32, q.j as f32, q.k as f32, q.w as f32]
-}
-
-pub(super) fn f32x3(v: &Vec3) -> [f32; 3] {
-    [v.x as f32, v.y as f32, v.z as f32]
-}
-
 /// Logs `rec` into an existing stream (no blueprint, no flush). See [`log_recording`].
 pub fn log_to_stream(
     stream: &RecordingStream,
@@ -262,123 +147,6 @@ pub fn log_to_stream(
     mesh_base: Option<&Path>,
 ) -> Result<RerunReport, RerunError> {
     log_with(stream, rec, spec, mesh_base, Vec::new()).map(|r| r.0)
-}
-
-pub(super) fn log_with(
-    stream: &RecordingStream,
-    rec: &Recording,
-    spec: Option<&ModelSpec>,
-    mesh_base: Option<&Path>,
-    mut warnings: Vec<String>,
-) -> Result<
-    (
-        RerunReport,
-        Option<crate::io::record::rerun::rerun_scene::Bounds>,
-    ),
-    RerunError,
-> {
-    let mut report = RerunReport::default();
-    stream
-        .log_static("world", &archetypes::ViewCoordinates::RIGHT_HAND_Z_UP())
-        .map_err(sdk)?;
-    let tree = Tree::build(rec, spec, &mut warnings).map_err(RerunError::TooLarge)?;
-
-    // Frames with a usable time, in the recording's order.
-    let mut frames: Vec<&Frame> = rec.frames.iter().filter(|f| f.t.is_finite()).collect();
-    if frames.len() < rec.frames.len() {
-        warnings.push(format!(
-            "{} frame(s) with a non-finite time skipped",
-            rec.frames.len() - frames.len()
-        ));
-    }
-    // Within the pose budget: every k-th frame (and the last).
-    let stride = crate::io::record::rerun::rerun_tree::frame_stride(frames.len(), tree.names.len());
-    if stride > 1 {
-        warnings.push(format!(
-            "drawing every {stride}th of the {} frames: {} frames × {} transform frames exceed \
-             the viewer's budget of {} poses",
-            frames.len(),
-            frames.len(),
-            tree.names.len(),
-            crate::io::record::rerun::rerun_tree::MAX_POSES
-        ));
-        let last = frames.last().copied();
-        frames = frames.into_iter().step_by(stride).collect();
-        if let Some(l) = last {
-            if !std::ptr::eq(*frames.last().unwrap_or(&l), l) {
-                frames.push(l);
-            }
-        }
-    }
-    let times: Vec<f64> = frames.iter().map(|f| f.t).collect();
-    report.frames = frames.len();
-
-    // World poses per frame (or once, from the statics, without frames).
-    let mut bad = 0usize;
-    let posed: Vec<(Vec<Se3>, Vec<Option<usize>>)> = if frames.is_empty() {
-        vec![tree.poses(None, &mut bad)]
-    } else {
-        frames
-            .iter()
-            .map(|f| tree.poses(Some(f), &mut bad))
-            .collect()
-    };
-    if bad > 0 {
-        warnings.push(format!(
-            "{bad} frame transform(s) with a non-finite or zero rotation ignored"
-        ));
-    }
-
-    log_links(stream, &tree, &times, &posed, &mut report)?;
-    log_skeleton(stream, &times, &posed)?;
-    report.tool = log_tool_path(stream, &tree, &posed)?;
-    let boxes = match spec {
-        Some(s) => log_geometry(stream, s, &tree, mesh_base, &mut report, &mut warnings)?,
-        None => HashMap::new(),
-    };
-    let first = posed.first().map(|(w, _)| w);
-    let frame_pose = |name: &str| Some(first?[*tree.index.get(name)?]);
-    let (obstacles, base) = (&rec.obstacles, mesh_base);
-    log_obstacles(
-        stream,
-        obstacles,
-        &frame_pose,
-        base,
-        &mut report,
-        &mut warnings,
-    )?;
-    log_joint_plots(stream, rec, &frames)?;
-    let t0 = times.first().copied().unwrap_or(0.0);
-    let info = log_clouds(stream, rec, &tree, &mut report, &mut warnings)?;
-    log_texts(stream, "log/info", t0, &info, rerun::TextLogLevel::INFO)?;
-    log_collisions(stream, &rec.collisions, &tree, &times, &boxes)?;
-    log_reports(stream, rec)?;
-    log_texts(
-        stream,
-        "log/warnings",
-        t0,
-        &warnings,
-        rerun::TextLogLevel::WARN,
-    )?;
-    report.warnings = warnings;
-    // What the camera frames: the link origins over the motion and the world clouds.
-    let mut robot = None;
-    for (w, _) in &posed {
-        for m in w {
-            crate::io::record::rerun::rerun_scene::grow(&mut robot, &m.trans);
-        }
-    }
-    for c in rec
-        .clouds
-        .iter()
-        .filter(|c| !tree.index.contains_key(&c.frame))
-    {
-        for p in c.points.iter().filter(|p| p.iter().all(|x| x.is_finite())) {
-            let v = Vec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
-            crate::io::record::rerun::rerun_scene::grow(&mut robot, &v);
-        }
-    }
-    Ok((report, robot))
 }
 
 #[cfg(test)]
@@ -395,15 +163,5 @@ mod tests {
         assert_eq!(colormap(f32::NAN), [128, 128, 128]);
         // Halfway between the first two stops.
         assert_eq!(colormap(0.125), [64, 42, 112]);
-    }
-
-    #[test]
-    fn entity_paths_escape_link_names() {
-        assert_eq!(
-            link_entity("base_link").to_string(),
-            "/world/robot/base_link"
-        );
-        let odd = link_entity("a/b c");
-        assert_eq!(odd.len(), 3);
     }
 }

@@ -2,11 +2,10 @@
 //! with their effort limits, workspace clouds, collision boxes and log rows, and the
 //! markdown reports.
 
+use crate::io::record::rerun::rerun_entities::{child, link_entity, path, sdk, send_timed};
 use crate::io::record::rerun::rerun_geometry::Aabb;
-use crate::io::record::rerun::rerun_out::{
-    child, link_entity, path, sdk, send_timed, RerunError, RerunReport,
-};
 use crate::io::record::rerun::rerun_sink::{colormap, TIMELINE};
+use crate::io::record::rerun::rerun_sink::{RerunError, RerunReport};
 use crate::io::record::rerun::rerun_tree::Tree;
 use crate::io::record::{CollisionEvent, Frame, Recording};
 use rerun::{archetypes, components::FillMode, EntityPath, RecordingStream};

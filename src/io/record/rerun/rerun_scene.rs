@@ -6,10 +6,10 @@
 use crate::collision::mesh::load_mesh;
 use crate::collision::resolve::resolve_uri;
 use crate::core::spatial::Vec3;
+use crate::io::record::rerun::rerun_entities::path;
 use crate::io::record::rerun::rerun_geometry::placed_vertices;
-use crate::io::record::rerun::rerun_out::{
-    log_primitive, path, vertex_normals, RerunError, SceneExtras,
-};
+use crate::io::record::rerun::rerun_geometry::{log_primitive, vertex_normals};
+use crate::io::record::rerun::rerun_sink::{RerunError, SceneExtras};
 use crate::model::Shape;
 use rerun::{archetypes, RecordingStream};
 

@@ -36,12 +36,25 @@ pub enum RerunError {
     Sdk(String),
     /// The recording is larger than the viewer's budget (see `rerun_tree`).
     #[error("{0}")]
-    TooLarge(String),
+    TooLarge(TooManyFrames),
     /// armsim was built without the `rerun` feature.
     #[error(
         "this armsim was built without Rerun support (cargo feature `rerun`); rebuild with default features"
     )]
     NotBuilt,
+}
+
+/// A recording with more transform frames (children of `/tf` and `/tf_static`
+/// transforms, and model links) than the viewer draws.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{frames} transform frames (children of /tf and /tf_static transforms and model links): more than the {limit} the viewer draws"
+)]
+pub struct TooManyFrames {
+    /// The transform frames of the recording.
+    pub frames: usize,
+    /// The most the viewer draws.
+    pub limit: usize,
 }
 
 /// The scene around the robot: obstacles drawn as static geometry under

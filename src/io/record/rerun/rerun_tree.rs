@@ -7,6 +7,7 @@
 //! says so; see [`frame_stride`]).
 
 use crate::core::spatial::{Se3, Vec3};
+use crate::io::record::rerun::rerun_sink::TooManyFrames;
 use crate::io::record::{Frame, Recording, Transform};
 use crate::model::ModelSpec;
 use nalgebra::{Quaternion, UnitQuaternion};
@@ -57,7 +58,7 @@ pub fn frame_stride(frames: usize, tree_frames: usize) -> usize {
 
 /// Refuses a recording whose transform tree (with the model's links) is larger than
 /// [`MAX_TREE_FRAMES`], before anything is opened or logged.
-pub(super) fn check_size(rec: &Recording, spec: Option<&ModelSpec>) -> Result<(), String> {
+pub(super) fn check_size(rec: &Recording, spec: Option<&ModelSpec>) -> Result<(), TooManyFrames> {
     let mut names: std::collections::HashSet<&str> = std::collections::HashSet::new();
     let statics = rec.header.static_tf.iter().map(|t| t.child.as_str());
     let moving = rec
@@ -89,11 +90,10 @@ pub(super) fn check_size(rec: &Recording, spec: Option<&ModelSpec>) -> Result<()
                     .flat_map(|s| s.links.iter().map(|l| l.name.as_str())),
             )
             .collect();
-        return Err(format!(
-            "{} transform frames (children of /tf and /tf_static transforms and model \
-             links): more than the {MAX_TREE_FRAMES} the viewer draws",
-            total.len()
-        ));
+        return Err(TooManyFrames {
+            frames: total.len(),
+            limit: MAX_TREE_FRAMES,
+        });
     }
     Ok(())
 }
@@ -114,7 +114,7 @@ impl Tree {
         rec: &Recording,
         spec: Option<&ModelSpec>,
         warnings: &mut Vec<String>,
-    ) -> Result<Tree, String> {
+    ) -> Result<Tree, TooManyFrames> {
         let mut tree = Tree {
             names: Vec::new(),
             index: HashMap::new(),
@@ -141,11 +141,10 @@ impl Tree {
             }
         }
         if tree.names.len() > MAX_TREE_FRAMES {
-            return Err(format!(
-                "{} transform frames (children of /tf and /tf_static transforms and model \
-                 links): more than the {MAX_TREE_FRAMES} the viewer draws",
-                tree.names.len()
-            ));
+            return Err(TooManyFrames {
+                frames: tree.names.len(),
+                limit: MAX_TREE_FRAMES,
+            });
         }
         // Parents of static transforms, now that every child has an index.
         for t in &rec.header.static_tf {

@@ -21,11 +21,12 @@
 
 use crate::core::spatial::Vec3;
 use crate::io::record::rerun::rerun_blueprint::{send_workspace, Eye};
-use crate::io::record::rerun::rerun_out::{
-    check_sink, finish, log_with, open, path, sdk, vertex_normals, RerunError, RerunReport,
-    RerunSink,
-};
+use crate::io::record::rerun::rerun_entities::{path, sdk};
+use crate::io::record::rerun::rerun_geometry::vertex_normals;
+use crate::io::record::rerun::rerun_recording::log_with;
 use crate::io::record::rerun::rerun_sink::colormap;
+use crate::io::record::rerun::rerun_sink::{RerunError, RerunReport, RerunSink};
+use crate::io::record::rerun::rerun_stream::{check_sink, finish, open};
 use crate::io::record::{Header, Recording};
 use crate::model::data::Data;
 use crate::model::Model;

@@ -3,7 +3,6 @@
 
 use crate::motion::{TorqueReport, Trajectory};
 use crate::scenarios::arm::contact::ContactReport;
-use crate::scenarios::arm::run::named;
 use crate::scenarios::arm::run::write_outputs::OutputContext;
 use crate::scenarios::arm::scene::{Scene, Timing};
 use crate::scenarios::arm::task_motion::Plan;
@@ -364,4 +363,15 @@ fn summary_rest(s: &mut String, torque: &TorqueReport, j: &Value) {
             .collect();
         let _ = writeln!(s, "timings: {}", list.join(", "));
     }
+}
+
+/// The per-joint values `v` as a JSON object keyed by joint name.
+pub(super) fn named(names: &[String], v: &[f64]) -> Value {
+    Value::Object(
+        names
+            .iter()
+            .zip(v)
+            .map(|(n, x)| (n.clone(), json!(x)))
+            .collect::<Map<_, _>>(),
+    )
 }

@@ -4,8 +4,11 @@
 //! `contact` is named), write the output files, and assemble the report (JSON + text).
 
 mod arm_report;
+mod sim_sample;
 mod simulate;
 mod write_outputs;
+
+pub use crate::scenarios::arm::run::sim_sample::SimSample;
 pub use crate::scenarios::arm::run::write_outputs::obstacle_markers;
 
 use crate::core::diag::LocatedError as ScenarioError;
@@ -20,21 +23,6 @@ use crate::scenarios::arm::task_motion::{plan, Plan};
 pub use crate::scenarios::kind::RunOptions;
 use serde_json::{json, Map, Value};
 use std::time::Instant;
-
-/// One recorded simulation sample.
-#[derive(Clone, Debug)]
-pub struct SimSample {
-    /// Time (s).
-    pub t: f64,
-    /// Joint positions (rad or m).
-    pub q: Vec<f64>,
-    /// Joint velocities (rad/s or m/s).
-    pub qd: Vec<f64>,
-    /// Applied joint torques (N·m or N).
-    pub tau: Vec<f64>,
-    /// The reference the controller tracks (rad or m).
-    pub q_ref: Vec<f64>,
-}
 
 /// Everything a run produced, for callers that want more than the report (tests,
 /// recordings).
@@ -57,16 +45,6 @@ pub struct Outcome {
     pub contact_built: bool,
     /// The report (JSON and text).
     pub report: Report,
-}
-
-fn named(names: &[String], v: &[f64]) -> Value {
-    Value::Object(
-        names
-            .iter()
-            .zip(v)
-            .map(|(n, x)| (n.clone(), json!(x)))
-            .collect::<Map<_, _>>(),
-    )
 }
 
 fn effects_with_mass(scene: &Scene, mass: f64) -> Result<Effects, String> {

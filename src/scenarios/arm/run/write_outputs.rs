@@ -8,7 +8,7 @@ use crate::io::record::obstacle_markers::{markers_of, ObstacleMarker};
 use crate::io::record::{CollisionEvent, Header, TorqueRow};
 use crate::model::data::Data;
 use crate::motion::{TorqueReport, Trajectory};
-use crate::scenarios::arm::run::SimSample;
+use crate::scenarios::arm::run::sim_sample::SimSample;
 use crate::scenarios::arm::scene::Scene;
 use crate::scenarios::arm::sim_plots as plots;
 use crate::scenarios::arm::task_motion::Plan;

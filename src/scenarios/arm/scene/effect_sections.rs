@@ -5,8 +5,9 @@
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::core::spatial::{Inertia, Mat3, Vec3};
 use crate::dynamics::{Effects, Elasticity, Friction, Payload, Rotor};
+use crate::scenarios::arm::scene::arm_scene::EFFECT_NAMES;
 use crate::scenarios::arm::scene::model::link_by_name;
-use crate::scenarios::arm::scene::{get_f, per_joint_checked, Sections, EFFECT_NAMES};
+use crate::scenarios::arm::scene::section_reader::{get_f, per_joint_checked, Sections};
 use crate::scenarios::arm::schema::*;
 
 /// The named effects (each once, known, in [`EFFECT_NAMES`] order); a parameter table

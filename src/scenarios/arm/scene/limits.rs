@@ -3,7 +3,10 @@
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::motion::JointLimits;
-use crate::scenarios::arm::scene::{per_joint, positive_all, to_radians_if, PerJoint, Sections};
+use crate::scenarios::arm::scene::section_reader::{
+    per_joint, positive_all, to_radians_if, Sections,
+};
+use crate::scenarios::arm::schema::PerJoint;
 use crate::scenarios::source::Source;
 
 /// The position limits: the model's, narrowed by `limits.lower`/`limits.upper`.

@@ -6,7 +6,7 @@ use crate::collision::resolve::{resolve_spec_meshes, PackagePaths};
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::core::spatial::{Se3, Vec3};
 use crate::model::{Model, ModelSpec, Shape};
-use crate::scenarios::arm::scene::{closest, get_f};
+use crate::scenarios::arm::scene::section_reader::{closest, get_f};
 use crate::scenarios::arm::schema::*;
 use crate::scenarios::source::Source;
 use std::path::{Path, PathBuf};

@@ -4,8 +4,9 @@
 use crate::collision::{CollisionOptions, ObstacleSpec};
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::core::spatial::Se3;
+use crate::scenarios::arm::scene::arm_scene::ContactScene;
 use crate::scenarios::arm::scene::model::link_by_name;
-use crate::scenarios::arm::scene::{finite_pos, get_f, ContactScene, Sections};
+use crate::scenarios::arm::scene::section_reader::{finite_pos, get_f, Sections};
 
 /// The obstacles, each checked and moved into the robot's base frame.
 pub(super) fn obstacles(sx: &Sections) -> Result<Vec<ObstacleSpec>, ScenarioError> {

@@ -3,7 +3,8 @@
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::plots::torque_chart::PlotFormat;
-use crate::scenarios::arm::scene::{Outputs, Sections};
+use crate::scenarios::arm::scene::arm_scene::Outputs;
+use crate::scenarios::arm::scene::section_reader::Sections;
 use std::path::PathBuf;
 
 /// The torque plot format (`None`: no plot).

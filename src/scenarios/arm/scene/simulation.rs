@@ -2,10 +2,10 @@
 //! controller and gains, step, duration, settling time, record rate).
 
 use crate::core::diag::LocatedError as ScenarioError;
-use crate::scenarios::arm::budget::SettingLines;
-use crate::scenarios::arm::scene::{
-    get_f, per_joint, positive_all, PerJoint, Sections, SimSettings, Timing,
-};
+use crate::scenarios::arm::scene::arm_scene::SettingLines;
+use crate::scenarios::arm::scene::arm_scene::{SimSettings, Timing};
+use crate::scenarios::arm::scene::section_reader::{get_f, per_joint, positive_all, Sections};
+use crate::scenarios::arm::schema::PerJoint;
 use crate::scenarios::arm::schema::SimulationSec;
 use crate::sim::{Controller, Integrator};
 use toml::Spanned;

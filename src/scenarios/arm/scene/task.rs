@@ -4,10 +4,12 @@
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::model::Model;
+use crate::scenarios::arm::scene::arm_scene::{Step, TaskStep};
 use crate::scenarios::arm::scene::limits::check_in_limits;
-use crate::scenarios::arm::scene::{
-    finite_pos, finite_pose, per_joint, pose_of, to_radians_if, PerJoint, Sections, Step, TaskStep,
+use crate::scenarios::arm::scene::section_reader::{
+    finite_pos, finite_pose, per_joint, pose_of, to_radians_if, Sections,
 };
+use crate::scenarios::arm::schema::PerJoint;
 use crate::scenarios::arm::schema::*;
 use crate::scenarios::source::Source;
 use std::ops::Range;
@@ -200,7 +202,7 @@ pub(super) fn steps(
 /// The grasped part (only for pick and place).
 pub(super) fn part(
     sx: &Sections,
-) -> Result<Option<crate::scenarios::arm::planner_setup::Part>, ScenarioError> {
+) -> Result<Option<crate::scenarios::arm::planner_settings::Part>, ScenarioError> {
     let cx = &sx.cx;
     let tsec = sx.file.task.get_ref();
     let kind = tsec.kind.get_ref().as_str();
@@ -222,7 +224,7 @@ pub(super) fn part(
                     "size must be positive and xyz finite",
                 ));
             }
-            Some(crate::scenarios::arm::planner_setup::Part {
+            Some(crate::scenarios::arm::planner_settings::Part {
                 size: v.size,
                 xyz: v.xyz,
             })
@@ -239,7 +241,7 @@ pub(super) fn planner_settings(
     model: &Model,
     plans: bool,
     warnings: &mut Vec<String>,
-) -> Result<Option<crate::scenarios::arm::planner_setup::PlannerSettings>, ScenarioError> {
+) -> Result<Option<crate::scenarios::arm::planner_settings::PlannerSettings>, ScenarioError> {
     let sec = file.planner.as_ref();
     if !plans {
         return match sec {
@@ -284,7 +286,7 @@ pub(super) fn planner_settings(
         }
     };
     Ok(Some(
-        crate::scenarios::arm::planner_setup::PlannerSettings {
+        crate::scenarios::arm::planner_settings::PlannerSettings {
             seed: p.and_then(|p| p.seed).unwrap_or(0),
             time_limit: std::time::Duration::from_secs_f64(ms / 1e3),
             simplify: p.and_then(|p| p.simplify).unwrap_or(true),

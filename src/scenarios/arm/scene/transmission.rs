@@ -5,7 +5,7 @@
 //! `crate::dynamics::effects`: armature `(I_m + J_train) N²`, motor torque `τ/(N η)`).
 
 use crate::dynamics::Rotor;
-use crate::scenarios::arm::scene::Sections;
+use crate::scenarios::arm::scene::section_reader::Sections;
 use crate::scenarios::gear_train::transmission_from_file;
 use crate::scenarios::gear_train_report::Transmission;
 use crate::scenarios::source::Source;

@@ -1,14 +1,21 @@
 //! The linkage part of a mechanism report: mobility, branches, dead centres and
 //! followers, the sweep and its extremes, report points, kinetostatics.
 
+use crate::machines::balancing::{self, add_point_mass, SliderCrankMasses};
+use crate::machines::linkage::description::{PlanarJoint, GROUND};
 use crate::machines::linkage::fourbar;
+use crate::machines::linkage::kinetostatics::{self, Loads};
 use crate::machines::linkage::mobility::mobility;
 use crate::machines::linkage::sweep::{
     self, dead_centres, follower_value, followers, State, Sweep, Tracker,
 };
 use crate::machines::linkage::Vec2;
-use crate::scenarios::linkage::report::*;
-use crate::scenarios::linkage::{KinetostaticsScenario, MechanismScenario};
+use crate::scenarios::linkage::linkage_scenario::{
+    CounterweightScenario, KinetostaticsScenario, MechanismScenario,
+};
+use crate::scenarios::linkage::report::sweep_rows::{
+    deg360, extremes_json, named_points, point_world, state_at, v2, ReportCtx, Row,
+};
 use serde_json::{json, Map, Value};
 use std::f64::consts::TAU;
 use std::fmt::Write;
@@ -565,4 +572,105 @@ pub(super) fn mechanism(
         json,
         text,
     )
+}
+
+fn counterweight(
+    m: &MechanismScenario,
+    ctx: &ReportCtx,
+    cw: &CounterweightScenario,
+    rows: &[Row],
+    json: &mut Map<String, Value>,
+    text: &mut String,
+) {
+    let l = ctx.l;
+    let crank = &l.links[cw.crank];
+    let rod = &l.links[cw.rod];
+    // The crank's ground pivot, the crank pin (crank–rod) and the piston pin (rod–slider).
+    let pin = |a: usize, b: usize| {
+        l.joints.iter().find_map(|j| match j {
+            PlanarJoint::Revolute {
+                a: x, pa, b: y, pb, ..
+            } if (*x == a && *y == b) => Some((*pa, *pb)),
+            PlanarJoint::Revolute {
+                a: x, pa, b: y, pb, ..
+            } if (*x == b && *y == a) => Some((*pb, *pa)),
+            _ => None,
+        })
+    };
+    let (Some((pivot, _)), Some((crank_pin, rod_b)), Some((rod_c, _))) = (
+        pin(cw.crank, GROUND),
+        pin(cw.crank, cw.rod),
+        pin(cw.rod, cw.slider),
+    ) else {
+        json.insert("counterweight".into(), json!({"error": "counterweight: the crank, rod and slider must be pinned ground–crank–rod–slider"}));
+        return;
+    };
+    let r = (crank_pin - pivot).norm();
+    let u = (crank_pin - pivot) / r;
+    let rod_len = (rod_c - rod_b).norm();
+    let masses = SliderCrankMasses {
+        crank_radius: r,
+        crank_mass: crank.mass,
+        crank_com: (crank.com - pivot).dot(&u),
+        rod_length: rod_len,
+        rod_mass: rod.mass,
+        rod_com: (rod.com - rod_b).dot(&((rod_c - rod_b) / rod_len)),
+        slider_mass: l.links[cw.slider].mass,
+    };
+    let c = balancing::slider_crank_counterweight(&masses, cw.fraction, cw.radius);
+    let mut balanced = l.clone();
+    add_point_mass(&mut balanced.links[cw.crank], c.mass, pivot - u * cw.radius);
+    let loads = Loads {
+        gravity: Vec2::zeros(),
+        ..Default::default()
+    };
+    let (sd, sdd) = (m.speed, m.acceleration);
+    let mut before: f64 = 0.0;
+    let mut after: f64 = 0.0;
+    let mut formula_dev: f64 = 0.0;
+    let mut series = Vec::new();
+    for row in rows {
+        let st = &row.st;
+        let f0 = kinetostatics::solve(l, &st.q, &row.qdd, &loads).shaking_force;
+        let (q1, _, qdd1) = l.transfer_motion(&balanced, &st.q, &row.qd, &row.qdd);
+        let f1 = kinetostatics::solve(&balanced, &q1, &qdd1, &loads).shaking_force;
+        before = before.max(f0.norm());
+        after = after.max(f1.norm());
+        // Exact residual with the two-mass rod: −m_rec a_C − k m_rec r ω² (cos φ, sin φ).
+        let a_c = l.point_acceleration(&st.q, &row.qd, &row.qdd, cw.rod, &rod_c);
+        let phi = st.q[3 * cw.crank + 2];
+        let dir = crate::machines::linkage::rotate(phi, &u.clone());
+        let formula =
+            -a_c * c.reciprocating_mass - dir * (cw.fraction * c.reciprocating_mass * r * sd * sd);
+        if sdd == 0.0 {
+            formula_dev = formula_dev.max((formula - f1).norm());
+        }
+        series.push(json!({ctx.input_key(): ctx.input(st.s), "before": v2(&f0), "after": v2(&f1)}));
+    }
+    json.insert(
+        "counterweight".into(),
+        json!({
+            "masses": masses,
+            "counterweight": c,
+            "position_on_crank": v2(&(pivot - u * cw.radius)),
+            "max_shaking_force_before": before,
+            "max_shaking_force_after": after,
+            "primary_reciprocating_amplitude": c.reciprocating_mass * r * sd * sd,
+            "deviation_from_two_mass_formula": if sdd == 0.0 { json!(formula_dev) } else { Value::Null },
+            "shaking_force": series,
+        }),
+    );
+    let _ = writeln!(
+        text,
+        "\ncounterweight: rotating mass {:.4} kg, reciprocating {:.4} kg at r = {r} m; with {:.0}% of the reciprocating mass: m_cw r_cw = {:.6} kg m → {:.4} kg at {} m\n  max shaking force {:.3} N → {:.3} N (deviation from the two-mass formula {:.2e} N)",
+        c.rotating_mass,
+        c.reciprocating_mass,
+        cw.fraction * 100.0,
+        c.mass_radius,
+        c.mass,
+        cw.radius,
+        before,
+        after,
+        formula_dev
+    );
 }
