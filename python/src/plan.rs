@@ -73,7 +73,10 @@ fn options(
     range: f64,
     max_overshoot: f64,
 ) -> PyResult<PlanOptions> {
-    if !(time_limit_ms.is_finite() && time_limit_ms > 0.0 && time_limit_ms <= 1e9) {
+    if !(time_limit_ms.is_finite()
+        && time_limit_ms > 0.0
+        && time_limit_ms <= armsim::planning::plan_options::MAX_TIME_LIMIT_MS)
+    {
         return Err(err(format!(
             "time_limit_ms: expected a positive number (at most 1e9), got {time_limit_ms}"
         )));

@@ -213,9 +213,12 @@ pub(super) fn write_or_return(out: Option<&Path>, text: String) -> Result<String
 
 /// The planner settings the arguments ask for.
 fn plan_options(a: &PlanArgs) -> Result<PlanOptions, String> {
+    use armsim::planning::plan_options::MAX_TIME_LIMIT_MS;
     let time_limit = match a.time_limit_ms {
         None => None,
-        Some(t) if t.is_finite() && t > 0.0 && t <= 1e9 => Some(Duration::from_secs_f64(t / 1e3)),
+        Some(t) if t.is_finite() && t > 0.0 && t <= MAX_TIME_LIMIT_MS => {
+            Some(Duration::from_secs_f64(t / 1e3))
+        }
         Some(t) => {
             return Err(format!(
                 "--time-limit-ms: expected a positive number of milliseconds, got {t}"

@@ -29,9 +29,10 @@ pub struct SrdfArgs {
 
 /// Runs the command; returns what goes to standard output (empty with `--out`).
 pub fn run(a: &SrdfArgs) -> Result<String, String> {
-    if !(a.max_overshoot.is_finite() && a.max_overshoot >= 1e-4 && a.max_overshoot <= 0.1) {
+    let (lo, hi) = armsim::planning::spheres::OVERSHOOT_RANGE;
+    if !(a.max_overshoot.is_finite() && a.max_overshoot >= lo && a.max_overshoot <= hi) {
         return Err(format!(
-            "--max-overshoot: expected 0.0001 to 0.1 m, got {}",
+            "--max-overshoot: expected {lo} to {hi} m, got {}",
             a.max_overshoot
         ));
     }

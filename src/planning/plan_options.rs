@@ -11,6 +11,9 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Duration;
 
+/// Largest wall-clock limit of a search the front ends accept (ms): about 11.6 days.
+pub const MAX_TIME_LIMIT_MS: f64 = 1e9;
+
 /// Everything a query can be told.
 #[derive(Clone, Debug)]
 pub struct PlanOptions {

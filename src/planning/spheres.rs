@@ -30,6 +30,11 @@ use crate::planning::spherize::{cover, cover_sdf, Primitive};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+/// The range of [`SphereOptions::max_overshoot`] the front ends accept (m): below 0.1 mm
+/// the cover of a robot's meshes takes minutes and millions of spheres; above 10 cm the
+/// spheres no longer describe an arm.
+pub const OVERSHOOT_RANGE: (f64, f64) = (1e-4, 0.1);
+
 /// How to build the sphere model.
 #[derive(Clone, Debug)]
 pub struct SphereOptions {

@@ -9,6 +9,10 @@ use crate::scenarios::arm::scene::section_reader::{
 use crate::scenarios::arm::schema::PerJoint;
 use crate::scenarios::source::Source;
 
+/// Largest joint acceleration limit a scene accepts (rad/s², or m/s² for a prismatic
+/// joint): a hundred times an industrial arm's.
+pub const MAX_ACCELERATION: f64 = 1000.0;
+
 /// The position limits: the model's, narrowed by `limits.lower`/`limits.upper`.
 pub(super) fn position_limits(sx: &Sections) -> Result<(Vec<f64>, Vec<f64>), ScenarioError> {
     let cx = &sx.cx;
@@ -111,6 +115,18 @@ pub(super) fn rate_limits(sx: &Sections) -> Result<RateLimits, ScenarioError> {
         Some(v) => {
             let vals = per_joint(cx, v, "limits.acceleration", names, &default_acc)?;
             positive_all(cx, v, "limits.acceleration", names, &vals, false)?;
+            if let Some(k) = vals.iter().position(|a| *a > MAX_ACCELERATION) {
+                return Err(cx.at(
+                    v.span(),
+                    "limits.acceleration",
+                    format!(
+                        "joint {}: at most {MAX_ACCELERATION} rad/s² (m/s²) is accepted, got {}: \
+                         beyond any arm, and the motion's collision certificate subdivides \
+                         with it",
+                        names[k], vals[k]
+                    ),
+                ));
+            }
             vals
         }
         None => default_acc,

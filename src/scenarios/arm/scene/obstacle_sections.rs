@@ -107,6 +107,9 @@ pub(super) fn collision(
     })
 }
 
+/// Largest size or coordinate of the contact scene's table, box and pusher offset (m).
+pub const MAX_CONTACT_EXTENT: f64 = 1000.0;
+
 /// The contact scene, when the effect is named.
 pub(super) fn contact(
     sx: &Sections,
@@ -125,14 +128,20 @@ pub(super) fn contact(
         let c = sec.get_ref();
         let t = c.table.get_ref();
         let b = c.object.get_ref();
-        let ok3 = |v: &[f64; 3], pos: bool| v.iter().all(|x| x.is_finite() && (!pos || *x > 0.0));
+        let ok3 = |v: &[f64; 3], pos: bool| {
+            v.iter()
+                .all(|x| x.is_finite() && x.abs() <= MAX_CONTACT_EXTENT && (!pos || *x > 0.0))
+        };
         let table_ok =
             ok3(&t.size, true) && ok3(&t.xyz, false) && t.friction >= 0.0 && t.friction.is_finite();
         if !table_ok {
             return Err(cx.at(
                 c.table.span(),
                 "contact.table",
-                "size must be positive, xyz finite, friction >= 0",
+                format!(
+                    "size must be positive, xyz finite (each within {MAX_CONTACT_EXTENT} m), \
+                     friction >= 0"
+                ),
             ));
         }
         let box_ok = ok3(&b.size, true)
@@ -144,7 +153,20 @@ pub(super) fn contact(
             return Err(cx.at(
                 c.object.span(),
                 "contact.box",
-                "size and mass must be positive, xyz finite, friction >= 0",
+                format!(
+                    "size and mass must be positive, xyz finite (each within \
+                     {MAX_CONTACT_EXTENT} m), friction >= 0"
+                ),
+            ));
+        }
+        if !ok3(&c.pusher_offset, false) {
+            return Err(cx.at(
+                sec.span(),
+                "contact.pusher_offset",
+                format!(
+                    "must be finite, each within {MAX_CONTACT_EXTENT} m, got {:?}",
+                    c.pusher_offset
+                ),
             ));
         }
         let pusher_link = match &c.pusher_link {

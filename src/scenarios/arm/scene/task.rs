@@ -4,6 +4,8 @@
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::model::Model;
+use crate::planning::plan_options::MAX_TIME_LIMIT_MS;
+use crate::planning::spheres::OVERSHOOT_RANGE;
 use crate::scenarios::arm::scene::arm_scene::{Step, TaskStep};
 use crate::scenarios::arm::scene::limits::check_in_limits;
 use crate::scenarios::arm::scene::section_reader::{
@@ -199,6 +201,10 @@ pub(super) fn steps(
     Ok(steps)
 }
 
+/// Largest side of a grasped part and farthest its centre may lie from the tool (m): the
+/// planner covers it with spheres like a link, so its size sets the set-up's work.
+pub const MAX_PART: f64 = 2.0;
+
 /// The grasped part (only for pick and place).
 pub(super) fn part(
     sx: &Sections,
@@ -217,11 +223,16 @@ pub(super) fn part(
                     "only a pick_and_place task grasps a part",
                 ));
             }
-            if !(v.size.iter().all(|x| finite_pos(*x)) && v.xyz.iter().all(|x| x.is_finite())) {
+            let size_ok = v.size.iter().all(|x| finite_pos(*x) && *x <= MAX_PART);
+            if !(size_ok && v.xyz.iter().all(|x| x.is_finite() && x.abs() <= MAX_PART)) {
                 return Err(cx.at(
                     p.span(),
                     "task.part",
-                    "size must be positive and xyz finite",
+                    format!(
+                        "size must be positive and xyz finite, each within {MAX_PART} m \
+                         (a part the tool carries; got size {:?}, xyz {:?})",
+                        v.size, v.xyz
+                    ),
                 ));
             }
             Some(crate::scenarios::arm::planner_settings::Part {
@@ -256,13 +267,20 @@ pub(super) fn planner_settings(
     let p = sec.map(|s| s.get_ref());
     let ms = match p.and_then(|p| p.time_limit_ms.as_ref()) {
         None => 1000.0,
-        Some(t) if finite_pos(*t.get_ref()) => *t.get_ref(),
-        Some(t) => return Err(cx.at(t.span(), "planner.time_limit_ms", "must be positive")),
+        Some(t) if finite_pos(*t.get_ref()) && *t.get_ref() <= MAX_TIME_LIMIT_MS => *t.get_ref(),
+        Some(t) => {
+            let msg = format!("must be positive and at most {MAX_TIME_LIMIT_MS:e} ms");
+            return Err(cx.at(t.span(), "planner.time_limit_ms", msg));
+        }
     };
+    let (lo, hi) = OVERSHOOT_RANGE;
     let max_overshoot = match p.and_then(|p| p.max_overshoot.as_ref()) {
         None => 0.01,
-        Some(t) if finite_pos(*t.get_ref()) => *t.get_ref(),
-        Some(t) => return Err(cx.at(t.span(), "planner.max_overshoot", "must be positive")),
+        Some(t) if (lo..=hi).contains(t.get_ref()) => *t.get_ref(),
+        Some(t) => {
+            let msg = format!("must lie in {lo} … {hi} m, got {}", t.get_ref());
+            return Err(cx.at(t.span(), "planner.max_overshoot", msg));
+        }
     };
     let range = match p.and_then(|p| p.range.as_ref()) {
         None => 1.0,
