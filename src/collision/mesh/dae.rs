@@ -27,7 +27,7 @@
 //! - its geometry parse without placement is not public, so it cannot be used for the
 //!   geometry alone under armsim's placement.
 
-use crate::collision::mesh::{MeshData, MAX_TRIANGLES};
+use crate::collision::mesh::mesh_data::{MeshData, MAX_TRIANGLES};
 use crate::core::xml_guard::LineIndex;
 use nalgebra::{Matrix4, Vector3, Vector4};
 use std::collections::HashMap;
