@@ -492,16 +492,6 @@ fn no_file_imports_a_file_of_a_higher_layer() {
 /// (remove it here) all fail [`the_file_graph_has_no_cycle_but_the_known_ones`].
 const KNOWN_CYCLES: &[&[&str]] = &[
     &[
-        "model/build.rs",
-        "model/ids.rs",
-        "model/inertia_check.rs",
-        "model/joint_transform.rs",
-        "model/mod.rs",
-        "model/parse/urdf/joints.rs",
-        "model/parse/urdf/links.rs",
-        "model/parse/urdf/mod.rs",
-    ],
-    &[
         "collision/bounds.rs",
         "collision/certify.rs",
         "collision/closest.rs",

@@ -5,9 +5,9 @@
 //! instead. The one error here is a negative moment of inertia written on the diagonal.
 
 use crate::core::spatial::{Inertia, Mat3, Se3, Vec3};
-use crate::model::parse::urdf::{Bad, Node, Reader};
+use crate::model::model_error::ModelError;
+use crate::model::parse::urdf::urdf_reader::{Bad, Node, Reader};
 use crate::model::spec::{Geometry, LinkSpec, Shape};
-use crate::model::ModelError;
 use std::collections::HashMap;
 
 /// Colours of named materials: top-level ones, then those first defined inside a visual
@@ -137,7 +137,7 @@ fn inertial(rd: &mut Reader<'_>, node: Node<'_, '_>, el: &str) -> Result<Inertia
 pub(crate) fn inertia_of(mass: f64, v: [f64; 6], frame: &Se3) -> Result<Inertia, String> {
     let [xx, xy, xz, yy, yz, zz] = v;
     // A negative moment written on the diagonal is not a rigid body, whatever the axes.
-    let tol = crate::model::clamp_tolerance(xx.max(yy).max(zz));
+    let tol = crate::model::inertia_check::clamp_tolerance(xx.max(yy).max(zz));
     if let Some((a, d)) = [("ixx", xx), ("iyy", yy), ("izz", zz)]
         .into_iter()
         .find(|&(_, d)| d < -tol)
