@@ -492,15 +492,6 @@ fn no_file_imports_a_file_of_a_higher_layer() {
 /// (remove it here) all fail [`the_file_graph_has_no_cycle_but_the_known_ones`].
 const KNOWN_CYCLES: &[&[&str]] = &[
     &[
-        "collision/bounds.rs",
-        "collision/certify.rs",
-        "collision/closest.rs",
-        "collision/mod.rs",
-        "collision/obstacle.rs",
-        "collision/segment.rs",
-        "collision/trajectory.rs",
-    ],
-    &[
         "motion/cartesian.rs",
         "motion/min_jerk.rs",
         "motion/mod.rs",

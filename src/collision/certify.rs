@@ -28,10 +28,10 @@
 //! the certified lower bound of the clearance along the whole curve.
 
 use crate::collision::bounds::{half_path_bound, Certifier, Evaluations, Level};
-use crate::collision::closest::Known;
+use crate::collision::collision_error::CollisionError;
+use crate::collision::collision_scene::{Body, CollisionData, CollisionModel, PairDistance};
 use crate::collision::shape::{to_pose, Scratch};
-use crate::collision::TrajectoryCollision;
-use crate::collision::{Body, CollisionData, CollisionError, CollisionModel, PairDistance};
+use crate::collision::trajectory::TrajectoryCollision;
 use crate::model::{Model, WORLD};
 use parry3d_f64::math::{Pose, Vector};
 use serde::Serialize;
@@ -143,6 +143,15 @@ pub(super) struct Work<'m> {
     pub(super) ev: Evaluations,
     pub(super) configurations: usize,
     pub(super) subdivisions: usize,
+}
+
+/// The best known lower bound of a (sample, pair) distance, the level it was worked to,
+/// and whether it is the exact distance.
+#[derive(Clone, Copy)]
+pub(super) struct Known {
+    pub(super) value: f64,
+    pub(super) level: Level,
+    pub(super) exact: bool,
 }
 
 /// One pair's outcome.

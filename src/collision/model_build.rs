@@ -2,10 +2,14 @@
 //! ones skipped or refused), the obstacles' shapes, the disabled pairs by name, and the
 //! self and environment pair lists (see the module docs for which pairs are tested).
 
-use crate::collision::{
-    mesh, resolve, Body, CollisionError, CollisionModel, CollisionOptions, CollisionShape,
-    MissingMeshes, Object, Obstacle, ObstacleSpec,
+use crate::collision::collision_error::CollisionError;
+use crate::collision::collision_scene::{
+    Body, CollisionModel, CollisionOptions, MissingMeshes, Object,
 };
+use crate::collision::mesh;
+use crate::collision::obstacle::{Obstacle, ObstacleSpec};
+use crate::collision::resolve;
+use crate::collision::shape::CollisionShape;
 use crate::model::{Model, Shape, WORLD};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};

@@ -14,7 +14,8 @@
 //! The minimum distances (environment and self, signed) are recorded at every sample,
 //! for plotting, with their overall minima.
 
-use crate::collision::{Body, CollisionData, CollisionError, CollisionModel, PairDistance, Scope};
+use crate::collision::collision_error::CollisionError;
+use crate::collision::collision_scene::{Body, CollisionData, CollisionModel, PairDistance, Scope};
 use crate::model::Model;
 use serde::{Deserialize, Serialize};
 
