@@ -85,6 +85,7 @@ mod query;
 pub mod resolve;
 mod segment;
 mod shape;
+mod shape_error;
 mod trajectory;
 
 pub use bounds::{half_path_bound, Certifier, Evaluations};
@@ -94,6 +95,7 @@ pub use certify::{
 pub use obstacle::{Obstacle, ObstacleShape, ObstacleSpec};
 pub use segment::SegmentScratch;
 pub use shape::{CollisionShape, ShapeKind, MAX_COORD};
+pub use shape_error::ShapeError;
 pub use trajectory::{DistanceSample, TrajectoryCollision, TrajectoryOptions, TrajectoryReport};
 
 pub use collision_error::CollisionError;

@@ -1,6 +1,7 @@
 //! The indexed triangle mesh every reader produces ([`MeshData`]), with the vertex
 //! welding the readers share and the triangle limit they enforce ([`MAX_TRIANGLES`]).
 
+use crate::collision::mesh::mesh_error::NonFiniteVertex;
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
@@ -27,12 +28,9 @@ impl MeshData {
         &mut self,
         index: &mut HashMap<[u64; 3], u32>,
         tri: [[f64; 3]; 3],
-    ) -> Result<(), String> {
+    ) -> Result<(), NonFiniteVertex> {
         if let Some(p) = tri.iter().find(|p| p.iter().any(|x| !x.is_finite())) {
-            return Err(format!(
-                "vertex ({}, {}, {}) is not finite",
-                p[0], p[1], p[2]
-            ));
+            return Err(NonFiniteVertex(*p));
         }
         let mut ids = [0u32; 3];
         for (k, p) in tri.iter().enumerate() {

@@ -54,15 +54,26 @@
 
 mod dae;
 mod mesh_data;
+mod mesh_error;
 pub use dae::read_dae;
 pub use mesh_data::{MeshData, MAX_TRIANGLES};
+pub use mesh_error::{MeshError, NonFiniteVertex};
+
+use crate::core::diag::LocatedError;
 
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Reads a mesh file (STL, OBJ or DAE, by extension). Errors are plain messages naming
-/// the problem (the caller adds the file, link and URI).
-pub fn load_mesh(path: &Path) -> Result<MeshData, String> {
+/// Reads a mesh file (STL, OBJ or DAE, by extension). Errors name the file, the line
+/// where known, the format and the problem (the caller adds the link and URI).
+pub fn load_mesh(path: &Path) -> Result<MeshData, LocatedError> {
+    let file = path.display().to_string();
+    read_mesh_file(path).map_err(|e| e.in_file(&file))
+}
+
+/// [`load_mesh`] before the file is named in the error.
+fn read_mesh_file(path: &Path) -> Result<MeshData, MeshError> {
+    let cannot_read = |e: std::io::Error| MeshError::new("", None, format!("cannot read: {e}"));
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -72,52 +83,63 @@ pub fn load_mesh(path: &Path) -> Result<MeshData, String> {
         "stl" => {
             let bytes =
                 crate::core::files::read_input_max(path, crate::core::files::MAX_MESH_BYTES)
-                    .map_err(|e| format!("cannot read: {e}"))?;
+                    .map_err(cannot_read)?;
             read_stl(&bytes)?
         }
         "obj" => read_obj(path)?,
         "dae" => {
             let text =
                 crate::core::files::read_input_string_max(path, crate::core::files::MAX_MESH_BYTES)
-                    .map_err(|e| format!("cannot read: {e}"))?;
+                    .map_err(cannot_read)?;
             read_dae(&text)?
         }
         _ => {
-            return Err(format!(
-                "unsupported mesh format '.{ext}': expected .stl, .obj or .dae"
+            return Err(MeshError::new(
+                "",
+                None,
+                format!("unsupported mesh format '.{ext}': expected .stl, .obj or .dae"),
             ))
         }
     };
     if mesh.triangles.is_empty() && mesh.dropped > 0 {
-        return Err(format!(
-            "all {} triangles of the mesh have zero area (a repeated corner)",
-            mesh.dropped
+        return Err(MeshError::new(
+            "",
+            None,
+            format!(
+                "all {} triangles of the mesh have zero area (a repeated corner)",
+                mesh.dropped
+            ),
         ));
     }
     if mesh.triangles.is_empty() {
-        return Err("the mesh has no triangles".to_string());
+        return Err(MeshError::new("", None, "the mesh has no triangles"));
     }
     Ok(mesh)
 }
 
 /// Parses STL bytes, binary or ASCII (see the module docs for the detection rule).
-pub fn read_stl(bytes: &[u8]) -> Result<MeshData, String> {
+pub fn read_stl(bytes: &[u8]) -> Result<MeshData, MeshError> {
     if bytes.len() >= 84 {
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
         if n.checked_mul(50).and_then(|b| b.checked_add(84)) == Some(bytes.len()) {
             if n > MAX_TRIANGLES {
-                return Err(format!(
-                    "binary STL of {n} triangles: more than the mesh limit of {MAX_TRIANGLES}"
+                return Err(MeshError::new(
+                    "",
+                    None,
+                    format!(
+                        "binary STL of {n} triangles: more than the mesh limit of {MAX_TRIANGLES}"
+                    ),
                 ));
             }
             return read_stl_binary(bytes, n);
         }
     }
     if std::str::from_utf8(bytes).is_err() {
-        return Err(
-            "not a binary STL (the size is not 84 + 50 × the triangle count) and not ASCII text"
-                .to_string(),
-        );
+        return Err(MeshError::new(
+            "",
+            None,
+            "not a binary STL (the size is not 84 + 50 × the triangle count) and not ASCII text",
+        ));
     }
     read_stl_ascii(bytes)
 }
@@ -126,7 +148,8 @@ pub fn read_stl(bytes: &[u8]) -> Result<MeshData, String> {
 /// [`MAX_TRIANGLES`]), parsed by `mesh-loader`. mesh-loader tries ASCII first when the
 /// header starts with `solid` (as many CAD exports' do) and takes the triangle count from
 /// the length: such a header is blanked in a copy, so that armsim's detection rule decides.
-fn read_stl_binary(bytes: &[u8], n: usize) -> Result<MeshData, String> {
+fn read_stl_binary(bytes: &[u8], n: usize) -> Result<MeshData, MeshError> {
+    const BINARY: &str = "binary STL";
     let blanked;
     let bytes = if starts_with_solid(bytes) {
         let mut b = bytes.to_vec();
@@ -136,14 +159,17 @@ fn read_stl_binary(bytes: &[u8], n: usize) -> Result<MeshData, String> {
     } else {
         bytes
     };
-    let scene = mesh_loader::stl::from_slice(bytes).map_err(|e| format!("binary STL: {e}"))?;
+    let scene = mesh_loader::stl::from_slice(bytes)
+        .map_err(|e| MeshError::new(BINARY, None, e.to_string()))?;
     let got: usize = scene.meshes.iter().map(|m| m.faces.len()).sum();
     if got != n {
-        return Err(format!(
-            "binary STL: {got} triangles read where {n} are declared"
+        return Err(MeshError::new(
+            BINARY,
+            None,
+            format!("{got} triangles read where {n} are declared"),
         ));
     }
-    weld(&scene.meshes, MAX_TRIANGLES).map_err(|e| format!("binary STL: {e}"))
+    weld(&scene.meshes, MAX_TRIANGLES, BINARY)
 }
 
 /// Whether `bytes` start with `solid` after spaces and line breaks (where `mesh-loader`
@@ -161,13 +187,15 @@ fn starts_with_solid(bytes: &[u8]) -> bool {
 /// mesh-loader falls back to binary when its ASCII parse fails early and the length would
 /// fit 50-byte records; armsim's rule says this file is not binary, so it is given with
 /// three bytes of whitespace appended when the fallback could apply (no 50-byte fit then).
-fn read_stl_ascii(bytes: &[u8]) -> Result<MeshData, String> {
+fn read_stl_ascii(bytes: &[u8]) -> Result<MeshData, MeshError> {
+    const ASCII: &str = "ASCII STL";
     if !starts_with_solid(bytes) {
-        return Err(
+        return Err(MeshError::new(
+            "",
+            None,
             "not a binary STL (the size is not 84 + 50 × the triangle count) and not an \
-             ASCII STL (it does not start with 'solid')"
-                .to_string(),
-        );
+             ASCII STL (it does not start with 'solid')",
+        ));
     }
     let padded;
     let fits_binary = bytes.len() >= 84 && (bytes.len() - 84) % 50 <= 2;
@@ -183,64 +211,86 @@ fn read_stl_ascii(bytes: &[u8]) -> Result<MeshData, String> {
     let scene = mesh_loader::stl::from_slice(bytes).map_err(|e| {
         let e = e.to_string();
         if e.contains("failed to determine STL storage representation") {
-            "ASCII STL: unreadable after 'solid' (an ASCII name and a line end, then \
-             'facet normal x y z', expected)"
-                .to_string()
+            MeshError::new(
+                ASCII,
+                None,
+                "unreadable after 'solid' (an ASCII name and a line end, then \
+                 'facet normal x y z', expected)",
+            )
         } else {
-            format!("ASCII STL: {}", located(&e))
+            located(ASCII, &e)
         }
     })?;
-    weld(&scene.meshes, MAX_TRIANGLES).map_err(|e| format!("ASCII STL: {e}"))
+    weld(&scene.meshes, MAX_TRIANGLES, ASCII)
 }
 
-/// A `mesh-loader` message `MESSAGE (LINE:COLUMN)` as `line LINE, column COLUMN: MESSAGE`
-/// (other messages unchanged).
-fn located(e: &str) -> String {
+/// A `mesh-loader` message `MESSAGE (LINE:COLUMN)` of `format` as `line LINE, column
+/// COLUMN: MESSAGE` on line `LINE` (other messages unchanged, with no line).
+fn located(format: &'static str, e: &str) -> MeshError {
     let place = e
         .strip_suffix(')')
         .and_then(|s| s.rsplit_once(" ("))
         .and_then(|(msg, at)| Some((msg, at.split_once(':')?)))
         .filter(|(_, (l, c))| l.parse::<usize>().is_ok() && c.parse::<usize>().is_ok());
     match place {
-        Some((msg, (l, c))) => format!("line {l}, column {c}: {msg}"),
-        None => e.to_string(),
+        Some((msg, (l, c))) => MeshError::new(
+            format,
+            l.parse().ok(),
+            format!("line {l}, column {c}: {msg}"),
+        ),
+        None => MeshError::new(format, None, e),
     }
 }
 
 /// Merges `mesh-loader` meshes into one [`MeshData`], welding identical positions
 /// (mesh-loader gives three unshared f32 vertices per face). More than `max` triangles in
-/// all is an error, and so is a face index out of range (not expected from mesh-loader).
-fn weld(meshes: &[mesh_loader::Mesh], max: usize) -> Result<MeshData, String> {
+/// all is an error, and so is a face index out of range (not expected from mesh-loader);
+/// errors are of `format`.
+fn weld(
+    meshes: &[mesh_loader::Mesh],
+    max: usize,
+    format: &'static str,
+) -> Result<MeshData, MeshError> {
     let total: usize = meshes.iter().map(|m| m.faces.len()).sum();
     if total > max {
-        return Err(format!(
-            "{total} triangles: more than the mesh limit of {max}"
+        return Err(MeshError::new(
+            format,
+            None,
+            format!("{total} triangles: more than the mesh limit of {max}"),
         ));
     }
     let mut mesh = MeshData::default();
     let mut index = HashMap::with_capacity(total / 2);
     let mut k = 0usize;
     for m in meshes {
-        let p = |i: u32| -> Result<[f64; 3], String> {
-            m.vertices
-                .get(i as usize)
-                .map(|v| v.map(f64::from))
-                .ok_or_else(|| format!("vertex index {i} out of range"))
-        };
         for f in &m.faces {
             k += 1;
-            let tri = (|| Ok::<_, String>([p(f[0])?, p(f[1])?, p(f[2])?]))()
-                .map_err(|e| format!("triangle {k}: {e}"))?;
+            let p = |i: u32| {
+                m.vertices
+                    .get(i as usize)
+                    .map(|v| v.map(f64::from))
+                    .ok_or_else(|| {
+                        MeshError::new(
+                            format,
+                            None,
+                            format!("triangle {k}: vertex index {i} out of range"),
+                        )
+                    })
+            };
+            let tri = [p(f[0])?, p(f[1])?, p(f[2])?];
             mesh.push_triangle(&mut index, tri)
-                .map_err(|e| format!("triangle {k}: {e}"))?;
+                .map_err(|e| MeshError::new(format, None, format!("triangle {k}: {e}")))?;
         }
     }
     Ok(mesh)
 }
 
-fn read_obj(path: &Path) -> Result<MeshData, String> {
+/// The OBJ format's name in errors.
+const OBJ: &str = "OBJ";
+
+fn read_obj(path: &Path) -> Result<MeshData, MeshError> {
     let bytes = crate::core::files::read_input_max(path, crate::core::files::MAX_MESH_BYTES)
-        .map_err(|e| format!("cannot read: {e}"))?;
+        .map_err(|e| MeshError::new("", None, format!("cannot read: {e}")))?;
     read_obj_bytes(&bytes)
 }
 
@@ -248,19 +298,25 @@ fn read_obj(path: &Path) -> Result<MeshData, String> {
 /// lines and materials are not read). The faces are checked first by armsim
 /// ([`check_obj_indices`]): indices in range, with the line named, and at most
 /// [`MAX_TRIANGLES`] triangles before mesh-loader allocates them.
-pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
+pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, MeshError> {
     // mesh-loader decodes UTF-16 (with a byte-order mark) before parsing, which the
     // pre-scan would not see through: refused, as tobj did.
     if bytes.starts_with(&[0xFE, 0xFF]) || bytes.starts_with(&[0xFF, 0xFE]) {
-        return Err("OBJ: UTF-16 text is not read (save the file as UTF-8)".to_string());
+        return Err(MeshError::new(
+            OBJ,
+            None,
+            "UTF-16 text is not read (save the file as UTF-8)",
+        ));
     }
     // Lossy: the lines that are UTF-8 keep their text (mesh-loader reads bytes); a UTF-8
     // byte-order mark is skipped, as mesh-loader does.
     let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let tris = check_obj_indices(&String::from_utf8_lossy(text))?;
     if tris > MAX_TRIANGLES {
-        return Err(format!(
-            "OBJ: the faces make {tris} triangles, more than the mesh limit of {MAX_TRIANGLES}"
+        return Err(MeshError::new(
+            OBJ,
+            None,
+            format!("the faces make {tris} triangles, more than the mesh limit of {MAX_TRIANGLES}"),
         ));
     }
     // Materials are not needed: every `mtllib` is answered with "not loaded" (and with
@@ -268,8 +324,8 @@ pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
     let scene = mesh_loader::obj::from_slice(bytes, None, |_| {
         Err::<Vec<u8>, _>(std::io::Error::other("materials are not read"))
     })
-    .map_err(|e| format!("OBJ: {}", located(&e.to_string())))?;
-    weld(&scene.meshes, MAX_TRIANGLES).map_err(|e| format!("OBJ: {e}"))
+    .map_err(|e| located(OBJ, &e.to_string()))?;
+    weld(&scene.meshes, MAX_TRIANGLES, OBJ)
 }
 
 /// Checks every face and line index of an OBJ before `mesh-loader` parses it, and counts
@@ -278,7 +334,7 @@ pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
 /// within the elements of its kind read so far, a positive one within those of the whole
 /// file, and 0 is no index. Lines are split at `\n` and at a lone `\r` (mesh-loader ends a
 /// line at either), so no face escapes the count.
-fn check_obj_indices(text: &str) -> Result<usize, String> {
+fn check_obj_indices(text: &str) -> Result<usize, MeshError> {
     let kinds = ["vertex", "texture coordinate", "normal"];
     let lines = || {
         text.split('\n')
@@ -325,7 +381,7 @@ fn check_obj_corner(
     seen: &[usize; 3],
     total: &[usize; 3],
     kinds: &[&str; 3],
-) -> Result<(), String> {
+) -> Result<(), MeshError> {
     for (k, part) in w.split('/').take(3).enumerate() {
         let Ok(x) = part.parse::<isize>() else {
             continue; // empty (v//vn) or malformed: mesh-loader decides
@@ -336,14 +392,18 @@ fn check_obj_corner(
             (x == 0 || x as usize > total[k], total[k])
         };
         if bad {
-            return Err(format!(
-                "OBJ: line {n}: index {x} of a {} is out of range ({limit} {})",
-                kinds[k],
-                if x < 0 {
-                    "before it"
-                } else {
-                    "in the file, from 1"
-                }
+            return Err(MeshError::new(
+                OBJ,
+                Some(n),
+                format!(
+                    "line {n}: index {x} of a {} is out of range ({limit} {})",
+                    kinds[k],
+                    if x < 0 {
+                        "before it"
+                    } else {
+                        "in the file, from 1"
+                    }
+                ),
             ));
         }
     }
@@ -376,15 +436,15 @@ mod tests {
     #[test]
     fn ascii_stl_rejects_a_four_vertex_loop() {
         let t = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid\n";
-        let e = read_stl(t.as_bytes()).unwrap_err();
+        let e = read_stl(t.as_bytes()).unwrap_err().to_string();
         assert_eq!(e, "ASCII STL: line 7, column 1: expected endloop");
         let t = "solid x\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n      vertex 1 0 x\n";
-        let e = read_stl(t.as_bytes()).unwrap_err();
+        let e = read_stl(t.as_bytes()).unwrap_err().to_string();
         assert!(e.starts_with("ASCII STL: line 5, column "), "{e}");
         assert!(e.ends_with(": error while parsing a float"), "{e}");
         // mesh-loader reads 1e39 as an f32 infinity: refused by armsim's finite check.
         let t = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1e39 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
-        let e = read_stl(t.as_bytes()).unwrap_err();
+        let e = read_stl(t.as_bytes()).unwrap_err().to_string();
         assert_eq!(e, "ASCII STL: triangle 1: vertex (inf, 0, 0) is not finite");
     }
 

@@ -241,7 +241,7 @@ pub(super) fn log_geometry(
                 let loaded = meshes.entry(uri.clone()).or_insert_with(|| {
                     resolve_uri(uri, base)
                         .map_err(|e| e.0)
-                        .and_then(|p| load_mesh(&p).map_err(|e| format!("{}: {e}", p.display())))
+                        .and_then(|p| load_mesh(&p).map_err(|e| e.to_string()))
                 });
                 let m = match loaded {
                     Ok(m) if !m.triangles.is_empty() => m,
