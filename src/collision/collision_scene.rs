@@ -109,7 +109,7 @@ pub(super) struct Object {
     pub(super) center: Vector,
 }
 
-/// The immutable collision scene of a model (see the module docs).
+/// The immutable collision scene of a model (see [`crate::collision`]).
 #[derive(Clone, Debug)]
 pub struct CollisionModel {
     pub(super) objects: Vec<Object>,

@@ -48,9 +48,12 @@
 //! a mesh of more than [`MAX_TRIANGLES`] triangles (a binary STL's declared count, checked
 //! before anything is allocated from it; an OBJ's faces, counted before mesh-loader
 //! parses them; a DAE scene's placed total) is refused; every coordinate must be finite
-//! (mesh-loader turns an out-of-range decimal into an f32 infinity, refused here). Errors
-//! name the problem, with mesh-loader's line and column where it gives them; the caller
-//! adds the file.
+//! (mesh-loader turns an out-of-range decimal into an f32 infinity, refused here).
+//!
+//! Errors: the readers of bytes and text ([`read_stl`], [`read_obj_bytes`], [`read_dae`])
+//! return a [`MeshError`] (the format, the line where the format is text and the place is
+//! known, the problem with mesh-loader's line and column where it gives them);
+//! [`load_mesh`] returns it as a [`LocatedError`] naming the file.
 
 mod dae;
 mod mesh_data;

@@ -159,7 +159,8 @@ pub(super) struct SpeedTables {
     pub(super) cluster: Vec<f32>,
 }
 
-/// The exact stage of a [`Checker`] (see the module docs).
+/// The exact stage of a [`Checker`]: self pairs decided on the exact collision geometry
+/// (see [`ExactPairs::new`]).
 #[derive(Clone, Debug)]
 pub struct ExactPairs {
     pub(super) model: Arc<Model>,
