@@ -637,7 +637,8 @@ fn non_regular_files_are_refused_not_read() {
         std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
         let e = armsim::collision::mesh::load_mesh(&link)
             .map(drop)
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("not a regular file"), "{ext}: {e}");
     }
     // The CLI: exit 1 with the message, no panic.

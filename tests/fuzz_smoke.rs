@@ -287,9 +287,15 @@ fn regressions_give_their_errors() {
                     .err()
                     .map(|e| e.to_string())
             }
-            "stl_reader" => armsim::collision::mesh::read_stl(&bytes).err(),
-            "obj_reader" => armsim::collision::mesh::read_obj_bytes(&bytes).err(),
-            "dae_reader" => armsim::collision::mesh::read_dae(&text).err(),
+            "stl_reader" => armsim::collision::mesh::read_stl(&bytes)
+                .err()
+                .map(|e| e.to_string()),
+            "obj_reader" => armsim::collision::mesh::read_obj_bytes(&bytes)
+                .err()
+                .map(|e| e.to_string()),
+            "dae_reader" => armsim::collision::mesh::read_dae(&text)
+                .err()
+                .map(|e| e.to_string()),
             "srdf_reader" => armsim::planning::srdf::parse_srdf(&text, h::SRDF_FILE)
                 .err()
                 .map(|e| e.to_string()),

@@ -71,7 +71,7 @@ fn dae_offsets_and_counts_are_checked_against_the_data() {
         ("offset_wraps_triangles.dae", "<triangles> (line 21)", 12),
         ("offset_wraps_polygons.dae", "<polygons> (line 21)", 8),
     ] {
-        let e = load_mesh(&broken(file)).unwrap_err();
+        let e = load_mesh(&broken(file)).unwrap_err().to_string();
         assert!(
             e.contains(element)
                 && e.contains("offset=\"18446744073709551615\"")
@@ -80,14 +80,18 @@ fn dae_offsets_and_counts_are_checked_against_the_data() {
         );
         collision_error(&dir, &broken(file), "1 1 1");
     }
-    let e = load_mesh(&broken("vcount_beyond_p.dae")).unwrap_err();
+    let e = load_mesh(&broken("vcount_beyond_p.dae"))
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("<vcount> declares more vertices than the 24"),
         "{e}"
     );
     // An accessor stride larger than its data.
     let text = std::fs::read_to_string(root().join("tests/data/meshes/cube.dae")).unwrap();
-    let e = read_dae(&text.replace("stride=\"3\"", "stride=\"18446744073709551615\"")).unwrap_err();
+    let e = read_dae(&text.replace("stride=\"3\"", "stride=\"18446744073709551615\""))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("larger than the 24 values"), "{e}");
 }
 
@@ -102,7 +106,9 @@ fn deeply_nested_dae_and_srdf_are_refused_before_parsing() {
             close.repeat(20_000)
         )
     };
-    let e = read_dae(&deep("<node>", "</node>")).unwrap_err();
+    let e = read_dae(&deep("<node>", "</node>"))
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("line 3") && e.contains("deeper than 256 levels"),
         "{e}"
@@ -154,13 +160,15 @@ fn oversized_files_are_refused_before_they_are_read() {
     assert!(t0.elapsed().as_secs_f64() < 1.0, "{:?}", t0.elapsed());
     // A header claiming 43 M triangles in a 134-byte file is not binary (the count does
     // not match the length) and not text: refused without a 43 M allocation.
-    let e = load_mesh(&broken("claims_43M_triangles.stl")).unwrap_err();
+    let e = load_mesh(&broken("claims_43M_triangles.stl"))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("not a binary STL"), "{e}");
     // The declared count over the mesh limit, with a length that matches it.
     let n = MAX_TRIANGLES + 1;
     let mut b = vec![0u8; 84 + 50 * n]; // zeroed lazily: only the header is touched
     b[80..84].copy_from_slice(&(n as u32).to_le_bytes());
-    let e = read_stl(&b).unwrap_err();
+    let e = read_stl(&b).unwrap_err().to_string();
     assert!(
         e.contains("5000001 triangles") && e.contains("5000000"),
         "{e}"
@@ -193,12 +201,12 @@ fn dae_instance_bomb_is_refused_before_expanding() {
         )
     };
     let t0 = Instant::now();
-    let e = read_dae(&dae(2_000, 3_000)).unwrap_err();
+    let e = read_dae(&dae(2_000, 3_000)).unwrap_err().to_string();
     assert!(
         e.contains("more than 5000000 triangles") && e.contains("(line"),
         "{e}"
     );
-    let e = read_dae(&dae(1, 100_001)).unwrap_err();
+    let e = read_dae(&dae(1, 100_001)).unwrap_err().to_string();
     assert!(e.contains("more than 100000 geometries"), "{e}");
     assert!(t0.elapsed().as_secs_f64() < 1.5, "{:?}", t0.elapsed());
     // Within the budget every copy is placed.

@@ -491,26 +491,6 @@ fn no_file_imports_a_file_of_a_higher_layer() {
 /// The list only shrinks: a new cycle, a cycle that grows, and a listed cycle that is gone
 /// (remove it here) all fail [`the_file_graph_has_no_cycle_but_the_known_ones`].
 const KNOWN_CYCLES: &[&[&str]] = &[
-    &["collision/mesh/dae.rs", "collision/mesh/mod.rs"],
-    &[
-        "model/build.rs",
-        "model/ids.rs",
-        "model/inertia_check.rs",
-        "model/joint_transform.rs",
-        "model/mod.rs",
-        "model/parse/urdf/joints.rs",
-        "model/parse/urdf/links.rs",
-        "model/parse/urdf/mod.rs",
-    ],
-    &[
-        "collision/bounds.rs",
-        "collision/certify.rs",
-        "collision/closest.rs",
-        "collision/mod.rs",
-        "collision/obstacle.rs",
-        "collision/segment.rs",
-        "collision/trajectory.rs",
-    ],
     &[
         "motion/cartesian.rs",
         "motion/min_jerk.rs",
@@ -540,17 +520,6 @@ const KNOWN_CYCLES: &[&[&str]] = &[
         "kinematics/ik/analytic/wrist.rs",
     ],
     &["machines/linkage/description.rs", "machines/linkage/mod.rs"],
-    &[
-        "planning/acm.rs",
-        "planning/mesh_sdf.rs",
-        "planning/spheres.rs",
-    ],
-    &["planning/lanes.rs", "planning/simd.rs"],
-    &[
-        "planning/checker/edge.rs",
-        "planning/checker/exact.rs",
-        "planning/checker/mod.rs",
-    ],
 ];
 
 #[test]

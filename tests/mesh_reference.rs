@@ -326,12 +326,16 @@ fn a_geometry_instanced_twice_gives_both_copies_in_place() {
 #[test]
 fn checks_around_mesh_loader() {
     use armsim::collision::mesh::{read_obj_bytes, read_stl, MAX_TRIANGLES};
-    let e = read_obj_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 0 1 2\n").unwrap_err();
+    let e = read_obj_bytes(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 0 1 2\n")
+        .unwrap_err()
+        .to_string();
     assert_eq!(
         e,
         "OBJ: line 5: index 0 of a vertex is out of range (3 in the file, from 1)"
     );
-    let e = read_obj_bytes(b"v 0 0 0\nv 1 0 0\nf 1 2 4\n").unwrap_err();
+    let e = read_obj_bytes(b"v 0 0 0\nv 1 0 0\nf 1 2 4\n")
+        .unwrap_err()
+        .to_string();
     assert_eq!(
         e,
         "OBJ: line 3: index 4 of a vertex is out of range (2 in the file, from 1)"
@@ -339,7 +343,7 @@ fn checks_around_mesh_loader() {
     // One polygon of MAX_TRIANGLES + 3 corners: MAX_TRIANGLES + 1 triangles.
     let mut big = b"v 0 0 0\nf".to_vec();
     big.extend(std::iter::repeat_n(&b" 1"[..], MAX_TRIANGLES + 3).flatten());
-    let e = read_obj_bytes(&big).unwrap_err();
+    let e = read_obj_bytes(&big).unwrap_err().to_string();
     assert_eq!(
         e,
         format!(
@@ -353,19 +357,21 @@ fn checks_around_mesh_loader() {
         .encode_utf16()
         .flat_map(u16::to_le_bytes)
         .collect();
-    let e = read_obj_bytes(&utf16).unwrap_err();
+    let e = read_obj_bytes(&utf16).unwrap_err().to_string();
     assert_eq!(e, "OBJ: UTF-16 text is not read (save the file as UTF-8)");
     // Old Mac line ends: the face is read (and was checked).
     let m = read_obj_bytes(b"v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r").unwrap();
     assert_eq!((m.vertices.len(), m.triangles.len()), (3, 1));
     assert_eq!(m.vertices[1], [1.0, 0.0, 0.0]);
-    let e = read_obj_bytes(b"v 0 0 0\rv 1 0 0\rf 1 2 3\r").unwrap_err();
+    let e = read_obj_bytes(b"v 0 0 0\rv 1 0 0\rf 1 2 3\r")
+        .unwrap_err()
+        .to_string();
     assert!(e.starts_with("OBJ: line 1: index 3 of a vertex"), "{e}");
     // 134 bytes (84 + 50), not a binary STL by its declared count (spaces): ASCII, and
     // without a facet it is refused with mesh-loader's place, not read as a binary record.
     let mut t = b"solid x\nhello".to_vec();
     t.resize(134, b' ');
-    let e = read_stl(&t).unwrap_err();
+    let e = read_stl(&t).unwrap_err().to_string();
     assert_eq!(
         e,
         "ASCII STL: line 2, column 1: expected facet normal or endsolid"
@@ -373,6 +379,6 @@ fn checks_around_mesh_loader() {
     // A solid name that is not ASCII: mesh-loader would try the 134 bytes as binary.
     let mut t = "solid é\n".as_bytes().to_vec();
     t.resize(134, b' ');
-    let e = read_stl(&t).unwrap_err();
+    let e = read_stl(&t).unwrap_err().to_string();
     assert!(e.starts_with("ASCII STL: unreadable after 'solid'"), "{e}");
 }

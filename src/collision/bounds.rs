@@ -23,8 +23,8 @@
 //! scale by `|multiplier|`. Along *any* curve `q(t)` the distance of the pair therefore
 //! changes by at most `Σ_k ρ_k ∫ |q̇_k| dt`.
 
+use crate::collision::collision_scene::{Body, CollisionModel, Scope};
 use crate::collision::shape::{convex_distance, signed_distance_under, Placed, Scratch, ShapeKind};
-use crate::collision::{CollisionModel, Scope};
 use crate::model::{Model, WORLD};
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query;
@@ -154,10 +154,7 @@ impl Certifier {
         let owner = |k: u32| cm.objects[k as usize].owner;
         let keep = |&[i, j]: &[u32; 2]| {
             links.iter().any(|&(a, b)| {
-                let (a, b) = (
-                    crate::collision::Body::Link(a),
-                    crate::collision::Body::Link(b),
-                );
+                let (a, b) = (Body::Link(a), Body::Link(b));
                 (owner(i), owner(j)) == (a, b) || (owner(i), owner(j)) == (b, a)
             })
         };

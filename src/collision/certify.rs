@@ -28,10 +28,10 @@
 //! the certified lower bound of the clearance along the whole curve.
 
 use crate::collision::bounds::{half_path_bound, Certifier, Evaluations, Level};
-use crate::collision::closest::Known;
+use crate::collision::collision_error::CollisionError;
+use crate::collision::collision_scene::{Body, CollisionData, CollisionModel, PairDistance};
 use crate::collision::shape::{to_pose, Scratch};
-use crate::collision::TrajectoryCollision;
-use crate::collision::{Body, CollisionData, CollisionError, CollisionModel, PairDistance};
+use crate::collision::trajectory::TrajectoryCollision;
 use crate::model::{Model, WORLD};
 use parry3d_f64::math::{Pose, Vector};
 use serde::Serialize;
@@ -145,6 +145,15 @@ pub(super) struct Work<'m> {
     pub(super) subdivisions: usize,
 }
 
+/// The best known lower bound of a (sample, pair) distance, the level it was worked to,
+/// and whether it is the exact distance.
+#[derive(Clone, Copy)]
+pub(super) struct Known {
+    pub(super) value: f64,
+    pub(super) level: Level,
+    pub(super) exact: bool,
+}
+
 /// One pair's outcome.
 enum Outcome {
     Proven,
@@ -237,7 +246,7 @@ impl Certifier {
         motion: &'m CertifiedMotion<'m>,
         opts: &CertifyOptions,
     ) -> Result<(Work<'m>, Vec<Known>), CollisionError> {
-        check(model, motion, opts).map_err(CollisionError::Trajectory)?;
+        check(model, motion, opts)?;
         let mut w = sample_motion(cm, model, cd, motion);
         w.hints = vec![Vector::ZERO; self.pairs.len()];
         let known = self.ball_bounds(cm, &mut w);
@@ -555,23 +564,24 @@ fn sample_motion<'m>(
 }
 
 /// Times strictly increasing and finite, bounds of the model's size, valid options.
-fn check(model: &Model, m: &CertifiedMotion, opts: &CertifyOptions) -> Result<(), String> {
+fn check(model: &Model, m: &CertifiedMotion, opts: &CertifyOptions) -> Result<(), CollisionError> {
+    let bad = |m: String| Err(CollisionError::Trajectory(m));
     if m.times.is_empty() {
-        return Err("no sample times".into());
+        return bad("no sample times".into());
     }
     if m.times.iter().any(|t| !t.is_finite()) || m.times.windows(2).any(|w| w[1] <= w[0]) {
-        return Err("sample times must be finite and strictly increasing".into());
+        return bad("sample times must be finite and strictly increasing".into());
     }
     if m.accel_bound.len() != model.nv
         || m.accel_bound.iter().any(|a| !(a.is_finite() && *a >= 0.0))
     {
-        return Err(format!(
+        return bad(format!(
             "the acceleration bound needs {} finite values >= 0",
             model.nv
         ));
     }
     if !(opts.min_interval > 0.0 && opts.time_tolerance > 0.0) {
-        return Err("min_interval and time_tolerance must be positive".into());
+        return bad("min_interval and time_tolerance must be positive".into());
     }
     Ok(())
 }

@@ -13,9 +13,9 @@
 //! clearance bound along the whole curve.
 
 use crate::collision::bounds::{Certifier, Level};
-use crate::collision::certify::{ClearanceBound, SampleMin, Work};
+use crate::collision::certify::{ClearanceBound, Known, SampleMin, Work};
+use crate::collision::collision_scene::{CollisionModel, PairDistance};
 use crate::collision::shape::{distance_and_points, Placed};
-use crate::collision::{CollisionModel, PairDistance};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -248,15 +248,6 @@ struct Entry {
     key: f64,
     k: usize,
     p: usize,
-}
-
-/// The best known lower bound of a (sample, pair) distance, the level it was worked to,
-/// and whether it is the exact distance.
-#[derive(Clone, Copy)]
-pub(super) struct Known {
-    pub(super) value: f64,
-    pub(super) level: Level,
-    pub(super) exact: bool,
 }
 
 impl PartialEq for Entry {

@@ -2,10 +2,16 @@
 //! ones skipped or refused), the obstacles' shapes, the disabled pairs by name, and the
 //! self and environment pair lists (see the module docs for which pairs are tested).
 
-use crate::collision::{
-    mesh, resolve, Body, CollisionError, CollisionModel, CollisionOptions, CollisionShape,
-    MissingMeshes, Object, Obstacle, ObstacleSpec,
+use crate::collision::collision_error::CollisionError;
+use crate::collision::collision_scene::{
+    Body, CollisionModel, CollisionOptions, MissingMeshes, Object,
 };
+use crate::collision::mesh;
+use crate::collision::obstacle::{Obstacle, ObstacleSpec};
+use crate::collision::resolve;
+use crate::collision::shape::CollisionShape;
+use crate::collision::shape_error::ShapeError;
+use crate::core::diag::LocatedError;
 use crate::model::{Model, Shape, WORLD};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -20,9 +26,29 @@ fn model_dir(model: &Model) -> Option<PathBuf> {
 
 type MeshKey = (PathBuf, [u64; 3]);
 
-/// Builds the shape of a geometry, loading (and caching) mesh files. `Ok(Err(why))`: the
-/// mesh file was not found; `Err((is_mesh, why))`: a mesh that cannot be read, or a bad
-/// primitive.
+/// Why a geometry got no shape.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum ShapeFailure {
+    /// The mesh file was not found (skipped or refused, [`MissingMeshes`]).
+    #[error("{0}")]
+    Missing(String),
+    /// The mesh file cannot be read.
+    #[error("{0}")]
+    Unreadable(LocatedError),
+    /// The mesh read cannot become a shape (its scale).
+    #[error("{path}: {problem}")]
+    BadMesh {
+        /// The mesh file.
+        path: String,
+        /// What is wrong.
+        problem: ShapeError,
+    },
+    /// A bad primitive.
+    #[error("{0}")]
+    BadPrimitive(ShapeError),
+}
+
+/// Builds the shape of a geometry, loading (and caching) mesh files.
 fn build_shape(
     shape: &Shape,
     base: Option<&Path>,
@@ -30,30 +56,30 @@ fn build_shape(
     opts: &CollisionOptions,
     cache: &mut HashMap<MeshKey, CollisionShape>,
     notes: &mut Vec<String>,
-) -> Result<Result<CollisionShape, String>, (bool, String)> {
+) -> Result<CollisionShape, ShapeFailure> {
     match shape {
         Shape::Mesh { uri, scale } => {
-            let path = match resolve::resolve_with(uri, base, pkgs) {
-                Ok(p) => p,
-                Err(e) => return Ok(Err(e.0)),
-            };
+            let path =
+                resolve::resolve_with(uri, base, pkgs).map_err(|e| ShapeFailure::Missing(e.0))?;
             let key = (path.clone(), scale.map(f64::to_bits));
             if let Some(s) = cache.get(&key) {
-                return Ok(Ok(s.clone()));
+                return Ok(s.clone());
             }
-            let data =
-                mesh::load_mesh(&path).map_err(|e| (true, format!("{}: {e}", path.display())))?;
-            let (s, note) = CollisionShape::from_mesh(&data, *scale, opts.convex_hulls)
-                .map_err(|e| (true, format!("{}: {e}", path.display())))?;
+            let data = mesh::load_mesh(&path).map_err(ShapeFailure::Unreadable)?;
+            let (s, note) =
+                CollisionShape::from_mesh(&data, *scale, opts.convex_hulls).map_err(|problem| {
+                    ShapeFailure::BadMesh {
+                        path: path.display().to_string(),
+                        problem,
+                    }
+                })?;
             if let Some(n) = note {
                 notes.push(format!("{}: {n}", path.display()));
             }
             cache.insert(key, s.clone());
-            Ok(Ok(s))
+            Ok(s)
         }
-        _ => CollisionShape::primitive(shape)
-            .map(Ok)
-            .map_err(|e| (false, e)),
+        _ => CollisionShape::primitive(shape).map_err(ShapeFailure::BadPrimitive),
     }
 }
 
@@ -77,11 +103,7 @@ impl<'o> ShapeLoader<'o> {
     }
 
     /// [`build_shape`] with relative mesh paths starting at `base`.
-    fn load(
-        &mut self,
-        shape: &Shape,
-        base: Option<&Path>,
-    ) -> Result<Result<CollisionShape, String>, (bool, String)> {
+    fn load(&mut self, shape: &Shape, base: Option<&Path>) -> Result<CollisionShape, ShapeFailure> {
         build_shape(
             shape,
             base,
@@ -204,8 +226,8 @@ fn robot_shapes(model: &Model, loader: &mut ShapeLoader) -> Result<RobotShapes, 
                 _ => String::new(),
             };
             let cs = match built {
-                Ok(Ok(cs)) => cs,
-                Ok(Err(missing)) => {
+                Ok(cs) => cs,
+                Err(ShapeFailure::Missing(missing)) => {
                     if loader.opts.missing_meshes == MissingMeshes::Error {
                         return Err(CollisionError::Mesh {
                             model: model.source.clone(),
@@ -220,19 +242,19 @@ fn robot_shapes(model: &Model, loader: &mut ShapeLoader) -> Result<RobotShapes, 
                     ));
                     continue;
                 }
-                Err((true, reason)) => {
+                Err(e @ (ShapeFailure::Unreadable(_) | ShapeFailure::BadMesh { .. })) => {
                     return Err(CollisionError::Mesh {
                         model: model.source.clone(),
                         link: link.name.clone(),
                         uri,
-                        reason,
+                        reason: e.to_string(),
                     })
                 }
-                Err((false, reason)) => {
+                Err(ShapeFailure::BadPrimitive(e)) => {
                     return Err(CollisionError::Geometry {
                         model: model.source.clone(),
                         link: link.name.clone(),
-                        reason,
+                        reason: e.to_string(),
                     })
                 }
             };
@@ -291,10 +313,9 @@ fn add_obstacles<'a>(
             Some(Body::Obstacle(_)) => return Err(err("duplicate obstacle name".to_string())),
             None => {}
         }
-        let cs = match loader.load(&ob.shape, obstacle_dir) {
-            Ok(Ok(cs)) => cs,
-            Ok(Err(reason)) | Err((_, reason)) => return Err(err(reason)),
-        };
+        let cs = loader
+            .load(&ob.shape, obstacle_dir)
+            .map_err(|e| err(e.to_string()))?;
         let r = ob.pose.rot;
         if !(r.iter().chain(ob.pose.trans.iter()).all(|x| x.is_finite())
             && (r.transpose() * r - crate::core::spatial::Mat3::identity()).norm() < 1e-9)

@@ -28,7 +28,7 @@
 //! `mesh`: `mesh`, optional `scale`); any other one is an error, so that a typo does not
 //! pass silently.
 
-use crate::collision::CollisionError;
+use crate::collision::collision_error::CollisionError;
 use crate::core::spatial::Se3;
 use crate::model::Shape;
 use serde::{Deserialize, Serialize};

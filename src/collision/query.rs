@@ -1,11 +1,13 @@
 //! Queries on a built scene: placing the shapes at a configuration, the first collision,
 //! every colliding pair, the minimum distance by broad-phase bound, and body distances.
 
+use crate::collision::collision_scene::{
+    Body, CollisionData, CollisionModel, Distances, PairDistance, Scope,
+};
 use crate::collision::shape::{
     aabb_gap, distance_and_points, intersects, signed_distance, signed_distance_below, to_pose,
     within, Placed, Scratch,
 };
-use crate::collision::{Body, CollisionData, CollisionModel, Distances, PairDistance, Scope};
 use crate::kinematics::forward_kinematics;
 use crate::model::Model;
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
@@ -54,10 +56,7 @@ impl CollisionModel {
     /// [`CollisionModel::update`]: any of their shape pairs. `false` for a pair the scene
     /// never tests (the same link, adjacent links, a link without shapes).
     pub fn links_collide(&self, cd: &CollisionData, a: usize, b: usize) -> bool {
-        let (la, lb) = (
-            crate::collision::Body::Link(a),
-            crate::collision::Body::Link(b),
-        );
+        let (la, lb) = (Body::Link(a), Body::Link(b));
         self.self_pairs.iter().any(|&p| {
             let (x, y) = (
                 self.objects[p[0] as usize].owner,

@@ -24,7 +24,8 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 /// Why a URI did not resolve: a message naming what was searched.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
 pub struct NotFound(pub String);
 
 /// Where `package://` URIs are looked for, before the model file's own folder tree.

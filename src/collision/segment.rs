@@ -12,9 +12,9 @@
 //! distance of non-convex meshes is often much larger). An exact distance ≤ 0 is a
 //! collision; a march that needs more than [`MAX_STEPS`] steps is refused, conservatively.
 
-use crate::collision::bounds::{Certifier, Level};
+use crate::collision::bounds::{Certifier, Evaluations, Level};
+use crate::collision::collision_scene::{CollisionData, CollisionModel};
 use crate::collision::shape::{to_pose, Scratch};
-use crate::collision::{CollisionData, CollisionModel, Evaluations};
 use crate::model::{Model, WORLD};
 use parry3d_f64::math::{Pose, Vector};
 

@@ -27,6 +27,7 @@
 //!   enclosing surface, a lower bound of the depth. Open meshes are surfaces only.
 
 use crate::collision::mesh::MeshData;
+use crate::collision::shape_error::ShapeError;
 use crate::core::spatial::{Mat3, Se3, Vec3};
 use crate::model::Shape;
 use parry3d_f64::bounding_volume::Aabb;
@@ -114,11 +115,14 @@ impl std::fmt::Debug for CollisionShape {
     }
 }
 
-fn positive(x: f64, what: &str) -> Result<f64, String> {
+fn positive(x: f64, what: &str) -> Result<f64, ShapeError> {
     if x.is_finite() && x > 0.0 {
         Ok(x)
     } else {
-        Err(format!("{what} must be finite and positive, got {x}"))
+        Err(ShapeError::NotPositive {
+            what: what.to_string(),
+            value: x,
+        })
     }
 }
 
@@ -129,7 +133,7 @@ pub const MAX_COORD: f64 = 1e9;
 impl CollisionShape {
     /// A primitive (box, sphere, cylinder, capsule); meshes go through
     /// [`CollisionShape::from_mesh`].
-    pub fn primitive(shape: &Shape) -> Result<CollisionShape, String> {
+    pub fn primitive(shape: &Shape) -> Result<CollisionShape, ShapeError> {
         let simple = |shape, kind| CollisionShape {
             shape,
             frame: Se3::identity(),
@@ -161,9 +165,7 @@ impl CollisionShape {
             Shape::Capsule { radius, length } => {
                 let r = positive(*radius, "capsule radius")?;
                 if !(length.is_finite() && *length >= 0.0) {
-                    return Err(format!(
-                        "capsule length must be finite and >= 0, got {length}"
-                    ));
+                    return Err(ShapeError::CapsuleLength(*length));
                 }
                 let h = length / 2.0;
                 CollisionShape {
@@ -188,7 +190,7 @@ impl CollisionShape {
                     swept: None,
                 }
             }
-            Shape::Mesh { .. } => return Err("a mesh needs its file loaded".to_string()),
+            Shape::Mesh { .. } => return Err(ShapeError::MeshNotLoaded),
         })
     }
 
@@ -200,11 +202,9 @@ impl CollisionShape {
         mesh: &MeshData,
         scale: [f64; 3],
         convex_hull: bool,
-    ) -> Result<(CollisionShape, Option<String>), String> {
+    ) -> Result<(CollisionShape, Option<String>), ShapeError> {
         if scale.iter().any(|s| !s.is_finite() || *s == 0.0) {
-            return Err(format!(
-                "mesh scale must be finite and non-zero, got {scale:?}"
-            ));
+            return Err(ShapeError::MeshScale(scale));
         }
         let vertices: Vec<Vector> = mesh
             .vertices
@@ -216,11 +216,11 @@ impl CollisionShape {
             .iter()
             .find(|v| !(v.x.abs() <= MAX_COORD && v.y.abs() <= MAX_COORD && v.z.abs() <= MAX_COORD))
         {
-            return Err(format!(
-                "mesh scale {scale:?} takes a vertex to ({:e}, {:e}, {:e}), beyond the {MAX_COORD:e} m \
-                 accepted for collision geometry",
-                v.x, v.y, v.z
-            ));
+            return Err(ShapeError::BeyondRange {
+                scale,
+                vertex: [v.x, v.y, v.z],
+                limit: MAX_COORD,
+            });
         }
         let inner_point = vertices.first().copied().unwrap_or(Vector::ZERO);
         let mut note = None;
@@ -253,7 +253,7 @@ impl CollisionShape {
             flags |= TriMeshFlags::ORIENTED;
         }
         let tri = TriMesh::with_flags(vertices, m.triangles, flags)
-            .map_err(|e| format!("invalid triangle mesh: {e:?}"))?;
+            .map_err(|e| ShapeError::InvalidTriMesh(format!("{e:?}")))?;
         Ok((
             CollisionShape {
                 shape: SharedShape::new(tri),

@@ -14,7 +14,8 @@
 //! The minimum distances (environment and self, signed) are recorded at every sample,
 //! for plotting, with their overall minima.
 
-use crate::collision::{Body, CollisionData, CollisionError, CollisionModel, PairDistance, Scope};
+use crate::collision::collision_error::CollisionError;
+use crate::collision::collision_scene::{Body, CollisionData, CollisionModel, PairDistance, Scope};
 use crate::model::Model;
 use serde::{Deserialize, Serialize};
 
@@ -130,7 +131,7 @@ impl CollisionModel {
         qs: &[Q],
         opts: &TrajectoryOptions,
     ) -> Result<TrajectoryReport, CollisionError> {
-        check_inputs(model, times, qs, opts).map_err(CollisionError::Trajectory)?;
+        check_inputs(model, times, qs, opts)?;
         let scope = opts.scope;
         let mut report = TrajectoryReport::default();
         if opts.distances {
@@ -308,43 +309,46 @@ fn check_inputs<Q: AsRef<[f64]>>(
     times: &[f64],
     qs: &[Q],
     opts: &TrajectoryOptions,
-) -> Result<(), String> {
+) -> Result<(), CollisionError> {
+    let bad = CollisionError::Trajectory;
     if times.is_empty() || times.len() != qs.len() {
-        return Err(format!(
+        return Err(bad(format!(
             "{} times and {} configurations (need the same number, at least one)",
             times.len(),
             qs.len()
-        ));
+        )));
     }
     for (k, q) in qs.iter().enumerate() {
         let q = q.as_ref();
         if q.len() != model.nv {
-            return Err(format!(
+            return Err(bad(format!(
                 "sample {k}: {} joint values, the model has {}",
                 q.len(),
                 model.nv
-            ));
+            )));
         }
         if q.iter().any(|x| !x.is_finite()) || !times[k].is_finite() {
-            return Err(format!("sample {k}: non-finite value"));
+            return Err(bad(format!("sample {k}: non-finite value")));
         }
         if k > 0 && times[k] <= times[k - 1] {
-            return Err(format!(
+            return Err(bad(format!(
                 "sample {k}: time {} does not increase (previous {})",
                 times[k],
                 times[k - 1]
-            ));
+            )));
         }
     }
     if !(opts.time_tolerance.is_finite() && opts.time_tolerance > 0.0) {
-        return Err(format!(
+        return Err(bad(format!(
             "time_tolerance must be finite and positive, got {}",
             opts.time_tolerance
-        ));
+        )));
     }
     if let Some(h) = opts.max_step {
         if !(h.is_finite() && h > 0.0) {
-            return Err(format!("max_step must be finite and positive, got {h}"));
+            return Err(bad(format!(
+                "max_step must be finite and positive, got {h}"
+            )));
         }
     }
     Ok(())

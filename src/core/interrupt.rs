@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
 
 static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
-static INSTALLED: OnceLock<Result<(), String>> = OnceLock::new();
+static INSTALLED: OnceLock<Result<(), InterruptError>> = OnceLock::new();
 
 /// The SIGINT handler could not be installed (e.g. another crate installed one first).
 #[derive(Debug, Clone, thiserror::Error)]
@@ -29,10 +29,9 @@ pub fn install() -> Result<(), InterruptError> {
                 }
                 eprintln!("interrupted: finishing the output (Ctrl-C again to abort)");
             })
-            .map_err(|e| e.to_string())
+            .map_err(|e| InterruptError(e.to_string()))
         })
         .clone()
-        .map_err(InterruptError)
 }
 
 /// Whether an interrupt was received (or [`request`]ed) since the start or the last

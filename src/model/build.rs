@@ -4,12 +4,11 @@
 //! joint carrying the inertias of the links rigidly attached to it.
 
 use crate::core::spatial::{rotation_z_to, Inertia, InertiaO, Mat3, Se3, Vec3};
+use crate::model::body_frames::{aligned_axis, push_permutations_up, snap_signed_permutation};
+use crate::model::compiled::{BodyKind, Joint, Link, Model, WORLD};
 use crate::model::mimic::{self, Resolved};
+use crate::model::model_error::{ModelError, ModelWarning};
 use crate::model::spec::{JointSpec, JointType, LinkSpec, ModelSpec};
-use crate::model::{
-    aligned_axis, push_permutations_up, snap_signed_permutation, BodyKind, Joint, Link, Model,
-    ModelError, ModelWarning, WORLD,
-};
 use std::collections::HashMap;
 
 pub(super) struct Builder<'a> {

@@ -3,7 +3,7 @@
 //! the model keeps plain `usize` arrays (with [`crate::model::WORLD`] as the "no parent"
 //! marker); these wrappers are what callers hold.
 
-use crate::model::Model;
+use crate::model::compiled::Model;
 
 /// A link frame of a [`Model`] (from [`Model::frame`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -46,6 +46,6 @@ impl Model {
     /// The parent body of body `i`, `None` for a body attached to the world (the
     /// `Option` form of the [`crate::model::WORLD`] marker).
     pub fn parent_body(&self, i: usize) -> Option<usize> {
-        (self.parent[i] != crate::model::WORLD).then_some(self.parent[i])
+        (self.parent[i] != crate::model::compiled::WORLD).then_some(self.parent[i])
     }
 }

@@ -12,8 +12,8 @@
 //! check refuses a negative mass.
 
 use crate::core::spatial::Mat3;
+use crate::model::model_error::{ModelError, ModelWarning};
 use crate::model::spec::LinkSpec;
-use crate::model::{ModelError, ModelWarning};
 
 /// Relative size of a negative principal moment that is floating-point noise: accepted
 /// silently (as is one below [`NOISE_ABS`]).

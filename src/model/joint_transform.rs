@@ -5,7 +5,7 @@
 //! `Data` does not depend on the dynamics module.
 
 use crate::core::spatial::{unit, Force, InertiaO, Vec3};
-use crate::model::Model;
+use crate::model::compiled::Model;
 
 /// A joint transform `(R_k(θ), t)` with `R_k` a rotation about body axis `k` (`c = cos θ`,
 /// `s = sin θ`; a prismatic joint is `c = 1, s = 0` with `t` shifted along the axis).

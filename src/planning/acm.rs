@@ -541,3 +541,56 @@ impl SpherePoser {
         best
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn bundled_ur5_meshes_are_spherized_quickly_and_sampled_self_pairs_work() {
+        use crate::model::{Model, WORLD};
+        use crate::planning::spheres::{SphereModel, SphereOptions};
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let spec = Model::read_spec(&root.join("robots/ur5.urdf")).unwrap();
+        let model = Model::build(spec).unwrap().0;
+        let opts = SphereOptions {
+            max_overshoot: 0.03,
+            ..Default::default()
+        };
+        let t = std::time::Instant::now();
+        let sm = SphereModel::new(&model, &opts);
+        let secs = t.elapsed().as_secs_f64();
+        assert!(sm.warnings.is_empty(), "{:?}", sm.warnings);
+        // Every link with a collision mesh has spheres, each within the link's mesh
+        // bounding box grown by the overshoot (the centres are grid points of that box).
+        let meshed = model
+            .links
+            .iter()
+            .filter(|l| !l.collisions.is_empty())
+            .count();
+        assert_eq!(sm.links.len(), meshed);
+        assert!(secs < 7.0, "{secs} s for {meshed} links");
+        // Without an SRDF: the allowed-collision matrix disables every adjacent pair and
+        // keeps or disables each other pair for a stated reason.
+        let opts = crate::planning::acm::AcmOptions {
+            samples: 2000,
+            seed: 1,
+            ..Default::default()
+        };
+        let stop = std::sync::atomic::AtomicBool::new(false);
+        let acm = crate::planning::acm::compute(&model, &sm, None, &opts, &stop).unwrap();
+        let parent = |b: usize| if b == WORLD { WORLD } else { model.parent[b] };
+        let far = |a: usize, b: usize| a != b && parent(b) != a && parent(a) != b;
+        let mut expect = 0;
+        for (i, la) in sm.links.iter().enumerate() {
+            for lb in &sm.links[i + 1..] {
+                expect += far(la.body, lb.body) as usize;
+            }
+        }
+        assert!(expect >= 10, "{expect}");
+        let adjacent = acm.counts()[0].1;
+        assert_eq!(acm.checked.len() + acm.disabled.len() - adjacent, expect);
+        let body = |n: &str| model.links[model.link_id(n).unwrap()].body;
+        for (a, b) in &acm.checked {
+            assert!(far(body(a), body(b)), "{a} {b}");
+        }
+    }
+}

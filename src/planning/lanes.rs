@@ -2,28 +2,8 @@
 //! poses in registers ([`P3`], [`LanePose`]) over a [`Simd`] token, one robot configuration
 //! per lane (structure of arrays, as in VAMP).
 
+pub use crate::planning::lane_values::{Mask, ALL, L, N};
 use crate::planning::simd::{Simd, W};
-
-/// Number of lanes.
-pub const N: usize = 8;
-
-/// Eight f32 values in memory, one per configuration.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[repr(C, align(32))]
-pub struct L(pub [f32; N]);
-
-/// A lane mask: bit `i` set when lane `i` is true.
-pub type Mask = u32;
-
-/// Mask with all lanes set.
-pub const ALL: Mask = (1 << N) - 1;
-
-impl L {
-    /// All lanes `x`.
-    pub fn splat(x: f32) -> L {
-        L([x; N])
-    }
-}
 
 /// A point per lane, in registers.
 #[derive(Clone, Copy)]

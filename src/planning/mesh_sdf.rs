@@ -15,6 +15,23 @@ use parry3d_f64::math::Vector;
 use parry3d_f64::query::PointQueryWithLocation;
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
+/// Why a mesh cannot give a signed distance.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeshSdfError {
+    /// The mesh has no triangle.
+    #[error("the mesh has no triangles")]
+    NoTriangles,
+    /// A scale with a zero or non-finite factor.
+    #[error("mesh scale must be finite and non-zero, got {0:?}")]
+    Scale([f64; 3]),
+    /// A scale that takes a vertex beyond the f64 range.
+    #[error("mesh scale {0:?} takes its vertices beyond the floating-point range")]
+    Overflow([f64; 3]),
+    /// A triangle mesh parry refuses (its error, debug-printed).
+    #[error("invalid triangle mesh: {0}")]
+    InvalidTriMesh(String),
+}
+
 /// A triangle mesh with its bounding box, answering signed distances.
 pub struct MeshSdf {
     tri: TriMesh,
@@ -28,14 +45,12 @@ pub struct MeshSdf {
 
 impl MeshSdf {
     /// The mesh scaled by `scale` (per axis; a mirror flips the winding back).
-    pub fn new(mesh: &MeshData, scale: [f64; 3]) -> Result<MeshSdf, String> {
+    pub fn new(mesh: &MeshData, scale: [f64; 3]) -> Result<MeshSdf, MeshSdfError> {
         if mesh.triangles.is_empty() {
-            return Err("the mesh has no triangles".into());
+            return Err(MeshSdfError::NoTriangles);
         }
         if !scale.iter().all(|s| s.is_finite() && *s != 0.0) {
-            return Err(format!(
-                "mesh scale must be finite and non-zero, got {scale:?}"
-            ));
+            return Err(MeshSdfError::Scale(scale));
         }
         let mut m = mesh.clone();
         for v in &mut m.vertices {
@@ -44,9 +59,7 @@ impl MeshSdf {
             }
         }
         if m.vertices.iter().flatten().any(|x| !x.is_finite()) {
-            return Err(format!(
-                "mesh scale {scale:?} takes its vertices beyond the floating-point range"
-            ));
+            return Err(MeshSdfError::Overflow(scale));
         }
         let closed = m.is_closed();
         let mut flags = TriMeshFlags::empty();
@@ -69,7 +82,7 @@ impl MeshSdf {
             .map(|p| Vector::new(p[0], p[1], p[2]))
             .collect();
         let tri = TriMesh::with_flags(vertices, m.triangles, flags)
-            .map_err(|e| format!("invalid triangle mesh: {e:?}"))?;
+            .map_err(|e| MeshSdfError::InvalidTriMesh(format!("{e:?}")))?;
         Ok(MeshSdf {
             tri,
             closed,
@@ -136,7 +149,10 @@ mod tests {
     fn a_scale_that_overflows_the_vertices_is_refused() {
         // 20 m × 1e308 overflows to infinity.
         let m = box_mesh([20.0, 0.1, 0.2]);
-        let e = MeshSdf::new(&m, [1e308, 1.0, 1.0]).err().unwrap();
+        let e = MeshSdf::new(&m, [1e308, 1.0, 1.0])
+            .err()
+            .unwrap()
+            .to_string();
         assert!(e.contains("floating-point range"), "{e}");
     }
 
@@ -219,56 +235,6 @@ mod tests {
             let sdf = MeshSdf::new(&data, [1.0; 3]).unwrap();
             assert!(sdf.closed, "{f}");
             assert!(sdf.sdf(sdf.center) < 0.0, "{f}: centre inside");
-        }
-    }
-
-    #[test]
-    fn bundled_ur5_meshes_are_spherized_quickly_and_sampled_self_pairs_work() {
-        use crate::model::{Model, WORLD};
-        use crate::planning::spheres::{SphereModel, SphereOptions};
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let spec = Model::read_spec(&root.join("robots/ur5.urdf")).unwrap();
-        let model = Model::build(spec).unwrap().0;
-        let opts = SphereOptions {
-            max_overshoot: 0.03,
-            ..Default::default()
-        };
-        let t = std::time::Instant::now();
-        let sm = SphereModel::new(&model, &opts);
-        let secs = t.elapsed().as_secs_f64();
-        assert!(sm.warnings.is_empty(), "{:?}", sm.warnings);
-        // Every link with a collision mesh has spheres, each within the link's mesh
-        // bounding box grown by the overshoot (the centres are grid points of that box).
-        let meshed = model
-            .links
-            .iter()
-            .filter(|l| !l.collisions.is_empty())
-            .count();
-        assert_eq!(sm.links.len(), meshed);
-        assert!(secs < 7.0, "{secs} s for {meshed} links");
-        // Without an SRDF: the allowed-collision matrix disables every adjacent pair and
-        // keeps or disables each other pair for a stated reason.
-        let opts = crate::planning::acm::AcmOptions {
-            samples: 2000,
-            seed: 1,
-            ..Default::default()
-        };
-        let stop = std::sync::atomic::AtomicBool::new(false);
-        let acm = crate::planning::acm::compute(&model, &sm, None, &opts, &stop).unwrap();
-        let parent = |b: usize| if b == WORLD { WORLD } else { model.parent[b] };
-        let far = |a: usize, b: usize| a != b && parent(b) != a && parent(a) != b;
-        let mut expect = 0;
-        for (i, la) in sm.links.iter().enumerate() {
-            for lb in &sm.links[i + 1..] {
-                expect += far(la.body, lb.body) as usize;
-            }
-        }
-        assert!(expect >= 10, "{expect}");
-        let adjacent = acm.counts()[0].1;
-        assert_eq!(acm.checked.len() + acm.disabled.len() - adjacent, expect);
-        let body = |n: &str| model.links[model.link_id(n).unwrap()].body;
-        for (a, b) in &acm.checked {
-            assert!(far(body(a), body(b)), "{a} {b}");
         }
     }
 }

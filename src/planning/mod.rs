@@ -8,6 +8,7 @@ pub mod acm;
 pub mod checker;
 pub mod cover_cache;
 pub mod environment;
+mod lane_values;
 pub mod lanes;
 pub mod mesh_sdf;
 pub mod moveit;

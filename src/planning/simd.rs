@@ -20,7 +20,7 @@
 
 #![allow(clippy::excessive_precision)]
 
-use crate::planning::lanes::{Mask, L};
+use crate::planning::lane_values::{Mask, L};
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// Cephes constants (sinf.c, cosf.c).
@@ -173,7 +173,7 @@ pub enum CheckerIsa {
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
-    use crate::planning::lanes::{Mask, L};
+    use crate::planning::lane_values::{Mask, L};
     use crate::planning::simd::{cephes::*, Simd, W};
     use std::arch::x86_64::*;
 

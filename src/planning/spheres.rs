@@ -22,10 +22,11 @@
 //! [`SphereModel::rho`] stores, per sphere, these coefficients per coordinate.
 
 use crate::collision::mesh::load_mesh;
-use crate::collision::resolve::{resolve_with, PackagePaths};
+use crate::collision::resolve::{resolve_with, NotFound, PackagePaths};
+use crate::core::diag::LocatedError;
 use crate::core::spatial::{Se3, Vec3};
 use crate::model::{Model, Shape, WORLD};
-use crate::planning::mesh_sdf::MeshSdf;
+use crate::planning::mesh_sdf::{MeshSdf, MeshSdfError};
 use crate::planning::spherize::{cover, cover_sdf, Primitive};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -246,12 +247,31 @@ fn push_spheres(spheres: &mut Vec<Sphere>, to_body: &Se3, cover: Vec<([f64; 3], 
 /// A cover's spheres `(centre, radius)` and a note (open mesh, raised overshoot).
 type NotedCover = (Vec<([f64; 3], f64)>, Option<String>);
 
+/// Why a collision mesh got no sphere cover.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum CoverError {
+    /// The mesh file was not found.
+    #[error("{0}")]
+    NotFound(NotFound),
+    /// The mesh file cannot be read.
+    #[error("{0}")]
+    Unreadable(LocatedError),
+    /// The mesh read gives no signed distance (its scale, a triangle mesh parry refuses).
+    #[error("{path}: {problem}")]
+    NoDistance {
+        /// The mesh file.
+        path: String,
+        /// What is wrong.
+        problem: MeshSdfError,
+    },
+}
+
 /// Mesh covers by resolved file (with its length and modification time), scale and
 /// overshoot, kept for the process: a mesh used by several links, models or planners is
 /// covered once; [`MeshCovers::prepare`] computes every cover a model needs in parallel.
 struct MeshCovers {
     packages: PackagePaths,
-    done: std::sync::MutexGuard<'static, HashMap<CoverKey, Result<NotedCover, String>>>,
+    done: std::sync::MutexGuard<'static, HashMap<CoverKey, Result<NotedCover, CoverError>>>,
 }
 
 /// A cover's resolved file, its length and modification time (ns), scale and overshoot
@@ -259,9 +279,10 @@ struct MeshCovers {
 type CoverKey = (PathBuf, u64, u128, [u64; 3], u64);
 
 /// The process's mesh covers.
-fn cover_cache() -> std::sync::MutexGuard<'static, HashMap<CoverKey, Result<NotedCover, String>>> {
+fn cover_cache() -> std::sync::MutexGuard<'static, HashMap<CoverKey, Result<NotedCover, CoverError>>>
+{
     static CACHE: std::sync::OnceLock<
-        std::sync::Mutex<HashMap<CoverKey, Result<NotedCover, String>>>,
+        std::sync::Mutex<HashMap<CoverKey, Result<NotedCover, CoverError>>>,
     > = std::sync::OnceLock::new();
     CACHE
         .get_or_init(Default::default)
@@ -283,11 +304,11 @@ fn cover_key(path: PathBuf, scale: [f64; 3], delta: f64) -> CoverKey {
 impl MeshCovers {
     /// The file of mesh `uri`, resolved relative to the model file (as the collision
     /// module does).
-    fn resolve(&self, model: &Model, uri: &str) -> Result<PathBuf, String> {
+    fn resolve(&self, model: &Model, uri: &str) -> Result<PathBuf, NotFound> {
         let base = Path::new(&model.source)
             .parent()
             .filter(|p| !p.as_os_str().is_empty());
-        resolve_with(uri, base, &self.packages).map_err(|e| e.0)
+        resolve_with(uri, base, &self.packages)
     }
 
     /// Computes, on the rayon threads, the covers of every mesh of `model` that
@@ -326,8 +347,8 @@ impl MeshCovers {
         uri: &str,
         scale: [f64; 3],
         delta: f64,
-    ) -> Result<NotedCover, String> {
-        let path = self.resolve(model, uri)?;
+    ) -> Result<NotedCover, CoverError> {
+        let path = self.resolve(model, uri).map_err(CoverError::NotFound)?;
         let key = cover_key(path.clone(), scale, delta);
         self.done
             .entry(key)
@@ -342,7 +363,7 @@ fn compute_cover(
     uri: &str,
     scale: [f64; 3],
     delta: f64,
-) -> Result<NotedCover, String> {
+) -> Result<NotedCover, CoverError> {
     // Through the input guard: a FIFO or `/dev/zero` must not block or read forever.
     let bytes = crate::core::files::read_input_max(path, crate::core::files::MAX_MESH_BYTES).ok();
     if let Some(c) = bytes
@@ -351,8 +372,11 @@ fn compute_cover(
     {
         return Ok(c);
     }
-    let data = load_mesh(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let sdf = MeshSdf::new(&data, scale).map_err(|e| format!("{}: {e}", path.display()))?;
+    let data = load_mesh(path).map_err(CoverError::Unreadable)?;
+    let sdf = MeshSdf::new(&data, scale).map_err(|problem| CoverError::NoDistance {
+        path: path.display().to_string(),
+        problem,
+    })?;
     let (spheres, used) = cover_sdf(&|p| sdf.sdf(p), sdf.center, sdf.half, delta);
     let mut notes = Vec::new();
     if !sdf.closed {

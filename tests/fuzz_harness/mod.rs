@@ -175,7 +175,7 @@ pub fn mcap(data: &[u8]) {
 /// What every mesh reader must return: an error with a message, or a mesh whose indices
 /// are in range and whose coordinates are finite, that the collision layer accepts as a
 /// triangle mesh (no panic) and whose closedness and volume can be computed.
-fn mesh(result: Result<armsim::collision::mesh::MeshData, String>) {
+fn mesh(result: Result<armsim::collision::mesh::MeshData, armsim::collision::mesh::MeshError>) {
     match result {
         Ok(m) => {
             let n = m.vertices.len();
@@ -186,7 +186,7 @@ fn mesh(result: Result<armsim::collision::mesh::MeshData, String>) {
                 let _ = armsim::collision::CollisionShape::from_mesh(&m, [1.0; 3], false);
             }
         }
-        Err(e) => assert!(!e.is_empty(), "an empty mesh error"),
+        Err(e) => assert!(!e.to_string().is_empty(), "an empty mesh error"),
     }
 }
 

@@ -10,7 +10,7 @@
 //!   [`crate::collision::mesh::MAX_TRIANGLES`] triangles in all, counted before any is placed (a
 //!   small file placing one large geometry many times would otherwise expand without bound).
 //!
-//! Errors are plain messages naming the element and its line; the caller adds the file.
+//! Errors ([`MeshError`]) name the element and its line; the caller adds the file.
 //!
 //! Why this reader and not `mesh-loader`'s (which reads STL and OBJ for armsim, issue 27),
 //! as of mesh-loader 0.1.13 (`src/collada/instance.rs`, `iter.rs`):
@@ -27,7 +27,8 @@
 //! - its geometry parse without placement is not public, so it cannot be used for the
 //!   geometry alone under armsim's placement.
 
-use crate::collision::mesh::{MeshData, MAX_TRIANGLES};
+use crate::collision::mesh::mesh_data::{MeshData, MAX_TRIANGLES};
+use crate::collision::mesh::mesh_error::MeshError;
 use crate::core::xml_guard::LineIndex;
 use nalgebra::{Matrix4, Vector3, Vector4};
 use std::collections::HashMap;
@@ -50,24 +51,49 @@ fn child<'a, 'i>(n: &Node<'a, 'i>, name: &str) -> Option<Node<'a, 'i>> {
     n.children().find(|c| is(c, name))
 }
 
+/// The format's name in errors.
+const DAE: &str = "DAE";
+
+/// An element errors are about: its description with its line (`what (line N)`), and the
+/// line.
+struct At {
+    what: String,
+    line: usize,
+}
+
+impl At {
+    /// `what (line N)` on line `line`.
+    fn new(what: impl std::fmt::Display, line: usize) -> At {
+        At {
+            what: format!("{what} (line {line})"),
+            line,
+        }
+    }
+
+    /// The error `what (line N): msg`.
+    fn err(&self, msg: impl std::fmt::Display) -> MeshError {
+        MeshError::new(DAE, Some(self.line), format!("{}: {msg}", self.what))
+    }
+}
+
 /// Whitespace-separated finite numbers.
-fn floats(text: Option<&str>, what: &str) -> Result<Vec<f64>, String> {
+fn floats(text: Option<&str>, at: &At) -> Result<Vec<f64>, MeshError> {
     text.unwrap_or("")
         .split_ascii_whitespace()
         .map(|s| match s.parse::<f64>() {
             Ok(x) if x.is_finite() => Ok(x),
-            Ok(_) => Err(format!("DAE: {what}: '{s}' is not a finite number")),
-            Err(_) => Err(format!("DAE: {what}: '{s}' is not a number")),
+            Ok(_) => Err(at.err(format!("'{s}' is not a finite number"))),
+            Err(_) => Err(at.err(format!("'{s}' is not a number"))),
         })
         .collect()
 }
 
-fn ints(text: Option<&str>, what: &str) -> Result<Vec<usize>, String> {
+fn ints(text: Option<&str>, at: &At) -> Result<Vec<usize>, MeshError> {
     text.unwrap_or("")
         .split_ascii_whitespace()
         .map(|s| {
             s.parse::<usize>()
-                .map_err(|_| format!("DAE: {what}: '{s}' is not an index"))
+                .map_err(|_| at.err(format!("'{s}' is not an index")))
         })
         .collect()
 }
@@ -89,18 +115,18 @@ fn dae_sources<'a>(
     mesh: &Node<'a, '_>,
     gid: &str,
     lx: &LineIndex,
-) -> Result<(Sources<'a>, HashMap<&'a str, &'a str>), String> {
+) -> Result<(Sources<'a>, HashMap<&'a str, &'a str>), MeshError> {
     let mut sources: Sources = HashMap::new();
     for s in mesh.children().filter(|c| is(c, "source")) {
         let id = s.attribute("id").unwrap_or("");
         let Some(fa) = child(&s, "float_array") else {
             continue;
         };
-        let what = format!(
-            "geometry '{gid}' source '{id}' (line {})",
-            lx.line(fa.range().start)
+        let at = At::new(
+            format!("geometry '{gid}' source '{id}'"),
+            lx.line(fa.range().start),
         );
-        let vals = floats(fa.text(), &what)?;
+        let vals = floats(fa.text(), &at)?;
         let stride = child(&s, "technique_common")
             .and_then(|t| child(&t, "accessor"))
             .and_then(|a| a.attribute("stride"))
@@ -108,11 +134,11 @@ fn dae_sources<'a>(
             .unwrap_or(3)
             .max(3);
         if !vals.is_empty() && stride > vals.len() {
-            return Err(format!(
-                "DAE: {what}: <accessor stride=\"{stride}\"> is larger than the {} values \
+            return Err(at.err(format!(
+                "<accessor stride=\"{stride}\"> is larger than the {} values \
                  of its <float_array>",
                 vals.len()
-            ));
+            )));
         }
         sources.insert(id, (vals, stride));
     }
@@ -133,7 +159,7 @@ fn dae_sources<'a>(
 
 /// The index stride of a primitive (largest `<input offset>` + 1) and the offset of its
 /// VERTEX input, each offset checked to lie within the `p_len` indices of its `<p>`.
-fn input_offsets(prim: &Node, what: &str, p_len: usize) -> Result<(usize, usize), String> {
+fn input_offsets(prim: &Node, at: &At, p_len: usize) -> Result<(usize, usize), MeshError> {
     let mut stride = 1;
     let mut voff = None;
     for i in prim.children().filter(|c| is(c, "input")) {
@@ -142,24 +168,24 @@ fn input_offsets(prim: &Node, what: &str, p_len: usize) -> Result<(usize, usize)
             Some(o) => o
                 .trim()
                 .parse::<usize>()
-                .map_err(|_| format!("DAE: {what}: <input offset=\"{o}\">: not an index"))?,
+                .map_err(|_| at.err(format!("<input offset=\"{o}\">: not an index")))?,
         };
         if off >= p_len.max(1) {
-            return Err(format!(
-                "DAE: {what}: <input offset=\"{off}\"> is beyond the {p_len} indices of its <p>"
-            ));
+            return Err(at.err(format!(
+                "<input offset=\"{off}\"> is beyond the {p_len} indices of its <p>"
+            )));
         }
         stride = stride.max(off + 1);
         if voff.is_none() && matches!(i.attribute("semantic"), Some("VERTEX" | "POSITION")) {
             voff = Some(off);
         }
     }
-    let voff = voff.ok_or_else(|| format!("DAE: {what}: no VERTEX input"))?;
+    let voff = voff.ok_or_else(|| at.err("no VERTEX input"))?;
     Ok((stride, voff))
 }
 
 /// Reads one `<mesh>` into positions and triangles (position indices).
-fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, String> {
+fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, MeshError> {
     let (sources, vertices_pos) = dae_sources(mesh, gid, lx)?;
     let mut positions: Vec<[f64; 3]> = Vec::new();
     let mut base_of: HashMap<&str, usize> = HashMap::new();
@@ -169,30 +195,30 @@ fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, String> 
         if !matches!(kind, "triangles" | "polylist" | "polygons") {
             continue;
         }
-        let what = format!(
-            "geometry '{gid}' <{kind}> (line {})",
-            lx.line(prim.range().start)
+        let at = At::new(
+            format!("geometry '{gid}' <{kind}>"),
+            lx.line(prim.range().start),
         );
         let ps: Vec<Vec<usize>> = prim
             .children()
             .filter(|c| is(c, "p"))
-            .map(|p| ints(p.text(), &what))
+            .map(|p| ints(p.text(), &at))
             .collect::<Result<_, _>>()?;
         let p_len = ps.iter().map(Vec::len).max().unwrap_or(0);
         if p_len == 0 {
             continue; // No indices: nothing to read (and no offset to check).
         }
-        let (stride, voff) = input_offsets(&prim, &what, p_len)?;
+        let (stride, voff) = input_offsets(&prim, &at, p_len)?;
         let vin = prim
             .children()
             .find(|i| {
                 is(i, "input") && matches!(i.attribute("semantic"), Some("VERTEX" | "POSITION"))
             })
-            .ok_or_else(|| format!("DAE: {what}: no VERTEX input"))?;
+            .ok_or_else(|| at.err("no VERTEX input"))?;
         let src = url_id(vin.attribute("source").unwrap_or(""));
         let src = vertices_pos.get(src).copied().unwrap_or(src);
         let Some((vals, vstride)) = sources.get(src) else {
-            return Err(format!("DAE: {what}: position source '{src}' not found"));
+            return Err(at.err(format!("position source '{src}' not found")));
         };
         // Each position source is appended once.
         let base = *base_of.entry(src).or_insert_with(|| {
@@ -202,22 +228,22 @@ fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, String> 
         });
         let npos = vals.len() / vstride;
         // `k < p.len() / stride` throughout, so `k * stride + voff < p.len()`.
-        let vertex = |p: &[usize], k: usize| -> Result<usize, String> {
+        let vertex = |p: &[usize], k: usize| -> Result<usize, MeshError> {
             let i = *p
                 .get(k * stride + voff)
-                .ok_or_else(|| format!("DAE: {what}: <p> is cut short"))?;
+                .ok_or_else(|| at.err("<p> is cut short"))?;
             if i >= npos {
-                return Err(format!(
-                    "DAE: {what}: position index {i} out of range (the source has {npos})"
-                ));
+                return Err(at.err(format!(
+                    "position index {i} out of range (the source has {npos})"
+                )));
             }
             Ok(base + i)
         };
-        let mut fan = |p: &[usize], first: usize, n: usize| -> Result<(), String> {
+        let mut fan = |p: &[usize], first: usize, n: usize| -> Result<(), MeshError> {
             if tris.len() + n.saturating_sub(2) > MAX_TRIANGLES {
-                return Err(format!(
-                    "DAE: {what}: more than {MAX_TRIANGLES} triangles (the mesh limit)"
-                ));
+                return Err(at.err(format!(
+                    "more than {MAX_TRIANGLES} triangles (the mesh limit)"
+                )));
             }
             for k in 1..n.saturating_sub(1) {
                 tris.push([
@@ -237,15 +263,15 @@ fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, String> 
                 }
             }
             "polylist" => {
-                let vcount = ints(child(&prim, "vcount").and_then(|p| p.text()), &what)?;
+                let vcount = ints(child(&prim, "vcount").and_then(|p| p.text()), &at)?;
                 let held = p.len() / stride;
                 let mut first = 0usize;
                 for n in vcount {
                     if n > held - first {
-                        return Err(format!(
-                            "DAE: {what}: <vcount> declares more vertices than the {held} \
+                        return Err(at.err(format!(
+                            "<vcount> declares more vertices than the {held} \
                              its <p> holds"
-                        ));
+                        )));
                     }
                     fan(p, first, n)?;
                     first += n;
@@ -263,14 +289,16 @@ fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, String> 
 
 /// Composes the transform elements of a `<node>` in document order; every number must
 /// be finite.
-fn node_transform(node: &Node, lx: &LineIndex) -> Result<Matrix4<f64>, String> {
+fn node_transform(node: &Node, lx: &LineIndex) -> Result<Matrix4<f64>, MeshError> {
     let mut m = Matrix4::identity();
     for c in node.children().filter(|c| c.is_element()) {
-        let what = format!(
-            "node '{}' <{}> (line {})",
-            node.attribute("id").unwrap_or(""),
-            c.tag_name().name(),
-            lx.line(c.range().start)
+        let at = At::new(
+            format_args!(
+                "node '{}' <{}>",
+                node.attribute("id").unwrap_or(""),
+                c.tag_name().name()
+            ),
+            lx.line(c.range().start),
         );
         let want = match c.tag_name().name() {
             "matrix" => 16,
@@ -278,9 +306,9 @@ fn node_transform(node: &Node, lx: &LineIndex) -> Result<Matrix4<f64>, String> {
             "rotate" => 4,
             _ => continue,
         };
-        let v = floats(c.text(), &what)?;
+        let v = floats(c.text(), &at)?;
         if v.len() != want {
-            return Err(format!("DAE: {what}: expected {want} numbers"));
+            return Err(at.err(format!("expected {want} numbers")));
         }
         let t = match c.tag_name().name() {
             "matrix" => Matrix4::from_row_slice(&v),
@@ -298,9 +326,7 @@ fn node_transform(node: &Node, lx: &LineIndex) -> Result<Matrix4<f64>, String> {
         };
         m *= t;
         if m.iter().any(|x: &f64| !x.is_finite()) {
-            return Err(format!(
-                "DAE: {what}: the node's transform overflows the floating-point range"
-            ));
+            return Err(at.err("the node's transform overflows the floating-point range"));
         }
     }
     Ok(m)
@@ -311,6 +337,8 @@ struct Instance {
     geom: usize,
     m: Matrix4<f64>,
     node: String,
+    /// The line of the `<instance_geometry>` (none when no node places the geometry).
+    line: Option<usize>,
 }
 
 /// The geometries the `<visual_scene>` places (the one `<scene>` names, else the first),
@@ -319,7 +347,7 @@ fn scene_instances(
     root: &Node,
     geoms: &[(&str, Geom)],
     lx: &LineIndex,
-) -> Result<Vec<Instance>, String> {
+) -> Result<Vec<Instance>, MeshError> {
     let mut instances = Vec::new();
     let Some(lib) = child(root, "library_visual_scenes") else {
         return Ok(instances);
@@ -353,22 +381,30 @@ fn scene_instances(
                 total += geoms[k].1 .1.len();
                 let line = lx.line(c.range().start);
                 if instances.len() >= MAX_INSTANCES || total > MAX_TRIANGLES {
-                    return Err(format!(
-                        "DAE: <instance_geometry url=\"#{id}\"> (line {line}): the scene places \
-                         more than {} (the mesh limit is {MAX_INSTANCES} placements and \
-                         {MAX_TRIANGLES} triangles)",
-                        if instances.len() >= MAX_INSTANCES {
-                            format!("{MAX_INSTANCES} geometries")
-                        } else {
-                            format!("{MAX_TRIANGLES} triangles")
-                        }
-                    ));
+                    return Err(
+                        At::new(format_args!("<instance_geometry url=\"#{id}\">"), line).err(
+                            format!(
+                                "the scene places more than {} (the mesh limit is {MAX_INSTANCES} \
+                             placements and {MAX_TRIANGLES} triangles)",
+                                if instances.len() >= MAX_INSTANCES {
+                                    format!("{MAX_INSTANCES} geometries")
+                                } else {
+                                    format!("{MAX_TRIANGLES} triangles")
+                                }
+                            ),
+                        ),
+                    );
                 }
                 let node = format!(
                     "node '{}' (line {line})",
                     node.attribute("id").unwrap_or("")
                 );
-                instances.push(Instance { geom: k, m, node });
+                instances.push(Instance {
+                    geom: k,
+                    m,
+                    node,
+                    line: Some(line),
+                });
             }
         }
     }
@@ -376,15 +412,18 @@ fn scene_instances(
 }
 
 /// Parses COLLADA text (see the module docs for the subset and the checks).
-pub fn read_dae(text: &str) -> Result<MeshData, String> {
+pub fn read_dae(text: &str) -> Result<MeshData, MeshError> {
     let lx = LineIndex::new(text);
     if let Some(pos) = crate::core::xml_guard::too_deep(text, MAX_DEPTH) {
-        return Err(format!(
-            "DAE: line {}: elements nested deeper than {MAX_DEPTH} levels",
-            lx.line(pos)
+        let line = lx.line(pos);
+        return Err(MeshError::new(
+            DAE,
+            Some(line),
+            format!("line {line}: elements nested deeper than {MAX_DEPTH} levels"),
         ));
     }
-    let doc = roxmltree::Document::parse(text).map_err(|e| format!("DAE: not valid XML: {e}"))?;
+    let doc = roxmltree::Document::parse(text)
+        .map_err(|e| MeshError::new(DAE, None, format!("not valid XML: {e}")))?;
     let root = doc.root_element();
     let unit = child(&root, "asset")
         .and_then(|a| child(&a, "unit"))
@@ -402,15 +441,23 @@ pub fn read_dae(text: &str) -> Result<MeshData, String> {
         }
     }
     if geoms.is_empty() {
-        return Err("DAE: no <geometry> with a <mesh> in <library_geometries>".to_string());
+        return Err(MeshError::new(
+            DAE,
+            None,
+            "no <geometry> with a <mesh> in <library_geometries>",
+        ));
     }
     let mut instances = scene_instances(&root, &geoms, &lx)?;
     if instances.is_empty() {
         let total: usize = geoms.iter().map(|g| g.1 .1.len()).sum();
         if total > MAX_TRIANGLES {
-            return Err(format!(
-                "DAE: the geometries hold {total} triangles, more than the mesh limit of \
-                 {MAX_TRIANGLES}"
+            return Err(MeshError::new(
+                DAE,
+                None,
+                format!(
+                    "the geometries hold {total} triangles, more than the mesh limit of \
+                     {MAX_TRIANGLES}"
+                ),
             ));
         }
         instances = (0..geoms.len())
@@ -418,6 +465,7 @@ pub fn read_dae(text: &str) -> Result<MeshData, String> {
                 geom: k,
                 m: Matrix4::identity(),
                 node: "no node".into(),
+                line: None,
             })
             .collect();
     }
@@ -427,17 +475,17 @@ pub fn read_dae(text: &str) -> Result<MeshData, String> {
 /// The placed triangles of every instance, in metres. A flattening (singular) placement
 /// is kept (its triangles may all lose their area): when nothing is left, the error
 /// names the node.
-fn place(geoms: &[(&str, Geom)], instances: &[Instance], unit: f64) -> Result<MeshData, String> {
+fn place(geoms: &[(&str, Geom)], instances: &[Instance], unit: f64) -> Result<MeshData, MeshError> {
     let mut mesh = MeshData::default();
     let mut index = HashMap::new();
-    let mut flat: Option<&str> = None;
+    let mut flat: Option<&Instance> = None;
     for inst in instances {
         let (gid, (pos, tris)) = &geoms[inst.geom];
         let m = &inst.m;
         // A mirroring node transform reverses the winding.
         let det = m.fixed_view::<3, 3>(0, 0).determinant();
         if det == 0.0 && !tris.is_empty() {
-            flat.get_or_insert(&inst.node);
+            flat.get_or_insert(inst);
         }
         let place = |i: usize| {
             let p = m * Vector4::new(pos[i][0], pos[i][1], pos[i][2], 1.0);
@@ -446,19 +494,33 @@ fn place(geoms: &[(&str, Geom)], instances: &[Instance], unit: f64) -> Result<Me
         for t in tris {
             let (a, b, c) = (place(t[0]), place(t[1]), place(t[2]));
             mesh.push_triangle(&mut index, if det < 0.0 { [a, c, b] } else { [a, b, c] })
-                .map_err(|e| format!("DAE: geometry '{gid}' placed by {}: {e}", inst.node))?;
+                .map_err(|e| {
+                    MeshError::new(
+                        DAE,
+                        inst.line,
+                        format!("geometry '{gid}' placed by {}: {e}", inst.node),
+                    )
+                })?;
         }
     }
     if mesh.triangles.is_empty() && mesh.dropped > 0 {
         return Err(match flat {
-            Some(node) => format!(
-                "DAE: all {} placed triangles have zero area: {node} has a singular transform \
-                 (a zero scale?)",
-                mesh.dropped
+            Some(inst) => MeshError::new(
+                DAE,
+                inst.line,
+                format!(
+                    "all {} placed triangles have zero area: {} has a singular transform \
+                     (a zero scale?)",
+                    mesh.dropped, inst.node
+                ),
             ),
-            None => format!(
-                "DAE: all {} triangles have zero area (coincident corners)",
-                mesh.dropped
+            None => MeshError::new(
+                DAE,
+                None,
+                format!(
+                    "all {} triangles have zero area (coincident corners)",
+                    mesh.dropped
+                ),
             ),
         });
     }

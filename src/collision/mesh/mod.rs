@@ -48,102 +48,35 @@
 //! a mesh of more than [`MAX_TRIANGLES`] triangles (a binary STL's declared count, checked
 //! before anything is allocated from it; an OBJ's faces, counted before mesh-loader
 //! parses them; a DAE scene's placed total) is refused; every coordinate must be finite
-//! (mesh-loader turns an out-of-range decimal into an f32 infinity, refused here). Errors
-//! name the problem, with mesh-loader's line and column where it gives them; the caller
-//! adds the file.
+//! (mesh-loader turns an out-of-range decimal into an f32 infinity, refused here).
+//!
+//! Errors: the readers of bytes and text ([`read_stl`], [`read_obj_bytes`], [`read_dae`])
+//! return a [`MeshError`] (the format, the line where the format is text and the place is
+//! known, the problem with mesh-loader's line and column where it gives them);
+//! [`load_mesh`] returns it as a [`LocatedError`] naming the file.
 
 mod dae;
+mod mesh_data;
+mod mesh_error;
 pub use dae::read_dae;
+pub use mesh_data::{MeshData, MAX_TRIANGLES};
+pub use mesh_error::{MeshError, NonFiniteVertex};
 
-use nalgebra::Vector3;
+use crate::core::diag::LocatedError;
+
 use std::collections::HashMap;
 use std::path::Path;
 
-/// An indexed triangle mesh in f64.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct MeshData {
-    /// Vertex positions.
-    pub vertices: Vec<[f64; 3]>,
-    /// Triangles as vertex indices.
-    pub triangles: Vec<[u32; 3]>,
-    /// Triangles read but dropped for a repeated corner (zero area).
-    pub dropped: usize,
+/// Reads a mesh file (STL, OBJ or DAE, by extension). Errors name the file, the line
+/// where known, the format and the problem (the caller adds the link and URI).
+pub fn load_mesh(path: &Path) -> Result<MeshData, LocatedError> {
+    let file = path.display().to_string();
+    read_mesh_file(path).map_err(|e| e.in_file(&file))
 }
 
-/// Most triangles in one mesh (after a DAE scene places its geometries): 5 million, what
-/// a binary STL of [`crate::core::files::MAX_MESH_BYTES`] holds.
-pub const MAX_TRIANGLES: usize = 5_000_000;
-
-impl MeshData {
-    /// Adds a triangle given by its corner positions, merging identical vertices through
-    /// `index` (keyed by the bit patterns, `-0.0` folded onto `0.0`). A non-finite
-    /// coordinate is an error.
-    fn push_triangle(
-        &mut self,
-        index: &mut HashMap<[u64; 3], u32>,
-        tri: [[f64; 3]; 3],
-    ) -> Result<(), String> {
-        if let Some(p) = tri.iter().find(|p| p.iter().any(|x| !x.is_finite())) {
-            return Err(format!(
-                "vertex ({}, {}, {}) is not finite",
-                p[0], p[1], p[2]
-            ));
-        }
-        let mut ids = [0u32; 3];
-        for (k, p) in tri.iter().enumerate() {
-            let key = p.map(|x| (x + 0.0).to_bits());
-            ids[k] = *index.entry(key).or_insert_with(|| {
-                self.vertices.push(*p);
-                (self.vertices.len() - 1) as u32
-            });
-        }
-        // Triangles with a repeated corner carry no area.
-        if ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2] {
-            self.triangles.push(ids);
-        } else {
-            self.dropped += 1;
-        }
-        Ok(())
-    }
-
-    /// Whether every undirected edge is used by exactly two triangles, once in each
-    /// direction (a closed, consistently oriented surface).
-    pub fn is_closed(&self) -> bool {
-        if self.triangles.is_empty() {
-            return false;
-        }
-        let mut directed: HashMap<(u32, u32), u32> =
-            HashMap::with_capacity(self.triangles.len() * 3);
-        for t in &self.triangles {
-            for k in 0..3 {
-                *directed.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
-            }
-        }
-        directed
-            .iter()
-            .all(|(&(a, b), &n)| n == 1 && directed.get(&(b, a)) == Some(&1))
-    }
-
-    /// Six times the signed volume enclosed (positive for outward-facing triangles).
-    pub fn signed_volume6(&self) -> f64 {
-        let v = |i: u32| Vector3::from(self.vertices[i as usize]);
-        self.triangles
-            .iter()
-            .map(|t| v(t[0]).dot(&v(t[1]).cross(&v(t[2]))))
-            .sum()
-    }
-
-    /// Reverses the winding of every triangle.
-    pub fn flip(&mut self) {
-        for t in &mut self.triangles {
-            t.swap(1, 2);
-        }
-    }
-}
-
-/// Reads a mesh file (STL, OBJ or DAE, by extension). Errors are plain messages naming
-/// the problem (the caller adds the file, link and URI).
-pub fn load_mesh(path: &Path) -> Result<MeshData, String> {
+/// [`load_mesh`] before the file is named in the error.
+fn read_mesh_file(path: &Path) -> Result<MeshData, MeshError> {
+    let cannot_read = |e: std::io::Error| MeshError::new("", None, format!("cannot read: {e}"));
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -153,52 +86,63 @@ pub fn load_mesh(path: &Path) -> Result<MeshData, String> {
         "stl" => {
             let bytes =
                 crate::core::files::read_input_max(path, crate::core::files::MAX_MESH_BYTES)
-                    .map_err(|e| format!("cannot read: {e}"))?;
+                    .map_err(cannot_read)?;
             read_stl(&bytes)?
         }
         "obj" => read_obj(path)?,
         "dae" => {
             let text =
                 crate::core::files::read_input_string_max(path, crate::core::files::MAX_MESH_BYTES)
-                    .map_err(|e| format!("cannot read: {e}"))?;
+                    .map_err(cannot_read)?;
             read_dae(&text)?
         }
         _ => {
-            return Err(format!(
-                "unsupported mesh format '.{ext}': expected .stl, .obj or .dae"
+            return Err(MeshError::new(
+                "",
+                None,
+                format!("unsupported mesh format '.{ext}': expected .stl, .obj or .dae"),
             ))
         }
     };
     if mesh.triangles.is_empty() && mesh.dropped > 0 {
-        return Err(format!(
-            "all {} triangles of the mesh have zero area (a repeated corner)",
-            mesh.dropped
+        return Err(MeshError::new(
+            "",
+            None,
+            format!(
+                "all {} triangles of the mesh have zero area (a repeated corner)",
+                mesh.dropped
+            ),
         ));
     }
     if mesh.triangles.is_empty() {
-        return Err("the mesh has no triangles".to_string());
+        return Err(MeshError::new("", None, "the mesh has no triangles"));
     }
     Ok(mesh)
 }
 
 /// Parses STL bytes, binary or ASCII (see the module docs for the detection rule).
-pub fn read_stl(bytes: &[u8]) -> Result<MeshData, String> {
+pub fn read_stl(bytes: &[u8]) -> Result<MeshData, MeshError> {
     if bytes.len() >= 84 {
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
         if n.checked_mul(50).and_then(|b| b.checked_add(84)) == Some(bytes.len()) {
             if n > MAX_TRIANGLES {
-                return Err(format!(
-                    "binary STL of {n} triangles: more than the mesh limit of {MAX_TRIANGLES}"
+                return Err(MeshError::new(
+                    "",
+                    None,
+                    format!(
+                        "binary STL of {n} triangles: more than the mesh limit of {MAX_TRIANGLES}"
+                    ),
                 ));
             }
             return read_stl_binary(bytes, n);
         }
     }
     if std::str::from_utf8(bytes).is_err() {
-        return Err(
-            "not a binary STL (the size is not 84 + 50 × the triangle count) and not ASCII text"
-                .to_string(),
-        );
+        return Err(MeshError::new(
+            "",
+            None,
+            "not a binary STL (the size is not 84 + 50 × the triangle count) and not ASCII text",
+        ));
     }
     read_stl_ascii(bytes)
 }
@@ -207,7 +151,8 @@ pub fn read_stl(bytes: &[u8]) -> Result<MeshData, String> {
 /// [`MAX_TRIANGLES`]), parsed by `mesh-loader`. mesh-loader tries ASCII first when the
 /// header starts with `solid` (as many CAD exports' do) and takes the triangle count from
 /// the length: such a header is blanked in a copy, so that armsim's detection rule decides.
-fn read_stl_binary(bytes: &[u8], n: usize) -> Result<MeshData, String> {
+fn read_stl_binary(bytes: &[u8], n: usize) -> Result<MeshData, MeshError> {
+    const BINARY: &str = "binary STL";
     let blanked;
     let bytes = if starts_with_solid(bytes) {
         let mut b = bytes.to_vec();
@@ -217,14 +162,17 @@ fn read_stl_binary(bytes: &[u8], n: usize) -> Result<MeshData, String> {
     } else {
         bytes
     };
-    let scene = mesh_loader::stl::from_slice(bytes).map_err(|e| format!("binary STL: {e}"))?;
+    let scene = mesh_loader::stl::from_slice(bytes)
+        .map_err(|e| MeshError::new(BINARY, None, e.to_string()))?;
     let got: usize = scene.meshes.iter().map(|m| m.faces.len()).sum();
     if got != n {
-        return Err(format!(
-            "binary STL: {got} triangles read where {n} are declared"
+        return Err(MeshError::new(
+            BINARY,
+            None,
+            format!("{got} triangles read where {n} are declared"),
         ));
     }
-    weld(&scene.meshes, MAX_TRIANGLES).map_err(|e| format!("binary STL: {e}"))
+    weld(&scene.meshes, MAX_TRIANGLES, BINARY)
 }
 
 /// Whether `bytes` start with `solid` after spaces and line breaks (where `mesh-loader`
@@ -242,13 +190,15 @@ fn starts_with_solid(bytes: &[u8]) -> bool {
 /// mesh-loader falls back to binary when its ASCII parse fails early and the length would
 /// fit 50-byte records; armsim's rule says this file is not binary, so it is given with
 /// three bytes of whitespace appended when the fallback could apply (no 50-byte fit then).
-fn read_stl_ascii(bytes: &[u8]) -> Result<MeshData, String> {
+fn read_stl_ascii(bytes: &[u8]) -> Result<MeshData, MeshError> {
+    const ASCII: &str = "ASCII STL";
     if !starts_with_solid(bytes) {
-        return Err(
+        return Err(MeshError::new(
+            "",
+            None,
             "not a binary STL (the size is not 84 + 50 × the triangle count) and not an \
-             ASCII STL (it does not start with 'solid')"
-                .to_string(),
-        );
+             ASCII STL (it does not start with 'solid')",
+        ));
     }
     let padded;
     let fits_binary = bytes.len() >= 84 && (bytes.len() - 84) % 50 <= 2;
@@ -264,64 +214,86 @@ fn read_stl_ascii(bytes: &[u8]) -> Result<MeshData, String> {
     let scene = mesh_loader::stl::from_slice(bytes).map_err(|e| {
         let e = e.to_string();
         if e.contains("failed to determine STL storage representation") {
-            "ASCII STL: unreadable after 'solid' (an ASCII name and a line end, then \
-             'facet normal x y z', expected)"
-                .to_string()
+            MeshError::new(
+                ASCII,
+                None,
+                "unreadable after 'solid' (an ASCII name and a line end, then \
+                 'facet normal x y z', expected)",
+            )
         } else {
-            format!("ASCII STL: {}", located(&e))
+            located(ASCII, &e)
         }
     })?;
-    weld(&scene.meshes, MAX_TRIANGLES).map_err(|e| format!("ASCII STL: {e}"))
+    weld(&scene.meshes, MAX_TRIANGLES, ASCII)
 }
 
-/// A `mesh-loader` message `MESSAGE (LINE:COLUMN)` as `line LINE, column COLUMN: MESSAGE`
-/// (other messages unchanged).
-fn located(e: &str) -> String {
+/// A `mesh-loader` message `MESSAGE (LINE:COLUMN)` of `format` as `line LINE, column
+/// COLUMN: MESSAGE` on line `LINE` (other messages unchanged, with no line).
+fn located(format: &'static str, e: &str) -> MeshError {
     let place = e
         .strip_suffix(')')
         .and_then(|s| s.rsplit_once(" ("))
         .and_then(|(msg, at)| Some((msg, at.split_once(':')?)))
         .filter(|(_, (l, c))| l.parse::<usize>().is_ok() && c.parse::<usize>().is_ok());
     match place {
-        Some((msg, (l, c))) => format!("line {l}, column {c}: {msg}"),
-        None => e.to_string(),
+        Some((msg, (l, c))) => MeshError::new(
+            format,
+            l.parse().ok(),
+            format!("line {l}, column {c}: {msg}"),
+        ),
+        None => MeshError::new(format, None, e),
     }
 }
 
 /// Merges `mesh-loader` meshes into one [`MeshData`], welding identical positions
 /// (mesh-loader gives three unshared f32 vertices per face). More than `max` triangles in
-/// all is an error, and so is a face index out of range (not expected from mesh-loader).
-fn weld(meshes: &[mesh_loader::Mesh], max: usize) -> Result<MeshData, String> {
+/// all is an error, and so is a face index out of range (not expected from mesh-loader);
+/// errors are of `format`.
+fn weld(
+    meshes: &[mesh_loader::Mesh],
+    max: usize,
+    format: &'static str,
+) -> Result<MeshData, MeshError> {
     let total: usize = meshes.iter().map(|m| m.faces.len()).sum();
     if total > max {
-        return Err(format!(
-            "{total} triangles: more than the mesh limit of {max}"
+        return Err(MeshError::new(
+            format,
+            None,
+            format!("{total} triangles: more than the mesh limit of {max}"),
         ));
     }
     let mut mesh = MeshData::default();
     let mut index = HashMap::with_capacity(total / 2);
     let mut k = 0usize;
     for m in meshes {
-        let p = |i: u32| -> Result<[f64; 3], String> {
-            m.vertices
-                .get(i as usize)
-                .map(|v| v.map(f64::from))
-                .ok_or_else(|| format!("vertex index {i} out of range"))
-        };
         for f in &m.faces {
             k += 1;
-            let tri = (|| Ok::<_, String>([p(f[0])?, p(f[1])?, p(f[2])?]))()
-                .map_err(|e| format!("triangle {k}: {e}"))?;
+            let p = |i: u32| {
+                m.vertices
+                    .get(i as usize)
+                    .map(|v| v.map(f64::from))
+                    .ok_or_else(|| {
+                        MeshError::new(
+                            format,
+                            None,
+                            format!("triangle {k}: vertex index {i} out of range"),
+                        )
+                    })
+            };
+            let tri = [p(f[0])?, p(f[1])?, p(f[2])?];
             mesh.push_triangle(&mut index, tri)
-                .map_err(|e| format!("triangle {k}: {e}"))?;
+                .map_err(|e| MeshError::new(format, None, format!("triangle {k}: {e}")))?;
         }
     }
     Ok(mesh)
 }
 
-fn read_obj(path: &Path) -> Result<MeshData, String> {
+/// The OBJ format's name in errors.
+const OBJ: &str = "OBJ";
+
+fn read_obj(path: &Path) -> Result<MeshData, MeshError> {
     let bytes = crate::core::files::read_input_max(path, crate::core::files::MAX_MESH_BYTES)
-        .map_err(|e| format!("cannot read: {e}"))?;
+        .map_err(|e| MeshError::new("", None, format!("cannot read: {e}")))?;
     read_obj_bytes(&bytes)
 }
 
@@ -329,19 +301,25 @@ fn read_obj(path: &Path) -> Result<MeshData, String> {
 /// lines and materials are not read). The faces are checked first by armsim
 /// ([`check_obj_indices`]): indices in range, with the line named, and at most
 /// [`MAX_TRIANGLES`] triangles before mesh-loader allocates them.
-pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
+pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, MeshError> {
     // mesh-loader decodes UTF-16 (with a byte-order mark) before parsing, which the
     // pre-scan would not see through: refused, as tobj did.
     if bytes.starts_with(&[0xFE, 0xFF]) || bytes.starts_with(&[0xFF, 0xFE]) {
-        return Err("OBJ: UTF-16 text is not read (save the file as UTF-8)".to_string());
+        return Err(MeshError::new(
+            OBJ,
+            None,
+            "UTF-16 text is not read (save the file as UTF-8)",
+        ));
     }
     // Lossy: the lines that are UTF-8 keep their text (mesh-loader reads bytes); a UTF-8
     // byte-order mark is skipped, as mesh-loader does.
     let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let tris = check_obj_indices(&String::from_utf8_lossy(text))?;
     if tris > MAX_TRIANGLES {
-        return Err(format!(
-            "OBJ: the faces make {tris} triangles, more than the mesh limit of {MAX_TRIANGLES}"
+        return Err(MeshError::new(
+            OBJ,
+            None,
+            format!("the faces make {tris} triangles, more than the mesh limit of {MAX_TRIANGLES}"),
         ));
     }
     // Materials are not needed: every `mtllib` is answered with "not loaded" (and with
@@ -349,8 +327,8 @@ pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
     let scene = mesh_loader::obj::from_slice(bytes, None, |_| {
         Err::<Vec<u8>, _>(std::io::Error::other("materials are not read"))
     })
-    .map_err(|e| format!("OBJ: {}", located(&e.to_string())))?;
-    weld(&scene.meshes, MAX_TRIANGLES).map_err(|e| format!("OBJ: {e}"))
+    .map_err(|e| located(OBJ, &e.to_string()))?;
+    weld(&scene.meshes, MAX_TRIANGLES, OBJ)
 }
 
 /// Checks every face and line index of an OBJ before `mesh-loader` parses it, and counts
@@ -359,7 +337,7 @@ pub fn read_obj_bytes(bytes: &[u8]) -> Result<MeshData, String> {
 /// within the elements of its kind read so far, a positive one within those of the whole
 /// file, and 0 is no index. Lines are split at `\n` and at a lone `\r` (mesh-loader ends a
 /// line at either), so no face escapes the count.
-fn check_obj_indices(text: &str) -> Result<usize, String> {
+fn check_obj_indices(text: &str) -> Result<usize, MeshError> {
     let kinds = ["vertex", "texture coordinate", "normal"];
     let lines = || {
         text.split('\n')
@@ -406,7 +384,7 @@ fn check_obj_corner(
     seen: &[usize; 3],
     total: &[usize; 3],
     kinds: &[&str; 3],
-) -> Result<(), String> {
+) -> Result<(), MeshError> {
     for (k, part) in w.split('/').take(3).enumerate() {
         let Ok(x) = part.parse::<isize>() else {
             continue; // empty (v//vn) or malformed: mesh-loader decides
@@ -417,14 +395,18 @@ fn check_obj_corner(
             (x == 0 || x as usize > total[k], total[k])
         };
         if bad {
-            return Err(format!(
-                "OBJ: line {n}: index {x} of a {} is out of range ({limit} {})",
-                kinds[k],
-                if x < 0 {
-                    "before it"
-                } else {
-                    "in the file, from 1"
-                }
+            return Err(MeshError::new(
+                OBJ,
+                Some(n),
+                format!(
+                    "line {n}: index {x} of a {} is out of range ({limit} {})",
+                    kinds[k],
+                    if x < 0 {
+                        "before it"
+                    } else {
+                        "in the file, from 1"
+                    }
+                ),
             ));
         }
     }
@@ -457,15 +439,15 @@ mod tests {
     #[test]
     fn ascii_stl_rejects_a_four_vertex_loop() {
         let t = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid\n";
-        let e = read_stl(t.as_bytes()).unwrap_err();
+        let e = read_stl(t.as_bytes()).unwrap_err().to_string();
         assert_eq!(e, "ASCII STL: line 7, column 1: expected endloop");
         let t = "solid x\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n      vertex 1 0 x\n";
-        let e = read_stl(t.as_bytes()).unwrap_err();
+        let e = read_stl(t.as_bytes()).unwrap_err().to_string();
         assert!(e.starts_with("ASCII STL: line 5, column "), "{e}");
         assert!(e.ends_with(": error while parsing a float"), "{e}");
         // mesh-loader reads 1e39 as an f32 infinity: refused by armsim's finite check.
         let t = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1e39 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
-        let e = read_stl(t.as_bytes()).unwrap_err();
+        let e = read_stl(t.as_bytes()).unwrap_err().to_string();
         assert_eq!(e, "ASCII STL: triangle 1: vertex (inf, 0, 0) is not finite");
     }
 

@@ -2,8 +2,8 @@
 //! the self pairs, with the inflation of a continuous check (see the parent module's docs).
 
 use crate::model::WORLD;
+use crate::planning::checker::checker_state::{CheckScratch, Checker, CLEARANCE_RAMP};
 use crate::planning::checker::motion::{point_speed, sub};
-use crate::planning::checker::{CheckScratch, Checker, CLEARANCE_RAMP};
 use crate::planning::lanes::{LanePose, Mask, L, P3};
 use crate::planning::simd::{Simd, W};
 use crate::planning::spheres::LinkSpheres;

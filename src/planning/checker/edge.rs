@@ -1,7 +1,7 @@
 //! The edge checks: the coarse pass in rake order, the refinement of intervals whose
 //! inflated check failed, and the per-edge speed bounds (see the parent module's docs).
 
-use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
+use crate::planning::checker::checker_state::{CheckScratch, Checker, EdgeMode, SpeedTables};
 use crate::planning::lanes::{Mask, L, N};
 use crate::planning::simd::Simd;
 
@@ -159,16 +159,6 @@ impl Checker {
             self.lanes_hit::<S, false>(tok, qs, L(*h), s)
         }
     }
-}
-
-/// The motion-bound tables `ρ` of the spheres, link groups, self pairs and clusters,
-/// transposed: coordinate-major, `table[k · n + i] = ρ_{i,k}` for `n` rows.
-#[derive(Clone, Debug, Default)]
-pub(super) struct SpeedTables {
-    sphere: Vec<f32>,
-    link: Vec<f32>,
-    pair: Vec<f32>,
-    cluster: Vec<f32>,
 }
 
 impl SpeedTables {

@@ -11,45 +11,18 @@
 //! - on an edge `a → b`, the parts the spheres cannot clear are found by halving (down to
 //!   [`PIECE`] of joint-space length), and each is checked by conservative advancement
 //!   on the convex hulls and, where those nearly touch, the shapes themselves
-//!   ([`Certifier::segment_free`]; at most the checker's tolerance of penetration).
+//!   ([`crate::collision::Certifier::segment_free`]; at most the checker's tolerance of penetration).
 //!
 //! Discrete edge checks (the search's) that fail on the spheres are decided at their
 //! points, on the exact geometry; the planner checks its path continuously afterwards.
 
-use crate::collision::{Certifier, CollisionData, CollisionModel, SegmentScratch};
+use crate::collision::{CollisionData, CollisionModel, SegmentScratch};
 use crate::model::Model;
-use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
+use crate::planning::checker::checker_state::{Checker, EdgeMode, ExactPairs, ExactScratch};
 use std::sync::Arc;
-
-/// The exact stage of a [`Checker`] (see the module docs).
-#[derive(Clone, Debug)]
-pub struct ExactPairs {
-    model: Arc<Model>,
-    cm: CollisionModel,
-    certifier: Certifier,
-    /// The pairs, as link indices into `Model::links`.
-    links: Vec<(usize, usize)>,
-    /// The pairs' spheres alone: the first stage.
-    spheres: Checker,
-}
 
 /// Longest piece of an edge (joint-space length) checked on the exact geometry at once.
 pub const PIECE: f32 = 0.1;
-
-/// Per-thread buffers of the exact stage.
-#[derive(Clone, Debug)]
-pub struct ExactScratch {
-    cd: CollisionData,
-    spheres: CheckScratch,
-    a: Vec<f64>,
-    delta: Vec<f64>,
-    /// The ends of a piece of the edge (f32, for the spheres).
-    ends: [Vec<f32>; 2],
-    pieces: Vec<(f32, f32)>,
-    segment: SegmentScratch,
-    /// Configurations and edges the spheres could not clear, decided on the meshes.
-    pub exact_checks: u64,
-}
 
 impl ExactPairs {
     /// The exact stage for the link pairs `links` of `model`: `spheres` checks their

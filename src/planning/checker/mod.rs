@@ -59,12 +59,16 @@
 //! `#[target_feature]` wrappers.
 
 mod batch;
+mod checker_state;
 mod clusters;
 mod edge;
 mod exact;
 mod motion;
 
-pub use exact::{ExactPairs, ExactScratch};
+use checker_state::Body;
+pub use checker_state::{
+    CheckOptions, CheckScratch, Checker, EdgeMode, ExactPairs, ExactScratch, CLEARANCE_RAMP,
+};
 
 use crate::model::{Model, WORLD};
 use crate::planning::environment::Environment;
@@ -74,140 +78,6 @@ pub use crate::planning::simd::CheckerIsa;
 use crate::planning::simd::{avx512vl_detected, Avx2, Sse2};
 use crate::planning::simd::{Scalar, Simd};
 use crate::planning::spheres::{pair_rho, reach_to, SphereModel};
-
-/// One body of the kinematic tree in f32.
-#[derive(Clone, Copy, Debug)]
-struct Body {
-    parent: usize,
-    rot: [[f32; 3]; 3],
-    rot_identity: bool,
-    trans: [f32; 3],
-    axis: usize,
-    revolute: bool,
-    q_index: usize,
-    mult: f32,
-    offset: f32,
-}
-
-/// How an edge is checked.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EdgeMode {
-    /// Continuously: nothing penetrates by more than the tolerance anywhere on the edge.
-    Continuous,
-    /// At points only (`search_resolution` per unit), as sampling planners usually do:
-    /// fast, but the edge may graze an obstacle between two points.
-    Discrete,
-}
-
-/// Joint-space distance from the path's ends over which the demanded clearance grows from
-/// zero to its full value (rad).
-pub const CLEARANCE_RAMP: f32 = 0.3;
-
-/// Settings of the checker.
-#[derive(Clone, Copy, Debug)]
-pub struct CheckOptions {
-    /// Edge intervals per unit of joint-space distance (the coarse level; finer where
-    /// needed).
-    pub resolution: f32,
-    /// Points per unit of joint-space distance of the discrete checks
-    /// ([`EdgeMode::Discrete`]). The planner searches with them and then checks the path's
-    /// edges continuously, so they only need to turn away most colliding edges: 8 (a
-    /// quarter of VAMP's 32) cuts the Panda and UR5 plan-time medians by 15 % against 16,
-    /// with the same success; the edges they let through are re-planned.
-    pub search_resolution: f32,
-    /// Penetration the continuous check allows (m); the exact checks allow none.
-    pub tolerance: f32,
-    /// Distance from the obstacles that checks made with [`CheckScratch::keep_clearance`]
-    /// set demand (m), ramped down near the path's ends ([`CLEARANCE_RAMP`]): the simplifier
-    /// keeps it so that a smooth curve through the simplified waypoints has room to cut
-    /// corners. Zero by default (MotionBenchMaker semantics).
-    pub clearance: f32,
-}
-
-impl Default for CheckOptions {
-    fn default() -> Self {
-        Self {
-            resolution: 8.0,
-            search_resolution: 8.0,
-            tolerance: 5e-5,
-            clearance: 0.0,
-        }
-    }
-}
-
-/// Reusable buffers of one thread's checks (no allocation once warm).
-#[derive(Clone, Debug, Default)]
-pub struct CheckScratch {
-    poses: Vec<PoseM>,
-    centers: Vec<P3m>,
-    bounds: Vec<P3m>,
-    placed: Vec<bool>,
-    /// Per body, its world twist `(ω, v)` per unit of the edge parameter.
-    twist: Vec<[P3m; 2]>,
-    /// Per sphere and per group bound, the inflation of the current batch.
-    infl: Vec<L>,
-    bound_infl: Vec<L>,
-    /// Per body, its coordinate's change over the edge (mimic multiplier included).
-    body_delta: Vec<f32>,
-    /// `Σ |body_delta|`.
-    l1: f32,
-    /// Per coordinate, `|b_k − a_k|` of the edge.
-    abs_delta: Vec<f32>,
-    /// Whether a continuous edge check is under way (twists and speeds are set).
-    moving: bool,
-    /// Whether the obstacle checks demand [`CheckOptions::clearance`].
-    pub keep_clearance: bool,
-    /// The path's start and goal (`2 nv`): the clearance demanded of a configuration grows
-    /// from zero at them to the full value [`CLEARANCE_RAMP`] away (joint-space distance),
-    /// since a task puts the arm close to the obstacles there on purpose (a pick, a place).
-    pub ends: Vec<f32>,
-    speed: Vec<f32>,
-    link_speed: Vec<f32>,
-    /// Per self pair, its relative speed bound over the edge.
-    pair_speed: Vec<f32>,
-    /// Per cluster: its sphere's centre, inflation and speed cap in this batch.
-    cluster_bounds: Vec<P3m>,
-    cluster_infl: Vec<L>,
-    cluster_speed: Vec<f32>,
-    /// Per obstacle: whether the cluster being checked may touch it.
-    near: Vec<bool>,
-    stack: Vec<(f32, f32)>,
-    q: Vec<L>,
-    /// Edge checks done.
-    pub edges: u64,
-    /// Batches of eight configurations checked.
-    pub batches: u64,
-    /// The exact stage's buffers, when the checker has one.
-    pub exact: Option<Box<ExactScratch>>,
-}
-
-/// The robot's spheres, the obstacles, the self-collision pairs and the f32 kinematics.
-#[derive(Clone, Debug)]
-pub struct Checker {
-    bodies: Vec<Body>,
-    /// The robot's spheres.
-    pub spheres: SphereModel,
-    /// The obstacles.
-    pub env: Environment,
-    /// Link-group pairs checked for self-collision.
-    pub self_pairs: Vec<(usize, usize)>,
-    /// The motion bounds of spheres, groups, self pairs (relative,
-    /// [`crate::planning::spheres::pair_rho`]) and clusters, transposed.
-    speed_tables: edge::SpeedTables,
-    /// Per link group, the obstacles its bounding sphere can ever reach.
-    reachable: Vec<Vec<usize>>,
-    /// Groups sharing a body, behind one sphere (see [`clusters`]).
-    clusters: clusters::Clusters,
-    /// Settings.
-    pub opts: CheckOptions,
-    #[cfg(target_arch = "x86_64")]
-    avx2: Option<Avx2>,
-    /// The AVX2 code runs in its AVX-512 VL instantiation (see [`crate::planning::simd`]).
-    #[cfg(target_arch = "x86_64")]
-    avx512vl: bool,
-    /// Self pairs decided on the exact geometry after this checker's own checks.
-    exact: Option<std::sync::Arc<ExactPairs>>,
-}
 
 impl Checker {
     /// A checker for `model` with its sphere model, obstacles and self pairs.
@@ -250,7 +120,7 @@ impl Checker {
             .collect();
         let clusters = clusters::Clusters::new(&spheres, &reachable, &self_pairs);
         let cluster_rho: Vec<f32> = clusters.list.iter().flat_map(|c| c.rho.clone()).collect();
-        let speed_tables = edge::SpeedTables::new(
+        let speed_tables = checker_state::SpeedTables::new(
             model.nv,
             [&spheres.rho, &spheres.link_rho, &pair_rho, &cluster_rho],
         );

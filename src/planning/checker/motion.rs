@@ -2,7 +2,7 @@
 //! small vector helpers the speed bounds use.
 
 use crate::model::WORLD;
-use crate::planning::checker::{CheckScratch, Checker};
+use crate::planning::checker::checker_state::{CheckScratch, Checker};
 use crate::planning::lanes::{LanePose, PoseM, L, P3};
 use crate::planning::simd::{Simd, W};
 

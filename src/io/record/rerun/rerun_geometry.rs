@@ -242,7 +242,7 @@ pub(super) fn log_geometry(
                 let loaded = meshes.entry(uri.clone()).or_insert_with(|| {
                     let read = resolve_uri(uri, base)
                         .map_err(|e| e.0)
-                        .and_then(|p| load_mesh(&p).map_err(|e| format!("{}: {e}", p.display())));
+                        .and_then(|p| load_mesh(&p).map_err(|e| e.to_string()));
                     read.map_err(|why| failed.insert(uri.clone(), why)).ok()
                 });
                 let m = match loaded {

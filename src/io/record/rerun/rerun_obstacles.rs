@@ -141,7 +141,7 @@ fn log_shape(
         MarkerShape::Mesh { uri } => {
             let mesh = resolve_uri(uri, mesh_base)
                 .map_err(|e| e.0)
-                .and_then(|p| load_mesh(&p).map_err(|e| format!("{}: {e}", p.display())));
+                .and_then(|p| load_mesh(&p).map_err(|e| e.to_string()));
             let mesh = match mesh {
                 Ok(mesh) if !mesh.triangles.is_empty() => mesh,
                 Ok(_) | Err(_) => {

@@ -39,7 +39,7 @@ pub fn log_obstacles(
         if let Shape::Mesh { uri, scale } = &g.shape {
             let loaded = resolve_uri(uri, extras.obstacle_dir.as_deref())
                 .map_err(|e| e.0)
-                .and_then(|p| load_mesh(&p).map_err(|e| format!("{}: {e}", p.display())));
+                .and_then(|p| load_mesh(&p).map_err(|e| e.to_string()));
             let m = match loaded {
                 Ok(m) => m,
                 Err(e) => {

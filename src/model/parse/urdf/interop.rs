@@ -197,7 +197,7 @@ fn link_spec<'r>(
     let frame = pose(&l.inertial.origin);
     let mut spec = LinkSpec::new(&l.name);
     spec.inertial = links::inertia_of(l.inertial.mass.value, tensor, &frame)
-        .map_err(|msg| ModelError::new(source, None, &el, msg))?;
+        .map_err(|e| ModelError::new(source, None, &el, e.to_string()))?;
     for v in &l.visual {
         let mut g = geometry(&v.origin, &v.geometry);
         g.rgba = v.material.as_ref().and_then(|m| match &m.color {

@@ -7,9 +7,9 @@
 //! planar joints place them.
 
 use crate::core::spatial::{Se3, Vec3};
-use crate::model::parse::urdf::{Node, Reader};
+use crate::model::model_error::ModelError;
+use crate::model::parse::urdf::urdf_reader::{Node, Reader};
 use crate::model::spec::{JointSpec, JointType, Limits, LinkSpec, MimicSpec};
-use crate::model::ModelError;
 
 /// A `<joint>`: the joint (several for floating and planar ones) and the massless links
 /// such a chain needs.

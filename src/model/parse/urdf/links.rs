@@ -5,9 +5,9 @@
 //! instead. The one error here is a negative moment of inertia written on the diagonal.
 
 use crate::core::spatial::{Inertia, Mat3, Se3, Vec3};
-use crate::model::parse::urdf::{Bad, Node, Reader};
+use crate::model::model_error::ModelError;
+use crate::model::parse::urdf::urdf_reader::{Bad, Node, Reader};
 use crate::model::spec::{Geometry, LinkSpec, Shape};
-use crate::model::ModelError;
 use std::collections::HashMap;
 
 /// Colours of named materials: top-level ones, then those first defined inside a visual
@@ -127,22 +127,41 @@ fn inertial(rd: &mut Reader<'_>, node: Node<'_, '_>, el: &str) -> Result<Inertia
             Err(b) => return Ok(point(rd, b)),
         }
     }
-    inertia_of(mass, v, &frame).map_err(|msg| rd.err(i, el, msg))
+    inertia_of(mass, v, &frame).map_err(|e| rd.err(i, el, e.to_string()))
+}
+
+/// A moment of inertia written negative on the diagonal, beyond the rounding clamped.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error(
+    "<inertia {axis}=\"{value}\">: a moment of inertia cannot be negative (beyond the \
+     {tol:.1e} kg m² of rounding that is clamped)"
+)]
+pub(crate) struct NegativeMoment {
+    /// The attribute (`ixx`, `iyy`, `izz`).
+    pub(crate) axis: &'static str,
+    /// The moment given.
+    pub(crate) value: f64,
+    /// The rounding tolerance that is clamped.
+    pub(crate) tol: f64,
 }
 
 /// The inertia of mass `mass` with tensor `[ixx, ixy, ixz, iyy, iyz, izz]` about its
 /// centre in the `<inertial>` frame `frame`, in the link frame; a negative moment written
 /// on the diagonal is refused (the message says which). Shared by the reader and
 /// [`super::interop`].
-pub(crate) fn inertia_of(mass: f64, v: [f64; 6], frame: &Se3) -> Result<Inertia, String> {
+pub(crate) fn inertia_of(mass: f64, v: [f64; 6], frame: &Se3) -> Result<Inertia, NegativeMoment> {
     let [xx, xy, xz, yy, yz, zz] = v;
     // A negative moment written on the diagonal is not a rigid body, whatever the axes.
-    let tol = crate::model::clamp_tolerance(xx.max(yy).max(zz));
+    let tol = crate::model::inertia_check::clamp_tolerance(xx.max(yy).max(zz));
     if let Some((a, d)) = [("ixx", xx), ("iyy", yy), ("izz", zz)]
         .into_iter()
         .find(|&(_, d)| d < -tol)
     {
-        return Err(format!("<inertia {a}=\"{d}\">: a moment of inertia cannot be negative (beyond the {tol:.1e} kg m² of rounding that is clamped)"));
+        return Err(NegativeMoment {
+            axis: a,
+            value: d,
+            tol,
+        });
     }
     let tensor = Mat3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
     Ok(Inertia::new(mass, Vec3::zeros(), tensor).transformed(frame))

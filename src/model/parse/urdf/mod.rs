@@ -20,12 +20,12 @@
 mod interop;
 mod joints;
 mod links;
-use crate::core::spatial::{rpy_to_matrix, Se3, Vec3};
+mod urdf_reader;
+use crate::core::spatial::Se3;
 use crate::core::xml_guard::LineIndex;
+use crate::model::model_error::ModelError;
 use crate::model::spec::*;
-use crate::model::{ModelError, ModelWarning};
-
-type Node<'a, 'i> = roxmltree::Node<'a, 'i>;
+use urdf_reader::{parsing_options, Node, Reader};
 
 /// Parses URDF text read from `file` (used in messages). Warnings travel in
 /// [`ModelSpec::warnings`].
@@ -142,13 +142,6 @@ fn read_robot(
     })
 }
 
-fn parsing_options() -> roxmltree::ParsingOptions {
-    roxmltree::ParsingOptions {
-        allow_dtd: true,
-        ..Default::default()
-    }
-}
-
 /// Deepest element nesting accepted.
 const MAX_DEPTH: usize = 32;
 
@@ -160,233 +153,6 @@ const PRESCAN_DEPTH: usize = 256;
 /// Byte offset of the start tag that opens nesting level `PRESCAN_DEPTH + 1`, if any.
 fn too_deep(text: &str) -> Option<usize> {
     crate::core::xml_guard::too_deep(text, PRESCAN_DEPTH)
-}
-
-/// A number-reading or element problem, with the line of the node it is about.
-struct Bad {
-    line: usize,
-    msg: String,
-}
-
-/// The reading context: file, line index and the warnings so far.
-struct Reader<'f> {
-    file: &'f str,
-    lx: LineIndex,
-    /// The namespace of `<robot>` (usually none): elements in another one (`xacro:`,
-    /// vendor prefixes) are extensions, as they are to urdfdom.
-    ns: Option<String>,
-    warnings: Vec<ModelWarning>,
-}
-
-impl Reader<'_> {
-    /// Whether `node` is the URDF element `<tag>`.
-    fn is(&self, node: Node<'_, '_>, tag: &str) -> bool {
-        node.is_element()
-            && node.tag_name().name() == tag
-            && node.tag_name().namespace() == self.ns.as_deref()
-    }
-
-    fn line(&self, node: Node<'_, '_>) -> usize {
-        self.lx.line(node.range().start)
-    }
-
-    fn bad(&self, node: Node<'_, '_>, msg: impl Into<String>) -> Bad {
-        Bad {
-            line: self.line(node),
-            msg: msg.into(),
-        }
-    }
-
-    fn err(&self, node: Node<'_, '_>, element: &str, msg: impl Into<String>) -> ModelError {
-        ModelError::new(self.file, Some(self.line(node)), element, msg)
-    }
-
-    /// The error of `bad` in `element`.
-    fn fail(&self, bad: Bad, element: &str) -> ModelError {
-        ModelError::new(self.file, Some(bad.line), element, bad.msg)
-    }
-
-    fn warn(&mut self, node: Node<'_, '_>, element: &str, msg: impl Into<String>) {
-        let w = self.err(node, element, msg);
-        self.warnings.push(w);
-    }
-
-    /// Warns about `bad` in `element`, saying what was done about it.
-    fn warn_bad(&mut self, bad: Bad, element: &str, consequence: &str) {
-        let w = ModelError::new(
-            self.file,
-            Some(bad.line),
-            element,
-            format!("{}: {consequence}", bad.msg),
-        );
-        self.warnings.push(w);
-    }
-
-    /// The first `<tag>` child of `node`; further ones are ignored with a warning (urdfdom
-    /// reads the first).
-    fn first<'a, 'i>(
-        &mut self,
-        node: Node<'a, 'i>,
-        tag: &str,
-        element: &str,
-    ) -> Option<Node<'a, 'i>> {
-        let mut all = node.children().filter(|&n| self.is(n, tag));
-        let first = all.next()?;
-        if let Some(second) = all.next() {
-            let line = self.line(first);
-            self.warn(
-                second,
-                element,
-                format!("<{tag}> given more than once: the first (line {line}) is used, the others are ignored"),
-            );
-        }
-        Some(first)
-    }
-
-    /// Attribute `attr` of `node` as `n` finite numbers, if present.
-    fn numbers(&self, node: Node<'_, '_>, attr: &str, n: usize) -> Result<Option<Vec<f64>>, Bad> {
-        let tag = node.tag_name().name();
-        let Some(v) = node.attribute(attr) else {
-            return Ok(None);
-        };
-        let parts: Vec<&str> = v.split_whitespace().collect();
-        if parts.len() != n {
-            return Err(self.bad(
-                node,
-                format!(
-                    "<{tag} {attr}=\"{v}\">: expected {n} number(s), found {}",
-                    parts.len()
-                ),
-            ));
-        }
-        parts
-            .iter()
-            .map(|p| match p.parse::<f64>() {
-                Ok(x) if x.is_finite() => Ok(x),
-                Ok(_) => Err(self.bad(
-                    node,
-                    format!("<{tag} {attr}=\"{v}\">: non-finite number '{p}'"),
-                )),
-                Err(_) => Err(self.bad(
-                    node,
-                    format!("<{tag} {attr}=\"{v}\">: '{p}' is not a number"),
-                )),
-            })
-            .collect::<Result<Vec<_>, _>>()
-            .map(Some)
-    }
-
-    /// Attribute `attr` as `n` numbers; missing is an error.
-    fn required(&self, node: Node<'_, '_>, attr: &str, n: usize) -> Result<Vec<f64>, Bad> {
-        self.numbers(node, attr, n)?.ok_or_else(|| {
-            self.bad(
-                node,
-                format!("<{}>: missing '{attr}' attribute", node.tag_name().name()),
-            )
-        })
-    }
-
-    fn scalar(&self, node: Node<'_, '_>, attr: &str) -> Result<Option<f64>, Bad> {
-        Ok(self.numbers(node, attr, 1)?.map(|v| v[0]))
-    }
-
-    fn vec3(&self, node: Node<'_, '_>, attr: &str) -> Result<Option<Vec3>, Bad> {
-        Ok(self
-            .numbers(node, attr, 3)?
-            .map(|v| Vec3::new(v[0], v[1], v[2])))
-    }
-
-    /// The pose of the first `<origin>` of `parent` (identity without one).
-    fn origin(&mut self, parent: Node<'_, '_>, element: &str) -> Result<Se3, Bad> {
-        let Some(o) = self.first(parent, "origin", element) else {
-            return Ok(Se3::identity());
-        };
-        let xyz = self.vec3(o, "xyz")?.unwrap_or_else(Vec3::zeros);
-        let rpy = self.vec3(o, "rpy")?.unwrap_or_else(Vec3::zeros);
-        Ok(Se3::new(rpy_to_matrix([rpy.x, rpy.y, rpy.z]), xyz))
-    }
-
-    /// `text` with every XML declaration after the first byte blanked out (urdfdom's
-    /// tinyxml2 accepts them after white space; XML only at the start), with a warning
-    /// each. Byte offsets and lines are kept.
-    fn without_late_declarations(&mut self, text: &str) -> String {
-        let start = if text.starts_with('\u{feff}') { 3 } else { 0 };
-        let mut out = text.as_bytes().to_vec();
-        let mut done = 0;
-        for (at, _) in text.match_indices("<?xml") {
-            let after = text.as_bytes().get(at + 5).copied().unwrap_or(b'?');
-            if at == start || at < done || !(after.is_ascii_whitespace() || after == b'?') {
-                continue;
-            }
-            let end = text[at..].find("?>").map_or(text.len(), |e| at + e + 2);
-            done = end;
-            for b in &mut out[at..end] {
-                if *b != b'\n' {
-                    *b = b' ';
-                }
-            }
-            let line = self.lx.line(at);
-            self.warnings.push(ModelError::new(
-                self.file,
-                Some(line),
-                "XML",
-                "XML declaration <?xml …?> not at the start of the file: ignored",
-            ));
-        }
-        // Whole characters were blanked (the range starts and ends at ASCII bytes).
-        String::from_utf8(out).unwrap_or_else(|_| text.to_string())
-    }
-
-    /// Declares namespace prefixes used without a declaration (`xacro:` left in generated
-    /// files; urdfdom ignores namespaces) on the root element, with a warning each.
-    fn declare_prefixes(&mut self, mut text: String) -> String {
-        for _ in 0..16 {
-            let (prefix, pos) =
-                match roxmltree::Document::parse_with_options(&text, parsing_options()) {
-                    Err(roxmltree::Error::UnknownNamespace(p, pos)) => (p, pos),
-                    _ => break,
-                };
-            let Some(at) = root_name_end(&text) else {
-                break;
-            };
-            text.insert_str(
-                at,
-                &format!(" xmlns:{prefix}=\"urn:armsim:undeclared:{prefix}\""),
-            );
-            self.warnings.push(ModelError::new(
-                self.file,
-                Some(pos.row as usize),
-                "XML",
-                format!("namespace prefix '{prefix}' is not declared: its elements are ignored (as extensions)"),
-            ));
-        }
-        text
-    }
-}
-
-/// Byte offset just after the root element's name (`<robot|`), skipping comments,
-/// declarations and processing instructions.
-fn root_name_end(text: &str) -> Option<usize> {
-    let b = text.as_bytes();
-    let mut i = 0;
-    while let Some(p) = text[i..].find('<') {
-        let at = i + p;
-        let rest = &text[at..];
-        if rest.starts_with("<!--") {
-            i = at + rest.find("-->")? + 3;
-        } else if rest.starts_with("<?") {
-            i = at + rest.find("?>")? + 2;
-        } else if rest.starts_with("<!") {
-            i = at + rest.find('>')? + 1;
-        } else {
-            let mut j = at + 1;
-            while j < b.len() && !b[j].is_ascii_whitespace() && b[j] != b'>' && b[j] != b'/' {
-                j += 1;
-            }
-            return Some(j);
-        }
-    }
-    None
 }
 
 /// The located error of an XML syntax error in `text` read from `file`. Some errors carry no
