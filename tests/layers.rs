@@ -543,14 +543,6 @@ const KNOWN_CYCLES: &[&[&str]] = &[
         "io/record/rerun/rerun_workspace.rs",
     ],
     &[
-        "kinematics/ik/analytic.rs",
-        "kinematics/ik/analytic/dh_family.rs",
-        "kinematics/ik/analytic/position_ik.rs",
-        "kinematics/ik/analytic/ur.rs",
-        "kinematics/ik/analytic/wrist.rs",
-    ],
-    &["machines/linkage/description.rs", "machines/linkage/mod.rs"],
-    &[
         "planning/acm.rs",
         "planning/mesh_sdf.rs",
         "planning/spheres.rs",

@@ -12,7 +12,7 @@
 //! The ground has no coordinates: its "link" index is [`GROUND`] and its points are world
 //! points.
 
-use crate::machines::linkage::{perp, rotate, Vec2};
+use crate::machines::linkage::planar::{perp, rotate, Vec2};
 use nalgebra::DVector;
 use std::collections::HashMap;
 
