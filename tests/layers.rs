@@ -525,14 +525,6 @@ const KNOWN_CYCLES: &[&[&str]] = &[
         "motion/trapezoidal.rs",
     ],
     &[
-        "workspace/jacobian_pass.rs",
-        "workspace/mod.rs",
-        "workspace/output.rs",
-        "workspace/result.rs",
-        "workspace/volume.rs",
-        "workspace/volume_kernel.rs",
-    ],
-    &[
         "io/record/rerun/rerun_blueprint.rs",
         "io/record/rerun/rerun_geometry.rs",
         "io/record/rerun/rerun_motion.rs",
