@@ -21,7 +21,9 @@
 use crate::dynamics::{inverse_dynamics, Effects};
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::motion::{time_grid, Trajectory, TrajectoryError};
+use crate::motion::motion_traits::Trajectory;
+use crate::motion::trajectory_error::TrajectoryError;
+use crate::motion::waypoints::time_grid;
 use std::fmt::Write as _;
 
 /// Options of [`check_torques`].
