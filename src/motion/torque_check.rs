@@ -213,7 +213,9 @@ pub fn check_torques_switched(
     window: (f64, f64),
     opts: &TorqueCheckOptions,
 ) -> Result<TorqueReport, TrajectoryError> {
-    inside.validate(model).map_err(TrajectoryError::Invalid)?;
+    inside
+        .validate(model)
+        .map_err(|e| TrajectoryError::Invalid(e.to_string()))?;
     let effects = outside;
     let n = model.nv;
     if traj.dof() != n {
@@ -228,7 +230,9 @@ pub fn check_torques_switched(
             opts.dt
         )));
     }
-    effects.validate(model).map_err(TrajectoryError::Invalid)?;
+    effects
+        .validate(model)
+        .map_err(|e| TrajectoryError::Invalid(e.to_string()))?;
     let (effort, velocity) = limits(model, opts)?;
     let duration = traj.duration();
     let (intervals, step) = time_grid(duration, opts.dt);

@@ -158,7 +158,9 @@ pub fn topp<P: Path>(
         )));
     }
     limits.validate(&names)?;
-    effects.validate(model).map_err(TrajectoryError::Invalid)?;
+    effects
+        .validate(model)
+        .map_err(|e| TrajectoryError::Invalid(e.to_string()))?;
     if opts.segments < 2 || opts.check_points == 0 || !(0.0..1.0).contains(&opts.end_refinement) {
         return Err(TrajectoryError::Invalid(
             "TOPP: need at least 2 segments, 1 check point and end_refinement in [0, 1)".into(),
