@@ -486,55 +486,15 @@ fn no_file_imports_a_file_of_a_higher_layer() {
     assert!(bad.is_empty(), "imports that go up a layer:\n{bad}");
 }
 
-/// The file cycles left from before the layered layout (issue 27), each a `mod.rs` and
-/// the children that share its types, or a few files of one module that call each other.
-/// The list only shrinks: a new cycle, a cycle that grows, and a listed cycle that is gone
-/// (remove it here) all fail [`the_file_graph_has_no_cycle_but_the_known_ones`].
-const KNOWN_CYCLES: &[&[&str]] = &[
-    &[
-        "motion/cartesian.rs",
-        "motion/min_jerk.rs",
-        "motion/mod.rs",
-        "motion/quintic.rs",
-        "motion/topp/check.rs",
-        "motion/topp/jerk.rs",
-        "motion/topp/mod.rs",
-        "motion/topp/reachability.rs",
-        "motion/topp/socp.rs",
-        "motion/torque_check.rs",
-        "motion/trapezoidal.rs",
-    ],
-    &[
-        "workspace/jacobian_pass.rs",
-        "workspace/mod.rs",
-        "workspace/output.rs",
-        "workspace/result.rs",
-        "workspace/volume.rs",
-        "workspace/volume_kernel.rs",
-    ],
-    &[
-        "kinematics/ik/analytic.rs",
-        "kinematics/ik/analytic/dh_family.rs",
-        "kinematics/ik/analytic/position_ik.rs",
-        "kinematics/ik/analytic/ur.rs",
-        "kinematics/ik/analytic/wrist.rs",
-    ],
-    &["machines/linkage/description.rs", "machines/linkage/mod.rs"],
-];
-
+/// No file-level import cycle anywhere in `src/`: a cycle names every import along it.
 #[test]
-fn the_file_graph_has_no_cycle_but_the_known_ones() {
+fn the_file_graph_has_no_cycle() {
     let (files, texts) = library();
     let g = file_graph(&files, &texts);
-    let found = cycles(&g);
-    let known: Vec<Vec<String>> = KNOWN_CYCLES
-        .iter()
-        .map(|c| c.iter().map(|s| s.to_string()).collect())
-        .collect();
     let mut report = String::new();
-    for comp in found.iter().filter(|c| !known.contains(c)) {
-        report += &format!("new or changed cycle among {comp:?}:\n");
-        for a in comp {
+    for comp in cycles(&g) {
+        report += &format!("cycle among {comp:?}:\n");
+        for a in &comp {
             for (b, paths) in &g[a] {
                 if comp.contains(b) {
                     report += &format!("  {a} -> {b} via {paths:?}\n");
@@ -542,10 +502,7 @@ fn the_file_graph_has_no_cycle_but_the_known_ones() {
             }
         }
     }
-    for gone in known.iter().filter(|c| !found.contains(c)) {
-        report += &format!("no longer a cycle (remove it from KNOWN_CYCLES): {gone:?}\n");
-    }
-    assert!(report.is_empty(), "{report}\nall cycles now: {found:#?}");
+    assert!(report.is_empty(), "{report}");
 }
 
 #[test]

@@ -97,7 +97,7 @@ fn parse_payload(model: &Model, s: &str) -> Result<Payload, String> {
     } else {
         Vec3::zeros()
     };
-    Payload::new(model, link, Inertia::new(nums[0], com, Mat3::zeros()))
+    Payload::new(model, link, Inertia::new(nums[0], com, Mat3::zeros())).map_err(|e| e.to_string())
 }
 
 fn dynamics_cmd(model: &Model, q: &str, o: &DynamicsArgs, as_json: bool) -> Result<(), String> {
@@ -283,7 +283,7 @@ fn effects_of(model: &Model, o: &DynamicsArgs, g: Vec3) -> Result<Effects, Strin
     if let Some(p) = &o.payload {
         effects.payload = Some(parse_payload(model, p)?);
     }
-    effects.validate(model)?;
+    effects.validate(model).map_err(|e| e.to_string())?;
     if o.method != MethodArg::Rnea && effects.names() != ["gravity"] {
         return Err("--method lagrange-*: the Lagrange references cover the rigid model with gravity only; drop --friction/--rotor/--payload".into());
     }

@@ -138,22 +138,18 @@ pub struct Payload {
 
 impl Payload {
     /// A payload on link `link` with inertia given in the link frame.
-    pub fn new(model: &Model, link: usize, inertia: Inertia) -> Result<Self, String> {
+    pub fn new(model: &Model, link: usize, inertia: Inertia) -> Result<Self, EffectsError> {
         let l = model
             .links
             .get(link)
-            .ok_or_else(|| format!("payload: link index {link} does not exist"))?;
+            .ok_or(EffectsError::PayloadLinkMissing { link })?;
         if l.body == WORLD {
-            return Err(format!(
-                "payload: link '{}' is fixed to the world; a payload there loads no joint",
-                l.name
-            ));
+            return Err(EffectsError::PayloadOnWorld {
+                link: l.name.clone(),
+            });
         }
         if inertia.mass.is_nan() || inertia.mass < 0.0 || !inertia.mass.is_finite() {
-            return Err(format!(
-                "payload: mass {} is not a non-negative number",
-                inertia.mass
-            ));
+            return Err(EffectsError::PayloadMass { mass: inertia.mass });
         }
         Ok(Payload {
             link,
@@ -229,18 +225,22 @@ impl Effects {
     }
 
     /// Checks per-coordinate vectors against the model.
-    pub fn validate(&self, model: &Model) -> Result<(), String> {
+    pub fn validate(&self, model: &Model) -> Result<(), EffectsError> {
         let n = model.nv;
-        let len = |name: &str, l: usize| {
+        let len = |name: &'static str, l: usize| {
             if l == n {
                 Ok(())
             } else {
-                Err(format!("{name}: {l} values for {n} coordinates"))
+                Err(EffectsError::Length {
+                    name,
+                    values: l,
+                    coordinates: n,
+                })
             }
         };
         if let Some(g) = &self.gravity {
             if !g.iter().all(|x| x.is_finite()) {
-                return Err("gravity: non-finite component".into());
+                return Err(EffectsError::Gravity);
             }
         }
         if let Some(f) = &self.friction {
@@ -249,7 +249,7 @@ impl Effects {
             len("friction.stiction", f.stiction.len())?;
             len("friction.stribeck_velocity", f.stribeck_velocity.len())?;
             if !positive(&f.smoothing) || !f.stribeck_velocity.iter().all(positive) {
-                return Err("friction: smoothing and Stribeck velocities must be positive".into());
+                return Err(EffectsError::Friction);
             }
         }
         if let Some(r) = &self.rotor {
@@ -257,7 +257,7 @@ impl Effects {
             len("rotor.gear_ratio", r.gear_ratio.len())?;
             len("rotor.efficiency", r.efficiency.len())?;
             if !r.efficiency.iter().all(|e| positive(e) && *e <= 1.0) {
-                return Err("rotor.efficiency: must be in (0, 1]".into());
+                return Err(EffectsError::RotorEfficiency);
             }
         }
         if let Some(e) = &self.elasticity {
@@ -265,19 +265,67 @@ impl Effects {
             len("elasticity.damping", e.damping.len())?;
             len("elasticity.motor_inertia", e.motor_inertia.len())?;
             if !e.stiffness.iter().all(positive) || !e.motor_inertia.iter().all(positive) {
-                return Err("elasticity: stiffness and motor inertia must be positive".into());
+                return Err(EffectsError::Elasticity);
             }
         }
         for w in &self.external {
             if w.link >= model.links.len() {
-                return Err(format!(
-                    "external wrench: link index {} does not exist",
-                    w.link
-                ));
+                return Err(EffectsError::WrenchLink { link: w.link });
             }
         }
         Ok(())
     }
+}
+
+/// Why a payload or a set of effects does not fit the model.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EffectsError {
+    /// The payload's link index is past the model's links.
+    #[error("payload: link index {link} does not exist")]
+    PayloadLinkMissing {
+        /// The link index given.
+        link: usize,
+    },
+    /// The payload's link does not move.
+    #[error("payload: link '{link}' is fixed to the world; a payload there loads no joint")]
+    PayloadOnWorld {
+        /// The link's name.
+        link: String,
+    },
+    /// The payload's mass is negative, infinite or NaN.
+    #[error("payload: mass {mass} is not a non-negative number")]
+    PayloadMass {
+        /// The mass given (kg).
+        mass: f64,
+    },
+    /// A per-coordinate vector of the wrong length.
+    #[error("{name}: {values} values for {coordinates} coordinates")]
+    Length {
+        /// The vector (`friction.viscous`, `rotor.inertia`, …).
+        name: &'static str,
+        /// Its length.
+        values: usize,
+        /// The model's coordinates.
+        coordinates: usize,
+    },
+    /// A gravity component is infinite or NaN.
+    #[error("gravity: non-finite component")]
+    Gravity,
+    /// A friction smoothing or Stribeck velocity is not positive.
+    #[error("friction: smoothing and Stribeck velocities must be positive")]
+    Friction,
+    /// A rotor efficiency outside `(0, 1]`.
+    #[error("rotor.efficiency: must be in (0, 1]")]
+    RotorEfficiency,
+    /// An elastic joint's stiffness or motor inertia is not positive.
+    #[error("elasticity: stiffness and motor inertia must be positive")]
+    Elasticity,
+    /// An external wrench's link index is past the model's links.
+    #[error("external wrench: link index {link} does not exist")]
+    WrenchLink {
+        /// The link index given.
+        link: usize,
+    },
 }
 
 /// `x > 0` (false for NaN).

@@ -31,7 +31,8 @@ pub use aba::{aba, aba_with_forces};
 pub use crba::crba;
 pub(crate) use crba::crba_impl;
 pub use effects::{
-    inverse_dynamics, mass_matrix, Effects, Elasticity, ExternalWrench, Friction, Payload, Rotor,
+    inverse_dynamics, mass_matrix, Effects, EffectsError, Elasticity, ExternalWrench, Friction,
+    Payload, Rotor,
 };
 pub(crate) use energy::kinetic_energy_gradient_impl;
 pub use energy::{energies_with, kinetic_energy, kinetic_energy_gradient, potential_energy};

@@ -30,8 +30,10 @@ use crate::kinematics::ik::{rotation_log, IkOptions, IkSolver, IkStatus};
 use crate::kinematics::{forward_kinematics, frame_placement};
 use crate::model::data::Data;
 use crate::model::Model;
+use crate::motion::joint_limits::JointLimits;
+use crate::motion::motion_traits::{Path, Trajectory};
 use crate::motion::quintic::{sigma, PEAK_ACC, PEAK_VEL};
-use crate::motion::{JointLimits, Path, Trajectory, TrajectoryError};
+use crate::motion::trajectory_error::TrajectoryError;
 use std::time::Duration;
 
 /// Options of [`cartesian_line`].
@@ -125,7 +127,7 @@ impl SplinePath {
                 "spline path: need at least 4 samples (got {s})"
             )));
         }
-        let n = crate::motion::validate_waypoints(samples)?;
+        let n = crate::motion::waypoints::validate_waypoints(samples)?;
         let h = 1.0 / (s - 1) as f64;
         let y = samples.concat();
         let mut m = vec![0.0; s * n];

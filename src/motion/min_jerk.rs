@@ -28,8 +28,11 @@
 //! the extrema of each polynomial piece are the roots of its derivative, located by
 //! sign changes on a fine grid and refined by bisection.
 
+use crate::motion::joint_limits::JointLimits;
+use crate::motion::motion_traits::{Path, Trajectory};
 use crate::motion::quintic::{hermite, min_time, poly3};
-use crate::motion::{locate, validate_waypoints, JointLimits, Path, Trajectory, TrajectoryError};
+use crate::motion::trajectory_error::TrajectoryError;
+use crate::motion::waypoints::{locate, validate_waypoints};
 use nalgebra::DMatrix;
 
 /// Rebalancing rounds of the segment times.
@@ -102,7 +105,7 @@ impl MinJerk {
     /// acceleration; see the module docs). Consecutive waypoints must differ.
     pub fn new(waypoints: &[Vec<f64>], limits: &JointLimits) -> Result<Self, TrajectoryError> {
         let n = validate_waypoints(waypoints)?;
-        limits.validate(&crate::motion::default_names(n))?;
+        limits.validate(&crate::motion::waypoints::default_names(n))?;
         let mut h: Vec<f64> = waypoints
             .windows(2)
             .map(|w| {

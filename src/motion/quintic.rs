@@ -20,7 +20,10 @@
 //! - `c₄ = (−30Δp + (14v₁ + 16v₀)h + (3a₀ − 2a₁)h²) / (2h⁴)`,
 //! - `c₅ = (12Δp − 6(v₁ + v₀)h + (a₁ − a₀)h²) / (2h⁵)`.
 
-use crate::motion::{locate, validate_waypoints, JointLimits, Trajectory, TrajectoryError};
+use crate::motion::joint_limits::JointLimits;
+use crate::motion::motion_traits::Trajectory;
+use crate::motion::trajectory_error::TrajectoryError;
+use crate::motion::waypoints::{locate, validate_waypoints};
 
 /// `max σ'` of the quintic profile.
 pub(crate) const PEAK_VEL: f64 = 1.875;
@@ -82,7 +85,7 @@ impl Quintic {
     /// Plans through `waypoints` under `limits` (velocity and acceleration).
     pub fn new(waypoints: &[Vec<f64>], limits: &JointLimits) -> Result<Self, TrajectoryError> {
         let n = validate_waypoints(waypoints)?;
-        limits.validate(&crate::motion::default_names(n))?;
+        limits.validate(&crate::motion::waypoints::default_names(n))?;
         let mut knots = vec![0.0];
         for w in waypoints.windows(2) {
             let t = (0..n)

@@ -21,7 +21,9 @@
 use crate::dynamics::{inverse_dynamics, Effects};
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::motion::{time_grid, Trajectory, TrajectoryError};
+use crate::motion::motion_traits::Trajectory;
+use crate::motion::trajectory_error::TrajectoryError;
+use crate::motion::waypoints::time_grid;
 use std::fmt::Write as _;
 
 /// Options of [`check_torques`].
@@ -211,7 +213,9 @@ pub fn check_torques_switched(
     window: (f64, f64),
     opts: &TorqueCheckOptions,
 ) -> Result<TorqueReport, TrajectoryError> {
-    inside.validate(model).map_err(TrajectoryError::Invalid)?;
+    inside
+        .validate(model)
+        .map_err(|e| TrajectoryError::Invalid(e.to_string()))?;
     let effects = outside;
     let n = model.nv;
     if traj.dof() != n {
@@ -226,7 +230,9 @@ pub fn check_torques_switched(
             opts.dt
         )));
     }
-    effects.validate(model).map_err(TrajectoryError::Invalid)?;
+    effects
+        .validate(model)
+        .map_err(|e| TrajectoryError::Invalid(e.to_string()))?;
     let (effort, velocity) = limits(model, opts)?;
     let duration = traj.duration();
     let (intervals, step) = time_grid(duration, opts.dt);

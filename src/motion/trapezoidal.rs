@@ -17,7 +17,10 @@
 //! triangle with discriminant 0). Joints therefore all start and stop together; each has
 //! its own blend times, so the joint-space path is not a straight line in general.
 
-use crate::motion::{locate, validate_waypoints, JointLimits, Trajectory, TrajectoryError};
+use crate::motion::joint_limits::JointLimits;
+use crate::motion::motion_traits::Trajectory;
+use crate::motion::trajectory_error::TrajectoryError;
+use crate::motion::waypoints::{locate, validate_waypoints};
 
 /// One joint's profile on one segment: signed cruise speed and acceleration, blend time.
 #[derive(Clone, Copy, Debug, Default)]
@@ -56,7 +59,7 @@ impl Trapezoidal {
     /// segments.
     pub fn new(waypoints: &[Vec<f64>], limits: &JointLimits) -> Result<Self, TrajectoryError> {
         let n = validate_waypoints(waypoints)?;
-        limits.validate(&crate::motion::default_names(n))?;
+        limits.validate(&crate::motion::waypoints::default_names(n))?;
         let m = waypoints.len() - 1;
         let mut knots = Vec::with_capacity(m + 1);
         knots.push(0.0);

@@ -295,7 +295,9 @@ impl<'m> Simulator<'m> {
 
     /// A simulator for `model` with exactly `effects`.
     pub fn new(model: &'m Model, effects: Effects) -> Result<Self, SimError> {
-        effects.validate(model).map_err(SimError::Config)?;
+        effects
+            .validate(model)
+            .map_err(|e| SimError::Config(e.to_string()))?;
         let n = model.nv;
         let elastic = effects.elasticity.is_some();
         let dim = if elastic { 4 * n } else { 2 * n };

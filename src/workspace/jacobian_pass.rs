@@ -23,9 +23,10 @@ use crate::core::spatial::{Mat3, Vec3};
 use crate::kinematics::{compute_joint_jacobians, frame_jacobian, frame_placement, Expressed};
 use crate::model::data::Data;
 use crate::workspace::grid::{Grid, PlaneFrame};
+use crate::workspace::result::{ExtrasSummary, SamplePoint, VoxelStats};
 use crate::workspace::sample_stream::{QStream, RandomStream, SobolStream};
-use crate::workspace::volume::Ctx;
-use crate::workspace::{ExtrasSummary, Sampling, WorkspaceOptions};
+use crate::workspace::volume_context::Ctx;
+use crate::workspace::workspace_options::{Sampling, WorkspaceOptions};
 use indicatif::ProgressBar;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -142,48 +143,6 @@ struct Record {
     bin: u8,
     w: f64,
     k: f64,
-}
-
-/// A kept sample (for the points CSV).
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct SamplePoint {
-    /// Joint coordinates.
-    pub q: Vec<f64>,
-    /// Tool point in the world (m).
-    pub p: [f64; 3],
-    /// Translational manipulability.
-    pub manipulability: f64,
-    /// Translational condition number.
-    pub condition: f64,
-}
-
-/// Per-voxel statistics of the Jacobian pass.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct VoxelStats {
-    /// Global cell index `(i, j, k)` (planar: in-plane `(i, j)` and 0).
-    pub index: [i64; 3],
-    /// World position of the cell centre.
-    pub center: [f64; 3],
-    /// Whether the cell has an empty face neighbour in the pooled occupancy.
-    pub boundary: bool,
-    /// Jacobian-pass samples in the cell.
-    pub samples: u32,
-    /// Mean translational manipulability.
-    pub manipulability_mean: f64,
-    /// Smallest.
-    pub manipulability_min: f64,
-    /// Largest.
-    pub manipulability_max: f64,
-    /// Mean translational condition number (∞ if a sample was exactly singular).
-    pub condition_mean: f64,
-    /// Smallest.
-    pub condition_min: f64,
-    /// Largest.
-    pub condition_max: f64,
-    /// Distinct orientation bins reached.
-    pub orientations: u32,
-    /// Whether `orientations` reaches the dexterity threshold.
-    pub dexterous: bool,
 }
 
 #[derive(Clone, Copy, Debug)]

@@ -34,123 +34,26 @@ mod result;
 mod sample_stream;
 pub mod sobol;
 mod volume;
+mod volume_context;
 mod volume_kernel;
+mod workspace_options;
 
 pub use crate::kinematics::fk_lanes::Isa;
-pub use crate::workspace::jacobian_pass::{SamplePoint, VoxelStats};
 pub use estimate::{Estimate, IntervalKind};
 pub use output::summary_lines;
-pub use result::{ConvergencePoint, ExtrasSummary, PlaneInfo, VoxelBias, WorkspaceResult};
+pub use result::{
+    ConvergencePoint, ExtrasSummary, PlaneInfo, SamplePoint, VoxelBias, VoxelStats, WorkspaceResult,
+};
+pub use workspace_options::{Sampling, UnknownSampling, WorkspaceOptions};
 
 use crate::core::spatial::Vec3;
 use crate::model::{Model, WORLD};
 use crate::workspace::jacobian_pass::{jacobian_pass, JacobianPass};
 use crate::workspace::sample_stream::{JointBox, QStream, RandomStream};
 use grid::Grid;
-use serde::Serialize;
 use std::time::Instant;
-use volume::Ctx;
-
-/// How joint space is sampled.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Sampling {
-    /// Independent uniform samples (counter-mode SplitMix64).
-    Random,
-    /// Owen-scrambled Sobol' (randomised quasi-Monte Carlo), at most 31 coordinates.
-    Sobol,
-}
-
-impl std::str::FromStr for Sampling {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "random" => Ok(Sampling::Random),
-            "sobol" => Ok(Sampling::Sobol),
-            _ => Err(format!("unknown sampling '{s}': expected random or sobol")),
-        }
-    }
-}
-
-/// Options of [`sample_workspace`].
-#[derive(Clone, Debug)]
-pub struct WorkspaceOptions {
-    /// Total samples of the volume pass, split into `replicates` streams of a power of two
-    /// each (the count per replicate is rounded to the nearest power of two). In
-    /// adaptive mode, the first budget tried.
-    pub samples: u64,
-    /// Adaptive mode: keep doubling the samples until the interval's half-width is at
-    /// most this fraction of the estimate (or `max_samples` is reached).
-    pub target_rel_error: Option<f64>,
-    /// Adaptive mode: the most samples to draw (default `2^30`).
-    pub max_samples: Option<u64>,
-    /// Independent replicates `R` (≥ 2); their spread is the noise scale of the estimate.
-    pub replicates: usize,
-    /// Random or Sobol'.
-    pub sampling: Sampling,
-    /// Seed: the same seed gives the same result, whatever the thread count.
-    pub seed: u64,
-    /// Voxel (pixel) edge, m.
-    pub voxel: f64,
-    /// Tool link (default: the deepest link, the last in tree order among ties).
-    pub tool: Option<String>,
-    /// `None`: detect a planar cloud and report an area; `Some(true)`: project onto the
-    /// best-fit plane; `Some(false)`: always voxels.
-    pub planar: Option<bool>,
-    /// Run the Jacobian pass (manipulability, condition number, dexterity).
-    pub extras: bool,
-    /// Samples of the Jacobian pass (default `min(samples, 2^20)`; at most `samples`).
-    pub extras_samples: Option<u64>,
-    /// Orientation bins in 3-D: cells per cube-face edge `k` (`6 k²` directions of the
-    /// tool z axis), 1 to 4.
-    pub sphere_cells: usize,
-    /// Orientation bins for a planar workspace: arcs of the in-plane tool axis, 1 to 128.
-    pub circle_bins: usize,
-    /// A voxel is dexterous when it reaches at least this fraction of the bins.
-    pub dexterous_fraction: f64,
-    /// Keep the first this many Jacobian-pass samples as points (for the points CSV).
-    pub keep_points: usize,
-    /// Measure each replicate on a grid shifted by a random offset (default): the
-    /// lattice position's effect is then zero-mean and inside the standard error. When
-    /// `false` every replicate uses the grid anchored at the origin and the standard
-    /// error is the sampling noise alone.
-    pub shift_grid: bool,
-    /// No progress bar.
-    pub quiet: bool,
-    /// Forward kinematics eight configurations at a time in SIMD lanes (default); `false`
-    /// runs the scalar FK one configuration at a time (same results; for benchmarks).
-    pub batched_fk: bool,
-    /// Run the volume pass on at most this instruction set (default: the best the CPU
-    /// has). Every instruction set gives bitwise the same result; for tests and
-    /// benchmarks.
-    pub max_isa: Option<Isa>,
-}
-
-impl Default for WorkspaceOptions {
-    fn default() -> Self {
-        Self {
-            samples: 1 << 24,
-            target_rel_error: None,
-            max_samples: None,
-            replicates: 8,
-            sampling: Sampling::Sobol,
-            seed: 0,
-            voxel: 0.02,
-            tool: None,
-            planar: None,
-            extras: true,
-            extras_samples: None,
-            sphere_cells: 4,
-            circle_bins: 36,
-            dexterous_fraction: 0.5,
-            keep_points: 0,
-            shift_grid: true,
-            quiet: false,
-            batched_fk: true,
-            max_isa: None,
-        }
-    }
-}
+use volume_context::Ctx;
+use volume_kernel::Replicate;
 
 /// Why a run could not start.
 #[derive(Debug, thiserror::Error)]
@@ -510,7 +413,7 @@ fn make_ctx<'a>(
             grid::MAX_CELLS
         ))
     })?;
-    let est = volume::shifted_grid(
+    let est = volume_context::shifted_grid(
         &grid,
         &center,
         radius,
@@ -597,7 +500,7 @@ struct Doublings {
     convergence: Vec<ConvergencePoint>,
     /// Adaptive mode: whether the target was reached.
     reached: Option<bool>,
-    reps: Vec<volume::Replicate>,
+    reps: Vec<Replicate>,
 }
 
 /// Runs the volume pass doubling by doubling (`plan`: samples per replicate), with the
@@ -607,7 +510,7 @@ fn doublings(ctx: &Ctx, opts: &WorkspaceOptions, plan: &[u64], planar: bool) -> 
     let r = opts.replicates;
     let n_max = *plan.last().expect("one stage");
     let pb = progress::bar(n_max * r as u64, opts.quiet, "workspace");
-    let mut reps: Vec<volume::Replicate> = (0..r).map(|i| volume::Replicate::new(ctx, i)).collect();
+    let mut reps: Vec<Replicate> = (0..r).map(|i| Replicate::new(ctx, i)).collect();
     let cm = ctx.est.cell_measure();
     let dims = ctx.est.dims();
     let unit = if planar { "m²" } else { "m³" };

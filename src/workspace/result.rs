@@ -5,8 +5,7 @@
 use crate::core::spatial::Vec3;
 use crate::workspace::estimate::{Estimate, IntervalKind};
 use crate::workspace::grid::Grid;
-use crate::workspace::jacobian_pass::{SamplePoint, VoxelStats};
-use crate::workspace::Sampling;
+use crate::workspace::workspace_options::Sampling;
 use serde::Serialize;
 
 /// The plane of a planar workspace.
@@ -282,4 +281,46 @@ impl WorkspaceResult {
         }
         [lo, hi]
     }
+}
+
+/// A kept sample (for the points CSV).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SamplePoint {
+    /// Joint coordinates.
+    pub q: Vec<f64>,
+    /// Tool point in the world (m).
+    pub p: [f64; 3],
+    /// Translational manipulability.
+    pub manipulability: f64,
+    /// Translational condition number.
+    pub condition: f64,
+}
+
+/// Per-voxel statistics of the Jacobian pass.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct VoxelStats {
+    /// Global cell index `(i, j, k)` (planar: in-plane `(i, j)` and 0).
+    pub index: [i64; 3],
+    /// World position of the cell centre.
+    pub center: [f64; 3],
+    /// Whether the cell has an empty face neighbour in the pooled occupancy.
+    pub boundary: bool,
+    /// Jacobian-pass samples in the cell.
+    pub samples: u32,
+    /// Mean translational manipulability.
+    pub manipulability_mean: f64,
+    /// Smallest.
+    pub manipulability_min: f64,
+    /// Largest.
+    pub manipulability_max: f64,
+    /// Mean translational condition number (∞ if a sample was exactly singular).
+    pub condition_mean: f64,
+    /// Smallest.
+    pub condition_min: f64,
+    /// Largest.
+    pub condition_max: f64,
+    /// Distinct orientation bins reached.
+    pub orientations: u32,
+    /// Whether `orientations` reaches the dexterity threshold.
+    pub dexterous: bool,
 }

@@ -17,100 +17,12 @@
 //! exactly the first `2^k` samples of every stream: the result depends on the seed only,
 //! not on the thread count or on how the budget was reached (fixed or adaptive).
 
-use crate::core::spatial::Vec3;
-use crate::kinematics::fk_lanes::{Isa, ToolChain};
-use crate::model::Model;
 use crate::workspace::estimate::Stage;
 use crate::workspace::grid::{Grid, Hits};
-use crate::workspace::sample_stream::{derive_seed, JointBox, RandomStream, SobolStream};
-use crate::workspace::volume_kernel::Marks;
-use crate::workspace::Sampling;
+use crate::workspace::volume_context::Ctx;
+use crate::workspace::volume_kernel::Replicate;
 use indicatif::ProgressBar;
 use rayon::prelude::*;
-
-/// What the passes share.
-pub(crate) struct Ctx<'a> {
-    pub model: &'a Model,
-    pub tool: usize,
-    pub jb: JointBox,
-    /// The common (unshifted) grid of the outputs.
-    pub grid: Grid,
-    /// The pooled estimation grid (shifted by an offset drawn from the seed).
-    pub est: Grid,
-    pub sampling: Sampling,
-    pub seed: u64,
-    /// Whether the replicate and estimation grids are randomly shifted.
-    pub shift: bool,
-    /// Centre and radius of the reach bound.
-    pub center: Vec3,
-    pub radius: f64,
-    /// Batched FK of the tool origin.
-    pub chain: ToolChain,
-    /// Whether to use it (otherwise the scalar FK, one configuration at a time).
-    pub batched: bool,
-    /// The instruction set of the hot loop ([`crate::workspace::volume_kernel`]).
-    pub isa: Isa,
-}
-
-/// A grid like `ctx.grid`, shifted by a uniform offset in `[0, 2h)` per axis drawn from
-/// `(seed, stream)` (or unshifted when shifts are off).
-pub(crate) fn shifted_grid(
-    grid: &Grid,
-    center: &Vec3,
-    radius: f64,
-    seed: u64,
-    stream: u64,
-    shift: bool,
-) -> Grid {
-    if !shift {
-        return grid.clone();
-    }
-    let h = grid.h;
-    let s = [0u64, 1, 2].map(|k| {
-        let x = derive_seed(seed, stream, 7000 + k);
-        2.0 * h * ((x >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0))
-    });
-    Grid::new(h, center, radius, grid.plane, s)
-        .expect("a shifted grid is no larger than the common one, give or take two cells")
-}
-
-/// A replicate's stream (the Sobol' one, 5 KiB of direction numbers, boxed).
-pub(super) enum Stream {
-    Random(RandomStream),
-    Sobol(Box<SobolStream>),
-}
-
-/// One replicate between stages.
-pub(crate) struct Replicate {
-    pub(super) stream: Stream,
-    /// Samples drawn so far.
-    pub(super) done: u64,
-    pub marks: Marks,
-}
-
-impl Replicate {
-    /// Replicate `r` of `ctx`, before its first sample.
-    pub fn new(ctx: &Ctx, r: usize) -> Self {
-        let d = ctx.model.nv;
-        let stream = match ctx.sampling {
-            Sampling::Random => Stream::Random(RandomStream::new(ctx.seed, r as u64, d, 0)),
-            Sampling::Sobol => Stream::Sobol(Box::new(SobolStream::new(ctx.seed, r as u64, d, 0))),
-        };
-        let grid = shifted_grid(
-            &ctx.grid,
-            &ctx.center,
-            ctx.radius,
-            ctx.seed,
-            r as u64,
-            ctx.shift,
-        );
-        Replicate {
-            stream,
-            done: 0,
-            marks: Marks::new(grid, &ctx.est, &ctx.grid),
-        }
-    }
-}
 
 /// The estimate of one replicate on its own grid: the corrected measure of its closed
 /// occupancy (see [`crate::workspace::estimate`]).

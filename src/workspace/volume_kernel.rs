@@ -19,12 +19,51 @@ use crate::kinematics::{forward_kinematics, frame_placement};
 use crate::model::data::Data;
 use crate::workspace::counts::Counts;
 use crate::workspace::grid::Grid;
-use crate::workspace::sample_stream::QStream;
-use crate::workspace::volume::{Ctx, Replicate, Stream};
+use crate::workspace::sample_stream::{QStream, RandomStream, SobolStream};
+use crate::workspace::volume_context::{shifted_grid, Ctx};
+use crate::workspace::workspace_options::Sampling;
 use indicatif::ProgressBar;
 
 /// Samples between progress-bar updates.
 const PROGRESS_BLOCK: u64 = 1 << 16;
+
+/// A replicate's stream (the Sobol' one, 5 KiB of direction numbers, boxed).
+pub(super) enum Stream {
+    Random(RandomStream),
+    Sobol(Box<SobolStream>),
+}
+
+/// One replicate between stages.
+pub(crate) struct Replicate {
+    pub(super) stream: Stream,
+    /// Samples drawn so far.
+    pub(super) done: u64,
+    pub marks: Marks,
+}
+
+impl Replicate {
+    /// Replicate `r` of `ctx`, before its first sample.
+    pub fn new(ctx: &Ctx, r: usize) -> Self {
+        let d = ctx.model.nv;
+        let stream = match ctx.sampling {
+            Sampling::Random => Stream::Random(RandomStream::new(ctx.seed, r as u64, d, 0)),
+            Sampling::Sobol => Stream::Sobol(Box::new(SobolStream::new(ctx.seed, r as u64, d, 0))),
+        };
+        let grid = shifted_grid(
+            &ctx.grid,
+            &ctx.center,
+            ctx.radius,
+            ctx.seed,
+            r as u64,
+            ctx.shift,
+        );
+        Replicate {
+            stream,
+            done: 0,
+            marks: Marks::new(grid, &ctx.est, &ctx.grid),
+        }
+    }
+}
 
 /// What a replicate's samples leave: its marks on the three grids and the extent of its
 /// tool points.

@@ -12,7 +12,7 @@
 //! The ground has no coordinates: its "link" index is [`GROUND`] and its points are world
 //! points.
 
-use crate::machines::linkage::{perp, rotate, Vec2};
+use crate::machines::linkage::planar::{perp, rotate, Vec2};
 use nalgebra::DVector;
 use std::collections::HashMap;
 
@@ -166,6 +166,15 @@ pub enum LinkageError {
         /// What is wrong.
         message: String,
     },
+}
+
+/// A link of [`Linkage::coordinates_from_points`] with no guessed point and no ground
+/// point, so nothing places it.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("link '{link}' has no guessed point")]
+pub struct NoGuessedPoint {
+    /// The link's name.
+    pub link: String,
 }
 
 fn invalid(what: impl Into<String>, message: impl Into<String>) -> LinkageError {
@@ -375,12 +384,12 @@ impl Linkage {
     /// Coordinates placing each link from world guesses of its points: the angle from the
     /// first two guessed points (measured against their link-frame direction), or
     /// `default_angle` with a single guessed point; ground points count as guessed.
-    /// Returns the name of a link with no guessed point as the error.
+    /// The error names the first link with no guessed point.
     pub fn coordinates_from_points(
         &self,
         guess: &HashMap<String, Vec2>,
         default_angle: &[f64],
-    ) -> Result<DVector<f64>, String> {
+    ) -> Result<DVector<f64>, NoGuessedPoint> {
         let mut q = DVector::zeros(self.ncoords());
         for (i, link) in self.links.iter().enumerate() {
             let known: Vec<(Vec2, Vec2)> = link
@@ -395,7 +404,9 @@ impl Linkage {
                 })
                 .collect();
             let Some(&(p0, w0)) = known.first() else {
-                return Err(link.name.clone());
+                return Err(NoGuessedPoint {
+                    link: link.name.clone(),
+                });
             };
             let theta = match known.iter().skip(1).find(|(p, _)| (p - p0).norm() > 1e-12) {
                 Some(&(p1, w1)) => {

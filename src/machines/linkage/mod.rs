@@ -40,7 +40,7 @@ pub mod velocity;
 pub mod virtual_power;
 pub use crate::core::least_squares::MinNormSolve;
 pub use crate::machines::linkage::description::{
-    Driver, Linkage, LinkageError, PlanarJoint, PlanarLink, Slider, GROUND,
+    Driver, Linkage, LinkageError, NoGuessedPoint, PlanarJoint, PlanarLink, Slider, GROUND,
 };
 
 pub use crate::machines::linkage::planar::{cross, perp, rotate, wrap_angle, Vec2};

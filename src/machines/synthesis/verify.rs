@@ -8,7 +8,7 @@ use crate::machines::linkage::catalog;
 use crate::machines::linkage::description::{Driver, Linkage, PlanarLink, Slider, GROUND};
 use crate::machines::linkage::fourbar;
 use crate::machines::linkage::position::NewtonOptions;
-use crate::machines::linkage::sweep::{dead_centres, sweep, Sweep, SweepOptions};
+use crate::machines::linkage::sweep::{dead_centres, sweep, Sweep, SweepOptions, TrackError};
 use crate::machines::linkage::{wrap_angle, Vec2};
 use crate::machines::synthesis::{time_ratio, FunctionMap};
 use std::collections::HashMap;
@@ -34,6 +34,40 @@ pub struct LimitCheck {
     pub max_pressure_at_deg: f64,
 }
 
+/// Why a synthesised mechanism could not be checked with the linkage solver.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SynthesisCheckError {
+    /// The full-turn sweep stopped before the crank came round.
+    #[error("the crank does not turn fully: {0}")]
+    CrankStops(TrackError),
+    /// The follower does not have exactly two dead centres over a turn.
+    #[error("expected two dead centres of {follower} over a turn, found {found}")]
+    DeadCentres {
+        /// The follower link.
+        follower: String,
+        /// How many were found.
+        found: usize,
+    },
+    /// No branch of the four-bar closes at the crank angle of the limit position.
+    #[error("the four-bar does not close at the limit position")]
+    OpenAtLimit,
+    /// No branch of the four-bar closes at the first end of the crank range.
+    #[error("the four-bar does not close at the first end of the range")]
+    OpenAtRangeStart,
+    /// A link of the slotted lever has no guessed point (the message is the link's name).
+    #[error("{0}")]
+    UnplacedLink(String),
+    /// The sweep could not start.
+    #[error(transparent)]
+    Sweep(#[from] TrackError),
+    /// The sweep stopped inside the crank range.
+    #[error("the four-bar does not cover the crank range: {0}")]
+    RangeNotCovered(TrackError),
+    /// The tracked branch does not reach a precision point's crank angle.
+    #[error("the generator does not reach a precision point")]
+    PrecisionPointMissed,
+}
+
 fn full_turn(assemble_at: f64) -> SweepOptions {
     SweepOptions {
         from: 0.0,
@@ -50,9 +84,9 @@ fn limits(
     sw: &Sweep,
     follower: &str,
     angle: bool,
-) -> Result<(LimitCheck, f64), String> {
+) -> Result<(LimitCheck, f64), SynthesisCheckError> {
     if let Some(e) = &sw.stopped {
-        return Err(format!("the crank does not turn fully: {e}"));
+        return Err(SynthesisCheckError::CrankStops(e.clone()));
     }
     let t = sw.tracker(l);
     let dc: Vec<_> = dead_centres(&t, &sw.samples)
@@ -71,10 +105,10 @@ fn limits(
         }
     }
     if uniq.len() != 2 {
-        return Err(format!(
-            "expected two dead centres of {follower} over a turn, found {}",
-            uniq.len()
-        ));
+        return Err(SynthesisCheckError::DeadCentres {
+            follower: follower.to_string(),
+            found: uniq.len(),
+        });
     }
     let delta = (uniq[1].0 - uniq[0].0).rem_euclid(TAU);
     let theta = (delta - PI).abs();
@@ -110,7 +144,7 @@ pub fn check_four_bar(
     (g, a, b, c): (f64, f64, f64, f64),
     phi0: f64,
     near: Vec2,
-) -> Result<LimitCheck, String> {
+) -> Result<LimitCheck, SynthesisCheckError> {
     let l = catalog::four_bar(g, a, b, c);
     let guess = [1.0, -1.0]
         .iter()
@@ -120,8 +154,8 @@ pub fn check_four_bar(
         })
         .min_by(|x, y| x.0.total_cmp(&y.0))
         .and_then(|(_, m)| catalog::four_bar_guess(&l, (g, a, b, c), phi0, m))
-        .ok_or("the four-bar does not close at the limit position")?;
-    let sw = sweep(&l, &guess, &full_turn(phi0)).map_err(|e| e.to_string())?;
+        .ok_or(SynthesisCheckError::OpenAtLimit)?;
+    let sw = sweep(&l, &guess, &full_turn(phi0))?;
     let (mut chk, _) = limits(&l, &sw, "DC", true)?;
     let d = Vec2::new(g, 0.0);
     for st in &sw.samples {
@@ -137,11 +171,11 @@ pub fn check_four_bar(
 }
 
 /// A slider-crank (catalog frame: crank pivot at the origin, slide line `y = e`).
-pub fn check_slider_crank(r: f64, l: f64, e: f64) -> Result<LimitCheck, String> {
+pub fn check_slider_crank(r: f64, l: f64, e: f64) -> Result<LimitCheck, SynthesisCheckError> {
     let lk = catalog::slider_crank(r, l, e);
     let s0 = 45f64.to_radians();
     let guess = catalog::slider_crank_guess(&lk, r, l, e, s0, 1.0);
-    let sw = sweep(&lk, &guess, &full_turn(s0)).map_err(|e| e.to_string())?;
+    let sw = sweep(&lk, &guess, &full_turn(s0))?;
     let (mut chk, _) = limits(&lk, &sw, "slider", false)?;
     for st in &sw.samples {
         let rod = st.q[3 + 2];
@@ -156,7 +190,7 @@ pub fn check_slider_crank(r: f64, l: f64, e: f64) -> Result<LimitCheck, String> 
 
 /// A crank (pivot `(0, d)`, length `r`) whose pin slides in a lever pivoted at the origin
 /// (length `lever`): the lever's swing and the time ratio.
-pub fn check_slotted_lever(d: f64, r: f64, lever: f64) -> Result<LimitCheck, String> {
+pub fn check_slotted_lever(d: f64, r: f64, lever: f64) -> Result<LimitCheck, SynthesisCheckError> {
     let l = Linkage::with_shared_pins(
         "crank and slotted lever",
         vec![
@@ -188,8 +222,10 @@ pub fn check_slotted_lever(d: f64, r: f64, lever: f64) -> Result<LimitCheck, Str
     ]
     .into_iter()
     .collect();
-    let guess = l.coordinates_from_points(&pts, &[])?;
-    let sw = sweep(&l, &guess, &full_turn(0.0)).map_err(|e| e.to_string())?;
+    let guess = l
+        .coordinates_from_points(&pts, &[])
+        .map_err(|e| SynthesisCheckError::UnplacedLink(e.link))?;
+    let sw = sweep(&l, &guess, &full_turn(0.0))?;
     Ok(limits(&l, &sw, "lever", true)?.0)
 }
 
@@ -210,7 +246,7 @@ impl RockerTrack {
         phi: [f64; 2],
         psi0: f64,
         samples: usize,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, SynthesisCheckError> {
         let phi_off = if a < 0.0 { PI } else { 0.0 };
         let psi_off = if c < 0.0 { PI } else { 0.0 };
         let (aa, cc) = (a.abs(), c.abs());
@@ -226,7 +262,7 @@ impl RockerTrack {
             })
             .min_by(|x, y| x.0.total_cmp(&y.0))
             .and_then(|(_, m)| catalog::four_bar_guess(&l, (d, aa, b, cc), phi0, m))
-            .ok_or("the four-bar does not close at the first end of the range")?;
+            .ok_or(SynthesisCheckError::OpenAtRangeStart)?;
         let span = phi[1] - phi[0];
         let opts = SweepOptions {
             from: phi0,
@@ -235,9 +271,9 @@ impl RockerTrack {
             assemble_at: phi0,
             newton: NewtonOptions::default(),
         };
-        let sw = sweep(&l, &guess, &opts).map_err(|e| e.to_string())?;
+        let sw = sweep(&l, &guess, &opts)?;
         if let Some(e) = &sw.stopped {
-            return Err(format!("the four-bar does not cover the crank range: {e}"));
+            return Err(SynthesisCheckError::RangeNotCovered(e.clone()));
         }
         Ok(Self {
             linkage: l,
@@ -290,7 +326,7 @@ pub fn structural_error(
     map: &FunctionMap,
     precision_x: &[f64],
     samples: usize,
-) -> Result<StructuralError, String> {
+) -> Result<StructuralError, SynthesisCheckError> {
     let track = RockerTrack::new(dims, map.phi, map.psi[0], samples)?;
     let mut out = StructuralError {
         max_angle_error_deg: 0.0,
@@ -314,7 +350,7 @@ pub fn structural_error(
     for &x in precision_x {
         let psi = track
             .psi_at(map.phi_of(x))
-            .ok_or("the generator does not reach a precision point")?;
+            .ok_or(SynthesisCheckError::PrecisionPointMissed)?;
         out.at_precision_points_deg
             .push(wrap_angle(psi - map.psi_of(x)).abs().to_degrees());
     }

@@ -5,7 +5,7 @@
 use crate::dynamics::{inverse_dynamics, Effects};
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::motion::Path;
+use crate::motion::motion_traits::Path;
 
 /// Dense-check results: per interval and joint, the largest excess over each limit, and
 /// the largest ratio of each kind (velocity, acceleration, torque).
@@ -131,7 +131,7 @@ impl Checker {
         model: &Model,
         effects: &Effects,
         path: &P,
-        limits: &crate::motion::JointLimits,
+        limits: &crate::motion::joint_limits::JointLimits,
         s: &[f64],
         b: &[f64],
         a: &[f64],
@@ -200,7 +200,7 @@ impl Checker {
         model: &Model,
         effects: &Effects,
         path: &P,
-        limits: &crate::motion::JointLimits,
+        limits: &crate::motion::joint_limits::JointLimits,
         iv: Interval,
         (first, kinds): (usize, usize),
         vals: &mut [f64],

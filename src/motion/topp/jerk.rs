@@ -34,28 +34,11 @@
 use crate::dynamics::{inverse_dynamics, Effects};
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::motion::topp::{Path, ToppOptions, ToppTrajectory, TrajectoryError};
-use crate::motion::JointLimits;
-
-/// The moving-average window and slow-down applied to a time-optimal profile.
-#[derive(Clone, Debug)]
-pub(super) struct Smoothing {
-    /// Window `w` (s, in the time of the unscaled optimum).
-    pub(super) w: f64,
-    /// Uniform slow-down `k ≥ 1`.
-    pub(super) k: f64,
-    /// Duration `T` of the unsmoothed optimum.
-    t_opt: f64,
-    /// `S(t_i) = ∫_0^{t_i} s dt` at the knots.
-    big_s: Vec<f64>,
-}
-
-impl Smoothing {
-    /// Duration of the smoothed motion before the slow-down, `T + w`.
-    pub(super) fn span(&self) -> f64 {
-        self.t_opt + self.w
-    }
-}
+use crate::motion::joint_limits::JointLimits;
+use crate::motion::motion_traits::Path;
+use crate::motion::topp::topp_options::ToppOptions;
+use crate::motion::topp::topp_trajectory::{Smoothing, ToppTrajectory};
+use crate::motion::trajectory_error::TrajectoryError;
 
 /// Windows scanned (log-spaced, as fractions of the duration) before the refinement.
 const SCAN: usize = 12;
@@ -63,61 +46,6 @@ const SCAN: usize = 12;
 const GOLDEN_STEPS: usize = 14;
 /// Rounds of raising `k` after a failed final check.
 const MAX_RAISE: usize = 30;
-
-impl<P> ToppTrajectory<P> {
-    /// `(s, ṡ, s̈)` of the unsmoothed optimum at time `u` (rest outside `[0, T]`).
-    fn base(&self, u: f64) -> [f64; 3] {
-        let end = *self.t.last().expect("non-empty");
-        if u <= 0.0 {
-            return [self.s[0], 0.0, 0.0];
-        }
-        if u >= end {
-            return [*self.s.last().expect("non-empty"), 0.0, 0.0];
-        }
-        let (i, tau) = crate::motion::locate(&self.t, u);
-        let sd0 = self.b[i].sqrt();
-        let a = self.a[i];
-        let s = (self.s[i] + sd0 * tau + 0.5 * a * tau * tau).clamp(self.s[i], self.s[i + 1]);
-        [s, (sd0 + a * tau).max(0.0), a]
-    }
-
-    /// `∫_0^u s dt` of the unsmoothed optimum.
-    fn integral(&self, big_s: &[f64], u: f64) -> f64 {
-        let end = *self.t.last().expect("non-empty");
-        if u <= 0.0 {
-            return 0.0;
-        }
-        if u >= end {
-            return big_s[big_s.len() - 1] + (u - end) * self.s[self.s.len() - 1];
-        }
-        let (i, tau) = crate::motion::locate(&self.t, u);
-        let sd0 = self.b[i].sqrt();
-        big_s[i] + tau * (self.s[i] + tau * (0.5 * sd0 + tau * self.a[i] / 6.0))
-    }
-
-    /// `(σ, σ̇, σ̈, σ⃛)` of the smoothed (unscaled) time law at `u`.
-    pub(super) fn smoothed(&self, sm: &Smoothing, u: f64) -> [f64; 4] {
-        let w = sm.w;
-        let (x1, x0) = (self.base(u), self.base(u - w));
-        let sigma = (self.integral(&sm.big_s, u) - self.integral(&sm.big_s, u - w)) / w;
-        [
-            sigma.clamp(0.0, 1.0),
-            ((x1[0] - x0[0]) / w).max(0.0),
-            (x1[1] - x0[1]) / w,
-            (x1[2] - x0[2]) / w,
-        ]
-    }
-
-    fn knot_integrals(&self) -> Vec<f64> {
-        let mut big_s = vec![0.0; self.t.len()];
-        for i in 0..self.a.len() {
-            let h = self.t[i + 1] - self.t[i];
-            let sd0 = self.b[i].sqrt();
-            big_s[i + 1] = big_s[i] + h * (self.s[i] + h * (0.5 * sd0 + h * self.a[i] / 6.0));
-        }
-        big_s
-    }
-}
 
 /// Buffers of the dense check of a smoothed motion.
 struct Eval {

@@ -62,22 +62,31 @@
 //! for the discretised problem. With joint elasticity the inverse dynamics gives the
 //! transmitted (link-side) torque; that is what is limited.
 //!
-//! Jerk ([`crate::motion::JointLimits::jerk`], `jerk.rs`): the optimum above has a piecewise
+//! Jerk ([`crate::motion::joint_limits::JointLimits::jerk`], `jerk.rs`): the optimum above has a piecewise
 //! constant `s̈`, hence unbounded jerk at the knots; with a jerk limit the motion is then
 //! smoothed and slowed down until a dense check of `q⃛` passes (see `jerk.rs`).
 
 mod check;
+mod discretised;
 mod jerk;
 mod lp2;
 mod reachability;
 mod socp;
+mod topp_options;
+mod topp_trajectory;
+
+pub use crate::motion::topp::topp_options::{ToppMethod, ToppOptions, ToppStats};
+pub use crate::motion::topp::topp_trajectory::ToppTrajectory;
+
 use crate::dynamics::{inverse_dynamics, Effects};
 use crate::model::data::Data;
 use crate::model::Model;
+use crate::motion::motion_traits::Path;
 use crate::motion::topp::check::{CheckReport, Checker};
+use crate::motion::topp::discretised::{Grid, Problem};
 use crate::motion::topp::reachability::Reach;
 use crate::motion::topp::socp::{solve_socp, Layout};
-use crate::motion::{Path, Trajectory, TrajectoryError};
+use crate::motion::trajectory_error::TrajectoryError;
 use std::time::Instant;
 
 /// Friction fixed-point rounds allowed (besides the refinements).
@@ -85,151 +94,6 @@ const MAX_FRICTION_ROUNDS: usize = 20;
 /// The friction estimate has converged when no joint's moved by more than this fraction
 /// of its effort limit.
 const FRICTION_TOL: f64 = 1e-4;
-
-/// Which solver [`topp`] uses for the discretised problem (the same problem either way).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ToppMethod {
-    /// TOPP-RA: controllable sets backward, greedy forward, two-variable LPs.
-    #[default]
-    Reachability,
-    /// The second-order-cone program, solved by clarabel.
-    Conic,
-}
-
-/// Options of [`topp`].
-#[derive(Clone, Debug)]
-pub struct ToppOptions {
-    /// Grid intervals `N` along `s`.
-    pub segments: usize,
-    /// Dense check points per interval (besides its two ends).
-    pub check_points: usize,
-    /// Refinement rounds (re-solves that tighten a limit) allowed after the first solve
-    /// (default 30: a reachability re-solve costs well under a millisecond, and its
-    /// bang–bang optima may move an excess between neighbouring intervals for a few more
-    /// rounds than the conic solver's).
-    pub max_refinements: usize,
-    /// Accepted relative excess in the dense check (`|x| ≤ (1 + tol) limit`).
-    pub tolerance: f64,
-    /// Extra relative tightening added to each excess found.
-    pub margin: f64,
-    /// Grid grading `β ∈ [0, 1)`: `s_i = φ(i/N)` with `φ(u) = u − β sin(2πu)/(2π)`, so
-    /// intervals at the ends are `1 − β` times the uniform `1/N` (paths that start and
-    /// end at rest, like the minimum-jerk spline, have `q' → 0` there and need the
-    /// resolution); 0 gives a uniform grid.
-    pub end_refinement: f64,
-    /// Solver of the discretised problem.
-    pub method: ToppMethod,
-}
-
-impl Default for ToppOptions {
-    fn default() -> Self {
-        ToppOptions {
-            segments: 400,
-            check_points: 8,
-            max_refinements: 30,
-            tolerance: 1e-9,
-            margin: 1e-8,
-            end_refinement: 0.75,
-            method: ToppMethod::default(),
-        }
-    }
-}
-
-/// Figures of a TOPP solve.
-#[derive(Clone, Debug, Default, serde::Serialize)]
-pub struct ToppStats {
-    /// Duration of the motion (s), jerk smoothing included.
-    pub duration: f64,
-    /// Duration of the time-optimal motion without the jerk limit (s).
-    pub optimal_duration: f64,
-    /// Grid intervals.
-    pub segments: usize,
-    /// Solver used.
-    pub method: ToppMethod,
-    /// Solves of the discretised problem (1 + refinements + friction rounds).
-    pub solves: usize,
-    /// Interior-point iterations over all solves (conic), or two-variable LPs solved
-    /// (reachability).
-    pub solver_iterations: u32,
-    /// Time inside the solver over all solves (s).
-    pub solve_time_s: f64,
-    /// Wall time of the whole [`topp`] call (s).
-    pub wall_time_s: f64,
-    /// Largest `|q̇_j| / v_j` on the dense check grid.
-    pub max_velocity_ratio: f64,
-    /// Largest `|q̈_j| / a_j` on the dense check grid.
-    pub max_acceleration_ratio: f64,
-    /// Largest `|τ_j| / τ_max,j` on the dense check grid (0 without torque limits).
-    pub max_torque_ratio: f64,
-    /// Largest `|q⃛_j| / j_j` on the dense check grid (0 without jerk limits).
-    pub max_jerk_ratio: f64,
-    /// Jerk smoothing: the window of the moving average of `s(t)` (s; 0 without).
-    pub jerk_window_s: f64,
-    /// Jerk smoothing: the uniform slow-down factor applied after it (1 without).
-    pub jerk_slowdown: f64,
-}
-
-/// A time-optimal motion along a path: the path, the grid `s_i`, `b_i = ṡ_i²`, `a_i = s̈`
-/// on each interval, and the knot times `t_i`; with a jerk limit, the smoothing of
-/// `s(t)` applied on top (see `jerk.rs`).
-#[derive(Clone, Debug)]
-pub struct ToppTrajectory<P> {
-    path: P,
-    n: usize,
-    s: Vec<f64>,
-    b: Vec<f64>,
-    a: Vec<f64>,
-    t: Vec<f64>,
-    smooth: Option<jerk::Smoothing>,
-    stats: ToppStats,
-}
-
-impl<P> ToppTrajectory<P> {
-    /// The path.
-    pub fn path(&self) -> &P {
-        &self.path
-    }
-
-    /// Solve figures.
-    pub fn stats(&self) -> &ToppStats {
-        &self.stats
-    }
-
-    /// Grid `s_i`, path speeds `ṡ_i`, and times `t_i` at the knots of the time-optimal
-    /// profile (before any jerk smoothing).
-    pub fn profile(&self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-        (
-            self.s.clone(),
-            self.b.iter().map(|b| b.sqrt()).collect(),
-            self.t.clone(),
-        )
-    }
-}
-
-/// Path and dynamics at the grid points.
-struct Grid {
-    dq: Vec<f64>,
-    ddq: Vec<f64>,
-    m: Vec<f64>,
-    c: Vec<f64>,
-    g: Vec<f64>,
-}
-
-/// One discretised problem: the grid, the limits less their tightening (per knot for
-/// velocity, per interval for acceleration and torque), the friction estimate per knot.
-#[derive(Clone, Copy)]
-struct Problem<'a> {
-    grid: &'a Grid,
-    s: &'a [f64],
-    ds: &'a [f64],
-    limits: &'a crate::motion::JointLimits,
-    torque_on: &'a [bool],
-    tight_v: &'a [f64],
-    tight_a: &'a [f64],
-    tight_t: &'a [f64],
-    fric: &'a [f64],
-}
 
 /// The solver of the discretised problem with its buffers.
 enum Solver {
@@ -280,7 +144,7 @@ impl Solver {
 pub fn topp<P: Path>(
     model: &Model,
     path: P,
-    limits: &crate::motion::JointLimits,
+    limits: &crate::motion::joint_limits::JointLimits,
     effects: &Effects,
     opts: &ToppOptions,
 ) -> Result<ToppTrajectory<P>, TrajectoryError> {
@@ -294,7 +158,9 @@ pub fn topp<P: Path>(
         )));
     }
     limits.validate(&names)?;
-    effects.validate(model).map_err(TrajectoryError::Invalid)?;
+    effects
+        .validate(model)
+        .map_err(|e| TrajectoryError::Invalid(e.to_string()))?;
     if opts.segments < 2 || opts.check_points == 0 || !(0.0..1.0).contains(&opts.end_refinement) {
         return Err(TrajectoryError::Invalid(
             "TOPP: need at least 2 segments, 1 check point and end_refinement in [0, 1)".into(),
@@ -351,7 +217,7 @@ pub fn topp<P: Path>(
 struct Setup<'a> {
     model: &'a Model,
     effects: &'a Effects,
-    limits: &'a crate::motion::JointLimits,
+    limits: &'a crate::motion::joint_limits::JointLimits,
     opts: &'a ToppOptions,
     grid: &'a Grid,
     s: &'a [f64],
@@ -518,7 +384,7 @@ fn sample_grid<P: Path>(model: &Model, path: &P, s: &[f64], rigid: Option<&Effec
 fn check_static_ends(
     grid: &Grid,
     nn: usize,
-    limits: &crate::motion::JointLimits,
+    limits: &crate::motion::joint_limits::JointLimits,
     torque_on: &[bool],
     names: &[String],
 ) -> Result<(), TrajectoryError> {
@@ -560,7 +426,7 @@ fn update_friction(
     fr: &crate::dynamics::Friction,
     grid: &Grid,
     b: &[f64],
-    limits: &crate::motion::JointLimits,
+    limits: &crate::motion::joint_limits::JointLimits,
     torque_on: &[bool],
     fric: &mut [f64],
 ) -> bool {
@@ -583,7 +449,7 @@ fn update_friction(
 /// torque on it. Whether anything was tightened.
 fn tighten(
     report: &CheckReport,
-    limits: &crate::motion::JointLimits,
+    limits: &crate::motion::joint_limits::JointLimits,
     torque_on: &[bool],
     margin: f64,
     torque_too: bool,
@@ -614,102 +480,6 @@ fn tighten(
         }
     }
     any
-}
-
-impl<P: Path> ToppTrajectory<P> {
-    /// `q`, `q̇`, `q̈` and the jerk `q⃛` at `t`. Without a jerk limit the time-optimal
-    /// motion's `s̈` jumps at the knots: the jerk given there is the one inside the
-    /// interval holding `t` (`3 q'' ṡ s̈ + q''' ṡ³`), excluding the jumps.
-    pub fn sample_jerk(
-        &self,
-        t: f64,
-        q: &mut [f64],
-        qd: &mut [f64],
-        qdd: &mut [f64],
-        qddd: &mut [f64],
-    ) {
-        let [sg, sd, sdd, sddd] = match &self.smooth {
-            Some(sm) => {
-                let [sg, sd, sdd, sddd] = self.smoothed(sm, (t / sm.k).clamp(0.0, sm.span()));
-                let k = sm.k;
-                [sg, sd / k, sdd / (k * k), sddd / (k * k * k)]
-            }
-            None => {
-                let end = *self.t.last().unwrap_or(&0.0);
-                if t <= 0.0 || t >= end {
-                    let s = if t <= 0.0 {
-                        self.s[0]
-                    } else {
-                        self.s[self.s.len() - 1]
-                    };
-                    [s, 0.0, 0.0, 0.0]
-                } else {
-                    let (i, tau) = crate::motion::locate(&self.t, t);
-                    let sd0 = self.b[i].sqrt();
-                    let a = self.a[i];
-                    let s = self.s[i] + sd0 * tau + 0.5 * a * tau * tau;
-                    [
-                        s.clamp(self.s[i], self.s[i + 1]),
-                        (sd0 + a * tau).max(0.0),
-                        a,
-                        0.0,
-                    ]
-                }
-            }
-        };
-        self.path.eval3(sg, q, qd, qdd, qddd);
-        for j in 0..self.n {
-            let (d1, d2, d3) = (qd[j], qdd[j], qddd[j]);
-            qd[j] = d1 * sd;
-            qdd[j] = d1 * sdd + d2 * sd * sd;
-            qddd[j] = d1 * sddd + 3.0 * d2 * sd * sdd + d3 * sd * sd * sd;
-        }
-    }
-}
-
-impl<P: Path> Trajectory for ToppTrajectory<P> {
-    fn dof(&self) -> usize {
-        self.n
-    }
-
-    fn duration(&self) -> f64 {
-        match &self.smooth {
-            Some(sm) => sm.k * sm.span(),
-            None => *self.t.last().unwrap(),
-        }
-    }
-
-    fn sample(&self, t: f64, q: &mut [f64], qd: &mut [f64], qdd: &mut [f64]) {
-        if let Some(sm) = &self.smooth {
-            let [sg, sd, sdd, _] = self.smoothed(sm, (t / sm.k).clamp(0.0, sm.span()));
-            self.path.eval(sg, q, qd, qdd);
-            let (v, a) = (sd / sm.k, sdd / (sm.k * sm.k));
-            for j in 0..self.n {
-                qdd[j] = qd[j] * a + qdd[j] * v * v;
-                qd[j] *= v;
-            }
-            return;
-        }
-        let end = *self.t.last().unwrap_or(&0.0);
-        if t < 0.0 || t > end {
-            // Held at an end point, at rest (the last interval's deceleration `q' s̈` is
-            // one-sided: it must not persist after the end).
-            self.sample(t.clamp(0.0, end), q, qd, qdd);
-            qd.fill(0.0);
-            qdd.fill(0.0);
-            return;
-        }
-        let (i, tau) = crate::motion::locate(&self.t, t);
-        let sd0 = self.b[i].sqrt();
-        let a = self.a[i];
-        let s = (self.s[i] + sd0 * tau + 0.5 * a * tau * tau).clamp(self.s[i], self.s[i + 1]);
-        let sd = (sd0 + a * tau).max(0.0);
-        self.path.eval(s, q, qd, qdd);
-        for j in 0..self.n {
-            qdd[j] = qd[j] * a + qdd[j] * sd * sd;
-            qd[j] *= sd;
-        }
-    }
 }
 
 /// The straight joint-space line `q(s) = q₀ + s (q₁ − q₀)`.

@@ -47,9 +47,9 @@
 //! in one solve on the test paths; after the check-and-repair loop, by 1.5e-5 to 1.2e-4
 //! on the main job's three pieces (8e-5 of their total).
 
+use crate::motion::topp::discretised::Problem;
 use crate::motion::topp::lp2::{maximize, HalfPlane};
-use crate::motion::topp::Problem;
-use crate::motion::TrajectoryError;
+use crate::motion::trajectory_error::TrajectoryError;
 
 /// Largest `b` when no velocity limit bounds a stage (the path is at rest in `s` there).
 const B_CAP: f64 = 1e12;

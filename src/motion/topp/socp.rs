@@ -3,8 +3,9 @@
 //! ends, velocity, acceleration and torque limits less their tightening, the time
 //! epigraph), and the call to clarabel.
 
-use crate::motion::topp::{Problem, ToppStats};
-use crate::motion::TrajectoryError;
+use crate::motion::topp::discretised::Problem;
+use crate::motion::topp::topp_options::ToppStats;
+use crate::motion::trajectory_error::TrajectoryError;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT, SolverStatus,

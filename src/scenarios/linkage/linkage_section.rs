@@ -466,11 +466,11 @@ fn parse_guess(
         guess.insert(n.clone(), Vec2::new(p.get_ref()[0], p.get_ref()[1]));
     }
     let guess_line = text_line_of_table(cx.text, "guess").unwrap_or(link_lines[0]);
-    let q0 = linkage.coordinates_from_points(&guess, &[]).map_err(|l| {
+    let q0 = linkage.coordinates_from_points(&guess, &[]).map_err(|e| {
         cx.err(
             guess_line,
             "guess",
-            format!("link '{l}' has no point in [guess] or on the ground"),
+            format!("link '{}' has no point in [guess] or on the ground", e.link),
         )
     })?;
     Ok(q0)

@@ -116,7 +116,8 @@ pub fn effect_sets(m: &Model) -> Result<Vec<(&'static str, String, Effects)>, St
         m,
         tool,
         Inertia::new(3.0, Vec3::new(0.0, 0.0, 0.08), Mat3::identity() * 5e-3),
-    )?;
+    )
+    .map_err(|e| e.to_string())?;
     let wrench = vec![ExternalWrench {
         link: tool,
         force: Vec3::new(0.0, 0.0, -20.0),

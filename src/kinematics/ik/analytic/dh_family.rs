@@ -28,7 +28,7 @@
 //! Stanford arm's differs by sign conventions only).
 
 use crate::core::spatial::{column, Mat3, Se3, Vec3};
-use crate::kinematics::ik::analytic::IkError;
+use crate::kinematics::ik::analytic::ik_error::IkError;
 use crate::kinematics::{forward_kinematics, frame_placement};
 use crate::model::data::Data;
 use crate::model::Model;

@@ -13,10 +13,12 @@
 //! `θ2 = atan2(±√(1 − cos² θ2), cos θ2)`, `θ1 = atan2(y, x) − atan2(a2 s2, a1 + a2 c2)`.
 
 use crate::core::spatial::{Se3, Vec3};
-use crate::kinematics::ik::analytic::{
-    fixed, is_quarter, shoulder_roots, twist_sign, Branch, DhChain, DhRow, IkError, RawSolution,
-    Singularity, Sink, Unreachable, FREE_TOL, PLANE_TOL, REACH_TOL, SINGULAR_TOL,
+use crate::kinematics::ik::analytic::branches::{
+    fixed, is_quarter, shoulder_roots, twist_sign, Branch, RawSolution, Singularity, Sink,
+    FREE_TOL, PLANE_TOL, REACH_TOL, SINGULAR_TOL,
 };
+use crate::kinematics::ik::analytic::dh_family::{DhChain, DhRow};
+use crate::kinematics::ik::analytic::ik_error::{IkError, Unreachable};
 use crate::model::Model;
 
 /// Parameters of a spherical R-R-P arm.

@@ -21,11 +21,13 @@
 //! ill-conditioned, `θ4` absorbs its error and the pose stays exact.
 
 use crate::core::spatial::{rot_z, Se3, Vec3};
-use crate::kinematics::ik::analytic::dh_family::{dh_transform_sc, exact_sin_cos};
-use crate::kinematics::ik::analytic::{
-    fixed, is_quarter, shoulder_roots, twist_sign, Branch, DhChain, DhRow, IkError, RawSolution,
-    Singularity, Sink, Unreachable, FREE_TOL, REACH_TOL, SINGULAR_TOL,
+use crate::kinematics::ik::analytic::branches::{
+    fixed, is_quarter, shoulder_roots, twist_sign, Branch, RawSolution, Singularity, Sink,
+    FREE_TOL, REACH_TOL, SINGULAR_TOL,
 };
+use crate::kinematics::ik::analytic::dh_family::{dh_transform_sc, exact_sin_cos};
+use crate::kinematics::ik::analytic::dh_family::{DhChain, DhRow};
+use crate::kinematics::ik::analytic::ik_error::{IkError, Unreachable};
 use crate::model::Model;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 

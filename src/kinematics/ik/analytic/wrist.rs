@@ -20,11 +20,13 @@
 //! error of `θ6` and the orientation stays exact.
 
 use crate::core::spatial::{Mat3, Se3, Vec3};
-use crate::kinematics::ik::analytic::dh_family::{dh_transform, dh_transform_sc, exact_sin_cos};
-use crate::kinematics::ik::analytic::{
-    fixed, is_quarter, shoulder_roots, twist_sign, Branch, DhChain, DhRow, IkError, RawSolution,
-    Singularity, Sink, Unreachable, FREE_TOL, REACH_TOL, SINGULAR_TOL,
+use crate::kinematics::ik::analytic::branches::{
+    fixed, is_quarter, shoulder_roots, twist_sign, Branch, RawSolution, Singularity, Sink,
+    FREE_TOL, REACH_TOL, SINGULAR_TOL,
 };
+use crate::kinematics::ik::analytic::dh_family::{dh_transform, dh_transform_sc, exact_sin_cos};
+use crate::kinematics::ik::analytic::dh_family::{DhChain, DhRow};
+use crate::kinematics::ik::analytic::ik_error::{IkError, Unreachable};
 use crate::model::Model;
 use std::f64::consts::{FRAC_PI_2, PI};
 

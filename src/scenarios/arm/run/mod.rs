@@ -51,7 +51,7 @@ fn effects_with_mass(scene: &Scene, mass: f64) -> Result<Effects, String> {
     let mut fx = scene.effects.clone();
     if let Some((link, inertia)) = scene.payload_inertia {
         let i = Inertia::new(mass, inertia.com, inertia.inertia_com);
-        fx.payload = Some(Payload::new(&scene.model, link, i)?);
+        fx.payload = Some(Payload::new(&scene.model, link, i).map_err(|e| e.to_string())?);
     }
     Ok(fx)
 }

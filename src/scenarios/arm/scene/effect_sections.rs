@@ -101,7 +101,7 @@ pub(super) fn build(sx: &Sections, named: &[&'static str]) -> Result<Built, Scen
     let model = sx.model;
     effects
         .validate(model)
-        .map_err(|e| cx.at(file.effects.span(), "effects", e))?;
+        .map_err(|e| cx.at(file.effects.span(), "effects", e.to_string()))?;
     Ok((effects, payload_masses, payload_inertia, transmissions))
 }
 
@@ -369,8 +369,8 @@ fn payload(
         let com = Vec3::new(s.com[0], s.com[1], s.com[2]);
         let mass = *payload_masses.last().expect("non-empty");
         let inertia = Inertia::new(mass, com, inertia_com);
-        let p =
-            Payload::new(model, link, inertia).map_err(|e| cx.at(sec.span(), "payload.link", e))?;
+        let p = Payload::new(model, link, inertia)
+            .map_err(|e| cx.at(sec.span(), "payload.link", e.to_string()))?;
         effects.payload = Some(p);
         Ok((payload_masses, Some((link, inertia))))
     }
