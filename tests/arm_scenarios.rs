@@ -834,6 +834,36 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "model.base_xyz",
         "invalid length 2",
     ),
+    (
+        "arm_obstacle_too_large.toml",
+        7,
+        "obstacles[0] (wall)",
+        "box size[0] of 1e308 m is larger than the 1e9 m accepted for collision geometry",
+    ),
+    (
+        "arm_acceleration_too_large.toml",
+        9,
+        "limits.acceleration",
+        "joint shoulder_pan_joint: at most 1000 rad/s²",
+    ),
+    (
+        "arm_overshoot_out_of_range.toml",
+        8,
+        "planner.max_overshoot",
+        "must lie in 0.0001 … 0.1 m, got 1e-300",
+    ),
+    (
+        "arm_time_limit_too_large.toml",
+        8,
+        "planner.time_limit_ms",
+        "at most 1e9 ms, got 1e308",
+    ),
+    (
+        "arm_pusher_offset_nan.toml",
+        7,
+        "contact.pusher_offset",
+        "must be finite",
+    ),
 ];
 
 #[test]

@@ -167,6 +167,13 @@ impl ObstacleSpec {
         if self.xyz.iter().chain(&self.rpy).any(|x| !x.is_finite()) {
             return Err(err("non-finite xyz or rpy".to_string()));
         }
+        let max = crate::collision::shape::MAX_COORD;
+        if self.xyz.iter().any(|x| x.abs() > max) {
+            return Err(err(format!(
+                "xyz {:?} lies beyond the {max:e} m accepted for collision geometry",
+                self.xyz
+            )));
+        }
         let shape = match self.shape {
             ObstacleShape::Box => Shape::Box {
                 size: self.size.unwrap_or_default(),

@@ -116,7 +116,13 @@ impl std::fmt::Debug for CollisionShape {
 }
 
 fn positive(x: f64, what: &str) -> Result<f64, ShapeError> {
-    if x.is_finite() && x > 0.0 {
+    if x.is_finite() && x > MAX_COORD {
+        Err(ShapeError::TooLarge {
+            what: what.to_string(),
+            value: x,
+            max: MAX_COORD,
+        })
+    } else if x.is_finite() && x > 0.0 {
         Ok(x)
     } else {
         Err(ShapeError::NotPositive {
@@ -164,7 +170,7 @@ impl CollisionShape {
             }
             Shape::Capsule { radius, length } => {
                 let r = positive(*radius, "capsule radius")?;
-                if !(length.is_finite() && *length >= 0.0) {
+                if !(length.is_finite() && *length >= 0.0 && *length <= MAX_COORD) {
                     return Err(ShapeError::CapsuleLength(*length));
                 }
                 let h = length / 2.0;

@@ -12,8 +12,18 @@ pub enum ShapeError {
         /// The value given.
         value: f64,
     },
+    /// A dimension beyond [`crate::collision::shape::MAX_COORD`].
+    #[error("{what} of {value:e} m is larger than the {max:e} m accepted for collision geometry")]
+    TooLarge {
+        /// The dimension.
+        what: String,
+        /// The value given.
+        value: f64,
+        /// The limit.
+        max: f64,
+    },
     /// A capsule length that is negative or not finite.
-    #[error("capsule length must be finite and >= 0, got {0}")]
+    #[error("capsule length must be finite, >= 0 and at most 1e9 m, got {0}")]
     CapsuleLength(f64),
     /// A mesh given where a primitive was expected.
     #[error("a mesh needs its file loaded")]

@@ -1,9 +1,11 @@
 //! The scene around the arm: the `[[obstacles]]` (moved into the robot's base frame),
 //! the `[collision]` settings and the `[contact]` scene (table, box, pusher).
 
+use crate::collision::CollisionShape;
 use crate::collision::{CollisionOptions, ObstacleSpec};
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::core::spatial::Se3;
+use crate::model::Shape;
 use crate::scenarios::arm::scene::arm_scene::ContactScene;
 use crate::scenarios::arm::scene::model::link_by_name;
 use crate::scenarios::arm::scene::section_reader::{finite_pos, get_f, Sections};
@@ -18,8 +20,14 @@ pub(super) fn obstacles(sx: &Sections) -> Result<Vec<ObstacleSpec>, ScenarioErro
     for (i, o) in file.obstacles.iter().enumerate() {
         let spec = o.get_ref();
         let key = format!("obstacles[{i}] ({})", spec.name);
-        spec.to_obstacle()
+        let obstacle = spec
+            .to_obstacle()
             .map_err(|e| cx.at(o.span(), &key, e.to_string()))?;
+        // Primitive dimensions are checked here, with the line (meshes when loaded).
+        if !matches!(obstacle.shape, Shape::Mesh { .. }) {
+            CollisionShape::primitive(&obstacle.shape)
+                .map_err(|e| cx.at(o.span(), &key, e.to_string()))?;
+        }
         if model.link_id(&spec.name).is_some() {
             return Err(cx.at(o.span(), &key, "an obstacle may not share a link's name"));
         }

@@ -2,7 +2,7 @@
 //! line, pick and place, a planned move, a sequence), poses moved into the robot's base
 //! frame; the grasped part; and the `[planner]` settings when the task plans.
 
-use crate::core::diag::LocatedError as ScenarioError;
+use crate::core::diag::{fmt_num, LocatedError as ScenarioError};
 use crate::model::Model;
 use crate::planning::plan_options::MAX_TIME_LIMIT_MS;
 use crate::planning::spheres::OVERSHOOT_RANGE;
@@ -269,7 +269,10 @@ pub(super) fn planner_settings(
         None => 1000.0,
         Some(t) if finite_pos(*t.get_ref()) && *t.get_ref() <= MAX_TIME_LIMIT_MS => *t.get_ref(),
         Some(t) => {
-            let msg = format!("must be positive and at most {MAX_TIME_LIMIT_MS:e} ms");
+            let msg = format!(
+                "must be positive and at most {MAX_TIME_LIMIT_MS:e} ms, got {}",
+                fmt_num(*t.get_ref())
+            );
             return Err(cx.at(t.span(), "planner.time_limit_ms", msg));
         }
     };
@@ -278,7 +281,7 @@ pub(super) fn planner_settings(
         None => 0.01,
         Some(t) if (lo..=hi).contains(t.get_ref()) => *t.get_ref(),
         Some(t) => {
-            let msg = format!("must lie in {lo} … {hi} m, got {}", t.get_ref());
+            let msg = format!("must lie in {lo} … {hi} m, got {}", fmt_num(*t.get_ref()));
             return Err(cx.at(t.span(), "planner.max_overshoot", msg));
         }
     };
