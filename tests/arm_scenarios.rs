@@ -1126,3 +1126,26 @@ fn planner_table_without_a_planned_task_is_refused_with_its_line() {
     let line = text.lines().position(|l| l == "[planner]").unwrap() + 1;
     assert!(e.contains(&format!(":{line}:")), "{e}");
 }
+
+/// A failure of the run itself (here: the output folder cannot be made, its parent is a
+/// file) is located at the header of the table it comes from, not only named by its key.
+#[test]
+fn run_time_errors_give_the_line_of_their_table() {
+    let dir = std::env::temp_dir().join(format!("armsim_run_error_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("blocker"), "a file, not a folder").unwrap();
+    let robot = common::root().join("robots/ur5.urdf");
+    let text = format!(
+        "effects = [\"gravity\"]\n[model]\nfile = \"{}\"\ntool = \"tool0\"\n\n\
+         [task]\ntype = \"joint_waypoints\"\nwaypoints = [[0.5, -1.2, 1.2, -1.5, -1.57, 0.0]]\n\n\
+         [outputs]\ndir = \"{}\"\n",
+        robot.display(),
+        dir.join("blocker").join("out").display()
+    );
+    let f = dir.join("blocked.toml");
+    std::fs::write(&f, text).unwrap();
+    let e = armsim::scenarios::run_file(&f).expect_err("the output folder cannot be made");
+    assert!(e.key.starts_with("outputs"), "{e}");
+    assert_eq!(e.line, Some(10), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -229,7 +229,10 @@ pub fn plan(scene: &Scene) -> Result<Plan, ScenarioError> {
 
 /// An error at a step (`key`, `line`) of the scene's file.
 fn step_err(scene: &Scene, key: &str, line: Option<usize>, msg: String) -> ScenarioError {
-    ScenarioError::new(&scene.file, line, key, msg)
+    match line {
+        Some(_) => ScenarioError::new(&scene.file, line, key, msg),
+        None => scene.error_at(key, msg),
+    }
 }
 
 /// Turns the task's steps into motion groups, in order: consecutive joint-space steps

@@ -60,7 +60,7 @@ fn effects_with_mass(scene: &Scene, mass: f64) -> Result<Effects, String> {
 pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioError> {
     if let Some(w) = scene.model_warnings.first().filter(|_| opts.strict) {
         let msg = format!("--strict: {w}");
-        return Err(ScenarioError::new(&scene.file, None, "model.file", msg));
+        return Err(scene.error_at("model.file", msg));
     }
     // The recording's epoch: simulated t = 0 is the run's wall-clock start.
     let started_ns = wall_clock_ns();
@@ -132,7 +132,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         outputs,
     };
     let json = arm_report::report_json(&ctx, parts);
-    let fail = |key: &str, msg: String| ScenarioError::new(&scene.file, None, key, msg);
+    let fail = |key: &str, msg: String| scene.error_at(key, msg);
     let text = arm_report::summary(&scene, &plan, &torque, &json);
     if opts.write_files && scene.outputs.report {
         let p = out_dir.join(format!("{}.json", scene.name));
@@ -161,7 +161,7 @@ type Sweep = (TorqueReport, Vec<(f64, TorqueReport)>);
 fn check_torque_sweep(scene: &Scene, plan: &Plan) -> Result<Sweep, ScenarioError> {
     let model = &scene.model;
     let traj = &plan.trajectory;
-    let fail = |key: &str, msg: String| ScenarioError::new(&scene.file, None, key, msg);
+    let fail = |key: &str, msg: String| scene.error_at(key, msg);
     let masses = if scene.payload_masses.is_empty() {
         vec![f64::NAN]
     } else {
@@ -212,7 +212,7 @@ fn check_collisions(
     torque: &TorqueReport,
     warnings: &mut Vec<String>,
 ) -> Result<(Value, Option<crate::io::record::PointCloud>), ScenarioError> {
-    let fail = |key: &str, msg: String| ScenarioError::new(&scene.file, None, key, msg);
+    let fail = |key: &str, msg: String| scene.error_at(key, msg);
     let jerk = crate::scenarios::arm::checks::jerk_limit(scene);
     let (accel_bound, limits) =
         crate::scenarios::arm::checks::limits_pass(scene, plan, torque, jerk);

@@ -63,7 +63,7 @@ fn run_simulation(
     let model = &scene.model;
     let traj = &plan.trajectory;
     let duration = traj.duration();
-    let fail = |key: &str, msg: String| ScenarioError::new(&scene.file, None, key, msg);
+    let fail = |key: &str, msg: String| scene.error_at(key, msg);
     let samples = &mut out.samples;
     let mut contact_built = false;
     let sim_duration = ss.duration.unwrap_or(duration + ss.settle);

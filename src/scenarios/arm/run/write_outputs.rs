@@ -45,7 +45,7 @@ pub(super) fn open_recording(
     started_ns: u64,
 ) -> Result<(PathBuf, Option<Recorder>), ScenarioError> {
     let model = &scene.model;
-    let fail = |key: &str, msg: String| ScenarioError::new(&scene.file, None, key, msg);
+    let fail = |key: &str, msg: String| scene.error_at(key, msg);
     let out_dir = opts
         .out_dir
         .clone()
@@ -94,7 +94,7 @@ pub(super) fn finish_recording(cx: &OutputContext, rec: Recorder) -> Result<Stri
     let n = model.nv;
     let traj = &plan.trajectory;
     let duration = traj.duration();
-    let fail = |key: &str, msg: String| ScenarioError::new(&scene.file, None, key, msg);
+    let fail = |key: &str, msg: String| scene.error_at(key, msg);
     let rec_err = |e: String| fail("outputs", format!("recording: {e}"));
     if let Some(e) = err {
         return Err(rec_err(e));
@@ -155,7 +155,7 @@ pub(super) fn log_rerun(
         ..
     } = *cx;
     let model = &scene.model;
-    let fail = |key: &str, msg: String| ScenarioError::new(&scene.file, None, key, msg);
+    let fail = |key: &str, msg: String| scene.error_at(key, msg);
     let (header, tf) = recording_header(scene, started_ns, opts.keep_mesh_uris);
     let mut data = Data::new(model);
     let frames = samples
@@ -217,7 +217,7 @@ pub(super) fn write_files(cx: &OutputContext) -> Result<Vec<String>, ScenarioErr
     let names = scene.model.dof_names();
     let traj = &plan.trajectory;
     let mut outputs = Vec::new();
-    let fail = |key: &str, msg: String| ScenarioError::new(&scene.file, None, key, msg);
+    let fail = |key: &str, msg: String| scene.error_at(key, msg);
     let out_err = |e: String| fail("outputs", e);
     if let Some(fmt) = scene.outputs.torque_plot {
         let ext = if fmt == PlotFormat::Png { "png" } else { "svg" };

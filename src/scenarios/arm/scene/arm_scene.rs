@@ -235,4 +235,41 @@ pub struct SettingLines {
     pub record_rate: Option<usize>,
     /// Line of `trajectory.check_dt`.
     pub check_dt: Option<usize>,
+    /// Header line of each table of [`SECTIONS`] the file writes.
+    pub sections: [Option<usize>; SECTIONS.len()],
+}
+
+/// The tables whose header line a run-time error names (the error's key starts with one).
+pub const SECTIONS: [&str; 12] = [
+    "model",
+    "limits",
+    "payload",
+    "collision",
+    "planner",
+    "task",
+    "trajectory",
+    "simulation",
+    "contact",
+    "outputs",
+    "friction",
+    "obstacles",
+];
+
+impl SettingLines {
+    /// The header line of the table `key` belongs to (`planner.seed` → `[planner]`).
+    pub fn section(&self, key: &str) -> Option<usize> {
+        let head = key.split(['.', '[', ' ']).next().unwrap_or(key);
+        SECTIONS
+            .iter()
+            .position(|s| *s == head)
+            .and_then(|i| self.sections[i])
+    }
+}
+
+impl Scene {
+    /// An error of the run at `key`, located at its table's header when the file writes
+    /// one (the run-time errors have no key of their own).
+    pub fn error_at(&self, key: &str, msg: impl Into<String>) -> crate::scenarios::ScenarioError {
+        crate::scenarios::ScenarioError::new(&self.file, self.setting_lines.section(key), key, msg)
+    }
 }

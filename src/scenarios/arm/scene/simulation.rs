@@ -3,6 +3,7 @@
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::scenarios::arm::scene::arm_scene::SettingLines;
+use crate::scenarios::arm::scene::arm_scene::SECTIONS;
 use crate::scenarios::arm::scene::arm_scene::{SimSettings, Timing};
 use crate::scenarios::arm::scene::section_reader::{get_f, per_joint, positive_all, Sections};
 use crate::scenarios::arm::schema::PerJoint;
@@ -227,5 +228,6 @@ pub(super) fn setting_lines(sx: &Sections) -> SettingLines {
         settle: line(ssec.and_then(|s| s.settle.as_ref())).or(section),
         record_rate: line(ssec.and_then(|s| s.record_rate.as_ref())),
         check_dt: line(tsec.and_then(|t| t.check_dt.as_ref())),
+        sections: SECTIONS.map(|name| cx.section(name, "").line),
     }
 }
