@@ -594,3 +594,22 @@ fn contact_ratio_below_one_is_warned() {
         r.text
     );
 }
+
+/// The design rule's tooth count: `2A/(m(1 + i)) = 120/(2 · 3.158) = 18.9994` with the
+/// ratio given to three decimals is 19, not 18; then `z₂ = round(19 · 2.158) = 41` and the
+/// standard pair fits `A = m(z₁ + z₂)/2 = 60` exactly: no shift is needed (truncating gave
+/// 18/39 with a total shift of 1.76).
+#[test]
+fn design_takes_the_standard_pair_when_the_quotient_is_a_hair_below_an_integer() {
+    let d = design(60.0, 2.0, 20f64.to_radians(), 2.158, 1.0, 0.25).unwrap();
+    assert_eq!(d.teeth, [19, 41]);
+    close(d.total_shift, 0.0, 1e-9, "x_t");
+    close(d.centre_factor, 0.0, 1e-12, "λ");
+    // A quotient well inside an interval still truncates: 2·61/(2·3.158) = 19.32 → 19.
+    assert_eq!(
+        design(61.0, 2.0, 20f64.to_radians(), 2.158, 1.0, 0.25)
+            .unwrap()
+            .teeth[0],
+        19
+    );
+}

@@ -15,7 +15,8 @@ use crate::machines::gearing::pair::{pair, PairGeometry, PairKind, PairSpec};
 /// A designed pair.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Design {
-    /// `z₁ = trunc(2A/(m(1 + i)))`, `z₂ = round(z₁ i)`.
+    /// `z₁ = trunc(2A/(m(1 + i)))` (rounded when within 0.1 % of an integer),
+    /// `z₂ = round(z₁ i)`.
     pub teeth: [u32; 2],
     /// Working pressure angle from `cos α_w = (r_b1 + r_b2)/A`.
     pub alpha_w: f64,
@@ -53,7 +54,14 @@ pub fn specific_sliding(g: &PairGeometry) -> [f64; 2] {
 /// Designs a pair for centre distance `a`, module `m`, pressure angle `alpha`, ratio
 /// `i ≥ 1`, standard tooth data `ha`, `c`.
 pub fn design(a: f64, m: f64, alpha: f64, i: f64, ha: f64, c: f64) -> Option<Design> {
-    let z1 = (2.0 * a / (m * (1.0 + i))).trunc();
+    // The book truncates; a quotient a hair below an integer is that integer (a ratio given
+    // to three decimals puts 2A/(m(1 + i)) = 18.9994 where 19/41 fits A exactly).
+    let q = 2.0 * a / (m * (1.0 + i));
+    let z1 = if (q - q.round()).abs() <= 1e-3 * q {
+        q.round()
+    } else {
+        q.trunc()
+    };
     let z2 = (z1 * i).round();
     if z1 < 3.0 {
         return None;
