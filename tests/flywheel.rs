@@ -151,7 +151,7 @@ fn work_stroke_time_run_agrees_for_a_nonlinear_motor() {
     // sized J ends on the band's lower speed when the load wins, on the upper one when
     // the motor does.
     let drive = Characteristic(vec![900.0, 4.0, -0.08]);
-    let s = fd::size_stroke(&drive, 900.0, 2.0, [60.0, 62.0], 0.1).unwrap();
+    let s = fd::size_stroke(&drive, 900.0, fd::StrokeSpan::Angle(2.0), [60.0, 62.0], 0.1).unwrap();
     assert!(s.integral_closed_form.is_none());
     assert!(
         (s.time_check_speed - 60.0).abs() < 1e-6,
@@ -162,12 +162,54 @@ fn work_stroke_time_run_agrees_for_a_nonlinear_motor() {
     // ∫ ω dω / (ω (4 − 0.08 ω)) from 62 to 60 in closed form.
     let prim = |w: f64| -(4.0 - 0.08 * w).abs().ln() / 0.08;
     assert!((s.integral - (prim(60.0) - prim(62.0))).abs() < 1e-12);
-    let up = fd::size_stroke(&drive, 700.0, 2.0, [60.0, 62.0], 0.0).unwrap();
+    let up = fd::size_stroke(&drive, 700.0, fd::StrokeSpan::Angle(2.0), [60.0, 62.0], 0.0).unwrap();
     assert!(
         (up.time_check_speed - 62.0).abs() < 1e-6,
         "{}",
         up.time_check_speed
     );
+}
+
+/// A stroke given by its duration: `J = T / ∫ dω/(M_d − M_c)`. For a linear motor
+/// `M_d − M_c = 2375 − 22.7 ω − 1800` (the load wins: the speed falls 38 → 36) the integral is `ln|…|` in closed form; the RK4 run of
+/// `J ω̇ = M_d − M_c` for `T` ends on the band's lower speed; and sizing the same stroke by
+/// the angle that run swept gives the same `J` (the angle route, another integral).
+#[test]
+fn work_stroke_given_by_its_duration_matches_its_angle() {
+    let drive = Characteristic(vec![2375.0, -22.7]);
+    let (load, t) = (1800.0, 0.05);
+    let s = fd::size_stroke(&drive, load, fd::StrokeSpan::Duration(t), [36.0, 38.0], 0.0).unwrap();
+    let net = |w: f64| 2375.0 - 22.7 * w - load;
+    let closed = (net(38.0).abs().ln() - net(36.0).abs().ln()) / 22.7;
+    assert!(
+        (s.integral - closed).abs() < 1e-12,
+        "{} vs {closed}",
+        s.integral
+    );
+    assert!((s.integral_closed_form.unwrap() - closed).abs() < 1e-12);
+    assert!((s.required_inertia - t / closed).abs() < 1e-9);
+    assert!(
+        (s.time_check_speed - 36.0).abs() < 1e-6,
+        "{}",
+        s.time_check_speed
+    );
+    assert!((s.time_check_duration - t).abs() < 1e-12);
+    let by_angle = fd::size_stroke(
+        &drive,
+        load,
+        fd::StrokeSpan::Angle(s.time_check_angle),
+        [36.0, 38.0],
+        0.0,
+    )
+    .unwrap();
+    let rel = (by_angle.required_inertia - s.required_inertia).abs() / s.required_inertia;
+    assert!(
+        rel < 1e-9,
+        "{} vs {}",
+        by_angle.required_inertia,
+        s.required_inertia
+    );
+    assert!((by_angle.time_check_duration - t).abs() < 1e-7);
 }
 
 const BROKEN: &[(&str, usize, &str, &str)] = &[
@@ -239,6 +281,12 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         8,
         "cycle.density",
         "applies to the rim only",
+    ),
+    (
+        "flywheel_stroke_angle_and_duration.toml",
+        7,
+        "stroke.duration",
+        "not both",
     ),
 ];
 

@@ -59,7 +59,8 @@ struct CycleIn {
 struct StrokeIn {
     drive: Spanned<Vec<F>>,
     load: F,
-    angle_deg: F,
+    angle_deg: Option<F>,
+    duration: Option<F>,
     speed_band: Spanned<[F; 2]>,
     machine_inertia: Option<F>,
 }
@@ -94,7 +95,7 @@ pub struct FlywheelDesignScenario {
     /// Its name.
     pub name: String,
     cycle: Option<Cycle>,
-    stroke: Option<(Characteristic, f64, f64, [f64; 2], f64)>,
+    stroke: Option<(Characteristic, f64, fd::StrokeSpan, [f64; 2], f64)>,
     overload: Option<(f64, f64, f64, f64)>,
 }
 
@@ -329,7 +330,7 @@ fn steady_cycle(ctx: &Source, mut c: Cycle) -> Result<Cycle, ScenarioError> {
 fn parse_stroke(
     ctx: &Source,
     s: &StrokeIn,
-) -> Result<(Characteristic, f64, f64, [f64; 2], f64), ScenarioError> {
+) -> Result<(Characteristic, f64, fd::StrokeSpan, [f64; 2], f64), ScenarioError> {
     let coeffs = ctx.finite_list(&s.drive, "stroke.drive")?;
     if coeffs.is_empty() {
         return Err(ctx.at(
@@ -339,7 +340,23 @@ fn parse_stroke(
         ));
     }
     let load = ctx.finite(&s.load, "stroke.load")?;
-    let angle = ctx.positive(&s.angle_deg, "stroke.angle_deg")?.to_radians();
+    let span = match (&s.angle_deg, &s.duration) {
+        (Some(a), None) => fd::StrokeSpan::Angle(ctx.positive(a, "stroke.angle_deg")?.to_radians()),
+        (None, Some(t)) => fd::StrokeSpan::Duration(ctx.positive(t, "stroke.duration")?),
+        (Some(_), Some(t)) => {
+            return Err(ctx.at(
+                t.span(),
+                "stroke.duration",
+                "give either `angle_deg` or `duration` (s), not both",
+            ))
+        }
+        (None, None) => {
+            return Err(ctx.section(
+                "stroke",
+                "missing: `angle_deg` (the stroke's angle) or `duration` (s)",
+            ))
+        }
+    };
     let b = s.speed_band.get_ref();
     let band = [
         ctx.positive(&b[0], "stroke.speed_band[0]")?,
@@ -359,14 +376,14 @@ fn parse_stroke(
         .transpose()?
         .unwrap_or(0.0);
     let drive = Characteristic(coeffs);
-    if fd::size_stroke(&drive, load, angle, band, machine).is_none() {
+    if fd::size_stroke(&drive, load, span, band, machine).is_none() {
         return Err(ctx.at(
             s.speed_band.span(),
             "stroke.speed_band",
             "the motor torque equals the load inside the band: the speed cannot cross it",
         ));
     }
-    Ok((drive, load, angle, band, machine))
+    Ok((drive, load, span, band, machine))
 }
 
 /// The `[overload]` section: drive, load, largest deceleration, machine inertia.
@@ -535,14 +552,22 @@ pub fn report(
     if let Some(c) = &sc.cycle {
         j["cycle"] = cycle_json(c, &mut text, &mut panels);
     }
-    if let Some((drive, load, angle, band, machine)) = &sc.stroke {
-        let s = fd::size_stroke(drive, *load, *angle, *band, *machine).ok_or_else(|| {
+    if let Some((drive, load, span, band, machine)) = &sc.stroke {
+        let s = fd::size_stroke(drive, *load, *span, *band, *machine).ok_or_else(|| {
             ctx.section("stroke", "the motor torque equals the load inside the band")
         })?;
-        writeln!(text, "stroke: {:.2}° against {load} N m, speed {:.4} → {:.4} rad/s: ∫ω dω/(M_d − M_c) = {:.6}{}", angle.to_degrees(), band[1], band[0], s.integral, s.integral_closed_form.map(|c| format!(" (closed form {c:.6})")).unwrap_or_default()).ok();
-        writeln!(text, "  required J = {:.5} kg m², flywheel {:.5} kg m²; time check: speed after the stroke {:.4} rad/s in {:.4} s", s.required_inertia, s.flywheel_inertia, s.time_check_speed, s.time_check_duration).ok();
+        let (length, integrand) = match span {
+            fd::StrokeSpan::Angle(a) => (format!("{:.2}°", a.to_degrees()), "ω dω"),
+            fd::StrokeSpan::Duration(t) => (format!("{t} s"), "dω"),
+        };
+        writeln!(text, "stroke: {length} against {load} N m, speed {:.4} → {:.4} rad/s: ∫{integrand}/(M_d − M_c) = {:.6}{}", band[1], band[0], s.integral, s.integral_closed_form.map(|c| format!(" (closed form {c:.6})")).unwrap_or_default()).ok();
+        writeln!(text, "  required J = {:.5} kg m², flywheel {:.5} kg m²; time check: speed after the stroke {:.4} rad/s in {:.4} s over {:.2}°", s.required_inertia, s.flywheel_inertia, s.time_check_speed, s.time_check_duration, s.time_check_angle.to_degrees()).ok();
         let mut v = serde_json::to_value(&s).unwrap_or(Value::Null);
-        v["angle_deg"] = json!(angle.to_degrees());
+        v["angle_deg"] = json!(s.time_check_angle.to_degrees());
+        v["given"] = json!(match span {
+            fd::StrokeSpan::Angle(_) => "angle",
+            fd::StrokeSpan::Duration(_) => "duration",
+        });
         v["speed_band"] = json!(band);
         v["machine_inertia"] = json!(machine);
         j["stroke"] = v;

@@ -276,20 +276,23 @@ pub fn time_check(
 /// A work stroke against a speed-dependent motor.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Stroke {
-    /// `∫_{ω_from}^{ω_to} ω dω / (M_d(ω) − M_c)` (rad per kg m²).
+    /// `∫_{ω_from}^{ω_to} ω dω / (M_d(ω) − M_c)` (rad per kg m²) for a stroke given by its
+    /// angle; `∫ dω / (M_d(ω) − M_c)` (s per kg m²) for one given by its duration.
     pub integral: f64,
     /// The same for a linear motor, in closed form (`None` otherwise).
     pub integral_closed_form: Option<f64>,
-    /// `J = Φ / integral` (kg m²).
+    /// `J = Φ / integral` (or `T / integral`) (kg m²).
     pub required_inertia: f64,
     /// `J − J_machine`.
     pub flywheel_inertia: f64,
     /// `GD² = 4 g J_fw` (N m²).
     pub gd2: f64,
-    /// Speed after the stroke angle by RK4 in time with `J` (rad/s).
+    /// Speed at the stroke's end by RK4 in time with `J` (rad/s).
     pub time_check_speed: f64,
     /// Duration of the stroke in that run (s).
     pub time_check_duration: f64,
+    /// Angle the stroke sweeps in that run (rad).
+    pub time_check_angle: f64,
 }
 
 /// 16-point Gauss–Legendre nodes and weights on `[−1, 1]` (half of them; symmetric).
@@ -317,13 +320,24 @@ pub fn gauss_legendre(f: &dyn Fn(f64) -> f64, a: f64, b: f64, pieces: usize) -> 
     s * h / 2.0
 }
 
-/// The flywheel that lets the stroke angle `angle` (rad) against `load` take the speed
-/// from `band[1]` down to `band[0]` (or up, if the motor wins), motor `drive(ω)`.
-/// `None` when `M_d − M_c` vanishes inside the band (the speed cannot cross it).
+/// How long a work stroke is: its angle (rad) or its duration (s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StrokeSpan {
+    /// The stroke turns the shaft through this angle (rad): `J = Φ / ∫ ω dω/(M_d − M_c)`.
+    Angle(f64),
+    /// The stroke lasts this long (s): `J = T / ∫ dω/(M_d − M_c)`.
+    Duration(f64),
+}
+
+/// The flywheel that lets the stroke (`span`: its angle or its duration) against `load`
+/// take the speed from `band[1]` down to `band[0]` (or up, if the motor wins), motor
+/// `drive(ω)`: `J dω/dt = M_d(ω) − M_c`, so `dφ = J ω dω/(M_d − M_c)` and
+/// `dt = J dω/(M_d − M_c)`. `None` when `M_d − M_c` vanishes inside the band (the speed
+/// cannot cross it).
 pub fn size_stroke(
     drive: &Characteristic,
     load: f64,
-    angle: f64,
+    span: StrokeSpan,
     band: [f64; 2],
     machine: f64,
 ) -> Option<Stroke> {
@@ -337,40 +351,31 @@ pub fn size_stroke(
     }) {
         return None;
     }
-    let integral = gauss_legendre(&|w| w / net(w), from, to, 64);
+    let by_angle = matches!(span, StrokeSpan::Angle(_));
+    let integral = if by_angle {
+        gauss_legendre(&|w| w / net(w), from, to, 64)
+    } else {
+        gauss_legendre(&|w| 1.0 / net(w), from, to, 64)
+    };
+    // A linear motor M_d − M_c = aa − bb ω in closed form.
     let closed = match drive.0.as_slice() {
         [a, b] if *b != 0.0 => {
             let (aa, bb) = (a - load, -b);
-            let prim = |w: f64| -w / bb - aa / (bb * bb) * (aa - bb * w).abs().ln();
+            let log = |w: f64| (aa - bb * w).abs().ln();
+            let prim = |w: f64| {
+                if by_angle {
+                    -w / bb - aa / (bb * bb) * log(w)
+                } else {
+                    -log(w) / bb
+                }
+            };
             Some(prim(to) - prim(from))
         }
         _ => None,
     };
-    let j = angle / integral;
-    // Time check: integrate from `from` with J until the angle is swept.
-    let guess_t = angle / (0.5 * (from + to)) * 1.5;
-    let m = machine_motion::integrate(
-        j,
-        drive,
-        &Characteristic(vec![load]),
-        from,
-        guess_t,
-        guess_t / 20_000.0,
-    );
-    let k = m
-        .phi
-        .iter()
-        .position(|&p| p >= angle)
-        .unwrap_or(m.phi.len() - 1);
-    let (t_end, w_end) = if k > 0 {
-        let s = (angle - m.phi[k - 1]) / (m.phi[k] - m.phi[k - 1]);
-        (
-            m.t[k - 1] + s * (m.t[k] - m.t[k - 1]),
-            m.omega[k - 1] + s * (m.omega[k] - m.omega[k - 1]),
-        )
-    } else {
-        (m.t[0], m.omega[0])
-    };
+    let (StrokeSpan::Angle(size) | StrokeSpan::Duration(size)) = span;
+    let j = size / integral;
+    let (t_end, w_end, angle) = stroke_time_check(j, drive, load, from, to, span);
     Some(Stroke {
         integral,
         integral_closed_form: closed,
@@ -379,7 +384,46 @@ pub fn size_stroke(
         gd2: 4.0 * G * (j - machine),
         time_check_speed: w_end,
         time_check_duration: t_end,
+        time_check_angle: angle,
     })
+}
+
+/// RK4 in time with `J` from `from`: until the stroke's angle is swept, or for its
+/// duration. Returns the time, the speed and the angle at the stroke's end.
+fn stroke_time_check(
+    j: f64,
+    drive: &Characteristic,
+    load: f64,
+    from: f64,
+    to: f64,
+    span: StrokeSpan,
+) -> (f64, f64, f64) {
+    let t_run = match span {
+        StrokeSpan::Angle(angle) => angle / (0.5 * (from + to)) * 1.5,
+        StrokeSpan::Duration(t) => t,
+    };
+    let m = machine_motion::integrate(
+        j,
+        drive,
+        &Characteristic(vec![load]),
+        from,
+        t_run,
+        t_run / 20_000.0,
+    );
+    let last = m.phi.len() - 1;
+    let StrokeSpan::Angle(angle) = span else {
+        return (m.t[last], m.omega[last], m.phi[last]);
+    };
+    let k = m.phi.iter().position(|&p| p >= angle).unwrap_or(last);
+    if k == 0 {
+        return (m.t[0], m.omega[0], m.phi[0]);
+    }
+    let s = (angle - m.phi[k - 1]) / (m.phi[k] - m.phi[k - 1]);
+    (
+        m.t[k - 1] + s * (m.t[k] - m.t[k - 1]),
+        m.omega[k - 1] + s * (m.omega[k] - m.omega[k - 1]),
+        angle,
+    )
 }
 
 /// `J_total ≥ |M_d − M_c| / ε_max`: the inertia that limits the deceleration under an
