@@ -69,6 +69,17 @@ pub fn kind(file: &str, text: &str) -> Result<&'static ScenarioKind, ScenarioErr
             "the file is empty",
         ));
     }
+    // A model or a MoveIt file handed to `run` by mistake: say what it is, not a TOML error.
+    let first = text.trim_start().trim_start_matches('\u{feff}');
+    if first.starts_with('<') {
+        return Err(ScenarioError::new(
+            file,
+            Some(1),
+            "file",
+            "this is an XML file (a URDF, SRDF or mesh?), not a scenario: a scenario is a TOML \
+             file (`kind = \"arm\"`, `[model] file = \"robot.urdf\"`, … see scenarios/README.md)",
+        ));
+    }
     let table: toml::Table =
         toml::from_str(text).map_err(|e| ScenarioError::from_toml(file, text, &e))?;
     let kind_error = |msg: String| ScenarioError::new(file, line_of_key(text, "kind"), "kind", msg);
@@ -145,5 +156,12 @@ mod tests {
             Some("cam")
         );
         assert_eq!(kind("f", "x = 1\n").map(|k| k.name).ok(), Some("arm"));
+        let urdf = kind("r.urdf", "<?xml version=\"1.0\"?>\n<robot name=\"r\"/>\n")
+            .map(|k| k.name)
+            .unwrap_err();
+        assert!(
+            urdf.message.contains("XML file") && urdf.line == Some(1),
+            "{urdf}"
+        );
     }
 }
