@@ -35,7 +35,8 @@ use crate::scenarios::arm::task_motion::Plan;
 use serde_json::{json, Map, Value};
 use std::cell::RefCell;
 
-fn named(names: &[String], v: &[f64]) -> Value {
+/// The per-joint values `v` as a JSON object keyed by joint name.
+pub(crate) fn named(names: &[String], v: &[f64]) -> Value {
     Value::Object(
         names
             .iter()

@@ -2,6 +2,7 @@
 //! `<name>.json` file) and the human summary.
 
 use crate::motion::{TorqueReport, Trajectory};
+use crate::scenarios::arm::checks::named;
 use crate::scenarios::arm::contact::ContactReport;
 use crate::scenarios::arm::run::write_outputs::OutputContext;
 use crate::scenarios::arm::scene::{Scene, Timing};
@@ -363,15 +364,4 @@ fn summary_rest(s: &mut String, torque: &TorqueReport, j: &Value) {
             .collect();
         let _ = writeln!(s, "timings: {}", list.join(", "));
     }
-}
-
-/// The per-joint values `v` as a JSON object keyed by joint name.
-pub(super) fn named(names: &[String], v: &[f64]) -> Value {
-    Value::Object(
-        names
-            .iter()
-            .zip(v)
-            .map(|(n, x)| (n.clone(), json!(x)))
-            .collect::<Map<_, _>>(),
-    )
 }
