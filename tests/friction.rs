@@ -4,9 +4,11 @@
 //! integrating the pressure over the annulus), and the broken files.
 
 use armsim::machines::friction::elements::{
-    band_brake, collar_torque, incline, parallel, screw, series, BrakeGiven,
+    band_brake, collar_torque, incline, parallel, screw, series, shoe_coefficient,
+    shoe_normal_force, BrakeGiven,
 };
 use serde_json::Value;
+use std::f64::consts::FRAC_PI_2;
 
 mod common;
 use common::run_json;
@@ -178,11 +180,12 @@ fn screw_is_an_incline_of_its_lead_angle() {
         (0.02, 0.03, 0.2),
     ] {
         let sc = screw(1000.0, p, dm, f, 0.0, 0.0);
-        let inc = incline(1000.0, sc.lead_angle, f);
+        // The thread's torque pushes the nut horizontally: β = 90°.
+        let inc = incline(1000.0, sc.lead_angle, f, FRAC_PI_2).unwrap();
         close(sc.efficiency, inc.efficiency, 1e-12, "η");
         close(
             sc.reverse_efficiency,
-            inc.reverse_efficiency,
+            inc.reverse_efficiency.unwrap(),
             1e-12,
             "reverse η",
         );
@@ -215,6 +218,129 @@ fn collar_torques_match_integrating_the_pressure() {
     }
     close(collar_torque(f, q, r1, r2, false), new, 1e-6, "new");
     close(collar_torque(f, q, r1, r2, true), worn, 1e-6, "worn");
+}
+
+/// The push `P` at `β` to the upward vertical that moves the load `Q` up (`dir = 1`) or
+/// lets it slide down (`dir = −1`) on an incline of angle `a`: the force balance along
+/// and across the plane, `P d + N n ∓ f N t − Q ŷ = 0`, solved as a 2×2 system.
+fn push_by_force_balance(q: f64, a: f64, f: f64, beta: f64, dir: f64) -> (f64, f64) {
+    let (t, n, d) = (
+        [a.cos(), a.sin()],
+        [-a.sin(), a.cos()],
+        [beta.sin(), beta.cos()],
+    );
+    // Columns: P, N; friction −dir f N t.
+    let m = [[d[0], n[0] - dir * f * t[0]], [d[1], n[1] - dir * f * t[1]]];
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let p = (0.0 * m[1][1] - m[0][1] * q) / det;
+    let normal = (m[0][0] * q - m[1][0] * 0.0) / det;
+    (p, normal)
+}
+
+#[test]
+fn incline_push_at_any_angle_balances_the_forces_on_the_load() {
+    for (a, f) in [(25.0_f64, 0.15), (10.0, 0.3), (40.0, 0.05)] {
+        let a = a.to_radians();
+        for beta in [0.0_f64, 30.0, 65.0, 90.0, 110.0] {
+            let inc = incline(1000.0, a, f, beta.to_radians()).unwrap();
+            let (up, n_up) = push_by_force_balance(1000.0, a, f, beta.to_radians(), 1.0);
+            let (down, _) = push_by_force_balance(1000.0, a, f, beta.to_radians(), -1.0);
+            close(inc.up, up, 1e-9, "P up");
+            close(inc.down, down, 1e-9, "P down");
+            assert!(n_up >= -1e-9, "the plane pulls: N = {n_up}");
+            // A straight lift (β = 0) leaves the plane: no friction, P = Q.
+            if beta == 0.0 {
+                close(inc.up, 1000.0, 1e-9, "lift");
+            }
+        }
+        let phi = f.atan();
+        let h = incline(1000.0, a, f, FRAC_PI_2).unwrap();
+        close(
+            h.up,
+            1000.0 * (a + phi).tan(),
+            1e-9,
+            "horizontal Q tan(a + φ)",
+        );
+        let along = incline(1000.0, a, f, FRAC_PI_2 - a).unwrap();
+        close(
+            along.up,
+            1000.0 * (a.sin() + f * a.cos()),
+            1e-9,
+            "along Q(sin a + f cos a)",
+        );
+        close(
+            along.efficiency,
+            a.sin() / (a.sin() + f * a.cos()),
+            1e-12,
+            "η along",
+        );
+    }
+    // Pushed from above at a + β + φ ≥ 180°, nothing moves the load up.
+    assert!(incline(1000.0, 0.5, 0.1, 2.6).is_err());
+}
+
+#[test]
+fn incline_scenario_gives_the_closed_forms_on_a_flat_plane_and_in_a_v_groove() {
+    let v = run_json("scenarios/friction_incline_push_angle_v_groove.toml");
+    for (i, up, down) in [
+        (0, 1325.316, 591.259),
+        (1, 1117.129, 573.344),
+        (2, 1152.035, 680.192),
+        (3, 1229.750, 460.723),
+    ] {
+        close(g(&v, i, "push_up_N"), up, 1e-3, "up");
+        close(g(&v, i, "push_down_N"), down, 1e-3, "down");
+    }
+    close(
+        g(&v, 3, "equivalent_friction"),
+        0.15 / 45f64.to_radians().cos(),
+        1e-12,
+        "f/cos β",
+    );
+}
+
+#[test]
+fn shoe_brake_lever_balances_and_long_shoe_coefficient_integrates_the_pressure() {
+    // Lever equilibrium about the pivot: G l + f N e − N b = 0, for either sign of e.
+    for (gl, b, e, f) in [(180.0, 0.4, 0.06, 0.35), (50.0, 0.2, -0.05, 0.5)] {
+        let n = shoe_normal_force(gl, b, e, f).unwrap();
+        close(gl + f * n * e - n * b, 0.0, 1e-9, "lever moments");
+    }
+    assert_eq!(shoe_normal_force(1.0, 0.1, 0.5, 0.3), None, "b ≤ f e locks");
+    // p = p0 cos ψ over ψ in [−θ/2, θ/2]: f' = f R ∫p dψ/(R ∫p cos ψ dψ).
+    for deg in [1.0_f64, 60.0, 100.0, 180.0] {
+        let th = deg.to_radians();
+        let k = 100_000;
+        let (mut fric, mut normal) = (0.0, 0.0);
+        for i in 0..k {
+            let psi = -th / 2.0 + (i as f64 + 0.5) * th / k as f64;
+            fric += psi.cos();
+            normal += psi.cos() * psi.cos();
+        }
+        close(shoe_coefficient(0.3, th), 0.3 * fric / normal, 1e-9, "f'");
+    }
+    close(shoe_coefficient(0.3, 0.0), 0.3, 0.0, "short shoe");
+}
+
+#[test]
+fn shoe_brake_scenario_torques() {
+    let v = run_json("scenarios/friction_shoe_brakes.toml");
+    close(g(&v, 0, "braking_torque_Nm"), 41.5567, 1e-4, "single");
+    close(
+        g(&v, 0, "reverse_braking_torque_Nm"),
+        37.4109,
+        1e-4,
+        "reverse",
+    );
+    close(g(&v, 1, "braking_torque_Nm"), 88.6932, 1e-4, "double");
+    close(g(&v, 1, "equivalent_friction"), 0.392824, 1e-6, "f'");
+    close(
+        g(&v, 2, "lever_load_N"),
+        202.947,
+        1e-3,
+        "lever load for 120 N m",
+    );
+    close(g(&v, 2, "braking_torque_Nm"), 120.0, 1e-9, "asked");
 }
 
 const BROKEN: &[(&str, usize, &str, &str)] = &[
@@ -263,8 +389,20 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
     (
         "friction_key_not_for_element.toml",
         10,
-        "element[0].slide",
-        "does not apply to an element of type 'incline' (it reads load, angle_deg, friction)",
+        "element[0].push_angle_deg",
+        "does not apply to an element of type 'slide' (it reads load, friction, slide, groove_angle_deg)",
+    ),
+    (
+        "friction_incline_push_jams.toml",
+        10,
+        "element[0].push_angle_deg",
+        "no force at 150° to the vertical can push the load up",
+    ),
+    (
+        "friction_shoe_brake_three_shoes.toml",
+        11,
+        "element[0].shoes",
+        "must be 1 or 2, got 3",
     ),
     (
         "friction_nan_groove_angle.toml",

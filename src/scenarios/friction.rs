@@ -66,6 +66,11 @@ struct Element {
     tight_arm: Option<f64>,
     drum_diameter: Option<f64>,
     load_drum_diameter: Option<f64>,
+    push_angle_deg: Option<f64>,
+    shoe_arm: Option<f64>,
+    friction_arm: Option<f64>,
+    contact_deg: Option<f64>,
+    shoes: Option<f64>,
 }
 
 /// Runs a friction scenario.
@@ -228,15 +233,7 @@ fn element(cx: &Source, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), 
         "screw" => (screw(e, &label, &need, &err)?, 0.0),
         "slide" => {
             let q = need("load", e.load, 0.0, 1e12)?;
-            let fr = need("friction", e.friction, 0.0, 2.0)?;
-            let kind = e.slide.clone().unwrap_or_else(|| "flat".into());
-            let beta = match (kind.as_str(), e.groove_angle_deg) {
-                ("v_groove", g) => g
-                    .map_or(Ok(0.0), |x| need("groove_angle_deg", Some(x), 0.0, 89.0))?
-                    .to_radians(),
-                _ => 0.0,
-            };
-            let fe = el::slide_coefficient(fr, &kind, beta).ok_or_else(|| err("slide", format!("unknown slide '{kind}' (flat, v_groove, worn_cylinder, new_cylinder)")))?;
+            let (kind, fe) = slide(e, &need, &err)?;
             (json!({"label": label, "type": "slide", "slide": kind, "equivalent_friction": fe, "force_N": fe * q}), 0.0)
         }
         "rolling" => {
@@ -258,13 +255,7 @@ fn element(cx: &Source, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), 
             let (drive, pull, lock) = el::wedge(q, a, f1, f2);
             (json!({"label": label, "type": "wedge", "drive_in_N": drive, "pull_out_N": pull, "self_locking": lock}), 0.0)
         }
-        "incline" => {
-            let q = need("load", e.load, 0.0, 1e12)?;
-            let a = need("angle_deg", e.angle_deg, 0.0, 89.0)?.to_radians();
-            let inc = el::incline(q, a, need("friction", e.friction, 0.0, 2.0)?);
-            (json!({"label": label, "type": "incline", "push_up_N": inc.up, "push_down_N": inc.down,
-                "efficiency": inc.efficiency, "reverse_efficiency": inc.reverse_efficiency, "self_locking": inc.self_locking}), 0.0)
-        }
+        "incline" => (incline(e, label, &need, &err)?, 0.0),
         "journal" => {
             let q = need("load", e.load, 0.0, 1e12)?;
             let r = need("diameter", e.diameter, 1e-9, 1e3)? / 2.0;
@@ -290,7 +281,8 @@ fn element(cx: &Source, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), 
             (json!({"label": label, "type": "belt", "euler_factor": ef, "pull_N": p, "tight_N": s1, "slack_N": s2, "initial_tension_N": s0, "shaft_load_N": load}), 0.0)
         }
         "band_brake" => (band_brake(e, label, &need, &err)?, 0.0),
-        other => return Err(err("type", format!("unknown element type '{other}' (screw, slide, rolling, wedge, incline, journal, collar, belt, band_brake)"))),
+        "shoe_brake" => (shoe_brake(e, label, &need, &err)?, 0.0),
+        other => return Err(err("type", format!("unknown element type '{other}' (screw, slide, rolling, wedge, incline, journal, collar, belt, band_brake, shoe_brake)"))),
     };
     // A result that is not finite (serialised as null) comes from the inputs: refuse it.
     if let Some((k, _)) = v
@@ -342,7 +334,17 @@ const KEYS: &[(&str, &[&str])] = &[
         ],
     ),
     ("wedge", &["load", "angle_deg", "friction_faces"]),
-    ("incline", &["load", "angle_deg", "friction"]),
+    (
+        "incline",
+        &[
+            "load",
+            "angle_deg",
+            "friction",
+            "slide",
+            "groove_angle_deg",
+            "push_angle_deg",
+        ],
+    ),
     (
         "journal",
         &["load", "friction", "diameter", "fit_factor", "count"],
@@ -361,6 +363,21 @@ const KEYS: &[(&str, &[&str])] = &[
             "drum_diameter",
             "slack_arm",
             "tight_arm",
+            "lever_load",
+            "lever_arm",
+            "braking_torque",
+            "load_drum_diameter",
+        ],
+    ),
+    (
+        "shoe_brake",
+        &[
+            "friction",
+            "drum_diameter",
+            "shoe_arm",
+            "friction_arm",
+            "contact_deg",
+            "shoes",
             "lever_load",
             "lever_arm",
             "braking_torque",
@@ -403,6 +420,11 @@ fn written(e: &Element) -> Vec<&'static str> {
         ("tight_arm", e.tight_arm.is_some()),
         ("drum_diameter", e.drum_diameter.is_some()),
         ("load_drum_diameter", e.load_drum_diameter.is_some()),
+        ("push_angle_deg", e.push_angle_deg.is_some()),
+        ("shoe_arm", e.shoe_arm.is_some()),
+        ("friction_arm", e.friction_arm.is_some()),
+        ("contact_deg", e.contact_deg.is_some()),
+        ("shoes", e.shoes.is_some()),
     ];
     f.iter().filter(|(_, w)| *w).map(|(k, _)| *k).collect()
 }
@@ -490,6 +512,128 @@ fn band_brake(e: &Element, label: String, need: &Need, err: &Err) -> Result<Valu
     if let Some(d) = e.load_drum_diameter {
         v["load_held_N"] =
             json!(bb.force * r / (need("load_drum_diameter", Some(d), 1e-9, 1e3)? / 2.0));
+    }
+    Ok(v)
+}
+
+/// A slide's kind and equivalent coefficient (`slide`, `groove_angle_deg`, `friction`),
+/// for slide and incline elements.
+fn slide(e: &Element, need: &Need, err: &Err) -> Result<(String, f64), ScenarioError> {
+    let fr = need("friction", e.friction, 0.0, 2.0)?;
+    let kind = e.slide.clone().unwrap_or_else(|| "flat".into());
+    let beta = match (kind.as_str(), e.groove_angle_deg) {
+        ("v_groove", g) => g
+            .map_or(Ok(0.0), |x| need("groove_angle_deg", Some(x), 0.0, 89.0))?
+            .to_radians(),
+        _ => 0.0,
+    };
+    let fe = el::slide_coefficient(fr, &kind, beta).ok_or_else(|| {
+        err(
+            "slide",
+            format!("unknown slide '{kind}' (flat, v_groove, worn_cylinder, new_cylinder)"),
+        )
+    })?;
+    Ok((kind, fe))
+}
+
+/// An incline (FR: 164, 168): the load pushed up and held back by a force at
+/// `push_angle_deg` to the vertical (90, horizontal, by default), on a flat plane or a
+/// groove (`slide`).
+fn incline(e: &Element, label: String, need: &Need, err: &Err) -> Result<Value, ScenarioError> {
+    let q = need("load", e.load, 0.0, 1e12)?;
+    let a = need("angle_deg", e.angle_deg, 0.0, 89.0)?.to_radians();
+    let beta = e
+        .push_angle_deg
+        .map_or(Ok(90.0), |x| need("push_angle_deg", Some(x), 0.0, 180.0))?;
+    let (kind, fe) = slide(e, need, err)?;
+    let inc = el::incline(q, a, fe, beta.to_radians()).map_err(|jam| {
+        let (what, sum) = match jam {
+            el::InclineJam::Up => ("push the load up", "a + β + φ ≥ 180°"),
+            el::InclineJam::Down => ("hold the load back", "sin(a + β − φ) = 0"),
+        };
+        err(
+            "push_angle_deg",
+            format!(
+                "no force at {beta}° to the vertical can {what} ({sum}, with the friction \
+                 angle φ = {:.4}°): the push presses the load into the plane",
+                fe.atan().to_degrees()
+            ),
+        )
+    })?;
+    let mut v = json!({"label": label, "type": "incline", "slide": kind, "equivalent_friction": fe,
+        "push_angle_deg": beta, "push_up_N": inc.up, "push_down_N": inc.down,
+        "efficiency": inc.efficiency, "self_locking": inc.self_locking});
+    if let Some(r) = inc.reverse_efficiency {
+        v["reverse_efficiency"] = json!(r);
+    }
+    Ok(v)
+}
+
+/// A shoe brake: one shoe on a lever, or two opposite shoes with the same lever load
+/// (`shoes = 2`: one self-energising, one not), a lever load or the braking torque wanted.
+fn shoe_brake(e: &Element, label: String, need: &Need, err: &Err) -> Result<Value, ScenarioError> {
+    let f = need("friction", e.friction, 0.0, 2.0)?;
+    let r = need("drum_diameter", e.drum_diameter, 1e-9, 1e3)? / 2.0;
+    let b = need("shoe_arm", e.shoe_arm, 1e-9, 1e3)?;
+    let arm = e
+        .friction_arm
+        .map_or(Ok(0.0), |x| need("friction_arm", Some(x), -1e3, 1e3))?;
+    let contact = e
+        .contact_deg
+        .map_or(Ok(0.0), |x| need("contact_deg", Some(x), 0.0, 180.0))?
+        .to_radians();
+    let shoes = match e.shoes {
+        None => 1,
+        Some(n) if n == 1.0 || n == 2.0 => n as usize,
+        Some(n) => return Err(err("shoes", format!("must be 1 or 2, got {n}"))),
+    };
+    let fe = el::shoe_coefficient(f, contact);
+    // Normal force per unit lever moment, for each shoe (the second mirrored: arm −e).
+    let unit: Vec<Option<f64>> = [arm, -arm][..shoes]
+        .iter()
+        .map(|&ea| el::shoe_normal_force(1.0, b, ea, fe))
+        .collect();
+    // The shoe the friction presses on hardest decides locking.
+    let margin = b - fe * if shoes == 2 { arm.abs() } else { arm };
+    let mut v = json!({"label": label, "type": "shoe_brake", "shoes": shoes,
+        "equivalent_friction": fe, "locking_margin_m": margin,
+        "self_energising": arm != 0.0 && (shoes == 2 || arm > 0.0),
+        "self_locking": unit.iter().any(Option::is_none)});
+    if unit.iter().any(Option::is_none) {
+        // Self-locking: the drum pulls the shoe on; no lever load fixes the forces.
+        return Ok(v);
+    }
+    let unit_torque: f64 = unit.iter().flatten().sum::<f64>() * fe * r;
+    let lever_moment = match (e.lever_load, e.braking_torque) {
+        (Some(g), None) => {
+            need("lever_load", Some(g), 0.0, 1e12)? * need("lever_arm", e.lever_arm, 1e-9, 1e3)?
+        }
+        (None, Some(m)) => need("braking_torque", Some(m), 0.0, 1e12)? / unit_torque,
+        _ => {
+            return Err(err(
+                "lever_load",
+                "give lever_load (with lever_arm) or braking_torque, one of the two".into(),
+            ))
+        }
+    };
+    let normal: Vec<f64> = unit.iter().flatten().map(|n| n * lever_moment).collect();
+    let torque = unit_torque * lever_moment;
+    v["normal_N"] = json!(normal);
+    v["braking_force_N"] = json!(torque / r);
+    v["braking_torque_Nm"] = json!(torque);
+    v["lever_moment_Nm"] = json!(lever_moment);
+    if shoes == 1 {
+        // The drum turning the other way: the friction arm changes sign.
+        match el::shoe_normal_force(lever_moment, b, -arm, fe) {
+            Some(n) => v["reverse_braking_torque_Nm"] = json!(fe * n * r),
+            None => v["reverse_self_locking"] = json!(true),
+        }
+    }
+    if let Some(l) = e.lever_arm {
+        v["lever_load_N"] = json!(lever_moment / need("lever_arm", Some(l), 1e-9, 1e3)?);
+    }
+    if let Some(d) = e.load_drum_diameter {
+        v["load_held_N"] = json!(torque / (need("load_drum_diameter", Some(d), 1e-9, 1e3)? / 2.0));
     }
     Ok(v)
 }

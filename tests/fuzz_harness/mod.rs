@@ -174,7 +174,7 @@ pub fn mcap(data: &[u8]) {
 
 /// What every mesh reader must return: an error with a message, or a mesh whose indices
 /// are in range and whose coordinates are finite, that the collision layer accepts as a
-/// triangle mesh (no panic) and whose closedness and volume can be computed.
+/// triangle mesh and as a convex hull (no panic) and whose closedness and volume can be computed.
 fn mesh(result: Result<armsim::collision::mesh::MeshData, armsim::collision::mesh::MeshError>) {
     match result {
         Ok(m) => {
@@ -183,7 +183,10 @@ fn mesh(result: Result<armsim::collision::mesh::MeshData, armsim::collision::mes
             assert!(m.vertices.iter().flatten().all(|x| x.is_finite()));
             let _ = (m.is_closed(), m.signed_volume6());
             if !m.triangles.is_empty() {
-                let _ = armsim::collision::CollisionShape::from_mesh(&m, [1.0; 3], false);
+                use armsim::collision::CollisionShape;
+                let _ = CollisionShape::from_mesh(&m, [1.0; 3], false);
+                // `--convex-hulls`: parry's hull of the same vertices.
+                let _ = CollisionShape::from_mesh(&m, [1.0; 3], true);
             }
         }
         Err(e) => assert!(!e.to_string().is_empty(), "an empty mesh error"),

@@ -63,9 +63,14 @@ pub fn collar_torque(f: f64, q: f64, r1: f64, r2: f64, worn: bool) -> f64 {
     }
 }
 
-/// Inclined plane (angle `a`), force at `beta` to the vertical... pushed horizontally:
-/// up `Q tan(a + φ)`, down `Q tan(a − φ)`, efficiency `tan a/tan(a + φ)`, reverse
-/// `tan(a − φ)/tan a`.
+/// Inclined plane of angle `a`, the load `Q` moved by a force `P` at angle `β` to the
+/// upward vertical, leaning uphill (`β = 90°` a horizontal push, `β = 90° − a` along the
+/// plane, `β = 0` a straight lift). Equilibrium of the load with the plane's reaction
+/// turned by the friction angle `φ` from the normal:
+/// up `P = Q sin(a + φ)/sin(a + β + φ)`, down (holding the load back as it slides)
+/// `P = Q sin(a − φ)/sin(a + β − φ)` (negative: it must be pushed down);
+/// efficiency `P₀/P` with the frictionless `P₀ = Q sin a/sin(a + β)`, reverse
+/// `P_down/P₀`; self-locking when `a ≤ φ` (whatever the direction of `P`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Incline {
     /// Force to push up.
@@ -74,22 +79,46 @@ pub struct Incline {
     pub down: f64,
     /// Efficiency raising.
     pub efficiency: f64,
-    /// Reverse efficiency.
-    pub reverse_efficiency: f64,
+    /// Reverse efficiency (`None` on a level plane, where the load does not drive).
+    pub reverse_efficiency: Option<f64>,
     /// `a ≤ φ`.
     pub self_locking: bool,
 }
 
-/// A horizontal push on an incline of angle `a` with friction `f`.
-pub fn incline(q: f64, a: f64, f: f64) -> Incline {
+/// Why a push at angle `β` cannot move the load (see [`incline`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum InclineJam {
+    /// `a + β + φ ≥ 180°`: the push presses the load into the plane faster than it drives
+    /// it up (the force needed is unbounded).
+    Up,
+    /// `sin(a + β − φ) = 0`: no finite force of that direction holds the load back.
+    Down,
+}
+
+/// A push at angle `beta` (to the upward vertical, see [`Incline`]) on an incline of
+/// angle `a` with friction coefficient `f` (a slide's equivalent one for a groove).
+pub fn incline(q: f64, a: f64, f: f64, beta: f64) -> Result<Incline, InclineJam> {
     let phi = friction_angle(f);
-    Incline {
-        up: q * (a + phi).tan(),
-        down: q * (a - phi).tan(),
-        efficiency: a.tan() / (a + phi).tan(),
-        reverse_efficiency: (a - phi).tan() / a.tan(),
-        self_locking: a <= phi,
+    let up_den = (a + beta + phi).sin();
+    if up_den <= 1e-12 {
+        return Err(InclineJam::Up);
     }
+    let down_den = (a + beta - phi).sin();
+    if down_den.abs() <= 1e-12 {
+        return Err(InclineJam::Down);
+    }
+    let up = q * (a + phi).sin() / up_den;
+    let down = q * (a - phi).sin() / down_den;
+    // Over the frictionless force `Q sin a/sin(a + β)` (per unit load, so that it holds
+    // for Q = 0; `a + β < 180°` follows from the test on `up_den`).
+    let ideal = (a > 0.0).then(|| a.sin() / (a + beta).sin());
+    Ok(Incline {
+        up,
+        down,
+        efficiency: ideal.map_or(0.0, |p0| p0 * up_den / (a + phi).sin()),
+        reverse_efficiency: ideal.map(|p0| (a - phi).sin() / down_den / p0),
+        self_locking: a <= phi,
+    })
 }
 
 /// Wedge (angle `a`, friction angles `φ1`, `φ2` on its faces): drive-in
@@ -183,6 +212,31 @@ pub fn band_brake(e: f64, tight_arm: f64, slack_arm: f64, given: BrakeGiven) -> 
         locking_margin: margin,
         friction_sensitivity: e.ln() * (e / (e - 1.0) + tight_arm * e / margin),
     })
+}
+
+/// A shoe (block) brake: a lever pivoted at `O` presses a shoe on a drum of radius `R`.
+/// The lever load's moment about `O` is `G l`; the shoe's normal force `N` acts at arm `b`
+/// from `O`, its friction force `f' N` along the drum's tangent at arm `e` from `O`,
+/// signed: `e > 0` when the drum's friction on the shoe turns the lever the way the lever
+/// load does (the brake applies itself: self-energising), `e < 0` when it opposes it.
+/// Lever equilibrium `N b = G l + f' N e`, so `N = G l/(b − f' e)`, braking force
+/// `F = f' N`, torque `F R`; self-locking when `b − f' e ≤ 0`. A long shoe of contact
+/// angle `θ` (pressure ∝ cos of the angle from the shoe's middle) acts with
+/// `f' = 4 f sin(θ/2)/(θ + sin θ)`, which tends to `f` as `θ → 0`.
+pub fn shoe_coefficient(f: f64, contact: f64) -> f64 {
+    if contact <= 0.0 {
+        f
+    } else {
+        4.0 * f * (contact / 2.0).sin() / (contact + contact.sin())
+    }
+}
+
+/// The normal force of a shoe brake (see [`shoe_coefficient`]) for a lever moment `g_l`,
+/// shoe arm `b`, friction arm `e` and coefficient `f`; `None` when the brake self-locks
+/// (`b − f e ≤ 0`: no lever load fixes the force).
+pub fn shoe_normal_force(g_l: f64, b: f64, e: f64, f: f64) -> Option<f64> {
+    let margin = b - f * e;
+    (margin > 0.0).then(|| g_l / margin)
 }
 
 /// Belt transmitting power `w` at speed `v` with `e = e^{fα}`: useful pull `P = W/v`,
