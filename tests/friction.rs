@@ -619,3 +619,79 @@ mod friction_circles {
         assert!(eta_cycle.abs() < 0.05, "cycle: W_d {wd}, W_f {wf}");
     }
 }
+
+/// First-order friction power of the centric slider-crank `r`, `L` at crank angle `phi`
+/// (speed `w1`, piston load `load`), pins of radii `pins = [A, B, C]`, coefficient `f`
+/// everywhere: the frictionless reactions (the rod a two-force member, `P = F/cos ψ`,
+/// guide `N = F tan ψ`) times each joint's relative speed.
+fn slider_crank_friction_first_order(
+    (r, l, w1, load): (f64, f64, f64, f64),
+    phi: f64,
+    pins: [f64; 3],
+    f: f64,
+) -> f64 {
+    let rod_angle = |p: f64| {
+        let cx = r * p.cos() + (l * l - (r * p.sin()).powi(2)).sqrt();
+        ((r * p.sin()).atan2(r * p.cos() - cx), cx)
+    };
+    let h = 1e-6;
+    let (w2, vc) = {
+        let ((a1, c1), (a0, c0)) = (rod_angle(phi + h), rod_angle(phi - h));
+        ((a1 - a0) / (2.0 * h) * w1, (c1 - c0) / (2.0 * h) * w1)
+    };
+    let sin_psi = r * phi.sin() / l;
+    let cos_psi = (1.0 - sin_psi * sin_psi).sqrt();
+    let (p, n) = (load / cos_psi, load * sin_psi / cos_psi);
+    f * (pins[0] * p * w1.abs() + pins[1] * p * (w1 - w2).abs() + pins[2] * p * w2.abs())
+        + f * n * vc.abs()
+}
+
+#[test]
+fn three_different_pins_take_each_its_own_friction_circle() {
+    // The bundled file with f = 0.001, where the first-order power is exact to ~1e-4.
+    let path = "scenarios/slider_crank_three_pins_friction.toml";
+    let text = std::fs::read_to_string(common::root().join(path)).unwrap();
+    let small = text.replace(
+        "friction_coefficient = 0.05",
+        "friction_coefficient = 0.001",
+    );
+    assert_ne!(small, text);
+    let dir = std::env::temp_dir().join(format!("armsim_pins_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let copy = dir.join("three_pins_small_f.toml");
+    std::fs::write(&copy, small).unwrap();
+    let v = common::cli_json(&["run", copy.to_str().unwrap(), "--json"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+    let at = v["kinetostatics"]["friction"]["at"].as_array().unwrap();
+    assert_eq!(at.len(), 5);
+    for row in at {
+        let phi = row["input"].as_f64().unwrap();
+        let expected = slider_crank_friction_first_order(
+            (0.05, 0.2, 100.0, 1000.0),
+            phi,
+            [0.04, 0.025, 0.015],
+            0.001,
+        );
+        let got = row["friction_power"].as_f64().unwrap();
+        close(got, expected, 1e-3 * expected, "friction power");
+    }
+    // The bundled file (f = 0.05): 90° by the converged friction circles, within the
+    // second-order 3 % of the first-order estimate (400.2 W).
+    let v = run_json(path);
+    let f = &v["kinetostatics"]["friction"];
+    assert_eq!(f["pin_radii"]["B"], 0.025);
+    let at90 = &f["at"][2];
+    let first = slider_crank_friction_first_order(
+        (0.05, 0.2, 100.0, 1000.0),
+        FRAC_PI_2,
+        [0.04, 0.025, 0.015],
+        0.05,
+    );
+    close(first, 400.2, 0.1, "first order at 90°");
+    close(
+        at90["friction_power"].as_f64().unwrap(),
+        first,
+        0.03 * first,
+        "converged",
+    );
+}

@@ -1472,7 +1472,13 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "linkage_negative_pin_radius.toml",
         38,
         "kinetostatics.pin_radius",
-        "must be a radius ≥ 0",
+        "must be a radius in 0 … 1000 m, got -0.01",
+    ),
+    (
+        "linkage_pin_radii_unknown_joint.toml",
+        39,
+        "kinetostatics.pin_radii.E",
+        "no joint of the linkage is named 'E' (its pins: A, D, B, C)",
     ),
 ];
 

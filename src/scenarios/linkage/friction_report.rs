@@ -1,5 +1,5 @@
 //! The `friction` part of a linkage scenario's kinetostatics (`[kinetostatics]`
-//! `friction_coefficient`, `pin_radius`): every joint with friction circles
+//! `friction_coefficient`, `pin_radius`, `pin_radii`): every joint with friction circles
 //! ([`crate::machines::friction::friction_circle`]) at every sample of the sweep; the driving
 //! effort with and without friction, the friction power and the instantaneous efficiency at the
 //! reported inputs, and over a full turn the works of the driver and of friction per turn and the
@@ -9,6 +9,7 @@
 use crate::machines::friction::friction_circle::{solve_with_friction, JointFriction};
 use crate::machines::linkage::description::Linkage;
 use crate::machines::linkage::kinetostatics::Loads;
+use crate::scenarios::linkage::linkage_scenario::PinFriction;
 use nalgebra::DVector;
 use serde_json::{json, Value};
 use std::fmt::Write;
@@ -21,23 +22,26 @@ const TOL: f64 = 1e-10;
 const MAX_ITER: usize = 100;
 
 /// The report (JSON value and summary lines); `speed` is the driver's rate, `report_at`
-/// the inputs listed, `full_turn` whether the samples cover one turn of the crank.
+/// the inputs listed, `full_turn` whether the samples cover one turn of the crank,
+/// `angle_input` whether the input is an angle (shown in degrees; else metres).
 #[allow(clippy::too_many_arguments)]
 pub fn report(
     l: &Linkage,
     samples: &[FrictionSample],
     loads: &Loads,
     speed: f64,
-    (coefficient, pin_radius): (f64, f64),
+    pins: &PinFriction,
     report_at: &[f64],
     full_turn: bool,
+    angle_input: bool,
     text: &mut String,
 ) -> Value {
+    let coefficient = pins.coefficient;
     let fr: Vec<JointFriction> = (0..l.joints.len())
         .map(|joint| JointFriction {
             joint,
             coefficient,
-            pin_radius,
+            pin_radius: pins.radii[joint],
         })
         .collect();
     let (mut wd, mut wf, mut worst, mut all_converged, mut most) =
@@ -59,9 +63,14 @@ pub fn report(
             .iter()
             .any(|r| (r - s).abs() < 1e-9 * (1.0 + r.abs()))
         {
+            let shown = if angle_input {
+                format!("{:.4}°", s.to_degrees())
+            } else {
+                format!("{s:.6} m")
+            };
             let _ = writeln!(
                 text,
-                "  friction at input {s:.6}: driving {:.6} (ideal {:.6}), friction power {:.4} W, efficiency {}",
+                "  friction at input {shown}: driving {:.6} (ideal {:.6}), friction power {:.4} W, efficiency {}",
                 w.real.driving,
                 w.ideal.driving,
                 w.friction_power,
@@ -91,10 +100,16 @@ pub fn report(
             "  friction over the turn: efficiency 1 − W_f/W_d = {c:.6}"
         );
     }
+    let named: serde_json::Map<String, Value> = pins
+        .named
+        .iter()
+        .map(|(n, r)| (n.clone(), json!(r)))
+        .collect();
     json!({
         "coefficient": coefficient,
-        "pin_radius": pin_radius,
-        "friction_circle_radius": coefficient * pin_radius,
+        "pin_radius": pins.default_radius,
+        "friction_circle_radius": coefficient * pins.default_radius,
+        "pin_radii": named,
         "at": at,
         "cycle_efficiency": cycle,
         "work_per_turn": full_turn.then(|| json!({ "driver": wd * dt, "friction": wf * dt })),

@@ -16,10 +16,23 @@ pub const NAME: &str = "linkage";
 pub struct KinetostaticsScenario {
     /// Loads (gravity included).
     pub loads: Loads,
-    /// Joint friction `(coefficient, pin radius)` in every joint (friction circles).
-    pub friction: Option<(f64, f64)>,
+    /// Joint friction (friction circles) in every joint.
+    pub friction: Option<PinFriction>,
     /// Inputs (rad or m) at which the text report lists the joint forces.
     pub report_at: Vec<f64>,
+}
+
+/// Friction in a linkage's joints: one coefficient, a pin radius per joint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PinFriction {
+    /// Coefficient `f` of every joint (pins and sliders).
+    pub coefficient: f64,
+    /// `pin_radius`: the radius of the pins not named in `pin_radii` (m).
+    pub default_radius: f64,
+    /// Pin radius of each joint, in [`Linkage::joints`] order (m; unused for sliders).
+    pub radii: Vec<f64>,
+    /// The joints given their own radius, by name.
+    pub named: Vec<(String, f64)>,
 }
 
 /// Counterweight settings (slider-crank).

@@ -109,6 +109,8 @@ pub(super) struct KinetoSpec {
     pub(super) gravity: Option<[f64; 2]>,
     pub(super) friction_coefficient: Option<f64>,
     pub(super) pin_radius: Option<f64>,
+    /// Per-joint pin radii (m) by joint name, over `pin_radius`.
+    pub(super) pin_radii: Option<std::collections::BTreeMap<String, f64>>,
     #[serde(default)]
     pub(super) report_at_deg: Vec<f64>,
     #[serde(default)]

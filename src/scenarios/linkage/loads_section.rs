@@ -4,11 +4,11 @@
 //! the file, the line and the key.
 
 use crate::core::diag::{all_finite, LocatedError as ScenarioError};
-use crate::machines::linkage::description::Linkage;
+use crate::machines::linkage::description::{Linkage, PlanarJoint};
 use crate::machines::linkage::kinetostatics::{Loads, PointForce};
 use crate::machines::linkage::Vec2;
 use crate::scenarios::linkage::linkage_scenario::{
-    CounterweightScenario, FlywheelScenario, KinetostaticsScenario, MechanismScenario,
+    CounterweightScenario, FlywheelScenario, KinetostaticsScenario, MechanismScenario, PinFriction,
 };
 use crate::scenarios::linkage::linkage_spec::{
     moving_link, FlywheelSpec, KinetoSpec, LoadSpec, Spec,
@@ -65,7 +65,7 @@ pub(super) fn parse_kineto(
     for (i, ls) in loads.iter().enumerate() {
         parse_load(cx, i, ls, l, &mut out)?;
     }
-    let friction = parse_pin_friction(cx, k)?;
+    let friction = parse_pin_friction(cx, k, l)?;
     Ok(KinetostaticsScenario {
         loads: out,
         friction,
@@ -133,38 +133,84 @@ fn parse_load(
     Ok(())
 }
 
-/// The pin friction `(coefficient, pin radius)`: none, or a coefficient in `[0, 1]` with
-/// a radius ≥ 0 (0 by default); a radius alone is an error.
+/// The pin friction: none, or a coefficient in `[0, 1]` with a radius ≥ 0 for every pin
+/// (`pin_radius`, 0 by default) and radii of named pins (`pin_radii`); a radius without
+/// a coefficient is an error, and so is a name that is not a pin of the linkage.
 fn parse_pin_friction(
     cx: &Source,
     k: &Spanned<KinetoSpec>,
-) -> Result<Option<(f64, f64)>, ScenarioError> {
+    l: &Linkage,
+) -> Result<Option<PinFriction>, ScenarioError> {
     let span = k.span();
     let ks = k.get_ref();
-    match (ks.friction_coefficient, ks.pin_radius) {
-        (None, None) => Ok(None),
-        (Some(f), r) if (0.0..=1.0).contains(&f) => {
-            let r = r.unwrap_or(0.0);
-            if !(r.is_finite() && r >= 0.0) {
-                return Err(cx.err(
-                    cx.key_line(&span, "pin_radius"),
-                    "kinetostatics.pin_radius",
-                    format!("must be a radius ≥ 0 (m), got {r}"),
-                ));
-            }
-            Ok(Some((f, r)))
-        }
-        (Some(f), _) => Err(cx.err(
+    let radius_ok = |r: f64| r.is_finite() && (0.0..=1e3).contains(&r);
+    let Some(f) = ks.friction_coefficient else {
+        let key = match (&ks.pin_radius, &ks.pin_radii) {
+            (None, None) => return Ok(None),
+            (Some(_), _) => "pin_radius",
+            (None, Some(_)) => "pin_radii",
+        };
+        return Err(cx.err(
+            cx.key_line(&span, key),
+            format!("kinetostatics.{key}"),
+            "a pin radius needs friction_coefficient (the friction circle is f r)",
+        ));
+    };
+    if !(0.0..=1.0).contains(&f) {
+        return Err(cx.err(
             cx.key_line(&span, "friction_coefficient"),
             "kinetostatics.friction_coefficient",
             format!("must be in [0, 1], got {f}"),
-        )),
-        (None, Some(_)) => Err(cx.err(
+        ));
+    }
+    let r = ks.pin_radius.unwrap_or(0.0);
+    if !radius_ok(r) {
+        return Err(cx.err(
             cx.key_line(&span, "pin_radius"),
             "kinetostatics.pin_radius",
-            "a pin radius needs friction_coefficient (the friction circle is f r)",
-        )),
+            format!("must be a radius in 0 … 1000 m, got {r}"),
+        ));
     }
+    let mut radii = vec![r; l.joints.len()];
+    let mut named = Vec::new();
+    let pins: Vec<&str> = l
+        .joints
+        .iter()
+        .filter(|j| matches!(j, PlanarJoint::Revolute { .. }))
+        .map(PlanarJoint::name)
+        .collect();
+    for (name, &rj) in ks.pin_radii.iter().flatten() {
+        let bad = |m: String| {
+            cx.err(
+                cx.key_line(&span, "pin_radii"),
+                format!("kinetostatics.pin_radii.{name}"),
+                m,
+            )
+        };
+        let Some(j) = l.joints.iter().position(|j| j.name() == name) else {
+            return Err(bad(format!(
+                "no joint of the linkage is named '{name}' (its pins: {})",
+                pins.join(", ")
+            )));
+        };
+        if !matches!(l.joints[j], PlanarJoint::Revolute { .. }) {
+            return Err(bad(format!(
+                "'{name}' is a slider: a pin radius does not apply (its pins: {})",
+                pins.join(", ")
+            )));
+        }
+        if !radius_ok(rj) {
+            return Err(bad(format!("must be a radius in 0 … 1000 m, got {rj}")));
+        }
+        radii[j] = rj;
+        named.push((name.clone(), rj));
+    }
+    Ok(Some(PinFriction {
+        coefficient: f,
+        default_radius: r,
+        radii,
+        named,
+    }))
 }
 
 pub(super) fn parse_flywheel(

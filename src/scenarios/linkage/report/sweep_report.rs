@@ -402,7 +402,7 @@ fn kinetostatics_section(
         })
         .fold(0.0, f64::max);
     let mut kj = json!({"at": kat, "max_virtual_power_difference": max_diff});
-    if let Some(fc) = k.friction {
+    if let Some(fc) = &k.friction {
         let samples: Vec<crate::scenarios::linkage::friction_report::FrictionSample> = rows
             .iter()
             .map(|r| (r.st.s, &r.st.q, &r.qd, &r.qdd))
@@ -415,6 +415,7 @@ fn kinetostatics_section(
             fc,
             &k.report_at,
             full_turn,
+            m.angle_input,
             text,
         );
     }
