@@ -6,7 +6,7 @@
 //! pointed-tooth shift as a zero of the tip thickness, and the broken files.
 
 use armsim::machines::gearing::crossed_axes::{bevel, crossed, worm};
-use armsim::machines::gearing::involute::{inv, inv_inverse, thickness_at};
+use armsim::machines::gearing::involute::{inv, inv_inverse, involute_at, thickness_at};
 use armsim::machines::gearing::pair::{pair, PairKind, PairSpec};
 use armsim::machines::gearing::pair_design::{design, specific_sliding};
 use serde_json::Value;
@@ -564,6 +564,12 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "pair[0].diameter_factor",
         "q = d1/m",
     ),
+    (
+        "gear_pair_at_radius_inside_base.toml",
+        8,
+        "pair[0].at_radii",
+        "gear 1: radius 90 mm is outside 93.9693 … 1100.0000 mm (the involute starts on the base circle",
+    ),
 ];
 
 #[test]
@@ -611,5 +617,73 @@ fn design_takes_the_standard_pair_when_the_quotient_is_a_hair_below_an_integer()
             .unwrap()
             .teeth[0],
         19
+    );
+}
+
+/// The involute's quantities at a radius: `ρ_y` is the length of the generating line
+/// (the distance from the flank point to the base circle's tangent point, measured on the
+/// flank's points), the polar angle of the flank point is `inv α_y`, and the listed
+/// thickness at the pitch and tip radii is the pair's `thickness_pitch` and `thickness_tip`.
+#[test]
+fn involute_at_a_radius_matches_its_flank_points_and_the_gears_thicknesses() {
+    let rb = 93.969_262_078_590_84_f64;
+    for ry in [rb, 95.0, 100.0, 110.0, 150.0] {
+        let i = involute_at(rb, ry).unwrap();
+        // The involute point of roll angle t: rb (cos t + t sin t, sin t − t cos t).
+        let t = i.roll_angle;
+        let (px, py) = (rb * (t.cos() + t * t.sin()), rb * (t.sin() - t * t.cos()));
+        close(px.hypot(py), ry, 1e-9, "radius of the point");
+        close(py.atan2(px), i.involute, 1e-12, "polar angle = inv α_y");
+        let (tx, ty) = (rb * t.cos(), rb * t.sin());
+        close((px - tx).hypot(py - ty), i.curvature_radius, 1e-9, "ρ_y");
+        close(i.involute, inv(i.pressure_angle), 0.0, "inv");
+    }
+    assert!(involute_at(rb, 90.0).is_none(), "inside the base circle");
+    let v = run_json("scenarios/gear_pair_involute_at_radius.toml");
+    let rows = &v["pairs"][0]["gears"][0]["at_radii"];
+    close(
+        f(&rows[1], "pressure_angle_deg"),
+        20.0,
+        1e-12,
+        "α at the pitch",
+    );
+    close(f(&rows[1], "involute"), 0.014_904_383_867, 1e-12, "inv 20°");
+    close(
+        f(&rows[1], "thickness"),
+        f(&v, "pairs.0.gears.0.thickness_pitch"),
+        1e-12,
+        "s",
+    );
+    close(
+        f(&rows[3], "thickness"),
+        f(&v, "pairs.0.gears.0.thickness_tip"),
+        1e-12,
+        "s_a",
+    );
+    close(f(&rows[3], "thickness"), 6.95, 0.005, "GG-4 s_a");
+    close(
+        f(&rows[3], "curvature_radius"),
+        57.182,
+        1e-3,
+        "ρ at the tip",
+    );
+    close(
+        f(&rows[0], "curvature_radius"),
+        0.0,
+        1e-6,
+        "ρ on the base circle",
+    );
+    let internal = &v["pairs"][1]["gears"][1]["at_radii"];
+    close(
+        f(&internal[1], "thickness"),
+        f(&v, "pairs.1.gears.1.thickness_tip"),
+        1e-12,
+        "internal s_a",
+    );
+    close(
+        f(&internal[2], "thickness"),
+        PI * 10.0 / 2.0,
+        1e-9,
+        "internal s at the pitch",
     );
 }

@@ -55,6 +55,7 @@ struct PairTable {
     shaft_angle_deg: Option<f64>,
     profile_points: Option<i64>,
     ratio: Option<f64>,
+    at_radii: Option<Vec<Vec<f64>>>,
 }
 
 /// Runs a gear-pair scenario.
@@ -191,6 +192,7 @@ fn case(
             spec: None,
             spatial: Some(spatial),
             points: common.points,
+            at_radii: Vec::new(),
         });
     }
     let teeth = tooth_counts(&at, p, &kind)?;
@@ -217,6 +219,7 @@ fn case(
     need("shift", p.shift.is_none() || planar)?;
     need("helix_angle_deg", p.helix_angle_deg.is_none() || planar)?;
     need("find_helix_angle", !p.find_helix_angle || planar)?;
+    need("at_radii", p.at_radii.is_none() || planar)?;
     for (k, v) in [
         ("speed", p.speed),
         ("speed_rpm", p.speed_rpm),
@@ -229,12 +232,14 @@ fn case(
     if planar {
         let spec = planar_spec(&at, p, &kind, &teeth, &common)?;
         tips_reach(&at, p, &spec)?;
+        let at_radii = at_radii(&at, p, &spec)?;
         return Ok(PairCase {
             label,
             kind,
             spec: Some(spec),
             spatial: None,
             points: common.points,
+            at_radii,
         });
     }
     let spatial = spatial_case(&at, p, &kind, &teeth, &common)?;
@@ -247,7 +252,52 @@ fn case(
         spec: None,
         spatial: Some(spatial),
         points: common.points,
+        at_radii: Vec::new(),
     })
+}
+
+/// `at_radii = [[r, …], [r, …]]` (mm), one list per gear of the pair (the pinion only for
+/// a rack): each radius on the involute, from the base circle to ten times the tip radius.
+fn at_radii(
+    at: &At,
+    p: &PairTable,
+    spec: &crate::machines::gearing::pair::PairSpec,
+) -> Result<Vec<Vec<f64>>, ScenarioError> {
+    let Some(lists) = &p.at_radii else {
+        return Ok(Vec::new());
+    };
+    let gears = crate::machines::gearing::pair::pair(spec).gears;
+    if lists.len() > gears.len() {
+        return Err(at.err(
+            "at_radii",
+            format!(
+                "{} lists for a pair of {} gear(s): give one list of radii per gear",
+                lists.len(),
+                gears.len()
+            ),
+        ));
+    }
+    for (k, (list, g)) in lists.iter().zip(&gears).enumerate() {
+        if list.len() > 100 {
+            return Err(at.err("at_radii", format!("gear {}: at most 100 radii", k + 1)));
+        }
+        let hi = 10.0 * g.ra.max(g.r);
+        if let Some(r) = list.iter().find(|r| !(**r >= g.rb && **r <= hi)) {
+            return Err(at.err(
+                "at_radii",
+                format!(
+                    "gear {}: radius {} mm is outside {:.4} … {:.4} mm (the involute starts \
+                     on the base circle r_b = {:.4} mm)",
+                    k + 1,
+                    crate::io::report::human_num(*r),
+                    g.rb,
+                    hi,
+                    g.rb
+                ),
+            ));
+        }
+    }
+    Ok(lists.clone())
 }
 
 /// The module (here or at the top), the pressure angle, addendum and clearance factors

@@ -5,7 +5,9 @@
 
 use crate::io::report::Report;
 use crate::machines::gearing::crossed_axes::{bevel, crossed, worm, Worm};
-use crate::machines::gearing::involute::flank_points;
+use crate::machines::gearing::involute::{
+    flank_points, internal_thickness_at, involute_at, thickness_at,
+};
 use crate::machines::gearing::pair::{
     pair, withdrawal_for, GearGeometry, PairGeometry, PairKind, PairSpec,
 };
@@ -89,6 +91,8 @@ pub struct PairCase {
     pub spatial: Option<SpatialCase>,
     /// Points per flank in the profiles.
     pub points: usize,
+    /// Radii (mm) per gear at which the involute's quantities are listed.
+    pub at_radii: Vec<Vec<f64>>,
 }
 
 /// A parsed gear-pair scenario.
@@ -144,6 +148,43 @@ fn gear_json(g: &GearGeometry, n: usize) -> Value {
         "max_tip_radius": g.max_tip_radius,
         "tooth_profile": tooth_profile(g, n),
     })
+}
+
+/// The involute's quantities at the radii `radii` of gear `k` (checked ≥ r_b at parse):
+/// pressure angle, `inv α_y`, roll angle, radius of curvature, tooth thickness and space
+/// width (arcs; an internal gear's tooth is the space of the external involute).
+fn involute_rows(g: &GearGeometry, radii: &[f64], k: usize, text: &mut String) -> Value {
+    let rows = radii.iter().filter_map(|&ry| {
+        let i = involute_at(g.rb, ry)?;
+        let s = if g.internal {
+            internal_thickness_at(g.s, g.r, g.rb, ry)
+        } else {
+            thickness_at(g.s, g.r, g.rb, ry)
+        };
+        let pitch = 2.0 * std::f64::consts::PI * ry / g.teeth as f64;
+        let _ = writeln!(
+            text,
+            "  gear {} at r = {ry:.4}: α = {:.4}°, inv α = {:.6}, ρ = {:.4}, s = {:.4}, e = {:.4}{}",
+            k + 1,
+            deg(i.pressure_angle),
+            i.involute,
+            i.curvature_radius,
+            s,
+            pitch - s,
+            if s <= 0.0 { " (beyond the tooth's point)" } else { "" }
+        );
+        Some(json!({
+            "radius": ry,
+            "pressure_angle_deg": deg(i.pressure_angle),
+            "involute": i.involute,
+            "roll_angle_deg": deg(i.roll_angle),
+            "curvature_radius": i.curvature_radius,
+            "thickness": s,
+            "space_width": pitch - s,
+            "pointed": s <= 0.0,
+        }))
+    });
+    Value::Array(rows.collect())
 }
 
 /// The warning of a pair whose total contact ratio is below 1.
@@ -227,6 +268,9 @@ fn planar_json(c: &PairCase, spec: &PairSpec, g: &PairGeometry, text: &mut Strin
         "interference": g.interference,
         "gears": g.gears.iter().map(|gg| gear_json(gg, c.points)).collect::<Vec<_>>(),
     });
+    for (k, radii) in c.at_radii.iter().enumerate() {
+        v["gears"][k]["at_radii"] = involute_rows(&g.gears[k], radii, k, text);
+    }
     if below_one {
         v["warnings"] = json!([CONTACT_BELOW_ONE]);
     }

@@ -27,6 +27,40 @@ pub fn inv_inverse(v: f64) -> f64 {
     x
 }
 
+/// The involute of base radius `r_b` at the radius `r_y ≥ r_b`: pressure angle
+/// `cos α_y = r_b/r_y`, involute function (the polar angle from the involute's start)
+/// `θ_y = inv α_y = tan α_y − α_y`, roll angle `tan α_y` (the base-circle arc unwound,
+/// over `r_b`) and radius of curvature `ρ_y = r_b tan α_y = √(r_y² − r_b²)` (the length
+/// of the generating line from its tangent point).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InvoluteAt {
+    /// `r_y`.
+    pub radius: f64,
+    /// `α_y` (rad).
+    pub pressure_angle: f64,
+    /// `inv α_y` (rad).
+    pub involute: f64,
+    /// `tan α_y` (rad).
+    pub roll_angle: f64,
+    /// `ρ_y`.
+    pub curvature_radius: f64,
+}
+
+/// See [`InvoluteAt`]; `None` inside the base circle (no involute there).
+pub fn involute_at(rb: f64, ry: f64) -> Option<InvoluteAt> {
+    if !(ry >= rb && rb > 0.0) {
+        return None;
+    }
+    let alpha = (rb / ry).acos();
+    Some(InvoluteAt {
+        radius: ry,
+        pressure_angle: alpha,
+        involute: inv(alpha),
+        roll_angle: alpha.tan(),
+        curvature_radius: (ry * ry - rb * rb).sqrt(),
+    })
+}
+
 /// Thickness (arc) at radius `ry ≥ rb` of a tooth whose thickness at the pitch radius `r`
 /// is `s`: `s_y = 2 r_y (s/(2r) + inv α − inv α_y)`, `cos α_y = r_b/r_y`.
 pub fn thickness_at(s: f64, r: f64, rb: f64, ry: f64) -> f64 {
