@@ -189,6 +189,48 @@ fn impact_peak_closed_form_agrees_with_rk4_and_the_optimum() {
     close(&i["optimum"]["damping_ratio"], eo, 1e-12, "optimum ε");
 }
 
+/// The damping sweep of a shock mount: each ratio's peak by (17.44) (`2ε` from 0.5 on,
+/// the force at t = 0) written out here, the RK4 run agreeing, and the least peak of the
+/// sweep at the optimum `sin 2θ + 2θ = π/3`.
+#[test]
+fn impact_damping_sweep_follows_17_44_and_is_least_at_the_optimum() {
+    let v = run_json("scenarios/isolation_impact_damping_sweep.toml");
+    let i = &v["impact"];
+    assert!(
+        i.get("peak_force").is_none(),
+        "no single damping ratio given"
+    );
+    let rows = i["sweep"].as_array().unwrap();
+    assert_eq!(rows.len(), 10);
+    let (m, p, vel) = (
+        2000.0,
+        (4.0e7_f64 / 2000.0).sqrt(),
+        1.5 * 200.0 * 5.0 / 2200.0,
+    );
+    let mut least = (f64::INFINITY, 0.0);
+    for r in rows {
+        let eps = r["damping_ratio"].as_f64().unwrap();
+        let th = eps.asin();
+        let expected = if eps < 0.5 {
+            (-(std::f64::consts::FRAC_PI_2 - 3.0 * th) * th.tan()).exp()
+        } else {
+            2.0 * eps
+        };
+        close(&r["peak_force_ratio"], expected, 1e-12, "17.44");
+        close(&r["peak_force_ratio_by_integration"], expected, 1e-6, "RK4");
+        close(&r["peak_force"], expected * m * p * vel, 1e-6, "R max (N)");
+        if expected < least.0 {
+            least = (expected, eps);
+        }
+    }
+    close(
+        &i["optimum"]["damping_ratio"],
+        least.1,
+        1e-5,
+        "least peak at the optimum",
+    );
+}
+
 const BROKEN: &[(&str, usize, &str, &str)] = &[
     ("isolation_nothing.toml", 1, "file", "nothing to compute"),
     (

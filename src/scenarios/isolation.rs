@@ -83,7 +83,8 @@ struct SelectionIn {
 struct ImpactIn {
     mass: F,
     stiffness: F,
-    damping_ratio: F,
+    damping_ratio: Option<F>,
+    damping_ratios: Option<FList>,
     velocity: Option<F>,
     striking_mass: Option<F>,
     striking_velocity: Option<F>,
@@ -116,9 +117,24 @@ pub struct IsolationScenario {
     excitation: Option<(f64, usize, f64)>,
     curves: Option<(Vec<f64>, Vec<f64>, bool)>,
     selection: Option<(f64, f64, f64, f64)>,
-    impact: Option<(f64, f64, f64, f64)>,
+    impact: Option<ImpactSpec>,
     absorber: Option<AbsorberSpec>,
 }
+
+/// The `[impact]` section, checked: a mount hit at a velocity, for one damping ratio
+/// and/or a sweep of them.
+#[derive(Clone, Debug)]
+struct ImpactSpec {
+    mass: f64,
+    stiffness: f64,
+    damping_ratio: Option<f64>,
+    sweep: Vec<f64>,
+    velocity: f64,
+}
+
+/// At most this many damping ratios in an impact sweep (each is also integrated, 2·10⁵
+/// RK4 steps).
+const MAX_IMPACT_SWEEP: usize = 200;
 
 fn speed(ctx: &Source, sec: &str, rpm: Option<&F>, w: Option<&F>) -> Result<f64, ScenarioError> {
     match (rpm, w) {
@@ -253,11 +269,35 @@ fn parse_selection(ctx: &Source, s: &SelectionIn) -> Result<(f64, f64, f64, f64)
     Ok((m, w, tr, eps))
 }
 
-/// The `[impact]` section: mass, stiffness, damping ratio and impact velocity.
-fn parse_impact(ctx: &Source, i: &ImpactIn) -> Result<(f64, f64, f64, f64), ScenarioError> {
+/// The `[impact]` section: mass, stiffness, damping ratio (or a sweep of them) and impact
+/// velocity.
+fn parse_impact(ctx: &Source, i: &ImpactIn) -> Result<ImpactSpec, ScenarioError> {
     let m = ctx.positive(&i.mass, "impact.mass")?;
     let c = ctx.positive(&i.stiffness, "impact.stiffness")?;
-    let eps = ctx.between(&i.damping_ratio, "impact.damping_ratio", 0.0, 1.0)?;
+    let eps = i
+        .damping_ratio
+        .as_ref()
+        .map(|e| ctx.between(e, "impact.damping_ratio", 0.0, 1.0))
+        .transpose()?;
+    let mut sweep = Vec::new();
+    if let Some(list) = &i.damping_ratios {
+        if list.get_ref().is_empty() || list.get_ref().len() > MAX_IMPACT_SWEEP {
+            return Err(ctx.at(
+                list.span(),
+                "impact.damping_ratios",
+                format!("needs 1 … {MAX_IMPACT_SWEEP} damping ratios"),
+            ));
+        }
+        for (k, e) in list.get_ref().iter().enumerate() {
+            sweep.push(ctx.between(e, &format!("impact.damping_ratios[{k}]"), 0.0, 1.0)?);
+        }
+    }
+    if eps.is_none() && sweep.is_empty() {
+        return Err(ctx.section(
+            "impact",
+            "give `damping_ratio`, or `damping_ratios` for a sweep (or both)",
+        ));
+    }
     let v =
         match (&i.velocity, &i.striking_mass, &i.striking_velocity) {
             (Some(v), None, None) => {
@@ -297,7 +337,13 @@ fn parse_impact(ctx: &Source, i: &ImpactIn) -> Result<(f64, f64, f64, f64), Scen
                 "give `velocity`, or `striking_mass` and `striking_velocity` (with `restitution`)",
             )),
         };
-    Ok((m, c, eps, v))
+    Ok(ImpactSpec {
+        mass: m,
+        stiffness: c,
+        damping_ratio: eps,
+        sweep,
+        velocity: v,
+    })
 }
 
 /// The `[absorber]` section: mass ratio, tuning, damping ratio, frequency ratios.
@@ -530,17 +576,8 @@ pub fn report(
         writeln!(text, "selection: q ≥ {q:.4}, p ≤ {p:.4} rad/s, stiffness ≤ {:.4e} N/m, static deflection ≥ {:.4e} m", m * p * p, G / (p * p)).ok();
         j["selection"] = json!({ "frequency": w, "damping_ratio": eps, "frequency_ratio_min": q, "natural_frequency_max": p, "stiffness_max": m * p * p, "static_deflection_min": G / (p * p) });
     }
-    if let Some((m, c, eps, v)) = sc.impact {
-        let p = (c / m).sqrt();
-        let (r, rt) = (
-            iso::impact_peak(eps),
-            iso::impact_peak_by_integration(eps, 200_000),
-        );
-        let (th, eo) = iso::impact_optimum();
-        writeln!(text, "impact: v = {v:.4} m/s, p = {p:.4} rad/s: R_max = {:.4} N ({r:.5} m p v; RK4 {:.5}); optimum ε = {eo:.5} (θ = {:.3}°) gives {:.5} m p v", r * m * p * v, rt.0, th.to_degrees(), iso::impact_peak(eo)).ok();
-        j["impact"] = json!({ "velocity": v, "natural_frequency": p, "peak_force": r * m * p * v, "peak_force_ratio": r,
-            "peak_force_ratio_by_integration": rt.0, "peak_time": rt.1 / p,
-            "optimum": { "theta_deg": th.to_degrees(), "damping_ratio": eo, "peak_force_ratio": iso::impact_peak(eo) } });
+    if let Some(imp) = &sc.impact {
+        j["impact"] = impact_report(imp, &mut text);
     }
     if let Some((mu, f, z, qs)) = &sc.absorber {
         let d = iso::absorber(*mu, f.unwrap_or(1.0 / (1.0 + mu)));
@@ -577,6 +614,64 @@ pub fn report(
         j["absorber"] = v;
     }
     finish_with_plot(ctx, out_dir, (&sc.name, NAME), (&panels, 1), j, text)
+}
+
+/// The `[impact]` report: the peak transmitted force in closed form and by RK4, for the
+/// damping ratio and each of the sweep's, and the optimum damping.
+fn impact_report(imp: &ImpactSpec, text: &mut String) -> Value {
+    let (m, v) = (imp.mass, imp.velocity);
+    let p = (imp.stiffness / m).sqrt();
+    let (th, eo) = iso::impact_optimum();
+    let row = |eps: f64| {
+        let (r, rt) = (
+            iso::impact_peak(eps),
+            iso::impact_peak_by_integration(eps, 200_000),
+        );
+        (
+            r,
+            rt,
+            json!({ "damping_ratio": eps, "peak_force": r * m * p * v, "peak_force_ratio": r,
+            "peak_force_ratio_by_integration": rt.0, "peak_time": rt.1 / p }),
+        )
+    };
+    let mut j = json!({ "velocity": v, "natural_frequency": p,
+        "optimum": { "theta_deg": th.to_degrees(), "damping_ratio": eo, "peak_force_ratio": iso::impact_peak(eo) } });
+    if let Some(eps) = imp.damping_ratio {
+        let (r, rt, row) = row(eps);
+        writeln!(text, "impact: v = {v:.4} m/s, p = {p:.4} rad/s: R_max = {:.4} N ({r:.5} m p v; RK4 {:.5}); optimum ε = {eo:.5} (θ = {:.3}°) gives {:.5} m p v", r * m * p * v, rt.0, th.to_degrees(), iso::impact_peak(eo)).ok();
+        for k in [
+            "peak_force",
+            "peak_force_ratio",
+            "peak_force_ratio_by_integration",
+            "peak_time",
+        ] {
+            j[k] = row[k].clone();
+        }
+    }
+    if !imp.sweep.is_empty() {
+        writeln!(
+            text,
+            "impact sweep (v = {v:.4} m/s, p = {p:.4} rad/s; optimum ε = {eo:.5}):"
+        )
+        .ok();
+        let rows: Vec<Value> = imp
+            .sweep
+            .iter()
+            .map(|&eps| {
+                let (r, rt, row) = row(eps);
+                writeln!(
+                    text,
+                    "  ε = {eps:.4}: R_max = {:.4} N ({r:.5} m p v; RK4 {:.5})",
+                    r * m * p * v,
+                    rt.0
+                )
+                .ok();
+                row
+            })
+            .collect();
+        j["sweep"] = json!(rows);
+    }
+    j
 }
 
 /// The `kind` value of these scenario files.
