@@ -14,12 +14,72 @@ pub struct Report {
 impl Report {
     /// The first line of the human summary that shows a non-finite number (`NaN`, `inf`
     /// or `-inf` as a word), trimmed: a result that must not be printed as an answer.
+    /// Words that belong to names are not numbers: the report's JSON strings (a scenario,
+    /// link or obstacle named `inf` or `inf box`) are taken out of the text first, and a
+    /// word next to a quote or a path separator (`'inf'`, `/tmp/NaN/`) is skipped. (So a
+    /// link named just `inf` hides an `inf` printed elsewhere; every quantity is also
+    /// checked where it is computed, and this guard is the last one.)
     pub fn non_finite_line(&self) -> Option<&str> {
+        let mut names = Vec::new();
+        named_strings(&self.json, &mut names);
         self.text.lines().map(str::trim).find(|l| {
-            l.split(|c: char| !(c.is_alphanumeric() || c == '_' || c == '.'))
-                .any(|w| matches!(w, "NaN" | "inf"))
+            let mut line = (*l).to_string();
+            for n in &names {
+                line = line.replace(n.as_str(), " ");
+            }
+            has_non_finite_word(&line)
         })
     }
+}
+
+/// Whether `line` has `NaN` or `inf` as a word (letters, digits, `_` and `.` make words)
+/// that is not quoted or part of a path.
+fn has_non_finite_word(line: &str) -> bool {
+    let word = |c: char| c.is_alphanumeric() || c == '_' || c == '.';
+    let bytes: Vec<char> = line.chars().collect();
+    let mut i = 0;
+    while i < bytes.len() {
+        if !word(bytes[i]) {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        while i < bytes.len() && word(bytes[i]) {
+            i += 1;
+        }
+        let w: String = bytes[start..i].iter().collect();
+        let quoted = |c: Option<&char>| matches!(c, Some('\'' | '"' | '/' | '\\' | '`'));
+        if matches!(w.as_str(), "NaN" | "inf")
+            && !quoted(start.checked_sub(1).and_then(|k| bytes.get(k)))
+            && !quoted(bytes.get(i))
+        {
+            return true;
+        }
+    }
+    false
+}
+
+/// The JSON's short strings that hold a `NaN` or `inf` word (names, labels, paths), longest
+/// first so that a name inside another is taken out after it.
+fn named_strings(v: &serde_json::Value, out: &mut Vec<String>) {
+    fn walk(v: &serde_json::Value, out: &mut Vec<String>) {
+        match v {
+            serde_json::Value::String(s) if s.len() <= 200 && has_non_finite_word(s) => {
+                out.push(s.clone());
+            }
+            serde_json::Value::Array(a) => a.iter().for_each(|x| walk(x, out)),
+            serde_json::Value::Object(o) => o.iter().for_each(|(k, x)| {
+                if has_non_finite_word(k) {
+                    out.push(k.clone());
+                }
+                walk(x, out);
+            }),
+            _ => {}
+        }
+    }
+    walk(v, out);
+    out.sort_by_key(|s| std::cmp::Reverse(s.len()));
+    out.dedup();
 }
 
 /// `x` for a human report: six significant digits, trailing zeros dropped (`89`, not
@@ -93,7 +153,34 @@ pub fn fmt_ns(ns: f64) -> String {
 #[cfg(test)]
 mod tests {
     use crate::core::diag::fmt_num;
-    use crate::io::report::{human_json, human_num};
+    use crate::io::report::{has_non_finite_word, human_json, human_num, Report};
+    use serde_json::json;
+
+    fn report(json: serde_json::Value, text: &str) -> Report {
+        Report {
+            json,
+            text: text.into(),
+        }
+    }
+
+    #[test]
+    fn non_finite_numbers_are_found_and_names_are_not() {
+        let r = report(json!({}), "peak 1.5 N\n  force NaN N at 3\n");
+        assert_eq!(r.non_finite_line(), Some("force NaN N at 3"));
+        assert!(report(json!({}), "x = -inf").non_finite_line().is_some());
+        assert!(report(json!({}), "(inf, 0)").non_finite_line().is_some());
+        // A scenario, link or obstacle named `inf`, quoted or not, and paths.
+        let named = json!({"scenario": "inf", "links": ["NaN"], "o": {"name": "inf box"}});
+        let text = "Scenario 'inf'\n  link NaN carries 3 N\n  obstacle inf box at 1 m\n\
+                    plot: /tmp/inf/NaN/x.png\n  file \"NaN\"";
+        assert_eq!(report(named.clone(), text).non_finite_line(), None);
+        // A longer name does not hide a number elsewhere in the text. (A bare name `inf`
+        // does: the guard then rests on the checks of each quantity.)
+        let named = json!({"o": {"name": "inf box"}});
+        let both = "obstacle inf box at 1 m\nforce inf N";
+        assert_eq!(report(named, both).non_finite_line(), Some("force inf N"));
+        assert!(!has_non_finite_word("information infinite NaNs"));
+    }
 
     #[test]
     fn human_text_rounds_and_names() {
