@@ -70,6 +70,9 @@ pub enum RobotError {
     /// Forward dynamics met a mass matrix that is not positive definite.
     #[error("{0}")]
     Singular(#[from] SingularMassMatrix),
+    /// The model is too large for the dense algorithms (CRBA, CRBA + Cholesky).
+    #[error("{0}")]
+    TooLargeForDense(String),
 }
 
 /// The answer of [`Robot::ik`]: the configuration, how it ended, the residual and a
@@ -321,6 +324,7 @@ impl Robot {
     /// The joint-space mass matrix `M(q)` (CRBA).
     pub fn crba(&mut self, q: &[f64]) -> Result<&DMatrix<f64>, RobotError> {
         self.check("q", q)?;
+        crate::model::data::dense_fits(&self.model).map_err(RobotError::TooLargeForDense)?;
         Ok(dynamics::crba(&self.model, &mut self.data, q))
     }
 
@@ -330,6 +334,9 @@ impl Robot {
         self.check("q", q)?;
         self.check("v", v)?;
         self.check("tau", tau)?;
+        if self.model.has_mimic {
+            crate::model::data::dense_fits(&self.model).map_err(RobotError::TooLargeForDense)?;
+        }
         Ok(dynamics::forward_dynamics(
             &self.model,
             &mut self.data,
@@ -369,6 +376,7 @@ impl Robot {
         if let Some(s) = seed {
             self.check("seed", s)?;
         }
+        crate::model::data::dense_fits(&self.model).map_err(RobotError::TooLargeForDense)?;
         let r = self.ik.solve(&self.model, frame.0, target, seed, opts);
         let reason = match r.status {
             IkStatus::Converged => format!(

@@ -764,3 +764,80 @@ fn a_non_finite_result_is_an_error_not_a_printed_nan() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 28: far targets (squared distances overflow) are refused by the target reader and
+/// unreachable for the closed forms, never a panic; an IK CSV has one header row.
+#[test]
+fn far_ik_targets_and_a_second_csv_header_are_refused() {
+    fails_with(
+        &[
+            "ik",
+            "robots/ur5.urdf",
+            "--link",
+            "tool0",
+            "--target",
+            "1e300,0,0.4,1,0,0,0",
+            "--analytic",
+        ],
+        "--target: the position coordinate 1e300 m is beyond the 1e9 m accepted for a target",
+    );
+    let dir = std::env::temp_dir().join(format!("armsim-csv2-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("t.csv");
+    std::fs::write(
+        &csv,
+        "x,y,z,qw,qx,qy,qz\nx,y,z,qw,qx,qy,qz\n0.3,0,0.4,1,0,0,0\n",
+    )
+    .unwrap();
+    fails_with(
+        &[
+            "ik",
+            "robots/ur5.urdf",
+            "--link",
+            "tool0",
+            "--targets",
+            csv.to_str().unwrap(),
+        ],
+        "t.csv:2: 'x,y,z,qw,qx,qy,qz' has a value that is not a number",
+    );
+    std::fs::remove_dir_all(&dir).ok();
+    // The library: a target beyond reach is unreachable, not a panic in a clamp.
+    let (model, _) = armsim::Model::load(common::root().join("robots/ur5.urdf")).unwrap();
+    let solver =
+        armsim::kinematics::ik::analytic::AnalyticSolver::new(&model, model.links.len() - 1);
+    if let Ok(s) = solver {
+        let far = armsim::core::spatial::Se3::from_translation(armsim::core::spatial::Vec3::new(
+            1e200, 0.0, 0.4,
+        ));
+        let r = s.solve(&far, &Default::default());
+        assert!(
+            matches!(
+                r,
+                Err(armsim::kinematics::ik::analytic::IkError::Unreachable(_))
+            ),
+            "{r:?}"
+        );
+    }
+}
+
+/// Issue 28: a model too large for the dense algorithms (two nv × nv matrices) is refused
+/// by the commands that need them, with the budget; kinematics still runs on it.
+#[test]
+fn dense_algorithms_refuse_models_over_their_size() {
+    let dir = std::env::temp_dir().join(format!("armsim-dense-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("c9000.urdf");
+    let f = file.to_str().unwrap();
+    assert!(armsim(&["chain", "9000", "--out", f]).status.success());
+    let budget = "the model has 9000 degrees of freedom: the dense algorithms";
+    fails_with(&["bench", f, "--algo", "crba", "--iters", "1"], budget);
+    fails_with(
+        &["ik", f, "--link", "link9000", "--target", "0,0,1,1,0,0,0"],
+        budget,
+    );
+    let q = vec!["0"; 9000].join(",");
+    fails_with(&["dynamics", f, "--q", &q], budget);
+    let o = armsim(&["bench", f, "--algo", "fk", "--iters", "1"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -398,3 +398,58 @@ fn thin_and_huge_boxes_are_covered_within_the_cell_budget() {
         }
     }
 }
+
+/// Issue 28: `srdf` and `plan` leave an unusable collision mesh out of the sphere model
+/// with a warning (its link goes unchecked); under `--strict` that warning is an error
+/// naming the mesh and the reason, as `run --strict` refuses it.
+#[test]
+fn strict_refuses_a_collision_mesh_the_planner_leaves_out() {
+    let dir = scratch("strict");
+    let cube = root().join("tests/data/meshes/cube_binary.stl");
+    let bad = broken("nan_matrix.dae");
+    let urdf = dir.join("two.urdf");
+    std::fs::write(
+        &urdf,
+        format!(
+            r#"<robot name="two">
+  <link name="base"/>
+  <link name="l1"><collision><geometry><mesh filename="{}" scale="0.1 0.1 0.1"/></geometry></collision></link>
+  <link name="l2"><collision><geometry><mesh filename="{}"/></geometry></collision></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.5 0 0"/>
+    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"#,
+            cube.display(),
+            bad.display()
+        ),
+    )
+    .unwrap();
+    let bin = env!("CARGO_BIN_EXE_armsim");
+    let run = |strict: bool| {
+        let mut c = std::process::Command::new(bin);
+        c.args(["srdf", urdf.to_str().unwrap()]);
+        if strict {
+            c.arg("--strict");
+        }
+        c.output().unwrap()
+    };
+    let lenient = run(false);
+    let err = String::from_utf8_lossy(&lenient.stderr);
+    assert!(lenient.status.success(), "{err}");
+    assert!(
+        err.contains("warning:") && err.contains("nan_matrix.dae"),
+        "{err}"
+    );
+    let strict = run(true);
+    let err = String::from_utf8_lossy(&strict.stderr);
+    assert!(!strict.status.success(), "--strict accepted it: {err}");
+    assert!(
+        err.contains("--strict: link 'l2'")
+            && err.contains("nan_matrix.dae")
+            && err.contains("'nan'"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -108,7 +108,7 @@ pub fn crba<'py>(
     data.check_model(model)?;
     let m = &*model.model;
     let q = vector(q, "q", m.nv)?;
-    let mass = dyn_calls::crba(m, &mut data.data, q.slice());
+    let mass = dyn_calls::crba(m, &mut data.data, q.slice()).map_err(err)?;
     Ok(matrix_to_numpy(py, mass))
 }
 

@@ -17,13 +17,32 @@ use rayon::prelude::*;
 /// Rows per rayon task (one `Data` each).
 const CHUNK: usize = 32;
 
+/// `n × width` zeros, or an error saying how much memory that is when it cannot be had
+/// (a huge batch must raise in Python, not abort the interpreter).
+pub(crate) fn zeros(n: usize, width: usize) -> Result<Vec<f64>, String> {
+    let too_much = |len: f64| {
+        format!(
+            "a result of {n} rows × {width} values ({:.1} GiB) cannot be allocated",
+            len * 8.0 / (1u64 << 30) as f64
+        )
+    };
+    let len = n
+        .checked_mul(width)
+        .ok_or_else(|| too_much(n as f64 * width as f64))?;
+    let mut v = Vec::new();
+    v.try_reserve_exact(len)
+        .map_err(|_| too_much(len as f64))?;
+    v.resize(len, 0.0);
+    Ok(v)
+}
+
 /// Runs `f(data, row, out_row)` on every row in parallel; `out` has `width` values
 /// per row.
 fn par_rows<F>(model: &Model, n: usize, width: usize, f: F) -> Result<Vec<f64>, String>
 where
     F: Fn(&mut Data, usize, &mut [f64]) -> Result<(), String> + Sync,
 {
-    let mut out = vec![0.0; n * width];
+    let mut out = zeros(n, width)?;
     if width == 0 {
         return Ok(out);
     }

@@ -30,6 +30,12 @@ pub fn check_pose(t: &[f64; 16]) -> Result<(), String> {
     if t[12..16] != [0.0, 0.0, 0.0, 1.0] {
         return Err("the last row is not [0, 0, 0, 1]".into());
     }
+    let limit = armsim::kinematics::ik::MAX_TARGET_DISTANCE;
+    if let Some(x) = [t[3], t[7], t[11]].iter().find(|x| x.abs() > limit) {
+        return Err(format!(
+            "the translation {x:e} m is beyond the {limit:e} m accepted for a pose"
+        ));
+    }
     let r = se3_from_4x4(t).rot;
     let off = (r.transpose() * r - Mat3::identity()).abs().max();
     if off > 1e-6 || (r.determinant() - 1.0).abs() > 1e-6 {

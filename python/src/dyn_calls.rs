@@ -3,7 +3,7 @@
 //! A result that is not finite (inputs that overflow, e.g. `v = 1e200`) is an error
 //! naming the quantity, the joint and the largest inputs, never a NaN returned.
 
-use armsim::dynamics::{self, SingularMassMatrix};
+use armsim::dynamics;
 use armsim::nalgebra::DMatrix;
 use armsim::{Data, Model};
 
@@ -74,11 +74,16 @@ pub fn aba<'a>(
     q: &[f64],
     v: &[f64],
     tau: &[f64],
-) -> Result<&'a [f64], SingularMassMatrix> {
-    dynamics::forward_dynamics(m, d, q, v, tau)
+) -> Result<&'a [f64], String> {
+    if m.has_mimic {
+        armsim::model::data::dense_fits(m)?;
+    }
+    dynamics::forward_dynamics(m, d, q, v, tau).map_err(|e| e.to_string())
 }
 
-/// The joint-space mass matrix (full, symmetric).
-pub fn crba<'a>(m: &Model, d: &'a mut Data, q: &[f64]) -> &'a DMatrix<f64> {
-    dynamics::crba(m, d, q)
+/// The joint-space mass matrix (full, symmetric); refused above the dense algorithms'
+/// size ([`armsim::model::data::MAX_DENSE_DOF`]).
+pub fn crba<'a>(m: &Model, d: &'a mut Data, q: &[f64]) -> Result<&'a DMatrix<f64>, String> {
+    armsim::model::data::dense_fits(m)?;
+    Ok(dynamics::crba(m, d, q))
 }

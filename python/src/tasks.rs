@@ -126,8 +126,8 @@ pub fn sample_poses<'py>(
     };
     let bounds: Vec<(f64, f64)> = (0..nv).map(|k| m.sampling_bounds(k)).collect();
     let key = splitmix(seed);
-    let mut qs = vec![0.0; n * nv];
-    let mut poses = vec![0.0; n * 16];
+    let mut qs = crate::batch::zeros(n, nv).map_err(|m| err(format!("sample_poses: {m}")))?;
+    let mut poses = crate::batch::zeros(n, 16).map_err(|m| err(format!("sample_poses: {m}")))?;
     py.detach(|| {
         const CH: usize = 256;
         qs.par_chunks_mut((nv * CH).max(1))

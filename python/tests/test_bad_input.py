@@ -97,3 +97,15 @@ def test_overflowing_dynamics_raise_naming_the_quantity(ur5):
         am.nonlinear_effects(m, d, q, v)
     with pytest.raises(ValueError, match=r"row 0: tau of joint"):
         am.rnea_batch(m, q[None, :], v[None, :], np.zeros((1, m.nv)))
+
+
+def test_huge_batches_and_far_targets_raise_instead_of_aborting(ur5):
+    """Issue 28: a result too large to allocate raises (the interpreter survives), and a
+    target beyond 1e9 m is refused before IK sees it."""
+    m, _ = ur5
+    with pytest.raises(am.ArmsimError, match=r"sample_poses: a result of 1000000000000 rows .* cannot be allocated"):
+        am.sample_poses(m, 10**12)
+    far = np.eye(4)
+    far[0, 3] = 1e300
+    with pytest.raises(am.ArmsimError, match=r"beyond the 1e\+?0?9 m accepted"):
+        am.Robot(m).ik(far, "tool0")

@@ -55,6 +55,10 @@ pub enum MethodArg {
     LagrangeEnergy,
 }
 
+/// The largest model the Lagrange formulations run on (`∂M/∂q` holds nv³ values: 256³
+/// is 128 MiB).
+const MAX_LAGRANGE_DOF: usize = 256;
+
 /// `armsim dynamics`.
 pub fn run(a: &DynamicsArgs) -> Result<(), String> {
     dynamics_cmd(&load(&a.m)?, &a.q, a, a.m.json)
@@ -123,6 +127,18 @@ fn dynamics_cmd(model: &Model, q: &str, o: &DynamicsArgs, as_json: bool) -> Resu
         None => model.gravity,
     };
     let effects = effects_of(model, o, g)?;
+    armsim::model::data::dense_fits(model).map_err(|m| format!("{}: {m}", model.source))?;
+    if matches!(
+        o.method,
+        MethodArg::LagrangeTrace | MethodArg::LagrangeEnergy
+    ) && model.nv > MAX_LAGRANGE_DOF
+    {
+        return Err(format!(
+            "--method: the Lagrange formulations hold nv³ values (∂M/∂q): {} degrees of \
+             freedom is more than the {MAX_LAGRANGE_DOF} they accept; use rnea",
+            model.nv
+        ));
+    }
     let mut data = Data::new(model);
     let tau = match o.method {
         MethodArg::Rnea => {

@@ -52,6 +52,8 @@ pub fn run(a: &IkArgs) -> Result<(), String> {
 }
 
 /// A pose from `x,y,z,qw,qx,qy,qz` (or `x,y,z` when only the position matters).
+use armsim::kinematics::ik::MAX_TARGET_DISTANCE;
+
 fn parse_pose(s: &str, position_only: bool, what: &str) -> Result<Se3, String> {
     let v: Vec<f64> = s
         .split(',')
@@ -60,6 +62,13 @@ fn parse_pose(s: &str, position_only: bool, what: &str) -> Result<Se3, String> {
         .map_err(|_| format!("{what}: '{s}' has a value that is not a number"))?;
     if !v.iter().all(|x| x.is_finite()) {
         return Err(format!("{what}: '{s}' has a non-finite value"));
+    }
+    if let Some(x) = v.iter().take(3).find(|x| x.abs() > MAX_TARGET_DISTANCE) {
+        return Err(format!(
+            "{what}: the position coordinate {} m is beyond the {} m accepted for a target",
+            armsim::core::diag::fmt_num(*x),
+            armsim::core::diag::fmt_num(MAX_TARGET_DISTANCE)
+        ));
     }
     let p = match v.len() {
         3 if position_only => return Ok(Se3::from_translation(Vec3::new(v[0], v[1], v[2]))),
@@ -111,13 +120,16 @@ fn ik_cmd(model: &Model, o: &IkArgs, as_json: bool) -> Result<(), String> {
             let text = armsim::core::files::read_input_string(file)
                 .map_err(|e| format!("{}: cannot read: {e}", file.display()))?;
             let mut out = Vec::new();
+            let mut first_row = true;
             for (i, line) in text.lines().enumerate() {
                 let l = line.trim();
                 if l.is_empty() || l.starts_with('#') {
                     continue;
                 }
-                if out.is_empty() && l.chars().next().is_some_and(|c| c.is_ascii_alphabetic()) {
-                    continue; // header row
+                let header = first_row && l.chars().next().is_some_and(|c| c.is_ascii_alphabetic());
+                first_row = false;
+                if header {
+                    continue; // one header row, the first
                 }
                 let what = format!("{}:{}", file.display(), i + 1);
                 out.push(parse_pose(l, o.position_only, &what)?);
@@ -144,6 +156,8 @@ fn ik_cmd(model: &Model, o: &IkArgs, as_json: bool) -> Result<(), String> {
     if o.analytic {
         return ik_analytic_cmd(model, link, &targets, seed.as_deref(), o, as_json);
     }
+    // Levenberg–Marquardt holds an nv × nv normal matrix per thread.
+    armsim::model::data::dense_fits(model).map_err(|m| format!("{}: {m}", model.source))?;
     let results = solve_batch(model, link, &targets, seed.as_deref(), &opts);
     if as_json {
         let rows: Vec<Value> = results

@@ -334,6 +334,11 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
     if iters == 0 {
         return Err("--iters must be positive".into());
     }
+    if matches!(algo, AlgoArg::Crba | AlgoArg::Lagrange)
+        || (matches!(algo, AlgoArg::Aba) && model.has_mimic)
+    {
+        armsim::model::data::dense_fits(model).map_err(|m| format!("{}: {m}", model.source))?;
+    }
     let algo = match algo {
         AlgoArg::Fk => Algo::Fk,
         AlgoArg::Jacobians => Algo::Jacobians,

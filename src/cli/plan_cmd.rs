@@ -121,6 +121,10 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
         PlanningRobot::new(&model, disabled.as_deref(), &opts)
             .map_err(|e| format!("{}: {e}", a.model.display()))?,
     );
+    if let Some(w) = robot.spheres.warnings.first().filter(|_| a.strict) {
+        // A collision mesh left out of the sphere model leaves its link unprotected.
+        return Err(format!("{}: --strict: {w}", a.model.display()));
+    }
     for w in &robot.spheres.warnings {
         eprintln!("warning: {}: {w}", a.model.display());
     }

@@ -46,6 +46,10 @@ pub fn run(a: &SrdfArgs) -> Result<String, String> {
     opts.spheres.max_overshoot = a.max_overshoot;
     let robot = PlanningRobot::new(&model, None, &opts)
         .map_err(|e| format!("{}: {e}", a.model.display()))?;
+    if let Some(w) = robot.spheres.warnings.first().filter(|_| a.strict) {
+        // A collision mesh left out of the sphere model leaves its link unprotected.
+        return Err(format!("{}: --strict: {w}", a.model.display()));
+    }
     for w in &robot.spheres.warnings {
         eprintln!("warning: {}: {w}", a.model.display());
     }

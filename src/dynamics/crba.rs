@@ -51,6 +51,7 @@ pub(crate) fn crba_impl<'a>(
     payload: Option<(usize, &InertiaO)>,
 ) -> &'a DMatrix<f64> {
     assert_eq!(q.len(), model.nv);
+    data.ensure_dense(model.nv);
     let nb = model.nbodies();
     for i in 0..nb {
         let theta = body_q(model, q, i);

@@ -69,8 +69,52 @@ pub struct Data {
     pub effects_used: EffectSet,
 }
 
+/// Models of up to this many degrees of freedom get their `nv × nv` mass-matrix buffers
+/// ([`Data::mass`], [`Data::chol`]) with the rest; larger ones when a dense algorithm
+/// first asks ([`Data::ensure_dense`]), so that kinematics on a 20 000-joint chain does not
+/// reserve gigabytes.
+pub const EAGER_DENSE_DOF: usize = 4096;
+
+/// The dense algorithms (CRBA, forward dynamics, simulation) refuse models of more
+/// degrees of freedom than this through [`dense_fits`]: two `nv × nv` matrices of 8192²
+/// are 1 GiB.
+pub const MAX_DENSE_DOF: usize = 8192;
+
+fn dense_n(nv: usize) -> usize {
+    if nv <= EAGER_DENSE_DOF {
+        nv
+    } else {
+        0
+    }
+}
+
+/// `Err(message)` when `model` has more degrees of freedom than the dense algorithms
+/// accept ([`MAX_DENSE_DOF`]), for the callers that can refuse (CLI, Python, scenarios).
+pub fn dense_fits(model: &Model) -> Result<(), String> {
+    if model.nv > MAX_DENSE_DOF {
+        let gib = 2.0 * (model.nv as f64).powi(2) * 8.0 / (1u64 << 30) as f64;
+        return Err(format!(
+            "the model has {} degrees of freedom: the dense algorithms (mass matrix, forward \
+             dynamics with mimic joints, numeric IK) would hold two {0} × {0} matrices \
+             ({gib:.1} GiB); they accept at most {MAX_DENSE_DOF}",
+            model.nv
+        ));
+    }
+    Ok(())
+}
+
 impl Data {
-    /// Allocates every buffer for `model`.
+    /// Sizes [`Data::mass`] and [`Data::chol`] for `nv` if they are not yet (models above
+    /// [`EAGER_DENSE_DOF`]); a no-op afterwards.
+    pub fn ensure_dense(&mut self, nv: usize) {
+        if self.mass.nrows() != nv {
+            self.mass = DMatrix::zeros(nv, nv);
+            self.chol = DMatrix::zeros(nv, nv);
+        }
+    }
+
+    /// Allocates every buffer for `model` (the mass-matrix buffers only up to
+    /// [`EAGER_DENSE_DOF`]).
     pub fn new(model: &Model) -> Self {
         let nb = model.nbodies();
         Self {
@@ -86,8 +130,8 @@ impl Data {
             jac: DMatrix::zeros(6, model.nv),
             tau: vec![0.0; model.nv],
             qdd: vec![0.0; model.nv],
-            mass: DMatrix::zeros(model.nv, model.nv),
-            chol: DMatrix::zeros(model.nv, model.nv),
+            mass: DMatrix::zeros(dense_n(model.nv), dense_n(model.nv)),
+            chol: DMatrix::zeros(dense_n(model.nv), dense_n(model.nv)),
             ic: vec![InertiaO::zero(); nb],
             axis_x: vec![Default::default(); nb],
             ia: vec![Matrix6::zeros(); nb],

@@ -257,6 +257,17 @@ impl AnalyticSolver {
         {
             return Err(IkError::InvalidInput("the target is not finite".into()));
         }
+        if let Some(x) = target
+            .trans
+            .iter()
+            .find(|x| x.abs() > super::MAX_TARGET_DISTANCE)
+        {
+            return Err(IkError::Unreachable(format!(
+                "a coordinate of the target is {} m, beyond the {} m any arm reaches",
+                crate::core::diag::fmt_num(*x),
+                crate::core::diag::fmt_num(super::MAX_TARGET_DISTANCE)
+            )));
+        }
         let seed = match &opts.seed {
             Some(s) if s.len() != n => {
                 return Err(IkError::InvalidInput(format!(

@@ -176,14 +176,20 @@ fn pose_error(target: &Se3, current: &Se3) -> ([f64; 6], f64, f64) {
 }
 
 impl IkSolver {
-    /// Buffers for `model`.
+    /// Buffers for `model` (the `nv × nv` normal matrix and its factor up to
+    /// [`crate::model::data::EAGER_DENSE_DOF`]; larger models get them at the first solve).
     pub fn new(model: &Model) -> Self {
         let n = model.nv;
+        let dense = if n <= crate::model::data::EAGER_DENSE_DOF {
+            n
+        } else {
+            0
+        };
         Self {
             data: Data::new(model),
             jac: DMatrix::zeros(6, n),
-            normal: DMatrix::zeros(n, n),
-            chol: DMatrix::zeros(n, n),
+            normal: DMatrix::zeros(dense, dense),
+            chol: DMatrix::zeros(dense, dense),
             grad: vec![0.0; n],
             step: vec![0.0; n],
             q: vec![0.0; n],
@@ -278,6 +284,10 @@ impl IkSolver {
     ) -> IkResult {
         let start = Instant::now();
         let n = model.nv;
+        if self.normal.nrows() != n {
+            self.normal = DMatrix::zeros(n, n);
+            self.chol = DMatrix::zeros(n, n);
+        }
         let finite = target
             .rot
             .iter()

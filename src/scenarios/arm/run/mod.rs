@@ -83,7 +83,13 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
 
     // 3. Collisions along the planned motion, certified with every limit.
     let t0 = Instant::now();
+    let before = warnings.len();
     let (collisions, tool_path) = check_collisions(&scene, &plan, &torque, &mut warnings)?;
+    // A collision mesh the check could not use (missing, unreadable) leaves a link
+    // unprotected: under --strict that is the model warning it is.
+    if let Some(w) = warnings[before..].first().filter(|_| opts.strict) {
+        return Err(scene.error_at("model.file", format!("--strict: {w}")));
+    }
     timings.insert("collisions_s".into(), json!(t0.elapsed().as_secs_f64()));
 
     // The output directory and the recording (streamed during the simulation, so an
