@@ -439,6 +439,23 @@ fn a_zero_or_malformed_quaternion_is_refused() {
         "world.collision_objects[1] 'Cube'.primitive_poses[0].orientation",
         "expected 4 numbers, found 3",
     );
+    // A quaternion whose sum of squares overflows is still a rotation; a position or a
+    // size beyond 1e9 m is refused (a 1e300 m box gave "overlap by inf mm").
+    let text = scene_with(
+        "orientation: [0, 0, 0.2514099244310241, 0.9678807002402656]",
+        "orientation: [0, 0, 1e200, 1e200]",
+    );
+    assert!(parse_scene(&text, "s.yaml", &[]).is_ok());
+    let text = scene_with(
+        "position: [-0.04815510236526688, 0.9893543728427527, 0.3484669621486253]",
+        "position: [1e300, 0.9893543728427527, 0.3484669621486253]",
+    );
+    let e = parse_scene(&text, "s.yaml", &[]).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("1e300 m is beyond the 1e9 m accepted for a position"),
+        "{e}"
+    );
     let text = scene_with(
         "orientation: [0, 0, 0.2514099244310241, 0.9678807002402656]",
         "orientation: [0, 0, .nan, 1]",
@@ -584,7 +601,7 @@ fn file_errors_name_the_path() {
         &file,
         4,
         "world.collision_objects[0] 'x'.primitives[0].dimensions[2]",
-        "must be positive, found -1",
+        "must be positive and at most 1e9 m, found -1",
     );
     // A scene without its request.
     let e = moveit::problem_pairs(&dir).unwrap_err();

@@ -163,6 +163,30 @@ fn finite(
     }
 }
 
+/// `vals` finite and within [`crate::model::MAX_LENGTH`] (lengths and coordinates, m).
+fn length(
+    file: &str,
+    line: Option<usize>,
+    element: &str,
+    key: &str,
+    vals: &[f64],
+) -> Result<(), ModelError> {
+    finite(file, line, element, key, vals)?;
+    match vals.iter().find(|v| v.abs() > crate::model::MAX_LENGTH) {
+        Some(v) => Err(ModelError::new(
+            file,
+            line,
+            element,
+            format!(
+                "'{key}': {} m is beyond the {} m accepted for a length or coordinate",
+                crate::core::diag::fmt_num(*v),
+                crate::core::diag::fmt_num(crate::model::MAX_LENGTH)
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 fn one_of(
     file: &str,
     line: Option<usize>,
@@ -200,7 +224,7 @@ fn pose(
     };
     let line = layout.line_of(element);
     let xyz = p.xyz.unwrap_or([0.0; 3]);
-    finite(file, line, element, "xyz", &xyz)?;
+    length(file, line, element, "xyz", &xyz)?;
     let rpy = match (p.rpy, p.rpy_deg) {
         (Some(_), Some(_)) => {
             return Err(ModelError::new(
@@ -322,8 +346,8 @@ fn dh_row(
     .unwrap_or(0.0);
     let d = row.d.unwrap_or(0.0);
     let a = row.a.unwrap_or(0.0);
-    finite(file, line, el, "d", &[d])?;
-    finite(file, line, el, "a", &[a])?;
+    length(file, line, el, "d", &[d])?;
+    length(file, line, el, "a", &[a])?;
     let (jtype, limits) = dh_limits(file, line, el, row, revolute)?;
     let parent = if i == 0 {
         "base_link".to_string()
@@ -355,7 +379,7 @@ fn dh_row(
     let com = row.com.unwrap_or([0.0; 3]);
     let t = row.inertia.unwrap_or([0.0; 6]);
     finite(file, line, el, "mass", &[mass])?;
-    finite(file, line, el, "com", &com)?;
+    length(file, line, el, "com", &com)?;
     finite(file, line, el, "inertia", &t)?;
     let tensor = Mat3::new(t[0], t[3], t[4], t[3], t[1], t[5], t[4], t[5], t[2]);
     link.inertial = Inertia::new(mass, Vec3::from(com), tensor);

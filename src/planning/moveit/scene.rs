@@ -277,11 +277,15 @@ fn primitive(doc: &Doc<'_>, prim: &Node, at: &str) -> Result<Shape, PlanningInpu
     let mut d = [0.0; 3];
     for (k, v) in dims.iter().enumerate() {
         d[k] = doc.num(v, &format!("{dat}[{k}]"))?;
-        if d[k] <= 0.0 {
+        if d[k] <= 0.0 || d[k] > crate::collision::MAX_COORD {
             return Err(doc.err(
                 v,
                 format!("{dat}[{k}]"),
-                format!("must be positive, found {}", d[k]),
+                format!(
+                    "must be positive and at most {} m, found {}",
+                    crate::core::diag::fmt_num(crate::collision::MAX_COORD),
+                    crate::core::diag::fmt_num(d[k])
+                ),
             ));
         }
     }
@@ -300,12 +304,22 @@ pub(crate) fn pose(doc: &Doc<'_>, p: &Node, at: &str) -> Result<Se3, PlanningInp
     doc.map(p, at)?;
     let trans = match doc.get(p, "position") {
         None => Vec3::zeros(),
-        Some(n) => Vec3::from(components(
-            doc,
-            n,
-            &format!("{at}.position"),
-            ["x", "y", "z"],
-        )?),
+        Some(n) => {
+            let pat = format!("{at}.position");
+            let xyz = components(doc, n, &pat, ["x", "y", "z"])?;
+            if let Some(x) = xyz.iter().find(|x| x.abs() > crate::collision::MAX_COORD) {
+                return Err(doc.err(
+                    n,
+                    &pat,
+                    format!(
+                        "{} m is beyond the {} m accepted for a position",
+                        crate::core::diag::fmt_num(*x),
+                        crate::core::diag::fmt_num(crate::collision::MAX_COORD)
+                    ),
+                ));
+            }
+            Vec3::from(xyz)
+        }
     };
     let rot = match doc.get(p, "orientation") {
         None => Mat3::identity(),
@@ -357,10 +371,14 @@ pub(super) fn components<const N: usize>(
 /// Rotation matrix of the quaternion `[x, y, z, w]` after normalisation; `None` when it is
 /// zero.
 pub fn quaternion_matrix(q: [f64; 4]) -> Option<Mat3> {
-    let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
-    if norm == 0.0 || !norm.is_finite() {
+    // Scaled by its largest component first: [1e200, 1e200, 0, 0] is a rotation whose
+    // sum of squares overflows.
+    let big = q.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    if big == 0.0 || !big.is_finite() {
         return None;
     }
+    let q = q.map(|c| c / big);
+    let norm = q.iter().map(|c| c * c).sum::<f64>().sqrt();
     let [x, y, z, w] = q.map(|c| c / norm);
     Some(Mat3::new(
         1.0 - 2.0 * (y * y + z * z),
