@@ -835,6 +835,18 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "invalid length 2",
     ),
     (
+        "arm_task_key_not_for_type.toml",
+        10,
+        "task.pick",
+        "does not apply to a 'joint_waypoints' task (it reads waypoints, degrees)",
+    ),
+    (
+        "arm_disabled_pair_three_names.toml",
+        8,
+        "collision.disabled_pairs",
+        "a pair names two links or obstacles, got 3",
+    ),
+    (
         "arm_obstacle_too_large.toml",
         7,
         "obstacles[0] (wall)",

@@ -98,10 +98,27 @@ def workspace(model: Model, samples: int = 1 << 16, seed: int = 0, voxel: float 
 
 
 def pose(rotation: Any = None, translation: Any = None) -> _np.ndarray:
-    """A 4×4 homogeneous transform from a 3×3 rotation and a translation."""
+    """A 4×4 homogeneous transform from a 3×3 rotation and a translation.
+
+    Raises ``ArmsimError`` for a non-finite entry, a rotation that is not orthonormal with
+    determinant 1 (to 1e-6), or a translation beyond 1e9 m."""
     t = _np.eye(4)
     if rotation is not None:
-        t[:3, :3] = _np.asarray(rotation, dtype=float)
+        r = _np.asarray(rotation, dtype=float)
+        if r.shape != (3, 3):
+            raise ArmsimError(f"pose: rotation of shape {r.shape}, expected (3, 3)")
+        if not _np.all(_np.isfinite(r)):
+            raise ArmsimError("pose: the rotation is not finite")
+        off = _np.abs(r.T @ r - _np.eye(3)).max()
+        if off > 1e-6 or abs(_np.linalg.det(r) - 1.0) > 1e-6:
+            raise ArmsimError(
+                f"pose: the rotation is not orthonormal (|RᵀR − I| = {off:.1e}, det = {_np.linalg.det(r):.6f})")
+        t[:3, :3] = r
     if translation is not None:
-        t[:3, 3] = _np.asarray(translation, dtype=float)
+        p = _np.asarray(translation, dtype=float)
+        if p.shape != (3,):
+            raise ArmsimError(f"pose: translation of shape {p.shape}, expected (3,)")
+        if not _np.all(_np.isfinite(p)) or _np.abs(p).max() > 1e9:
+            raise ArmsimError(f"pose: the translation {p.tolist()} is not finite or beyond 1e9 m")
+        t[:3, 3] = p
     return t

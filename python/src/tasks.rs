@@ -66,6 +66,12 @@ pub fn workspace_json<'py>(
             "workspace: voxel {voxel} is not a positive length"
         )));
     }
+    if samples == 0 || replicates < 2 {
+        return Err(err(format!(
+            "workspace: samples must be positive and replicates at least 2 (for the \
+             standard error), got samples = {samples}, replicates = {replicates}"
+        )));
+    }
     let opts = WorkspaceOptions {
         samples,
         seed,

@@ -109,3 +109,16 @@ def test_huge_batches_and_far_targets_raise_instead_of_aborting(ur5):
     far[0, 3] = 1e300
     with pytest.raises(am.ArmsimError, match=r"beyond the 1e\+?0?9 m accepted"):
         am.Robot(m).ik(far, "tool0")
+
+
+def test_pose_and_workspace_refuse_what_the_cli_refuses(ur5):
+    m, _ = ur5
+    with pytest.raises(am.ArmsimError, match="not finite"):
+        am.pose(np.full((3, 3), np.nan))
+    with pytest.raises(am.ArmsimError, match="not orthonormal"):
+        am.pose(np.diag([2.0, 1.0, 1.0]))
+    with pytest.raises(am.ArmsimError, match="beyond 1e9 m"):
+        am.pose(translation=[np.inf, 0.0, 0.0])
+    assert np.allclose(am.pose(np.eye(3), [1.0, 2.0, 3.0])[:3, 3], [1.0, 2.0, 3.0])
+    with pytest.raises(am.ArmsimError, match="samples must be positive"):
+        am.workspace(m, samples=0)

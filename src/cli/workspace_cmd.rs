@@ -239,6 +239,14 @@ fn check_budget(a: &WorkspaceArgs) -> Result<(), String> {
         ));
     }
     let r = a.replicates as u64;
+    if a.target_rel_error.is_some() && a.max_samples < a.samples.max(r) {
+        return Err(format!(
+            "--max-samples: {} is below the first round's {} samples: adaptive sampling \
+             would stop before its first estimate",
+            a.max_samples,
+            a.samples.max(r)
+        ));
+    }
     let (key, drawn) = match a.target_rel_error {
         None => ("--samples", a.samples.max(r)),
         Some(_) => ("--max-samples", a.max_samples.max(a.samples).max(r)),

@@ -243,7 +243,7 @@ pub struct CollisionSec {
     pub self_collision: bool,
     /// Link–link or link–obstacle pairs never checked.
     #[serde(default)]
-    pub disabled_pairs: Vec<Spanned<[String; 2]>>,
+    pub disabled_pairs: Vec<Spanned<Vec<String>>>,
     /// In collision when the signed distance is at most this (m; default 0).
     #[serde(default)]
     pub margin: f64,

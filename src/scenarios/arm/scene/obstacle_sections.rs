@@ -65,7 +65,19 @@ pub(super) fn collision(
     // The planner leaves these pairs out whether or not the motion is checked.
     let mut planner_disabled = touching.clone();
     if let Some(c) = csec {
-        planner_disabled.extend(c.disabled_pairs.iter().map(|p| p.get_ref().clone()));
+        for p in &c.disabled_pairs {
+            let [a, b] = p.get_ref().as_slice() else {
+                return Err(cx.at(
+                    p.span(),
+                    "collision.disabled_pairs",
+                    format!(
+                        "a pair names two links or obstacles, got {}",
+                        p.get_ref().len()
+                    ),
+                ));
+            };
+            planner_disabled.push([a.clone(), b.clone()]);
+        }
     }
     let collision_enabled = csec.is_none_or(|c| c.enabled);
     let self_collision = csec.is_none_or(|c| c.self_collision);
@@ -92,7 +104,8 @@ pub(super) fn collision(
                         ));
                     }
                 }
-                opts.disabled_pairs.push(p.get_ref().clone());
+                let pair = p.get_ref();
+                opts.disabled_pairs.push([pair[0].clone(), pair[1].clone()]);
             }
         }
         Some(opts)

@@ -47,6 +47,7 @@ pub(super) fn steps(
     };
     let to_base = |p: &PoseSec| base_inv.mul(&pose_of(p));
     let kind = tsec.kind.get_ref().as_str();
+    task_keys_apply(cx, file.task.span(), tsec)?;
     let need = |what: &str| {
         cx.at(
             file.task.span(),
@@ -331,5 +332,62 @@ fn uses_planner(cx: &Source, tsec: &TaskSec) -> Result<bool, ScenarioError> {
                 format!("unknown planner '{other}' (expected rrt-connect or none)"),
             )),
         },
+    }
+}
+
+/// The `[task]` keys each task type reads (besides `type`); an unknown type is reported
+/// with its list where it is matched.
+const TASK_KEYS: &[(&str, &[&str])] = &[
+    ("joint_waypoints", &["waypoints", "degrees"]),
+    ("cartesian_waypoints", &["poses", "position_only"]),
+    ("line", &["goal", "position_only"]),
+    (
+        "pick_and_place",
+        &[
+            "pick",
+            "place",
+            "approach",
+            "dwell",
+            "part",
+            "planner",
+            "position_only",
+        ],
+    ),
+    ("plan", &["goal", "goal_q", "degrees", "position_only"]),
+    ("sequence", &["steps", "degrees", "position_only"]),
+];
+
+/// Refuses a `[task]` key its type does not read (it was silently ignored), as a misspelt
+/// key is refused.
+fn task_keys_apply(cx: &Source, span: Range<usize>, t: &TaskSec) -> Result<(), ScenarioError> {
+    let kind = t.kind.get_ref().as_str();
+    let Some((_, keys)) = TASK_KEYS.iter().find(|(k, _)| *k == kind) else {
+        return Ok(());
+    };
+    let written = [
+        ("waypoints", t.waypoints.is_some()),
+        ("poses", t.poses.is_some()),
+        ("goal", t.goal.is_some()),
+        ("goal_q", t.goal_q.is_some()),
+        ("planner", t.planner.is_some()),
+        ("part", t.part.is_some()),
+        ("pick", t.pick.is_some()),
+        ("place", t.place.is_some()),
+        ("approach", t.approach.is_some()),
+        ("dwell", t.dwell.is_some()),
+        ("steps", t.steps.is_some()),
+        ("degrees", t.degrees),
+        ("position_only", t.position_only.is_some()),
+    ];
+    match written.iter().find(|(k, w)| *w && !keys.contains(k)) {
+        Some((k, _)) => Err(cx.err(
+            cx.key_line(&span, k),
+            format!("task.{k}"),
+            format!(
+                "does not apply to a '{kind}' task (it reads {})",
+                keys.join(", ")
+            ),
+        )),
+        None => Ok(()),
     }
 }
