@@ -399,19 +399,19 @@ fn thin_and_huge_boxes_are_covered_within_the_cell_budget() {
     }
 }
 
-/// Issue 28: `srdf` and `plan` leave an unusable collision mesh out of the sphere model
-/// with a warning (its link goes unchecked); under `--strict` that warning is an error
-/// naming the mesh and the reason, as `run --strict` refuses it.
+/// Issue 28: `srdf` and `plan` refuse a collision mesh that is there but cannot be used
+/// (as `run` does), naming the mesh and the reason; a mesh that is not there leaves its
+/// link unchecked with a warning, an error under `--strict`.
 #[test]
-fn strict_refuses_a_collision_mesh_the_planner_leaves_out() {
+fn planner_refuses_a_broken_mesh_and_strict_a_missing_one() {
     let dir = scratch("strict");
     let cube = root().join("tests/data/meshes/cube_binary.stl");
-    let bad = broken("nan_matrix.dae");
-    let urdf = dir.join("two.urdf");
-    std::fs::write(
-        &urdf,
-        format!(
-            r#"<robot name="two">
+    let two = |name: &str, second: &Path| {
+        let urdf = dir.join(name);
+        std::fs::write(
+            &urdf,
+            format!(
+                r#"<robot name="two">
   <link name="base"/>
   <link name="l1"><collision><geometry><mesh filename="{}" scale="0.1 0.1 0.1"/></geometry></collision></link>
   <link name="l2"><collision><geometry><mesh filename="{}"/></geometry></collision></link>
@@ -421,34 +421,45 @@ fn strict_refuses_a_collision_mesh_the_planner_leaves_out() {
     <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
 </robot>
 "#,
-            cube.display(),
-            bad.display()
-        ),
-    )
-    .unwrap();
+                cube.display(),
+                second.display()
+            ),
+        )
+        .unwrap();
+        urdf
+    };
     let bin = env!("CARGO_BIN_EXE_armsim");
-    let run = |strict: bool| {
+    let srdf = |urdf: &Path, strict: bool| {
         let mut c = std::process::Command::new(bin);
         c.args(["srdf", urdf.to_str().unwrap()]);
         if strict {
             c.arg("--strict");
         }
-        c.output().unwrap()
+        let o = c.output().unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
     };
-    let lenient = run(false);
-    let err = String::from_utf8_lossy(&lenient.stderr);
-    assert!(lenient.status.success(), "{err}");
+    let broken_one = two("broken.urdf", &broken("nan_matrix.dae"));
+    let (ok, err) = srdf(&broken_one, false);
+    assert!(!ok, "a corrupt mesh was accepted: {err}");
     assert!(
-        err.contains("warning:") && err.contains("nan_matrix.dae"),
-        "{err}"
-    );
-    let strict = run(true);
-    let err = String::from_utf8_lossy(&strict.stderr);
-    assert!(!strict.status.success(), "--strict accepted it: {err}");
-    assert!(
-        err.contains("--strict: link 'l2'")
+        err.contains("a collision mesh cannot be used: link 'l2'")
             && err.contains("nan_matrix.dae")
             && err.contains("'nan'"),
+        "{err}"
+    );
+    let missing = two("missing.urdf", &dir.join("gone.stl"));
+    let (ok, err) = srdf(&missing, false);
+    assert!(
+        ok && err.contains("warning:") && err.contains("gone.stl"),
+        "{err}"
+    );
+    let (ok, err) = srdf(&missing, true);
+    assert!(!ok, "--strict accepted it: {err}");
+    assert!(
+        err.contains("--strict: link 'l2'") && err.contains("gone.stl"),
         "{err}"
     );
     std::fs::remove_dir_all(&dir).ok();

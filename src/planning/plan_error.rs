@@ -26,6 +26,15 @@ pub enum PlanSetupError {
         /// One entry per geometry that could not be used, with the reason.
         unusable: Vec<String>,
     },
+    /// Collision meshes that are there but cannot be used (see
+    /// [`crate::planning::spheres::SphereModel::broken`]).
+    #[error("model '{model}': a collision mesh cannot be used: {}", problems.join("; "))]
+    BrokenMesh {
+        /// The model's name.
+        model: String,
+        /// One entry per mesh, with the reason.
+        problems: Vec<String>,
+    },
     /// The stop flag was raised while the allowed-collision matrix was sampled.
     #[error("interrupted while computing the allowed-collision matrix")]
     Interrupted,

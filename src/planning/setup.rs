@@ -124,6 +124,12 @@ impl PlanningRobot {
         let t0 = Instant::now();
         let mut sopts = opts.spheres.clone();
         let spheres = SphereModel::new(model, &sopts);
+        if !spheres.broken.is_empty() {
+            return Err(PlanSetupError::BrokenMesh {
+                model: model.name.clone(),
+                problems: spheres.broken.clone(),
+            });
+        }
         if spheres.is_empty() {
             return Err(PlanSetupError::NoGeometry {
                 model: model.name.clone(),

@@ -107,8 +107,12 @@ pub struct SphereModel {
     pub link_rho: Vec<f32>,
     /// Number of coordinates.
     pub nv: usize,
-    /// Links left without spheres, with the reason.
+    /// Links left without spheres, with the reason (a mesh file that is not there).
     pub warnings: Vec<String>,
+    /// Mesh files that are there but cannot be used (unreadable, corrupt, a scale that
+    /// leaves no distance), with the reason: the planner refuses these, as the collision
+    /// check of `run` does, rather than leave their links unchecked.
+    pub broken: Vec<String>,
 }
 
 impl SphereModel {
@@ -122,6 +126,7 @@ impl SphereModel {
         let mut spheres = Vec::new();
         let mut links = Vec::new();
         let mut warnings = Vec::new();
+        let mut broken = Vec::new();
         let mut meshes = MeshCovers {
             packages: PackagePaths::from_env(opts.package_path.clone()),
             done: cover_cache(),
@@ -147,10 +152,11 @@ impl SphereModel {
                                 }
                                 push_spheres(&mut spheres, &to_body, cover);
                             }
-                            Err(e) => warnings.push(format!(
+                            Err(e @ CoverError::NotFound(_)) => warnings.push(format!(
                                 "link '{}': mesh '{uri}' is not spherized ({e}); the planner does not check it",
                                 link.name
                             )),
+                            Err(e) => broken.push(format!("link '{}': mesh '{uri}': {e}", link.name)),
                         }
                         continue;
                     }
@@ -196,6 +202,7 @@ impl SphereModel {
             link_rho,
             nv,
             warnings,
+            broken,
         }
     }
 

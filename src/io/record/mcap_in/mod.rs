@@ -92,7 +92,12 @@ fn read_inner(bytes: &[u8], file: &Path) -> Result<Recording, RecordError> {
     let mut reader = LinearReader::new_with_options(
         LinearReaderOptions::default()
             .with_record_length_limit(limit)
-            .with_validate_chunk_crcs(true),
+            .with_validate_chunk_crcs(true)
+            // The data and summary sections' CRCs (0: not computed), and nothing after the
+            // closing magic: a flipped byte outside a chunk or appended garbage is refused.
+            .with_validate_data_section_crc(true)
+            .with_validate_summary_section_crc(true)
+            .with_check_finishes_after_end_magic(true),
     );
     let mut c = Collected {
         budget: Some(Budget::for_file(bytes.len())),
