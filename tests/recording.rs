@@ -1046,3 +1046,24 @@ fn recorded_transforms_follow_the_robot_description() {
         }
     }
 }
+
+/// Issue 28: bytes after the closing magic, and a flipped byte in a record outside the
+/// chunks (the data section's CRC), are refused; the files as written read.
+#[test]
+fn appended_garbage_and_data_section_flips_are_refused() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/recordings/ur5_zstd.mcap");
+    let bytes = std::fs::read(&path).unwrap();
+    assert!(read_mcap_bytes(&bytes, Path::new("ok.mcap")).is_ok());
+    let mut tail = bytes.clone();
+    tail.extend_from_slice(b"garbage after the end");
+    let e = read_mcap_bytes(&tail, Path::new("tail.mcap"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("tail.mcap"), "{e}");
+    // The header record's profile string sits right after the magic and the record's
+    // opcode and lengths: flip a byte of it.
+    let mut flipped = bytes.clone();
+    flipped[8 + 1 + 8 + 4] ^= 0x20;
+    let got = read_mcap_bytes(&flipped, Path::new("flip.mcap"));
+    assert!(got.is_err(), "a flipped header byte was accepted");
+}
