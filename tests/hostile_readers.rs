@@ -464,3 +464,25 @@ fn planner_refuses_a_broken_mesh_and_strict_a_missing_one() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Issue 28: a DAE `<unit meter>` that is not a positive length (0, −1, nan, text) was
+/// read as 1; it is refused with its line.
+#[test]
+fn dae_unit_must_be_a_positive_length() {
+    let text = std::fs::read_to_string(root().join("tests/data/meshes/cube.dae")).unwrap();
+    let unit = text.lines().position(|l| l.contains("<unit")).unwrap() + 1;
+    for bad in ["0", "-1", "nan", "inf", "metre"] {
+        let t = text.replacen("meter=\"0.5\"", &format!("meter=\"{bad}\""), 1);
+        assert_ne!(t, text);
+        let e = armsim::collision::mesh::read_dae(&t)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!(
+                "line {unit}: <unit meter=\"{bad}\">: expected a positive length"
+            )),
+            "{bad}: {e}"
+        );
+    }
+    assert!(armsim::collision::mesh::read_dae(&text).is_ok());
+}

@@ -425,12 +425,27 @@ pub fn read_dae(text: &str) -> Result<MeshData, MeshError> {
     let doc = roxmltree::Document::parse(text)
         .map_err(|e| MeshError::new(DAE, None, format!("not valid XML: {e}")))?;
     let root = doc.root_element();
-    let unit = child(&root, "asset")
+    // `<unit meter>`: a positive finite scale (exporters write 1, 0.001, 0.0254…); a
+    // missing element means metres, a bad value is refused rather than read as 1.
+    let unit = match child(&root, "asset")
         .and_then(|a| child(&a, "unit"))
-        .and_then(|u| u.attribute("meter"))
-        .and_then(|m| m.parse::<f64>().ok())
-        .filter(|m| m.is_finite() && *m > 0.0)
-        .unwrap_or(1.0);
+        .and_then(|u| u.attribute_node("meter").map(|a| (u, a.value())))
+    {
+        None => 1.0,
+        Some((u, v)) => match v.trim().parse::<f64>() {
+            Ok(m) if m.is_finite() && m > 0.0 && m <= 1e6 => m,
+            _ => {
+                let line = lx.line(u.range().start);
+                return Err(MeshError::new(
+                    DAE,
+                    Some(line),
+                    format!(
+                        "line {line}: <unit meter=\"{v}\">: expected a positive length in metres"
+                    ),
+                ));
+            }
+        },
+    };
     let mut geoms: Vec<(&str, Geom)> = Vec::new();
     if let Some(lib) = child(&root, "library_geometries") {
         for g in lib.children().filter(|c| is(c, "geometry")) {
