@@ -486,3 +486,28 @@ fn dae_unit_must_be_a_positive_length() {
     }
     assert!(armsim::collision::mesh::read_dae(&text).is_ok());
 }
+
+/// Issue 28: a position accessor of stride 0 (read as 3 before) and a `<triangles>` list
+/// that is not a whole number of triangles (its tail dropped before) are refused.
+#[test]
+fn dae_strides_and_triangle_lists_are_whole() {
+    let text =
+        std::fs::read_to_string(root().join("tests/data/meshes/box_node_transform.dae")).unwrap();
+    assert!(armsim::collision::mesh::read_dae(&text).is_ok());
+    let t = text.replacen(
+        "source=\"#box-positions-array\" count=\"8\" stride=\"3\"",
+        "source=\"#box-positions-array\" count=\"8\" stride=\"0\"",
+        1,
+    );
+    assert_ne!(t, text);
+    let e = armsim::collision::mesh::read_dae(&t)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("is not a count of at least 3 values"), "{e}");
+    let t = text.replacen("<p>0 0 3 0 2 0 ", "<p>0 0 3 0 2 0 1 1 ", 1);
+    assert_ne!(t, text);
+    let e = armsim::collision::mesh::read_dae(&t)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not a whole number of triangles"), "{e}");
+}

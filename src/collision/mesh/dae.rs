@@ -127,12 +127,12 @@ fn dae_sources<'a>(
             lx.line(fa.range().start),
         );
         let vals = floats(fa.text(), &at)?;
+        // 0 for a stride that does not parse: refused where the source is read as
+        // positions (a normal or texture source may hold 2 values per vertex).
         let stride = child(&s, "technique_common")
             .and_then(|t| child(&t, "accessor"))
             .and_then(|a| a.attribute("stride"))
-            .and_then(|s| s.parse::<usize>().ok())
-            .unwrap_or(3)
-            .max(3);
+            .map_or(3, |v| v.trim().parse::<usize>().unwrap_or(0));
         if !vals.is_empty() && stride > vals.len() {
             return Err(at.err(format!(
                 "<accessor stride=\"{stride}\"> is larger than the {} values \
@@ -220,6 +220,12 @@ fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, MeshErro
         let Some((vals, vstride)) = sources.get(src) else {
             return Err(at.err(format!("position source '{src}' not found")));
         };
+        if *vstride < 3 {
+            return Err(at.err(format!(
+                "position source '{src}': its <accessor stride> is not a count of at least 3 \
+                 values (x, y, z) per vertex"
+            )));
+        }
         // Each position source is appended once.
         let base = *base_of.entry(src).or_insert_with(|| {
             let b = positions.len();
@@ -258,6 +264,13 @@ fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, MeshErro
         let p = ps.first().unwrap_or(&empty);
         match kind {
             "triangles" => {
+                if p.len() % (3 * stride) != 0 {
+                    return Err(at.err(format!(
+                        "its <p> holds {} indices, not a whole number of triangles of 3 \
+                         vertices × {stride} inputs",
+                        p.len()
+                    )));
+                }
                 for t in 0..p.len() / (3 * stride) {
                     fan(p, 3 * t, 3)?;
                 }
