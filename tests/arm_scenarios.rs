@@ -1161,3 +1161,28 @@ fn run_time_errors_give_the_line_of_their_table() {
     assert_eq!(e.line, Some(10), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 28: a task of more than 10 000 waypoints is refused when read (10⁵ took 22 s to
+/// reach the step budget, whose message then named every waypoint).
+#[test]
+fn a_task_of_too_many_waypoints_is_refused_when_read() {
+    let dir = std::env::temp_dir().join(format!("armsim_waypoints_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let rows = vec!["[0.5, -1.2, 1.2, -1.5, -1.57, 0.0]"; 10_001].join(", ");
+    let text = format!(
+        "effects = [\"gravity\"]\n[model]\nfile = \"{}\"\ntool = \"tool0\"\n\n[task]\ntype = \"joint_waypoints\"\nwaypoints = [{rows}]\n",
+        common::root().join("robots/ur5.urdf").display()
+    );
+    let path = dir.join("many.toml");
+    std::fs::write(&path, text).unwrap();
+    let t = std::time::Instant::now();
+    let e = armsim::scenarios::run_file(&path).err().expect("refused");
+    assert_eq!(e.key, "task.waypoints", "{e}");
+    assert!(
+        e.message
+            .contains("10001 entries: more than the 10000 one task accepts"),
+        "{e}"
+    );
+    eprintln!("refused in {:.2} s", t.elapsed().as_secs_f64());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -17,14 +17,11 @@
 
 mod body_frames;
 mod build;
-
-/// Lengths and coordinates a model file may give (m): origins, DH `a` and `d`, centres of
-/// mass. Larger ones overflow the kinematics' squared distances long before any robot
-/// needs them.
-pub const MAX_LENGTH: f64 = 1e9;
 pub mod chain;
 mod compiled;
 pub mod data;
+pub mod model_limits;
+pub use model_limits::MAX_LENGTH;
 mod ids;
 mod inertia_check;
 mod joint_transform;

@@ -163,7 +163,7 @@ fn finite(
     }
 }
 
-/// `vals` finite and within [`crate::model::MAX_LENGTH`] (lengths and coordinates, m).
+/// `vals` finite and within [`crate::model::model_limits::MAX_LENGTH`] (lengths and coordinates, m).
 fn length(
     file: &str,
     line: Option<usize>,
@@ -172,7 +172,10 @@ fn length(
     vals: &[f64],
 ) -> Result<(), ModelError> {
     finite(file, line, element, key, vals)?;
-    match vals.iter().find(|v| v.abs() > crate::model::MAX_LENGTH) {
+    match vals
+        .iter()
+        .find(|v| v.abs() > crate::model::model_limits::MAX_LENGTH)
+    {
         Some(v) => Err(ModelError::new(
             file,
             line,
@@ -180,7 +183,7 @@ fn length(
             format!(
                 "'{key}': {} m is beyond the {} m accepted for a length or coordinate",
                 crate::core::diag::fmt_num(*v),
-                crate::core::diag::fmt_num(crate::model::MAX_LENGTH)
+                crate::core::diag::fmt_num(crate::model::model_limits::MAX_LENGTH)
             ),
         )),
         None => Ok(()),

@@ -174,13 +174,16 @@ impl Reader<'_> {
             return Ok(Se3::identity());
         };
         let xyz = self.vec3(o, "xyz")?.unwrap_or_else(Vec3::zeros);
-        if let Some(v) = xyz.iter().find(|v| v.abs() > crate::model::MAX_LENGTH) {
+        if let Some(v) = xyz
+            .iter()
+            .find(|v| v.abs() > crate::model::model_limits::MAX_LENGTH)
+        {
             return Err(self.bad(
                 o,
                 format!(
                     "<origin xyz>: {} m is beyond the {} m accepted for a coordinate",
                     crate::core::diag::fmt_num(*v),
-                    crate::core::diag::fmt_num(crate::model::MAX_LENGTH)
+                    crate::core::diag::fmt_num(crate::model::model_limits::MAX_LENGTH)
                 ),
             ));
         }

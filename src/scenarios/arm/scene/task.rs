@@ -76,6 +76,7 @@ pub(super) fn steps(
             if w.get_ref().is_empty() {
                 return Err(cx.at(w.span(), "task.waypoints", "no waypoints"));
             }
+            too_many(cx, w.span(), "task.waypoints", w.get_ref().len())?;
             for (i, row) in w.get_ref().iter().enumerate() {
                 let key = format!("task.waypoints[{i}]");
                 let q = joint_row(row, &key)?;
@@ -87,6 +88,7 @@ pub(super) fn steps(
             if w.get_ref().is_empty() {
                 return Err(cx.at(w.span(), "task.poses", "no poses"));
             }
+            too_many(cx, w.span(), "task.poses", w.get_ref().len())?;
             for (i, p) in w.get_ref().iter().enumerate() {
                 let key = format!("task.poses[{i}]");
                 check_pose(p, &key, w.span())?;
@@ -157,6 +159,7 @@ pub(super) fn steps(
             if list.get_ref().is_empty() {
                 return Err(cx.at(list.span(), "task.steps", "no steps"));
             }
+            too_many(cx, list.span(), "task.steps", list.get_ref().len())?;
             for (i, s) in list.get_ref().iter().enumerate() {
                 let key = format!("task.steps[{i}]");
                 let st = s.get_ref();
@@ -390,4 +393,20 @@ fn task_keys_apply(cx: &Source, span: Range<usize>, t: &TaskSec) -> Result<(), S
         )),
         None => Ok(()),
     }
+}
+
+/// Most waypoints, poses or steps one task lists: each becomes a timed segment, planned,
+/// checked and simulated (10⁵ waypoints took 22 s to be refused by the step budget, with
+/// every one named).
+pub const MAX_TASK_STEPS: usize = 10_000;
+
+fn too_many(cx: &Source, span: Range<usize>, key: &str, n: usize) -> Result<(), ScenarioError> {
+    if n > MAX_TASK_STEPS {
+        return Err(cx.at(
+            span,
+            key,
+            format!("{n} entries: more than the {MAX_TASK_STEPS} one task accepts"),
+        ));
+    }
+    Ok(())
 }
