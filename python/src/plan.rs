@@ -81,9 +81,10 @@ fn options(
             "time_limit_ms: expected a positive number (at most 1e9), got {time_limit_ms}"
         )));
     }
-    if !(range.is_finite() && range > 0.0 && range <= 100.0) {
+    let (lo, hi) = armsim::planning::plan_options::RANGE_LIMITS;
+    if !(range >= lo && range <= hi) {
         return Err(err(format!(
-            "range: expected a positive joint-space distance (at most 100), got {range}"
+            "range: expected a joint-space distance in {lo} … {hi}, got {range}"
         )));
     }
     if !(max_overshoot.is_finite() && (1e-4..=0.1).contains(&max_overshoot)) {

@@ -168,6 +168,8 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
 }
 
 /// Loads a model, its warnings on standard error (errors under `strict`).
+use armsim::planning::plan_options::RANGE_LIMITS;
+
 pub(super) fn load_model(path: &Path, strict: bool) -> Result<Model, String> {
     let load = LoadOptions {
         strict,
@@ -240,10 +242,11 @@ fn plan_options(a: &PlanArgs) -> Result<PlanOptions, String> {
     };
     match a.range {
         None => {}
-        Some(r) if r.is_finite() && r > 0.0 && r <= 100.0 => opts.rrt.range = r as f32,
+        Some(r) if r >= RANGE_LIMITS.0 && r <= RANGE_LIMITS.1 => opts.rrt.range = r as f32,
         Some(r) => {
             return Err(format!(
-                "--range: expected a positive joint-space distance (at most 100), got {r}"
+                "--range: expected a joint-space distance in {} … {}, got {r}",
+                RANGE_LIMITS.0, RANGE_LIMITS.1
             ))
         }
     }

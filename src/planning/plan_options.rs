@@ -14,6 +14,10 @@ use std::time::Duration;
 /// Largest wall-clock limit of a search the front ends accept (ms): about 11.6 days.
 pub const MAX_TIME_LIMIT_MS: f64 = 1e9;
 
+/// The RRT-Connect step (`range`, joint-space distance) a caller may set: below 1e-3 the
+/// step rounds towards 0 in single precision and the trees stop growing (1e-300 became 0).
+pub const RANGE_LIMITS: (f64, f64) = (1e-3, 100.0);
+
 /// Everything a query can be told.
 #[derive(Clone, Debug)]
 pub struct PlanOptions {

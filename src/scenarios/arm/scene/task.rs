@@ -4,7 +4,7 @@
 
 use crate::core::diag::{fmt_num, LocatedError as ScenarioError};
 use crate::model::Model;
-use crate::planning::plan_options::MAX_TIME_LIMIT_MS;
+use crate::planning::plan_options::{MAX_TIME_LIMIT_MS, RANGE_LIMITS};
 use crate::planning::spheres::OVERSHOOT_RANGE;
 use crate::scenarios::arm::scene::arm_scene::{Step, TaskStep};
 use crate::scenarios::arm::scene::limits::check_in_limits;
@@ -291,12 +291,17 @@ pub(super) fn planner_settings(
     };
     let range = match p.and_then(|p| p.range.as_ref()) {
         None => 1.0,
-        Some(t) if finite_pos(*t.get_ref()) && *t.get_ref() <= 100.0 => *t.get_ref(),
+        Some(t) if (RANGE_LIMITS.0..=RANGE_LIMITS.1).contains(t.get_ref()) => *t.get_ref(),
         Some(t) => {
             return Err(cx.at(
                 t.span(),
                 "planner.range",
-                "must be a positive joint-space distance (at most 100)",
+                format!(
+                    "must be a joint-space distance in {} … {}, got {}",
+                    RANGE_LIMITS.0,
+                    RANGE_LIMITS.1,
+                    fmt_num(*t.get_ref())
+                ),
             ))
         }
     };
