@@ -1176,7 +1176,7 @@ fn a_task_of_too_many_waypoints_is_refused_when_read() {
     let path = dir.join("many.toml");
     std::fs::write(&path, text).unwrap();
     let t = std::time::Instant::now();
-    let e = armsim::scenarios::run_file(&path).err().expect("refused");
+    let e = armsim::scenarios::run_file(&path).expect_err("refused");
     assert_eq!(e.key, "task.waypoints", "{e}");
     assert!(
         e.message

@@ -59,6 +59,23 @@ pub enum MethodArg {
 /// is 128 MiB).
 const MAX_LAGRANGE_DOF: usize = 256;
 
+/// Refuses a model too large for the mass matrix, or for the Lagrange formulations.
+fn check_size(model: &Model, o: &DynamicsArgs) -> Result<(), String> {
+    armsim::model::data::dense_fits(model).map_err(|m| format!("{}: {m}", model.source))?;
+    if matches!(
+        o.method,
+        MethodArg::LagrangeTrace | MethodArg::LagrangeEnergy
+    ) && model.nv > MAX_LAGRANGE_DOF
+    {
+        return Err(format!(
+            "--method: the Lagrange formulations hold nv³ values (∂M/∂q): {} degrees of \
+             freedom is more than the {MAX_LAGRANGE_DOF} they accept; use rnea",
+            model.nv
+        ));
+    }
+    Ok(())
+}
+
 /// `armsim dynamics`.
 pub fn run(a: &DynamicsArgs) -> Result<(), String> {
     dynamics_cmd(&load(&a.m)?, &a.q, a, a.m.json)
@@ -127,18 +144,7 @@ fn dynamics_cmd(model: &Model, q: &str, o: &DynamicsArgs, as_json: bool) -> Resu
         None => model.gravity,
     };
     let effects = effects_of(model, o, g)?;
-    armsim::model::data::dense_fits(model).map_err(|m| format!("{}: {m}", model.source))?;
-    if matches!(
-        o.method,
-        MethodArg::LagrangeTrace | MethodArg::LagrangeEnergy
-    ) && model.nv > MAX_LAGRANGE_DOF
-    {
-        return Err(format!(
-            "--method: the Lagrange formulations hold nv³ values (∂M/∂q): {} degrees of \
-             freedom is more than the {MAX_LAGRANGE_DOF} they accept; use rnea",
-            model.nv
-        ));
-    }
+    check_size(model, o)?;
     let mut data = Data::new(model);
     let tau = match o.method {
         MethodArg::Rnea => {

@@ -106,6 +106,35 @@ fn url_id(url: &str) -> &str {
 /// Positions and triangles (position indices) of one COLLADA geometry.
 type Geom = (Vec<[f64; 3]>, Vec<[usize; 3]>);
 
+/// A `<triangles>` list of `len` indices holds whole triangles of `stride` inputs each.
+fn whole_triangles(len: usize, stride: usize, at: &At) -> Result<(), MeshError> {
+    if len.is_multiple_of(3 * stride) {
+        return Ok(());
+    }
+    Err(at.err(format!(
+        "its <p> holds {len} indices, not a whole number of triangles of 3 vertices × \
+         {stride} inputs"
+    )))
+}
+
+/// The values and stride of position source `src`, whose stride must count x, y, z.
+fn position_source<'s>(
+    sources: &'s Sources,
+    src: &str,
+    at: &At,
+) -> Result<(&'s [f64], usize), MeshError> {
+    let Some((vals, vstride)) = sources.get(src) else {
+        return Err(at.err(format!("position source '{src}' not found")));
+    };
+    if *vstride < 3 {
+        return Err(at.err(format!(
+            "position source '{src}': its <accessor stride> is not a count of at least 3 \
+             values (x, y, z) per vertex"
+        )));
+    }
+    Ok((vals, *vstride))
+}
+
 /// Float sources of a `<mesh>`: id → (values, stride).
 type Sources<'a> = HashMap<&'a str, (Vec<f64>, usize)>;
 
@@ -217,19 +246,11 @@ fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, MeshErro
             .ok_or_else(|| at.err("no VERTEX input"))?;
         let src = url_id(vin.attribute("source").unwrap_or(""));
         let src = vertices_pos.get(src).copied().unwrap_or(src);
-        let Some((vals, vstride)) = sources.get(src) else {
-            return Err(at.err(format!("position source '{src}' not found")));
-        };
-        if *vstride < 3 {
-            return Err(at.err(format!(
-                "position source '{src}': its <accessor stride> is not a count of at least 3 \
-                 values (x, y, z) per vertex"
-            )));
-        }
+        let (vals, vstride) = position_source(&sources, src, &at)?;
         // Each position source is appended once.
         let base = *base_of.entry(src).or_insert_with(|| {
             let b = positions.len();
-            positions.extend(vals.chunks_exact(*vstride).map(|c| [c[0], c[1], c[2]]));
+            positions.extend(vals.chunks_exact(vstride).map(|c| [c[0], c[1], c[2]]));
             b
         });
         let npos = vals.len() / vstride;
@@ -264,13 +285,7 @@ fn dae_geometry(mesh: &Node, gid: &str, lx: &LineIndex) -> Result<Geom, MeshErro
         let p = ps.first().unwrap_or(&empty);
         match kind {
             "triangles" => {
-                if p.len() % (3 * stride) != 0 {
-                    return Err(at.err(format!(
-                        "its <p> holds {} indices, not a whole number of triangles of 3 \
-                         vertices × {stride} inputs",
-                        p.len()
-                    )));
-                }
+                whole_triangles(p.len(), stride, &at)?;
                 for t in 0..p.len() / (3 * stride) {
                     fan(p, 3 * t, 3)?;
                 }
