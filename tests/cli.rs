@@ -837,6 +837,30 @@ fn dense_algorithms_refuse_models_over_their_size() {
     );
     let q = vec!["0"; 9000].join(",");
     fails_with(&["dynamics", f, "--q", &q], budget);
+    fails_with(
+        &[
+            "workspace",
+            "robots/planar_2r.toml",
+            "--samples",
+            "4096",
+            "--max-samples",
+            "0",
+        ],
+        "--max-samples: applies to adaptive sampling only",
+    );
+    fails_with(
+        &[
+            "workspace",
+            "robots/planar_2r.toml",
+            "--samples",
+            "4096",
+            "--target-rel-error",
+            "0.01",
+            "--max-samples",
+            "0",
+        ],
+        "--max-samples: 0 is below the first round's 4096 samples",
+    );
     let o = armsim(&["bench", f, "--algo", "fk", "--iters", "1"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     std::fs::remove_dir_all(&dir).ok();

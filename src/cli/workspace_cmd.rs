@@ -23,9 +23,9 @@ pub struct WorkspaceArgs {
     /// this fraction of the estimate (e.g. 0.01), within --max-samples.
     #[arg(long)]
     pub target_rel_error: Option<f64>,
-    /// Adaptive mode: the most samples to draw.
-    #[arg(long, default_value_t = 1 << 30)]
-    pub max_samples: u64,
+    /// Adaptive mode: the most samples to draw (default 2^30).
+    #[arg(long)]
+    pub max_samples: Option<u64>,
     /// Voxel edge (m).
     #[arg(long, default_value_t = 0.02)]
     pub voxel: f64,
@@ -88,7 +88,7 @@ pub fn run(a: &WorkspaceArgs) -> Result<(), String> {
     let opts = WorkspaceOptions {
         samples,
         target_rel_error: a.target_rel_error,
-        max_samples: Some(a.max_samples),
+        max_samples: Some(a.max_samples.unwrap_or(DEFAULT_MAX_SAMPLES)),
         replicates,
         sampling,
         seed,
@@ -227,6 +227,9 @@ pub const MAX_SAMPLES: u64 = 1 << 32;
 /// The most replicates (each keeps its own voxel grid in memory).
 pub const MAX_REPLICATES: usize = 1024;
 
+/// `--max-samples` when not given (adaptive mode).
+const DEFAULT_MAX_SAMPLES: u64 = 1 << 30;
+
 /// Refuses, before sampling, a run that would draw more than [`MAX_SAMPLES`] samples
 /// (each replicate draws at least one; adaptive mode may go up to `--max-samples`) unless
 /// `--force`, or that asks for more than [`MAX_REPLICATES`] replicates.
@@ -239,17 +242,24 @@ fn check_budget(a: &WorkspaceArgs) -> Result<(), String> {
         ));
     }
     let r = a.replicates as u64;
-    if a.target_rel_error.is_some() && a.max_samples < a.samples.max(r) {
+    if a.target_rel_error.is_none() && a.max_samples.is_some() {
+        return Err(
+            "--max-samples: applies to adaptive sampling only (with --target-rel-error); \
+             --samples sets the count otherwise"
+                .into(),
+        );
+    }
+    let max_samples = a.max_samples.unwrap_or(DEFAULT_MAX_SAMPLES);
+    if a.target_rel_error.is_some() && max_samples < a.samples.max(r) {
         return Err(format!(
-            "--max-samples: {} is below the first round's {} samples: adaptive sampling \
-             would stop before its first estimate",
-            a.max_samples,
+            "--max-samples: {max_samples} is below the first round's {} samples: adaptive \
+             sampling would stop before its first estimate",
             a.samples.max(r)
         ));
     }
     let (key, drawn) = match a.target_rel_error {
         None => ("--samples", a.samples.max(r)),
-        Some(_) => ("--max-samples", a.max_samples.max(a.samples).max(r)),
+        Some(_) => ("--max-samples", max_samples.max(a.samples).max(r)),
     };
     if drawn > MAX_SAMPLES && !a.force {
         return Err(format!(
