@@ -307,3 +307,55 @@ fn response_at_a_critical_speed_is_marked_critical() {
     assert_eq!(rows[1]["critical_mode"], 1, "{}", rows[1]);
     assert!(rows[1].get("amplification").is_none(), "{}", rows[1]);
 }
+
+/// Speeds given as multiples of ω1 (`response.speed_ratios`): each row's first-mode
+/// amplification is the closed form `r²/(1 − r²)`, its `frequency_ratio` is `r`, and the
+/// rows equal those of the same speeds given in rpm (ω1 from the first run).
+#[test]
+fn response_speeds_as_multiples_of_the_first_critical_speed() {
+    let v = run_json("scenarios/flexible_rotor_speed_ratios.toml");
+    let w1 = v["modes"][0]["omega"].as_f64().unwrap();
+    let rows = v["response"].as_array().unwrap();
+    let ratios = [0.5, 0.8, 1.2, 2.0];
+    assert_eq!(rows.len(), ratios.len());
+    for (row, r) in rows.iter().zip(ratios) {
+        close(&row["frequency_ratio"], r, 1e-12, "ω/ω1");
+        close(
+            &row["amplification"][0],
+            r * r / (1.0 - r * r),
+            1e-9,
+            "first-mode amplification",
+        );
+        close(
+            &row["speed_rpm"],
+            r * w1 * 30.0 / std::f64::consts::PI,
+            1e-9,
+            "rpm",
+        );
+    }
+    // The same speeds in rpm give the same rows.
+    let path = common::root().join("scenarios/flexible_rotor_speed_ratios.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    let rpm: Vec<String> = ratios
+        .iter()
+        .map(|r| format!("{:.17e}", r * w1 * 30.0 / std::f64::consts::PI))
+        .collect();
+    let by_rpm = text.replace(
+        "speed_ratios = [0.5, 0.8, 1.2, 2.0]",
+        &format!("speeds_rpm = [{}]", rpm.join(", ")),
+    );
+    assert_ne!(by_rpm, text);
+    let dir = std::env::temp_dir().join(format!("armsim_ratios_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let copy = dir.join("by_rpm.toml");
+    std::fs::write(&copy, by_rpm).unwrap();
+    let w = common::cli_json(&["run", copy.to_str().unwrap(), "--json"]);
+    std::fs::remove_dir_all(&dir).ok();
+    for (a, b) in rows.iter().zip(w["response"].as_array().unwrap()) {
+        let (x, y) = (
+            a["max_amplitude"].as_f64().unwrap(),
+            b["max_amplitude"].as_f64().unwrap(),
+        );
+        assert!((x - y).abs() <= 1e-9 * x.abs(), "{x} vs {y}");
+    }
+}

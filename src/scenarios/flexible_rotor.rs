@@ -86,7 +86,9 @@ struct AnalysisIn {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ResponseIn {
-    speeds_rpm: Spanned<Vec<F>>,
+    speeds_rpm: Option<Spanned<Vec<F>>>,
+    /// Speeds as multiples of the first critical speed ω1 (the texts' `ω/ω1`).
+    speed_ratios: Option<Spanned<Vec<F>>>,
 }
 
 #[derive(Deserialize)]
@@ -112,6 +114,8 @@ pub struct FlexibleRotorScenario {
     pub elements: usize,
     max_speed: Option<f64>,
     speeds: Vec<f64>,
+    /// Response speeds as multiples of ω1 (after `speeds`).
+    ratios: Vec<f64>,
     balancing: Option<Balancing>,
 }
 
@@ -236,23 +240,37 @@ fn parse_bearings(
     Ok(out)
 }
 
-/// The `[response]` speeds, rad/s.
-fn response_speeds(ctx: &Source, r: &ResponseIn) -> Result<Vec<f64>, ScenarioError> {
-    let v = r.speeds_rpm.get_ref();
-    if v.is_empty() || v.len() > MAX_SPEEDS {
+/// The `[response]` speeds: in rpm (→ rad/s) and as multiples of ω1, each list 1 …
+/// [`MAX_SPEEDS`] long when given, at least one given.
+fn response_speeds(ctx: &Source, r: &ResponseIn) -> Result<(Vec<f64>, Vec<f64>), ScenarioError> {
+    let list = |l: &Option<Spanned<Vec<F>>>, key: &str| -> Result<Vec<f64>, ScenarioError> {
+        let Some(l) = l else { return Ok(Vec::new()) };
+        let v = l.get_ref();
+        if v.is_empty() || v.len() > MAX_SPEEDS {
+            return Err(ctx.at(l.span(), key, format!("needs 1..={MAX_SPEEDS} speeds")));
+        }
+        v.iter()
+            .enumerate()
+            .map(|(i, s)| ctx.positive(s, &format!("{key}[{i}]")))
+            .collect()
+    };
+    let rpm = list(&r.speeds_rpm, "response.speeds_rpm")?;
+    let ratios = list(&r.speed_ratios, "response.speed_ratios")?;
+    if let Some(x) = ratios.iter().find(|x| **x > 1e3) {
+        let l = r.speed_ratios.as_ref().map_or(0..0, |l| l.span());
         return Err(ctx.at(
-            r.speeds_rpm.span(),
-            "response.speeds_rpm",
-            format!("needs 1..={MAX_SPEEDS} speeds"),
+            l,
+            "response.speed_ratios",
+            format!("{x} times the first critical speed: at most 1000"),
         ));
     }
-    v.iter()
-        .enumerate()
-        .map(|(i, s)| {
-            ctx.positive(s, &format!("response.speeds_rpm[{i}]"))
-                .map(|n| n * PI / 30.0)
-        })
-        .collect()
+    if rpm.is_empty() && ratios.is_empty() {
+        return Err(ctx.section(
+            "response",
+            "give speeds_rpm, or speed_ratios (multiples of the first critical speed), or both",
+        ));
+    }
+    Ok((rpm.iter().map(|n| n * PI / 30.0).collect(), ratios))
 }
 
 /// The `[modal_balancing]` section: planes, target mode, other modes kept, rigid-body
@@ -399,8 +417,8 @@ pub fn parse(file: &str, text: &str) -> Result<FlexibleRotorScenario, ScenarioEr
         .map(|v| ctx.positive(v, "analysis.max_speed_rpm"))
         .transpose()?
         .map(|n| n * PI / 30.0);
-    let speeds = match &f.response {
-        None => Vec::new(),
+    let (speeds, ratios) = match &f.response {
+        None => (Vec::new(), Vec::new()),
         Some(r) => response_speeds(&ctx, r)?,
     };
     let rotor = FlexibleRotor {
@@ -423,6 +441,7 @@ pub fn parse(file: &str, text: &str) -> Result<FlexibleRotorScenario, ScenarioEr
         elements,
         max_speed,
         speeds,
+        ratios,
         balancing,
     })
 }
@@ -432,13 +451,14 @@ pub fn parse(file: &str, text: &str) -> Result<FlexibleRotorScenario, ScenarioEr
 /// a text line and the response plot.
 fn unbalance_rows(
     sc: &FlexibleRotorScenario,
+    speeds: &[f64],
     fe: &[RotorMode],
     text: &mut String,
     panels: &mut Vec<Panel>,
 ) -> Value {
     let mut rows = Vec::new();
     let mut peak = Vec::new();
-    for &w in &sc.speeds {
+    for &w in speeds {
         // At a mode's critical speed (to rounding) the amplification is unbounded: the
         // row says `critical`, as where the solve is singular, never a null amplification.
         let modal: Vec<f64> = fe.iter().map(|m| modal_amplification(m.omega, w)).collect();
@@ -480,7 +500,7 @@ fn unbalance_rows(
     writeln!(
         text,
         "  unbalance response at {} speeds (largest deflection {:.4e} m)",
-        sc.speeds.len(),
+        speeds.len(),
         peak.iter().fold(0.0f64, |m, p| m.max(p.1))
     )
     .ok();
@@ -577,8 +597,22 @@ pub fn report(
         series: shapes,
         ..Default::default()
     }];
-    if !sc.speeds.is_empty() {
-        j["response"] = unbalance_rows(sc, &fe, &mut text, &mut panels);
+    // Speeds given as multiples of ω1 follow those given in rpm.
+    let speeds: Vec<f64> = (sc.speeds.iter().copied())
+        .chain(
+            sc.ratios
+                .iter()
+                .map(|r| r * fe.first().map_or(0.0, |m| m.omega)),
+        )
+        .collect();
+    if !speeds.is_empty() {
+        let mut rows = unbalance_rows(sc, &speeds, &fe, &mut text, &mut panels);
+        if let (Some(m1), Some(list)) = (fe.first(), rows.as_array_mut()) {
+            for (row, w) in list.iter_mut().zip(&speeds) {
+                row["frequency_ratio"] = json!(w / m1.omega);
+            }
+        }
+        j["response"] = rows;
     }
     if let Some((planes, target, others, rigid, au)) = &sc.balancing {
         let x = modal_balance(&fe, planes, *target, others, *rigid, *au).ok_or_else(|| ctx.section("modal_balancing", "the balancing equations are singular (a plane at a node of a mode, or two planes at one place)"))?;
