@@ -72,7 +72,7 @@ pub enum RobotError {
     Singular(#[from] SingularMassMatrix),
     /// The model is too large for the dense algorithms (CRBA, CRBA + Cholesky).
     #[error("{0}")]
-    TooLargeForDense(String),
+    TooLargeForDense(#[from] crate::model::data::TooManyDof),
 }
 
 /// The answer of [`Robot::ik`]: the configuration, how it ended, the residual and a
@@ -324,7 +324,7 @@ impl Robot {
     /// The joint-space mass matrix `M(q)` (CRBA).
     pub fn crba(&mut self, q: &[f64]) -> Result<&DMatrix<f64>, RobotError> {
         self.check("q", q)?;
-        crate::model::data::dense_fits(&self.model).map_err(RobotError::TooLargeForDense)?;
+        crate::model::data::dense_fits(&self.model)?;
         Ok(dynamics::crba(&self.model, &mut self.data, q))
     }
 
@@ -335,7 +335,7 @@ impl Robot {
         self.check("v", v)?;
         self.check("tau", tau)?;
         if self.model.has_mimic {
-            crate::model::data::dense_fits(&self.model).map_err(RobotError::TooLargeForDense)?;
+            crate::model::data::dense_fits(&self.model)?;
         }
         Ok(dynamics::forward_dynamics(
             &self.model,
@@ -376,7 +376,7 @@ impl Robot {
         if let Some(s) = seed {
             self.check("seed", s)?;
         }
-        crate::model::data::dense_fits(&self.model).map_err(RobotError::TooLargeForDense)?;
+        crate::model::data::dense_fits(&self.model)?;
         let r = self.ik.solve(&self.model, frame.0, target, seed, opts);
         let reason = match r.status {
             IkStatus::Converged => format!(

@@ -76,7 +76,7 @@ pub fn aba<'a>(
     tau: &[f64],
 ) -> Result<&'a [f64], String> {
     if m.has_mimic {
-        armsim::model::data::dense_fits(m)?;
+        armsim::model::data::dense_fits(m).map_err(|e| e.to_string())?;
     }
     dynamics::forward_dynamics(m, d, q, v, tau).map_err(|e| e.to_string())
 }
@@ -84,6 +84,6 @@ pub fn aba<'a>(
 /// The joint-space mass matrix (full, symmetric); refused above the dense algorithms'
 /// size ([`armsim::model::data::MAX_DENSE_DOF`]).
 pub fn crba<'a>(m: &Model, d: &'a mut Data, q: &[f64]) -> Result<&'a DMatrix<f64>, String> {
-    armsim::model::data::dense_fits(m)?;
+    armsim::model::data::dense_fits(m).map_err(|e| e.to_string())?;
     Ok(dynamics::crba(m, d, q))
 }

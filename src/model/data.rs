@@ -88,17 +88,28 @@ fn dense_n(nv: usize) -> usize {
     }
 }
 
-/// `Err(message)` when `model` has more degrees of freedom than the dense algorithms
+/// A model too large for the dense algorithms ([`MAX_DENSE_DOF`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "the model has {nv} degrees of freedom: the dense algorithms (mass matrix, forward \
+     dynamics with mimic joints, numeric IK) would hold two {nv} × {nv} matrices ({gib:.1} \
+     GiB); they accept at most {MAX_DENSE_DOF}"
+)]
+pub struct TooManyDof {
+    /// The model's degrees of freedom.
+    pub nv: usize,
+    /// The memory two `nv × nv` matrices would take (GiB).
+    pub gib: f64,
+}
+
+/// [`TooManyDof`] when `model` has more degrees of freedom than the dense algorithms
 /// accept ([`MAX_DENSE_DOF`]), for the callers that can refuse (CLI, Python, scenarios).
-pub fn dense_fits(model: &Model) -> Result<(), String> {
+pub fn dense_fits(model: &Model) -> Result<(), TooManyDof> {
     if model.nv > MAX_DENSE_DOF {
-        let gib = 2.0 * (model.nv as f64).powi(2) * 8.0 / (1u64 << 30) as f64;
-        return Err(format!(
-            "the model has {} degrees of freedom: the dense algorithms (mass matrix, forward \
-             dynamics with mimic joints, numeric IK) would hold two {0} × {0} matrices \
-             ({gib:.1} GiB); they accept at most {MAX_DENSE_DOF}",
-            model.nv
-        ));
+        return Err(TooManyDof {
+            nv: model.nv,
+            gib: 2.0 * (model.nv as f64).powi(2) * 8.0 / (1u64 << 30) as f64,
+        });
     }
     Ok(())
 }

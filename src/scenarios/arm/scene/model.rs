@@ -71,8 +71,13 @@ pub(super) fn load(
     let (model_path, spec, model, model_warnings, notes, touching, package_paths) =
         load_model(cx, dir, &file.model, skeleton, package_path)?;
     // Planning, torques and simulation all use the mass matrix.
-    crate::model::data::dense_fits(&model)
-        .map_err(|m| cx.at(file.model.get_ref().file.span(), "model.file", m))?;
+    crate::model::data::dense_fits(&model).map_err(|e| {
+        cx.at(
+            file.model.get_ref().file.span(),
+            "model.file",
+            e.to_string(),
+        )
+    })?;
     warnings.extend(notes);
     let msec = file.model.get_ref();
     if !msec
