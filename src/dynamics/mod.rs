@@ -1,5 +1,6 @@
 //! Rigid-body dynamics: Newton–Euler (RNEA), the mass matrix (CRBA), forward dynamics
-//! (ABA, and CRBA + Cholesky), energies, the switchable effects, and the two Lagrange
+//! (ABA, and CRBA + Cholesky), `M⁻¹`, the analytical derivatives of inverse and forward
+//! dynamics (Carpentier & Mansard), energies, the switchable effects, and the two Lagrange
 //! formulations (the textbook's trace form and the energy/Christoffel form) with the
 //! Coriolis matrix. Each algorithm is one file citing the equations it implements.
 //!
@@ -16,18 +17,22 @@
 //! nothing per call; the Lagrange forms are slow O(n⁴)/O(n³) references and allocate.
 
 mod aba;
+mod aba_derivatives;
 mod crba;
 mod effects;
 mod energy;
 mod forward;
 mod lagrange_energy;
 mod lagrange_trace;
+mod minverse;
 mod rnea;
+mod rnea_derivatives;
 mod terms;
 
 pub use crate::core::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
 pub use crate::model::data::{EffectRuns, EffectSet};
 pub use aba::{aba, aba_with_forces};
+pub use aba_derivatives::{aba_derivatives, AbaPartials};
 pub use crba::crba;
 pub(crate) use crba::crba_impl;
 pub use effects::{
@@ -44,6 +49,8 @@ pub use lagrange_energy::{
     mass_matrix_energy,
 };
 pub use lagrange_trace::{lagrange_trace, mass_matrix_trace};
+pub use minverse::compute_minverse;
 pub(crate) use rnea::rnea_impl;
 pub use rnea::{bias, gravity_torque, rnea, rnea_with_forces};
+pub use rnea_derivatives::{rnea_derivatives, rnea_derivatives_with_forces, RneaPartials};
 pub(crate) use terms::Terms;

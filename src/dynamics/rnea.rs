@@ -127,7 +127,7 @@ pub(crate) fn rnea_impl<'a>(
 
 /// `τ_k += I_a,k q̈_k` for the coordinates with armature (zero armature adds nothing, not
 /// even a signed zero).
-fn add_armature(model: &Model, terms: &Terms<'_>, qdd: &[f64], tau: &mut [f64]) {
+pub(crate) fn add_armature(model: &Model, terms: &Terms<'_>, qdd: &[f64], tau: &mut [f64]) {
     for (k, (t, a)) in tau.iter_mut().zip(qdd).enumerate() {
         let ia = terms.armature(model, k);
         if ia != 0.0 {

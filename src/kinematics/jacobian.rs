@@ -28,7 +28,7 @@ use nalgebra::DMatrix;
 pub use crate::kinematics::fk::Expressed;
 
 #[inline(always)]
-fn world_subspace(kind: BodyKind, o_m_i: &Se3) -> Motion {
+pub(crate) fn world_subspace(kind: BodyKind, o_m_i: &Se3) -> Motion {
     let z = column(&o_m_i.rot, kind.axis_index());
     if kind.is_revolute() {
         Motion::new(o_m_i.trans.cross(&z), z)

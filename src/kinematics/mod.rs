@@ -13,6 +13,7 @@ pub use fk::{
     forward_kinematics, forward_kinematics_acc, forward_kinematics_vel, frame_acceleration,
     frame_classical_acceleration, frame_placement, frame_velocity, joint_transform, update_frames,
 };
+pub(crate) use jacobian::world_subspace;
 pub use jacobian::{
     compute_frame_jacobian, compute_joint_jacobians, compute_joint_jacobians_time_variation,
     frame_jacobian, frame_jacobian_time_variation, Expressed,

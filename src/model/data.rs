@@ -2,6 +2,7 @@
 //! all buffers are sized once by [`Data::new`] so that no algorithm allocates per call.
 
 use crate::core::spatial::{Force, InertiaO, Motion, Se3};
+use crate::model::derivative_data::DerivativeData;
 use crate::model::Model;
 use nalgebra::{DMatrix, Matrix6, Vector6};
 
@@ -67,6 +68,8 @@ pub struct Data {
     pub effect_runs: EffectRuns,
     /// The effects the last effect-aware dynamics call included.
     pub effects_used: EffectSet,
+    /// The dynamics derivatives' buffers (sized by the first derivative call).
+    pub deriv: DerivativeData,
 }
 
 /// Models of up to this many degrees of freedom get their `nv × nv` mass-matrix buffers
@@ -158,6 +161,7 @@ impl Data {
             f_ext: vec![Force::zero(); nb],
             effect_runs: Default::default(),
             effects_used: Default::default(),
+            deriv: DerivativeData::default(),
         }
     }
 }

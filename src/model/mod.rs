@@ -20,6 +20,7 @@ mod build;
 pub mod chain;
 mod compiled;
 pub mod data;
+pub mod derivative_data;
 pub mod model_limits;
 pub use model_limits::MAX_LENGTH;
 mod ids;

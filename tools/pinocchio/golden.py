@@ -24,6 +24,10 @@ Per state the output has (all in Pinocchio conventions, gravity (0,0,-9.81)):
   gravity           computeGeneralizedGravity(q)
   M                 crba(q), symmetrised (Pinocchio fills the upper triangle)
   aba               ddq = aba(q, v, tau_in)   (omitted for mimic models)
+  dtau_dq, dtau_dv  computeRNEADerivatives(q, v, a)       (omitted for mimic models)
+  ddq_dq, ddq_dv, Minv
+                    computeABADerivatives(q, v, tau_in)   (omitted for mimic models;
+                    Minv symmetrised like M)
 Matrices are row-major nested lists.
 """
 import argparse
@@ -121,6 +125,11 @@ def main():
         st["M"] = M.tolist()
         if not has_mimic:
             st["aba"] = pin.aba(model, data, q, v, tau_in).tolist()
+            dq, dv, _ = pin.computeRNEADerivatives(model, data, q, v, a)
+            st["dtau_dq"], st["dtau_dv"] = dq.tolist(), dv.tolist()
+            ddq_dq, ddq_dv, minv = pin.computeABADerivatives(model, data, q, v, tau_in)
+            minv = np.triu(minv) + np.triu(minv, 1).T
+            st["ddq_dq"], st["ddq_dv"], st["Minv"] = ddq_dq.tolist(), ddq_dv.tolist(), minv.tolist()
         out["states"].append(st)
     json.dump(out, sys.stdout, indent=None)
     sys.stdout.write("\n")

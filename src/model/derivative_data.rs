@@ -1,0 +1,154 @@
+//! [`DerivativeData`]: the buffers of the dynamics derivatives (∂τ/∂q, ∂τ/∂q̇, ∂q̈/∂q,
+//! ∂q̈/∂q̇, `M⁻¹`) and the per-body world-frame quantities their recursions keep. Sized
+//! on the first derivative call ([`DerivativeData::ensure`]), not with the rest of
+//! [`crate::model::data::Data`]: kinematics-only users never pay for five `nv × nv`
+//! matrices. Afterwards no call allocates.
+
+use crate::core::spatial::{Force, InertiaO, Mat3, Motion, Vec3};
+use crate::model::Model;
+use nalgebra::{DMatrix, Matrix6, Vector6};
+
+/// The derivative algorithms refuse models of more degrees of freedom than this through
+/// [`derivatives_fit`]: their five `nv × nv` results and the `6 nv × nv` columns of
+/// `M⁻¹`'s recursion are about 2 GiB at 4096.
+pub const MAX_DERIVATIVE_DOF: usize = 2048;
+
+/// A model too large for the dynamics derivatives ([`MAX_DERIVATIVE_DOF`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "the model has {nv} degrees of freedom: the dynamics derivatives hold five {nv} × {nv} \
+     matrices and accept at most {MAX_DERIVATIVE_DOF}"
+)]
+pub struct TooManyDofForDerivatives {
+    /// The model's degrees of freedom.
+    pub nv: usize,
+}
+
+/// [`TooManyDofForDerivatives`] when `model` is above [`MAX_DERIVATIVE_DOF`], for the
+/// callers that can refuse (CLI, Python).
+pub fn derivatives_fit(model: &Model) -> Result<(), TooManyDofForDerivatives> {
+    if model.nv > MAX_DERIVATIVE_DOF {
+        return Err(TooManyDofForDerivatives { nv: model.nv });
+    }
+    Ok(())
+}
+
+/// The variation of a body's momentum with its velocity (Carpentier & Mansard's
+/// `∂(Y v)`-term, `v ×* Y − Y v× + (· ×* Y v)`), which only reads the angular part of
+/// the motion it acts on: `D x = (a × x_ω, C x_ω)`. Sums of these stay of this form.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MomentumVariation {
+    /// `A = [a]×`, the force block (`a = −2 × linear momentum`).
+    pub a: Vec3,
+    /// The moment block.
+    pub c: Mat3,
+}
+
+impl Default for MomentumVariation {
+    fn default() -> Self {
+        Self {
+            a: Vec3::zeros(),
+            c: Mat3::zeros(),
+        }
+    }
+}
+
+impl MomentumVariation {
+    /// `D x`.
+    #[inline(always)]
+    pub fn mul_motion(&self, x: &Motion) -> Force {
+        Force::new(self.a.cross(&x.w), self.c * x.w)
+    }
+
+    /// `Dᵀ s`, as a covector paired with motions: `(0, Aᵀ s_v + Cᵀ s_ω)`.
+    #[inline(always)]
+    pub fn tr_mul_motion(&self, s: &Motion) -> Force {
+        Force::new(Vec3::zeros(), s.v.cross(&self.a) + self.c.tr_mul(&s.w))
+    }
+
+    /// `self + o`.
+    #[inline(always)]
+    pub fn add(&self, o: &Self) -> Self {
+        Self {
+            a: self.a + o.a,
+            c: self.c + o.c,
+        }
+    }
+}
+
+/// Buffers of the derivative algorithms (see the module docs). Body-indexed vectors have
+/// one entry per body, world frame.
+#[derive(Clone, Debug, Default)]
+pub struct DerivativeData {
+    /// `∂τ/∂q` (RNEA derivatives), nv × nv.
+    pub dtau_dq: DMatrix<f64>,
+    /// `∂τ/∂q̇`, nv × nv.
+    pub dtau_dv: DMatrix<f64>,
+    /// `∂τ/∂q̈ = M`, nv × nv (armature included).
+    pub dtau_da: DMatrix<f64>,
+    /// `∂q̈/∂q` (ABA derivatives), nv × nv.
+    pub ddq_dq: DMatrix<f64>,
+    /// `∂q̈/∂q̇`, nv × nv.
+    pub ddq_dv: DMatrix<f64>,
+    /// `M⁻¹ = ∂q̈/∂τ`, nv × nv.
+    pub minv: DMatrix<f64>,
+    /// Body velocities, world frame.
+    pub(crate) ov: Vec<Motion>,
+    /// Body accelerations with gravity as a base acceleration, world frame.
+    pub(crate) oa: Vec<Motion>,
+    /// `∂v_i/∂q_k` minus `S_k × v_i` for `k` this body: `v_λ × S_k`.
+    pub(crate) dv_dq: Vec<Motion>,
+    /// `∂a_i/∂q_k` minus `S_k × a_i + dv_dq × v_i`: `a_λ × S_k + v_λ × (v_λ × S_k)`.
+    pub(crate) da_dq: Vec<Motion>,
+    /// `∂a_i/∂q̇_k` minus `S_k × v_i`: `2 v_λ × S_k`.
+    pub(crate) da_dv: Vec<Motion>,
+    /// Subtree (composite) inertias, world frame.
+    pub(crate) oy: Vec<InertiaO>,
+    /// Subtree momentum variations.
+    pub(crate) doy: Vec<MomentumVariation>,
+    /// Subtree forces, world frame.
+    pub(crate) of: Vec<Force>,
+    /// Articulated inertias, world frame (`M⁻¹`).
+    pub(crate) oya: Vec<Matrix6<f64>>,
+    /// `U_i = I^A_i S_i` (`M⁻¹`).
+    pub(crate) u: Vec<Vector6<f64>>,
+    /// `D_i⁻¹` (`M⁻¹`).
+    pub(crate) d_inv: Vec<f64>,
+    /// Per body, `6 × nv` columns: the articulated forces, then the accelerations, of
+    /// unit joint torques (`M⁻¹`), column-major body after body.
+    pub(crate) cols: Vec<f64>,
+    /// The degrees of freedom the buffers are sized for.
+    pub(crate) nv: usize,
+}
+
+impl DerivativeData {
+    /// Sizes every buffer for `model` on the first call; a no-op afterwards.
+    pub fn ensure(&mut self, model: &Model) {
+        let (nv, nb) = (model.nv, model.nbodies());
+        if self.nv == nv && self.ov.len() == nb && self.dtau_dq.nrows() == nv {
+            return;
+        }
+        let sq = || DMatrix::zeros(nv, nv);
+        *self = Self {
+            dtau_dq: sq(),
+            dtau_dv: sq(),
+            dtau_da: sq(),
+            ddq_dq: sq(),
+            ddq_dv: sq(),
+            minv: sq(),
+            ov: vec![Motion::zero(); nb],
+            oa: vec![Motion::zero(); nb],
+            dv_dq: vec![Motion::zero(); nb],
+            da_dq: vec![Motion::zero(); nb],
+            da_dv: vec![Motion::zero(); nb],
+            oy: vec![InertiaO::zero(); nb],
+            doy: vec![MomentumVariation::default(); nb],
+            of: vec![Force::zero(); nb],
+            oya: vec![Matrix6::zeros(); nb],
+            u: vec![Vector6::zeros(); nb],
+            d_inv: vec![0.0; nb],
+            cols: vec![0.0; 6 * nv * nb],
+            nv,
+        };
+    }
+}

@@ -1,0 +1,176 @@
+//! The analytical dynamics derivatives (Carpentier & Mansard) against central finite
+//! differences of the algorithms they differentiate, on every robot in `robots/`, a tree
+//! (two arms on one torso), the mimic gripper and a generated chain, with gravity,
+//! armature and external wrenches: `∂τ/∂q`, `∂τ/∂q̇` against RNEA, `∂τ/∂q̈` against CRBA,
+//! `∂q̈/∂q`, `∂q̈/∂q̇` against ABA, `∂q̈/∂τ` and `M⁻¹` against the inverse of CRBA's `M`.
+
+mod common;
+
+use armsim::core::spatial::{Force, Vec3};
+use armsim::dynamics;
+use armsim::model::data::Data;
+use armsim::model::Model;
+use nalgebra::DMatrix;
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+
+/// Every test model with gravity and a random armature on every coordinate.
+fn models() -> Vec<(String, Model)> {
+    let mut v = common::test_models(12);
+    v.push(("dual_arm".into(), common::load("tests/data/dual_arm.urdf")));
+    let mut rng = SmallRng::seed_from_u64(5);
+    for (_, m) in &mut v {
+        m.gravity = Vec3::new(0.3, -0.2, -9.81);
+        for a in &mut m.armature {
+            *a = rng.random_range(0.0..0.2);
+        }
+    }
+    v
+}
+
+/// Central difference `(f(x + h e_k) − f(x − h e_k)) / 2h`, column by column.
+fn central(n: usize, x: &[f64], h: f64, mut f: impl FnMut(&[f64]) -> Vec<f64>) -> DMatrix<f64> {
+    let mut out = DMatrix::zeros(f(x).len(), n);
+    for k in 0..n {
+        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+        xp[k] += h;
+        xm[k] -= h;
+        let (fp, fm) = (f(&xp), f(&xm));
+        for r in 0..fp.len() {
+            out[(r, k)] = (fp[r] - fm[r]) / (2.0 * h);
+        }
+    }
+    out
+}
+
+/// `max |a − b| ≤ tol · max(1, max |b|)`.
+fn assert_close(what: &str, a: &DMatrix<f64>, b: &DMatrix<f64>, tol: f64) {
+    assert_eq!(a.shape(), b.shape(), "{what}: shape");
+    let scale = b.abs().max().max(1.0);
+    let err = (a - b).abs().max();
+    assert!(
+        err <= tol * scale,
+        "{what}: error {err:e} > {tol:e} × {scale:e}\nanalytical {a}\nfinite differences {b}"
+    );
+}
+
+struct State {
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+}
+
+fn states(m: &Model, count: usize, seed: u64) -> Vec<State> {
+    let mut rng = SmallRng::seed_from_u64(seed);
+    (0..count)
+        .map(|_| State {
+            q: m.random_q(&mut rng),
+            v: common::rand_vec(&mut rng, m.nv, 2.0),
+            a: common::rand_vec(&mut rng, m.nv, 3.0),
+        })
+        .collect()
+}
+
+#[test]
+fn rnea_partials_equal_central_differences_of_rnea() {
+    for (name, m) in models() {
+        let mut d = Data::new(&m);
+        let mut fd = Data::new(&m);
+        for (s, st) in states(&m, 4, 21).iter().enumerate() {
+            let what = format!("{name} state {s}");
+            let p = dynamics::rnea_derivatives(&m, &mut d, &st.q, &st.v, &st.a);
+            let (dq, dv, mass) = (p.dtau_dq.clone(), p.dtau_dv.clone(), p.mass.clone());
+            let tau = d.tau.clone();
+            let want = dynamics::rnea(&m, &mut fd, &st.q, &st.v, &st.a).to_vec();
+            assert_close(
+                &format!("{what}: τ"),
+                &DMatrix::from_column_slice(m.nv, 1, &tau),
+                &DMatrix::from_column_slice(m.nv, 1, &want),
+                1e-12,
+            );
+            let fq = central(m.nv, &st.q, 1e-6, |q| {
+                dynamics::rnea(&m, &mut fd, q, &st.v, &st.a).to_vec()
+            });
+            assert_close(&format!("{what}: ∂τ/∂q"), &dq, &fq, 1e-6);
+            let fv = central(m.nv, &st.v, 1e-6, |v| {
+                dynamics::rnea(&m, &mut fd, &st.q, v, &st.a).to_vec()
+            });
+            assert_close(&format!("{what}: ∂τ/∂q̇"), &dv, &fv, 1e-6);
+            let crba = dynamics::crba(&m, &mut fd, &st.q).clone();
+            assert_close(&format!("{what}: ∂τ/∂q̈ = M"), &mass, &crba, 1e-12);
+        }
+    }
+}
+
+#[test]
+fn rnea_partials_with_body_wrenches_equal_central_differences() {
+    for (name, m) in models() {
+        let mut rng = SmallRng::seed_from_u64(8);
+        let f_ext: Vec<Force> = (0..m.nbodies())
+            .map(|_| {
+                let w = common::rand_vec(&mut rng, 6, 3.0);
+                Force::new(Vec3::new(w[0], w[1], w[2]), Vec3::new(w[3], w[4], w[5]))
+            })
+            .collect();
+        let mut d = Data::new(&m);
+        let mut fd = Data::new(&m);
+        for st in states(&m, 2, 9) {
+            let p = dynamics::rnea_derivatives_with_forces(&m, &mut d, &st.q, &st.v, &st.a, &f_ext);
+            let (dq, dv) = (p.dtau_dq.clone(), p.dtau_dv.clone());
+            let fq = central(m.nv, &st.q, 1e-6, |q| {
+                dynamics::rnea_with_forces(&m, &mut fd, q, &st.v, &st.a, &f_ext).to_vec()
+            });
+            assert_close(&format!("{name}: ∂τ/∂q with wrenches"), &dq, &fq, 1e-6);
+            let fv = central(m.nv, &st.v, 1e-6, |v| {
+                dynamics::rnea_with_forces(&m, &mut fd, &st.q, v, &st.a, &f_ext).to_vec()
+            });
+            assert_close(&format!("{name}: ∂τ/∂q̇ with wrenches"), &dv, &fv, 1e-6);
+        }
+    }
+}
+
+#[test]
+fn minverse_times_crba_mass_matrix_is_identity() {
+    for (name, m) in models() {
+        let mut d = Data::new(&m);
+        for st in states(&m, 4, 33) {
+            let minv = dynamics::compute_minverse(&m, &mut d, &st.q)
+                .unwrap()
+                .clone();
+            let mass = dynamics::crba(&m, &mut d, &st.q).clone();
+            let eye = DMatrix::identity(m.nv, m.nv);
+            assert_close(&format!("{name}: M⁻¹ M"), &(&minv * &mass), &eye, 1e-9);
+            assert_close(
+                &format!("{name}: M⁻¹ symmetric"),
+                &minv,
+                &minv.transpose(),
+                1e-12,
+            );
+        }
+    }
+}
+
+#[test]
+fn aba_partials_equal_central_differences_of_forward_dynamics() {
+    for (name, m) in models() {
+        let mut d = Data::new(&m);
+        let mut fd = Data::new(&m);
+        for (s, st) in states(&m, 3, 44).iter().enumerate() {
+            let what = format!("{name} state {s}");
+            let tau = st.a.clone();
+            let p = dynamics::aba_derivatives(&m, &mut d, &st.q, &st.v, &tau).unwrap();
+            let (dq, dv, minv) = (p.ddq_dq.clone(), p.ddq_dv.clone(), p.minv.clone());
+            let mut fwd = |q: &[f64], v: &[f64], t: &[f64]| {
+                dynamics::forward_dynamics(&m, &mut fd, q, v, t)
+                    .unwrap()
+                    .to_vec()
+            };
+            let fq = central(m.nv, &st.q, 1e-6, |q| fwd(q, &st.v, &tau));
+            assert_close(&format!("{what}: ∂q̈/∂q"), &dq, &fq, 1e-5);
+            let fv = central(m.nv, &st.v, 1e-6, |v| fwd(&st.q, v, &tau));
+            assert_close(&format!("{what}: ∂q̈/∂q̇"), &dv, &fv, 1e-5);
+            let ft = central(m.nv, &tau, 1e-6, |t| fwd(&st.q, &st.v, t));
+            assert_close(&format!("{what}: ∂q̈/∂τ = M⁻¹"), &minv, &ft, 1e-5);
+        }
+    }
+}
