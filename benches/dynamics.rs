@@ -1,4 +1,4 @@
-//! Criterion benchmarks: RNEA, CRBA and ABA on UR5, Panda (9 DOF, fingers as independent
+//! Criterion benchmarks: RNEA, CRBA, ABA, the RNEA and ABA derivatives and `M⁻¹` on UR5, Panda (9 DOF, fingers as independent
 //! joints as in Pinocchio), iiwa and generated 50-, 100- and 200-joint chains, cycling over
 //! 256 random states. Run: `cargo bench --bench dynamics`.
 
@@ -58,6 +58,36 @@ fn dynamics_benches(c: &mut Criterion) {
                     &vs[s.clone()],
                     &ws[s],
                 );
+            })
+        });
+        g_.bench_function("rnea_derivatives", |b| {
+            b.iter(|| {
+                let s = next();
+                dynamics::rnea_derivatives(
+                    &model,
+                    &mut data,
+                    black_box(&qs[s.clone()]),
+                    &vs[s.clone()],
+                    &ws[s],
+                );
+            })
+        });
+        g_.bench_function("aba_derivatives", |b| {
+            b.iter(|| {
+                let s = next();
+                let _ = dynamics::aba_derivatives(
+                    &model,
+                    &mut data,
+                    black_box(&qs[s.clone()]),
+                    &vs[s.clone()],
+                    &ws[s],
+                );
+            })
+        });
+        g_.bench_function("minverse", |b| {
+            b.iter(|| {
+                let s = next();
+                let _ = dynamics::compute_minverse(&model, &mut data, black_box(&qs[s]));
             })
         });
         g_.finish();

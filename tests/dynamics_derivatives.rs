@@ -160,6 +160,17 @@ fn aba_partials_equal_central_differences_of_forward_dynamics() {
             let tau = st.a.clone();
             let p = dynamics::aba_derivatives(&m, &mut d, &st.q, &st.v, &tau).unwrap();
             let (dq, dv, minv) = (p.ddq_dq.clone(), p.ddq_dv.clone(), p.minv.clone());
+            let col = |x: &[f64]| DMatrix::from_column_slice(x.len(), 1, x);
+            let qdd = dynamics::forward_dynamics(&m, &mut fd, &st.q, &st.v, &tau)
+                .unwrap()
+                .to_vec();
+            assert_close(&format!("{what}: q̈ = FD"), &col(&d.qdd), &col(&qdd), 1e-10);
+            assert_close(
+                &format!("{what}: ID(q̈) = τ"),
+                &col(&d.tau),
+                &col(&tau),
+                1e-10,
+            );
             let mut fwd = |q: &[f64], v: &[f64], t: &[f64]| {
                 dynamics::forward_dynamics(&m, &mut fd, q, v, t)
                     .unwrap()

@@ -33,7 +33,7 @@ def ours(model, algo):
     return json.load(open(p))["median"]["point_estimate"]
 
 models = ["ur5", "panda", "panda_mimic", "iiwa14", "chain_50", "chain_100", "chain_200"]
-algos = ["fk", "jacobians", "rnea", "crba", "aba"]
+algos = ["fk", "jacobians", "rnea", "crba", "aba", "rnea_derivatives", "aba_derivatives", "minverse"]
 print("| model | algo | armsim (ns) | Pinocchio 4.1 (ns) | ratio |")
 print("|---|---|---:|---:|---:|")
 for m in models:

@@ -42,23 +42,36 @@ pub fn compute_minverse<'a>(
         invert_mass_matrix(model, data, q)?;
     } else {
         forward_kinematics(model, data, q);
-        backward_pass(model, data)?;
-        forward_pass(model, data);
+        for i in 0..model.nbodies() {
+            data.s_world[i] = world_subspace(model.kind[i], &data.o_m_i[i]);
+        }
+        minverse_from_placements(model, data)?;
     }
     Ok(&data.deriv.minv)
 }
 
+/// [`compute_minverse`] for a model without mimic joints whose `data.o_m_i` and
+/// `data.s_world` are current (after the RNEA derivatives, say).
+pub(crate) fn minverse_from_placements(
+    model: &Model,
+    data: &mut Data,
+) -> Result<(), SingularMassMatrix> {
+    backward_pass(model, data)?;
+    forward_pass(model, data);
+    Ok(())
+}
+
 /// `D_i⁻¹`, `U_i`, the partial rows and the articulated forces of the unit torques.
+/// Bodies come after their parents, so body `i`'s subtree, where its forces are not
+/// zero, lies in the columns `c ≥ i` (columns are bodies here).
 fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatrix> {
     let n = model.nv;
     let nb = model.nbodies();
     let d = &mut data.deriv;
     for i in 0..nb {
-        data.s_world[i] = world_subspace(model.kind[i], &data.o_m_i[i]);
         d.oya[i] = model.inertia_o[i].transformed(&data.o_m_i[i]).to_matrix();
     }
     d.cols.fill(0.0);
-    let minv = d.minv.as_mut_slice();
     for i in (0..nb).rev() {
         let s = mvec(&data.s_world[i]);
         let (ci, mi) = (model.q_index[i], model.q_mult[i]);
@@ -70,22 +83,21 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
         let d_inv = 1.0 / dd;
         let (below, rest) = d.cols.split_at_mut(i * 6 * n);
         let p_i = &rest[..6 * n];
-        for c in 0..model.nbodies() {
-            let cc = model.q_index[c];
-            let col = &p_i[cc * 6..cc * 6 + 6];
-            let stp: f64 = (0..6).map(|r| s[r] * col[r]).sum();
-            let unit = if c == i { 1.0 } else { 0.0 };
-            minv[cc * n + ci] = d_inv * (unit - stp);
+        let row = &mut d.row[..];
+        row[i] = d_inv;
+        for c in i + 1..nb {
+            let col = &p_i[c * 6..c * 6 + 6];
+            row[c] = -d_inv * (0..6).map(|r| s[r] * col[r]).sum::<f64>();
         }
         d.u[i] = u;
         d.d_inv[i] = d_inv;
+        d.minv_rows[i * nb..(i + 1) * nb].copy_from_slice(row);
         let parent = model.parent[i];
         if parent != WORLD {
             let p_parent = &mut below[parent * 6 * n..(parent + 1) * 6 * n];
-            for c in 0..n {
-                let row = minv[c * n + ci];
+            for c in i..nb {
                 for r in 0..6 {
-                    p_parent[c * 6 + r] += p_i[c * 6 + r] + u[r] * row;
+                    p_parent[c * 6 + r] += p_i[c * 6 + r] + u[r] * row[c];
                 }
             }
             let ia = d.oya[i] - u * u.transpose() * d_inv;
@@ -95,39 +107,42 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
     Ok(())
 }
 
-/// Completes each row with the parent's accelerations and scales to the coordinates.
+/// Completes each row's upper part (`c ≥ i`, all a child needs of its parent's
+/// accelerations) and writes `M⁻¹` in coordinates, mirrored.
 fn forward_pass(model: &Model, data: &mut Data) {
     let n = model.nv;
+    let nb = model.nbodies();
     let d = &mut data.deriv;
-    let minv = d.minv.as_mut_slice();
-    for i in 0..model.nbodies() {
-        let ci = model.q_index[i];
+    for i in 0..nb {
         let s = mvec(&data.s_world[i]);
         let (u, d_inv) = (d.u[i], d.d_inv[i]);
         let parent = model.parent[i];
         let (below, rest) = d.cols.split_at_mut(i * 6 * n);
         let a_i = &mut rest[..6 * n];
-        for c in 0..n {
-            let mut row = minv[c * n + ci];
+        let row = &mut d.minv_rows[i * nb..(i + 1) * nb];
+        for c in i..nb {
             if parent != WORLD {
                 let a_p = &below[parent * 6 * n + c * 6..parent * 6 * n + c * 6 + 6];
                 let uta: f64 = (0..6).map(|r| u[r] * a_p[r]).sum();
-                row -= d_inv * uta;
-                minv[c * n + ci] = row;
+                row[c] -= d_inv * uta;
                 for r in 0..6 {
-                    a_i[c * 6 + r] = a_p[r] + s[r] * row;
+                    a_i[c * 6 + r] = a_p[r] + s[r] * row[c];
                 }
             } else {
                 for r in 0..6 {
-                    a_i[c * 6 + r] = s[r] * row;
+                    a_i[c * 6 + r] = s[r] * row[c];
                 }
             }
         }
     }
-    for i in 0..model.nbodies() {
-        for k in 0..model.nbodies() {
-            let (ci, ck) = (model.q_index[i], model.q_index[k]);
-            minv[ck * n + ci] /= model.q_mult[i] * model.q_mult[k];
+    let minv = d.minv.as_mut_slice();
+    for i in 0..nb {
+        let (ci, mi) = (model.q_index[i], model.q_mult[i]);
+        for c in i..nb {
+            let (cc, mc) = (model.q_index[c], model.q_mult[c]);
+            let x = d.minv_rows[i * nb + c] / (mi * mc);
+            minv[cc * n + ci] = x;
+            minv[ci * n + cc] = x;
         }
     }
 }

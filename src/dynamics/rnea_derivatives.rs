@@ -117,7 +117,13 @@ fn momentum_variation(y: &InertiaO, v: &Motion, p: &Force) -> MomentumVariation 
 }
 
 /// Velocities, accelerations, world inertias, forces and the per-joint partial motions.
-fn forward_pass(model: &Model, data: &mut Data, qd: &[f64], qdd: &[f64], terms: &Terms<'_>) {
+pub(crate) fn forward_pass(
+    model: &Model,
+    data: &mut Data,
+    qd: &[f64],
+    qdd: &[f64],
+    terms: &Terms<'_>,
+) {
     let a0 = terms
         .gravity
         .map_or(Motion::zero(), |g| Motion::new(-g, Vec3::zeros()));
@@ -164,7 +170,7 @@ fn forward_pass(model: &Model, data: &mut Data, qd: &[f64], qdd: &[f64], terms: 
 
 /// `τ` and the three partials from the subtree sums, walking each joint's ancestors once
 /// for its row (`k ⪯ j`) and once for its column (`j ≺ k`).
-fn backward_pass(model: &Model, data: &mut Data, terms: &Terms<'_>) {
+pub(crate) fn backward_pass(model: &Model, data: &mut Data, terms: &Terms<'_>) {
     let n = model.nv;
     let d = &mut data.deriv;
     let dq = d.dtau_dq.as_mut_slice();
@@ -212,5 +218,28 @@ fn backward_pass(model: &Model, data: &mut Data, terms: &Terms<'_>) {
     }
     for k in 0..n {
         da[k * n + k] += terms.armature(model, k);
+    }
+}
+
+/// Adds the joint accelerations `q̈` to a forward pass run with `q̈ = 0`: everything is
+/// affine in `q̈`, through `a_i += Σ_{j⪯i} S_j q̈_j` (world frame), so `f_i += Y_i δa_i`
+/// and `∂a_k += δa_λ × S_k`. Used where `q̈` is known only after the bias forces (ABA
+/// derivatives).
+pub(crate) fn add_joint_accelerations(model: &Model, data: &mut Data, qdd: &[f64]) {
+    let d = &mut data.deriv;
+    for i in 0..model.nbodies() {
+        let s = data.s_world[i];
+        let parent = model.parent[i];
+        let mine = s.scale(body_rate(model, qdd, i));
+        let da = if parent == WORLD {
+            mine
+        } else {
+            let dp = d.acc[parent];
+            d.da_dq[i] = d.da_dq[i].add(&dp.cross_motion(&s));
+            dp.add(&mine)
+        };
+        d.acc[i] = da;
+        d.oa[i] = d.oa[i].add(&da);
+        d.of[i] = d.of[i].add(&d.oy[i].mul_motion(&da));
     }
 }

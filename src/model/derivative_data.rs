@@ -117,6 +117,16 @@ pub struct DerivativeData {
     /// Per body, `6 × nv` columns: the articulated forces, then the accelerations, of
     /// unit joint torques (`M⁻¹`), column-major body after body.
     pub(crate) cols: Vec<f64>,
+    /// Subtree forces of the bias (ABA derivatives; scratch).
+    pub(crate) bias_f: Vec<Force>,
+    /// World accelerations of `q̈` alone (ABA derivatives; scratch).
+    pub(crate) acc: Vec<Motion>,
+    /// `τ − h(q, q̇)`, nv (ABA derivatives; scratch).
+    pub(crate) rhs: Vec<f64>,
+    /// `M⁻¹` by bodies, row-major (`M⁻¹`'s recursion).
+    pub(crate) minv_rows: Vec<f64>,
+    /// One row of `M⁻¹` (scratch).
+    pub(crate) row: Vec<f64>,
     /// The degrees of freedom the buffers are sized for.
     pub(crate) nv: usize,
 }
@@ -148,6 +158,11 @@ impl DerivativeData {
             u: vec![Vector6::zeros(); nb],
             d_inv: vec![0.0; nb],
             cols: vec![0.0; 6 * nv * nb],
+            bias_f: vec![Force::zero(); nb],
+            acc: vec![Motion::zero(); nb],
+            rhs: vec![0.0; nv],
+            minv_rows: vec![0.0; nb * nb],
+            row: vec![0.0; nb],
             nv,
         };
     }

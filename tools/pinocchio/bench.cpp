@@ -11,7 +11,8 @@
 //   --rep-ms T       target wall time of one repetition in ms (default 2)
 //   --states S       number of random states (default 256)
 //   --seed X         RNG seed (default 42)
-//   --algos a,b,...  subset of fk,jacobians,rnea,crba,crba_upper,aba
+//   --algos a,b,...  subset of fk,jacobians,rnea,crba,crba_upper,aba,rnea_derivatives,
+//                    aba_derivatives,minverse
 //
 // Prints one JSON object per (model, algo) on stdout; diagnostics on stderr.
 //
@@ -44,6 +45,8 @@
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/rnea-derivatives.hpp>
+#include <pinocchio/algorithm/aba-derivatives.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -73,7 +76,9 @@ namespace
     double rep_ms = 2.0;
     int states = 256;
     unsigned long long seed = 42;
-    std::vector<std::string> algos = {"fk", "jacobians", "rnea", "crba", "crba_upper", "aba"};
+    std::vector<std::string> algos = {"fk",  "jacobians",        "rnea",            "crba",
+                                      "crba_upper", "aba", "rnea_derivatives", "aba_derivatives",
+                                      "minverse"};
     std::vector<std::string> urdfs;
   };
 
@@ -309,13 +314,32 @@ namespace
       emit("aba", timeIt([&](int k) {
              return pinocchio::aba(model, data, Arg(qs[k]), Arg(vs[k]), Arg(taus[k]))[0];
            }, S, opt, sink));
+
+    // Derivatives (Carpentier & Mansard 2018): like ABA, Pinocchio 4.1 refuses mimic
+    // joints. computeMinverse fills the upper triangle, as crba does.
+    if (!has_mimic && wanted(opt, "rnea_derivatives"))
+      emit("rnea_derivatives", timeIt([&](int k) {
+             pinocchio::computeRNEADerivatives(model, data, Arg(qs[k]), Arg(vs[k]), Arg(as[k]));
+             return data.dtau_dq(0, nv - 1) + data.dtau_dv(nv - 1, 0);
+           }, S, opt, sink));
+    if (!has_mimic && wanted(opt, "aba_derivatives"))
+      emit("aba_derivatives", timeIt([&](int k) {
+             pinocchio::computeABADerivatives(model, data, Arg(qs[k]), Arg(vs[k]), Arg(taus[k]));
+             return data.ddq_dq(0, nv - 1) + data.ddq_dv(nv - 1, 0);
+           }, S, opt, sink));
+    if (!has_mimic && wanted(opt, "minverse"))
+      emit("minverse", timeIt([&](int k) {
+             pinocchio::computeMinverse(model, data, Arg(qs[k]));
+             return data.Minv(0, nv - 1);
+           }, S, opt, sink));
   }
 
   [[noreturn]] void usage()
   {
     std::fprintf(
       stderr, "usage: bench [--mimic] [--reps R] [--rep-ms T] [--states S] [--seed X] "
-              "[--algos fk,jacobians,rnea,crba,crba_upper,aba] robot.urdf [...]\n");
+              "[--algos fk,jacobians,rnea,crba,crba_upper,aba,rnea_derivatives,\n"
+              "aba_derivatives,minverse] robot.urdf [...]\n");
     std::exit(2);
   }
 } // namespace
