@@ -1,7 +1,8 @@
 """armsim: robot-arm kinematics and dynamics (Rust) for Python.
 
 Pinocchio-style functions on ``Model``/``Data`` (``forward_kinematics``,
-``frame_jacobian``, ``rnea``, ``aba``, ``crba``, ``compute_generalized_gravity``), the
+``frame_jacobian``, ``rnea``, ``aba``, ``crba``, ``compute_generalized_gravity``, the
+analytical derivatives ``rnea_derivatives``, ``aba_derivatives`` and ``compute_minverse``), the
 ``Robot`` facade, batches on ``(N, nq)`` arrays that run on all cores without the GIL,
 scenario runs and workspace sampling. ``armsim.distributed`` shards batch IK and
 workspace sampling into Ray tasks.
@@ -25,7 +26,9 @@ from ._armsim import (  # noqa: F401  (re-exports)
     Robot,
     aba,
     aba_batch,
+    aba_derivatives,
     compute_generalized_gravity,
+    compute_minverse,
     crba,
     fk_batch,
     forward_kinematics,
@@ -37,6 +40,7 @@ from ._armsim import (  # noqa: F401  (re-exports)
     plan,
     rnea,
     rnea_batch,
+    rnea_derivatives,
     sample_poses,
 )
 from . import _armsim
@@ -45,6 +49,7 @@ __all__ = [
     "ArmsimError", "Data", "IkResult", "Model", "Planner", "Robot", "IK_KEYWORDS",
     "forward_kinematics", "frame_jacobian", "rnea", "aba", "crba",
     "compute_generalized_gravity", "gravity", "nonlinear_effects",
+    "rnea_derivatives", "aba_derivatives", "compute_minverse",
     "rnea_batch", "aba_batch", "gravity_batch", "fk_batch", "jacobian_batch", "ik_batch",
     "sample_poses", "run_scenario", "workspace", "plan",
 ]

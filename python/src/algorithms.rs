@@ -1,5 +1,6 @@
 //! The Pinocchio-style functions on `(model, data, ...)`: forward kinematics, frame
-//! Jacobians in three expressions, RNEA, ABA, CRBA, gravity and nonlinear effects. Inputs
+//! Jacobians in three expressions, RNEA, ABA, CRBA, gravity and nonlinear effects, the
+//! RNEA and ABA derivatives and `M⁻¹`. Inputs
 //! are checked (lengths, NaN, frame, data of this model) before any Rust algorithm runs.
 
 use crate::args::{self, vector};
@@ -144,3 +145,80 @@ pub fn nonlinear_effects<'py>(
     let h = dyn_calls::nonlinear_effects(m, &mut data.data, q.slice(), v.slice()).map_err(err)?;
     Ok(PyArray1::from_slice(py, h))
 }
+
+/// `(dtau_dq, dtau_dv, M)`: the partial derivatives of `τ = rnea(q, v, a)` (Carpentier &
+/// Mansard's analytical RNEA derivatives, as Pinocchio's `computeRNEADerivatives`).
+#[pyfunction]
+pub fn rnea_derivatives<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    data: &mut PyData,
+    q: &Bound<'py, PyAny>,
+    v: &Bound<'py, PyAny>,
+    a: &Bound<'py, PyAny>,
+) -> PyResult<Matrices3<'py>> {
+    data.check_model(model)?;
+    let m = &*model.model;
+    let (q, v, a) = (
+        vector(q, "q", m.nv)?,
+        vector(v, "v", m.nv)?,
+        vector(a, "a", m.nv)?,
+    );
+    let p = dyn_calls::rnea_derivatives(m, &mut data.data, q.slice(), v.slice(), a.slice())
+        .map_err(err)?;
+    Ok((
+        matrix_to_numpy(py, p.dtau_dq),
+        matrix_to_numpy(py, p.dtau_dv),
+        matrix_to_numpy(py, p.mass),
+    ))
+}
+
+/// `(ddq_dq, ddq_dv, Minv)`: the partial derivatives of `ddq = aba(q, v, tau)`, the last
+/// being `∂q̈/∂τ = M⁻¹` (as Pinocchio's `computeABADerivatives`).
+#[pyfunction]
+pub fn aba_derivatives<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    data: &mut PyData,
+    q: &Bound<'py, PyAny>,
+    v: &Bound<'py, PyAny>,
+    tau: &Bound<'py, PyAny>,
+) -> PyResult<Matrices3<'py>> {
+    data.check_model(model)?;
+    let m = &*model.model;
+    let (q, v, t) = (
+        vector(q, "q", m.nv)?,
+        vector(v, "v", m.nv)?,
+        vector(tau, "tau", m.nv)?,
+    );
+    let p = dyn_calls::aba_derivatives(m, &mut data.data, q.slice(), v.slice(), t.slice())
+        .map_err(err)?;
+    Ok((
+        matrix_to_numpy(py, p.ddq_dq),
+        matrix_to_numpy(py, p.ddq_dv),
+        matrix_to_numpy(py, p.minv),
+    ))
+}
+
+/// The inverse of the joint-space mass matrix, `M(q)⁻¹` (full and symmetric), in O(n²)
+/// without forming `M` (as Pinocchio's `computeMinverse`).
+#[pyfunction]
+pub fn compute_minverse<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    data: &mut PyData,
+    q: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    data.check_model(model)?;
+    let m = &*model.model;
+    let q = vector(q, "q", m.nv)?;
+    let minv = dyn_calls::compute_minverse(m, &mut data.data, q.slice()).map_err(err)?;
+    Ok(matrix_to_numpy(py, minv))
+}
+
+/// Three nv × nv arrays.
+type Matrices3<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+);

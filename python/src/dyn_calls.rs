@@ -87,3 +87,67 @@ pub fn crba<'a>(m: &Model, d: &'a mut Data, q: &[f64]) -> Result<&'a DMatrix<f64
     armsim::model::data::dense_fits(m).map_err(|e| e.to_string())?;
     Ok(dynamics::crba(m, d, q))
 }
+
+/// `Err` naming `what` and its first non-finite entry (row, column), with the largest
+/// inputs, as [`finite`] does for vectors.
+fn finite_matrix(
+    m: &Model,
+    what: &str,
+    out: &DMatrix<f64>,
+    inputs: &[(&str, &[f64])],
+) -> Result<(), String> {
+    let n = out.nrows();
+    let Some(k) = out.as_slice().iter().position(|x| !x.is_finite()) else {
+        return Ok(());
+    };
+    let (r, c) = (k % n, k / n);
+    finite(m, &format!("{what}[{r}, {c}]"), &[out[(r, c)]], inputs).map(|_| ())
+}
+
+/// `(∂τ/∂q, ∂τ/∂v, M)` at `(q, v, a)` (Carpentier & Mansard's RNEA derivatives).
+pub fn rnea_derivatives<'a>(
+    m: &Model,
+    d: &'a mut Data,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> Result<dynamics::RneaPartials<'a>, String> {
+    armsim::model::derivative_data::derivatives_fit(m).map_err(|e| e.to_string())?;
+    let p = dynamics::rnea_derivatives(m, d, q, v, a);
+    let inputs = [("q", q), ("v", v), ("a", a)];
+    finite_matrix(m, "dtau_dq", p.dtau_dq, &inputs)?;
+    finite_matrix(m, "dtau_dv", p.dtau_dv, &inputs)?;
+    finite_matrix(m, "M", p.mass, &inputs)?;
+    Ok(p)
+}
+
+/// `(∂q̈/∂q, ∂q̈/∂v, M⁻¹)` at `(q, v, tau)` (the ABA derivatives).
+pub fn aba_derivatives<'a>(
+    m: &Model,
+    d: &'a mut Data,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+) -> Result<dynamics::AbaPartials<'a>, String> {
+    armsim::model::derivative_data::derivatives_fit(m).map_err(|e| e.to_string())?;
+    let p = dynamics::aba_derivatives(m, d, q, v, tau).map_err(|e| e.to_string())?;
+    let inputs = [("q", q), ("v", v), ("tau", tau)];
+    finite_matrix(m, "ddq_dq", p.ddq_dq, &inputs)?;
+    finite_matrix(m, "ddq_dv", p.ddq_dv, &inputs)?;
+    Ok(p)
+}
+
+/// `M(q)⁻¹`.
+pub fn compute_minverse<'a>(
+    m: &Model,
+    d: &'a mut Data,
+    q: &[f64],
+) -> Result<&'a DMatrix<f64>, String> {
+    armsim::model::derivative_data::derivatives_fit(m).map_err(|e| e.to_string())?;
+    let mut e = match dynamics::compute_minverse(m, d, q) {
+        Ok(minv) => return Ok(minv),
+        Err(e) => e,
+    };
+    e.joint = m.dof_names().get(e.pivot).cloned().unwrap_or_default();
+    Err(e.to_string())
+}

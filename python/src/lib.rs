@@ -38,6 +38,9 @@ fn _armsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m
     )?)?;
     m.add_function(wrap_pyfunction!(algorithms::nonlinear_effects, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::rnea_derivatives, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::aba_derivatives, m)?)?;
+    m.add_function(wrap_pyfunction!(algorithms::compute_minverse, m)?)?;
     m.add_function(wrap_pyfunction!(batch::rnea_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::aba_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::gravity_batch, m)?)?;

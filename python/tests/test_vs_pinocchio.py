@@ -136,3 +136,31 @@ def test_batches_match_pin_row_by_row(pair, rng):
         assert_close(T[i], pd.oMf[pf].homogeneous, f"fk_batch[{i}]")
         pj = pin.computeFrameJacobian(pm, pd, pq, pf, pin.ReferenceFrame.LOCAL)
         assert_close(J[i], mp.from_v(pj), f"jacobian_batch[{i}]")
+
+
+def test_rnea_derivatives_match_pin(pair, rng):
+    m, pm, mp = pair
+    d, pd = m.create_data(), pm.createData()
+    for q, v, a in states(m, STATES, rng):
+        dq, dv, mass = am.rnea_derivatives(m, d, q, v, a)
+        pdq, pdv, pmass = pin.computeRNEADerivatives(pm, pd, mp.q(q), mp.v(v), mp.v(a))
+        pmass = np.triu(pmass) + np.triu(pmass, 1).T
+        assert_close(dq, mp.from_vv(pdq), "dtau_dq", tol=1e-8)
+        assert_close(dv, mp.from_vv(pdv), "dtau_dv", tol=1e-8)
+        assert_close(mass, mp.from_vv(pmass), "M", tol=1e-8)
+
+
+def test_aba_derivatives_and_minverse_match_pin(pair, rng):
+    m, pm, mp = pair
+    d, pd = m.create_data(), pm.createData()
+    for q, v, _ in states(m, STATES, rng):
+        tau = rng.normal(size=m.nv)
+        dq, dv, minv = am.aba_derivatives(m, d, q, v, tau)
+        pdq, pdv, pminv = pin.computeABADerivatives(pm, pd, mp.q(q), mp.v(v), mp.v(tau))
+        pminv = np.triu(pminv) + np.triu(pminv, 1).T
+        assert_close(dq, mp.from_vv(pdq), "ddq_dq", tol=1e-8)
+        assert_close(dv, mp.from_vv(pdv), "ddq_dv", tol=1e-8)
+        assert_close(minv, mp.from_vv(pminv), "Minv", tol=1e-8)
+        pminv2 = pin.computeMinverse(pm, pd, mp.q(q))
+        pminv2 = np.triu(pminv2) + np.triu(pminv2, 1).T
+        assert_close(am.compute_minverse(m, d, q), mp.from_vv(pminv2), "computeMinverse", tol=1e-8)

@@ -123,11 +123,19 @@ fn solve_accelerations(model: &Model, data: &mut Data) -> Result<(), SingularMas
     Ok(())
 }
 
-/// `out = −a b` for square column-major matrices, column by column as sums of `a`'s
-/// columns (contiguous, so the inner loop vectorises; faster than a general product at
-/// arm sizes).
+/// Up to this many coordinates [`neg_product`] sums columns directly; above, the blocked
+/// product of nalgebra (matrixmultiply) is faster.
+const DIRECT_PRODUCT_MAX: usize = 24;
+
+/// `out = −a b` for square column-major matrices: at arm sizes column by column as sums
+/// of `a`'s columns (contiguous, so the inner loop vectorises, and no packing), else the
+/// blocked general product.
 fn neg_product(out: &mut DMatrix<f64>, a: &DMatrix<f64>, b: &DMatrix<f64>) {
     let n = a.nrows();
+    if n > DIRECT_PRODUCT_MAX {
+        out.gemm(-1.0, a, b, 0.0);
+        return;
+    }
     let (a, b) = (a.as_slice(), b.as_slice());
     for (c, oc) in out.as_mut_slice().chunks_exact_mut(n).enumerate() {
         oc.fill(0.0);

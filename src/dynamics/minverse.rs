@@ -71,7 +71,10 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
     for i in 0..nb {
         d.oya[i] = model.inertia_o[i].transformed(&data.o_m_i[i]).to_matrix();
     }
-    d.cols.fill(0.0);
+    // Body i's articulated forces are read in the columns c > i only.
+    for i in 0..nb {
+        d.cols[i * 6 * n + 6 * i..(i + 1) * 6 * n].fill(0.0);
+    }
     for i in (0..nb).rev() {
         let s = mvec(&data.s_world[i]);
         let (ci, mi) = (model.q_index[i], model.q_mult[i]);
@@ -81,23 +84,32 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
             return Err(SingularMassMatrix::at(ci, dd));
         }
         let d_inv = 1.0 / dd;
+        let u6: [f64; 6] = u.into();
         let (below, rest) = d.cols.split_at_mut(i * 6 * n);
-        let p_i = &rest[..6 * n];
-        let row = &mut d.row[..];
+        let p_i = &rest[6 * (i + 1)..6 * n];
+        let row = &mut d.minv_rows[i * nb..(i + 1) * nb];
         row[i] = d_inv;
-        for c in i + 1..nb {
-            let col = &p_i[c * 6..c * 6 + 6];
-            row[c] = -d_inv * (0..6).map(|r| s[r] * col[r]).sum::<f64>();
+        for (r, col) in row[i + 1..].iter_mut().zip(p_i.chunks_exact(6)) {
+            *r = -d_inv * dot6(&s, col);
         }
         d.u[i] = u;
         d.d_inv[i] = d_inv;
-        d.minv_rows[i * nb..(i + 1) * nb].copy_from_slice(row);
         let parent = model.parent[i];
         if parent != WORLD {
-            let p_parent = &mut below[parent * 6 * n..(parent + 1) * 6 * n];
-            for c in i..nb {
+            let p_parent = &mut below[parent * 6 * n + 6 * i..(parent + 1) * 6 * n];
+            let (own, children) = p_parent.split_at_mut(6);
+            for (o, x) in own.iter_mut().zip(u.iter()) {
+                *o += x * row[i];
+            }
+            for ((pp, pi), x) in children
+                .chunks_exact_mut(6)
+                .zip(p_i.chunks_exact(6))
+                .zip(&row[i + 1..])
+            {
+                let (pp, pi): (&mut [f64; 6], &[f64; 6]) =
+                    (pp.try_into().expect("six"), pi.try_into().expect("six"));
                 for r in 0..6 {
-                    p_parent[c * 6 + r] += p_i[c * 6 + r] + u[r] * row[c];
+                    pp[r] += pi[r] + u6[r] * x;
                 }
             }
             let ia = d.oya[i] - u * u.transpose() * d_inv;
@@ -105,6 +117,12 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
         }
     }
     Ok(())
+}
+
+/// `a · b` for a 6-vector and a slice of six.
+#[inline(always)]
+fn dot6(a: &Vector6<f64>, b: &[f64]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5]
 }
 
 /// Completes each row's upper part (`c ≥ i`, all a child needs of its parent's
@@ -116,21 +134,30 @@ fn forward_pass(model: &Model, data: &mut Data) {
     for i in 0..nb {
         let s = mvec(&data.s_world[i]);
         let (u, d_inv) = (d.u[i], d.d_inv[i]);
+        let s6: [f64; 6] = s.into();
         let parent = model.parent[i];
         let (below, rest) = d.cols.split_at_mut(i * 6 * n);
         let a_i = &mut rest[..6 * n];
-        let row = &mut d.minv_rows[i * nb..(i + 1) * nb];
-        for c in i..nb {
-            if parent != WORLD {
-                let a_p = &below[parent * 6 * n + c * 6..parent * 6 * n + c * 6 + 6];
-                let uta: f64 = (0..6).map(|r| u[r] * a_p[r]).sum();
-                row[c] -= d_inv * uta;
+        let row = &mut d.minv_rows[i * nb + i..(i + 1) * nb];
+        let a_i = &mut a_i[6 * i..];
+        if parent != WORLD {
+            let a_p = &below[parent * 6 * n + 6 * i..(parent + 1) * 6 * n];
+            for ((x, ai), ap) in row
+                .iter_mut()
+                .zip(a_i.chunks_exact_mut(6))
+                .zip(a_p.chunks_exact(6))
+            {
+                *x -= d_inv * dot6(&u, ap);
+                let (ai, ap): (&mut [f64; 6], &[f64; 6]) =
+                    (ai.try_into().expect("six"), ap.try_into().expect("six"));
                 for r in 0..6 {
-                    a_i[c * 6 + r] = a_p[r] + s[r] * row[c];
+                    ai[r] = ap[r] + s6[r] * *x;
                 }
-            } else {
+            }
+        } else {
+            for (x, ai) in row.iter().zip(a_i.chunks_exact_mut(6)) {
                 for r in 0..6 {
-                    a_i[c * 6 + r] = s[r] * row[c];
+                    ai[r] = s[r] * x;
                 }
             }
         }
@@ -140,7 +167,8 @@ fn forward_pass(model: &Model, data: &mut Data) {
         let (ci, mi) = (model.q_index[i], model.q_mult[i]);
         for c in i..nb {
             let (cc, mc) = (model.q_index[c], model.q_mult[c]);
-            let x = d.minv_rows[i * nb + c] / (mi * mc);
+            // Without mimic joints the multipliers are signs: dividing is multiplying.
+            let x = d.minv_rows[i * nb + c] * (mi * mc);
             minv[cc * n + ci] = x;
             minv[ci * n + cc] = x;
         }

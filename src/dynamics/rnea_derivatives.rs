@@ -171,6 +171,24 @@ pub(crate) fn forward_pass(
 /// `τ` and the three partials from the subtree sums, walking each joint's ancestors once
 /// for its row (`k ⪯ j`) and once for its column (`j ≺ k`).
 pub(crate) fn backward_pass(model: &Model, data: &mut Data, terms: &Terms<'_>) {
+    if model.has_mimic {
+        backward_walks::<true>(model, data, terms);
+    } else {
+        backward_walks::<false>(model, data, terms);
+    }
+}
+
+/// [`backward_pass`]; with `SHARED` (mimic joints) several bodies may land on one entry,
+/// which is then summed, else each entry is stored once.
+fn backward_walks<const SHARED: bool>(model: &Model, data: &mut Data, terms: &Terms<'_>) {
+    #[inline(always)]
+    fn put<const SHARED: bool>(buf: &mut [f64], at: usize, x: f64) {
+        if SHARED {
+            buf[at] += x;
+        } else {
+            buf[at] = x;
+        }
+    }
     let n = model.nv;
     let d = &mut data.deriv;
     let dq = d.dtau_dq.as_mut_slice();
@@ -185,14 +203,22 @@ pub(crate) fn backward_pass(model: &Model, data: &mut Data, terms: &Terms<'_>) {
         let (ci, mi) = (model.q_index[i], model.q_mult[i]);
         data.tau[ci] += mi * f.dot_motion(&s);
         let ys = y.mul_motion(&s);
-        let dys = dy.tr_mul_motion(&s);
+        // Ẏᵀ S has no force part: pair its moment with angular parts only.
+        let dys = dy.tr_mul_motion(&s).n;
         let mut k = i;
         while k != WORLD {
-            let (at, w) = (model.q_index[k] * n + ci, mi * model.q_mult[k]);
-            let sk = &data.s_world[k];
-            dq[at] += w * (ys.dot_motion(&d.da_dq[k]) + dys.dot_motion(&d.dv_dq[k]));
-            dv[at] += w * (ys.dot_motion(&d.da_dv[k]) + dys.dot_motion(sk));
-            da[at] += w * ys.dot_motion(sk);
+            let (ck, w) = (model.q_index[k], mi * model.q_mult[k]);
+            let (sk, dvk) = (&data.s_world[k], &d.dv_dq[k]);
+            let ys_dv = ys.dot_motion(dvk);
+            let (row, col) = (ck * n + ci, ci * n + ck);
+            put::<SHARED>(dq, row, w * (ys.dot_motion(&d.da_dq[k]) + dys.dot(&dvk.w)));
+            put::<SHARED>(dv, row, w * (2.0 * ys_dv + dys.dot(&sk.w)));
+            // M is symmetric: the column walk's entry (k, i) is this one.
+            let mass = w * ys.dot_motion(sk);
+            put::<SHARED>(da, row, mass);
+            if k != i {
+                put::<SHARED>(da, col, mass);
+            }
             k = model.parent[k];
         }
         let fq = y
@@ -204,9 +230,8 @@ pub(crate) fn backward_pass(model: &Model, data: &mut Data, terms: &Terms<'_>) {
         while j != WORLD {
             let (at, w) = (ci * n + model.q_index[j], mi * model.q_mult[j]);
             let sj = &data.s_world[j];
-            dq[at] += w * fq.dot_motion(sj);
-            dv[at] += w * fv.dot_motion(sj);
-            da[at] += w * ys.dot_motion(sj);
+            put::<SHARED>(dq, at, w * fq.dot_motion(sj));
+            put::<SHARED>(dv, at, w * fv.dot_motion(sj));
             j = model.parent[j];
         }
         let parent = model.parent[i];
