@@ -1,5 +1,5 @@
 """Side-by-side timing from Python: armsim vs Pinocchio (PyPI `pin`) per call (RNEA,
-forward kinematics, frame Jacobian) and batch RNEA throughput (armsim.rnea_batch vs a
+forward kinematics, frame Jacobian, the RNEA and ABA derivatives, M⁻¹) and batch RNEA throughput (armsim.rnea_batch vs a
 Python loop over pin.rnea). Prints a Markdown table (BENCHMARKS.md, "From Python").
 
     python python/bench/bench_vs_pin.py [--calls 20000] [--rounds 11] [--batch 20000]
@@ -73,6 +73,16 @@ def bench_robot(name, file, frame, calls, rounds, batch, rng):
     rows.append(("frame_jacobian (local)",
                  *paired(lambda: am.frame_jacobian(m, d, q, fid, "local"),
                          lambda: pin.computeFrameJacobian(pm, pd, pq, pf, ref), calls, rounds)))
+    tau = rng.normal(size=m.nv)
+    rows.append(("rnea_derivatives",
+                 *paired(lambda: am.rnea_derivatives(m, d, q, v, a),
+                         lambda: pin.computeRNEADerivatives(pm, pd, pq, v, a), calls, rounds)))
+    rows.append(("aba_derivatives",
+                 *paired(lambda: am.aba_derivatives(m, d, q, v, tau),
+                         lambda: pin.computeABADerivatives(pm, pd, pq, v, tau), calls, rounds)))
+    rows.append(("compute_minverse",
+                 *paired(lambda: am.compute_minverse(m, d, q),
+                         lambda: pin.computeMinverse(pm, pd, pq), calls, rounds)))
     Q = np.ascontiguousarray(rng.uniform(lo, hi, size=(batch, m.nv)))
     V, A = rng.normal(size=(batch, m.nv)), rng.normal(size=(batch, m.nv))
     PQ = np.array([pin_q(m, pm, x) for x in Q])

@@ -9,4 +9,5 @@ pub mod interrupt;
 pub mod least_squares;
 pub mod linalg;
 pub mod spatial;
+pub mod sym6;
 pub mod xml_guard;

@@ -17,16 +17,12 @@
 //! its Cholesky factor.
 
 use crate::core::linalg::{cholesky_in_place, SingularMassMatrix};
+use crate::core::sym6::Sym6;
 use crate::dynamics::crba::crba;
 use crate::kinematics::{forward_kinematics, world_subspace};
 use crate::model::data::Data;
 use crate::model::{Model, WORLD};
-use nalgebra::{DMatrix, Vector6};
-
-#[inline(always)]
-fn mvec(m: &crate::core::spatial::Motion) -> Vector6<f64> {
-    Vector6::new(m.v.x, m.v.y, m.v.z, m.w.x, m.w.y, m.w.z)
-}
+use nalgebra::DMatrix;
 
 /// `M(q)⁻¹` into `data.deriv.minv` (also returned), with the model's armature, as
 /// Pinocchio's `computeMinverse(model, data, q)` (full, symmetric). Fails only when `M`
@@ -69,22 +65,21 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
     let nb = model.nbodies();
     let d = &mut data.deriv;
     for i in 0..nb {
-        d.oya[i] = model.inertia_o[i].transformed(&data.o_m_i[i]).to_matrix();
+        d.oya[i] = Sym6::from_inertia(&model.inertia_o[i].transformed(&data.o_m_i[i]));
     }
     // Body i's articulated forces are read in the columns c > i only.
     for i in 0..nb {
         d.cols[i * 6 * n + 6 * i..(i + 1) * 6 * n].fill(0.0);
     }
     for i in (0..nb).rev() {
-        let s = mvec(&data.s_world[i]);
+        let s = data.s_world[i].to_array();
         let (ci, mi) = (model.q_index[i], model.q_mult[i]);
-        let u = d.oya[i] * s;
-        let dd = s.dot(&u) + model.armature[ci] / (mi * mi);
+        let u = d.oya[i].mul(&s);
+        let dd = dot6(&s, &u) + model.armature[ci] / (mi * mi);
         if !(dd > 0.0 && dd.is_finite()) {
             return Err(SingularMassMatrix::at(ci, dd));
         }
         let d_inv = 1.0 / dd;
-        let u6: [f64; 6] = u.into();
         let (below, rest) = d.cols.split_at_mut(i * 6 * n);
         let p_i = &rest[6 * (i + 1)..6 * n];
         let row = &mut d.minv_rows[i * nb..(i + 1) * nb];
@@ -109,19 +104,20 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
                 let (pp, pi): (&mut [f64; 6], &[f64; 6]) =
                     (pp.try_into().expect("six"), pi.try_into().expect("six"));
                 for r in 0..6 {
-                    pp[r] += pi[r] + u6[r] * x;
+                    pp[r] += pi[r] + u[r] * x;
                 }
             }
-            let ia = d.oya[i] - u * u.transpose() * d_inv;
-            d.oya[parent] += ia;
+            // Parents come before their children: `parent < i`.
+            let (lo, hi) = d.oya.split_at_mut(i);
+            hi[0].add_rank_one_update_to(&u, d_inv, &mut lo[parent]);
         }
     }
     Ok(())
 }
 
-/// `a · b` for a 6-vector and a slice of six.
+/// `a · b` for six values each.
 #[inline(always)]
-fn dot6(a: &Vector6<f64>, b: &[f64]) -> f64 {
+fn dot6(a: &[f64; 6], b: &[f64]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5]
 }
 
@@ -132,9 +128,8 @@ fn forward_pass(model: &Model, data: &mut Data) {
     let nb = model.nbodies();
     let d = &mut data.deriv;
     for i in 0..nb {
-        let s = mvec(&data.s_world[i]);
         let (u, d_inv) = (d.u[i], d.d_inv[i]);
-        let s6: [f64; 6] = s.into();
+        let s6 = data.s_world[i].to_array();
         let parent = model.parent[i];
         let (below, rest) = d.cols.split_at_mut(i * 6 * n);
         let a_i = &mut rest[..6 * n];
@@ -157,7 +152,7 @@ fn forward_pass(model: &Model, data: &mut Data) {
         } else {
             for (x, ai) in row.iter().zip(a_i.chunks_exact_mut(6)) {
                 for r in 0..6 {
-                    ai[r] = s[r] * x;
+                    ai[r] = s6[r] * x;
                 }
             }
         }

@@ -5,8 +5,9 @@
 //! matrices. Afterwards no call allocates.
 
 use crate::core::spatial::{Force, InertiaO, Mat3, Motion, Vec3};
+use crate::core::sym6::Sym6;
 use crate::model::Model;
-use nalgebra::{DMatrix, Matrix6, Vector6};
+use nalgebra::DMatrix;
 
 /// The derivative algorithms refuse models of more degrees of freedom than this through
 /// [`derivatives_fit`]: their five `nv × nv` results and the `6 nv × nv` columns of
@@ -109,9 +110,9 @@ pub struct DerivativeData {
     /// Subtree forces, world frame.
     pub(crate) of: Vec<Force>,
     /// Articulated inertias, world frame (`M⁻¹`).
-    pub(crate) oya: Vec<Matrix6<f64>>,
+    pub(crate) oya: Vec<Sym6>,
     /// `U_i = I^A_i S_i` (`M⁻¹`).
-    pub(crate) u: Vec<Vector6<f64>>,
+    pub(crate) u: Vec<[f64; 6]>,
     /// `D_i⁻¹` (`M⁻¹`).
     pub(crate) d_inv: Vec<f64>,
     /// Per body, `6 × nv` columns: the articulated forces, then the accelerations, of
@@ -125,8 +126,6 @@ pub struct DerivativeData {
     pub(crate) rhs: Vec<f64>,
     /// `M⁻¹` by bodies, row-major (`M⁻¹`'s recursion).
     pub(crate) minv_rows: Vec<f64>,
-    /// One row of `M⁻¹` (scratch).
-    pub(crate) row: Vec<f64>,
     /// The degrees of freedom the buffers are sized for.
     pub(crate) nv: usize,
 }
@@ -154,15 +153,14 @@ impl DerivativeData {
             oy: vec![InertiaO::zero(); nb],
             doy: vec![MomentumVariation::default(); nb],
             of: vec![Force::zero(); nb],
-            oya: vec![Matrix6::zeros(); nb],
-            u: vec![Vector6::zeros(); nb],
+            oya: vec![Sym6::default(); nb],
+            u: vec![[0.0; 6]; nb],
             d_inv: vec![0.0; nb],
             cols: vec![0.0; 6 * nv * nb],
             bias_f: vec![Force::zero(); nb],
             acc: vec![Motion::zero(); nb],
             rhs: vec![0.0; nv],
             minv_rows: vec![0.0; nb * nb],
-            row: vec![0.0; nb],
             nv,
         };
     }
