@@ -134,7 +134,8 @@ fn every_effect(model: &Model) -> dynamics::Effects {
     }
 }
 
-/// The dynamics, bare and with every effect, 100 times without an allocation; returns
+/// The dynamics, bare and with every effect, and their derivatives (after the first call
+/// sized their buffers), 100 times without an allocation; returns
 /// the allocation count after the loop.
 fn assert_dynamics_allocate_nothing(
     file: &str,
@@ -148,8 +149,14 @@ fn assert_dynamics_allocate_nothing(
     let g = Vec3::new(0.0, 0.0, -9.81);
     let mut thdd = vec![0.0; n];
     let f_ext = vec![armsim::core::spatial::Force::new(Vec3::x(), Vec3::y()); model.nbodies()];
+    // The derivatives size their buffers on their first call.
+    let _ = dynamics::aba_derivatives(model, data, q, qd, qd);
     let before = allocs();
     for _ in 0..100 {
+        dynamics::rnea_derivatives(model, data, q, qd, qd);
+        dynamics::rnea_derivatives_with_forces(model, data, q, qd, qd, &f_ext);
+        let _ = dynamics::aba_derivatives(model, data, q, qd, qd);
+        let _ = dynamics::compute_minverse(model, data, q);
         dynamics::rnea(model, data, q, qd, qd);
         dynamics::rnea_with_forces(model, data, q, qd, qd, &f_ext);
         dynamics::bias(model, data, q, qd);
