@@ -84,8 +84,8 @@ impl Sym6 {
         let mut k = 0;
         for r in 0..6 {
             let ur = u[r] * s;
-            for c in r..6 {
-                to.0[k] += self.0[k] - ur * u[c];
+            for uc in &u[r..] {
+                to.0[k] += self.0[k] - ur * uc;
                 k += 1;
             }
         }
