@@ -123,10 +123,21 @@ def test_planner_names_what_a_start_touches_and_refuses_bad_obstacles():
 def test_ctrl_c_stops_a_long_plan_promptly():
     """An impossible problem with a 60 s limit, interrupted after 0.3 s: KeyboardInterrupt
     within a second, and the planner stays usable."""
+    import signal
     import threading
     import time
     import _thread
 
+    # Python's own Ctrl-C handler: an earlier test's library (Ray) may have replaced it
+    # with one that does not raise, and the interrupt would then go unseen.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        _interrupt_a_long_plan(threading, time, _thread)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _interrupt_a_long_plan(threading, time, _thread):
     m = am.Model.from_file(PANDA)
     p = am.Planner(m, srdf=SRDF, time_limit_ms=60_000)
     block = {"name": "block", "shape": "box", "size": [0.02, 0.1, 0.17], "xyz": [0.0, -0.15, 0.335]}
