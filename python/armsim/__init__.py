@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json as _json
 import os as _os
+import warnings as _warnings
 from typing import Any, Dict, Optional
 
 import numpy as _np
@@ -63,8 +64,26 @@ def run_scenario(path: "str | _os.PathLike[str]", out_dir: Optional[str] = None,
     """Runs a scenario file (``armsim run``) and returns its JSON report as a dict.
 
     Arm scenarios write their files (plots, report, MCAP) to ``out_dir`` (default: the
-    file's ``[outputs] dir`` or ``out/<name>``) unless ``write_files`` is false.
+    file's ``[outputs] dir`` or ``out/<name>``) unless ``write_files`` is false. A robot,
+    scene or mesh file (``.urdf``, ``.srdf``, ``.yaml``, ``.dae``, ...) is refused with a
+    pointer to what reads it.
     """
+    suffix = _os.path.splitext(_os.fspath(path))[1].lower()
+    readers = {
+        ".urdf": "a robot model: load it with armsim.Model.from_file",
+        ".xacro": "a xacro template: expand it to URDF first (xacro robot.urdf.xacro > robot.urdf)",
+        ".srdf": "a MoveIt SRDF: pass it as srdf= to armsim.plan or armsim.Planner",
+        ".yaml": "a MoveIt scene or request: pass it as scene= or request= to armsim.plan",
+        ".yml": "a MoveIt scene or request: pass it as scene= or request= to armsim.plan",
+        ".dae": "a mesh: meshes are read through the URDF that references them",
+        ".stl": "a mesh: meshes are read through the URDF that references them",
+        ".obj": "a mesh: meshes are read through the URDF that references them",
+        ".mcap": "a recording: open it with `armsim view`",
+    }
+    if suffix in readers:
+        raise ArmsimError(
+            f"run_scenario: {_os.fspath(path)} is {readers[suffix]}; run_scenario takes a "
+            "scenario TOML (see scenarios/)")
     text = _armsim.run_scenario_json(_os.fspath(path),
                                      None if out_dir is None else _os.fspath(out_dir),
                                      write_files)
@@ -81,12 +100,21 @@ def workspace(model: Model, samples: int = 1 << 16, seed: int = 0, voxel: float 
     end is None when only a lower bound is known), ``interval_kind``, ``unit``,
     ``planar``, ``points`` ``(k, 3)``, ``q`` ``(k, nv)``, ``manipulability`` ``(k,)``
     (the first ``keep_points`` samples of the Jacobian pass) and ``report`` (the full
-    result, as ``armsim workspace --json``).
+    result, as ``armsim workspace --json``). When too few samples give only a lower
+    bound (``interval_kind == "lower_bound"``), a ``UserWarning`` says so.
     """
     text, points, q, manip = _armsim.workspace_json(
         model, samples, seed, voxel, tool, sampling, replicates, planar, extras,
         keep_points, target_rel_error)
     report = _json.loads(text)
+    if report["interval_kind"] == "lower_bound":
+        _warnings.warn(
+            f"armsim.workspace: {samples} samples give only a lower bound of the "
+            f"{'area' if report['planar'] else 'volume'} (estimate "
+            f"{report['area_m2'] if report['planar'] else report['volume_m3']}); "
+            f"about {report.get('samples_needed')} samples give a two-sided interval "
+            "(or pass target_rel_error)",
+            UserWarning, stacklevel=2)
     planar_ = bool(report["planar"])
     interval = report["area_interval_m2"] if planar_ else report["volume_interval_m3"]
     return {

@@ -10,7 +10,11 @@ workers pickled (its source text and options) through the object store, once.
 
 Ray is started with ``ray.init()`` if it is not running yet; to use a real cluster,
 call ``ray.init(address="ray://<head>:10001")`` (or run under ``ray job submit``, or set
-``RAY_ADDRESS``) before calling these functions. Each worker needs ``pip install armsim``.
+``RAY_ADDRESS``) before calling these functions. Each worker needs this armsim wheel
+installed: build it once (``pip wheel ./python`` in the armsim repository, or take
+``target/wheels/armsim-*.whl`` from ``tools/test_python.sh``) and install that file on
+every node, or list it in Ray's ``runtime_env={"py_modules": [...]}``. Do not
+``pip install armsim`` from PyPI: that name belongs to an unrelated package.
 """
 
 from __future__ import annotations

@@ -122,3 +122,23 @@ def test_pose_and_workspace_refuse_what_the_cli_refuses(ur5):
     assert np.allclose(am.pose(np.eye(3), [1.0, 2.0, 3.0])[:3, 3], [1.0, 2.0, 3.0])
     with pytest.raises(am.ArmsimError, match="samples must be positive"):
         am.workspace(m, samples=0)
+
+
+def test_workspace_warns_when_the_estimate_is_only_a_lower_bound():
+    m = am.Model.from_file(ROBOTS / "ur5.urdf")
+    with pytest.warns(UserWarning, match="only a lower bound"):
+        r = am.workspace(m, samples=2**10, replicates=8, keep_points=0)
+    assert r["interval_kind"] == "lower_bound"
+
+
+def test_run_scenario_refuses_a_robot_file_and_says_what_reads_it():
+    with pytest.raises(am.ArmsimError, match="Model.from_file"):
+        am.run_scenario(ROBOTS / "ur5.urdf")
+    with pytest.raises(am.ArmsimError, match="srdf="):
+        am.run_scenario("robot.srdf")
+
+
+def test_distributed_does_not_send_users_to_the_unrelated_pypi_package():
+    import armsim.distributed as dist
+    assert "needs ``pip install armsim``" not in dist.__doc__
+    assert "unrelated package" in dist.__doc__
