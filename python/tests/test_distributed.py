@@ -42,6 +42,7 @@ def test_ray_workspace_points_equal_the_single_process_run(cluster):
     np.testing.assert_array_equal(T2, T)
 
 
+@pytest.mark.filterwarnings("ignore:armsim.workspace.*lower bound")
 def test_ray_workspace_sweep_equals_the_single_process_runs(cluster):
     m = am.Model.from_file(ROBOTS / "planar_2r.toml")
     opts = dict(samples=1 << 14, keep_points=50)
