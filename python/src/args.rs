@@ -61,6 +61,15 @@ pub fn vector<'a>(obj: &'a Bound<'_, PyAny>, what: &str, n: usize) -> PyResult<V
     Ok(v)
 }
 
+/// `obj`'s shape as numpy sees it, for messages.
+fn dims(obj: &Bound<'_, PyAny>) -> String {
+    obj.py()
+        .import("numpy")
+        .and_then(|np| np.call_method1("shape", (obj,)))
+        .and_then(|s| s.str().map(|s| s.to_string()))
+        .unwrap_or_else(|_| type_name(obj))
+}
+
 fn type_name(obj: &Bound<'_, PyAny>) -> String {
     obj.get_type()
         .name()
@@ -85,14 +94,37 @@ impl Rows<'_> {
     }
 }
 
-/// Reads `obj` as an `(N, cols)` array of finite values called `what`.
+/// `obj` as a C-ordered float64 numpy array when it is not one already (float32 and
+/// integer arrays, nested lists: what the single-call functions accept), or an error
+/// naming `what`, the expected shape and what was given.
+fn as_float64<'py>(
+    obj: &Bound<'py, PyAny>,
+    what: &str,
+    shape: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let np = obj.py().import("numpy")?;
+    let given = match obj.getattr("dtype") {
+        Ok(d) => format!("{} of dtype {}", type_name(obj), d),
+        Err(_) => type_name(obj),
+    };
+    np.call_method1("ascontiguousarray", (obj, "float64"))
+        .map_err(|_| {
+            err(format!(
+                "{what}: expected numbers of shape {shape}, got {given}"
+            ))
+        })
+}
+
+/// Reads `obj` as an `(N, cols)` array of finite values called `what` (float64 arrays
+/// are read in place; other numbers are converted first).
 pub fn rows<'py>(obj: &Bound<'py, PyAny>, what: &str, cols: usize) -> PyResult<Rows<'py>> {
-    let a = obj.extract::<PyReadonlyArray2<'py, f64>>().map_err(|_| {
-        err(format!(
-            "{what}: expected a 2-D float64 numpy array of shape (N, {cols}), got {}",
-            type_name(obj)
-        ))
-    })?;
+    let shape = format!("(N, {cols})");
+    let a = match obj.extract::<PyReadonlyArray2<'py, f64>>() {
+        Ok(a) => a,
+        Err(_) => as_float64(obj, what, &shape)?
+            .extract::<PyReadonlyArray2<'py, f64>>()
+            .map_err(|_| err(format!("{what}: expected shape {shape}, got {}", dims(obj))))?,
+    };
     let shape = a.shape().to_vec();
     if shape[1] != cols {
         return Err(err(format!(
@@ -125,11 +157,17 @@ pub fn rows<'py>(obj: &Bound<'py, PyAny>, what: &str, cols: usize) -> PyResult<R
 
 /// Reads `obj` as `(N, 4, 4)` homogeneous transforms (row-major per target).
 pub fn poses(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f64; 16]>> {
-    let a = obj.extract::<PyReadonlyArray3<'_, f64>>().map_err(|_| {
-        err(format!(
-            "{what}: expected a float64 numpy array of shape (N, 4, 4)"
-        ))
-    })?;
+    let a = match obj.extract::<PyReadonlyArray3<'_, f64>>() {
+        Ok(a) => a,
+        Err(_) => as_float64(obj, what, "(N, 4, 4)")?
+            .extract::<PyReadonlyArray3<'_, f64>>()
+            .map_err(|_| {
+                err(format!(
+                    "{what}: expected shape (N, 4, 4), got {}",
+                    dims(obj)
+                ))
+            })?,
+    };
     let shape = a.shape();
     if shape[1] != 4 || shape[2] != 4 {
         return Err(err(format!(

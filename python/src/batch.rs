@@ -30,8 +30,7 @@ pub(crate) fn zeros(n: usize, width: usize) -> Result<Vec<f64>, String> {
         .checked_mul(width)
         .ok_or_else(|| too_much(n as f64 * width as f64))?;
     let mut v = Vec::new();
-    v.try_reserve_exact(len)
-        .map_err(|_| too_much(len as f64))?;
+    v.try_reserve_exact(len).map_err(|_| too_much(len as f64))?;
     v.resize(len, 0.0);
     Ok(v)
 }

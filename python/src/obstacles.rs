@@ -5,8 +5,8 @@
 
 use crate::errors::err;
 use armsim::collision::Obstacle;
-use armsim::model::Shape;
 use armsim::core::spatial::Se3;
+use armsim::model::Shape;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -36,7 +36,10 @@ fn one(i: usize, d: &Bound<'_, PyDict>) -> PyResult<Obstacle> {
         if v.is_finite() && v > 0.0 && v <= 1e4 {
             Ok(v)
         } else {
-            Err(err(format!("{}: expected a positive size up to 1e4 m, got {v}", at(k))))
+            Err(err(format!(
+                "{}: expected a positive size up to 1e4 m, got {v}",
+                at(k)
+            )))
         }
     };
     let triple = |k: &str, default: [f64; 3], positive: bool| -> PyResult<[f64; 3]> {
@@ -47,7 +50,8 @@ fn one(i: usize, d: &Bound<'_, PyDict>) -> PyResult<Obstacle> {
                     .extract()
                     .map_err(|_| err(format!("{}: expected three numbers", at(k))))?;
                 let ok = x.len() == 3
-                    && x.iter().all(|v| v.is_finite() && v.abs() <= 1e4 && (!positive || *v > 0.0));
+                    && x.iter()
+                        .all(|v| v.is_finite() && v.abs() <= 1e4 && (!positive || *v > 0.0));
                 if !ok {
                     return Err(err(format!(
                         "{}: expected three finite numbers{}, got {x:?}",
@@ -60,7 +64,12 @@ fn one(i: usize, d: &Bound<'_, PyDict>) -> PyResult<Obstacle> {
         }
     };
     let shape_name: String = get("shape")?
-        .ok_or_else(|| err(format!("{}: missing (box, sphere, cylinder or capsule)", at("shape"))))?
+        .ok_or_else(|| {
+            err(format!(
+                "{}: missing (box, sphere, cylinder or capsule)",
+                at("shape")
+            ))
+        })?
         .extract()
         .map_err(|_| err(format!("{}: expected a string", at("shape"))))?;
     let (shape, keys): (Shape, &[&str]) = match shape_name.as_str() {
@@ -68,15 +77,31 @@ fn one(i: usize, d: &Bound<'_, PyDict>) -> PyResult<Obstacle> {
             if get("size")?.is_none() {
                 return Err(err(format!("{}: missing", at("size"))));
             }
-            (Shape::Box { size: triple("size", [0.0; 3], true)? }, &["size"])
+            (
+                Shape::Box {
+                    size: triple("size", [0.0; 3], true)?,
+                },
+                &["size"],
+            )
         }
-        "sphere" => (Shape::Sphere { radius: num("radius")? }, &["radius"]),
+        "sphere" => (
+            Shape::Sphere {
+                radius: num("radius")?,
+            },
+            &["radius"],
+        ),
         "cylinder" => (
-            Shape::Cylinder { radius: num("radius")?, length: num("length")? },
+            Shape::Cylinder {
+                radius: num("radius")?,
+                length: num("length")?,
+            },
             &["radius", "length"],
         ),
         "capsule" => (
-            Shape::Capsule { radius: num("radius")?, length: num("length")? },
+            Shape::Capsule {
+                radius: num("radius")?,
+                length: num("length")?,
+            },
             &["radius", "length"],
         ),
         other => {
@@ -87,13 +112,20 @@ fn one(i: usize, d: &Bound<'_, PyDict>) -> PyResult<Obstacle> {
         }
     };
     for k in d.keys() {
-        let k: String = k.extract().map_err(|_| err(format!("obstacles[{i}]: keys must be strings")))?;
+        let k: String = k
+            .extract()
+            .map_err(|_| err(format!("obstacles[{i}]: keys must be strings")))?;
         if !["name", "shape", "xyz", "rpy"].contains(&k.as_str()) && !keys.contains(&k.as_str()) {
-            return Err(err(format!("{}: not a key of a {shape_name} obstacle", at(&k))));
+            return Err(err(format!(
+                "{}: not a key of a {shape_name} obstacle",
+                at(&k)
+            )));
         }
     }
     let name: String = match get("name")? {
-        Some(v) => v.extract().map_err(|_| err(format!("{}: expected a string", at("name"))))?,
+        Some(v) => v
+            .extract()
+            .map_err(|_| err(format!("{}: expected a string", at("name"))))?,
         None => format!("obstacle_{i}"),
     };
     let xyz = triple("xyz", [0.0; 3], false)?;

@@ -9,8 +9,10 @@
 use crate::args::vector;
 use crate::errors::{err, require_file};
 use armsim::model::Model;
-use armsim::planning::{moveit, PairSource, PlanOptions, PlanResult, PlanStatus, Planner, PlanningRobot};
 use armsim::planning::srdf;
+use armsim::planning::{
+    moveit, PairSource, PlanOptions, PlanResult, PlanStatus, Planner, PlanningRobot,
+};
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -58,8 +60,8 @@ pub fn plan<'py>(py: Python<'py>, model: &Model, a: PlanArgs<'py>) -> PyResult<B
             stop: Some(stop),
             ..opts
         };
-        let mut planner = Planner::new(model, &obstacles, pairs.as_deref(), opts)
-            .map_err(|e| e.to_string())?;
+        let mut planner =
+            Planner::new(model, &obstacles, pairs.as_deref(), opts).map_err(|e| e.to_string())?;
         Ok(planner.plan(&start, &goal))
     })?;
     result_dict(py, model, r.map_err(err)?)
@@ -312,7 +314,13 @@ impl PyPlanner {
             PairSource::Computed(acm) => acm
                 .disabled
                 .iter()
-                .map(|p| (p.link1.clone(), p.link2.clone(), p.reason.as_str().to_string()))
+                .map(|p| {
+                    (
+                        p.link1.clone(),
+                        p.link2.clone(),
+                        p.reason.as_str().to_string(),
+                    )
+                })
                 .collect(),
             PairSource::Srdf => Vec::new(),
         }
@@ -323,7 +331,10 @@ impl PyPlanner {
     fn checked_pairs(&self) -> Vec<(String, String)> {
         let r = &self.planner.robot;
         let name = |g: usize| r.model.links[r.spheres.links[g].link].name.clone();
-        r.self_pairs.iter().map(|&(a, b)| (name(a), name(b))).collect()
+        r.self_pairs
+            .iter()
+            .map(|&(a, b)| (name(a), name(b)))
+            .collect()
     }
 
     /// The joint (coordinate) names, in the order of `start`, `goal` and the path.

@@ -142,3 +142,24 @@ def test_distributed_does_not_send_users_to_the_unrelated_pypi_package():
     import armsim.distributed as dist
     assert "needs ``pip install armsim``" not in dist.__doc__
     assert "unrelated package" in dist.__doc__
+
+
+def test_batches_accept_what_single_calls_accept_float32_ints_and_lists():
+    m = am.Model.from_file(ROBOTS / "ur5.urdf")
+    rng = np.random.default_rng(3)
+    Q = rng.uniform(-1, 1, (5, m.nv))
+    Z = np.zeros((5, m.nv))
+    want = am.rnea_batch(m, Q, Z, Z)
+    q32 = Q.astype(np.float32)
+    got = am.rnea_batch(m, q32, Z.astype(np.int64), Z.tolist())
+    np.testing.assert_allclose(got, am.rnea_batch(m, q32.astype(np.float64), Z, Z), rtol=0, atol=0)
+    np.testing.assert_allclose(got, want, rtol=1e-5, atol=1e-5)
+    single = am.rnea(m, m.create_data(), q32[0], Z[0].astype(int), Z[0].tolist())
+    np.testing.assert_array_equal(got[0], single)
+    T = am.fk_batch(m, Q, "tool0")
+    r = am.ik_batch(m, "tool0", T.astype(np.float32).astype(np.float64).tolist(), seed=1)
+    assert len(r["status"]) == 5
+    with pytest.raises(am.ArmsimError, match=r"Q: expected numbers of shape \(N, 6\), got ndarray of dtype <U"):
+        am.rnea_batch(m, np.array([["a"] * m.nv]), Z, Z)
+    with pytest.raises(am.ArmsimError, match=r"V: expected shape \(N, 6\), got \(5,\)"):
+        am.rnea_batch(m, Q, np.zeros(5), Z)
