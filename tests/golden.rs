@@ -80,6 +80,12 @@ impl Golden {
         Golden { g, m, perm }
     }
 
+    /// A state's `v`, `a` and `tau_in`, in our coordinate order.
+    fn inputs(&self, st: &Value) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let get = |k: &str| self.to_ours(&vecf(&st[k]));
+        (get("v"), get("a"), get("tau_in"))
+    }
+
     /// A vector in Pinocchio's coordinate order, in ours.
     fn to_ours(&self, v: &[f64]) -> Vec<f64> {
         let mut out = vec![0.0; v.len()];
@@ -169,11 +175,7 @@ fn check_jacobians(gd: &Golden, d: &mut Data, st: &Value, q: &[f64], name: &str)
 /// checks.
 fn check_dynamics(gd: &Golden, d: &mut Data, st: &Value, q: &[f64], name: &str) -> usize {
     let (m, perm) = (&gd.m, &gd.perm);
-    let (v, a, tau_in) = (
-        gd.to_ours(&vecf(&st["v"])),
-        gd.to_ours(&vecf(&st["a"])),
-        gd.to_ours(&vecf(&st["tau_in"])),
-    );
+    let (v, a, tau_in) = gd.inputs(st);
     let cmp = |what: &str, ours: &[f64], theirs: Vec<f64>| {
         let theirs = gd.to_ours(&theirs);
         let scale = theirs.iter().fold(1.0f64, |acc, x| acc.max(x.abs()));
@@ -234,11 +236,7 @@ fn check_derivatives(gd: &Golden, d: &mut Data, st: &Value, q: &[f64], name: &st
         return 0;
     };
     let m = &gd.m;
-    let (v, a, tau_in) = (
-        gd.to_ours(&vecf(&st["v"])),
-        gd.to_ours(&vecf(&st["a"])),
-        gd.to_ours(&vecf(&st["tau_in"])),
-    );
+    let (v, a, tau_in) = gd.inputs(st);
     let p = dynamics::rnea_derivatives(m, d, q, &v, &a);
     let mut checks = check_matrix(gd, name, "dtau_dq", p.dtau_dq, dtau_dq);
     checks += check_matrix(gd, name, "dtau_dv", p.dtau_dv, &st["dtau_dv"]);

@@ -23,6 +23,11 @@ fn finite<'a>(
         Some(n) if out.len() == names.len() => format!(" of joint '{n}'"),
         _ => format!(" (entry {k})"),
     };
+    Err(overflow(&format!("{what}{at}"), out[k], inputs))
+}
+
+/// "`place` is not finite (`value`): the inputs overflow ... (largest |q| ..., ...)".
+fn overflow(place: &str, value: f64, inputs: &[(&str, &[f64])]) -> String {
     let largest: Vec<String> = inputs
         .iter()
         .map(|(n, x)| {
@@ -30,12 +35,11 @@ fn finite<'a>(
             format!("|{n}| {}", armsim::core::diag::fmt_num(big))
         })
         .collect();
-    Err(format!(
-        "{what}{at} is not finite ({}): the inputs overflow floating-point arithmetic \
+    format!(
+        "{place} is not finite ({value}): the inputs overflow floating-point arithmetic \
          (largest {})",
-        out[k],
         largest.join(", ")
-    ))
+    )
 }
 
 /// Inverse dynamics `τ = M(q) a + C(q, v) v + g(q)`.
@@ -88,8 +92,8 @@ pub fn crba<'a>(m: &Model, d: &'a mut Data, q: &[f64]) -> Result<&'a DMatrix<f64
     Ok(dynamics::crba(m, d, q))
 }
 
-/// `Err` naming `what` and its first non-finite entry (row, column), with the largest
-/// inputs, as [`finite`] does for vectors.
+/// `Err` naming `what`, its first non-finite entry (row, column) and their joints, with
+/// the largest inputs, as [`finite`] does for vectors.
 fn finite_matrix(
     m: &Model,
     what: &str,
@@ -101,7 +105,9 @@ fn finite_matrix(
         return Ok(());
     };
     let (r, c) = (k % n, k / n);
-    finite(m, &format!("{what}[{r}, {c}]"), &[out[(r, c)]], inputs).map(|_| ())
+    let names = m.dof_names();
+    let place = format!("{what}[{r}, {c}] (joints '{}', '{}')", names[r], names[c]);
+    Err(overflow(&place, out[(r, c)], inputs))
 }
 
 /// `(∂τ/∂q, ∂τ/∂v, M)` at `(q, v, a)` (Carpentier & Mansard's RNEA derivatives).
@@ -144,10 +150,5 @@ pub fn compute_minverse<'a>(
     q: &[f64],
 ) -> Result<&'a DMatrix<f64>, String> {
     armsim::model::derivative_data::derivatives_fit(m).map_err(|e| e.to_string())?;
-    let mut e = match dynamics::compute_minverse(m, d, q) {
-        Ok(minv) => return Ok(minv),
-        Err(e) => e,
-    };
-    e.joint = m.dof_names().get(e.pivot).cloned().unwrap_or_default();
-    Err(e.to_string())
+    dynamics::compute_minverse(m, d, q).map_err(|e| e.to_string())
 }

@@ -15,6 +15,7 @@ use armsim::collision::Obstacle;
 use armsim::model::{LoadOptions, Model};
 use armsim::planning::acm::Acm;
 use armsim::planning::moveit::{self, problem_pairs};
+use armsim::planning::plan_options::RANGE_LIMITS;
 use armsim::planning::srdf;
 use armsim::planning::{PairSource, PlanOptions, Planner, PlanningRobot};
 use rayon::prelude::*;
@@ -168,8 +169,6 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
 }
 
 /// Loads a model, its warnings on standard error (errors under `strict`).
-use armsim::planning::plan_options::RANGE_LIMITS;
-
 pub(super) fn load_model(path: &Path, strict: bool) -> Result<Model, String> {
     let load = LoadOptions {
         strict,

@@ -7,6 +7,7 @@
 //! `q̈ = FD(q, q̇, τ) = M⁻¹(τ − h)` and `M⁻¹` from [`crate::dynamics::compute_minverse`].
 
 use crate::core::linalg::SingularMassMatrix;
+use crate::dynamics::forward::name_joint;
 use crate::dynamics::minverse::{compute_minverse, minverse_from_placements};
 use crate::dynamics::rnea::add_armature;
 use crate::dynamics::rnea_derivatives::{add_joint_accelerations, backward_pass, forward_pass};
@@ -55,14 +56,10 @@ pub fn aba_derivatives<'a>(
     forward_pass(model, data, v, &zero, &terms);
     data.scratch_nv = zero;
     bias_to_rhs(model, data, tau);
-    let inverted = if model.has_mimic {
-        compute_minverse(model, data, q).map(|_| ())
+    if model.has_mimic {
+        compute_minverse(model, data, q)?;
     } else {
-        minverse_from_placements(model, data)
-    };
-    if let Err(mut e) = inverted {
-        e.joint = model.dof_names().get(e.pivot).cloned().unwrap_or_default();
-        return Err(e);
+        minverse_from_placements(model, data).map_err(|e| name_joint(e, model))?;
     }
     solve_accelerations(model, data)?;
     let qdd = std::mem::take(&mut data.qdd);
@@ -117,8 +114,7 @@ fn solve_accelerations(model: &Model, data: &mut Data) -> Result<(), SingularMas
     if let Some(bad) = data.qdd.iter().position(|x| !x.is_finite()) {
         let mut e = SingularMassMatrix::at(bad, 0.0);
         e.inputs_overflow = true;
-        e.joint = model.dof_names().get(bad).cloned().unwrap_or_default();
-        return Err(e);
+        return Err(name_joint(e, model));
     }
     Ok(())
 }

@@ -165,8 +165,7 @@ pub(crate) fn forward<'a>(
                 Err(c) => e = c,
             }
         }
-        e.joint = model.dof_names().get(e.pivot).cloned().unwrap_or_default();
-        return Err(e);
+        return Err(name_joint(e, model));
     }
     Ok(&data.qdd)
 }
@@ -290,4 +289,10 @@ pub fn elastic_forward_dynamics<'a>(
     data.effects_used = effects.set();
     data.scratch_spring = spring;
     r.map(|()| &data.qdd[..])
+}
+
+/// `e` with the name of the joint of its coordinate (`e.pivot`).
+pub(crate) fn name_joint(mut e: SingularMassMatrix, model: &Model) -> SingularMassMatrix {
+    e.joint = model.dof_names().get(e.pivot).cloned().unwrap_or_default();
+    e
 }

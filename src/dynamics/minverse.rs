@@ -19,14 +19,15 @@
 use crate::core::linalg::{cholesky_in_place, SingularMassMatrix};
 use crate::core::sym6::Sym6;
 use crate::dynamics::crba::crba;
-use crate::kinematics::{forward_kinematics, world_subspace};
+use crate::dynamics::forward::name_joint;
+use crate::kinematics::compute_joint_jacobians;
 use crate::model::data::Data;
 use crate::model::{Model, WORLD};
 use nalgebra::DMatrix;
 
 /// `M(q)⁻¹` into `data.deriv.minv` (also returned), with the model's armature, as
 /// Pinocchio's `computeMinverse(model, data, q)` (full, symmetric). Fails only when `M`
-/// is singular (a massless chain end).
+/// is singular (a massless chain end); the error names the joint.
 pub fn compute_minverse<'a>(
     model: &Model,
     data: &'a mut Data,
@@ -35,13 +36,10 @@ pub fn compute_minverse<'a>(
     assert_eq!(q.len(), model.nv, "q needs nv values");
     data.deriv.ensure(model);
     if model.has_mimic {
-        invert_mass_matrix(model, data, q)?;
+        invert_mass_matrix(model, data, q).map_err(|e| name_joint(e, model))?;
     } else {
-        forward_kinematics(model, data, q);
-        for i in 0..model.nbodies() {
-            data.s_world[i] = world_subspace(model.kind[i], &data.o_m_i[i]);
-        }
-        minverse_from_placements(model, data)?;
+        compute_joint_jacobians(model, data, q);
+        minverse_from_placements(model, data).map_err(|e| name_joint(e, model))?;
     }
     Ok(&data.deriv.minv)
 }
@@ -101,8 +99,6 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
                 .zip(p_i.chunks_exact(6))
                 .zip(&row[i + 1..])
             {
-                let (pp, pi): (&mut [f64; 6], &[f64; 6]) =
-                    (pp.try_into().expect("six"), pi.try_into().expect("six"));
                 for r in 0..6 {
                     pp[r] += pi[r] + u[r] * x;
                 }
@@ -129,7 +125,7 @@ fn forward_pass(model: &Model, data: &mut Data) {
     let d = &mut data.deriv;
     for i in 0..nb {
         let (u, d_inv) = (d.u[i], d.d_inv[i]);
-        let s6 = data.s_world[i].to_array();
+        let s = data.s_world[i].to_array();
         let parent = model.parent[i];
         let (below, rest) = d.cols.split_at_mut(i * 6 * n);
         let a_i = &mut rest[..6 * n];
@@ -143,16 +139,14 @@ fn forward_pass(model: &Model, data: &mut Data) {
                 .zip(a_p.chunks_exact(6))
             {
                 *x -= d_inv * dot6(&u, ap);
-                let (ai, ap): (&mut [f64; 6], &[f64; 6]) =
-                    (ai.try_into().expect("six"), ap.try_into().expect("six"));
                 for r in 0..6 {
-                    ai[r] = ap[r] + s6[r] * *x;
+                    ai[r] = ap[r] + s[r] * *x;
                 }
             }
         } else {
             for (x, ai) in row.iter().zip(a_i.chunks_exact_mut(6)) {
                 for r in 0..6 {
-                    ai[r] = s6[r] * x;
+                    ai[r] = s[r] * x;
                 }
             }
         }
