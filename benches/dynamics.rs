@@ -1,4 +1,4 @@
-//! Criterion benchmarks: RNEA, CRBA, ABA, the RNEA and ABA derivatives and `M⁻¹` on UR5, Panda (9 DOF, fingers as independent
+//! Criterion benchmarks: RNEA (one state, and 256 states eight at a time in SIMD lanes), CRBA, ABA, the RNEA and ABA derivatives and `M⁻¹` on UR5, Panda (9 DOF, fingers as independent
 //! joints as in Pinocchio), iiwa and generated 50-, 100- and 200-joint chains, cycling over
 //! 256 random states. Run: `cargo bench --bench dynamics`.
 
@@ -36,6 +36,16 @@ fn dynamics_benches(c: &mut Criterion) {
                     &vs[s.clone()],
                     &ws[s],
                 );
+            })
+        });
+        // All 256 states through the eight-lane kernel: the median is per 256 states
+        // (tools/bench_table.py divides by 256).
+        let mut lanes = dynamics::RneaLanes::new(&model);
+        let mut tau = vec![0.0; qs.len()];
+        g_.bench_function("rnea_batch", |b| {
+            b.iter(|| {
+                dynamics::rnea_rows(&model, &mut lanes, black_box(&qs), &vs, &ws, &mut tau);
+                black_box(&tau);
             })
         });
         g_.bench_function("crba", |b| {

@@ -8,6 +8,7 @@ pub mod files;
 pub mod interrupt;
 pub mod least_squares;
 pub mod linalg;
+pub mod simd_lanes;
 pub mod spatial;
 pub mod sym6;
 pub mod xml_guard;

@@ -1,4 +1,4 @@
-//! Rigid-body dynamics: Newton–Euler (RNEA), the mass matrix (CRBA), forward dynamics
+//! Rigid-body dynamics: Newton–Euler (RNEA, also on eight states in SIMD lanes), the mass matrix (CRBA), forward dynamics
 //! (ABA, and CRBA + Cholesky), `M⁻¹`, the analytical derivatives of inverse and forward
 //! dynamics (Carpentier & Mansard), energies, the switchable effects, and the two Lagrange
 //! formulations (the textbook's trace form and the energy/Christoffel form) with the
@@ -27,6 +27,7 @@ mod lagrange_trace;
 mod minverse;
 mod rnea;
 mod rnea_derivatives;
+pub mod rnea_lanes;
 mod terms;
 
 pub use crate::core::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
@@ -53,4 +54,5 @@ pub use minverse::compute_minverse;
 pub(crate) use rnea::rnea_impl;
 pub use rnea::{bias, gravity_torque, rnea, rnea_with_forces};
 pub use rnea_derivatives::{rnea_derivatives, rnea_derivatives_with_forces, RneaPartials};
+pub use rnea_lanes::{rnea_rows, RneaLanes};
 pub(crate) use terms::Terms;
