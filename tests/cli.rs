@@ -144,7 +144,7 @@ fn jacobian_json_has_six_rows_per_expression_and_a_derivative_with_qd() {
 
 #[test]
 fn bench_json_reports_ns_per_call_for_every_algorithm() {
-    for algo in ["fk", "jacobians", "rnea", "crba", "aba", "lagrange"] {
+    for algo in ["fk", "jacobians", "rnea", "rnea-batch", "crba", "aba", "lagrange"] {
         let v = json(&[
             "bench",
             "robots/ur5.urdf",

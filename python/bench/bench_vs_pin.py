@@ -1,8 +1,9 @@
 """Side-by-side timing from Python: armsim vs Pinocchio (PyPI `pin`) per call (RNEA,
-forward kinematics, frame Jacobian, the RNEA and ABA derivatives, M⁻¹) and batch RNEA throughput (armsim.rnea_batch vs a
-Python loop over pin.rnea). Prints a Markdown table (BENCHMARKS.md, "From Python").
+forward kinematics, frame Jacobian, the RNEA and ABA derivatives, M⁻¹) and batch RNEA
+throughput (armsim.rnea_batch against pin.rneaInParallel with one thread, and against a
+Python loop over pin.rnea). Run with RAYON_NUM_THREADS=1 to compare one thread with one. Prints a Markdown table (BENCHMARKS.md, "From Python").
 
-    python python/bench/bench_vs_pin.py [--calls 20000] [--rounds 11] [--batch 20000]
+    RAYON_NUM_THREADS=1 python python/bench/bench_vs_pin.py [--calls 20000] [--rounds 11] [--batch 20000]
 
 Per-call figures: `rounds` rounds of `calls` calls, armsim and pin alternating round by round;
 the median and best ns per call of each side, the median of the per-round ratios and the
@@ -91,9 +92,17 @@ def bench_robot(name, file, frame, calls, rounds, batch, rng):
         for i in range(batch):
             pin.rnea(pm, pd, PQ[i], V[i], A[i])
 
-    t_am = min(timeit.repeat(lambda: am.rnea_batch(m, Q, V, A), number=1, repeat=5))
+    # pin's batch: one state per column; tau written in place.
+    pool = pin.ModelPool(pm, 1)
+    PQT, VT, AT = (np.asfortranarray(x.T) for x in (PQ, V, A))
+    TAU = np.asfortranarray(np.zeros((m.nv, batch)))
+    pin.rneaInParallel(1, pool, PQT, VT, AT, TAU)
+    assert np.allclose(am.rnea_batch(m, Q, V, A), TAU.T, rtol=1e-9, atol=1e-9)
+    t_am = min(timeit.repeat(lambda: am.rnea_batch(m, Q, V, A), number=1, repeat=7))
+    t_par = min(timeit.repeat(lambda: pin.rneaInParallel(1, pool, PQT, VT, AT, TAU),
+                              number=1, repeat=7))
     t_pin = min(timeit.repeat(pin_loop, number=1, repeat=3))
-    return name, m.nv, rows, (batch / t_am, batch / t_pin)
+    return name, m.nv, rows, (batch / t_am, batch / t_par, batch / t_pin)
 
 
 def main():
@@ -117,10 +126,13 @@ def main():
                   f"({t_pin[1]:.0f}) | {ratio:.2f}× | {t_am[1] / t_pin[1]:.2f}× |")
         batches.append((rname, nv, thr))
     print(f"\nload average {os.getloadavg()[0]:.2f} at the end\n")
-    print(f"| robot | nv | am.rnea_batch (N = {args.batch}) states/s | Python loop over pin.rnea states/s | speed-up |")
-    print("|---|---|---|---|---|")
-    for rname, nv, (t_am, t_pin) in batches:
-        print(f"| {rname} | {nv} | {t_am:,.0f} | {t_pin:,.0f} | {t_am / t_pin:.1f}× |")
+    print(f"| robot | nv | am.rnea_batch (N = {args.batch}) states/s "
+          "| pin.rneaInParallel(1) states/s | speed-up | Python loop over pin.rnea states/s "
+          "| speed-up |")
+    print("|---|---|---|---|---|---|---|")
+    for rname, nv, (t_am, t_par, t_pin) in batches:
+        print(f"| {rname} | {nv} | {t_am:,.0f} | {t_par:,.0f} | {t_am / t_par:.1f}× "
+              f"| {t_pin:,.0f} | {t_am / t_pin:.1f}× |")
 
 
 if __name__ == "__main__":

@@ -79,6 +79,8 @@ pub enum AlgoArg {
     Fk,
     Jacobians,
     Rnea,
+    /// RNEA on batches of states, eight at a time in SIMD lanes (time per state).
+    RneaBatch,
     Crba,
     Aba,
     Lagrange,
@@ -343,6 +345,7 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
         AlgoArg::Fk => Algo::Fk,
         AlgoArg::Jacobians => Algo::Jacobians,
         AlgoArg::Rnea => Algo::Rnea,
+        AlgoArg::RneaBatch => Algo::RneaBatch,
         AlgoArg::Crba => Algo::Crba,
         AlgoArg::Lagrange => Algo::Lagrange,
         AlgoArg::Aba => {
@@ -365,8 +368,14 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
             "iters": iters,
         }));
     } else {
+        // A batched "call" is one state of a SIMD pass over eight.
+        let unit = if algo == Algo::RneaBatch {
+            "state"
+        } else {
+            "call"
+        };
         println!(
-            "{} {} (dof {}): {:.1} ns per call (median of {} rounds, {} calls)",
+            "{} {} (dof {}): {:.1} ns per {unit} (median of {} rounds, {} {unit}s)",
             model.name,
             algo.as_str(),
             model.nv,

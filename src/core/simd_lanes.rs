@@ -105,3 +105,36 @@ pub fn lanes_in_range(q: &[Lanes]) -> bool {
     }
     ok
 }
+
+/// One lane array on a cache line of its own (64 bytes, 64-aligned: an AVX-512 load of
+/// it never straddles two lines).
+#[derive(Clone, Copy)]
+#[repr(C, align(64))]
+struct Line(Lanes);
+
+/// A vector of lane arrays, each cache-line aligned, read and written as `[Lanes]`.
+#[derive(Clone)]
+pub struct LaneBuf(Vec<Line>);
+
+impl LaneBuf {
+    /// `n` lane arrays of zeros.
+    pub fn zeros(n: usize) -> LaneBuf {
+        LaneBuf(vec![Line([0.0; LANES]); n])
+    }
+}
+
+impl std::ops::Deref for LaneBuf {
+    type Target = [Lanes];
+    fn deref(&self) -> &[Lanes] {
+        // SAFETY: `Line` is `repr(C)` around one `Lanes` with no padding (size 64 =
+        // alignment), so `len` lines are `len` valid, more strictly aligned `Lanes`.
+        unsafe { std::slice::from_raw_parts(self.0.as_ptr().cast::<Lanes>(), self.0.len()) }
+    }
+}
+
+impl std::ops::DerefMut for LaneBuf {
+    fn deref_mut(&mut self) -> &mut [Lanes] {
+        // SAFETY: as in `deref`; the borrow of `self` is exclusive.
+        unsafe { std::slice::from_raw_parts_mut(self.0.as_mut_ptr().cast::<Lanes>(), self.0.len()) }
+    }
+}

@@ -27,7 +27,7 @@
 // operations visible.
 #![allow(clippy::needless_range_loop)]
 
-use crate::core::simd_lanes::{lanes_in_range, sin_cos8, Isa, Lanes, LANES};
+use crate::core::simd_lanes::{lanes_in_range, sin_cos8, Isa, LaneBuf, Lanes, LANES};
 use crate::core::spatial::{InertiaO, Se3};
 use crate::model::data::Data;
 use crate::model::{Model, WORLD};
@@ -35,8 +35,10 @@ use crate::model::{Model, WORLD};
 /// A 3-vector per lane.
 type V3 = [Lanes; 3];
 
-/// A spatial vector per lane: `(linear, angular)`.
+/// A spatial vector per lane: `(linear, angular)`, aligned to the cache line (a lane
+/// array is one 64-byte AVX-512 register; an unaligned one straddles two lines).
 #[derive(Clone, Copy)]
+#[repr(C, align(64))]
 struct S6 {
     lin: V3,
     ang: V3,
@@ -48,20 +50,25 @@ const ZERO6: S6 = S6 {
     ang: ZERO3,
 };
 
-/// The buffers of [`RneaLanes::rnea`] for one model: per body the velocity,
-/// acceleration, net force and joint sine/cosine of eight states, the inputs transposed
-/// to lanes, the torques, and a scalar [`Data`] for the rows [`rnea_rows`] sends to the
+/// The buffers of [`RneaLanes::rnea`] for one model: the passes' (below), the inputs
+/// transposed to lanes, and a scalar [`Data`] for the rows [`rnea_rows`] sends to the
 /// scalar code. Allocated once; a call allocates nothing.
 pub struct RneaLanes {
+    passes: Passes,
+    q: LaneBuf,
+    qd: LaneBuf,
+    qdd: LaneBuf,
+    scalar: Data,
+}
+
+/// What the two passes write: per body the velocity, acceleration, net force and joint
+/// sine/cosine of eight states; the torques; the instruction set they run on.
+struct Passes {
     v: Vec<S6>,
     a: Vec<S6>,
     f: Vec<S6>,
-    sc: Vec<(Lanes, Lanes)>,
-    q: Vec<Lanes>,
-    qd: Vec<Lanes>,
-    qdd: Vec<Lanes>,
-    tau: Vec<Lanes>,
-    scalar: Data,
+    sc: Vec<SinCos>,
+    tau: LaneBuf,
     isa: Isa,
 }
 
@@ -70,27 +77,29 @@ impl RneaLanes {
     pub fn new(model: &Model) -> RneaLanes {
         let (nb, nv) = (model.nbodies(), model.nv);
         RneaLanes {
-            v: vec![ZERO6; nb],
-            a: vec![ZERO6; nb],
-            f: vec![ZERO6; nb],
-            sc: vec![([0.0; LANES], [0.0; LANES]); nb],
-            q: vec![[0.0; LANES]; nv],
-            qd: vec![[0.0; LANES]; nv],
-            qdd: vec![[0.0; LANES]; nv],
-            tau: vec![[0.0; LANES]; nv],
+            passes: Passes {
+                v: vec![ZERO6; nb],
+                a: vec![ZERO6; nb],
+                f: vec![ZERO6; nb],
+                sc: vec![SinCos([0.0; LANES], [0.0; LANES]); nb],
+                tau: LaneBuf::zeros(nv),
+                isa: Isa::at_most(None),
+            },
+            q: LaneBuf::zeros(nv),
+            qd: LaneBuf::zeros(nv),
+            qdd: LaneBuf::zeros(nv),
             scalar: Data::new(model),
-            isa: Isa::at_most(None),
         }
     }
 
     /// Runs on at most `max` (to compare instruction sets; all give the same torques).
     pub fn limit_isa(&mut self, max: Isa) {
-        self.isa = Isa::at_most(Some(max));
+        self.passes.isa = Isa::at_most(Some(max));
     }
 
     /// The instruction set the kernel runs on.
     pub fn isa(&self) -> Isa {
-        self.isa
+        self.passes.isa
     }
 
     /// `τ = ID(q, q̇, q̈)` for eight states with the model's gravity and armature:
@@ -103,9 +112,17 @@ impl RneaLanes {
             "q, qd, qdd need one lane array per coordinate"
         );
         assert!(
-            self.v.len() == model.nbodies() && self.tau.len() == nv,
+            self.passes.v.len() == model.nbodies() && self.q.len() == nv,
             "RneaLanes was built for another model"
         );
+        self.passes.run(model, q, qd, qdd);
+        &self.passes.tau
+    }
+}
+
+impl Passes {
+    /// [`rnea_kernel`] on the instruction set `isa`.
+    fn run(&mut self, model: &Model, q: &[Lanes], qd: &[Lanes], qdd: &[Lanes]) {
         #[cfg(target_arch = "x86_64")]
         match self.isa {
             // SAFETY: `isa` is at most what `Isa::detected` found on this CPU.
@@ -115,27 +132,26 @@ impl RneaLanes {
         }
         #[cfg(not(target_arch = "x86_64"))]
         rnea_kernel(self, model, q, qd, qdd);
-        &self.tau
     }
 }
 
 /// [`rnea_kernel`] compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn rnea_avx2(w: &mut RneaLanes, model: &Model, q: &[Lanes], qd: &[Lanes], qdd: &[Lanes]) {
+unsafe fn rnea_avx2(w: &mut Passes, model: &Model, q: &[Lanes], qd: &[Lanes], qdd: &[Lanes]) {
     rnea_kernel(w, model, q, qd, qdd)
 }
 
 /// [`rnea_kernel`] compiled for AVX-512.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,avx512f,avx512vl,avx512dq")]
-unsafe fn rnea_avx512(w: &mut RneaLanes, model: &Model, q: &[Lanes], qd: &[Lanes], qdd: &[Lanes]) {
+unsafe fn rnea_avx512(w: &mut Passes, model: &Model, q: &[Lanes], qd: &[Lanes], qdd: &[Lanes]) {
     rnea_kernel(w, model, q, qd, qdd)
 }
 
 /// The forward pass, the backward pass, the armature (see the module docs).
 #[inline(always)]
-fn rnea_kernel(w: &mut RneaLanes, model: &Model, q: &[Lanes], qd: &[Lanes], qdd: &[Lanes]) {
+fn rnea_kernel(w: &mut Passes, model: &Model, q: &[Lanes], qd: &[Lanes], qdd: &[Lanes]) {
     let g = model.gravity;
     let a_root = S6 {
         lin: [[-g.x; LANES], [-g.y; LANES], [-g.z; LANES]],
@@ -149,9 +165,10 @@ fn rnea_kernel(w: &mut RneaLanes, model: &Model, q: &[Lanes], qd: &[Lanes], qdd:
         let theta = affine(&q[qi], m, o);
         let (rate, accel) = (affine(&qd[qi], m, 0.0), affine(&qdd[qi], m, 0.0));
         let sc = if revolute {
-            sin_cos8(&theta)
+            let (s, c) = sin_cos8(&theta);
+            SinCos(s, c)
         } else {
-            (theta, [0.0; LANES])
+            SinCos(theta, [0.0; LANES])
         };
         w.sc[i] = sc;
         let parent = model.parent[i];
@@ -263,12 +280,18 @@ fn inertia_times(inertia: &InertiaO, m: &S6) -> S6 {
     out
 }
 
+/// A joint's `(sin θ, cos θ)` per lane (a prismatic joint's `(θ, 0)`), cache-line
+/// aligned as [`S6`].
+#[derive(Clone, Copy)]
+#[repr(C, align(64))]
+struct SinCos(Lanes, Lanes);
+
 /// A joint's transform in one of eight states: a rotation about body axis `k` by the
 /// angle whose `(sin, cos)` is `sc`, or (prismatic) a shift `sc.0` along it.
 struct Joint {
     k: usize,
     revolute: bool,
-    sc: (Lanes, Lanes),
+    sc: SinCos,
 }
 
 impl Joint {
@@ -343,7 +366,7 @@ impl Joint {
     #[inline(always)]
     fn rotate(&self, x: &V3, transpose: bool) -> V3 {
         let (i, j) = ((self.k + 1) % 3, (self.k + 2) % 3);
-        let (s, c) = &self.sc;
+        let SinCos(s, c) = &self.sc;
         let mut out = *x;
         for l in 0..LANES {
             let sl = if transpose { -s[l] } else { s[l] };
@@ -503,6 +526,10 @@ pub fn rnea_rows(
         q.len() == n * nv && qd.len() == q.len() && qdd.len() == q.len() && tau.len() == q.len(),
         "q, qd, qdd and tau need the same (n, nv) shape"
     );
+    assert!(
+        w.passes.v.len() == model.nbodies() && w.q.len() == nv,
+        "RneaLanes was built for another model"
+    );
     let full = n / LANES * LANES;
     for r0 in (0..full).step_by(LANES) {
         let rows = r0 * nv..(r0 + LANES) * nv;
@@ -515,16 +542,10 @@ pub fn rnea_rows(
         }
         gather(&qd[rows.clone()], nv, &mut w.qd);
         gather(&qdd[rows.clone()], nv, &mut w.qdd);
-        let (lq, lqd, lqdd) = (
-            std::mem::take(&mut w.q),
-            std::mem::take(&mut w.qd),
-            std::mem::take(&mut w.qdd),
-        );
-        w.rnea(model, &lq, &lqd, &lqdd);
-        (w.q, w.qd, w.qdd) = (lq, lqd, lqdd);
+        w.passes.run(model, &w.q, &w.qd, &w.qdd);
         for (l, row) in tau[rows].chunks_exact_mut(nv).enumerate() {
             for (k, t) in row.iter_mut().enumerate() {
-                *t = w.tau[k][l];
+                *t = w.passes.tau[k][l];
             }
         }
     }

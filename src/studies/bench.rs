@@ -21,6 +21,9 @@ pub enum Algo {
     Jacobians,
     /// Inverse dynamics (RNEA) at random q, q̇, q̈.
     Rnea,
+    /// RNEA over the 256 states eight at a time in SIMD lanes
+    /// ([`dynamics::rnea_rows`]); a "call" is one state.
+    RneaBatch,
     /// The full mass matrix (CRBA).
     Crba,
     /// Forward dynamics (ABA) at random q, q̇, τ.
@@ -36,6 +39,7 @@ impl Algo {
             Algo::Fk => "fk",
             Algo::Jacobians => "jacobians",
             Algo::Rnea => "rnea",
+            Algo::RneaBatch => "rnea-batch",
             Algo::Crba => "crba",
             Algo::Aba => "aba",
             Algo::Lagrange => "lagrange",
@@ -65,6 +69,9 @@ pub fn random_unit_states(n: usize, seed: u64) -> Vec<f64> {
 
 /// Median nanoseconds per call of `algo` over [`ROUNDS`] rounds of `iters / ROUNDS` calls.
 pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
+    if algo == Algo::RneaBatch {
+        return ns_per_batched_state(model, iters);
+    }
     let mut data = Data::new(model);
     let nv = model.nv;
     let qs = random_states(model, 0x5eed);
@@ -84,6 +91,7 @@ pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
                 Algo::Rnea => {
                     dynamics::rnea(model, data, q, &vs[s.clone()], &ws[s]);
                 }
+                Algo::RneaBatch => unreachable!("timed by ns_per_batched_state"),
                 Algo::Crba => {
                     dynamics::crba(model, data, q);
                 }
@@ -105,11 +113,34 @@ pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
         }
     };
     let per_round = (iters / ROUNDS).max(1);
-    run(&mut data, per_round.min(100_000));
+    median_ns(per_round, |n| run(&mut data, n))
+}
+
+/// Median nanoseconds per state of [`dynamics::rnea_rows`] over the [`STATES`] states
+/// (whole passes: at least one per round).
+fn ns_per_batched_state(model: &Model, iters: usize) -> f64 {
+    let qs = random_states(model, 0x5eed);
+    let vs = random_unit_states(model.nv, 0x5eee);
+    let ws = random_unit_states(model.nv, 0x5eef);
+    let mut lanes = dynamics::RneaLanes::new(model);
+    let mut tau = vec![0.0; qs.len()];
+    let passes = (iters / ROUNDS).div_ceil(STATES).max(1);
+    let per_pass = median_ns(passes, |n| {
+        for _ in 0..n {
+            dynamics::rnea_rows(model, &mut lanes, black_box(&qs), &vs, &ws, &mut tau);
+            black_box(&mut tau);
+        }
+    });
+    per_pass / STATES as f64
+}
+
+/// Median over [`ROUNDS`] rounds of the time per unit of `run(units)`, after a warm-up.
+fn median_ns(per_round: usize, mut run: impl FnMut(usize)) -> f64 {
+    run(per_round.min(100_000));
     let mut times: Vec<f64> = (0..ROUNDS)
         .map(|_| {
             let t = Instant::now();
-            run(&mut data, per_round);
+            run(per_round);
             t.elapsed().as_nanos() as f64 / per_round as f64
         })
         .collect();
