@@ -4,7 +4,7 @@
 //! are checked (lengths, NaN, frame, data of this model) before any Rust algorithm runs.
 
 use crate::args::{self, vector};
-use crate::convert::matrix_to_numpy;
+use crate::convert::{matrix_to_numpy, symmetric_to_numpy};
 use crate::dyn_calls;
 use crate::errors::err;
 use crate::model::{PyData, PyModel};
@@ -110,7 +110,7 @@ pub fn crba<'py>(
     let m = &*model.model;
     let q = vector(q, "q", m.nv)?;
     let mass = dyn_calls::crba(m, &mut data.data, q.slice()).map_err(err)?;
-    Ok(matrix_to_numpy(py, mass))
+    Ok(symmetric_to_numpy(py, mass))
 }
 
 /// Generalised gravity torques `g(q)`.
@@ -169,7 +169,7 @@ pub fn rnea_derivatives<'py>(
     Ok((
         matrix_to_numpy(py, p.dtau_dq),
         matrix_to_numpy(py, p.dtau_dv),
-        matrix_to_numpy(py, p.mass),
+        symmetric_to_numpy(py, p.mass),
     ))
 }
 
@@ -196,7 +196,7 @@ pub fn aba_derivatives<'py>(
     Ok((
         matrix_to_numpy(py, p.ddq_dq),
         matrix_to_numpy(py, p.ddq_dv),
-        matrix_to_numpy(py, p.minv),
+        symmetric_to_numpy(py, p.minv),
     ))
 }
 
@@ -213,7 +213,7 @@ pub fn compute_minverse<'py>(
     let m = &*model.model;
     let q = vector(q, "q", m.nv)?;
     let minv = dyn_calls::compute_minverse(m, &mut data.data, q.slice()).map_err(err)?;
-    Ok(matrix_to_numpy(py, minv))
+    Ok(symmetric_to_numpy(py, minv))
 }
 
 /// Three nv × nv arrays.

@@ -73,6 +73,20 @@ pub fn matrix_to_numpy<'py>(
     arr
 }
 
+/// A new `n × n` numpy array holding the symmetric `m` (`M`, `M⁻¹`): its column-major
+/// storage is also its row-major one, so one copy, no transposition.
+pub fn symmetric_to_numpy<'py>(
+    py: pyo3::Python<'py>,
+    m: &armsim::nalgebra::DMatrix<f64>,
+) -> pyo3::Bound<'py, numpy::PyArray2<f64>> {
+    use numpy::PyArrayMethods;
+    debug_assert!(m.is_square(), "a symmetric matrix is square");
+    // SAFETY: as in `matrix_to_numpy`.
+    let arr = unsafe { numpy::PyArray2::<f64>::new(py, [m.nrows(), m.ncols()], false) };
+    unsafe { arr.as_slice_mut().expect("fresh C-ordered array") }.copy_from_slice(m.as_slice());
+    arr
+}
+
 /// A new 4×4 numpy array holding the placement `p`.
 pub fn se3_to_numpy<'py>(py: pyo3::Python<'py>, p: &Se3) -> pyo3::Bound<'py, numpy::PyArray2<f64>> {
     use numpy::PyArrayMethods;
