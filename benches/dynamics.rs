@@ -1,4 +1,5 @@
-//! Criterion benchmarks: RNEA (one state, and 256 states eight at a time in SIMD lanes), CRBA, ABA, the RNEA and ABA derivatives and `M⁻¹` on UR5, Panda (9 DOF, fingers as independent
+//! Criterion benchmarks: RNEA and ABA (one state, and 256 states eight at a time in SIMD
+//! lanes: `*_batch`, per 256 states), CRBA, the RNEA and ABA derivatives and `M⁻¹` on UR5, Panda (9 DOF, fingers as independent
 //! joints as in Pinocchio), iiwa and generated 50-, 100- and 200-joint chains, cycling over
 //! 256 random states. Run: `cargo bench --bench dynamics`.
 
@@ -58,6 +59,14 @@ fn dynamics_benches(c: &mut Criterion) {
             g_.finish();
             continue;
         }
+        let mut aba_lanes = dynamics::AbaLanes::new(&model);
+        let mut qdd = vec![0.0; qs.len()];
+        g_.bench_function("aba_batch", |b| {
+            b.iter(|| {
+                dynamics::aba_rows(&model, &mut aba_lanes, black_box(&qs), &vs, &ws, &mut qdd);
+                black_box(&qdd);
+            })
+        });
         g_.bench_function("aba", |b| {
             b.iter(|| {
                 let s = next();

@@ -144,7 +144,16 @@ fn jacobian_json_has_six_rows_per_expression_and_a_derivative_with_qd() {
 
 #[test]
 fn bench_json_reports_ns_per_call_for_every_algorithm() {
-    for algo in ["fk", "jacobians", "rnea", "rnea-batch", "crba", "aba", "lagrange"] {
+    for algo in [
+        "fk",
+        "jacobians",
+        "rnea",
+        "rnea-batch",
+        "crba",
+        "aba",
+        "aba-batch",
+        "lagrange",
+    ] {
         let v = json(&[
             "bench",
             "robots/ur5.urdf",
@@ -160,10 +169,12 @@ fn bench_json_reports_ns_per_call_for_every_algorithm() {
         let ns = v["ns_per_call"].as_f64().unwrap();
         assert!(ns > 1.0 && ns < 1e7, "{algo}: {ns}");
     }
-    fails_with(
-        &["bench", "robots/panda.urdf", "--algo", "aba"],
-        "--ignore-mimic",
-    );
+    for algo in ["aba", "aba-batch"] {
+        fails_with(
+            &["bench", "robots/panda.urdf", "--algo", algo],
+            "--ignore-mimic",
+        );
+    }
 }
 
 #[test]

@@ -2,13 +2,14 @@
 //! RNEA, state by state, on every robot in `robots/` (revolute and prismatic joints,
 //! general and permuted placements), a tree (two arms on one torso), the mimic gripper and
 //! a generated chain, with gravity off the z axis and armature; every instruction set
-//! against the baseline, bit for bit; the row driver's scalar fallbacks.
+//! against the baseline, bit for bit; the row driver's scalar fallbacks. The same for
+//! forward dynamics (`dynamics::aba_lanes`) against the scalar ABA, and ABA(RNEA(q̈)) = q̈.
 
 mod common;
 
 use armsim::core::simd_lanes::{Isa, Lanes, LANES};
 use armsim::core::spatial::Vec3;
-use armsim::dynamics::{self, RneaLanes};
+use armsim::dynamics::{self, AbaLanes, RneaLanes};
 use armsim::model::data::Data;
 use armsim::model::Model;
 use rand::rngs::SmallRng;
@@ -165,4 +166,128 @@ fn rnea_rows_passes_non_finite_inputs_to_the_scalar_code() {
         want[..],
         "the other rows are the scalar code's"
     );
+}
+
+/// The models without mimic joints (ABA needs one coordinate per body).
+fn aba_models() -> Vec<(String, Model)> {
+    models().into_iter().filter(|(_, m)| !m.has_mimic).collect()
+}
+
+fn scalar_aba_rows(m: &Model, q: &[f64], v: &[f64], t: &[f64]) -> Vec<f64> {
+    let mut d = Data::new(m);
+    let nv = m.nv;
+    (0..q.len() / nv)
+        .flat_map(|r| {
+            let s = r * nv..(r + 1) * nv;
+            dynamics::aba(m, &mut d, &q[s.clone()], &v[s.clone()], &t[s]).to_vec()
+        })
+        .collect()
+}
+
+#[test]
+fn aba_in_lanes_equals_scalar_aba_state_by_state() {
+    let ms = aba_models();
+    assert!(ms.len() >= 8, "every robot, the tree and the chain");
+    for (name, m) in ms {
+        let (q, v, t) = rows(&m, 4 * LANES, 7);
+        let want = scalar_aba_rows(&m, &q, &v, &t);
+        let mut w = AbaLanes::new(&m);
+        let nv = m.nv;
+        for r0 in (0..4 * LANES).step_by(LANES) {
+            let qdd = w.aba(
+                &m,
+                &lanes(&q, nv, r0),
+                &lanes(&v, nv, r0),
+                &lanes(&t, nv, r0),
+            );
+            for l in 0..LANES {
+                let got: Vec<f64> = qdd.iter().map(|x| x[l]).collect();
+                let r = r0 + l;
+                let scale = want[r * nv..(r + 1) * nv]
+                    .iter()
+                    .fold(1.0f64, |a, x| a.max(x.abs()));
+                let err = got
+                    .iter()
+                    .zip(&want[r * nv..(r + 1) * nv])
+                    .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+                assert!(
+                    err <= 1e-10 * scale,
+                    "{name} row {r}: |Δq̈| {err:e} (scale {scale:e})"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn aba_in_lanes_inverts_rnea_in_lanes() {
+    for (name, m) in aba_models() {
+        let (q, v, a) = rows(&m, LANES, 8);
+        let nv = m.nv;
+        let (lq, lv, la) = (lanes(&q, nv, 0), lanes(&v, nv, 0), lanes(&a, nv, 0));
+        let tau: Vec<Lanes> = RneaLanes::new(&m).rnea(&m, &lq, &lv, &la).to_vec();
+        let qdd = AbaLanes::new(&m).aba(&m, &lq, &lv, &tau).to_vec();
+        for (k, (x, y)) in qdd.iter().zip(&la).enumerate() {
+            for l in 0..LANES {
+                assert!(
+                    (x[l] - y[l]).abs() <= 1e-8 * y[l].abs().max(1.0),
+                    "{name} q̈[{k}] lane {l}: {} against {}",
+                    x[l],
+                    y[l]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn aba_in_lanes_is_bitwise_the_same_on_every_instruction_set() {
+    for (name, m) in aba_models() {
+        let (q, v, t) = rows(&m, LANES, 9);
+        let nv = m.nv;
+        let (lq, lv, lt) = (lanes(&q, nv, 0), lanes(&v, nv, 0), lanes(&t, nv, 0));
+        let mut base = AbaLanes::new(&m);
+        base.limit_isa(Isa::Baseline);
+        let want: Vec<Lanes> = base.aba(&m, &lq, &lv, &lt).to_vec();
+        for isa in [Isa::Avx2, Isa::Avx512] {
+            if isa > Isa::detected() {
+                continue;
+            }
+            let mut w = AbaLanes::new(&m);
+            w.limit_isa(isa);
+            let got = w.aba(&m, &lq, &lv, &lt);
+            for (k, (g, b)) in got.iter().zip(&want).enumerate() {
+                assert_eq!(
+                    g.map(f64::to_bits),
+                    b.map(f64::to_bits),
+                    "{name}: {isa:?} q̈[{k}]"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn aba_rows_equals_scalar_aba_with_tail_and_out_of_range_rows() {
+    for (name, m) in aba_models() {
+        let n = 2 * LANES + 3;
+        let (mut q, v, t) = rows(&m, n, 10);
+        q[LANES * m.nv + m.nv - 1] = -3e4;
+        let want = scalar_aba_rows(&m, &q, &v, &t);
+        let mut got = vec![f64::NAN; q.len()];
+        dynamics::aba_rows(&m, &mut AbaLanes::new(&m), &q, &v, &t, &mut got);
+        let fallback = LANES * m.nv..n * m.nv;
+        assert_eq!(
+            got[fallback.clone()],
+            want[fallback],
+            "{name}: scalar rows are the scalar code's"
+        );
+        let scale = want.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+        for (k, (x, y)) in got.iter().zip(&want).enumerate() {
+            assert!(
+                (x - y).abs() <= 1e-10 * scale,
+                "{name} entry {k}: {x} against {y}"
+            );
+        }
+    }
 }

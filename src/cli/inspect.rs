@@ -83,6 +83,8 @@ pub enum AlgoArg {
     RneaBatch,
     Crba,
     Aba,
+    /// ABA on batches of states, eight at a time in SIMD lanes (time per state).
+    AbaBatch,
     Lagrange,
 }
 
@@ -337,7 +339,7 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
         return Err("--iters must be positive".into());
     }
     if matches!(algo, AlgoArg::Crba | AlgoArg::Lagrange)
-        || (matches!(algo, AlgoArg::Aba) && model.has_mimic)
+        || (matches!(algo, AlgoArg::Aba | AlgoArg::AbaBatch) && model.has_mimic)
     {
         armsim::model::data::dense_fits(model).map_err(|m| format!("{}: {m}", model.source))?;
     }
@@ -348,14 +350,18 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
         AlgoArg::RneaBatch => Algo::RneaBatch,
         AlgoArg::Crba => Algo::Crba,
         AlgoArg::Lagrange => Algo::Lagrange,
-        AlgoArg::Aba => {
+        AlgoArg::Aba | AlgoArg::AbaBatch => {
             if model.has_mimic {
                 return Err(format!(
                     "{}: ABA needs one coordinate per joint but the model has mimic joints; use --ignore-mimic",
                     model.source
                 ));
             }
-            Algo::Aba
+            if matches!(algo, AlgoArg::AbaBatch) {
+                Algo::AbaBatch
+            } else {
+                Algo::Aba
+            }
         }
     };
     let ns = bench::ns_per_call(model, algo, iters);
@@ -369,7 +375,7 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
         }));
     } else {
         // A batched "call" is one state of a SIMD pass over eight.
-        let unit = if algo == Algo::RneaBatch {
+        let unit = if matches!(algo, Algo::RneaBatch | Algo::AbaBatch) {
             "state"
         } else {
             "call"

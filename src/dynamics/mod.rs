@@ -1,5 +1,5 @@
 //! Rigid-body dynamics: Newton–Euler (RNEA, also on eight states in SIMD lanes), the mass matrix (CRBA), forward dynamics
-//! (ABA, and CRBA + Cholesky), `M⁻¹`, the analytical derivatives of inverse and forward
+//! (ABA, also in SIMD lanes, and CRBA + Cholesky), `M⁻¹`, the analytical derivatives of inverse and forward
 //! dynamics (Carpentier & Mansard), energies, the switchable effects, and the two Lagrange
 //! formulations (the textbook's trace form and the energy/Christoffel form) with the
 //! Coriolis matrix. Each algorithm is one file citing the equations it implements.
@@ -18,12 +18,14 @@
 
 mod aba;
 mod aba_derivatives;
+pub mod aba_lanes;
 mod crba;
 mod effects;
 mod energy;
 mod forward;
 mod lagrange_energy;
 mod lagrange_trace;
+mod lane_spatial;
 mod minverse;
 mod rnea;
 mod rnea_derivatives;
@@ -34,6 +36,7 @@ pub use crate::core::linalg::{cholesky_in_place, cholesky_solve_in_place, Singul
 pub use crate::model::data::{EffectRuns, EffectSet};
 pub use aba::{aba, aba_with_forces};
 pub use aba_derivatives::{aba_derivatives, AbaPartials};
+pub use aba_lanes::{aba_rows, AbaLanes};
 pub use crba::crba;
 pub(crate) use crba::crba_impl;
 pub use effects::{

@@ -28,6 +28,9 @@ pub enum Algo {
     Crba,
     /// Forward dynamics (ABA) at random q, q̇, τ.
     Aba,
+    /// ABA over the 256 states eight at a time in SIMD lanes ([`dynamics::aba_rows`]);
+    /// a "call" is one state.
+    AbaBatch,
     /// The textbook's trace-form Lagrange inverse dynamics (O(n⁴) reference).
     Lagrange,
 }
@@ -42,6 +45,7 @@ impl Algo {
             Algo::RneaBatch => "rnea-batch",
             Algo::Crba => "crba",
             Algo::Aba => "aba",
+            Algo::AbaBatch => "aba-batch",
             Algo::Lagrange => "lagrange",
         }
     }
@@ -69,8 +73,8 @@ pub fn random_unit_states(n: usize, seed: u64) -> Vec<f64> {
 
 /// Median nanoseconds per call of `algo` over [`ROUNDS`] rounds of `iters / ROUNDS` calls.
 pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
-    if algo == Algo::RneaBatch {
-        return ns_per_batched_state(model, iters);
+    if matches!(algo, Algo::RneaBatch | Algo::AbaBatch) {
+        return ns_per_batched_state(model, algo, iters);
     }
     let mut data = Data::new(model);
     let nv = model.nv;
@@ -91,7 +95,7 @@ pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
                 Algo::Rnea => {
                     dynamics::rnea(model, data, q, &vs[s.clone()], &ws[s]);
                 }
-                Algo::RneaBatch => unreachable!("timed by ns_per_batched_state"),
+                Algo::RneaBatch | Algo::AbaBatch => unreachable!("timed by ns_per_batched_state"),
                 Algo::Crba => {
                     dynamics::crba(model, data, q);
                 }
@@ -116,21 +120,31 @@ pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
     median_ns(per_round, |n| run(&mut data, n))
 }
 
-/// Median nanoseconds per state of [`dynamics::rnea_rows`] over the [`STATES`] states
-/// (whole passes: at least one per round).
-fn ns_per_batched_state(model: &Model, iters: usize) -> f64 {
+/// Median nanoseconds per state of [`dynamics::rnea_rows`] or [`dynamics::aba_rows`]
+/// over the [`STATES`] states (whole passes: at least one per round).
+fn ns_per_batched_state(model: &Model, algo: Algo, iters: usize) -> f64 {
     let qs = random_states(model, 0x5eed);
     let vs = random_unit_states(model.nv, 0x5eee);
     let ws = random_unit_states(model.nv, 0x5eef);
-    let mut lanes = dynamics::RneaLanes::new(model);
-    let mut tau = vec![0.0; qs.len()];
+    let mut out = vec![0.0; qs.len()];
     let passes = (iters / ROUNDS).div_ceil(STATES).max(1);
-    let per_pass = median_ns(passes, |n| {
-        for _ in 0..n {
-            dynamics::rnea_rows(model, &mut lanes, black_box(&qs), &vs, &ws, &mut tau);
-            black_box(&mut tau);
-        }
-    });
+    let per_pass = if algo == Algo::AbaBatch {
+        let mut lanes = dynamics::AbaLanes::new(model);
+        median_ns(passes, |n| {
+            for _ in 0..n {
+                dynamics::aba_rows(model, &mut lanes, black_box(&qs), &vs, &ws, &mut out);
+                black_box(&mut out);
+            }
+        })
+    } else {
+        let mut lanes = dynamics::RneaLanes::new(model);
+        median_ns(passes, |n| {
+            for _ in 0..n {
+                dynamics::rnea_rows(model, &mut lanes, black_box(&qs), &vs, &ws, &mut out);
+                black_box(&mut out);
+            }
+        })
+    };
     per_pass / STATES as f64
 }
 
