@@ -82,7 +82,7 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
         let p_i = &rest[6 * (i + 1)..6 * n];
         let row = &mut d.minv_rows[i * nb..(i + 1) * nb];
         row[i] = d_inv;
-        for (r, col) in row[i + 1..].iter_mut().zip(p_i.chunks_exact(6)) {
+        for (r, col) in row[i + 1..].iter_mut().zip(p_i.as_chunks::<6>().0) {
             *r = -d_inv * dot6(&s, col);
         }
         d.u[i] = u;
@@ -94,9 +94,8 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
             for (o, x) in own.iter_mut().zip(u.iter()) {
                 *o += x * row[i];
             }
-            for ((pp, pi), x) in children
-                .chunks_exact_mut(6)
-                .zip(p_i.chunks_exact(6))
+            for ((pp, pi), x) in (children.as_chunks_mut::<6>().0.iter_mut())
+                .zip(p_i.as_chunks::<6>().0)
                 .zip(&row[i + 1..])
             {
                 for r in 0..6 {
@@ -113,7 +112,7 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
 
 /// `a · b` for six values each.
 #[inline(always)]
-fn dot6(a: &[f64; 6], b: &[f64]) -> f64 {
+fn dot6(a: &[f64; 6], b: &[f64; 6]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5]
 }
 
@@ -135,16 +134,17 @@ fn forward_pass(model: &Model, data: &mut Data) {
             let a_p = &below[parent * 6 * n + 6 * i..(parent + 1) * 6 * n];
             for ((x, ai), ap) in row
                 .iter_mut()
-                .zip(a_i.chunks_exact_mut(6))
-                .zip(a_p.chunks_exact(6))
+                .zip(a_i.as_chunks_mut::<6>().0)
+                .zip(a_p.as_chunks::<6>().0)
             {
-                *x -= d_inv * dot6(&u, ap);
+                let xv = *x - d_inv * dot6(&u, ap);
+                *x = xv;
                 for r in 0..6 {
-                    ai[r] = ap[r] + s[r] * *x;
+                    ai[r] = ap[r] + s[r] * xv;
                 }
             }
         } else {
-            for (x, ai) in row.iter().zip(a_i.chunks_exact_mut(6)) {
+            for (&x, ai) in row.iter().zip(a_i.as_chunks_mut::<6>().0) {
                 for r in 0..6 {
                     ai[r] = s[r] * x;
                 }
