@@ -1,7 +1,7 @@
 """Side-by-side timing from Python: armsim vs Pinocchio (PyPI `pin`) per call (RNEA,
 forward kinematics, frame Jacobian, the RNEA and ABA derivatives, M⁻¹) and batch RNEA
 throughput (armsim.rnea_batch against pin.rneaInParallel with one thread, and against a
-Python loop over pin.rnea). Run with RAYON_NUM_THREADS=1 to compare one thread with one. Prints a Markdown table (BENCHMARKS.md, "From Python").
+Python loop over pin.rnea), and batch ABA (armsim.aba_batch against pin.abaInParallel). Run with RAYON_NUM_THREADS=1 to compare one thread with one. Prints a Markdown table (BENCHMARKS.md, "From Python").
 
     RAYON_NUM_THREADS=1 python python/bench/bench_vs_pin.py [--calls 20000] [--rounds 11] [--batch 20000]
 
@@ -102,7 +102,17 @@ def bench_robot(name, file, frame, calls, rounds, batch, rng):
     t_par = min(timeit.repeat(lambda: pin.rneaInParallel(1, pool, PQT, VT, AT, TAU),
                               number=1, repeat=7))
     t_pin = min(timeit.repeat(pin_loop, number=1, repeat=3))
-    return name, m.nv, rows, (batch / t_am, batch / t_par, batch / t_pin)
+    # Forward dynamics on the same states, the torques just computed.
+    T = np.ascontiguousarray(TAU.T)
+    DDQ = np.asfortranarray(np.zeros((m.nv, batch)))
+    pin.abaInParallel(1, pool, PQT, VT, np.asfortranarray(T.T), DDQ)
+    assert np.allclose(am.aba_batch(m, Q, V, T), DDQ.T, rtol=1e-7, atol=1e-7)
+    t_am_aba = min(timeit.repeat(lambda: am.aba_batch(m, Q, V, T), number=1, repeat=7))
+    TT = np.asfortranarray(T.T)
+    t_par_aba = min(timeit.repeat(lambda: pin.abaInParallel(1, pool, PQT, VT, TT, DDQ),
+                                  number=1, repeat=7))
+    return name, m.nv, rows, (batch / t_am, batch / t_par, batch / t_pin,
+                              batch / t_am_aba, batch / t_par_aba)
 
 
 def main():
@@ -130,9 +140,14 @@ def main():
           "| pin.rneaInParallel(1) states/s | speed-up | Python loop over pin.rnea states/s "
           "| speed-up |")
     print("|---|---|---|---|---|---|---|")
-    for rname, nv, (t_am, t_par, t_pin) in batches:
+    for rname, nv, (t_am, t_par, t_pin, _, _) in batches:
         print(f"| {rname} | {nv} | {t_am:,.0f} | {t_par:,.0f} | {t_am / t_par:.1f}× "
               f"| {t_pin:,.0f} | {t_am / t_pin:.1f}× |")
+    print(f"\n| robot | nv | am.aba_batch (N = {args.batch}) states/s "
+          "| pin.abaInParallel(1) states/s | speed-up |")
+    print("|---|---|---|---|---|")
+    for rname, nv, (_, _, _, t_am, t_par) in batches:
+        print(f"| {rname} | {nv} | {t_am:,.0f} | {t_par:,.0f} | {t_am / t_par:.1f}× |")
 
 
 if __name__ == "__main__":
