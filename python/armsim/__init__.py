@@ -4,8 +4,11 @@ Pinocchio-style functions on ``Model``/``Data`` (``forward_kinematics``,
 ``frame_jacobian``, ``rnea``, ``aba``, ``crba``, ``compute_generalized_gravity``, the
 analytical derivatives ``rnea_derivatives``, ``aba_derivatives`` and ``compute_minverse``), the
 ``Robot`` facade, batches on ``(N, nq)`` arrays that run on all cores without the GIL,
-scenario runs and workspace sampling. ``armsim.distributed`` shards batch IK and
-workspace sampling into Ray tasks.
+scenario runs and workspace sampling. ``from_pinocchio_order`` / ``to_pinocchio_order``
+convert vectors between Pinocchio's joint order and armsim's (``model.joint_names``).
+Loader warnings are ``LoaderWarning``s and ``model.warnings``; ``Model``, ``Data`` and
+``Robot`` pickle; long batches stop on Ctrl-C. ``armsim.distributed`` shards batch IK
+and workspace sampling into Ray tasks.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ from ._armsim import (  # noqa: F401  (re-exports)
     ArmsimError,
     Data,
     IkResult,
+    LoaderWarning,
     Model,
     Planner,
     Robot,
@@ -45,9 +49,11 @@ from ._armsim import (  # noqa: F401  (re-exports)
     sample_poses,
 )
 from . import _armsim
+from .joint_order import from_pinocchio_order, to_pinocchio_order
 
 __all__ = [
-    "ArmsimError", "Data", "IkResult", "Model", "Planner", "Robot", "IK_KEYWORDS",
+    "ArmsimError", "LoaderWarning", "Data", "IkResult", "Model", "Planner", "Robot",
+    "IK_KEYWORDS", "from_pinocchio_order", "to_pinocchio_order",
     "forward_kinematics", "frame_jacobian", "rnea", "aba", "crba",
     "compute_generalized_gravity", "gravity", "nonlinear_effects",
     "rnea_derivatives", "aba_derivatives", "compute_minverse",

@@ -1,6 +1,8 @@
 //! Arguments from Python: vectors and row batches as `f64` slices (numpy arrays are
 //! read in place; lists and other sequences are copied), checked for length and NaN
-//! before anything reaches the Rust algorithms, and frame / expression arguments.
+//! before anything reaches the Rust algorithms; frame / expression arguments; counts,
+//! indices and seeds (taken as `i128` so that a negative value gets a message naming the
+//! argument instead of a bare `OverflowError`).
 
 use crate::errors::err;
 use armsim::{Expressed, Model};
@@ -185,6 +187,28 @@ pub fn poses(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f64; 16]>> {
             Ok(t)
         })
         .collect()
+}
+
+/// `x` as a count or index called `what`: an error naming it unless `0 <= x` (and
+/// `x` fits the platform's `usize`).
+pub fn size(x: i128, what: &str) -> PyResult<usize> {
+    usize::try_from(x).map_err(|_| out_of_range(x, what, usize::MAX as u128))
+}
+
+/// `x` as a seed or a stream position called `what` (`0 … 2^64 − 1`), or an error
+/// naming it.
+pub fn seed(x: i128, what: &str) -> PyResult<u64> {
+    u64::try_from(x).map_err(|_| out_of_range(x, what, u64::MAX as u128))
+}
+
+fn out_of_range(x: i128, what: &str, max: u128) -> PyErr {
+    if x < 0 {
+        err(format!("{what}: expected a non-negative integer, got {x}"))
+    } else {
+        err(format!(
+            "{what}: {x} is larger than the largest accepted, {max}"
+        ))
+    }
 }
 
 /// A frame given by index or name.

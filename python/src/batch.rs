@@ -1,21 +1,20 @@
 //! Batches on `(N, nq)` arrays: RNEA, ABA, gravity, FK, Jacobians and IK. Inputs are
 //! checked under the GIL, then the rows run on rayon with the GIL released, one
-//! workspace per chunk of rows (nothing allocated per row except IK's answers).
+//! workspace per chunk of rows (nothing allocated per row except IK's answers). RNEA and
+//! ABA run eight rows at a time in SIMD lanes (`dynamics::rnea_lanes`, `aba_lanes`).
 
 use crate::args::{self, rows};
 use crate::convert::{se3_from_4x4, se3_to_4x4};
 use crate::dyn_calls;
 use crate::errors::err;
 use crate::ik::{self, IkResult};
+use crate::interrupt;
 use crate::model::PyModel;
-use armsim::{kinematics, Data, FrameId, Model, Robot};
+use armsim::{dynamics, kinematics, Data, FrameId, Model, Robot};
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
-
-/// Rows per rayon task (one `Data` each).
-const CHUNK: usize = 32;
 
 /// `n × width` zeros, or an error saying how much memory that is when it cannot be had
 /// (a huge batch must raise in Python, not abort the interpreter).
@@ -33,28 +32,6 @@ pub(crate) fn zeros(n: usize, width: usize) -> Result<Vec<f64>, String> {
     v.try_reserve_exact(len).map_err(|_| too_much(len as f64))?;
     v.resize(len, 0.0);
     Ok(v)
-}
-
-/// Runs `f(data, row, out_row)` on every row in parallel; `out` has `width` values
-/// per row.
-fn par_rows<F>(model: &Model, n: usize, width: usize, f: F) -> Result<Vec<f64>, String>
-where
-    F: Fn(&mut Data, usize, &mut [f64]) -> Result<(), String> + Sync,
-{
-    let mut out = zeros(n, width)?;
-    if width == 0 {
-        return Ok(out);
-    }
-    out.par_chunks_mut(width * CHUNK)
-        .enumerate()
-        .try_for_each(|(c, chunk)| {
-            let mut d = Data::new(model);
-            for (r, row) in chunk.chunks_mut(width).enumerate() {
-                f(&mut d, c * CHUNK + r, row)?;
-            }
-            Ok::<(), String>(())
-        })?;
-    Ok(out)
 }
 
 pub(crate) fn shaped<'py>(
@@ -78,7 +55,52 @@ fn same_rows(what: &[(&str, usize)]) -> PyResult<usize> {
     Ok(n)
 }
 
-/// `τ` for every row of `(Q, V, A)`: an `(N, nv)` array.
+/// Rows per rayon task of the lane batches (a multiple of the eight SIMD lanes; one
+/// lane workspace per task).
+const LANE_CHUNK: usize = 256;
+
+/// A scalar dynamics call of `dyn_calls` (its error names the quantity and the joint).
+type ScalarCall =
+    for<'d> fn(&Model, &'d mut Data, &[f64], &[f64], &[f64]) -> Result<&'d [f64], String>;
+
+/// Runs `rows(workspace, x, y, z, out)` (a lane driver: `dynamics::rnea_rows`,
+/// `aba_rows`) over the `(n, nv)` inputs in chunks of [`LANE_CHUNK`] rows on rayon, one
+/// workspace per task, Ctrl-C honoured between chunks; a row whose result is not finite
+/// is redone by `scalar`, whose error names the row and the joint.
+fn lane_batch<W>(
+    py: Python<'_>,
+    m: &Model,
+    n: usize,
+    (xs, ys, zs): (&[f64], &[f64], &[f64]),
+    init: impl Fn() -> W + Sync + Send,
+    rows: impl Fn(&mut W, &[f64], &[f64], &[f64], &mut [f64]) + Sync + Send,
+    scalar: ScalarCall,
+) -> PyResult<Vec<f64>> {
+    let nv = m.nv;
+    let long = n.saturating_mul(nv) > 8 * interrupt::LONG_WORK;
+    interrupt::detached(py, long, |stop| {
+        let mut out = zeros(n, nv)?;
+        if nv == 0 {
+            return Ok(out);
+        }
+        out.par_chunks_mut(nv * LANE_CHUNK)
+            .enumerate()
+            .try_for_each_init(&init, |w, (c, chunk)| {
+                if interrupt::stopped(&stop) {
+                    return Err(interrupt::CANCELLED.to_string());
+                }
+                let s = c * LANE_CHUNK * nv..c * LANE_CHUNK * nv + chunk.len();
+                let ins = (&xs[s.clone()], &ys[s.clone()], &zs[s]);
+                rows(w, ins.0, ins.1, ins.2, chunk);
+                redo_non_finite(m, c * LANE_CHUNK, ins, chunk, scalar)
+            })?;
+        Ok::<_, String>(out)
+    })?
+    .map_err(err)
+}
+
+/// `τ` for every row of `(Q, V, A)`: an `(N, nv)` array. Eight rows at a time in SIMD
+/// lanes (`dynamics::rnea_rows`; equal to `rnea` row by row to rounding).
 #[pyfunction]
 pub fn rnea_batch<'py>(
     py: Python<'py>,
@@ -91,22 +113,47 @@ pub fn rnea_batch<'py>(
     let nv = m.nv;
     let (q, v, a) = (rows(q, "Q", nv)?, rows(v, "V", nv)?, rows(a, "A", nv)?);
     let n = same_rows(&[("Q", q.rows), ("V", v.rows), ("A", a.rows)])?;
-    let (qs, vs, as_) = (q.slice(), v.slice(), a.slice());
-    let out = py
-        .detach(|| {
-            par_rows(m, n, nv, |d, i, row| {
-                let s = i * nv..(i + 1) * nv;
-                let t = dyn_calls::rnea(m, d, &qs[s.clone()], &vs[s.clone()], &as_[s])
-                    .map_err(|e| format!("row {i}: {e}"))?;
-                row.copy_from_slice(t);
-                Ok(())
-            })
-        })
-        .map_err(err)?;
+    let out = lane_batch(
+        py,
+        m,
+        n,
+        (q.slice(), v.slice(), a.slice()),
+        || dynamics::RneaLanes::new(m),
+        |w, q, v, a, out| dynamics::rnea_rows(m, w, q, v, a, out),
+        dyn_calls::rnea,
+    )?;
     shaped(py, out, &[n, nv])
 }
 
-/// `q̈` for every row of `(Q, V, TAU)`: an `(N, nv)` array.
+/// The rows of `out` (the first is row `r0` of the batch) holding a non-finite value,
+/// redone by the scalar call: its error names the row and the joint.
+fn redo_non_finite(
+    m: &Model,
+    r0: usize,
+    (x, y, z): (&[f64], &[f64], &[f64]),
+    out: &mut [f64],
+    scalar: ScalarCall,
+) -> Result<(), String> {
+    let nv = m.nv;
+    let Some(k) = out.iter().position(|v| !v.is_finite()) else {
+        return Ok(());
+    };
+    let mut d = Data::new(m);
+    for r in k / nv..out.len() / nv {
+        let s = r * nv..(r + 1) * nv;
+        if out[s.clone()].iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        let res = scalar(m, &mut d, &x[s.clone()], &y[s.clone()], &z[s.clone()])
+            .map_err(|e| format!("row {}: {e}", r0 + r))?;
+        out[s].copy_from_slice(res);
+    }
+    Ok(())
+}
+
+/// `q̈` for every row of `(Q, V, TAU)`: an `(N, nv)` array. Eight rows at a time in
+/// SIMD lanes (`dynamics::aba_rows`); with mimic joints row by row through the projected
+/// mass matrix, as `aba`.
 #[pyfunction]
 pub fn aba_batch<'py>(
     py: Python<'py>,
@@ -120,17 +167,25 @@ pub fn aba_batch<'py>(
     let (q, v, t) = (rows(q, "Q", nv)?, rows(v, "V", nv)?, rows(tau, "TAU", nv)?);
     let n = same_rows(&[("Q", q.rows), ("V", v.rows), ("TAU", t.rows)])?;
     let (qs, vs, ts) = (q.slice(), v.slice(), t.slice());
-    let out = py
-        .detach(|| {
-            par_rows(m, n, nv, |d, i, row| {
-                let s = i * nv..(i + 1) * nv;
-                let ddq = dyn_calls::aba(m, d, &qs[s.clone()], &vs[s.clone()], &ts[s])
-                    .map_err(|e| format!("row {i}: {e}"))?;
-                row.copy_from_slice(ddq);
-                Ok(())
-            })
-        })
-        .map_err(err)?;
+    let out = if m.has_mimic {
+        interrupt::batch_rows(py, m, n, nv, |d, i, row| {
+            let s = i * nv..(i + 1) * nv;
+            let ddq = dyn_calls::aba(m, d, &qs[s.clone()], &vs[s.clone()], &ts[s])
+                .map_err(|e| format!("row {i}: {e}"))?;
+            row.copy_from_slice(ddq);
+            Ok(())
+        })?
+    } else {
+        lane_batch(
+            py,
+            m,
+            n,
+            (qs, vs, ts),
+            || dynamics::AbaLanes::new(m),
+            |w, q, v, t, out| dynamics::aba_rows(m, w, q, v, t, out),
+            dyn_calls::aba,
+        )?
+    };
     shaped(py, out, &[n, nv])
 }
 
@@ -145,16 +200,12 @@ pub fn gravity_batch<'py>(
     let nv = m.nv;
     let q = rows(q, "Q", nv)?;
     let (n, qs) = (q.rows, q.slice());
-    let out = py
-        .detach(|| {
-            par_rows(m, n, nv, |d, i, row| {
-                let g = dyn_calls::gravity(m, d, &qs[i * nv..(i + 1) * nv])
-                    .map_err(|e| format!("row {i}: {e}"))?;
-                row.copy_from_slice(g);
-                Ok(())
-            })
-        })
-        .map_err(err)?;
+    let out = interrupt::batch_rows(py, m, n, nv, |d, i, row| {
+        let g = dyn_calls::gravity(m, d, &qs[i * nv..(i + 1) * nv])
+            .map_err(|e| format!("row {i}: {e}"))?;
+        row.copy_from_slice(g);
+        Ok(())
+    })?;
     shaped(py, out, &[n, nv])
 }
 
@@ -171,15 +222,11 @@ pub fn fk_batch<'py>(
     let f = args::frame(m, frame)?;
     let q = rows(q, "Q", nv)?;
     let (n, qs) = (q.rows, q.slice());
-    let out = py
-        .detach(|| {
-            par_rows(m, n, 16, |d, i, row| {
-                kinematics::forward_kinematics(m, d, &qs[i * nv..(i + 1) * nv]);
-                se3_to_4x4(&kinematics::frame_placement(m, d, f), row);
-                Ok(())
-            })
-        })
-        .map_err(err)?;
+    let out = interrupt::batch_rows(py, m, n, 16, |d, i, row| {
+        kinematics::forward_kinematics(m, d, &qs[i * nv..(i + 1) * nv]);
+        se3_to_4x4(&kinematics::frame_placement(m, d, f), row);
+        Ok(())
+    })?;
     shaped(py, out, &[n, 4, 4])
 }
 
@@ -199,14 +246,10 @@ pub fn jacobian_batch<'py>(
     let e = args::expressed(reference)?;
     let q = rows(q, "Q", nv)?;
     let (n, qs) = (q.rows, q.slice());
-    let out = py
-        .detach(|| {
-            par_rows(m, n, 6 * nv, |d, i, row| {
-                kinematics::compute_frame_jacobian(m, d, &qs[i * nv..(i + 1) * nv], f, e, row);
-                Ok(())
-            })
-        })
-        .map_err(err)?;
+    let out = interrupt::batch_rows(py, m, n, 6 * nv, |d, i, row| {
+        kinematics::compute_frame_jacobian(m, d, &qs[i * nv..(i + 1) * nv], f, e, row);
+        Ok(())
+    })?;
     shaped(py, out, &[n, 6, nv])
 }
 
@@ -222,9 +265,10 @@ pub fn ik_batch<'py>(
     frame: &Bound<'py, PyAny>,
     targets: &Bound<'py, PyAny>,
     q0: Option<&Bound<'py, PyAny>>,
-    start: u64,
+    start: i128,
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let start = args::seed(start, "start")?;
     let m = &*model.model;
     let f = args::frame(m, frame)?;
     let opts = ik::options(kwargs)?;
@@ -234,7 +278,7 @@ pub fn ik_batch<'py>(
         same_rows(&[("targets", targets.len()), ("q0", q0.rows)])?;
     }
     let q0s = q0.as_ref().map(|r| r.slice());
-    let sols = py.detach(|| {
+    let sols = interrupt::interruptible(py, |stop| {
         targets
             .par_chunks(4)
             .enumerate()
@@ -245,16 +289,21 @@ pub fn ik_batch<'py>(
                     .iter()
                     .enumerate()
                     .map(|(k, t)| {
+                        if interrupt::stopped(&stop) {
+                            return Err(interrupt::CANCELLED.to_string());
+                        }
                         let i = c * 4 + k;
                         o.seed = opts.seed.wrapping_add(start).wrapping_add(i as u64);
                         let seed = q0s.map(|s| &s[i * m.nv..(i + 1) * m.nv]);
-                        robot.ik_from(FrameId(f), &se3_from_4x4(t), seed, &o)
+                        robot
+                            .ik_from(FrameId(f), &se3_from_4x4(t), seed, &o)
+                            .map_err(|e| e.to_string())
                     })
                     .collect();
                 out
             })
             .collect::<Result<Vec<_>, _>>()
-    });
+    })?;
     let sols = sols.map_err(err)?;
     let n = sols.len();
     let mut q = Vec::with_capacity(n * m.nv);

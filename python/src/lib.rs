@@ -1,6 +1,6 @@
 //! The Python extension `armsim._armsim`: Pinocchio-style functions on `Model`/`Data`,
-//! the `Robot` facade, batches on rayon without the GIL, scenario runs and workspace
-//! sampling. The package `armsim` (python/armsim) re-exports it and adds the Python
+//! the `Robot` facade, batches on rayon without the GIL (interruptible by Ctrl-C), scenario
+//! runs and workspace sampling. The package `armsim` (python/armsim) re-exports it and adds the Python
 //! parts (report dicts, `armsim.distributed`).
 
 mod algorithms;
@@ -10,6 +10,7 @@ mod convert;
 mod dyn_calls;
 mod errors;
 mod ik;
+mod interrupt;
 mod model;
 mod obstacles;
 mod plan;
@@ -22,6 +23,7 @@ use pyo3::prelude::*;
 fn _armsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("ArmsimError", py.get_type::<errors::ArmsimError>())?;
+    m.add("LoaderWarning", py.get_type::<errors::LoaderWarning>())?;
     m.add("IK_KEYWORDS", ik::IK_KEYWORDS)?;
     m.add_class::<model::PyModel>()?;
     m.add_class::<model::PyData>()?;

@@ -1,11 +1,13 @@
-//! `armsim.Model` (immutable model, picklable as its source text plus the load options)
-//! and `armsim.Data` (the reusable workspace of one model).
+//! `armsim.Model` (immutable model, picklable as its source text plus the load options
+//! and gravity; the loader's warnings as `LoaderWarning`s and `model.warnings`) and
+//! `armsim.Data` (the reusable workspace of one model, picklable with its model and the
+//! results Python can read from it).
 
 use crate::args;
 use crate::convert::se3_to_numpy;
-use crate::errors::{err, require_file};
+use crate::errors::{err, loader_warning, require_file};
 use armsim::model::LoadOptions;
-use armsim::{kinematics, Data, Model, Vec3};
+use armsim::{kinematics, Data, Mat3, Model, Se3, Vec3};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -20,11 +22,14 @@ pub struct PyModel {
     file: String,
     strict: bool,
     ignore_mimic: bool,
+    /// The loader's warnings (`file:line: element: message`).
+    warnings: Vec<String>,
 }
 
 impl PyModel {
-    /// Loads a model file (the body of `Model.from_file`).
+    /// Loads a model file (the body of `Model.from_file`), issuing its warnings.
     pub fn from_file_py(
+        py: Python<'_>,
         path: std::path::PathBuf,
         strict: bool,
         ignore_mimic: bool,
@@ -33,22 +38,32 @@ impl PyModel {
         let file = path.display().to_string();
         let text =
             std::fs::read_to_string(&path).map_err(|e| err(format!("{file}: cannot read: {e}")))?;
-        Self::load(text, file, strict, ignore_mimic)
+        Self::load(text, file, strict, ignore_mimic)?.warn(py)
     }
 
+    /// Builds the model; its warnings are kept, not issued.
     fn load(text: String, file: String, strict: bool, ignore_mimic: bool) -> PyResult<PyModel> {
         let opts = LoadOptions {
             strict,
             ignore_mimic,
         };
-        let (model, _warnings) = Model::load_str(&text, &file, &opts).map_err(err)?;
+        let (model, warnings) = Model::load_str(&text, &file, &opts).map_err(err)?;
         Ok(PyModel {
             model: Arc::new(model),
             text,
             file,
             strict,
             ignore_mimic,
+            warnings: warnings.iter().map(|w| w.to_string()).collect(),
         })
+    }
+
+    /// Issues each loader warning as a Python `armsim.LoaderWarning`.
+    fn warn(self, py: Python<'_>) -> PyResult<PyModel> {
+        for w in &self.warnings {
+            loader_warning(py, w)?;
+        }
+        Ok(self)
     }
 }
 
@@ -59,19 +74,31 @@ impl PyModel {
     /// (as Pinocchio's URDF parser does).
     #[staticmethod]
     #[pyo3(signature = (path, strict=false, ignore_mimic=false))]
-    fn from_file(path: std::path::PathBuf, strict: bool, ignore_mimic: bool) -> PyResult<Self> {
-        Self::from_file_py(path, strict, ignore_mimic)
+    fn from_file(
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        strict: bool,
+        ignore_mimic: bool,
+    ) -> PyResult<Self> {
+        Self::from_file_py(py, path, strict, ignore_mimic)
     }
 
     /// Builds a model from text; `name`'s extension (`.urdf`, `.xml`, `.toml`) picks the
     /// reader and names the text in messages.
     #[staticmethod]
     #[pyo3(signature = (text, name="model.urdf", strict=false, ignore_mimic=false))]
-    fn from_string(text: String, name: &str, strict: bool, ignore_mimic: bool) -> PyResult<Self> {
-        Self::load(text, name.to_string(), strict, ignore_mimic)
+    fn from_string(
+        py: Python<'_>,
+        text: String,
+        name: &str,
+        strict: bool,
+        ignore_mimic: bool,
+    ) -> PyResult<Self> {
+        Self::load(text, name.to_string(), strict, ignore_mimic)?.warn(py)
     }
 
-    /// Pickle support: rebuilt from its source text, options and gravity.
+    /// Pickle support: rebuilt from its source text, options and gravity (the loader's
+    /// warnings are kept in `warnings`, not issued again).
     #[staticmethod]
     fn _from_state(
         text: String,
@@ -101,8 +128,15 @@ impl PyModel {
     }
 
     /// A fresh workspace for this model.
-    fn create_data(&self) -> PyData {
-        PyData::new(self.model.clone())
+    fn create_data(slf: &Bound<'_, Self>) -> PyData {
+        PyData::new(slf.borrow().model.clone(), slf.clone().unbind())
+    }
+
+    /// The loader's warnings (`file:line: element: message`), also issued as
+    /// `armsim.LoaderWarning`s when the model was loaded; empty for a clean file.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.warnings.clone()
     }
 
     /// The middle of the joint limits (0 for unbounded joints).
@@ -146,7 +180,8 @@ impl PyModel {
     }
 
     /// Whether coordinate `k` is a continuous (unlimited revolute) joint.
-    fn is_continuous(&self, k: usize) -> PyResult<bool> {
+    fn is_continuous(&self, k: i128) -> PyResult<bool> {
+        let k = args::size(k, "k")?;
         if k >= self.model.nv {
             return Err(err(format!("coordinate {k} does not exist")));
         }
@@ -198,12 +233,14 @@ impl PyModel {
 pub struct PyData {
     pub model: Arc<Model>,
     pub data: Data,
+    /// The `Model` that created it (pickled with it).
+    owner: Py<PyModel>,
 }
 
 impl PyData {
-    pub fn new(model: Arc<Model>) -> PyData {
+    pub fn new(model: Arc<Model>, owner: Py<PyModel>) -> PyData {
         let data = Data::new(&model);
-        PyData { model, data }
+        PyData { model, data, owner }
     }
 
     /// Refuses a workspace whose sizes do not fit `model` (built for another robot); a
@@ -256,5 +293,63 @@ impl PyData {
     #[getter]
     fn ddq<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_slice(py, &self.data.qdd)
+    }
+
+    /// Pickle support: a workspace of `model` holding the body placements (12 values per
+    /// body: the rotation row by row, then the translation), `tau` and `ddq` it had.
+    #[staticmethod]
+    fn _from_state(
+        model: Bound<'_, PyModel>,
+        placements: Vec<f64>,
+        tau: Vec<f64>,
+        ddq: Vec<f64>,
+    ) -> PyResult<Self> {
+        let mut d = PyData::new(model.borrow().model.clone(), model.unbind());
+        let sizes = [
+            ("placements", placements.len(), 12 * d.data.o_m_i.len()),
+            ("tau", tau.len(), d.data.tau.len()),
+            ("ddq", ddq.len(), d.data.qdd.len()),
+        ];
+        for (what, got, want) in sizes {
+            if got != want {
+                return Err(err(format!(
+                    "Data state: {what} has {got} values, the model '{}' needs {want}",
+                    d.model.name
+                )));
+            }
+        }
+        for (p, v) in d.data.o_m_i.iter_mut().zip(placements.chunks_exact(12)) {
+            *p = Se3 {
+                rot: Mat3::from_row_slice(&v[..9]),
+                trans: Vec3::new(v[9], v[10], v[11]),
+            };
+        }
+        d.data.tau.copy_from_slice(&tau);
+        d.data.qdd.copy_from_slice(&ddq);
+        Ok(d)
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let me = slf.borrow();
+        let ctor = py.get_type::<PyData>().getattr("_from_state")?;
+        let mut placements: Vec<f64> = Vec::with_capacity(12 * me.data.o_m_i.len());
+        for p in &me.data.o_m_i {
+            placements.extend(p.rot.transpose().iter());
+            placements.extend(p.trans.iter());
+        }
+        let state = (
+            me.owner.clone_ref(py),
+            placements,
+            me.data.tau.clone(),
+            me.data.qdd.clone(),
+        );
+        PyTuple::new(py, [ctor.into_any(), state.into_pyobject(py)?.into_any()])
+    }
+
+    /// The number of coordinates of the model it serves.
+    #[getter]
+    fn nv(&self) -> usize {
+        self.model.nv
     }
 }

@@ -3,11 +3,12 @@
 //! dicts, start and goal given or read from a MoveIt `MotionPlanRequest` file, self pairs
 //! from an SRDF or from the computed allowed-collision matrix. `Planner` builds the robot
 //! half once and takes a scene per query. Every call runs without the GIL on a worker
-//! thread while the calling thread polls for Ctrl-C: an interrupt stops the work within
-//! milliseconds and raises `KeyboardInterrupt`.
+//! thread while the calling thread polls for Ctrl-C ([`crate::interrupt`]): an interrupt
+//! stops the work within milliseconds and raises `KeyboardInterrupt`.
 
-use crate::args::vector;
+use crate::args::{self, vector};
 use crate::errors::{err, require_file};
+use crate::interrupt::interruptible;
 use armsim::model::Model;
 use armsim::planning::srdf;
 use armsim::planning::{
@@ -17,7 +18,6 @@ use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -105,34 +105,6 @@ fn options(
     Ok(opts)
 }
 
-/// Runs `work` on a worker thread without the GIL while this thread polls for signals
-/// every 20 ms; on Ctrl-C (or any signal handler raising) the stop flag given to `work`
-/// is raised, the worker is joined (it returns within milliseconds) and the exception is
-/// raised.
-pub fn interruptible<T: Send>(
-    py: Python<'_>,
-    work: impl FnOnce(Arc<AtomicBool>) -> T + Send,
-) -> PyResult<T> {
-    let stop = Arc::new(AtomicBool::new(false));
-    std::thread::scope(|sc| {
-        let flag = stop.clone();
-        let handle = sc.spawn(move || work(flag));
-        loop {
-            if handle.is_finished() {
-                break;
-            }
-            py.detach(|| std::thread::sleep(Duration::from_millis(20)));
-            if let Err(e) = py.check_signals() {
-                stop.store(true, Ordering::Relaxed);
-                let _ = py.detach(|| handle.join());
-                return Err(e);
-            }
-        }
-        py.detach(|| handle.join())
-            .map_err(|_| err("the planning thread panicked"))
-    })
-}
-
 /// A plan result as a dict (`status`, `reason`, `path` as an `(N, nv)` array,
 /// `iterations`, `plan_time_us`, `simplify_time_us`, `cost_initial`, `cost`, `joints`).
 fn result_dict<'py>(py: Python<'py>, model: &Model, r: PlanResult) -> PyResult<Bound<'py, PyDict>> {
@@ -193,11 +165,12 @@ pub fn plan_py<'py>(
     scene: Option<PathBuf>,
     request: Option<PathBuf>,
     srdf: Option<PathBuf>,
-    seed: u64,
+    seed: i128,
     time_limit_ms: f64,
     simplify: bool,
     range: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let seed = args::seed(seed, "seed")?;
     let m = std::sync::Arc::clone(&model.model);
     plan(
         py,
@@ -234,12 +207,13 @@ impl PyPlanner {
         py: Python<'_>,
         model: PyRef<'_, crate::model::PyModel>,
         srdf: Option<PathBuf>,
-        seed: u64,
+        seed: i128,
         time_limit_ms: f64,
         simplify: bool,
         range: f64,
         max_overshoot: f64,
     ) -> PyResult<Self> {
+        let seed = args::seed(seed, "seed")?;
         let m = Arc::clone(&model.model);
         let pairs = match &srdf {
             Some(p) => {

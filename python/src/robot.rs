@@ -1,5 +1,6 @@
 //! `armsim.Robot`: the facade for Robotics-Toolbox habits (fk, jacobian, rnea, aba, crba,
-//! gravity, ik by frame name or id; the default frame is the last link).
+//! gravity, ik by frame name or id; the default frame is the last link). It pickles as
+//! its `Model` and the gravity it computes with.
 
 use crate::args::{self, vector};
 use crate::convert::{check_pose, matrix_to_numpy, se3_from_4x4, se3_to_numpy};
@@ -9,7 +10,7 @@ use crate::model::PyModel;
 use armsim::{FrameId, Robot};
 use numpy::{PyArray1, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 use std::sync::Arc;
 
 /// A model with its own workspace and IK solver.
@@ -61,11 +62,12 @@ impl PyRobot {
         scene: Option<std::path::PathBuf>,
         request: Option<std::path::PathBuf>,
         srdf: Option<std::path::PathBuf>,
-        seed: u64,
+        seed: i128,
         time_limit_ms: f64,
         simplify: bool,
         range: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let seed = args::seed(seed, "seed")?;
         crate::plan::plan(
             py,
             self.robot.model(),
@@ -92,8 +94,26 @@ impl PyRobot {
         strict: bool,
         ignore_mimic: bool,
     ) -> PyResult<Self> {
-        let model = PyModel::from_file_py(path, strict, ignore_mimic)?;
+        let model = PyModel::from_file_py(py, path, strict, ignore_mimic)?;
         Ok(Self::new(py, Py::new(py, model)?))
+    }
+
+    /// Pickle support: a robot on `model` computing with `gravity` (the model's gravity
+    /// when the robot was made; a later change of `model.gravity` does not reach it).
+    #[staticmethod]
+    fn _from_state(py: Python<'_>, model: Py<PyModel>, gravity: [f64; 3]) -> Self {
+        let mut r = Self::new(py, model);
+        r.robot.set_gravity(armsim::Vec3::from(gravity));
+        r
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        let py = slf.py();
+        let me = slf.borrow();
+        let ctor = py.get_type::<PyRobot>().getattr("_from_state")?;
+        let g = me.robot.gravity();
+        let state = (me.model.clone_ref(py), [g.x, g.y, g.z]);
+        PyTuple::new(py, [ctor.into_any(), state.into_pyobject(py)?.into_any()])
     }
 
     /// The model.

@@ -6,6 +6,7 @@ use crate::args;
 use crate::batch::shaped;
 use crate::convert::se3_to_4x4;
 use crate::errors::{err, require_file};
+use crate::interrupt;
 use crate::model::PyModel;
 use armsim::workspace::{sample_workspace, Sampling, WorkspaceOptions};
 use armsim::{kinematics, Data};
@@ -13,6 +14,7 @@ use numpy::{PyArray1, PyArrayDyn};
 use pyo3::prelude::*;
 use rayon::prelude::*;
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 
 /// Runs a scenario file; returns the report's JSON text (`armsim run --json`).
 #[pyfunction]
@@ -50,17 +52,21 @@ type WorkspaceOut<'py> = (
 pub fn workspace_json<'py>(
     py: Python<'py>,
     model: &PyModel,
-    samples: u64,
-    seed: u64,
+    samples: i128,
+    seed: i128,
     voxel: f64,
     tool: Option<String>,
     sampling: &str,
-    replicates: usize,
+    replicates: i128,
     planar: Option<bool>,
     extras: bool,
-    keep_points: usize,
+    keep_points: i128,
     target_rel_error: Option<f64>,
 ) -> PyResult<WorkspaceOut<'py>> {
+    let samples = args::seed(samples, "samples")?;
+    let seed = args::seed(seed, "seed")?;
+    let replicates = args::size(replicates, "replicates")?;
+    let keep_points = args::size(keep_points, "keep_points")?;
     if !(voxel.is_finite() && voxel > 0.0) {
         return Err(err(format!(
             "workspace: voxel {voxel} is not a positive length"
@@ -119,40 +125,61 @@ fn splitmix(x: u64) -> u64 {
 pub fn sample_poses<'py>(
     py: Python<'py>,
     model: &PyModel,
-    n: usize,
-    seed: u64,
+    n: i128,
+    seed: i128,
     frame: Option<&Bound<'py, PyAny>>,
-    start: u64,
+    start: i128,
 ) -> PyResult<Pair<'py>> {
+    let n = args::size(n, "n")?;
+    let (seed, start) = (args::seed(seed, "seed")?, args::seed(start, "start")?);
     let m = &*model.model;
     let nv = m.nv;
     let f = match frame {
         None => m.links.len() - 1,
         Some(f) => args::frame(m, f)?,
     };
-    let bounds: Vec<(f64, f64)> = (0..nv).map(|k| m.sampling_bounds(k)).collect();
-    let key = splitmix(seed);
     let mut qs = crate::batch::zeros(n, nv).map_err(|m| err(format!("sample_poses: {m}")))?;
     let mut poses = crate::batch::zeros(n, 16).map_err(|m| err(format!("sample_poses: {m}")))?;
-    py.detach(|| {
-        const CH: usize = 256;
-        qs.par_chunks_mut((nv * CH).max(1))
-            .zip(poses.par_chunks_mut(16 * CH))
-            .enumerate()
-            .for_each(|(c, (qc, pc))| {
-                let mut d = Data::new(m);
-                for (r, pose) in pc.chunks_mut(16).enumerate() {
-                    let i = start + (c * CH + r) as u64;
-                    let q = &mut qc[r * nv..(r + 1) * nv];
-                    for (k, x) in q.iter_mut().enumerate() {
-                        let u = (splitmix(key ^ (i * nv as u64 + k as u64)) >> 11) as f64
-                            * (1.0 / (1u64 << 53) as f64);
-                        *x = bounds[k].0 + u * (bounds[k].1 - bounds[k].0);
-                    }
-                    kinematics::forward_kinematics(m, &mut d, q);
-                    se3_to_4x4(&kinematics::frame_placement(m, &d, f), pose);
-                }
-            });
-    });
+    let long = n.saturating_mul(nv.max(1)) >= interrupt::LONG_WORK;
+    interrupt::detached(py, long, |stop| {
+        fill_samples(m, f, (splitmix(seed), start), &mut qs, &mut poses, &stop)
+    })?
+    .map_err(err)?;
     Ok((shaped(py, qs, &[n, nv])?, shaped(py, poses, &[n, 4, 4])?))
+}
+
+/// Fills `qs` (rows of `nv`) with the configurations `start ..` of the stream `key` and
+/// `poses` with `frame`'s placement at each, in chunks that stop once `stop` is raised.
+fn fill_samples(
+    m: &armsim::Model,
+    frame: usize,
+    (key, start): (u64, u64),
+    qs: &mut [f64],
+    poses: &mut [f64],
+    stop: &AtomicBool,
+) -> Result<(), String> {
+    const CH: usize = 256;
+    let nv = m.nv;
+    let bounds: Vec<(f64, f64)> = (0..nv).map(|k| m.sampling_bounds(k)).collect();
+    qs.par_chunks_mut((nv * CH).max(1))
+        .zip(poses.par_chunks_mut(16 * CH))
+        .enumerate()
+        .try_for_each(|(c, (qc, pc))| {
+            if interrupt::stopped(stop) {
+                return Err(interrupt::CANCELLED.to_string());
+            }
+            let mut d = Data::new(m);
+            for (r, pose) in pc.chunks_mut(16).enumerate() {
+                let i = start.wrapping_add((c * CH + r) as u64);
+                let q = &mut qc[r * nv..(r + 1) * nv];
+                for (k, x) in q.iter_mut().enumerate() {
+                    let at = i.wrapping_mul(nv as u64).wrapping_add(k as u64);
+                    let u = (splitmix(key ^ at) >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+                    *x = bounds[k].0 + u * (bounds[k].1 - bounds[k].0);
+                }
+                kinematics::forward_kinematics(m, &mut d, q);
+                se3_to_4x4(&kinematics::frame_placement(m, &d, frame), pose);
+            }
+            Ok(())
+        })
 }

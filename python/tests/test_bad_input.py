@@ -97,6 +97,13 @@ def test_overflowing_dynamics_raise_naming_the_quantity(ur5):
         am.nonlinear_effects(m, d, q, v)
     with pytest.raises(ValueError, match=r"row 0: tau of joint"):
         am.rnea_batch(m, q[None, :], v[None, :], np.zeros((1, m.nv)))
+    # Row 9 of 16: inside the second group of eight SIMD lanes.
+    V = np.zeros((16, m.nv))
+    V[9, 0] = 1e200
+    with pytest.raises(ValueError, match=r"row 9: tau of joint 'shoulder_pan_joint'"):
+        am.rnea_batch(m, np.zeros((16, m.nv)), V, np.zeros((16, m.nv)))
+    with pytest.raises(ValueError, match=r"row 9: "):
+        am.aba_batch(m, np.zeros((16, m.nv)), V, np.zeros((16, m.nv)))
 
 
 def test_huge_batches_and_far_targets_raise_instead_of_aborting(ur5):
@@ -163,3 +170,37 @@ def test_batches_accept_what_single_calls_accept_float32_ints_and_lists():
         am.rnea_batch(m, np.array([["a"] * m.nv]), Z, Z)
     with pytest.raises(am.ArmsimError, match=r"V: expected shape \(N, 6\), got \(5,\)"):
         am.rnea_batch(m, Q, np.zeros(5), Z)
+
+
+def test_negative_sizes_and_seeds_raise_value_errors_naming_the_argument(ur5):
+    """Issue 31: counts, indices and seeds are checked with a message naming the
+    argument (no bare OverflowError)."""
+    m, _ = ur5
+    T = am.fk_batch(m, np.zeros((2, 6)), "tool0")
+    cases = [
+        (lambda: am.sample_poses(m, -1), "n"),
+        (lambda: am.sample_poses(m, 4, seed=-3), "seed"),
+        (lambda: am.sample_poses(m, 4, start=-1), "start"),
+        (lambda: am.ik_batch(m, "tool0", T, start=-2), "start"),
+        (lambda: am.ik_batch(m, "tool0", T, seed=-1), "IK option seed"),
+        (lambda: am.ik_batch(m, "tool0", T, max_restarts=-1), "IK option max_restarts"),
+        (lambda: am.Robot(m).ik(T[0], "tool0", max_iterations=-5), "IK option max_iterations"),
+        (lambda: am.workspace(m, samples=-1), "samples"),
+        (lambda: am.workspace(m, seed=-1), "seed"),
+        (lambda: am.workspace(m, replicates=-8), "replicates"),
+        (lambda: am.workspace(m, keep_points=-1), "keep_points"),
+        (lambda: m.is_continuous(-1), "k"),
+        (lambda: am.plan(m, m.neutral(), m.neutral(), seed=-1), "seed"),
+        (lambda: am.Robot(m).plan(m.neutral(), m.neutral(), seed=-1), "seed"),
+        (lambda: am.Planner(m, seed=-1), "seed"),
+    ]
+    for call, name in cases:
+        with pytest.raises(ValueError, match=rf"^{name}: expected a non-negative integer, got -\d+$"):
+            call()
+    with pytest.raises(ValueError, match=r"^seed: 18446744073709551616 is larger than the largest accepted, 18446744073709551615$"):
+        am.sample_poses(m, 1, seed=2**64)
+    # The largest seed and position still work.
+    q, _ = am.sample_poses(m, 2, seed=2**64 - 1, start=2**64 - 2)
+    assert q.shape == (2, 6)
+    with pytest.raises(TypeError, match="'n'"):
+        am.sample_poses(m, 1.5)

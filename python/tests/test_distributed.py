@@ -54,3 +54,21 @@ def test_ray_workspace_sweep_equals_the_single_process_runs(cluster):
         strip = lambda d: {k: v for k, v in d.items() if k not in ("time_s", "threads")}  # noqa: E731
         assert strip(r["report"]) == strip(local["report"])
     assert remote[0]["estimate"] != remote[1]["estimate"]
+
+
+def test_robot_and_data_travel_to_ray_tasks(cluster):
+    def task(robot, model, data, q):  # nested: Ray ships it by value
+        tau = data.tau.copy()
+        am.forward_kinematics(model, data, q)
+        return robot.rnea(q), robot.fk(q, "tool0"), data.frame_pose("tool0"), tau
+
+    r = am.Robot.from_file(ROBOTS / "ur5.urdf")
+    m = r.model
+    d = m.create_data()
+    q = np.array([0.1, -1.0, 1.2, -0.3, 1.4, 0.2])
+    tau = am.rnea(m, d, q, np.zeros(6), np.zeros(6)).copy()
+    got = ray.get(ray.remote(task).remote(r, m, d, q))
+    np.testing.assert_array_equal(got[0], r.rnea(q))
+    np.testing.assert_array_equal(got[1], r.fk(q, "tool0"))
+    np.testing.assert_array_equal(got[2], got[1])
+    np.testing.assert_array_equal(got[3], tau)

@@ -21,6 +21,10 @@ ARMSIM = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" /
 
 needs_bench = pytest.mark.skipif(not BENCH.is_dir(), reason="../shared benchmarks not present")
 
+# The spherized Panda's known loader warning (a mimic tag on its fixed finger joint).
+pytestmark = pytest.mark.filterwarnings(
+    'ignore:.*<mimic joint="panda_finger_joint1"> on a fixed joint:armsim.LoaderWarning')
+
 
 def cli_plan(scene: Path, request: Path) -> dict:
     out = subprocess.run(
