@@ -28,9 +28,15 @@ const CHUNK: usize = 32;
 /// raises the signal handler's exception instead).
 pub const CANCELLED: &str = "cancelled by a signal";
 
-/// Work units (rows × coordinates) above which a batch runs interruptibly: below, it
-/// takes milliseconds and a worker thread would only add its start-up time.
+/// Work units (rows × bodies, or rows × output values when more) above which a batch
+/// runs interruptibly: below, it takes milliseconds and a worker thread would only add
+/// its start-up time. Bodies, not coordinates: mimic joints are bodies without one.
 pub const LONG_WORK: usize = 1 << 15;
+
+/// Whether `rows` rows of `width` output values on `model` are [`LONG_WORK`] or more.
+pub fn is_long(model: &Model, rows: usize, width: usize) -> bool {
+    rows.saturating_mul(model.nbodies().max(width).max(1)) >= LONG_WORK
+}
 
 /// Whether the stop flag is raised.
 pub fn stopped(stop: &AtomicBool) -> bool {
@@ -140,8 +146,7 @@ where
     Ok(out)
 }
 
-/// [`par_rows`] under [`detached`]: interruptible when `n × width` is at least
-/// [`LONG_WORK`]. Errors (a row's, or an allocation's) are `ArmsimError`s.
+/// [`par_rows`] under [`detached`]: interruptible when [`is_long`]. Errors (a row's, or an allocation's) are `ArmsimError`s.
 pub fn batch_rows<F>(
     py: Python<'_>,
     model: &Model,
@@ -152,6 +157,8 @@ pub fn batch_rows<F>(
 where
     F: Fn(&mut Data, usize, &mut [f64]) -> Result<(), String> + Sync + Send,
 {
-    let long = n.saturating_mul(width.max(1)) >= LONG_WORK;
-    detached(py, long, |stop| par_rows(model, n, width, &stop, f))?.map_err(err)
+    detached(py, is_long(model, n, width), |stop| {
+        par_rows(model, n, width, &stop, f)
+    })?
+    .map_err(err)
 }

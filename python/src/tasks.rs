@@ -140,8 +140,7 @@ pub fn sample_poses<'py>(
     };
     let mut qs = crate::batch::zeros(n, nv).map_err(|m| err(format!("sample_poses: {m}")))?;
     let mut poses = crate::batch::zeros(n, 16).map_err(|m| err(format!("sample_poses: {m}")))?;
-    let long = n.saturating_mul(nv.max(1)) >= interrupt::LONG_WORK;
-    interrupt::detached(py, long, |stop| {
+    interrupt::detached(py, interrupt::is_long(m, n, nv + 16), |stop| {
         fill_samples(m, f, (splitmix(seed), start), &mut qs, &mut poses, &stop)
     })?
     .map_err(err)?;
