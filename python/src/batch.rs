@@ -77,7 +77,8 @@ fn lane_batch<W>(
     scalar: ScalarCall,
 ) -> PyResult<Vec<f64>> {
     let nv = m.nv;
-    let long = n.saturating_mul(nv) > 8 * interrupt::LONG_WORK;
+    // Eight rows in lanes cost about one scalar row.
+    let long = interrupt::is_long(m, n / 8, nv);
     interrupt::detached(py, long, |stop| {
         let mut out = zeros(n, nv)?;
         if nv == 0 {

@@ -24,10 +24,11 @@
 // operations visible.
 #![allow(clippy::needless_range_loop)]
 
-use crate::core::simd_lanes::{lanes_in_range, sin_cos8, Isa, LaneBuf, Lanes, LANES};
+use crate::core::simd_lanes::{sin_cos8, Isa, LaneBuf, Lanes, LANES};
 use crate::core::spatial::InertiaO;
 use crate::dynamics::lane_spatial::{
-    add3, affine, cross, gather, inertia_times, Joint, Placement, SinCos, S6, V3, ZERO3, ZERO6,
+    add3, affine, cross, inertia_times, lane_rows, Joint, LaneKernel, Placement, SinCos, S6, V3,
+    ZERO3, ZERO6,
 };
 use crate::model::data::Data;
 use crate::model::{Model, WORLD};
@@ -487,55 +488,21 @@ pub fn aba_rows(
     tau: &[f64],
     qdd: &mut [f64],
 ) {
-    let nv = model.nv;
-    let n = q.len().checked_div(nv).unwrap_or(0);
-    assert!(
-        q.len() == n * nv && qd.len() == q.len() && tau.len() == q.len() && qdd.len() == q.len(),
-        "q, qd, tau and qdd need the same (n, nv) shape"
-    );
     w.check(model);
-    let full = n / LANES * LANES;
-    for r0 in (0..full).step_by(LANES) {
-        let rows = r0 * nv..(r0 + LANES) * nv;
-        gather(&q[rows.clone()], nv, &mut w.q);
-        if !lanes_in_range(&w.q) {
-            for r in r0..r0 + LANES {
-                scalar_row(model, w, q, qd, tau, qdd, r);
-            }
-            continue;
-        }
-        gather(&qd[rows.clone()], nv, &mut w.qd);
-        gather(&tau[rows.clone()], nv, &mut w.tau);
-        w.passes.run(model, &w.q, &w.qd, &w.tau);
-        for (l, row) in qdd[rows].chunks_exact_mut(nv).enumerate() {
-            for (k, x) in row.iter_mut().enumerate() {
-                *x = w.passes.qdd[k][l];
-            }
-        }
-    }
-    for r in full..n {
-        scalar_row(model, w, q, qd, tau, qdd, r);
-    }
+    lane_rows(model, w, (q, qd, tau), qdd);
 }
 
-/// Row `r` through the scalar `aba`.
-fn scalar_row(
-    model: &Model,
-    w: &mut AbaLanes,
-    q: &[f64],
-    qd: &[f64],
-    tau: &[f64],
-    qdd: &mut [f64],
-    r: usize,
-) {
-    let nv = model.nv;
-    let s = r * nv..(r + 1) * nv;
-    let x = crate::dynamics::aba(
-        model,
-        &mut w.scalar,
-        &q[s.clone()],
-        &qd[s.clone()],
-        &tau[s.clone()],
-    );
-    qdd[s].copy_from_slice(x);
+impl LaneKernel for AbaLanes {
+    fn inputs(&mut self) -> [&mut [Lanes]; 3] {
+        [&mut self.q, &mut self.qd, &mut self.tau]
+    }
+
+    fn run(&mut self, model: &Model) -> &[Lanes] {
+        self.passes.run(model, &self.q, &self.qd, &self.tau);
+        &self.passes.qdd
+    }
+
+    fn scalar<'s>(&'s mut self, model: &Model, q: &[f64], qd: &[f64], tau: &[f64]) -> &'s [f64] {
+        crate::dynamics::aba(model, &mut self.scalar, q, qd, tau)
+    }
 }

@@ -11,7 +11,7 @@
 // operations visible.
 #![allow(clippy::needless_range_loop)]
 
-use crate::core::simd_lanes::{Lanes, LANES};
+use crate::core::simd_lanes::{lanes_in_range, Lanes, LANES};
 use crate::core::spatial::{InertiaO, Se3};
 use crate::model::Model;
 
@@ -305,5 +305,62 @@ pub(crate) fn gather(rows: &[f64], nv: usize, out: &mut [Lanes]) {
         for (k, x) in row.iter().enumerate() {
             out[k][l] = *x;
         }
+    }
+}
+
+/// A lane kernel as [`lane_rows`] drives it: three inputs transposed to lanes, eight
+/// states through the kernel, one row through the scalar algorithm.
+pub(crate) trait LaneKernel {
+    /// The three input buffers (one lane array per coordinate).
+    fn inputs(&mut self) -> [&mut [Lanes]; 3];
+    /// Runs the kernel on the inputs; the result per coordinate.
+    fn run(&mut self, model: &Model) -> &[Lanes];
+    /// One row through the scalar algorithm.
+    fn scalar<'s>(&'s mut self, model: &Model, x: &[f64], y: &[f64], z: &[f64]) -> &'s [f64];
+}
+
+/// The kernel `w` on every row of the row-major `(n, nv)` arrays `x`, `y`, `z` into `out`
+/// (same shape), eight rows at a time; a group with a joint value the lane `sin_cos`
+/// cannot take (`|x| > 1e4`, or not finite) and the last `n mod 8` rows go through the
+/// scalar algorithm. Allocates nothing.
+pub(crate) fn lane_rows<K: LaneKernel>(
+    model: &Model,
+    w: &mut K,
+    (x, y, z): (&[f64], &[f64], &[f64]),
+    out: &mut [f64],
+) {
+    let nv = model.nv;
+    let n = x.len().checked_div(nv).unwrap_or(0);
+    assert!(
+        x.len() == n * nv && y.len() == x.len() && z.len() == x.len() && out.len() == x.len(),
+        "the three inputs and the output need the same (n, nv) shape"
+    );
+    let scalar_row = |w: &mut K, out: &mut [f64], r: usize| {
+        let s = r * nv..(r + 1) * nv;
+        let res = w.scalar(model, &x[s.clone()], &y[s.clone()], &z[s.clone()]);
+        out[s].copy_from_slice(res);
+    };
+    let full = n / LANES * LANES;
+    for r0 in (0..full).step_by(LANES) {
+        let rows = r0 * nv..(r0 + LANES) * nv;
+        let [bx, by, bz] = w.inputs();
+        gather(&x[rows.clone()], nv, bx);
+        if !lanes_in_range(bx) {
+            for r in r0..r0 + LANES {
+                scalar_row(w, out, r);
+            }
+            continue;
+        }
+        gather(&y[rows.clone()], nv, by);
+        gather(&z[rows.clone()], nv, bz);
+        let res = w.run(model);
+        for (l, row) in out[rows].chunks_exact_mut(nv).enumerate() {
+            for (k, o) in row.iter_mut().enumerate() {
+                *o = res[k][l];
+            }
+        }
+    }
+    for r in full..n {
+        scalar_row(w, out, r);
     }
 }

@@ -27,9 +27,10 @@
 // operations visible.
 #![allow(clippy::needless_range_loop)]
 
-use crate::core::simd_lanes::{lanes_in_range, sin_cos8, Isa, LaneBuf, Lanes, LANES};
+use crate::core::simd_lanes::{sin_cos8, Isa, LaneBuf, Lanes, LANES};
 use crate::dynamics::lane_spatial::{
-    add3, affine, cross, gather, inertia_times, Joint, Placement, SinCos, S6, ZERO3, ZERO6,
+    add3, affine, cross, inertia_times, lane_rows, Joint, LaneKernel, Placement, SinCos, S6, ZERO3,
+    ZERO6,
 };
 use crate::model::data::Data;
 use crate::model::{Model, WORLD};
@@ -239,58 +240,24 @@ pub fn rnea_rows(
     qdd: &[f64],
     tau: &mut [f64],
 ) {
-    let nv = model.nv;
-    let n = q.len().checked_div(nv).unwrap_or(0);
     assert!(
-        q.len() == n * nv && qd.len() == q.len() && qdd.len() == q.len() && tau.len() == q.len(),
-        "q, qd, qdd and tau need the same (n, nv) shape"
-    );
-    assert!(
-        w.passes.v.len() == model.nbodies() && w.q.len() == nv,
+        w.passes.v.len() == model.nbodies() && w.q.len() == model.nv,
         "RneaLanes was built for another model"
     );
-    let full = n / LANES * LANES;
-    for r0 in (0..full).step_by(LANES) {
-        let rows = r0 * nv..(r0 + LANES) * nv;
-        gather(&q[rows.clone()], nv, &mut w.q);
-        if !lanes_in_range(&w.q) {
-            for r in r0..r0 + LANES {
-                scalar_row(model, w, q, qd, qdd, tau, r);
-            }
-            continue;
-        }
-        gather(&qd[rows.clone()], nv, &mut w.qd);
-        gather(&qdd[rows.clone()], nv, &mut w.qdd);
-        w.passes.run(model, &w.q, &w.qd, &w.qdd);
-        for (l, row) in tau[rows].chunks_exact_mut(nv).enumerate() {
-            for (k, t) in row.iter_mut().enumerate() {
-                *t = w.passes.tau[k][l];
-            }
-        }
-    }
-    for r in full..n {
-        scalar_row(model, w, q, qd, qdd, tau, r);
-    }
+    lane_rows(model, w, (q, qd, qdd), tau);
 }
 
-/// Row `r` through the scalar `rnea`.
-fn scalar_row(
-    model: &Model,
-    w: &mut RneaLanes,
-    q: &[f64],
-    qd: &[f64],
-    qdd: &[f64],
-    tau: &mut [f64],
-    r: usize,
-) {
-    let nv = model.nv;
-    let s = r * nv..(r + 1) * nv;
-    let t = crate::dynamics::rnea(
-        model,
-        &mut w.scalar,
-        &q[s.clone()],
-        &qd[s.clone()],
-        &qdd[s.clone()],
-    );
-    tau[s].copy_from_slice(t);
+impl LaneKernel for RneaLanes {
+    fn inputs(&mut self) -> [&mut [Lanes]; 3] {
+        [&mut self.q, &mut self.qd, &mut self.qdd]
+    }
+
+    fn run(&mut self, model: &Model) -> &[Lanes] {
+        self.passes.run(model, &self.q, &self.qd, &self.qdd);
+        &self.passes.tau
+    }
+
+    fn scalar<'s>(&'s mut self, model: &Model, q: &[f64], qd: &[f64], qdd: &[f64]) -> &'s [f64] {
+        crate::dynamics::rnea(model, &mut self.scalar, q, qd, qdd)
+    }
 }
