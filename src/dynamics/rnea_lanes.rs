@@ -87,6 +87,13 @@ impl RneaLanes {
         self.passes.isa
     }
 
+    fn check(&self, model: &Model) {
+        assert!(
+            self.passes.v.len() == model.nbodies() && self.q.len() == model.nv,
+            "RneaLanes was built for another model"
+        );
+    }
+
     /// `τ = ID(q, q̇, q̈)` for eight states with the model's gravity and armature:
     /// `q[k][lane]` is coordinate `k` of state `lane` (one lane array per coordinate,
     /// `nv` of them; `|q| ≤ 1e4`, see [`lanes_in_range`]). Returns `τ[k][lane]`.
@@ -96,10 +103,7 @@ impl RneaLanes {
             q.len() == nv && qd.len() == nv && qdd.len() == nv,
             "q, qd, qdd need one lane array per coordinate"
         );
-        assert!(
-            self.passes.v.len() == model.nbodies() && self.q.len() == nv,
-            "RneaLanes was built for another model"
-        );
+        self.check(model);
         self.passes.run(model, q, qd, qdd);
         &self.passes.tau
     }
@@ -240,10 +244,7 @@ pub fn rnea_rows(
     qdd: &[f64],
     tau: &mut [f64],
 ) {
-    assert!(
-        w.passes.v.len() == model.nbodies() && w.q.len() == model.nv,
-        "RneaLanes was built for another model"
-    );
+    w.check(model);
     lane_rows(model, w, (q, qd, qdd), tau);
 }
 
