@@ -2,12 +2,15 @@
 //! differences of the algorithms they differentiate, on every robot in `robots/`, a tree
 //! (two arms on one torso), the mimic gripper and a generated chain, with gravity,
 //! armature and external wrenches: `∂τ/∂q`, `∂τ/∂q̇` against RNEA, `∂τ/∂q̈` against CRBA,
-//! `∂q̈/∂q`, `∂q̈/∂q̇` against ABA, `∂q̈/∂τ` and `M⁻¹` against the inverse of CRBA's `M`.
+//! `∂q̈/∂q`, `∂q̈/∂q̇` against ABA, `∂q̈/∂τ` and `M⁻¹` against the inverse of CRBA's `M`;
+//! and the derivatives with the scene's effects (friction, rotors, a payload, world-fixed
+//! wrenches) against central differences of `inverse_dynamics` / `forward_dynamics_with`.
 
 mod common;
 
-use armsim::core::spatial::{Force, Vec3};
+use armsim::core::spatial::{Force, Inertia, Mat3, Vec3};
 use armsim::dynamics;
+use armsim::dynamics::{Effects, ExternalWrench, Friction, Payload, Rotor};
 use armsim::model::data::Data;
 use armsim::model::Model;
 use nalgebra::DMatrix;
@@ -182,6 +185,136 @@ fn aba_partials_equal_central_differences_of_forward_dynamics() {
             assert_close(&format!("{what}: ∂q̈/∂q̇"), &dv, &fv, 1e-5);
             let ft = central(m.nv, &tau, 1e-6, |t| fwd(&st.q, &st.v, t));
             assert_close(&format!("{what}: ∂q̈/∂τ = M⁻¹"), &minv, &ft, 1e-5);
+        }
+    }
+}
+
+/// Every effect that has a derivative, on model `m`: tilted gravity, friction with a
+/// Stribeck bump (smoothed over 0.05 rad/s so that differences of step 1e-6 resolve it),
+/// rotors, a payload on the last body, and world-fixed wrenches on the last body and on
+/// a middle one.
+fn scene_effects(m: &Model, seed: u64) -> Effects {
+    let n = m.nv;
+    let mut rng = SmallRng::seed_from_u64(seed);
+    let mut pick =
+        |lo: f64, hi: f64| -> Vec<f64> { (0..n).map(|_| rng.random_range(lo..hi)).collect() };
+    let coulomb = pick(0.1, 0.6);
+    let stiction = coulomb.iter().map(|c| c + 0.3).collect();
+    let on_body = |b: usize| m.links.iter().position(|l| l.body == b).unwrap();
+    let (tool, middle) = (on_body(m.nbodies() - 1), on_body(m.nbodies() / 2));
+    let payload = Inertia::new(
+        1.5,
+        Vec3::new(0.02, -0.01, 0.06),
+        Mat3::from_diagonal(&Vec3::new(0.004, 0.006, 0.003)),
+    );
+    Effects {
+        gravity: Some(Vec3::new(0.3, -0.2, -9.81)),
+        friction: Some(Friction {
+            viscous: pick(0.1, 0.8),
+            coulomb,
+            stiction,
+            stribeck_velocity: pick(0.3, 1.0),
+            smoothing: 0.05,
+        }),
+        rotor: Some(Rotor {
+            inertia: pick(1e-5, 5e-5),
+            gear_ratio: pick(50.0, 120.0),
+            efficiency: vec![0.9; n],
+        }),
+        elasticity: None,
+        payload: Some(Payload::new(m, tool, payload).unwrap()),
+        external: vec![
+            ExternalWrench {
+                link: tool,
+                force: Vec3::new(3.0, -2.0, 5.0),
+                moment: Vec3::new(0.2, 0.1, -0.3),
+            },
+            ExternalWrench {
+                link: middle,
+                force: Vec3::new(-1.0, 4.0, 2.0),
+                moment: Vec3::new(-0.4, 0.3, 0.5),
+            },
+        ],
+    }
+}
+
+#[test]
+fn inverse_dynamics_partials_with_effects_equal_central_differences() {
+    for (name, m) in models() {
+        let fx = scene_effects(&m, 3);
+        let mut d = Data::new(&m);
+        let mut fd = Data::new(&m);
+        for (s, st) in states(&m, 3, 17).iter().enumerate() {
+            let what = format!("{name} state {s} with effects");
+            let p = dynamics::inverse_dynamics_derivatives(&m, &mut d, &fx, &st.q, &st.v, &st.a);
+            let (dq, dv, mass) = (p.dtau_dq.clone(), p.dtau_dv.clone(), p.mass.clone());
+            let tau = d.tau.clone();
+            let mut id = |q: &[f64], v: &[f64], a: &[f64]| {
+                dynamics::inverse_dynamics(&m, &mut fd, &fx, q, v, a).to_vec()
+            };
+            let want = id(&st.q, &st.v, &st.a);
+            let col = |x: &[f64]| DMatrix::from_column_slice(x.len(), 1, x);
+            assert_close(&format!("{what}: τ"), &col(&tau), &col(&want), 1e-12);
+            let fq = central(m.nv, &st.q, 1e-6, |q| id(q, &st.v, &st.a));
+            assert_close(&format!("{what}: ∂τ/∂q"), &dq, &fq, 1e-6);
+            let fv = central(m.nv, &st.v, 1e-6, |v| id(&st.q, v, &st.a));
+            assert_close(&format!("{what}: ∂τ/∂q̇"), &dv, &fv, 1e-6);
+            let fa = central(m.nv, &st.a, 1e-3, |a| id(&st.q, &st.v, a));
+            assert_close(&format!("{what}: ∂τ/∂q̈ = M̃"), &mass, &fa, 1e-9);
+            let m_tilde = dynamics::mass_matrix(&m, &mut fd, &fx, &st.q).clone();
+            assert_close(&format!("{what}: M̃ = mass_matrix"), &mass, &m_tilde, 1e-12);
+        }
+    }
+}
+
+#[test]
+fn forward_dynamics_partials_with_effects_equal_central_differences() {
+    for (name, m) in models() {
+        let fx = scene_effects(&m, 4);
+        let mut d = Data::new(&m);
+        let mut fd = Data::new(&m);
+        for (s, st) in states(&m, 3, 29).iter().enumerate() {
+            let what = format!("{name} state {s} with effects");
+            let tau = st.a.clone();
+            let p = dynamics::forward_dynamics_derivatives(&m, &mut d, &fx, &st.q, &st.v, &tau)
+                .unwrap();
+            let (dq, dv, minv) = (p.ddq_dq.clone(), p.ddq_dv.clone(), p.minv.clone());
+            let mut fwd = |q: &[f64], v: &[f64], t: &[f64]| {
+                dynamics::forward_dynamics_with(&m, &mut fd, &fx, q, v, t)
+                    .unwrap()
+                    .to_vec()
+            };
+            let col = |x: &[f64]| DMatrix::from_column_slice(x.len(), 1, x);
+            let qdd = fwd(&st.q, &st.v, &tau);
+            assert_close(&format!("{what}: q̈"), &col(&d.qdd), &col(&qdd), 1e-10);
+            let fq = central(m.nv, &st.q, 1e-6, |q| fwd(q, &st.v, &tau));
+            assert_close(&format!("{what}: ∂q̈/∂q"), &dq, &fq, 1e-5);
+            let fv = central(m.nv, &st.v, 1e-6, |v| fwd(&st.q, v, &tau));
+            assert_close(&format!("{what}: ∂q̈/∂q̇"), &dv, &fv, 1e-5);
+            let ft = central(m.nv, &tau, 1e-6, |t| fwd(&st.q, &st.v, t));
+            assert_close(&format!("{what}: ∂q̈/∂τ = M̃⁻¹"), &minv, &ft, 1e-5);
+        }
+    }
+}
+
+#[test]
+fn partials_with_the_models_gravity_alone_equal_the_plain_partials() {
+    for (name, m) in models() {
+        let fx = Effects::gravity(m.gravity);
+        let (mut d, mut e) = (Data::new(&m), Data::new(&m));
+        for st in states(&m, 2, 51) {
+            let p = dynamics::rnea_derivatives(&m, &mut d, &st.q, &st.v, &st.a);
+            let (dq, dv) = (p.dtau_dq.clone(), p.dtau_dv.clone());
+            let r = dynamics::inverse_dynamics_derivatives(&m, &mut e, &fx, &st.q, &st.v, &st.a);
+            // The model's armature is in both; the effects add none.
+            assert_close(&format!("{name}: ∂τ/∂q"), r.dtau_dq, &dq, 1e-13);
+            assert_close(&format!("{name}: ∂τ/∂q̇"), r.dtau_dv, &dv, 1e-13);
+            let p = dynamics::aba_derivatives(&m, &mut d, &st.q, &st.v, &st.a).unwrap();
+            let (dq, minv) = (p.ddq_dq.clone(), p.minv.clone());
+            let r = dynamics::forward_dynamics_derivatives(&m, &mut e, &fx, &st.q, &st.v, &st.a)
+                .unwrap();
+            assert_close(&format!("{name}: ∂q̈/∂q"), r.ddq_dq, &dq, 1e-10);
+            assert_close(&format!("{name}: M⁻¹"), r.minv, &minv, 1e-10);
         }
     }
 }

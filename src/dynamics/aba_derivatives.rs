@@ -126,7 +126,7 @@ const DIRECT_PRODUCT_MAX: usize = 24;
 /// `out = −a b` for square column-major matrices: at arm sizes column by column as sums
 /// of `a`'s columns (contiguous, so the inner loop vectorises, and no packing), else the
 /// blocked general product.
-fn neg_product(out: &mut DMatrix<f64>, a: &DMatrix<f64>, b: &DMatrix<f64>) {
+pub(crate) fn neg_product(out: &mut DMatrix<f64>, a: &DMatrix<f64>, b: &DMatrix<f64>) {
     let n = a.nrows();
     if n > DIRECT_PRODUCT_MAX {
         out.gemm(-1.0, a, b, 0.0);

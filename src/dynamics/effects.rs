@@ -70,6 +70,17 @@ impl Friction {
         let r = v / vs;
         self.viscous[k] * v + (fc + (fs - fc) * (-r * r).exp()) * (v / self.smoothing).tanh()
     }
+
+    /// The slope `∂τ_f/∂q̇` of [`Friction::torque`] on coordinate `k` at rate `v`:
+    /// `b + (F_s − F_c)(−2 q̇/v_s²) e^{−(q̇/v_s)²} tanh(q̇/ε) + [F_c + (F_s − F_c)
+    /// e^{−(q̇/v_s)²}] (1 − tanh²(q̇/ε))/ε`.
+    #[inline]
+    pub fn slope(&self, k: usize, v: f64) -> f64 {
+        let (fc, fs, vs) = (self.coulomb[k], self.stiction[k], self.stribeck_velocity[k]);
+        let (r, t) = (v / vs, (v / self.smoothing).tanh());
+        let bump = (fs - fc) * (-r * r).exp();
+        self.viscous[k] - 2.0 * r / vs * bump * t + (fc + bump) * (1.0 - t * t) / self.smoothing
+    }
 }
 
 /// Rotor inertia, gear ratio and gear efficiency per coordinate.

@@ -168,14 +168,17 @@ fn forward_pass(model: &Model, data: &mut Data) {
 fn invert_mass_matrix(model: &Model, data: &mut Data, q: &[f64]) -> Result<(), SingularMassMatrix> {
     crba(model, data, q);
     data.chol.copy_from(&data.mass);
+    invert_factored(data)
+}
+
+/// `data.deriv.minv = M⁻¹` for the mass matrix held in `data.chol`, through its Cholesky
+/// factor (computed in place).
+pub(crate) fn invert_factored(data: &mut Data) -> Result<(), SingularMassMatrix> {
     cholesky_in_place(&mut data.chol)?;
-    let n = model.nv;
     let minv = &mut data.deriv.minv;
     minv.fill(0.0);
-    for c in 0..n {
+    for c in 0..minv.ncols() {
         minv[(c, c)] = 1.0;
-    }
-    for c in 0..n {
         let mut col = minv.column_mut(c);
         crate::core::linalg::cholesky_solve_in_place(&data.chol, col.as_mut_slice());
     }

@@ -21,6 +21,7 @@ mod aba_derivatives;
 pub mod aba_lanes;
 mod crba;
 mod effects;
+mod effects_derivatives;
 mod energy;
 mod forward;
 mod lagrange_energy;
@@ -43,6 +44,7 @@ pub use effects::{
     inverse_dynamics, mass_matrix, Effects, EffectsError, Elasticity, ExternalWrench, Friction,
     Payload, Rotor,
 };
+pub use effects_derivatives::{forward_dynamics_derivatives, inverse_dynamics_derivatives};
 pub(crate) use energy::kinetic_energy_gradient_impl;
 pub use energy::{energies_with, kinetic_energy, kinetic_energy_gradient, potential_energy};
 pub use forward::{
