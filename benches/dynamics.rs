@@ -109,6 +109,27 @@ fn dynamics_benches(c: &mut Criterion) {
                 let _ = dynamics::compute_minverse(&model, &mut data, black_box(&qs[s]));
             })
         });
+        // The MPC step linearisation (A, B) with the model's gravity, 1 ms step.
+        let fx = dynamics::Effects::gravity(model.gravity);
+        for (label, scheme) in [
+            ("linearise_euler", dynamics::StepScheme::SemiImplicitEuler),
+            ("linearise_rk4", dynamics::StepScheme::Rk4),
+        ] {
+            let mut lin = dynamics::StepLinearisation::new(&model, scheme, 1e-3).unwrap();
+            g_.bench_function(label, |b| {
+                b.iter(|| {
+                    let s = next();
+                    let _ = lin.linearise(
+                        &model,
+                        &mut data,
+                        &fx,
+                        black_box(&qs[s.clone()]),
+                        &vs[s.clone()],
+                        &ws[s],
+                    );
+                })
+            });
+        }
         g_.finish();
     }
 }

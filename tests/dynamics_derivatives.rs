@@ -8,9 +8,9 @@
 
 mod common;
 
-use armsim::core::spatial::{Force, Inertia, Mat3, Vec3};
+use armsim::core::spatial::{Force, Vec3};
 use armsim::dynamics;
-use armsim::dynamics::{Effects, ExternalWrench, Friction, Payload, Rotor};
+use armsim::dynamics::Effects;
 use armsim::model::data::Data;
 use armsim::model::Model;
 use nalgebra::DMatrix;
@@ -189,59 +189,10 @@ fn aba_partials_equal_central_differences_of_forward_dynamics() {
     }
 }
 
-/// Every effect that has a derivative, on model `m`: tilted gravity, friction with a
-/// Stribeck bump (smoothed over 0.05 rad/s so that differences of step 1e-6 resolve it),
-/// rotors, a payload on the last body, and world-fixed wrenches on the last body and on
-/// a middle one.
-fn scene_effects(m: &Model, seed: u64) -> Effects {
-    let n = m.nv;
-    let mut rng = SmallRng::seed_from_u64(seed);
-    let mut pick =
-        |lo: f64, hi: f64| -> Vec<f64> { (0..n).map(|_| rng.random_range(lo..hi)).collect() };
-    let coulomb = pick(0.1, 0.6);
-    let stiction = coulomb.iter().map(|c| c + 0.3).collect();
-    let on_body = |b: usize| m.links.iter().position(|l| l.body == b).unwrap();
-    let (tool, middle) = (on_body(m.nbodies() - 1), on_body(m.nbodies() / 2));
-    let payload = Inertia::new(
-        1.5,
-        Vec3::new(0.02, -0.01, 0.06),
-        Mat3::from_diagonal(&Vec3::new(0.004, 0.006, 0.003)),
-    );
-    Effects {
-        gravity: Some(Vec3::new(0.3, -0.2, -9.81)),
-        friction: Some(Friction {
-            viscous: pick(0.1, 0.8),
-            coulomb,
-            stiction,
-            stribeck_velocity: pick(0.3, 1.0),
-            smoothing: 0.05,
-        }),
-        rotor: Some(Rotor {
-            inertia: pick(1e-5, 5e-5),
-            gear_ratio: pick(50.0, 120.0),
-            efficiency: vec![0.9; n],
-        }),
-        elasticity: None,
-        payload: Some(Payload::new(m, tool, payload).unwrap()),
-        external: vec![
-            ExternalWrench {
-                link: tool,
-                force: Vec3::new(3.0, -2.0, 5.0),
-                moment: Vec3::new(0.2, 0.1, -0.3),
-            },
-            ExternalWrench {
-                link: middle,
-                force: Vec3::new(-1.0, 4.0, 2.0),
-                moment: Vec3::new(-0.4, 0.3, 0.5),
-            },
-        ],
-    }
-}
-
 #[test]
 fn inverse_dynamics_partials_with_effects_equal_central_differences() {
     for (name, m) in models() {
-        let fx = scene_effects(&m, 3);
+        let fx = common::scene_effects(&m, 3);
         let mut d = Data::new(&m);
         let mut fd = Data::new(&m);
         for (s, st) in states(&m, 3, 17).iter().enumerate() {
@@ -270,7 +221,7 @@ fn inverse_dynamics_partials_with_effects_equal_central_differences() {
 #[test]
 fn forward_dynamics_partials_with_effects_equal_central_differences() {
     for (name, m) in models() {
-        let fx = scene_effects(&m, 4);
+        let fx = common::scene_effects(&m, 4);
         let mut d = Data::new(&m);
         let mut fd = Data::new(&m);
         for (s, st) in states(&m, 3, 29).iter().enumerate() {

@@ -151,6 +151,15 @@ fn assert_dynamics_allocate_nothing(
     let f_ext = vec![armsim::core::spatial::Force::new(Vec3::x(), Vec3::y()); model.nbodies()];
     // The derivatives size their buffers on their first call.
     let _ = dynamics::aba_derivatives(model, data, q, qd, qd);
+    let rigid = dynamics::Effects {
+        elasticity: None,
+        ..all.clone()
+    };
+    let mut steps = [
+        dynamics::StepScheme::SemiImplicitEuler,
+        dynamics::StepScheme::Rk4,
+    ]
+    .map(|s| dynamics::StepLinearisation::new(model, s, 1e-3).unwrap());
     let before = allocs();
     for _ in 0..100 {
         dynamics::rnea_derivatives(model, data, q, qd, qd);
@@ -169,6 +178,11 @@ fn assert_dynamics_allocate_nothing(
         let _ = dynamics::forward_dynamics(model, data, q, qd, qd);
         let _ = dynamics::forward_dynamics_crba(model, data, q, qd, qd);
         dynamics::inverse_dynamics(model, data, &all, q, qd, qd);
+        dynamics::inverse_dynamics_derivatives(model, data, &rigid, q, qd, qd);
+        let _ = dynamics::forward_dynamics_derivatives(model, data, &rigid, q, qd, qd);
+        for s in &mut steps {
+            let _ = s.linearise(model, data, &rigid, q, qd, qd);
+        }
         dynamics::mass_matrix(model, data, &all, q);
         let _ = dynamics::forward_dynamics_with(model, data, &all, q, qd, qd);
         let _ = dynamics::elastic_forward_dynamics(model, data, &all, q, qd, q, qd, qd, &mut thdd);

@@ -1,6 +1,7 @@
 //! Rigid-body dynamics: Newton–Euler (RNEA, also on eight states in SIMD lanes), the mass matrix (CRBA), forward dynamics
 //! (ABA, also in SIMD lanes, and CRBA + Cholesky), `M⁻¹`, the analytical derivatives of inverse and forward
-//! dynamics (Carpentier & Mansard), energies, the switchable effects, and the two Lagrange
+//! dynamics (Carpentier & Mansard, also with the scene's effects) and the linearised
+//! integration step built on them (A, B for MPC), energies, the switchable effects, and the two Lagrange
 //! formulations (the textbook's trace form and the energy/Christoffel form) with the
 //! Coriolis matrix. Each algorithm is one file citing the equations it implements.
 //!
@@ -20,6 +21,7 @@ mod aba;
 mod aba_derivatives;
 pub mod aba_lanes;
 mod crba;
+mod discrete_linearisation;
 mod effects;
 mod effects_derivatives;
 mod energy;
@@ -40,6 +42,7 @@ pub use aba_derivatives::{aba_derivatives, AbaPartials};
 pub use aba_lanes::{aba_rows, AbaLanes};
 pub use crba::crba;
 pub(crate) use crba::crba_impl;
+pub use discrete_linearisation::{LinearisationError, StepLinearisation, StepScheme};
 pub use effects::{
     inverse_dynamics, mass_matrix, Effects, EffectsError, Elasticity, ExternalWrench, Friction,
     Payload, Rotor,

@@ -217,3 +217,55 @@ pub fn planar_2r_closed_form(q: &[f64], qd: &[f64], qdd: &[f64]) -> ([f64; 3], [
     ];
     ([m11, m12, m22], tau)
 }
+
+/// Every effect that has a derivative, on model `m`: tilted gravity, friction with a
+/// Stribeck bump (smoothed over 0.05 rad/s so that differences of step 1e-6 resolve it),
+/// rotors, a payload on the last body, and world-fixed wrenches on the last body and on
+/// a middle one.
+pub fn scene_effects(m: &Model, seed: u64) -> armsim::dynamics::Effects {
+    use armsim::core::spatial::Inertia;
+    use armsim::dynamics::{Effects, ExternalWrench, Friction, Payload, Rotor};
+    use rand::{Rng, SeedableRng};
+    let n = m.nv;
+    let mut rng = rand::rngs::SmallRng::seed_from_u64(seed);
+    let mut pick =
+        |lo: f64, hi: f64| -> Vec<f64> { (0..n).map(|_| rng.random_range(lo..hi)).collect() };
+    let coulomb = pick(0.1, 0.6);
+    let stiction = coulomb.iter().map(|c| c + 0.3).collect();
+    let on_body = |b: usize| m.links.iter().position(|l| l.body == b).unwrap();
+    let (tool, middle) = (on_body(m.nbodies() - 1), on_body(m.nbodies() / 2));
+    let payload = Inertia::new(
+        1.5,
+        Vec3::new(0.02, -0.01, 0.06),
+        Mat3::from_diagonal(&Vec3::new(0.004, 0.006, 0.003)),
+    );
+    Effects {
+        gravity: Some(Vec3::new(0.3, -0.2, -9.81)),
+        friction: Some(Friction {
+            viscous: pick(0.1, 0.8),
+            coulomb,
+            stiction,
+            stribeck_velocity: pick(0.3, 1.0),
+            smoothing: 0.05,
+        }),
+        rotor: Some(Rotor {
+            inertia: pick(1e-5, 5e-5),
+            gear_ratio: pick(50.0, 120.0),
+            efficiency: vec![0.9; n],
+        }),
+        elasticity: None,
+        payload: Some(Payload::new(m, tool, payload).unwrap()),
+        external: vec![
+            ExternalWrench {
+                link: tool,
+                force: Vec3::new(3.0, -2.0, 5.0),
+                moment: Vec3::new(0.2, 0.1, -0.3),
+            },
+            ExternalWrench {
+                link: middle,
+                force: Vec3::new(-1.0, 4.0, 2.0),
+                moment: Vec3::new(-0.4, 0.3, 0.5),
+            },
+        ],
+    }
+}
