@@ -20,6 +20,10 @@
 //! instruction set: the positions agree with the scalar FK to rounding (tested to 1e-12 m)
 //! and are bitwise the same on every [`Isa`].
 //!
+//! [`ToolChain::for_pose`] keeps every rotation and [`ToolChain::poses`] returns the link's
+//! full pose (rotation and translation), for batched frame placements
+//! ([`crate::kinematics::pose_lanes`]).
+//!
 //! The planner's collision checker batches in `f32` lanes (`planning::simd`); a workspace
 //! volume needs the `f64` positions of the scalar FK, hence this separate kernel.
 
@@ -59,6 +63,10 @@ pub struct ToolChain {
     steps: Vec<Step>,
     /// The link's offset in its body frame (translation).
     offset: [f64; 3],
+    /// The offset's rotation (row-major), for [`ToolChain::poses`].
+    offset_rot: [f64; 9],
+    /// Every rotation is kept ([`ToolChain::for_pose`]): [`ToolChain::poses`] may run.
+    full_pose: bool,
     nq: usize,
     isa: Isa,
 }
@@ -119,14 +127,27 @@ impl ToolChain {
                 }
             })
             .collect();
-        let o = l.offset.trans;
+        let (o, r) = (l.offset.trans, &l.offset.rot);
         let mut chain = ToolChain {
             steps,
             offset: [o.x, o.y, o.z],
+            offset_rot: std::array::from_fn(|k| r[(k / 3, k % 3)]),
+            full_pose: false,
             nq: model.nv,
             isa: Isa::at_most(None),
         };
         chain.skip_unused_rotations();
+        Some(chain)
+    }
+
+    /// [`ToolChain::new`] keeping every rotation, for the link's full pose
+    /// ([`ToolChain::poses`]).
+    pub fn for_pose(model: &Model, link: usize) -> Option<ToolChain> {
+        let mut chain = ToolChain::new(model, link)?;
+        for st in &mut chain.steps {
+            (st.place_rot, st.joint_rot) = (true, true);
+        }
+        chain.full_pose = true;
         Some(chain)
     }
 
@@ -211,6 +232,72 @@ impl ToolChain {
             }
         }
     }
+}
+
+impl ToolChain {
+    /// World poses of the link for eight configurations (a chain from
+    /// [`ToolChain::for_pose`]): `out[0..9]` the rotation row-major, `out[9..12]` the
+    /// translation, each `[lane]`; the scalar `frame_placement`'s operations in its order.
+    pub fn poses(&self, q: &[Lanes], out: &mut [Lanes; 12]) {
+        assert!(
+            self.full_pose,
+            "poses need a chain from ToolChain::for_pose"
+        );
+        assert_eq!(q.len(), self.nq, "one lane array per coordinate");
+        #[cfg(target_arch = "x86_64")]
+        match self.isa {
+            // SAFETY: `isa` is at most what `Isa::detected` found on this CPU.
+            Isa::Avx512 => return unsafe { poses_avx512(self, q, out) },
+            Isa::Avx2 => return unsafe { poses_avx2(self, q, out) },
+            Isa::Baseline => {}
+        }
+        self.poses_lanes(q, out);
+    }
+
+    /// [`Self::poses`] compiled with the caller's instruction set.
+    #[inline(always)]
+    fn poses_lanes(&self, q: &[Lanes], out: &mut [Lanes; 12]) {
+        let mut pose = Pose8 {
+            r: [[0.0; LANES]; 9],
+            t: [[0.0; LANES]; 3],
+        };
+        for st in &self.steps {
+            let mut qs = [0.0; LANES];
+            for (l, v) in qs.iter_mut().enumerate() {
+                *v = q[st.q_index][l] * st.q_mult + st.q_offset;
+            }
+            step(st, &mut pose, &qs);
+        }
+        // oM_link = oM_body · offset: R = R_b R_o, t = R_b o + t_b.
+        let (r, m, o) = (&pose.r, &self.offset_rot, &self.offset);
+        for row in 0..3 {
+            for c in 0..3 {
+                for l in 0..LANES {
+                    out[3 * row + c][l] = (r[3 * row][l] * m[c] + r[3 * row + 1][l] * m[3 + c])
+                        + r[3 * row + 2][l] * m[6 + c];
+                }
+            }
+            for l in 0..LANES {
+                out[9 + row][l] = ((r[3 * row][l] * o[0] + r[3 * row + 1][l] * o[1])
+                    + r[3 * row + 2][l] * o[2])
+                    + pose.t[row][l];
+            }
+        }
+    }
+}
+
+/// Runs `poses_lanes` compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn poses_avx2(chain: &ToolChain, q: &[Lanes], out: &mut [Lanes; 12]) {
+    chain.poses_lanes(q, out)
+}
+
+/// Runs `poses_lanes` compiled for AVX-512.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl,avx512dq")]
+unsafe fn poses_avx512(chain: &ToolChain, q: &[Lanes], out: &mut [Lanes; 12]) {
+    chain.poses_lanes(q, out)
 }
 
 /// Runs `positions_lanes` compiled for AVX2.

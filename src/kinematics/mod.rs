@@ -1,11 +1,14 @@
 //! Kinematics: forward kinematics (placements, velocities, accelerations), geometric
-//! Jacobians and their time derivatives in three expressions, and the dexterity measures.
+//! Jacobians and their time derivatives in three expressions, and the dexterity measures;
+//! one link's position ([`fk_lanes`]) or pose ([`pose_lanes`]) for eight configurations at
+//! once in SIMD lanes.
 
 mod fk;
 pub mod fk_lanes;
 pub mod ik;
 mod jacobian;
 mod manipulability;
+pub mod pose_lanes;
 pub mod spatial_loop;
 
 pub(crate) use fk::{body_q, body_rate, joint_motion};
