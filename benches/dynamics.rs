@@ -1,5 +1,6 @@
 //! Criterion benchmarks: RNEA and ABA (one state, and 256 states eight at a time in SIMD
-//! lanes: `*_batch`, per 256 states), CRBA, the RNEA and ABA derivatives and `M⁻¹` on UR5, Panda (9 DOF, fingers as independent
+//! lanes: `*_batch`, per 256 states), CRBA, the RNEA and ABA derivatives, `M⁻¹` and the linearised
+//! semi-implicit Euler and RK4 steps (`linearise_euler`, `linearise_rk4`) on UR5, Panda (9 DOF, fingers as independent
 //! joints as in Pinocchio), iiwa and generated 50-, 100- and 200-joint chains, cycling over
 //! 256 random states. Run: `cargo bench --bench dynamics`.
 
@@ -109,7 +110,25 @@ fn dynamics_benches(c: &mut Criterion) {
                 let _ = dynamics::compute_minverse(&model, &mut data, black_box(&qs[s]));
             })
         });
-        // The MPC step linearisation (A, B) with the model's gravity, 1 ms step.
+        g_.finish();
+    }
+}
+
+/// The MPC step linearisation (A, B) with the model's gravity, 1 ms step, in the same
+/// groups as the derivatives it rests on.
+fn linearisation_benches(c: &mut Criterion) {
+    for model in models() {
+        let nv = model.nv;
+        let qs = random_states(&model, 0x5eed);
+        let vs = random_unit_states(nv, 0x5eee);
+        let ws = random_unit_states(nv, 0x5eef);
+        let mut data = Data::new(&model);
+        let mut g_ = c.benchmark_group(model.name.clone());
+        let mut k = 0usize;
+        let mut next = move || {
+            k = (k + 1) % STATES;
+            k * nv..(k + 1) * nv
+        };
         let fx = dynamics::Effects::gravity(model.gravity);
         for (label, scheme) in [
             ("linearise_euler", dynamics::StepScheme::SemiImplicitEuler),
@@ -170,6 +189,6 @@ criterion_group! {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(40).warm_up_time(std::time::Duration::from_millis(400)).measurement_time(std::time::Duration::from_secs(2));
-    targets = dynamics_benches
+    targets = dynamics_benches, linearisation_benches
 }
 criterion_main!(benches, lagrange);

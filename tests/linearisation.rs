@@ -87,7 +87,8 @@ const SCHEMES: [StepScheme; 2] = [StepScheme::SemiImplicitEuler, StepScheme::Rk4
 #[test]
 fn a_and_b_equal_central_differences_of_the_step() {
     let h = 0.01;
-    for (name, m) in common::test_models(8) {
+    // chain_30 takes the blocked-product path (above 24 coordinates).
+    for (name, m) in common::test_models(30) {
         let fx = common::scene_effects(&m, 7);
         let (mut d, mut fd) = (Data::new(&m), Data::new(&m));
         let mut rng = SmallRng::seed_from_u64(13);

@@ -121,7 +121,7 @@ fn solve_accelerations(model: &Model, data: &mut Data) -> Result<(), SingularMas
 
 /// Up to this many coordinates [`neg_product`] sums columns directly; above, the blocked
 /// product of nalgebra (matrixmultiply) is faster.
-const DIRECT_PRODUCT_MAX: usize = 24;
+pub(crate) const DIRECT_PRODUCT_MAX: usize = 24;
 
 /// `out = −a b` for square column-major matrices: at arm sizes column by column as sums
 /// of `a`'s columns (contiguous, so the inner loop vectorises, and no packing), else the

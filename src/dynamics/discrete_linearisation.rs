@@ -21,6 +21,7 @@
 //! allocates.
 
 use crate::core::linalg::SingularMassMatrix;
+use crate::dynamics::aba_derivatives::DIRECT_PRODUCT_MAX;
 use crate::dynamics::{forward_dynamics_derivatives, Effects};
 use crate::model::data::Data;
 use crate::model::Model;
@@ -86,6 +87,8 @@ pub struct StepLinearisation {
     dxu: DMatrix<f64>,
     k: DMatrix<f64>,
     ku: DMatrix<f64>,
+    /// The lower block row of `F_i`, `[∂q̈/∂q  ∂q̈/∂q̇]` (n × 2n).
+    fx: DMatrix<f64>,
 }
 
 impl StepLinearisation {
@@ -107,6 +110,7 @@ impl StepLinearisation {
             dxu: DMatrix::zeros(n2, n),
             k: DMatrix::zeros(n2, n2),
             ku: DMatrix::zeros(n2, n),
+            fx: DMatrix::zeros(n, n2),
         })
     }
 
@@ -248,27 +252,10 @@ impl StepLinearisation {
             // k_i = (q̇_i, q̈_i); K_i = F_i ∂x_i/∂x; K^u_i = F_i ∂x_i/∂u + G_i.
             self.stage_k[..n].copy_from_slice(xv);
             self.stage_k[n..].copy_from_slice(&data.qdd);
-            let (n2, kk, ku) = (2 * n, self.k.as_mut_slice(), self.ku.as_mut_slice());
-            for (kc, dc) in kk
-                .chunks_exact_mut(n2)
-                .zip(self.dx.as_slice().chunks_exact(n2))
-            {
-                kc[..n].copy_from_slice(&dc[n..]);
-                kc[n..].fill(0.0);
-                add_product(&mut kc[n..], p.ddq_dq.as_slice(), &dc[..n]);
-                add_product(&mut kc[n..], p.ddq_dv.as_slice(), &dc[n..]);
-            }
-            let minv = p.minv.as_slice().chunks_exact(n);
-            for ((kc, dc), mc) in ku
-                .chunks_exact_mut(n2)
-                .zip(self.dxu.as_slice().chunks_exact(n2))
-                .zip(minv)
-            {
-                kc[..n].copy_from_slice(&dc[n..]);
-                kc[n..].copy_from_slice(mc);
-                add_product(&mut kc[n..], p.ddq_dq.as_slice(), &dc[..n]);
-                add_product(&mut kc[n..], p.ddq_dv.as_slice(), &dc[n..]);
-            }
+            self.fx.as_mut_slice()[..n * n].copy_from_slice(p.ddq_dq.as_slice());
+            self.fx.as_mut_slice()[n * n..].copy_from_slice(p.ddq_dv.as_slice());
+            stage_rates(&self.fx, &self.dx, &mut self.k, None);
+            stage_rates(&self.fx, &self.dxu, &mut self.ku, Some(&p.minv));
             let s = w * h / 6.0;
             add_scaled(self.a.as_mut_slice(), s, self.k.as_slice());
             add_scaled(self.b.as_mut_slice(), s, self.ku.as_slice());
@@ -285,13 +272,31 @@ fn add_scaled(y: &mut [f64], s: f64, x: &[f64]) {
     }
 }
 
-/// `y += A x` for a square column-major `A` of side `y.len()`: a sum of `A`'s columns
-/// (contiguous, so it vectorises; nalgebra's general product would allocate its packing
-/// buffers on every call).
-fn add_product(y: &mut [f64], a: &[f64], x: &[f64]) {
-    for (col, xk) in a.chunks_exact(y.len()).zip(x) {
-        for (y, m) in y.iter_mut().zip(col) {
-            *y += xk * m;
+/// `K = F X + [0; G]`: the top half of `K` is the lower half of `X` (`F = [[0, I], [f]]`),
+/// the lower half `f X` (plus `G = M̃⁻¹` for the torque columns). At arm sizes column by
+/// column as sums of `f`'s columns (contiguous, vectorised, no allocation), else nalgebra's
+/// blocked product, which allocates its packing buffers but is several times faster there.
+fn stage_rates(f: &DMatrix<f64>, x: &DMatrix<f64>, k: &mut DMatrix<f64>, g: Option<&DMatrix<f64>>) {
+    let n = f.nrows();
+    k.rows_mut(0, n).copy_from(&x.rows(n, n));
+    match g {
+        Some(g) => k.rows_mut(n, n).copy_from(g),
+        None => k.rows_mut(n, n).fill(0.0),
+    }
+    if n > DIRECT_PRODUCT_MAX {
+        k.rows_mut(n, n).gemm(1.0, f, x, 1.0);
+        return;
+    }
+    let (fs, n2) = (f.as_slice(), 2 * n);
+    for (kc, xc) in k
+        .as_mut_slice()
+        .chunks_exact_mut(n2)
+        .zip(x.as_slice().chunks_exact(n2))
+    {
+        for (col, xk) in fs.chunks_exact(n).zip(xc.iter()) {
+            for (y, m) in kc[n..].iter_mut().zip(col) {
+                *y += xk * m;
+            }
         }
     }
 }

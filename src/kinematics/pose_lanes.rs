@@ -53,11 +53,7 @@ impl PoseLanes {
             self.q.len() == nv && self.link < model.links.len(),
             "PoseLanes was built for another model"
         );
-        let n = if nv == 0 {
-            out.len() / POSE_VALUES
-        } else {
-            q.len() / nv
-        };
+        let n = q.len().checked_div(nv).unwrap_or(out.len() / POSE_VALUES);
         assert!(
             q.len() == n * nv && out.len() == n * POSE_VALUES,
             "q needs nv values and out 16 values per row"
