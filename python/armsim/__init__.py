@@ -2,7 +2,8 @@
 
 Pinocchio-style functions on ``Model``/``Data`` (``forward_kinematics``,
 ``frame_jacobian``, ``rnea``, ``aba``, ``crba``, ``compute_generalized_gravity``, the
-analytical derivatives ``rnea_derivatives``, ``aba_derivatives`` and ``compute_minverse``), the
+analytical derivatives ``rnea_derivatives``, ``aba_derivatives`` and ``compute_minverse``, and
+``linearise_step``, the A and B of one RK4 or semi-implicit Euler step for MPC), the
 ``Robot`` facade, batches on ``(N, nq)`` arrays that run on all cores without the GIL,
 scenario runs and workspace sampling. ``from_pinocchio_order`` / ``to_pinocchio_order``
 convert vectors between Pinocchio's joint order and armsim's (``model.joint_names``).
@@ -41,6 +42,7 @@ from ._armsim import (  # noqa: F401  (re-exports)
     gravity_batch,
     ik_batch,
     jacobian_batch,
+    linearise_step,
     nonlinear_effects,
     plan,
     rnea,
@@ -56,7 +58,7 @@ __all__ = [
     "IK_KEYWORDS", "from_pinocchio_order", "to_pinocchio_order",
     "forward_kinematics", "frame_jacobian", "rnea", "aba", "crba",
     "compute_generalized_gravity", "gravity", "nonlinear_effects",
-    "rnea_derivatives", "aba_derivatives", "compute_minverse",
+    "rnea_derivatives", "aba_derivatives", "compute_minverse", "linearise_step",
     "rnea_batch", "aba_batch", "gravity_batch", "fk_batch", "jacobian_batch", "ik_batch",
     "sample_poses", "run_scenario", "workspace", "plan",
 ]

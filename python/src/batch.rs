@@ -1,10 +1,11 @@
 //! Batches on `(N, nq)` arrays: RNEA, ABA, gravity, FK, Jacobians and IK. Inputs are
 //! checked under the GIL, then the rows run on rayon with the GIL released, one
-//! workspace per chunk of rows (nothing allocated per row except IK's answers). RNEA and
-//! ABA run eight rows at a time in SIMD lanes (`dynamics::rnea_lanes`, `aba_lanes`).
+//! workspace per chunk of rows (nothing allocated per row except IK's answers). RNEA,
+//! ABA and FK run eight rows at a time in SIMD lanes (`dynamics::rnea_lanes`, `aba_lanes`,
+//! `kinematics::pose_lanes`).
 
 use crate::args::{self, rows};
-use crate::convert::{se3_from_4x4, se3_to_4x4};
+use crate::convert::se3_from_4x4;
 use crate::dyn_calls;
 use crate::errors::err;
 use crate::ik::{self, IkResult};
@@ -210,7 +211,9 @@ pub fn gravity_batch<'py>(
     shaped(py, out, &[n, nv])
 }
 
-/// The world placement of `frame` for every row of `Q`: an `(N, 4, 4)` array.
+/// The world placement of `frame` for every row of `Q`: an `(N, 4, 4)` array. Eight rows at
+/// a time in SIMD lanes over the frame's support chain (`kinematics::pose_lanes`; equal to
+/// `forward_kinematics` + the frame placement row by row to rounding).
 #[pyfunction]
 pub fn fk_batch<'py>(
     py: Python<'py>,
@@ -218,16 +221,33 @@ pub fn fk_batch<'py>(
     q: &Bound<'py, PyAny>,
     frame: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    use kinematics::pose_lanes::{PoseLanes, POSE_VALUES};
     let m = &*model.model;
     let nv = m.nv;
     let f = args::frame(m, frame)?;
     let q = rows(q, "Q", nv)?;
     let (n, qs) = (q.rows, q.slice());
-    let out = interrupt::batch_rows(py, m, n, 16, |d, i, row| {
-        kinematics::forward_kinematics(m, d, &qs[i * nv..(i + 1) * nv]);
-        se3_to_4x4(&kinematics::frame_placement(m, d, f), row);
-        Ok(())
-    })?;
+    // Eight rows in lanes cost about one scalar row.
+    let long = interrupt::is_long(m, n / 8, POSE_VALUES);
+    let out = interrupt::detached(py, long, |stop| {
+        let mut out = zeros(n, POSE_VALUES)?;
+        out.par_chunks_mut(POSE_VALUES * LANE_CHUNK)
+            .enumerate()
+            .try_for_each_init(
+                || PoseLanes::new(m, f),
+                |w, (c, chunk)| {
+                    if interrupt::stopped(&stop) {
+                        return Err(interrupt::CANCELLED.to_string());
+                    }
+                    let r0 = c * LANE_CHUNK;
+                    let rows = chunk.len() / POSE_VALUES;
+                    w.frame_poses(m, &qs[r0 * nv..(r0 + rows) * nv], chunk);
+                    Ok(())
+                },
+            )?;
+        Ok::<_, String>(out)
+    })?
+    .map_err(err)?;
     shaped(py, out, &[n, 4, 4])
 }
 

@@ -11,6 +11,7 @@ mod dyn_calls;
 mod errors;
 mod ik;
 mod interrupt;
+mod linearise;
 mod model;
 mod obstacles;
 mod plan;
@@ -43,6 +44,7 @@ fn _armsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(algorithms::rnea_derivatives, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::aba_derivatives, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::compute_minverse, m)?)?;
+    m.add_function(wrap_pyfunction!(linearise::linearise_step, m)?)?;
     m.add_function(wrap_pyfunction!(batch::rnea_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::aba_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::gravity_batch, m)?)?;
