@@ -1,5 +1,5 @@
 //! Criterion benchmarks: RNEA and ABA (one state, and 256 states eight at a time in SIMD
-//! lanes: `*_batch`, per 256 states), CRBA, the RNEA and ABA derivatives, `M⁻¹` and the linearised
+//! lanes: `*_batch`, per 256 states), CRBA (one state, and `crba_batch`), the RNEA and ABA derivatives, `M⁻¹` and the linearised
 //! semi-implicit Euler and RK4 steps (`linearise_euler`, `linearise_rk4`) on UR5, Panda (9 DOF, fingers as independent
 //! joints as in Pinocchio), iiwa and generated 50-, 100- and 200-joint chains, cycling over
 //! 256 random states. Run: `cargo bench --bench dynamics`.
@@ -54,6 +54,14 @@ fn dynamics_benches(c: &mut Criterion) {
             b.iter(|| {
                 let s = next();
                 dynamics::crba(&model, &mut data, black_box(&qs[s]));
+            })
+        });
+        let mut crba_lanes = dynamics::CrbaLanes::new(&model);
+        let mut mass = vec![0.0; qs.len() * nv];
+        g_.bench_function("crba_batch", |b| {
+            b.iter(|| {
+                dynamics::crba_rows(&model, &mut crba_lanes, black_box(&qs), &mut mass);
+                black_box(&mass);
             })
         });
         if model.has_mimic {

@@ -9,7 +9,7 @@ mod common;
 
 use armsim::core::simd_lanes::{Isa, Lanes, LANES};
 use armsim::core::spatial::Vec3;
-use armsim::dynamics::{self, AbaLanes, RneaLanes};
+use armsim::dynamics::{self, AbaLanes, CrbaLanes, RneaLanes};
 use armsim::model::data::Data;
 use armsim::model::Model;
 use rand::rngs::SmallRng;
@@ -288,6 +288,102 @@ fn aba_rows_equals_scalar_aba_with_tail_and_out_of_range_rows() {
                 (x - y).abs() <= 1e-10 * scale,
                 "{name} entry {k}: {x} against {y}"
             );
+        }
+    }
+}
+
+/// The scalar CRBA's `M` for every row of `q`, concatenated (column-major).
+fn scalar_crba_rows(m: &Model, q: &[f64]) -> Vec<f64> {
+    let mut d = Data::new(m);
+    let nv = m.nv;
+    (0..q.len() / nv)
+        .flat_map(|r| {
+            dynamics::crba(m, &mut d, &q[r * nv..(r + 1) * nv])
+                .as_slice()
+                .to_vec()
+        })
+        .collect()
+}
+
+#[test]
+fn crba_in_lanes_equals_scalar_crba_state_by_state() {
+    // Mimic joints included: CRBA sums G^T M G onto the independent coordinates.
+    for (name, m) in models() {
+        let (q, _, _) = rows(&m, LANES, 12);
+        let mut w = CrbaLanes::new(&m);
+        let got = w.crba(&m, &lanes(&q, m.nv, 0)).to_vec();
+        let want = scalar_crba_rows(&m, &q);
+        let nn = m.nv * m.nv;
+        for l in 0..LANES {
+            let lane: Vec<f64> = got.iter().map(|x| x[l]).collect();
+            assert_rel(
+                &format!("{name} lane {l}: M"),
+                &lane,
+                &want[l * nn..(l + 1) * nn],
+                1e-12,
+            );
+        }
+    }
+}
+
+#[test]
+fn crba_in_lanes_is_bitwise_the_same_on_every_instruction_set() {
+    for (name, m) in models() {
+        let (q, _, _) = rows(&m, LANES, 13);
+        let lq = lanes(&q, m.nv, 0);
+        let mut base = CrbaLanes::new(&m);
+        base.limit_isa(Isa::Baseline);
+        assert_eq!(base.isa(), Isa::Baseline);
+        let want: Vec<Lanes> = base.crba(&m, &lq).to_vec();
+        for isa in [Isa::Avx2, Isa::Avx512] {
+            if isa > Isa::detected() {
+                continue;
+            }
+            let mut w = CrbaLanes::new(&m);
+            w.limit_isa(isa);
+            let same = w
+                .crba(&m, &lq)
+                .iter()
+                .zip(&want)
+                .all(|(g, b)| g.map(f64::to_bits) == b.map(f64::to_bits));
+            assert!(same, "{name}: {isa:?} differs from the baseline");
+        }
+    }
+}
+
+#[test]
+fn crba_rows_equals_scalar_crba_with_tail_and_out_of_range_rows() {
+    for (name, m) in models() {
+        let n = 3 * LANES + 5;
+        let (mut q, _, _) = rows(&m, n, 14);
+        q[LANES * m.nv] = 2.5e4; // row 8, group 1: beyond the lane sin_cos range
+        let mut mass = vec![f64::NAN; n * m.nv * m.nv];
+        dynamics::crba_rows(&m, &mut CrbaLanes::new(&m), &q, &mut mass);
+        assert_rel(
+            &format!("{name}: M rows"),
+            &mass,
+            &scalar_crba_rows(&m, &q),
+            1e-12,
+        );
+    }
+}
+
+#[test]
+fn crba_in_lanes_inverts_aba_in_lanes() {
+    // M(q) (ABA(q, 0, τ) with gravity off) = τ: the mass matrix times ABA's q̈.
+    for (name, mut m) in aba_models() {
+        m.gravity = Vec3::zeros();
+        let (q, _, t) = rows(&m, LANES, 15);
+        let (nv, lq, lt) = (m.nv, lanes(&q, m.nv, 0), lanes(&t, m.nv, 0));
+        let zero = vec![[0.0; LANES]; nv];
+        let qdd = AbaLanes::new(&m).aba(&m, &lq, &zero, &lt).to_vec();
+        let mass = CrbaLanes::new(&m).crba(&m, &lq).to_vec();
+        for l in 0..LANES {
+            let tau: Vec<f64> = (0..nv)
+                .map(|r| (0..nv).map(|c| mass[c * nv + r][l] * qdd[c][l]).sum())
+                .collect();
+            let want: Vec<f64> = (0..nv).map(|k| lt[k][l]).collect();
+            assert_rel(&format!("{name} lane {l}: M q̈ = τ"), &tau, &want, 1e-9);
         }
     }
 }

@@ -82,6 +82,8 @@ pub enum AlgoArg {
     /// RNEA on batches of states, eight at a time in SIMD lanes (time per state).
     RneaBatch,
     Crba,
+    /// CRBA on batches of states, eight at a time in SIMD lanes (time per state).
+    CrbaBatch,
     Aba,
     /// ABA on batches of states, eight at a time in SIMD lanes (time per state).
     AbaBatch,
@@ -338,7 +340,7 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
     if iters == 0 {
         return Err("--iters must be positive".into());
     }
-    if matches!(algo, AlgoArg::Crba | AlgoArg::Lagrange)
+    if matches!(algo, AlgoArg::Crba | AlgoArg::CrbaBatch | AlgoArg::Lagrange)
         || (matches!(algo, AlgoArg::Aba | AlgoArg::AbaBatch) && model.has_mimic)
     {
         armsim::model::data::dense_fits(model).map_err(|m| format!("{}: {m}", model.source))?;
@@ -349,6 +351,7 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
         AlgoArg::Rnea => Algo::Rnea,
         AlgoArg::RneaBatch => Algo::RneaBatch,
         AlgoArg::Crba => Algo::Crba,
+        AlgoArg::CrbaBatch => Algo::CrbaBatch,
         AlgoArg::Lagrange => Algo::Lagrange,
         AlgoArg::Aba | AlgoArg::AbaBatch => {
             if model.has_mimic {
@@ -375,11 +378,7 @@ fn bench_cmd(model: &Model, algo: AlgoArg, iters: usize, as_json: bool) -> Resul
         }));
     } else {
         // A batched "call" is one state of a SIMD pass over eight.
-        let unit = if matches!(algo, Algo::RneaBatch | Algo::AbaBatch) {
-            "state"
-        } else {
-            "call"
-        };
+        let unit = if algo.is_batch() { "state" } else { "call" };
         println!(
             "{} {} (dof {}): {:.1} ns per {unit} (median of {} rounds, {} {unit}s)",
             model.name,

@@ -26,26 +26,13 @@
 
 use crate::core::simd_lanes::{sin_cos8, Isa, LaneBuf, Lanes, LANES};
 use crate::core::spatial::InertiaO;
+use crate::dynamics::lane_inertia::Art;
 use crate::dynamics::lane_spatial::{
-    add3, affine, cross, inertia_times, lane_rows, Joint, LaneKernel, Placement, SinCos, S6, V3,
-    ZERO3, ZERO6,
+    add3, affine, cross, inertia_times, lane_rows, Joint, LaneKernel, Placement, SinCos, S6, ZERO3,
+    ZERO6,
 };
 use crate::model::data::Data;
 use crate::model::{Model, WORLD};
-
-/// A 3×3 matrix per lane, `[row][column]`.
-type M3 = [V3; 3];
-
-const ZERO_M3: M3 = [ZERO3; 3];
-
-/// An articulated inertia `[[A, B], [Bᵀ, C]]` (linear, angular) per lane.
-#[derive(Clone, Copy)]
-#[repr(C, align(64))]
-struct Art {
-    a: M3,
-    b: M3,
-    c: M3,
-}
 
 /// The buffers of [`AbaLanes::aba`] for one model: the passes' (per body the velocity,
 /// velocity product, articulated inertia and bias force, `U`, `D⁻¹`, `u`, the joint
@@ -79,11 +66,7 @@ impl AbaLanes {
     /// CPU.
     pub fn new(model: &Model) -> AbaLanes {
         let (nb, nv) = (model.nbodies(), model.nv);
-        let art = Art {
-            a: ZERO_M3,
-            b: ZERO_M3,
-            c: ZERO_M3,
-        };
+        let art = Art::ZERO;
         AbaLanes {
             passes: Passes {
                 v: vec![ZERO6; nb],
@@ -305,174 +288,6 @@ fn bias_force(inertia: &InertiaO, v: &S6) -> S6 {
         }
     }
     p
-}
-
-/// `X` with `f` applied to each row: `Z[i][·] = f(X[i][·])`, so `Z = X Fᵀ` for a linear
-/// `f(x) = F x`.
-#[inline(always)]
-fn map_rows(x: &M3, f: impl Fn(&V3) -> V3) -> M3 {
-    [f(&x[0]), f(&x[1]), f(&x[2])]
-}
-
-/// `F X` for a linear `f(x) = F x`, column by column.
-#[inline(always)]
-fn map_cols(x: &M3, f: impl Fn(&V3) -> V3) -> M3 {
-    let mut out = ZERO_M3;
-    for c in 0..3 {
-        let col = f(&[x[0][c], x[1][c], x[2][c]]);
-        for r in 0..3 {
-            out[r][c] = col[r];
-        }
-    }
-    out
-}
-
-/// `Xᵀ`.
-#[inline(always)]
-fn transpose(x: &M3) -> M3 {
-    let mut out = ZERO_M3;
-    for r in 0..3 {
-        for c in 0..3 {
-            out[r][c] = x[c][r];
-        }
-    }
-    out
-}
-
-/// `x += y`.
-#[inline(always)]
-fn add_m3(x: &mut M3, y: &M3) {
-    for r in 0..3 {
-        add3(&mut x[r], &y[r]);
-    }
-}
-
-impl Art {
-    /// A rigid body's inertia: `A = m 1`, `B = −[h]×`, `C = I_O`.
-    #[inline(always)]
-    fn rigid(y: &InertiaO) -> Art {
-        let (m, h) = (y.m, y.h);
-        let splat = |x: f64| [x; LANES];
-        let b = [
-            [splat(0.0), splat(h.z), splat(-h.y)],
-            [splat(-h.z), splat(0.0), splat(h.x)],
-            [splat(h.y), splat(-h.x), splat(0.0)],
-        ];
-        let mut a = ZERO_M3;
-        let mut c = ZERO_M3;
-        for r in 0..3 {
-            a[r][r] = splat(m);
-            for k in 0..3 {
-                c[r][k] = splat(y.i_o[(r, k)]);
-            }
-        }
-        Art { a, b, c }
-    }
-
-    /// `I x = (A x_lin + B x_ang, Bᵀ x_lin + C x_ang)`.
-    #[inline(always)]
-    fn times(&self, x: &S6) -> S6 {
-        let mut out = ZERO6;
-        for r in 0..3 {
-            for l in 0..LANES {
-                out.lin[r][l] = ((self.a[r][0][l] * x.lin[0][l] + self.a[r][1][l] * x.lin[1][l])
-                    + self.a[r][2][l] * x.lin[2][l])
-                    + ((self.b[r][0][l] * x.ang[0][l] + self.b[r][1][l] * x.ang[1][l])
-                        + self.b[r][2][l] * x.ang[2][l]);
-                out.ang[r][l] = ((self.b[0][r][l] * x.lin[0][l] + self.b[1][r][l] * x.lin[1][l])
-                    + self.b[2][r][l] * x.lin[2][l])
-                    + ((self.c[r][0][l] * x.ang[0][l] + self.c[r][1][l] * x.ang[1][l])
-                        + self.c[r][2][l] * x.ang[2][l]);
-            }
-        }
-        out
-    }
-
-    /// Column `s` of the 6×6 matrix (`U = I S` for the unit motion `e_s`).
-    #[inline(always)]
-    fn column(&self, s: usize) -> S6 {
-        let mut out = ZERO6;
-        for r in 0..3 {
-            if s < 3 {
-                out.lin[r] = self.a[r][s];
-                out.ang[r] = self.b[s][r];
-            } else {
-                out.lin[r] = self.b[r][s - 3];
-                out.ang[r] = self.c[r][s - 3];
-            }
-        }
-        out
-    }
-
-    /// `I −= U D⁻¹ Uᵀ`.
-    #[inline(always)]
-    fn sub_rank_one(&mut self, u: &S6, d_inv: &Lanes) {
-        for r in 0..3 {
-            for c in 0..3 {
-                for l in 0..LANES {
-                    let (ul, ua) = (u.lin[r][l] * d_inv[l], u.ang[r][l] * d_inv[l]);
-                    self.a[r][c][l] -= ul * u.lin[c][l];
-                    self.b[r][c][l] -= ul * u.ang[c][l];
-                    self.c[r][c][l] -= ua * u.ang[c][l];
-                }
-            }
-        }
-    }
-
-    /// `self += o`.
-    #[inline(always)]
-    fn add(&mut self, o: &Art) {
-        add_m3(&mut self.a, &o.a);
-        add_m3(&mut self.b, &o.b);
-        add_m3(&mut self.c, &o.c);
-    }
-
-    /// `R · Rᵀ` on every block for the rotation `f(x) = R x`.
-    #[inline(always)]
-    fn rotate(&mut self, f: impl Fn(&V3) -> V3 + Copy) {
-        self.a = map_rows(&map_cols(&self.a, f), f);
-        self.b = map_rows(&map_cols(&self.b, f), f);
-        self.c = map_rows(&map_cols(&self.c, f), f);
-    }
-
-    /// The shift by `t` (`T = [t]×`): `B += (T A)ᵀ`, `C += T B + (T B)ᵀ + T (T A)ᵀ`
-    /// (with the old `B`).
-    #[inline(always)]
-    fn shift(&mut self, t: &V3) {
-        let tx = |x: &V3| cross(t, x);
-        let ta_t = transpose(&map_cols(&self.a, tx));
-        let tb = map_cols(&self.b, tx);
-        let t_ta_t = map_cols(&ta_t, tx);
-        add_m3(&mut self.b, &ta_t);
-        add_m3(&mut self.c, &tb);
-        add_m3(&mut self.c, &transpose(&tb));
-        add_m3(&mut self.c, &t_ta_t);
-    }
-
-    /// From the body frame to the joint's predecessor frame: `R_k · R_kᵀ`, or the shift
-    /// by `d = e_k θ`.
-    #[inline(always)]
-    fn joint_to_parent(&mut self, j: &Joint) {
-        if j.revolute {
-            self.rotate(|x| j.rotate(x, false));
-        } else {
-            let mut d = ZERO3;
-            d[j.k] = j.sc.0;
-            self.shift(&d);
-        }
-    }
-
-    /// Through the constant placement: rotate, then shift by its translation.
-    #[inline(always)]
-    fn placement_to_parent(&mut self, p: &Placement) {
-        if !p.identity {
-            self.rotate(|x| p.rot(x, false));
-        }
-        if !p.zero_trans {
-            let t = p.pose.trans;
-            self.shift(&[[t.x; LANES], [t.y; LANES], [t.z; LANES]]);
-        }
-    }
 }
 
 /// `q̈` for every row of the row-major `(n, nv)` arrays `q`, `qd`, `tau` into `qdd`

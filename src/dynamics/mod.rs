@@ -1,4 +1,4 @@
-//! Rigid-body dynamics: Newton–Euler (RNEA, also on eight states in SIMD lanes), the mass matrix (CRBA), forward dynamics
+//! Rigid-body dynamics: Newton–Euler (RNEA, also on eight states in SIMD lanes), the mass matrix (CRBA, also in SIMD lanes), forward dynamics
 //! (ABA, also in SIMD lanes, and CRBA + Cholesky), `M⁻¹`, the analytical derivatives of inverse and forward
 //! dynamics (Carpentier & Mansard, also with the scene's effects) and the linearised
 //! integration step built on them (A, B for MPC), energies, the switchable effects, and the two Lagrange
@@ -21,6 +21,7 @@ mod aba;
 mod aba_derivatives;
 pub mod aba_lanes;
 mod crba;
+pub mod crba_lanes;
 mod discrete_linearisation;
 mod effects;
 mod effects_derivatives;
@@ -28,6 +29,7 @@ mod energy;
 mod forward;
 mod lagrange_energy;
 mod lagrange_trace;
+mod lane_inertia;
 mod lane_spatial;
 mod minverse;
 mod rnea;
@@ -42,6 +44,7 @@ pub use aba_derivatives::{aba_derivatives, AbaPartials};
 pub use aba_lanes::{aba_rows, AbaLanes};
 pub use crba::crba;
 pub(crate) use crba::crba_impl;
+pub use crba_lanes::{crba_rows, CrbaLanes};
 pub use discrete_linearisation::{LinearisationError, StepLinearisation, StepScheme};
 pub use effects::{
     inverse_dynamics, mass_matrix, Effects, EffectsError, Elasticity, ExternalWrench, Friction,

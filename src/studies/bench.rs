@@ -26,6 +26,9 @@ pub enum Algo {
     RneaBatch,
     /// The full mass matrix (CRBA).
     Crba,
+    /// CRBA over the 256 states eight at a time in SIMD lanes ([`dynamics::crba_rows`]);
+    /// a "call" is one state.
+    CrbaBatch,
     /// Forward dynamics (ABA) at random q, q̇, τ.
     Aba,
     /// ABA over the 256 states eight at a time in SIMD lanes ([`dynamics::aba_rows`]);
@@ -44,10 +47,16 @@ impl Algo {
             Algo::Rnea => "rnea",
             Algo::RneaBatch => "rnea-batch",
             Algo::Crba => "crba",
+            Algo::CrbaBatch => "crba-batch",
             Algo::Aba => "aba",
             Algo::AbaBatch => "aba-batch",
             Algo::Lagrange => "lagrange",
         }
+    }
+
+    /// Whether a "call" is one state of a SIMD pass over eight.
+    pub fn is_batch(&self) -> bool {
+        matches!(self, Algo::RneaBatch | Algo::AbaBatch | Algo::CrbaBatch)
     }
 }
 
@@ -73,7 +82,7 @@ pub fn random_unit_states(n: usize, seed: u64) -> Vec<f64> {
 
 /// Median nanoseconds per call of `algo` over [`ROUNDS`] rounds of `iters / ROUNDS` calls.
 pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
-    if matches!(algo, Algo::RneaBatch | Algo::AbaBatch) {
+    if algo.is_batch() {
         return ns_per_batched_state(model, algo, iters);
     }
     let mut data = Data::new(model);
@@ -95,7 +104,9 @@ pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
                 Algo::Rnea => {
                     dynamics::rnea(model, data, q, &vs[s.clone()], &ws[s]);
                 }
-                Algo::RneaBatch | Algo::AbaBatch => unreachable!("timed by ns_per_batched_state"),
+                Algo::RneaBatch | Algo::AbaBatch | Algo::CrbaBatch => {
+                    unreachable!("timed by ns_per_batched_state")
+                }
                 Algo::Crba => {
                     dynamics::crba(model, data, q);
                 }
@@ -120,15 +131,25 @@ pub fn ns_per_call(model: &Model, algo: Algo, iters: usize) -> f64 {
     median_ns(per_round, |n| run(&mut data, n))
 }
 
-/// Median nanoseconds per state of [`dynamics::rnea_rows`] or [`dynamics::aba_rows`]
-/// over the [`STATES`] states (whole passes: at least one per round).
+/// Median nanoseconds per state of [`dynamics::rnea_rows`], [`dynamics::aba_rows`] or
+/// [`dynamics::crba_rows`] over the [`STATES`] states (whole passes: at least one per
+/// round).
 fn ns_per_batched_state(model: &Model, algo: Algo, iters: usize) -> f64 {
     let qs = random_states(model, 0x5eed);
     let vs = random_unit_states(model.nv, 0x5eee);
     let ws = random_unit_states(model.nv, 0x5eef);
     let mut out = vec![0.0; qs.len()];
     let passes = (iters / ROUNDS).div_ceil(STATES).max(1);
-    let per_pass = if algo == Algo::AbaBatch {
+    let per_pass = if algo == Algo::CrbaBatch {
+        let mut lanes = dynamics::CrbaLanes::new(model);
+        let mut mass = vec![0.0; qs.len() * model.nv];
+        median_ns(passes, |n| {
+            for _ in 0..n {
+                dynamics::crba_rows(model, &mut lanes, black_box(&qs), &mut mass);
+                black_box(&mut mass);
+            }
+        })
+    } else if algo == Algo::AbaBatch {
         let mut lanes = dynamics::AbaLanes::new(model);
         median_ns(passes, |n| {
             for _ in 0..n {
