@@ -411,3 +411,27 @@ def test_each_function_is_exported_and_documented_with_its_pinocchio_name():
         fn = getattr(am, name)
         assert name in am.__all__, name
         assert pin_name in (fn.__doc__ or ""), f"{name}'s docstring names {pin_name}"
+
+
+def test_mimic_joints_keep_the_identities(rng):
+    # Panda's finger joint mimics the other (armsim's default): one coordinate drives two
+    # bodies, through every new function.
+    m = am.Model.from_file(ROBOTS / "panda.urdf")
+    d = m.create_data()
+    assert m.nv == 8
+    q, v, a = next(states(m, rng))
+    finger = "panda_rightfinger"
+    assert_close(am.frame_velocity(m, d, q, v, finger), am.frame_jacobian(m, d, q, finger) @ v, "J v")
+    dj = am.frame_jacobian_time_variation(m, d, q, v, finger)
+    assert_close(dj @ v, am.frame_classical_acceleration(m, d, q, v, np.zeros(m.nv), finger), "dJ v")
+    c = am.compute_coriolis_matrix(m, d, q, v)
+    assert_close(c @ v, am.nonlinear_effects(m, d, q, v) - am.gravity(m, d, q), "C v = h - g")
+    assert_close(am.compute_kinetic_energy(m, d, q, v), 0.5 * v @ am.crba(m, d, q) @ v, "T", tol=1e-10)
+    fd = (am.center_of_mass(m, d, q + H * v) - am.center_of_mass(m, d, q - H * v)) / (2 * H)
+    assert_close(am.jacobian_center_of_mass(m, d, q) @ v, fd, "Jcom v", tol=1e-7)
+    w = {finger: rng.normal(size=6)}
+    p = random_payload("panda_leftfinger", rng)
+    tau = am.inverse_dynamics(m, d, q, v, a, wrenches=w, payload=p)
+    assert_close(am.forward_dynamics(m, d, q, v, tau, wrenches=w, payload=p), a, "fd(id)", tol=1e-7)
+    shift = am.frame_jacobian(m, d, q, finger).T @ w[finger]
+    assert_close(am.inverse_dynamics(m, d, q, v, a, payload=p) - shift, tau, "-J^T w")
