@@ -2,8 +2,12 @@
 
 Pinocchio-style functions on ``Model``/``Data`` (``forward_kinematics``,
 ``frame_jacobian``, ``rnea``, ``aba``, ``crba``, ``compute_generalized_gravity``, the
-analytical derivatives ``rnea_derivatives``, ``aba_derivatives`` and ``compute_minverse``, and
-``linearise_step``, the A and B of one RK4 or semi-implicit Euler step for MPC), the
+analytical derivatives ``rnea_derivatives``, ``aba_derivatives`` and ``compute_minverse``;
+``linearise_step``, the A and B of one RK4 or semi-implicit Euler step for MPC;
+``frame_velocity``, ``frame_acceleration``, ``frame_classical_acceleration``,
+``frame_jacobian_time_variation``; ``compute_kinetic_energy``, ``compute_potential_energy``,
+``compute_coriolis_matrix``; ``center_of_mass``, ``jacobian_center_of_mass``; and
+``inverse_dynamics`` / ``forward_dynamics`` with external wrenches and a payload), the
 ``Robot`` facade, batches on ``(N, nq)`` arrays that run on all cores without the GIL,
 scenario runs and workspace sampling. ``from_pinocchio_order`` / ``to_pinocchio_order``
 convert vectors between Pinocchio's joint order and armsim's (``model.joint_names``).
@@ -33,16 +37,27 @@ from ._armsim import (  # noqa: F401  (re-exports)
     aba,
     aba_batch,
     aba_derivatives,
+    center_of_mass,
+    compute_coriolis_matrix,
     compute_generalized_gravity,
+    compute_kinetic_energy,
     compute_minverse,
+    compute_potential_energy,
     crba,
     fk_batch,
+    forward_dynamics,
     forward_kinematics,
+    frame_acceleration,
+    frame_classical_acceleration,
     frame_jacobian,
+    frame_jacobian_time_variation,
+    frame_velocity,
     gravity_batch,
     ik_batch,
+    inverse_dynamics,
     jacobian_batch,
     linearise_step,
+    jacobian_center_of_mass,
     nonlinear_effects,
     plan,
     rnea,
@@ -59,6 +74,11 @@ __all__ = [
     "forward_kinematics", "frame_jacobian", "rnea", "aba", "crba",
     "compute_generalized_gravity", "gravity", "nonlinear_effects",
     "rnea_derivatives", "aba_derivatives", "compute_minverse", "linearise_step",
+    "rnea_derivatives", "aba_derivatives", "compute_minverse",
+    "frame_velocity", "frame_acceleration", "frame_classical_acceleration",
+    "frame_jacobian_time_variation", "compute_kinetic_energy", "compute_potential_energy",
+    "compute_coriolis_matrix", "center_of_mass", "jacobian_center_of_mass",
+    "inverse_dynamics", "forward_dynamics",
     "rnea_batch", "aba_batch", "gravity_batch", "fk_batch", "jacobian_batch", "ik_batch",
     "sample_poses", "run_scenario", "workspace", "plan",
 ]

@@ -44,10 +44,7 @@ pub fn frame_jacobian<'py>(
     let m = &*model.model;
     let q = vector(q, "q", m.nv)?;
     let f = args::frame(m, frame)?;
-    let e = match reference {
-        Some(r) => args::expressed_obj(r)?,
-        None => armsim::Expressed::WorldAligned,
-    };
+    let e = args::reference(reference)?;
     // SAFETY: a fresh C-ordered array, written in full (zeros, then the columns) before
     // Python sees it.
     let arr = unsafe { PyArray2::<f64>::new(py, [6, m.nv], false) };

@@ -241,6 +241,12 @@ pub fn frame_by_name(model: &Model, name: &str) -> PyResult<usize> {
     })
 }
 
+/// The optional `reference` argument of the frame functions: [`expressed_obj`], or
+/// `"world_aligned"` (LOCAL_WORLD_ALIGNED) when not given.
+pub fn reference(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Expressed> {
+    obj.map_or(Ok(Expressed::WorldAligned), expressed_obj)
+}
+
 /// [`expressed`] on a Python string, comparing with interned constants first (reading
 /// a `str` costs an allocation under the abi3 API of Python 3.9).
 pub fn expressed_obj(obj: &Bound<'_, PyAny>) -> PyResult<Expressed> {

@@ -1,16 +1,22 @@
-//! The Python extension `armsim._armsim`: Pinocchio-style functions on `Model`/`Data`,
+//! The Python extension `armsim._armsim`: Pinocchio-style functions on `Model`/`Data`
+//! (kinematics, frame velocities and accelerations, dynamics with wrenches and payload,
+//! energies, the Coriolis matrix, the centre of mass),
 //! the `Robot` facade, batches on rayon without the GIL (interruptible by Ctrl-C), scenario
 //! runs and workspace sampling. The package `armsim` (python/armsim) re-exports it and adds the Python
 //! parts (report dicts, `armsim.distributed`).
 
 mod algorithms;
+mod applied_loads;
 mod args;
 mod batch;
+mod com;
 mod convert;
 mod dyn_calls;
 mod errors;
+mod frame_motion;
 mod ik;
 mod interrupt;
+mod lagrangian;
 mod linearise;
 mod model;
 mod obstacles;
@@ -45,6 +51,23 @@ fn _armsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(algorithms::aba_derivatives, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::compute_minverse, m)?)?;
     m.add_function(wrap_pyfunction!(linearise::linearise_step, m)?)?;
+    m.add_function(wrap_pyfunction!(frame_motion::frame_velocity, m)?)?;
+    m.add_function(wrap_pyfunction!(frame_motion::frame_acceleration, m)?)?;
+    m.add_function(wrap_pyfunction!(
+        frame_motion::frame_classical_acceleration,
+        m
+    )?)?;
+    m.add_function(wrap_pyfunction!(
+        frame_motion::frame_jacobian_time_variation,
+        m
+    )?)?;
+    m.add_function(wrap_pyfunction!(lagrangian::compute_kinetic_energy, m)?)?;
+    m.add_function(wrap_pyfunction!(lagrangian::compute_potential_energy, m)?)?;
+    m.add_function(wrap_pyfunction!(lagrangian::compute_coriolis_matrix, m)?)?;
+    m.add_function(wrap_pyfunction!(com::center_of_mass, m)?)?;
+    m.add_function(wrap_pyfunction!(com::jacobian_center_of_mass, m)?)?;
+    m.add_function(wrap_pyfunction!(applied_loads::inverse_dynamics, m)?)?;
+    m.add_function(wrap_pyfunction!(applied_loads::forward_dynamics, m)?)?;
     m.add_function(wrap_pyfunction!(batch::rnea_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::aba_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::gravity_batch, m)?)?;

@@ -1,7 +1,8 @@
 //! Rigid-body dynamics: Newton–Euler (RNEA, also on eight states in SIMD lanes), the mass matrix (CRBA, also in SIMD lanes), forward dynamics
 //! (ABA, also in SIMD lanes, and CRBA + Cholesky), `M⁻¹`, the analytical derivatives of inverse and forward
 //! dynamics (Carpentier & Mansard, also with the scene's effects) and the linearised
-//! integration step built on them (A, B for MPC), energies, the switchable effects, and the two Lagrange
+//! integration step built on them (A, B for MPC), energies, the centre of mass and its
+//! Jacobian, the switchable effects, and the two Lagrange
 //! formulations (the textbook's trace form and the energy/Christoffel form) with the
 //! Coriolis matrix. Each algorithm is one file citing the equations it implements.
 //!
@@ -20,6 +21,7 @@
 mod aba;
 mod aba_derivatives;
 pub mod aba_lanes;
+mod center_of_mass;
 mod crba;
 pub mod crba_lanes;
 mod discrete_linearisation;
@@ -42,6 +44,7 @@ pub use crate::model::data::{EffectRuns, EffectSet};
 pub use aba::{aba, aba_with_forces};
 pub use aba_derivatives::{aba_derivatives, AbaPartials};
 pub use aba_lanes::{aba_rows, AbaLanes};
+pub use center_of_mass::{center_of_mass, jacobian_center_of_mass, total_mass};
 pub use crba::crba;
 pub(crate) use crba::crba_impl;
 pub use crba_lanes::{crba_rows, CrbaLanes};
