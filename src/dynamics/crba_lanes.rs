@@ -7,8 +7,11 @@
 //!   `M_iλ(j) = M_λ(j)i = S_λ(j)ᵀ F`;
 //! - `M_kk += I_a,k`.
 //!
-//! Composite inertias are [`Art`] blocks moved to the parent as the articulated inertias
-//! of [`crate::dynamics::aba_lanes`] are; forces go to the parent through the joint, then
+//! A composite inertia stays a rigid-body inertia (mass, first moment `h = m c`, `I_O`:
+//! ten numbers, not the 21 of a general spatial inertia), moved to the parent through the
+//! joint, then the placement: a rotation `h ← R h`, `I_O ← R I_O Rᵀ`, and a shift by `t`,
+//! `I_O ← I_O − (h tᵀ + t hᵀ) + (2 t·h + m |t|²) 1 − m t tᵀ`, `h ← h + m t` (the parallel
+//! axis theorem about the new origin). Forces go to the parent through the joint, then
 //! the placement, as in [`crate::dynamics::rnea_lanes`]. Mimic joints: body `i` is driven
 //! by `θ_i = m_i q_k + o_i`, so each entry is scaled by both bodies' multipliers and
 //! summed onto the independent coordinates (`Gᵀ M G`), as the scalar CRBA does. Same
@@ -24,8 +27,10 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::core::simd_lanes::{lanes_in_range, sin_cos8, Isa, LaneBuf, Lanes, LANES};
-use crate::dynamics::lane_inertia::Art;
-use crate::dynamics::lane_spatial::{affine, gather, Joint, Placement, SinCos, S6};
+use crate::core::spatial::InertiaO;
+use crate::dynamics::lane_spatial::{
+    affine, cross, gather, Joint, Placement, SinCos, S6, V3, ZERO3, ZERO6,
+};
 use crate::model::data::Data;
 use crate::model::{Model, WORLD};
 
@@ -40,7 +45,7 @@ pub struct CrbaLanes {
 }
 
 struct Passes {
-    ic: Vec<Art>,
+    ic: Vec<Composite>,
     sc: Vec<SinCos>,
     mass: LaneBuf,
     isa: Isa,
@@ -52,7 +57,7 @@ impl CrbaLanes {
         let (nb, nv) = (model.nbodies(), model.nv);
         CrbaLanes {
             passes: Passes {
-                ic: vec![Art::ZERO; nb],
+                ic: vec![Composite::ZERO; nb],
                 sc: vec![SinCos([0.0; LANES], [0.0; LANES]); nb],
                 mass: LaneBuf::zeros(nv * nv),
                 isa: Isa::at_most(None),
@@ -135,13 +140,17 @@ fn subspace_index(model: &Model, i: usize) -> usize {
     kind.axis_index() + if kind.is_revolute() { 3 } else { 0 }
 }
 
-/// Component `s` of a spatial vector (0–2 linear, 3–5 angular).
+/// Component `s` of a spatial vector (0–2 linear, 3–5 angular), by value through a
+/// match (an indexed read compiles to a gather).
 #[inline(always)]
-fn entry(x: &S6, s: usize) -> &Lanes {
-    if s < 3 {
-        &x.lin[s]
-    } else {
-        &x.ang[s - 3]
+fn entry(x: &S6, s: usize) -> Lanes {
+    match s {
+        0 => x.lin[0],
+        1 => x.lin[1],
+        2 => x.lin[2],
+        3 => x.ang[0],
+        4 => x.ang[1],
+        _ => x.ang[2],
     }
 }
 
@@ -157,14 +166,14 @@ fn crba_kernel(w: &mut Passes, model: &Model, q: &[Lanes]) {
         } else {
             SinCos(theta, [0.0; LANES])
         };
-        w.ic[i] = Art::rigid(&model.inertia_o[i]);
+        w.ic[i] = Composite::rigid(&model.inertia_o[i]);
     }
     for x in w.mass.iter_mut() {
         *x = [0.0; LANES];
     }
     for i in (0..nb).rev() {
         let (ki, mi) = (model.q_index[i], model.q_mult[i]);
-        let mut f = w.ic[i].column(subspace_index(model, i));
+        let mut f = w.ic[i].times_axis(model.kind[i].is_revolute(), model.kind[i].axis_index());
         let own = entry(&f, subspace_index(model, i));
         let d = &mut w.mass[ki * n + ki];
         for l in 0..LANES {
@@ -175,7 +184,7 @@ fn crba_kernel(w: &mut Passes, model: &Model, q: &[Lanes]) {
             f = Placement::of(model, j).force(&joint(model, w, j).force(&f));
             j = model.parent[j];
             let (kj, mj) = (model.q_index[j], model.q_mult[j]);
-            let x = *entry(&f, subspace_index(model, j));
+            let x = entry(&f, subspace_index(model, j));
             let scale = if kj == ki { 2.0 * mi * mj } else { mi * mj };
             for (at, once) in [(ki * n + kj, true), (kj * n + ki, kj != ki)] {
                 if once {
@@ -189,9 +198,23 @@ fn crba_kernel(w: &mut Passes, model: &Model, q: &[Lanes]) {
         let parent = model.parent[i];
         if parent != WORLD {
             let mut ic = w.ic[i];
-            ic.joint_to_parent(&joint(model, w, i));
-            ic.placement_to_parent(&Placement::of(model, i));
-            w.ic[parent].add(&ic);
+            let j = joint(model, w, i);
+            if j.revolute {
+                ic.rotate(|x| j.rotate(x, false));
+            } else {
+                let mut d = ZERO3;
+                d[j.k] = j.sc.0;
+                ic.shift(&d);
+            }
+            let p = Placement::of(model, i);
+            if !p.identity {
+                ic.rotate(|x| p.rot(x, false));
+            }
+            if !p.zero_trans {
+                let t = p.pose.trans;
+                ic.shift(&[[t.x; LANES], [t.y; LANES], [t.z; LANES]]);
+            }
+            ic.add_to(&mut w.ic[parent]);
         }
     }
     for k in 0..n {
@@ -202,6 +225,118 @@ fn crba_kernel(w: &mut Passes, model: &Model, q: &[Lanes]) {
                 d[l] += ia;
             }
         }
+    }
+}
+
+/// A rigid-body inertia per lane about the frame's origin: the mass (the same in every
+/// lane), the first moment `h = m c` and `I_O` (symmetric: xx, yy, zz, xy, xz, yz).
+#[derive(Clone, Copy)]
+struct Composite {
+    m: f64,
+    h: V3,
+    i: [Lanes; 6],
+}
+
+/// The `I_O` entry `(r, c)` in [`Composite::i`].
+const SYM: [[usize; 3]; 3] = [[0, 3, 4], [3, 1, 5], [4, 5, 2]];
+
+impl Composite {
+    const ZERO: Composite = Composite {
+        m: 0.0,
+        h: ZERO3,
+        i: [[0.0; LANES]; 6],
+    };
+
+    #[inline(always)]
+    fn rigid(y: &InertiaO) -> Composite {
+        let io = &y.i_o;
+        let entries = [
+            io[(0, 0)],
+            io[(1, 1)],
+            io[(2, 2)],
+            io[(0, 1)],
+            io[(0, 2)],
+            io[(1, 2)],
+        ];
+        Composite {
+            m: y.m,
+            h: [[y.h.x; LANES], [y.h.y; LANES], [y.h.z; LANES]],
+            i: entries.map(|x| [x; LANES]),
+        }
+    }
+
+    /// `into += self`.
+    #[inline(always)]
+    fn add_to(&self, into: &mut Composite) {
+        into.m += self.m;
+        for r in 0..3 {
+            for l in 0..LANES {
+                into.h[r][l] += self.h[r][l];
+            }
+        }
+        for e in 0..6 {
+            for l in 0..LANES {
+                into.i[e][l] += self.i[e][l];
+            }
+        }
+    }
+
+    /// `h ← R h`, `I_O ← R I_O Rᵀ` for the rotation `f(x) = R x`: `M = R I_O` column by
+    /// column, then `(R Mᵀ)ᵀ = R I_O Rᵀ` row by row.
+    #[inline(always)]
+    fn rotate(&mut self, f: impl Fn(&V3) -> V3 + Copy) {
+        self.h = f(&self.h);
+        let col = |c: usize| -> V3 { [self.i[SYM[0][c]], self.i[SYM[1][c]], self.i[SYM[2][c]]] };
+        let m = [f(&col(0)), f(&col(1)), f(&col(2))]; // m[c][r] = (R I)[r][c]
+        let rows: [V3; 3] = std::array::from_fn(|r| f(&[m[0][r], m[1][r], m[2][r]]));
+        // rows[r][a] = (R (R I)ᵀ)[a][r] = (R I Rᵀ)[r][a].
+        for (r, c) in [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)] {
+            self.i[SYM[r][c]] = rows[r][c];
+        }
+    }
+
+    /// The origin moves by `−t` (the old origin is at `t` in the new frame).
+    #[inline(always)]
+    fn shift(&mut self, t: &V3) {
+        let m = self.m;
+        let mut diag = [0.0; LANES];
+        for l in 0..LANES {
+            let th = (t[0][l] * self.h[0][l] + t[1][l] * self.h[1][l]) + t[2][l] * self.h[2][l];
+            let tt = (t[0][l] * t[0][l] + t[1][l] * t[1][l]) + t[2][l] * t[2][l];
+            diag[l] = 2.0 * th + m * tt;
+        }
+        for (r, c) in [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)] {
+            let e = &mut self.i[SYM[r][c]];
+            for l in 0..LANES {
+                let (hr, hc, tr, tc) = (self.h[r][l], self.h[c][l], t[r][l], t[c][l]);
+                e[l] -= (hr * tc + tr * hc) + m * tr * tc;
+                if r == c {
+                    e[l] += diag[l];
+                }
+            }
+        }
+        for r in 0..3 {
+            for l in 0..LANES {
+                self.h[r][l] += m * t[r][l];
+            }
+        }
+    }
+
+    /// `I S` for the unit motion about (revolute) or along axis `k`: `(e_k × h, I_O e_k)`,
+    /// or `(m e_k, h × e_k)`.
+    #[inline(always)]
+    fn times_axis(&self, revolute: bool, k: usize) -> S6 {
+        let mut e = ZERO3;
+        e[k] = [1.0; LANES];
+        let mut out = ZERO6;
+        if revolute {
+            out.lin = cross(&e, &self.h);
+            out.ang = [self.i[SYM[0][k]], self.i[SYM[1][k]], self.i[SYM[2][k]]];
+        } else {
+            out.lin[k] = [self.m; LANES];
+            out.ang = cross(&self.h, &e);
+        }
+        out
     }
 }
 
