@@ -56,14 +56,6 @@ fn dynamics_benches(c: &mut Criterion) {
                 dynamics::crba(&model, &mut data, black_box(&qs[s]));
             })
         });
-        let mut crba_lanes = dynamics::CrbaLanes::new(&model);
-        let mut mass = vec![0.0; qs.len() * nv];
-        g_.bench_function("crba_batch", |b| {
-            b.iter(|| {
-                dynamics::crba_rows(&model, &mut crba_lanes, black_box(&qs), &mut mass);
-                black_box(&mass);
-            })
-        });
         if model.has_mimic {
             g_.finish();
             continue;
@@ -122,9 +114,10 @@ fn dynamics_benches(c: &mut Criterion) {
     }
 }
 
-/// The MPC step linearisation (A, B) with the model's gravity, 1 ms step, in the same
-/// groups as the derivatives it rests on.
-fn linearisation_benches(c: &mut Criterion) {
+/// CRBA on the 256 states in SIMD lanes (`crba_batch`, per 256 states), and the MPC step
+/// linearisation (A, B) with the model's gravity, 1 ms step, in the same groups as the
+/// algorithms they rest on.
+fn crba_batch_and_linearisation_benches(c: &mut Criterion) {
     for model in models() {
         let nv = model.nv;
         let qs = random_states(&model, 0x5eed);
@@ -137,6 +130,14 @@ fn linearisation_benches(c: &mut Criterion) {
             k = (k + 1) % STATES;
             k * nv..(k + 1) * nv
         };
+        let mut crba_lanes = dynamics::CrbaLanes::new(&model);
+        let mut mass = vec![0.0; qs.len() * nv];
+        g_.bench_function("crba_batch", |b| {
+            b.iter(|| {
+                dynamics::crba_rows(&model, &mut crba_lanes, black_box(&qs), &mut mass);
+                black_box(&mass);
+            })
+        });
         let fx = dynamics::Effects::gravity(model.gravity);
         for (label, scheme) in [
             ("linearise_euler", dynamics::StepScheme::SemiImplicitEuler),
@@ -197,6 +198,6 @@ criterion_group! {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(40).warm_up_time(std::time::Duration::from_millis(400)).measurement_time(std::time::Duration::from_secs(2));
-    targets = dynamics_benches, linearisation_benches
+    targets = dynamics_benches, crba_batch_and_linearisation_benches
 }
 criterion_main!(benches, lagrange);
