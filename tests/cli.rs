@@ -150,6 +150,7 @@ fn bench_json_reports_ns_per_call_for_every_algorithm() {
         "rnea",
         "rnea-batch",
         "crba",
+        "crba-batch",
         "aba",
         "aba-batch",
         "lagrange",
