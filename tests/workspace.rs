@@ -755,3 +755,43 @@ fn csv_output() {
     assert_eq!(with_stats, r.voxels.len());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_raised_stop_flag_cancels_the_run_within_a_block() {
+    use armsim::workspace::WorkspaceError;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    let m = Model::load(std::path::Path::new("robots/ur5.urdf"))
+        .unwrap()
+        .0;
+    // Raised before the start: nothing but the pilot runs.
+    let stop = Arc::new(AtomicBool::new(true));
+    let o = WorkspaceOptions {
+        stop: Some(stop),
+        ..opts(1 << 22, 4, Sampling::Sobol, 0.05)
+    };
+    assert!(matches!(
+        sample_workspace(&m, &o),
+        Err(WorkspaceError::Cancelled)
+    ));
+    // Raised 50 ms into a run of 2^28 samples (tens of seconds here): it ends within a
+    // block of 65 536 samples per replicate.
+    let stop = Arc::new(AtomicBool::new(false));
+    let o = WorkspaceOptions {
+        stop: Some(stop.clone()),
+        ..opts(1 << 28, 4, Sampling::Sobol, 0.05)
+    };
+    let raiser = std::thread::spawn(move || {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        stop.store(true, Ordering::Relaxed);
+    });
+    let t = std::time::Instant::now();
+    let r = sample_workspace(&m, &o);
+    raiser.join().unwrap();
+    assert!(
+        matches!(r, Err(WorkspaceError::Cancelled)),
+        "{:?}",
+        r.map(|r| r.estimate.measure)
+    );
+    assert!(t.elapsed().as_secs_f64() < 5.0, "took {:?}", t.elapsed());
+}

@@ -93,7 +93,16 @@ pub fn workspace_json<'py>(
         ..Default::default()
     };
     let m = &*model.model;
-    let r = py.detach(|| sample_workspace(m, &opts)).map_err(err)?;
+    // Interruptible (Ctrl-C) above a few milliseconds of sampling.
+    let long = interrupt::is_long(m, samples.try_into().unwrap_or(usize::MAX), 1);
+    let r = interrupt::detached(py, long, |stop| {
+        let opts = WorkspaceOptions {
+            stop: Some(stop),
+            ..opts
+        };
+        sample_workspace(m, &opts)
+    })?
+    .map_err(err)?;
     let json = serde_json::to_string(&r).map_err(err)?;
     let k = r.points.len();
     let pts: Vec<f64> = r.points.iter().flat_map(|p| p.p).collect();

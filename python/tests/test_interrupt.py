@@ -121,3 +121,13 @@ def test_small_batches_answer_as_before(chain):
     for k in range(2):
         am.forward_kinematics(chain, d, q[k])
         np.testing.assert_array_equal(T[k], d.frame_pose("l2000"))
+
+
+def test_ctrl_c_stops_a_long_workspace_run(default_sigint):
+    m = am.Model.from_file(ROBOTS / "ur5.urdf")
+    # 2^28 samples take tens of seconds here; the flag is read every 65 536 samples.
+    took = interrupted_after(
+        lambda: am.workspace(m, samples=1 << 28, replicates=4, voxel=0.05, extras=False))
+    assert took < 1.0, f"workspace took {took:.2f} s to stop"
+    r = am.workspace(m, samples=1 << 14, replicates=4, voxel=0.05, extras=False)
+    assert r["estimate"] > 0

@@ -61,6 +61,9 @@ pub enum WorkspaceError {
     /// An option or the model does not allow the run.
     #[error("workspace: {0}")]
     Invalid(String),
+    /// The caller raised [`WorkspaceOptions::stop`].
+    #[error("workspace: cancelled")]
+    Cancelled,
 }
 
 fn invalid<T>(msg: impl Into<String>) -> Result<T, WorkspaceError> {
@@ -208,6 +211,9 @@ pub fn sample_workspace(
             plane_frame,
         )?;
         let passes = doublings(&ctx, opts, &plan, planar);
+        if ctx.stopped() {
+            return Err(WorkspaceError::Cancelled);
+        }
         let max_off = passes
             .reps
             .iter()
@@ -399,7 +405,7 @@ fn assemble(
 /// grid (shifted by an offset drawn from the seed), the batched FK chain.
 fn make_ctx<'a>(
     model: &'a Model,
-    opts: &WorkspaceOptions,
+    opts: &'a WorkspaceOptions,
     tool: usize,
     jb: &JointBox,
     chain: &crate::kinematics::fk_lanes::ToolChain,
@@ -435,6 +441,7 @@ fn make_ctx<'a>(
         chain: chain.clone(),
         batched: opts.batched_fk,
         isa: Isa::at_most(opts.max_isa),
+        stop: opts.stop.as_deref(),
     })
 }
 
@@ -519,6 +526,9 @@ fn doublings(ctx: &Ctx, opts: &WorkspaceOptions, plan: &[u64], planar: bool) -> 
     let mut reached = None;
     for &n in plan {
         stages.push(volume::run_stage(ctx, &mut reps, n, &pb));
+        if ctx.stopped() {
+            break;
+        }
         let e = estimate::estimate(&stages, cm, dims);
         convergence.push(convergence_point(&e, n));
         pb.set_message(match e.interval {

@@ -31,6 +31,16 @@ pub(crate) struct Ctx<'a> {
     pub batched: bool,
     /// The instruction set of the hot loop ([`crate::workspace::volume_kernel`]).
     pub isa: Isa,
+    /// The caller's stop flag ([`crate::workspace::WorkspaceOptions::stop`]).
+    pub stop: Option<&'a std::sync::atomic::AtomicBool>,
+}
+
+impl Ctx<'_> {
+    /// Whether the caller asked the run to stop.
+    pub fn stopped(&self) -> bool {
+        self.stop
+            .is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
+    }
 }
 
 /// A grid like `ctx.grid`, shifted by a uniform offset in `[0, 2h)` per axis drawn from

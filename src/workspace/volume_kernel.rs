@@ -238,6 +238,9 @@ fn run<S: QStream, const AVX2: bool>(
         if since >= PROGRESS_BLOCK {
             pb.inc(since);
             since = 0;
+            if ctx.stopped() {
+                break;
+            }
         }
     }
     pb.inc(since);

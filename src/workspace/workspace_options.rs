@@ -4,6 +4,8 @@
 
 use crate::kinematics::fk_lanes::Isa;
 use serde::Serialize;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 
 /// How joint space is sampled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -83,6 +85,10 @@ pub struct WorkspaceOptions {
     /// has). Every instruction set gives bitwise the same result; for tests and
     /// benchmarks.
     pub max_isa: Option<Isa>,
+    /// A flag another thread may raise (Ctrl-C in Python): the run then stops within one
+    /// block of 65 536 samples per replicate and returns
+    /// [`WorkspaceError::Cancelled`](super::WorkspaceError::Cancelled).
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 impl Default for WorkspaceOptions {
@@ -107,6 +113,7 @@ impl Default for WorkspaceOptions {
             quiet: false,
             batched_fk: true,
             max_isa: None,
+            stop: None,
         }
     }
 }
