@@ -19,6 +19,9 @@
 //! results into the report. Timings are medians over rounds (the machines are shared):
 //! the report quotes medians and 99th percentiles and never asserts on them.
 
+pub mod derivatives_report;
+pub mod derivatives_study;
+pub mod difference_quotients;
 pub mod effects_study;
 pub mod formulations;
 pub mod ik_study;
@@ -136,13 +139,15 @@ pub struct TradeoffsReport {
     pub effects: effects_study::EffectStudy,
     /// Study 6.
     pub rotor: rotor_study::RotorStudy,
+    /// Study 7.
+    pub derivatives: derivatives_study::DerivativeStudy,
     /// Wall time of each study (s).
     pub study_seconds: Vec<(String, f64)>,
     /// Wall time of all studies (s).
     pub total_seconds: f64,
 }
 
-/// Runs the six studies at the sizes of `opts.mode`.
+/// Runs the seven studies at the sizes of `opts.mode`.
 pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
     let start = Instant::now();
     let mut machine = MachineInfo::probe();
@@ -172,6 +177,12 @@ pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
     let t = Instant::now();
     let rotor = rotor_study::run(opts, &rotor_study::RotorConfig::for_mode(opts.mode))?;
     timed("rotor", t);
+    let t = Instant::now();
+    let derivatives = derivatives_study::run(
+        opts,
+        &derivatives_study::DerivativeConfig::for_mode(opts.mode),
+    )?;
+    timed("derivatives", t);
     machine.load_end = load_average();
     Ok(TradeoffsReport {
         mode: opts.mode,
@@ -182,6 +193,7 @@ pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
         workspace,
         effects,
         rotor,
+        derivatives,
         study_seconds,
         total_seconds: start.elapsed().as_secs_f64(),
     })
