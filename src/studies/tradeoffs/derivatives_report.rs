@@ -80,12 +80,12 @@ pub fn error_png(st: &DerivativeStudy) -> Result<Vec<u8>, PlotError> {
             Panel {
                 title: format!("{} ({} DOF)", c.name, c.nv),
                 x_desc: "step h (rad, m, rad/s, m/s)".into(),
-                y_desc: "max relative error of [∂/∂q | ∂/∂q̇]".into(),
+                y_desc: "max relative error of the Jacobian".into(),
                 log_x: true,
                 log_y: true,
                 series,
                 legend: Legend::UpperRight,
-                headroom: 0.55,
+                headroom: 0.35,
                 ..Default::default()
             }
         })
@@ -144,7 +144,7 @@ pub fn cost_png(st: &DerivativeStudy) -> Result<Vec<u8>, PlotError> {
         })
         .collect();
     render_panels(
-        "Dynamics derivatives: best error vs time per Jacobian (each point one robot)",
+        "Dynamics derivatives: best error vs time per Jacobian (each point one robot, joined in order of time)",
         &panels,
         2,
         (760, 560),

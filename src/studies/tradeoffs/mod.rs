@@ -1,4 +1,4 @@
-//! The trade-offs report (`armsim tradeoffs`): six measured studies of what accuracy,
+//! The trade-offs report (`armsim tradeoffs`): seven measured studies of what accuracy,
 //! robustness and features cost in time, each a table, at least one plot and a reading of
 //! the numbers, written as `tradeoffs.md` plus PNGs.
 //!
@@ -14,6 +14,10 @@
 //! - [`effects`]: the cost of each physical effect against the bare rigid model;
 //! - [`rotor`]: finite elements against critical-speed error on two flexible rotors
 //!   (closed form, exact transfer matrices), written by [`rotor_report`];
+//! - [`derivatives_study`]: the analytical dynamics derivatives against forward and central
+//!   finite differences over the step h (and a Ridders-extrapolated reference) on the UR5,
+//!   Panda, iiwa 14 and generated chains, with the differences in [`difference_quotients`],
+//!   written by [`derivatives_report`];
 //!
 //! and [`report`] (Markdown and file output) and [`plot`] (plotters charts) turn the
 //! results into the report. Timings are medians over rounds (the machines are shared):
