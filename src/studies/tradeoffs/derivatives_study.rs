@@ -23,7 +23,8 @@ use crate::model::data::Data;
 use crate::model::{chain, Model};
 use crate::studies::bench::{random_states, random_unit_states, STATES};
 use crate::studies::tradeoffs::difference_quotients::{
-    fd_jacobian, relative_error, relative_estimate, ridders_jacobian, FdWork, Kernel, Point, Scheme,
+    fd_jacobian, relative_error, relative_estimate, ridders_jacobian, FdWork, Kernel, KernelInput,
+    Scheme,
 };
 use crate::studies::tradeoffs::study_options::{Options, StudyMode};
 use crate::studies::tradeoffs::study_timing::{time_rounds, Stats};
@@ -238,13 +239,13 @@ impl States {
     }
 
     /// State `s mod count` as the input of kernel `k`.
-    fn point(&self, k: Kernel, s: usize) -> Point<'_> {
+    fn point(&self, k: Kernel, s: usize) -> KernelInput<'_> {
         let r = (s % self.count) * self.nv..(s % self.count + 1) * self.nv;
         let u = match k {
             Kernel::Rnea => &self.a[r.clone()],
             Kernel::Aba => &self.tau[r.clone()],
         };
-        Point {
+        KernelInput {
             q: &self.q[r.clone()],
             v: &self.v[r],
             u,
@@ -257,7 +258,7 @@ fn analytical(
     k: Kernel,
     model: &Model,
     data: &mut Data,
-    x: Point,
+    x: KernelInput,
     out: &mut DMatrix<f64>,
 ) -> Result<(), String> {
     let nv = model.nv;

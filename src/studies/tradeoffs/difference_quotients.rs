@@ -122,7 +122,7 @@ impl FdWork {
 
 /// One state: `q`, `q̇` and the kernel's third input (`q̈` for RNEA, `τ` for ABA).
 #[derive(Clone, Copy, Debug)]
-pub struct Point<'a> {
+pub struct KernelInput<'a> {
     /// Configuration.
     pub q: &'a [f64],
     /// Velocity.
@@ -166,7 +166,7 @@ fn central_column(
     k: Kernel,
     model: &Model,
     data: &mut Data,
-    x: Point,
+    x: KernelInput,
     w: &mut FdWork,
     col: usize,
     h: f64,
@@ -192,7 +192,7 @@ pub fn fd_jacobian(
     h: f64,
     model: &Model,
     data: &mut Data,
-    x: Point,
+    x: KernelInput,
     w: &mut FdWork,
     jac: &mut DMatrix<f64>,
 ) {
@@ -228,7 +228,7 @@ fn ridders_column(
     h0: f64,
     model: &Model,
     data: &mut Data,
-    x: Point,
+    x: KernelInput,
     w: &mut FdWork,
     col: usize,
 ) {
@@ -277,7 +277,7 @@ pub fn ridders_jacobian(
     k: Kernel,
     model: &Model,
     data: &mut Data,
-    x: Point,
+    x: KernelInput,
     w: &mut FdWork,
     jac: &mut DMatrix<f64>,
     err: &mut DMatrix<f64>,

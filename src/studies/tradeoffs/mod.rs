@@ -31,6 +31,7 @@ pub mod formulations;
 pub mod ik_study;
 pub mod integrators;
 pub mod markdown;
+mod report_numbers;
 mod report_plots;
 pub mod rotor_report;
 pub mod rotor_study;
