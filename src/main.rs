@@ -44,7 +44,8 @@ enum Cmd {
     Bench(cli::inspect::BenchArgs),
     /// Measure the trade-offs report: IK tolerance × method, integrator step × method,
     /// dynamics formulations vs DOF, workspace samples × scheme, cost of each effect,
-    /// flexible-rotor elements × critical-speed error.
+    /// flexible-rotor elements × critical-speed error, analytical dynamics derivatives vs finite
+    /// differences.
     /// Writes DIR/tradeoffs.md, DIR/tradeoffs.json and the plots (DIR/*.png).
     Tradeoffs(cli::scenario_cmd::TradeoffsArgs),
     /// Plan collision-free motions (RRT-Connect on the robot's collision spheres) for MoveIt

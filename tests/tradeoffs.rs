@@ -1,12 +1,16 @@
-//! The trade-offs report (`armsim tradeoffs`): the five studies run at their smoke-test
+//! The trade-offs report (`armsim tradeoffs`): the seven studies run at their smoke-test
 //! sizes (`StudyMode::Tiny`, seconds) through the library, and the figures they produce are
 //! checked for structure and for the physics and numerics they should show (a tighter
 //! IK tolerance gives a smaller residual, RK4's energy error falls with the step, ABA
-//! and CRBA agree, Sobol' beats random sampling once the grid is covered, …). The
-//! report files are checked (five sections, at least four image links that exist as PNGs),
+//! and CRBA agree, Sobol' beats random sampling once the grid is covered, finite
+//! differences of the dynamics follow their O(h) and O(h²) truncation and stay far from
+//! the analytical derivatives, …). The report files are checked (seven sections, at least
+//! four image links that exist as PNGs),
 //! and the hidden `--tiny` flag runs the command end to end. Nothing here asserts on a
 //! time: the machines are shared.
 
+use armsim::studies::tradeoffs::derivatives_report;
+use armsim::studies::tradeoffs::difference_quotients::{Kernel, Scheme};
 use armsim::studies::tradeoffs::ik_study as ik;
 use armsim::studies::tradeoffs::integrators::IntegratorOutcome;
 use armsim::studies::tradeoffs::markdown as report;
@@ -229,6 +233,94 @@ fn effects_are_all_measured_against_the_bare_model() {
     }
 }
 
+#[test]
+fn derivative_differences_show_truncation_orders_and_round_off_and_stay_above_the_analytical_error()
+{
+    let r = tiny();
+    let st = &r.derivatives;
+    let names: Vec<&str> = st.cases.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["ur5", "panda", "iiwa14", "chain 8"]);
+    assert!(
+        st.cases[1].mimic && !st.cases[0].mimic,
+        "the Panda's finger is a mimic joint"
+    );
+    for c in &st.cases {
+        let kernels: Vec<Kernel> = c.kernels.iter().map(|k| k.kernel).collect();
+        assert_eq!(kernels, Kernel::ALL, "{}", c.name);
+        for k in &c.kernels {
+            let what = format!("{} {}", c.name, k.kernel.as_str());
+            assert_eq!(k.forward_error.len(), st.steps.len());
+            assert_eq!(k.central_error.len(), st.steps.len());
+            // The analytical Jacobians agree with the extrapolated reference to rounding.
+            assert!(k.analytical_error < 1e-11, "{what}: {}", k.analytical_error);
+            assert!(
+                k.reference_estimate < 1e-11,
+                "{what}: {}",
+                k.reference_estimate
+            );
+            // Central differences at h = 1e-5 are good to 1e-7, but not as good as the
+            // analytical matrices (by at least 10×).
+            let c5 = st.error_at(k, Scheme::Central, 1e-5);
+            assert!(
+                c5 < 1e-7 && c5 > 10.0 * k.analytical_error,
+                "{what}: {c5:e}"
+            );
+            // Truncation: forward O(h) (10× per decade), central O(h²) (100× per decade).
+            let ratio = |s, a, b| st.error_at(k, s, a) / st.error_at(k, s, b);
+            let f = ratio(Scheme::Forward, 1e-3, 1e-4);
+            assert!((8.0..12.5).contains(&f), "{what}: forward 1e-3/1e-4 = {f}");
+            let cc = ratio(Scheme::Central, 1e-2, 1e-3);
+            assert!(
+                (70.0..140.0).contains(&cc),
+                "{what}: central 1e-2/1e-3 = {cc}"
+            );
+            // Round-off: the best steps sit near ε^½ and ε^⅓, and below them the error
+            // grows again by orders of magnitude.
+            let (hf, ef) = st.best(k, Scheme::Forward);
+            let (hc, ec) = st.best(k, Scheme::Central);
+            assert!((1e-9..=1e-6).contains(&hf), "{what}: forward best at {hf}");
+            assert!((1e-7..=1e-4).contains(&hc), "{what}: central best at {hc}");
+            assert!(ef < 1e-6, "{what}: forward at best {ef:e}");
+            assert!(ec < ef / 10.0, "{what}: central {ec:e} vs forward {ef:e}");
+            for s in Scheme::ALL {
+                let (_, best) = st.best(k, s);
+                assert!(st.error_at(k, s, 1e-12) > 1e3 * best, "{what} {s:?}");
+            }
+            for t in [k.analytical_ns, k.forward_ns, k.central_ns, k.reference_ns] {
+                assert!(finite_positive(t.median));
+            }
+        }
+    }
+    // The report has a table per robot with every scheme, and the reading quotes the
+    // measured figures.
+    let md = report::markdown(r);
+    for c in &st.cases {
+        assert!(
+            md.contains(&format!("**{}** ({} DOF", c.name, c.nv)),
+            "{}",
+            c.name
+        );
+    }
+    for kernel in ["RNEA", "ABA"] {
+        for scheme in ["analytical", "forward", "central", "Ridders reference"] {
+            let row = format!("| {kernel} | {scheme} |");
+            assert_eq!(md.matches(&row).count(), st.cases.len(), "{row}");
+        }
+    }
+    let reading = derivatives_report::reading(st);
+    // It quotes the range of the best central errors of RNEA over the robots.
+    let best: Vec<f64> = st
+        .cases
+        .iter()
+        .map(|c| st.best(&c.kernels[0], Scheme::Central).1)
+        .collect();
+    let lo = best.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = best.iter().copied().fold(0.0, f64::max);
+    let quoted = format!("{}–{}", report::sci(lo), report::sci(hi));
+    assert!(reading.contains(&quoted), "{quoted} not in {reading}");
+    assert!(md.contains("Complex step") && md.contains("f64"));
+}
+
 /// The image links `![…](file)` of a Markdown text.
 #[test]
 fn rotor_elements_converge_at_fourth_order_to_the_closed_form_and_the_transfer_matrices() {
@@ -283,6 +375,7 @@ fn check_report_dir(dir: &Path) {
         "Workspace sampling",
         "Effects",
         "Flexible rotor",
+        "Dynamics derivatives",
     ]
     .iter()
     .enumerate()
@@ -293,8 +386,12 @@ fn check_report_dir(dir: &Path) {
             i + 1
         );
     }
-    assert_eq!(md.matches("\n## ").count(), 6, "exactly six study sections");
-    assert_eq!(md.matches("**Reading.**").count(), 6, "a reading per study");
+    assert_eq!(
+        md.matches("\n## ").count(),
+        7,
+        "exactly seven study sections"
+    );
+    assert_eq!(md.matches("**Reading.**").count(), 7, "a reading per study");
     for key in [
         "| CPU |",
         "| cores |",
@@ -321,6 +418,7 @@ fn check_report_dir(dir: &Path) {
         "workspace",
         "effects",
         "rotor",
+        "derivatives",
         "machine",
     ] {
         assert!(json.get(k).is_some(), "json lacks {k}");
@@ -328,7 +426,7 @@ fn check_report_dir(dir: &Path) {
 }
 
 #[test]
-fn report_files_have_six_sections_readings_and_existing_plots() {
+fn report_files_have_seven_sections_readings_and_existing_plots() {
     let r = tiny();
     let dir = temp_dir("lib");
     let written = report::write(r, &dir).expect("writes");

@@ -2,10 +2,14 @@
 //! the source tree: their texts and the models built from them.
 
 /// The robots the studies use, embedded so the command runs without the source tree.
-const ROBOTS: [(&str, &str); 4] = [
+const ROBOTS: [(&str, &str); 5] = [
     (
         "ur5.urdf",
         include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/ur5.urdf")),
+    ),
+    (
+        "panda.urdf",
+        include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/panda.urdf")),
     ),
     (
         "iiwa14.urdf",

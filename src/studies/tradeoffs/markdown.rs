@@ -6,6 +6,7 @@ use crate::io::report::fmt_ns;
 use crate::studies::tradeoffs::formulations::NAMES as FORMULATIONS;
 use crate::studies::tradeoffs::ik_study::{ANALYTIC, NUMERIC, QP};
 use crate::studies::tradeoffs::integrators::{median_step_us, IntegratorOutcome, METHODS};
+pub use crate::studies::tradeoffs::report_numbers::sci;
 pub use crate::studies::tradeoffs::report_plots::{plots, workspace_convergence_png};
 use crate::studies::tradeoffs::study_timing::log_slope;
 use crate::studies::tradeoffs::TradeoffsReport;
@@ -17,19 +18,6 @@ use std::path::{Path, PathBuf};
 pub const MARKDOWN: &str = "tradeoffs.md";
 /// File name of the JSON figures.
 pub const JSON: &str = "tradeoffs.json";
-
-/// `1.2e-5` (or `0` / `–`).
-pub fn sci(x: f64) -> String {
-    if x.is_nan() {
-        "–".into()
-    } else if x.is_infinite() {
-        "∞".into()
-    } else if x == 0.0 {
-        "0".into()
-    } else {
-        format!("{x:.1e}")
-    }
-}
 
 /// `97.5 %`.
 fn pct(x: f64) -> String {
@@ -120,13 +108,14 @@ pub fn markdown(r: &TradeoffsReport) -> String {
         r.total_seconds,
         per.join(", ")
     );
-    let _ = writeln!(s, "Contents: [1. IK](#1-inverse-kinematics-tolerance--method) · [2. Integrators](#2-integrators-step-size--method) · [3. Dynamics formulations](#3-dynamics-formulations-time-vs-dof) · [4. Workspace sampling](#4-workspace-sampling-samples--scheme) · [5. Effects](#5-effects-cost-of-each-effect) · [6. Flexible rotor](#6-flexible-rotor-elements--critical-speed-error)\n");
+    let _ = writeln!(s, "Contents: [1. IK](#1-inverse-kinematics-tolerance--method) · [2. Integrators](#2-integrators-step-size--method) · [3. Dynamics formulations](#3-dynamics-formulations-time-vs-dof) · [4. Workspace sampling](#4-workspace-sampling-samples--scheme) · [5. Effects](#5-effects-cost-of-each-effect) · [6. Flexible rotor](#6-flexible-rotor-elements--critical-speed-error) · [7. Derivatives](#7-dynamics-derivatives-analytical-vs-finite-differences)\n");
     ik_section(&mut s, r);
     integrator_section(&mut s, r);
     formulation_section(&mut s, r);
     workspace_section(&mut s, r);
     effects_section(&mut s, r);
     crate::studies::tradeoffs::rotor_report::section(&mut s, &r.rotor);
+    crate::studies::tradeoffs::derivatives_report::section(&mut s, &r.derivatives);
     s
 }
 

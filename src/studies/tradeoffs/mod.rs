@@ -1,4 +1,4 @@
-//! The trade-offs report (`armsim tradeoffs`): six measured studies of what accuracy,
+//! The trade-offs report (`armsim tradeoffs`): seven measured studies of what accuracy,
 //! robustness and features cost in time, each a table, at least one plot and a reading of
 //! the numbers, written as `tradeoffs.md` plus PNGs.
 //!
@@ -14,16 +14,24 @@
 //! - [`effects`]: the cost of each physical effect against the bare rigid model;
 //! - [`rotor`]: finite elements against critical-speed error on two flexible rotors
 //!   (closed form, exact transfer matrices), written by [`rotor_report`];
+//! - [`derivatives_study`]: the analytical dynamics derivatives against forward and central
+//!   finite differences over the step h (and a Ridders-extrapolated reference) on the UR5,
+//!   Panda, iiwa 14 and generated chains, with the differences in [`difference_quotients`],
+//!   written by [`derivatives_report`];
 //!
 //! and [`report`] (Markdown and file output) and [`plot`] (plotters charts) turn the
 //! results into the report. Timings are medians over rounds (the machines are shared):
 //! the report quotes medians and 99th percentiles and never asserts on them.
 
+pub mod derivatives_report;
+pub mod derivatives_study;
+pub mod difference_quotients;
 pub mod effects_study;
 pub mod formulations;
 pub mod ik_study;
 pub mod integrators;
 pub mod markdown;
+mod report_numbers;
 mod report_plots;
 pub mod rotor_report;
 pub mod rotor_study;
@@ -136,13 +144,15 @@ pub struct TradeoffsReport {
     pub effects: effects_study::EffectStudy,
     /// Study 6.
     pub rotor: rotor_study::RotorStudy,
+    /// Study 7.
+    pub derivatives: derivatives_study::DerivativeStudy,
     /// Wall time of each study (s).
     pub study_seconds: Vec<(String, f64)>,
     /// Wall time of all studies (s).
     pub total_seconds: f64,
 }
 
-/// Runs the six studies at the sizes of `opts.mode`.
+/// Runs the seven studies at the sizes of `opts.mode`.
 pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
     let start = Instant::now();
     let mut machine = MachineInfo::probe();
@@ -172,6 +182,12 @@ pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
     let t = Instant::now();
     let rotor = rotor_study::run(opts, &rotor_study::RotorConfig::for_mode(opts.mode))?;
     timed("rotor", t);
+    let t = Instant::now();
+    let derivatives = derivatives_study::run(
+        opts,
+        &derivatives_study::DerivativeConfig::for_mode(opts.mode),
+    )?;
+    timed("derivatives", t);
     machine.load_end = load_average();
     Ok(TradeoffsReport {
         mode: opts.mode,
@@ -182,6 +198,7 @@ pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
         workspace,
         effects,
         rotor,
+        derivatives,
         study_seconds,
         total_seconds: start.elapsed().as_secs_f64(),
     })

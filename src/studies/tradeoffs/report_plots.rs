@@ -23,6 +23,15 @@ pub fn plots(r: &TradeoffsReport) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
         "rotor_error.png".to_string(),
         crate::studies::tradeoffs::rotor_report::png(&r.rotor)?,
     ));
+    use crate::studies::tradeoffs::derivatives_report as deriv;
+    out.push((
+        "derivatives_error.png".into(),
+        deriv::error_png(&r.derivatives)?,
+    ));
+    out.push((
+        "derivatives_cost.png".into(),
+        deriv::cost_png(&r.derivatives)?,
+    ));
     Ok(out)
 }
 
