@@ -22,7 +22,8 @@
 
 use crate::core::linalg::SingularMassMatrix;
 use crate::dynamics::aba_derivatives::DIRECT_PRODUCT_MAX;
-use crate::dynamics::{forward_dynamics_derivatives, Effects};
+use crate::dynamics::effects::Effects;
+use crate::dynamics::effects_derivatives::forward_dynamics_derivatives;
 use crate::model::data::Data;
 use crate::model::Model;
 use nalgebra::DMatrix;

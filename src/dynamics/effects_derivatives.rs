@@ -26,12 +26,13 @@
 use crate::core::linalg::SingularMassMatrix;
 use crate::core::spatial::Force;
 use crate::dynamics::aba_derivatives::neg_product;
+use crate::dynamics::aba_derivatives::AbaPartials;
 use crate::dynamics::effects::{gather_wrenches, Effects, ExternalWrench};
 use crate::dynamics::forward::{forward_dynamics_with, name_joint};
 use crate::dynamics::minverse::{invert_factored, minverse_from_placements};
+use crate::dynamics::rnea_derivatives::RneaPartials;
 use crate::dynamics::rnea_derivatives::{rnea_derivatives_impl, rnea_partials};
 use crate::dynamics::terms::Terms;
-use crate::dynamics::{AbaPartials, RneaPartials};
 use crate::kinematics::forward_kinematics;
 use crate::model::data::Data;
 use crate::model::{Model, WORLD};
