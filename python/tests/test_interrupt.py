@@ -129,5 +129,5 @@ def test_ctrl_c_stops_a_long_workspace_run(default_sigint):
     took = interrupted_after(
         lambda: am.workspace(m, samples=1 << 28, replicates=4, voxel=0.05, extras=False))
     assert took < 1.0, f"workspace took {took:.2f} s to stop"
-    r = am.workspace(m, samples=1 << 14, replicates=4, voxel=0.05, extras=False)
+    r = am.workspace(m, samples=1 << 18, replicates=4, voxel=0.05, extras=False)
     assert r["estimate"] > 0
