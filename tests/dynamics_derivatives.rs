@@ -31,32 +31,6 @@ fn models() -> Vec<(String, Model)> {
     v
 }
 
-/// Central difference `(f(x + h e_k) − f(x − h e_k)) / 2h`, column by column.
-fn central(n: usize, x: &[f64], h: f64, mut f: impl FnMut(&[f64]) -> Vec<f64>) -> DMatrix<f64> {
-    let mut out = DMatrix::zeros(f(x).len(), n);
-    for k in 0..n {
-        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
-        xp[k] += h;
-        xm[k] -= h;
-        let (fp, fm) = (f(&xp), f(&xm));
-        for r in 0..fp.len() {
-            out[(r, k)] = (fp[r] - fm[r]) / (2.0 * h);
-        }
-    }
-    out
-}
-
-/// `max |a − b| ≤ tol · max(1, max |b|)`.
-fn assert_close(what: &str, a: &DMatrix<f64>, b: &DMatrix<f64>, tol: f64) {
-    assert_eq!(a.shape(), b.shape(), "{what}: shape");
-    let scale = b.abs().max().max(1.0);
-    let err = (a - b).abs().max();
-    assert!(
-        err <= tol * scale,
-        "{what}: error {err:e} > {tol:e} × {scale:e}\nanalytical {a}\nfinite differences {b}"
-    );
-}
-
 struct State {
     q: Vec<f64>,
     v: Vec<f64>,
@@ -85,22 +59,22 @@ fn rnea_partials_equal_central_differences_of_rnea() {
             let (dq, dv, mass) = (p.dtau_dq.clone(), p.dtau_dv.clone(), p.mass.clone());
             let tau = d.tau.clone();
             let want = dynamics::rnea(&m, &mut fd, &st.q, &st.v, &st.a).to_vec();
-            assert_close(
+            common::assert_matrix_close(
                 &format!("{what}: τ"),
                 &DMatrix::from_column_slice(m.nv, 1, &tau),
                 &DMatrix::from_column_slice(m.nv, 1, &want),
                 1e-12,
             );
-            let fq = central(m.nv, &st.q, 1e-6, |q| {
+            let fq = common::central_differences(&st.q, 1e-6, |q| {
                 dynamics::rnea(&m, &mut fd, q, &st.v, &st.a).to_vec()
             });
-            assert_close(&format!("{what}: ∂τ/∂q"), &dq, &fq, 1e-6);
-            let fv = central(m.nv, &st.v, 1e-6, |v| {
+            common::assert_matrix_close(&format!("{what}: ∂τ/∂q"), &dq, &fq, 1e-6);
+            let fv = common::central_differences(&st.v, 1e-6, |v| {
                 dynamics::rnea(&m, &mut fd, &st.q, v, &st.a).to_vec()
             });
-            assert_close(&format!("{what}: ∂τ/∂q̇"), &dv, &fv, 1e-6);
+            common::assert_matrix_close(&format!("{what}: ∂τ/∂q̇"), &dv, &fv, 1e-6);
             let crba = dynamics::crba(&m, &mut fd, &st.q).clone();
-            assert_close(&format!("{what}: ∂τ/∂q̈ = M"), &mass, &crba, 1e-12);
+            common::assert_matrix_close(&format!("{what}: ∂τ/∂q̈ = M"), &mass, &crba, 1e-12);
         }
     }
 }
@@ -120,14 +94,14 @@ fn rnea_partials_with_body_wrenches_equal_central_differences() {
         for st in states(&m, 2, 9) {
             let p = dynamics::rnea_derivatives_with_forces(&m, &mut d, &st.q, &st.v, &st.a, &f_ext);
             let (dq, dv) = (p.dtau_dq.clone(), p.dtau_dv.clone());
-            let fq = central(m.nv, &st.q, 1e-6, |q| {
+            let fq = common::central_differences(&st.q, 1e-6, |q| {
                 dynamics::rnea_with_forces(&m, &mut fd, q, &st.v, &st.a, &f_ext).to_vec()
             });
-            assert_close(&format!("{name}: ∂τ/∂q with wrenches"), &dq, &fq, 1e-6);
-            let fv = central(m.nv, &st.v, 1e-6, |v| {
+            common::assert_matrix_close(&format!("{name}: ∂τ/∂q with wrenches"), &dq, &fq, 1e-6);
+            let fv = common::central_differences(&st.v, 1e-6, |v| {
                 dynamics::rnea_with_forces(&m, &mut fd, &st.q, v, &st.a, &f_ext).to_vec()
             });
-            assert_close(&format!("{name}: ∂τ/∂q̇ with wrenches"), &dv, &fv, 1e-6);
+            common::assert_matrix_close(&format!("{name}: ∂τ/∂q̇ with wrenches"), &dv, &fv, 1e-6);
         }
     }
 }
@@ -142,8 +116,8 @@ fn minverse_times_crba_mass_matrix_is_identity() {
                 .clone();
             let mass = dynamics::crba(&m, &mut d, &st.q).clone();
             let eye = DMatrix::identity(m.nv, m.nv);
-            assert_close(&format!("{name}: M⁻¹ M"), &(&minv * &mass), &eye, 1e-9);
-            assert_close(
+            common::assert_matrix_close(&format!("{name}: M⁻¹ M"), &(&minv * &mass), &eye, 1e-9);
+            common::assert_matrix_close(
                 &format!("{name}: M⁻¹ symmetric"),
                 &minv,
                 &minv.transpose(),
@@ -167,8 +141,13 @@ fn aba_partials_equal_central_differences_of_forward_dynamics() {
             let qdd = dynamics::forward_dynamics(&m, &mut fd, &st.q, &st.v, &tau)
                 .unwrap()
                 .to_vec();
-            assert_close(&format!("{what}: q̈ = FD"), &col(&d.qdd), &col(&qdd), 1e-10);
-            assert_close(
+            common::assert_matrix_close(
+                &format!("{what}: q̈ = FD"),
+                &col(&d.qdd),
+                &col(&qdd),
+                1e-10,
+            );
+            common::assert_matrix_close(
                 &format!("{what}: ID(q̈) = τ"),
                 &col(&d.tau),
                 &col(&tau),
@@ -179,12 +158,12 @@ fn aba_partials_equal_central_differences_of_forward_dynamics() {
                     .unwrap()
                     .to_vec()
             };
-            let fq = central(m.nv, &st.q, 1e-6, |q| fwd(q, &st.v, &tau));
-            assert_close(&format!("{what}: ∂q̈/∂q"), &dq, &fq, 1e-5);
-            let fv = central(m.nv, &st.v, 1e-6, |v| fwd(&st.q, v, &tau));
-            assert_close(&format!("{what}: ∂q̈/∂q̇"), &dv, &fv, 1e-5);
-            let ft = central(m.nv, &tau, 1e-6, |t| fwd(&st.q, &st.v, t));
-            assert_close(&format!("{what}: ∂q̈/∂τ = M⁻¹"), &minv, &ft, 1e-5);
+            let fq = common::central_differences(&st.q, 1e-6, |q| fwd(q, &st.v, &tau));
+            common::assert_matrix_close(&format!("{what}: ∂q̈/∂q"), &dq, &fq, 1e-5);
+            let fv = common::central_differences(&st.v, 1e-6, |v| fwd(&st.q, v, &tau));
+            common::assert_matrix_close(&format!("{what}: ∂q̈/∂q̇"), &dv, &fv, 1e-5);
+            let ft = common::central_differences(&tau, 1e-6, |t| fwd(&st.q, &st.v, t));
+            common::assert_matrix_close(&format!("{what}: ∂q̈/∂τ = M⁻¹"), &minv, &ft, 1e-5);
         }
     }
 }
@@ -205,15 +184,20 @@ fn inverse_dynamics_partials_with_effects_equal_central_differences() {
             };
             let want = id(&st.q, &st.v, &st.a);
             let col = |x: &[f64]| DMatrix::from_column_slice(x.len(), 1, x);
-            assert_close(&format!("{what}: τ"), &col(&tau), &col(&want), 1e-12);
-            let fq = central(m.nv, &st.q, 1e-6, |q| id(q, &st.v, &st.a));
-            assert_close(&format!("{what}: ∂τ/∂q"), &dq, &fq, 1e-6);
-            let fv = central(m.nv, &st.v, 1e-6, |v| id(&st.q, v, &st.a));
-            assert_close(&format!("{what}: ∂τ/∂q̇"), &dv, &fv, 1e-6);
-            let fa = central(m.nv, &st.a, 1e-3, |a| id(&st.q, &st.v, a));
-            assert_close(&format!("{what}: ∂τ/∂q̈ = M̃"), &mass, &fa, 1e-9);
+            common::assert_matrix_close(&format!("{what}: τ"), &col(&tau), &col(&want), 1e-12);
+            let fq = common::central_differences(&st.q, 1e-6, |q| id(q, &st.v, &st.a));
+            common::assert_matrix_close(&format!("{what}: ∂τ/∂q"), &dq, &fq, 1e-6);
+            let fv = common::central_differences(&st.v, 1e-6, |v| id(&st.q, v, &st.a));
+            common::assert_matrix_close(&format!("{what}: ∂τ/∂q̇"), &dv, &fv, 1e-6);
+            let fa = common::central_differences(&st.a, 1e-3, |a| id(&st.q, &st.v, a));
+            common::assert_matrix_close(&format!("{what}: ∂τ/∂q̈ = M̃"), &mass, &fa, 1e-9);
             let m_tilde = dynamics::mass_matrix(&m, &mut fd, &fx, &st.q).clone();
-            assert_close(&format!("{what}: M̃ = mass_matrix"), &mass, &m_tilde, 1e-12);
+            common::assert_matrix_close(
+                &format!("{what}: M̃ = mass_matrix"),
+                &mass,
+                &m_tilde,
+                1e-12,
+            );
         }
     }
 }
@@ -237,13 +221,13 @@ fn forward_dynamics_partials_with_effects_equal_central_differences() {
             };
             let col = |x: &[f64]| DMatrix::from_column_slice(x.len(), 1, x);
             let qdd = fwd(&st.q, &st.v, &tau);
-            assert_close(&format!("{what}: q̈"), &col(&d.qdd), &col(&qdd), 1e-10);
-            let fq = central(m.nv, &st.q, 1e-6, |q| fwd(q, &st.v, &tau));
-            assert_close(&format!("{what}: ∂q̈/∂q"), &dq, &fq, 1e-5);
-            let fv = central(m.nv, &st.v, 1e-6, |v| fwd(&st.q, v, &tau));
-            assert_close(&format!("{what}: ∂q̈/∂q̇"), &dv, &fv, 1e-5);
-            let ft = central(m.nv, &tau, 1e-6, |t| fwd(&st.q, &st.v, t));
-            assert_close(&format!("{what}: ∂q̈/∂τ = M̃⁻¹"), &minv, &ft, 1e-5);
+            common::assert_matrix_close(&format!("{what}: q̈"), &col(&d.qdd), &col(&qdd), 1e-10);
+            let fq = common::central_differences(&st.q, 1e-6, |q| fwd(q, &st.v, &tau));
+            common::assert_matrix_close(&format!("{what}: ∂q̈/∂q"), &dq, &fq, 1e-5);
+            let fv = common::central_differences(&st.v, 1e-6, |v| fwd(&st.q, v, &tau));
+            common::assert_matrix_close(&format!("{what}: ∂q̈/∂q̇"), &dv, &fv, 1e-5);
+            let ft = common::central_differences(&tau, 1e-6, |t| fwd(&st.q, &st.v, t));
+            common::assert_matrix_close(&format!("{what}: ∂q̈/∂τ = M̃⁻¹"), &minv, &ft, 1e-5);
         }
     }
 }
@@ -258,14 +242,14 @@ fn partials_with_the_models_gravity_alone_equal_the_plain_partials() {
             let (dq, dv) = (p.dtau_dq.clone(), p.dtau_dv.clone());
             let r = dynamics::inverse_dynamics_derivatives(&m, &mut e, &fx, &st.q, &st.v, &st.a);
             // The model's armature is in both; the effects add none.
-            assert_close(&format!("{name}: ∂τ/∂q"), r.dtau_dq, &dq, 1e-13);
-            assert_close(&format!("{name}: ∂τ/∂q̇"), r.dtau_dv, &dv, 1e-13);
+            common::assert_matrix_close(&format!("{name}: ∂τ/∂q"), r.dtau_dq, &dq, 1e-13);
+            common::assert_matrix_close(&format!("{name}: ∂τ/∂q̇"), r.dtau_dv, &dv, 1e-13);
             let p = dynamics::aba_derivatives(&m, &mut d, &st.q, &st.v, &st.a).unwrap();
             let (dq, minv) = (p.ddq_dq.clone(), p.minv.clone());
             let r = dynamics::forward_dynamics_derivatives(&m, &mut e, &fx, &st.q, &st.v, &st.a)
                 .unwrap();
-            assert_close(&format!("{name}: ∂q̈/∂q"), r.ddq_dq, &dq, 1e-10);
-            assert_close(&format!("{name}: M⁻¹"), r.minv, &minv, 1e-10);
+            common::assert_matrix_close(&format!("{name}: ∂q̈/∂q"), r.ddq_dq, &dq, 1e-10);
+            common::assert_matrix_close(&format!("{name}: M⁻¹"), r.minv, &minv, 1e-10);
         }
     }
 }

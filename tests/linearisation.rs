@@ -56,32 +56,6 @@ fn step(
     }
 }
 
-/// Central differences of `g` at `x`, column by column.
-fn central(x: &[f64], h: f64, mut g: impl FnMut(&[f64]) -> Vec<f64>) -> DMatrix<f64> {
-    let mut out = DMatrix::zeros(g(x).len(), x.len());
-    for k in 0..x.len() {
-        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
-        xp[k] += h;
-        xm[k] -= h;
-        let (gp, gm) = (g(&xp), g(&xm));
-        for r in 0..gp.len() {
-            out[(r, k)] = (gp[r] - gm[r]) / (2.0 * h);
-        }
-    }
-    out
-}
-
-/// `max |a − b| ≤ tol · max(1, max |b|)`.
-fn assert_close(what: &str, a: &DMatrix<f64>, b: &DMatrix<f64>, tol: f64) {
-    assert_eq!(a.shape(), b.shape(), "{what}: shape");
-    let scale = b.abs().max().max(1.0);
-    let err = (a - b).abs().max();
-    assert!(
-        err <= tol * scale,
-        "{what}: error {err:e} > {tol:e} × {scale:e}"
-    );
-}
-
 const SCHEMES: [StepScheme; 2] = [StepScheme::SemiImplicitEuler, StepScheme::Rk4];
 
 #[test]
@@ -102,16 +76,20 @@ fn a_and_b_equal_central_differences_of_the_step() {
             lin.linearise(&m, &mut d, &fx, &q, &v, &tau).unwrap();
             let want = step(&m, &mut fd, &fx, scheme, h, &x, &tau);
             let col = |x: &[f64]| DMatrix::from_column_slice(x.len(), 1, x);
-            assert_close(
+            common::assert_matrix_close(
                 &format!("{what}: x⁺"),
                 &col(lin.next_state()),
                 &col(&want),
                 1e-12,
             );
-            let fa = central(&x, 1e-6, |x| step(&m, &mut fd, &fx, scheme, h, x, &tau));
-            assert_close(&format!("{what}: A"), lin.a(), &fa, 1e-7);
-            let fb = central(&tau, 1e-4, |t| step(&m, &mut fd, &fx, scheme, h, &x, t));
-            assert_close(&format!("{what}: B"), lin.b(), &fb, 1e-7);
+            let fa = common::central_differences(&x, 1e-6, |x| {
+                step(&m, &mut fd, &fx, scheme, h, x, &tau)
+            });
+            common::assert_matrix_close(&format!("{what}: A"), lin.a(), &fa, 1e-7);
+            let fb = common::central_differences(&tau, 1e-4, |t| {
+                step(&m, &mut fd, &fx, scheme, h, &x, t)
+            });
+            common::assert_matrix_close(&format!("{what}: B"), lin.b(), &fb, 1e-7);
         }
     }
 }
@@ -141,8 +119,8 @@ fn rk4_at_an_equilibrium_is_the_fourth_order_taylor_polynomial_of_exp_hf() {
         let b = (&eye + &hf / 2.0 + &hf2 / 6.0 + &hf3 / 24.0) * &g * h;
         let mut lin = StepLinearisation::new(&m, StepScheme::Rk4, h).unwrap();
         lin.linearise(&m, &mut d, &fx, &q, &zero, &tau).unwrap();
-        assert_close(&format!("{name}: A"), lin.a(), &a, 1e-12);
-        assert_close(&format!("{name}: B"), lin.b(), &b, 1e-12);
+        common::assert_matrix_close(&format!("{name}: A"), lin.a(), &a, 1e-12);
+        common::assert_matrix_close(&format!("{name}: B"), lin.b(), &b, 1e-12);
     }
 }
 
@@ -167,8 +145,8 @@ fn euler_on_a_damped_rotor_is_the_closed_form() {
     let decay = 1.0 - h * b / j;
     let a = DMatrix::from_row_slice(2, 2, &[1.0, h * decay, 0.0, decay]);
     let bb = DMatrix::from_row_slice(2, 1, &[h * h / j, h / j]);
-    assert_close("A", lin.a(), &a, 1e-15);
-    assert_close("B", lin.b(), &bb, 1e-15);
+    common::assert_matrix_close("A", lin.a(), &a, 1e-15);
+    common::assert_matrix_close("B", lin.b(), &bb, 1e-15);
     let v1 = 1.2 + h * (2.0 - b * 1.2) / j;
     assert_eq!(lin.next_state(), &[0.7 + h * v1, v1]);
 }

@@ -204,10 +204,10 @@ impl ToolChain {
         self.positions_lanes(q, out);
     }
 
-    /// [`Self::positions`] compiled with the caller's instruction set (inlined into it;
-    /// `q.len()` must be the model's `nv`).
+    /// The pose of the link's body for eight configurations: the chain's steps from the
+    /// root (rotations the chain skips are left as they were).
     #[inline(always)]
-    pub fn positions_lanes(&self, q: &[Lanes], out: &mut [Lanes; 3]) {
+    fn body_pose(&self, q: &[Lanes]) -> Pose8 {
         let mut pose = Pose8 {
             r: [[0.0; LANES]; 9],
             t: [[0.0; LANES]; 3],
@@ -219,6 +219,14 @@ impl ToolChain {
             }
             step(st, &mut pose, &qs);
         }
+        pose
+    }
+
+    /// [`Self::positions`] compiled with the caller's instruction set (inlined into it;
+    /// `q.len()` must be the model's `nv`).
+    #[inline(always)]
+    pub fn positions_lanes(&self, q: &[Lanes], out: &mut [Lanes; 3]) {
+        let pose = self.body_pose(q);
         let [ox, oy, oz] = self.offset;
         if self.offset == [0.0; 3] {
             *out = pose.t;
@@ -257,17 +265,7 @@ impl ToolChain {
     /// [`Self::poses`] compiled with the caller's instruction set.
     #[inline(always)]
     fn poses_lanes(&self, q: &[Lanes], out: &mut [Lanes; 12]) {
-        let mut pose = Pose8 {
-            r: [[0.0; LANES]; 9],
-            t: [[0.0; LANES]; 3],
-        };
-        for st in &self.steps {
-            let mut qs = [0.0; LANES];
-            for (l, v) in qs.iter_mut().enumerate() {
-                *v = q[st.q_index][l] * st.q_mult + st.q_offset;
-            }
-            step(st, &mut pose, &qs);
-        }
+        let pose = self.body_pose(q);
         // oM_link = oM_body · offset: R = R_b R_o, t = R_b o + t_b.
         let (r, m, o) = (&pose.r, &self.offset_rot, &self.offset);
         for row in 0..3 {

@@ -269,3 +269,38 @@ pub fn scene_effects(m: &Model, seed: u64) -> armsim::dynamics::Effects {
         ],
     }
 }
+
+/// Central differences of `g` at `x`, column by column.
+pub fn central_differences(
+    x: &[f64],
+    h: f64,
+    mut g: impl FnMut(&[f64]) -> Vec<f64>,
+) -> nalgebra::DMatrix<f64> {
+    let mut out = nalgebra::DMatrix::zeros(g(x).len(), x.len());
+    for k in 0..x.len() {
+        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+        xp[k] += h;
+        xm[k] -= h;
+        let (gp, gm) = (g(&xp), g(&xm));
+        for r in 0..gp.len() {
+            out[(r, k)] = (gp[r] - gm[r]) / (2.0 * h);
+        }
+    }
+    out
+}
+
+/// `max |a − b| ≤ tol · max(1, max |b|)`.
+pub fn assert_matrix_close(
+    what: &str,
+    a: &nalgebra::DMatrix<f64>,
+    b: &nalgebra::DMatrix<f64>,
+    tol: f64,
+) {
+    assert_eq!(a.shape(), b.shape(), "{what}: shape");
+    let scale = b.abs().max().max(1.0);
+    let err = (a - b).abs().max();
+    assert!(
+        err <= tol * scale,
+        "{what}: error {err:e} > {tol:e} × {scale:e}"
+    );
+}
