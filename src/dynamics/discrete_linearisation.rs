@@ -53,7 +53,7 @@ pub enum LinearisationError {
     )]
     Elasticity,
     /// Forward dynamics failed at a stage (singular mass matrix, inputs overflowing).
-    #[error("forward dynamics at RK4 stage {stage}: {source}")]
+    #[error("forward dynamics at stage {stage} of the step: {source}")]
     Dynamics {
         /// The stage (1 for semi-implicit Euler).
         stage: usize,
