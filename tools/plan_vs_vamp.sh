@@ -10,7 +10,9 @@
 #
 # Environment: ARMSIM (the armsim binary; default: built with `cargo build --release` into
 # $CARGO_TARGET_DIR or target/), PLAN_BENCH_DIR (default ../shared/benchmarks/motion-planning),
-# PLAN_SCENES (default "table_pick bookshelf_small box").
+# PLAN_SCENES (default "table_pick bookshelf_small box"), PLANNER (rrtc, default: RRT-Connect on
+# both sides; aorrtc: VAMP's AORRTC and `armsim plan --planner aorrtc`, both with an iteration
+# budget of PLAN_BUDGET, default 2000, VAMP's `max_iterations`).
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 BENCH="$(realpath "${PLAN_BENCH_DIR:-$ROOT/../shared/benchmarks/motion-planning}")"
@@ -25,22 +27,30 @@ if [ -z "${ARMSIM:-}" ]; then
   (cd "$ROOT" && cargo build --release --quiet --bin armsim)
   ARMSIM="${CARGO_TARGET_DIR:-$ROOT/target}/release/armsim"
 fi
+PLANNER="${PLANNER:-rrtc}"; PLAN_BUDGET="${PLAN_BUDGET:-2000}"
+vamp_env=(); armsim_planner=()
+if [ "$PLANNER" = aorrtc ]; then
+  vamp_env=(VAMP_PLANNER=aorrtc "VAMP_SETTINGS=max_iterations=$PLAN_BUDGET")
+  armsim_planner=(--planner aorrtc --budget-iterations "$PLAN_BUDGET")
+elif [ "$PLANNER" != rrtc ]; then
+  echo "PLANNER: expected rrtc or aorrtc, got '$PLANNER'" >&2; exit 2
+fi
 pin=""; [ "$(nproc)" -ge 2 ] && command -v taskset >/dev/null && pin="taskset -c 1"
 out="$(mktemp -d)"; trap 'rm -rf "$out"' EXIT
 echo "# Motion planning: VAMP anchor vs armsim"
 echo "date: $(date -u '+%Y-%m-%d %H:%M UTC'); host: $(uname -n), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
-echo "armsim: $(cd "$ROOT" && git rev-parse --short HEAD 2>/dev/null || echo '?')$(cd "$ROOT" && git diff --quiet 2>/dev/null || echo ' (modified)'); passes: $passes; one thread${pin:+, $pin}"
+echo "armsim: $(cd "$ROOT" && git rev-parse --short HEAD 2>/dev/null || echo '?')$(cd "$ROOT" && git diff --quiet 2>/dev/null || echo ' (modified)'); passes: $passes; one thread${pin:+, $pin}; planner: $PLANNER${armsim_planner:+ (budget $PLAN_BUDGET iterations)}"
 for robot in "${robots[@]}"; do
   dirs=(); for s in "${SCENES[@]}"; do dirs+=("$BENCH/$robot/$s"); done
   echo; echo "## $robot"
   echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)"
-  echo; echo "VAMP: bash $BENCH/vamp/anchor.sh $robot ${dirs[*]} -- $passes"
-  bash "$BENCH/vamp/anchor.sh" "$robot" "${dirs[@]}" -- "$passes" | awk '/^\| scene/{n++} /^$/{if(n)done=1} n==1&&!done' | tee "$out/vamp_$robot.md"
+  echo; echo "VAMP: ${vamp_env[*]} bash $BENCH/vamp/anchor.sh $robot ${dirs[*]} -- $passes"
+  env "${vamp_env[@]}" bash "$BENCH/vamp/anchor.sh" "$robot" "${dirs[@]}" -- "$passes" | awk '/^\| scene/{n++} /^$/{if(n)done=1} n==1&&!done' | tee "$out/vamp_$robot.md"
   # VAMP's per-robot RRT-Connect range (vamp/constants.py ROBOT_RRT_RANGES).
   case "$robot" in ur5) range=1.5 ;; *) range=1.0 ;; esac
   args=("$ARMSIM" plan "$ROOT/robots/spherized/${robot}_spherized.urdf" --srdf "$ROOT/robots/spherized/$robot.srdf" --range "$range")
   for d in "${dirs[@]}"; do args+=(--moveit-dir "$d"); done
-  args+=(--passes "$passes")
+  args+=(--passes "$passes" "${armsim_planner[@]}")
   echo; echo "armsim: ${args[*]#$ROOT/}"
   $pin "${args[@]}" 2>/dev/null | awk '/^\| scene \| solved/{n++} /^$/{if(n)done=1} n==1&&!done' | tee "$out/armsim_$robot.md"
   echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -15,7 +15,7 @@ use armsim::collision::Obstacle;
 use armsim::model::{LoadOptions, Model};
 use armsim::planning::acm::Acm;
 use armsim::planning::moveit::{self, problem_pairs};
-use armsim::planning::plan_options::RANGE_LIMITS;
+use armsim::planning::plan_options::{PlannerKind, RANGE_LIMITS};
 use armsim::planning::srdf;
 use armsim::planning::{PairSource, PlanOptions, Planner, PlanningRobot};
 use rayon::prelude::*;
@@ -69,6 +69,18 @@ pub struct PlanArgs {
     /// Return the first path found, without shortcutting and smoothing.
     #[arg(long)]
     pub no_simplify: bool,
+    /// The search: `rrt-connect` (the first path, simplified) or `aorrtc` (asymptotically
+    /// optimal: keeps searching for cheaper paths until its budget is spent). Default
+    /// rrt-connect, or the scenario's `[planner] algorithm`.
+    #[arg(long)]
+    pub planner: Option<String>,
+    /// `aorrtc`: search iterations per query, the first path's included (default 2000).
+    #[arg(long)]
+    pub budget_iterations: Option<usize>,
+    /// `aorrtc`: wall-clock budget per query, in milliseconds (stops earlier than the
+    /// iterations when it runs out; the path then depends on the machine's speed).
+    #[arg(long, allow_negative_numbers = true)]
+    pub budget_ms: Option<f64>,
     /// Threads planning problems in parallel (each problem has its own planner).
     #[arg(long, default_value_t = 1)]
     pub threads: usize,
@@ -159,6 +171,8 @@ pub fn run(a: &PlanArgs) -> Result<String, String> {
         threads: a.threads,
         time_limit_ms: a.time_limit_ms,
         range: f64::from(opts.rrt.range),
+        planner: opts.planner,
+        budget: (opts.planner == PlannerKind::Aorrtc).then_some(opts.budget),
     };
     let text = if a.json {
         plan_report::json(&header, &outcomes)
@@ -249,7 +263,52 @@ fn plan_options(a: &PlanArgs) -> Result<PlanOptions, String> {
             ))
         }
     }
+    planner_choice(a, &mut opts)?;
     Ok(opts)
+}
+
+/// `--planner` and its budget (refused with RRT-Connect, which does not use them).
+fn planner_choice(a: &PlanArgs, opts: &mut PlanOptions) -> Result<(), String> {
+    use armsim::planning::plan_options::{MAX_OPTIMISE_ITERATIONS, MAX_TIME_LIMIT_MS};
+    let name = a.planner.as_deref().unwrap_or("rrt-connect");
+    opts.planner = PlannerKind::from_name(name)
+        .ok_or_else(|| format!("--planner: expected rrt-connect or aorrtc, got '{name}'"))?;
+    // A scenario's own `[planner] algorithm` may be aorrtc: its budget flags are checked
+    // against that (plan_scenario).
+    if opts.planner == PlannerKind::RrtConnect && (a.planner.is_some() || a.scenario.is_none()) {
+        for (flag, given) in [
+            ("--budget-iterations", a.budget_iterations.is_some()),
+            ("--budget-ms", a.budget_ms.is_some()),
+        ] {
+            if given {
+                return Err(format!(
+                    "{flag} applies to --planner aorrtc (RRT-Connect stops at its first path)"
+                ));
+            }
+        }
+        return Ok(());
+    }
+    match a.budget_iterations {
+        None => {}
+        Some(n) if (1..=MAX_OPTIMISE_ITERATIONS).contains(&n) => opts.budget.iterations = n,
+        Some(n) => {
+            return Err(format!(
+                "--budget-iterations: expected 1 … {MAX_OPTIMISE_ITERATIONS}, got {n}"
+            ))
+        }
+    }
+    match a.budget_ms {
+        None => {}
+        Some(t) if t.is_finite() && t > 0.0 && t <= MAX_TIME_LIMIT_MS => {
+            opts.budget.time = Some(Duration::from_secs_f64(t / 1e3));
+        }
+        Some(t) => {
+            return Err(format!(
+                "--budget-ms: expected a positive number of milliseconds, got {t}"
+            ))
+        }
+    }
+    Ok(())
 }
 
 /// The problem files the arguments name, as (scene label, id, scene, request).

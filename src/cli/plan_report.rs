@@ -9,6 +9,7 @@
 //! valid (not `invalid_start` / `invalid_goal`).
 
 use armsim::model::Model;
+use armsim::planning::plan_options::{OptimiseBudget, PlannerKind};
 use armsim::planning::{PlanResult, PlanStatus};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
@@ -42,6 +43,10 @@ pub struct ReportHeader<'a> {
     pub time_limit_ms: Option<f64>,
     /// Longest RRT-Connect step.
     pub range: f64,
+    /// The search.
+    pub planner: PlannerKind,
+    /// The optimising mode's budget (`None` for RRT-Connect).
+    pub budget: Option<OptimiseBudget>,
 }
 
 /// Median (the mean of the two middle values for an even count; NaN when empty).
@@ -172,6 +177,7 @@ pub fn json(h: &ReportHeader, outcomes: &[PlanOutcome]) -> String {
                 "iterations": r.iterations,
                 "cost_initial": r.cost_initial,
                 "cost": r.cost,
+                "improvements": r.improvements,
                 "path": r.path,
             })
         })
@@ -189,6 +195,9 @@ pub fn json(h: &ReportHeader, outcomes: &[PlanOutcome]) -> String {
         "passes": h.passes,
         "time_limit_ms": h.time_limit_ms,
         "range": h.range,
+        "planner": h.planner.name(),
+        "budget_iterations": h.budget.map(|b| b.iterations),
+        "budget_ms": h.budget.and_then(|b| b.time).map(|t| t.as_secs_f64() * 1e3),
         "results": results,
         "summary": scenes,
     });
@@ -221,9 +230,19 @@ pub fn text(h: &ReportHeader, outcomes: &[PlanOutcome]) -> String {
     let limit = h
         .time_limit_ms
         .map_or("none".to_string(), |ms| format!("{ms} ms"));
+    let planner = match h.budget {
+        None => h.planner.name().to_string(),
+        Some(b) => format!(
+            "{} (budget {} iterations{})",
+            h.planner.name(),
+            b.iterations,
+            b.time
+                .map_or(String::new(), |t| format!(", {} ms", t.as_secs_f64() * 1e3))
+        ),
+    };
     let _ = writeln!(
         t,
-        "armsim plan: {} ({} joints: {}), seed {}, range {}, simplify {}, time limit {limit}, {} pass(es), {} thread(s)",
+        "armsim plan: {} ({} joints: {}), planner {planner}, seed {}, range {}, simplify {}, time limit {limit}, {} pass(es), {} thread(s)",
         h.model.name,
         h.model.nv,
         h.model.dof_names().join(" "),

@@ -10,6 +10,7 @@
 
 use crate::cli::plan_cmd::PlanArgs;
 use crate::cli::plan_report::{self, PlanOutcome, ReportHeader};
+use armsim::planning::plan_options::PlannerKind;
 use armsim::planning::srdf;
 use armsim::planning::PlanOptions;
 use std::path::Path;
@@ -49,6 +50,24 @@ pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, Stri
     if a.range.is_some() {
         settings.range = f64::from(opts.rrt.range);
     }
+    if a.planner.is_some() {
+        settings.algorithm = opts.planner;
+    }
+    if a.budget_iterations.is_some() || a.budget_ms.is_some() {
+        if settings.algorithm != PlannerKind::Aorrtc {
+            return Err(format!(
+                "--budget-iterations / --budget-ms apply to the aorrtc planner; {} plans with \
+                 rrt-connect (give --planner aorrtc)",
+                file.display()
+            ));
+        }
+        if a.budget_iterations.is_some() {
+            settings.budget.iterations = opts.budget.iterations;
+        }
+        if a.budget_ms.is_some() {
+            settings.budget.time = opts.budget.time;
+        }
+    }
     if let Some(p) = &a.srdf {
         let (pairs, warnings) =
             srdf::load_disabled_pairs(p, &scene.model).map_err(|e| e.to_string())?;
@@ -61,6 +80,7 @@ pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, Stri
     let time_limit_ms = settings.time_limit.as_secs_f64() * 1e3;
     let simplify = settings.simplify;
     let range = settings.range;
+    let (planner, budget) = (settings.algorithm, settings.budget);
     let mut outcomes: Vec<PlanOutcome> = Vec::new();
     let mut times: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
     for pass in 0..a.passes {
@@ -104,6 +124,8 @@ pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, Stri
         threads: 1,
         time_limit_ms: Some(time_limit_ms),
         range,
+        planner,
+        budget: (planner == PlannerKind::Aorrtc).then_some(budget),
     };
     Ok(if a.json {
         plan_report::json(&header, &outcomes)

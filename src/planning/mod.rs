@@ -5,9 +5,12 @@
 //! Layer: above `model` and `kinematics`, beside `collision` and `trajectory`.
 
 pub mod acm;
+pub mod aorrtc;
 pub mod checker;
 pub mod cover_cache;
 pub mod environment;
+pub mod improve;
+pub mod informed;
 mod lane_values;
 pub mod lanes;
 pub mod mesh_sdf;
@@ -15,6 +18,7 @@ pub mod moveit;
 pub mod plan_error;
 pub mod plan_options;
 pub mod planner;
+pub mod repair;
 pub mod rrt;
 pub mod sampler;
 pub mod self_pairs;

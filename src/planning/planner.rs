@@ -4,17 +4,24 @@
 //!
 //! A query checks the start and goal (joint limits, then collisions, exactly; a rejected
 //! one names the joint, or the pair it touches and by how much), tries the straight edge,
-//! searches, and simplifies. `plan_time_us` runs from the query to the first path (the
-//! robot half is built once, [`PlanningRobot::new`], the scene once per
-//! [`Planner::set_obstacles`]); `simplify_time_us` is the rest. The search polls the stop
-//! flag of [`PlanOptions::stop`] (Ctrl-C) with its time limit.
+//! searches, and simplifies; in the optimising mode ([`PlannerKind::Aorrtc`]) it then
+//! searches for cheaper paths until its budget is spent ([`crate::planning::improve`]).
+//! `plan_time_us` runs from the query to the first path (the robot half is built once,
+//! [`PlanningRobot::new`], the scene once per [`Planner::set_obstacles`]);
+//! `simplify_time_us` is the rest. In the optimising mode `plan_time_us` is the whole
+//! query, the simplification of every path found included (as VAMP's AORRTC reports it),
+//! and `simplify_time_us` is 0. The search polls the stop flag of [`PlanOptions::stop`]
+//! (Ctrl-C) with its time limit.
 
 use crate::collision::Obstacle;
 use crate::model::Model;
 use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
 use crate::planning::environment::Environment;
+use crate::planning::improve::{ImproveContext, Improvement, Optimiser};
 use crate::planning::plan_error::PlanSetupError;
 pub use crate::planning::plan_options::PlanOptions;
+use crate::planning::plan_options::PlannerKind;
+use crate::planning::repair::{EdgeRepair, RepairTools};
 use crate::planning::rrt::{Rrt, SearchEnd, SearchLimit};
 use crate::planning::sampler::{bounds, Sampler};
 use crate::planning::setup::PlanningRobot;
@@ -45,9 +52,9 @@ pub struct PlanResult {
     pub status: PlanStatus,
     /// Why it did not solve.
     pub reason: Option<String>,
-    /// Query start to first path (µs).
+    /// Query start to first path (µs); in the optimising mode, the whole query.
     pub plan_time_us: f64,
-    /// Simplification (µs).
+    /// Simplification (µs); 0 in the optimising mode (counted in `plan_time_us`).
     pub simplify_time_us: f64,
     /// Search iterations.
     pub iterations: usize,
@@ -57,6 +64,11 @@ pub struct PlanResult {
     pub cost: f64,
     /// Waypoints, start and goal included.
     pub path: Vec<Vec<f64>>,
+    /// The search that answered.
+    pub planner: PlannerKind,
+    /// The cost after each improvement, with its time from the query's start: the
+    /// simplified first path, then (optimising mode) each cheaper one.
+    pub improvements: Vec<Improvement>,
 }
 
 /// A planner for one robot, one scene at a time.
@@ -69,6 +81,7 @@ pub struct Planner {
     opts: PlanOptions,
     sampler: Sampler,
     rrt: Rrt,
+    optimiser: Option<Optimiser>,
     simplifier: Simplifier,
     scratch: CheckScratch,
     lo: Vec<f32>,
@@ -76,8 +89,7 @@ pub struct Planner {
     start: Vec<f32>,
     goal: Vec<f32>,
     path: Vec<f32>,
-    sub: Vec<f32>,
-    spliced: Vec<f32>,
+    repair: EdgeRepair,
 }
 
 impl Planner {
@@ -114,6 +126,7 @@ impl Planner {
             sampler: Sampler::new(opts.sampler, &lo, &hi, opts.seed),
             scratch: checker.scratch(),
             rrt: Rrt::new(nv, opts.rrt),
+            optimiser: (opts.planner == PlannerKind::Aorrtc).then(|| Optimiser::new(nv, opts.rrt)),
             simplifier: Simplifier::new(opts.simplifier),
             checker,
             robot,
@@ -122,8 +135,7 @@ impl Planner {
             start: vec![0.0; nv],
             goal: vec![0.0; nv],
             path: Vec::with_capacity(nv * 1024),
-            sub: Vec::with_capacity(nv * 1024),
-            spliced: Vec::with_capacity(nv * 1024),
+            repair: EdgeRepair::with_capacity(nv, 1024),
             opts,
         }
     }
@@ -203,6 +215,8 @@ impl Planner {
             cost_initial: 0.0,
             cost: 0.0,
             path: Vec::new(),
+            planner: self.opts.planner,
+            improvements: Vec::new(),
         };
         for (q, which, status) in [
             (start, "start", PlanStatus::InvalidStart),
@@ -252,11 +266,12 @@ impl Planner {
         }
         res.cost_initial = path_length(&self.path, nv);
         let t1 = Instant::now();
+        let keep_clearance = self.opts.check.clearance > 0.0;
+        self.scratch.ends.clear();
+        self.scratch.ends.extend_from_slice(&self.start);
+        self.scratch.ends.extend_from_slice(&self.goal);
         if self.opts.simplify {
-            self.scratch.keep_clearance = self.opts.check.clearance > 0.0;
-            self.scratch.ends.clear();
-            self.scratch.ends.extend_from_slice(&self.start);
-            self.scratch.ends.extend_from_slice(&self.goal);
+            self.scratch.keep_clearance = keep_clearance;
             self.simplifier.run(
                 &mut self.path,
                 nv,
@@ -267,8 +282,43 @@ impl Planner {
             );
             self.scratch.keep_clearance = false;
         }
+        res.improvements.push(Improvement {
+            time_us: t0.elapsed().as_secs_f64() * 1e6,
+            iterations: res.iterations,
+            cost: path_length(&self.path, nv),
+        });
+        if let Some(optimiser) = self.optimiser.as_mut() {
+            let cx = ImproveContext {
+                checker: &self.checker,
+                scratch: &mut self.scratch,
+                simplifier: self.opts.simplify.then_some(&mut self.simplifier),
+                keep_clearance,
+                rrt: &mut self.rrt,
+                sampler: &mut sampler,
+                stop: self.opts.stop.as_ref(),
+                lo: &self.lo,
+                hi: &self.hi,
+            };
+            let (budget, first) = (self.opts.budget, res.iterations);
+            optimiser.run(
+                cx,
+                &mut self.path,
+                nv,
+                budget,
+                first,
+                t0,
+                &limit,
+                &mut res.improvements,
+            );
+            res.iterations = optimiser.iterations;
+        }
         self.sampler = sampler;
-        res.simplify_time_us = t1.elapsed().as_secs_f64() * 1e6;
+        if self.optimiser.is_some() {
+            // The optimisation is the search: its time includes the paths' simplification.
+            res.plan_time_us = t0.elapsed().as_secs_f64() * 1e6;
+        } else {
+            res.simplify_time_us = t1.elapsed().as_secs_f64() * 1e6;
+        }
         res.cost = path_length(&self.path, nv);
         res.path = self
             .path
@@ -288,58 +338,28 @@ impl Planner {
     fn search(&mut self, sampler: &mut Sampler, limit: &SearchLimit) -> Result<(), SearchEnd> {
         let (c, s) = (&self.checker, &mut self.scratch);
         let (start, goal) = (&self.start, &self.goal);
-        self.rrt.solve(
-            c,
-            s,
-            sampler,
-            start,
-            goal,
-            limit,
-            EdgeMode::Discrete,
-            &mut self.path,
-        )?;
+        let mode = EdgeMode::Discrete;
+        self.rrt
+            .solve(c, s, sampler, start, goal, limit, mode, &mut self.path)?;
         let iterations = self.rrt.iterations;
-        let nv = start.len();
-        self.spliced.clear();
-        self.spliced.extend_from_slice(&self.path[..nv]);
-        let n = self.path.len() / nv;
-        for i in 0..n - 1 {
-            let (a, b) = (&self.path[i * nv..][..nv], &self.path[(i + 1) * nv..][..nv]);
-            if !c.edge_free(a, b, EdgeMode::Continuous, s) {
-                let repaired = self.rrt.solve(
-                    c,
-                    s,
-                    sampler,
-                    a,
-                    b,
-                    limit,
-                    EdgeMode::Continuous,
-                    &mut self.sub,
-                );
-                if repaired.is_err() {
-                    let r = self.rrt.solve(
-                        c,
-                        s,
-                        sampler,
-                        start,
-                        goal,
-                        limit,
-                        EdgeMode::Continuous,
-                        &mut self.path,
-                    );
-                    self.rrt.iterations += iterations;
-                    return r;
-                }
-                // The sub-path's first point is `a`, already in.
-                self.spliced.extend_from_slice(&self.sub[nv..]);
-                self.rrt.iterations += iterations;
-            } else {
-                self.spliced.extend_from_slice(b);
-            }
-        }
-        std::mem::swap(&mut self.path, &mut self.spliced);
-        self.rrt.iterations = self.rrt.iterations.max(iterations);
-        Ok(())
+        let mut tools = RepairTools {
+            rrt: &mut self.rrt,
+            checker: c,
+            scratch: &mut *s,
+            sampler: &mut *sampler,
+            limit,
+        };
+        let repaired = self.repair.certify(&mut tools, &mut self.path, start.len());
+        let Err(_) = repaired else {
+            self.rrt.iterations = iterations + repaired.unwrap_or(0);
+            return Ok(());
+        };
+        let mode = EdgeMode::Continuous;
+        let r = self
+            .rrt
+            .solve(c, s, sampler, start, goal, limit, mode, &mut self.path);
+        self.rrt.iterations += iterations;
+        r
     }
 
     /// Adds to a failed query's reason a blocked band of a joint between start and goal,

@@ -1,6 +1,7 @@
 //! What an arm scenario's task asks of the planner, as validated: the `[planner]`
 //! settings ([`PlannerSettings`]) and the part the tool grasps ([`Part`]).
 
+use crate::planning::plan_options::{OptimiseBudget, PlannerKind};
 use std::time::Duration;
 
 /// `[planner]` settings, validated.
@@ -18,6 +19,10 @@ pub struct PlannerSettings {
     pub max_overshoot: f64,
     /// The SRDF's disabled pairs, when one is given (with its path for the report).
     pub srdf: Option<(String, Vec<(String, String)>)>,
+    /// RRT-Connect or the optimising AORRTC.
+    pub algorithm: PlannerKind,
+    /// AORRTC's budget.
+    pub budget: OptimiseBudget,
 }
 
 /// The grasped part: a box in the tool link's frame.

@@ -106,6 +106,8 @@ impl ScenePlanners {
             seed: settings.seed,
             time_limit: Some(settings.time_limit),
             simplify: settings.simplify,
+            planner: settings.algorithm,
+            budget: settings.budget,
             ..Default::default()
         };
         opts.spheres.package_path = scene.package_paths.explicit.clone();

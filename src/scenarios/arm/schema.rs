@@ -325,7 +325,7 @@ pub struct TaskSec {
     pub position_only: Option<bool>,
 }
 
-/// `[planner]`: RRT-Connect settings.
+/// `[planner]`: RRT-Connect (or AORRTC) settings.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlannerSec {
@@ -344,6 +344,14 @@ pub struct PlannerSec {
     /// MoveIt SRDF with the disabled self-collision pairs, relative to the scenario
     /// (default: adjacent and never-touching pairs found by sampling).
     pub srdf: Option<Spanned<String>>,
+    /// `"rrt-connect"` (default: the first path, simplified) or `"aorrtc"` (keeps
+    /// searching for cheaper paths until the budget is spent).
+    pub algorithm: Option<Spanned<String>>,
+    /// `aorrtc`: search iterations per planned segment, the first path's included
+    /// (default 2000).
+    pub budget_iterations: Option<Spanned<i64>>,
+    /// `aorrtc`: wall-clock budget per planned segment (ms; default none).
+    pub budget_ms: Option<Spanned<f64>>,
 }
 
 /// The grasped part: a box in the tool link's frame.

@@ -4,7 +4,9 @@
 
 use crate::core::diag::{fmt_num, LocatedError as ScenarioError};
 use crate::model::Model;
-use crate::planning::plan_options::{MAX_TIME_LIMIT_MS, RANGE_LIMITS};
+use crate::planning::plan_options::{
+    OptimiseBudget, PlannerKind, MAX_OPTIMISE_ITERATIONS, MAX_TIME_LIMIT_MS, RANGE_LIMITS,
+};
 use crate::planning::spheres::OVERSHOOT_RANGE;
 use crate::scenarios::arm::scene::arm_scene::{Step, TaskStep};
 use crate::scenarios::arm::scene::limits::check_in_limits;
@@ -315,6 +317,7 @@ pub(super) fn planner_settings(
             Some((path.display().to_string(), pairs))
         }
     };
+    let (algorithm, budget) = planner_algorithm(cx, p)?;
     Ok(Some(
         crate::scenarios::arm::planner_settings::PlannerSettings {
             seed: p.and_then(|p| p.seed).unwrap_or(0),
@@ -323,8 +326,65 @@ pub(super) fn planner_settings(
             range,
             max_overshoot,
             srdf,
+            algorithm,
+            budget,
         },
     ))
+}
+
+/// `[planner] algorithm`, `budget_iterations` and `budget_ms` (the budget is refused with
+/// RRT-Connect, which stops at its first path).
+fn planner_algorithm(
+    cx: &Source,
+    p: Option<&PlannerSec>,
+) -> Result<(PlannerKind, OptimiseBudget), ScenarioError> {
+    let mut budget = OptimiseBudget::default();
+    let algorithm = match p.and_then(|p| p.algorithm.as_ref()) {
+        None => PlannerKind::RrtConnect,
+        Some(a) => PlannerKind::from_name(a.get_ref()).ok_or_else(|| {
+            let msg = format!(
+                "expected \"rrt-connect\" or \"aorrtc\", got {:?}",
+                a.get_ref()
+            );
+            cx.at(a.span(), "planner.algorithm", msg)
+        })?,
+    };
+    let Some(p) = p else {
+        return Ok((algorithm, budget));
+    };
+    if algorithm == PlannerKind::RrtConnect {
+        let given = [
+            (
+                "planner.budget_iterations",
+                p.budget_iterations.as_ref().map(|b| b.span()),
+            ),
+            ("planner.budget_ms", p.budget_ms.as_ref().map(|b| b.span())),
+        ];
+        if let Some((key, Some(span))) = given.into_iter().find(|(_, s)| s.is_some()) {
+            let msg = "applies to algorithm = \"aorrtc\" (RRT-Connect stops at its first path)";
+            return Err(cx.at(span, key, msg));
+        }
+    }
+    if let Some(n) = &p.budget_iterations {
+        let v = *n.get_ref();
+        if v < 1 || v as u64 > MAX_OPTIMISE_ITERATIONS as u64 {
+            let msg = format!("must lie in 1 … {MAX_OPTIMISE_ITERATIONS}, got {v}");
+            return Err(cx.at(n.span(), "planner.budget_iterations", msg));
+        }
+        budget.iterations = v as usize;
+    }
+    if let Some(t) = &p.budget_ms {
+        let v = *t.get_ref();
+        if !(finite_pos(v) && v <= MAX_TIME_LIMIT_MS) {
+            let msg = format!(
+                "must be positive and at most {MAX_TIME_LIMIT_MS:e} ms, got {}",
+                fmt_num(v)
+            );
+            return Err(cx.at(t.span(), "planner.budget_ms", msg));
+        }
+        budget.time = Some(std::time::Duration::from_secs_f64(v / 1e3));
+    }
+    Ok((algorithm, budget))
 }
 
 /// Whether a pick-and-place plans its transfers (`task.planner`).
