@@ -172,6 +172,7 @@ pub fn json(h: &ReportHeader, outcomes: &[PlanOutcome]) -> String {
                 "iterations": r.iterations,
                 "cost_initial": r.cost_initial,
                 "cost": r.cost,
+                "goal": r.path.last(),
                 "path": r.path,
             })
         })

@@ -6,15 +6,19 @@
 
 pub mod acm;
 pub mod checker;
+pub mod constrained_rrt;
 pub mod cover_cache;
 pub mod environment;
 mod lane_values;
 pub mod lanes;
 pub mod mesh_sdf;
 pub mod moveit;
+pub mod path_constraints;
 pub mod plan_error;
 pub mod plan_options;
 pub mod planner;
+pub mod pose_goal;
+pub mod projection;
 pub mod rrt;
 pub mod sampler;
 pub mod self_pairs;

@@ -397,3 +397,5 @@ impl Planner {
         (self.scratch.edges, self.scratch.batches)
     }
 }
+
+pub mod goal_query;
