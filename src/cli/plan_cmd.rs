@@ -106,6 +106,9 @@ struct Input {
     obstacles: Vec<Obstacle>,
     start: Vec<f64>,
     goal: Vec<f64>,
+    /// A tool-pose goal (then `goal` is empty) and the path constraints.
+    pose: Option<armsim::planning::pose_goal::PoseGoal>,
+    constraints: Vec<armsim::planning::path_constraints::PathConstraint>,
 }
 
 /// Runs the command; returns what goes to standard output (empty with `--out`).
@@ -360,6 +363,15 @@ fn read_inputs(a: &PlanArgs, model: &Model) -> Result<Vec<Input>, String> {
             }
             *n += 1;
         }
+        if a.planner.as_deref() == Some("aorrtc")
+            && (req.goal_pose.is_some() || !req.path_constraints.is_empty())
+        {
+            return Err(format!(
+                "{}: --planner aorrtc plans to joint goals without path constraints; this \
+                 request has a tool-pose goal or path constraints (plan it with rrt-connect)",
+                request.display()
+            ));
+        }
         inputs.push(Input {
             scene_label,
             id,
@@ -367,6 +379,8 @@ fn read_inputs(a: &PlanArgs, model: &Model) -> Result<Vec<Input>, String> {
             obstacles,
             start: req.start,
             goal: req.goal,
+            pose: req.goal_pose,
+            constraints: req.path_constraints,
         });
     }
     let repeated: usize = seen.values().map(|n| n - 1).sum();
@@ -398,12 +412,12 @@ fn solve(
     planner
         .set_obstacles(&inp.obstacles)
         .map_err(|e| format!("{}: {e}", inp.scene_file.display()))?;
-    let mut result = planner.plan(&inp.start, &inp.goal);
+    let mut result = plan_input(&mut planner, inp)?;
     let mut plan = vec![result.plan_time_us];
     let mut simplify = vec![result.simplify_time_us];
     let mut passes_identical = true;
     for _ in 1..passes {
-        let r = planner.plan(&inp.start, &inp.goal);
+        let r = plan_input(&mut planner, inp)?;
         passes_identical &= r.path == result.path && r.status == result.status;
         plan.push(r.plan_time_us);
         simplify.push(r.simplify_time_us);
@@ -416,4 +430,27 @@ fn solve(
         result,
         passes_identical,
     })
+}
+
+/// One query of a problem: a joint goal as before; a tool-pose goal or path constraints
+/// through [`Planner::plan_to`] (a note on standard error gives the goal set's size).
+fn plan_input(planner: &mut Planner, inp: &Input) -> Result<armsim::planning::PlanResult, String> {
+    use armsim::planning::pose_goal::Goal;
+    if inp.pose.is_none() && inp.constraints.is_empty() {
+        return Ok(planner.plan(&inp.start, &inp.goal));
+    }
+    let goal = match &inp.pose {
+        Some(p) => Goal::Pose(p.clone()),
+        None => Goal::Joints(inp.goal.clone()),
+    };
+    let g = planner
+        .plan_to(&inp.start, &goal, &inp.constraints)
+        .map_err(|e| format!("{} {}: {e}", inp.scene_label, inp.id))?;
+    if inp.pose.is_some() {
+        eprintln!(
+            "note: {} {}: goal pose: {} inverse-kinematics solution(s), {} valid, {} search(es)",
+            inp.scene_label, inp.id, g.goals_found, g.goals_valid, g.searches
+        );
+    }
+    Ok(g.result)
 }

@@ -178,6 +178,7 @@ pub fn json(h: &ReportHeader, outcomes: &[PlanOutcome]) -> String {
                 "cost_initial": r.cost_initial,
                 "cost": r.cost,
                 "improvements": r.improvements,
+                "goal": r.path.last(),
                 "path": r.path,
             })
         })

@@ -20,6 +20,7 @@
 //! assert!((obstacles[0].pose.trans.x - 0.6).abs() < 1e-15);
 //! ```
 
+mod pose_constraints;
 mod problems;
 mod request;
 mod scene;

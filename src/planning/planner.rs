@@ -417,3 +417,5 @@ impl Planner {
         (self.scratch.edges, self.scratch.batches)
     }
 }
+
+pub mod goal_query;

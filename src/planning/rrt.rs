@@ -9,6 +9,9 @@
 //! success); samples farther than its radius from their nearest node are rejected, which
 //! keeps the trees from wasting samples against walls.
 //!
+//! The goal tree may have several roots ([`Rrt::solve_to_set`]: a goal set, such as the
+//! inverse-kinematics solutions of a tool pose); a path ends at the root it grew from.
+//!
 //! Trees live in buffers sized once ([`Rrt::new`]); nearest neighbours are found by a
 //! linear scan over coordinates padded to a multiple of eight (vectorised). Nothing is
 //! allocated per iteration.
@@ -198,18 +201,40 @@ impl Rrt {
         mode: EdgeMode,
         path: &mut Vec<f32>,
     ) -> Result<(), SearchEnd> {
+        self.solve_to_set(checker, scratch, sampler, start, goal, limit, mode, path)
+    }
+
+    /// [`Rrt::solve`] to a goal set: `goals` holds one or more free configurations (flat,
+    /// `nv` each), all roots of the goal tree; the path ends at the one the trees meet
+    /// through (the first whose straight edge from the start is free, if any is).
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_to_set(
+        &mut self,
+        checker: &Checker,
+        scratch: &mut CheckScratch,
+        sampler: &mut Sampler,
+        start: &[f32],
+        goals: &[f32],
+        limit: &SearchLimit,
+        mode: EdgeMode,
+        path: &mut Vec<f32>,
+    ) -> Result<(), SearchEnd> {
         let nv = start.len();
         for t in &mut self.trees {
             t.clear();
         }
         self.trees[0].push(start, u32::MAX);
-        self.trees[1].push(goal, u32::MAX);
+        for goal in goals.chunks_exact(nv) {
+            self.trees[1].push(goal, u32::MAX);
+        }
         self.iterations = 0;
         path.clear();
-        if checker.edge_free(start, goal, mode, scratch) {
-            path.extend_from_slice(start);
-            path.extend_from_slice(goal);
-            return Ok(());
+        for goal in goals.chunks_exact(nv) {
+            if checker.edge_free(start, goal, mode, scratch) {
+                path.extend_from_slice(start);
+                path.extend_from_slice(goal);
+                return Ok(());
+            }
         }
         for it in 0..self.opts.max_iterations {
             self.iterations = it + 1;

@@ -14,13 +14,18 @@
 //! A start state whose `multi_dof_joint_state` moves the base (MoveIt's virtual joint, not
 //! the identity) is refused: armsim's world is the model's root frame.
 //!
-//! Goals other than joint values (position or orientation constraints) are refused; goal
+//! A goal of position and orientation constraints is a tool pose ([`Request::goal_pose`]),
+//! and `path_constraints` are read too ([`Request::path_constraints`]); see
+//! `pose_constraints.rs` for what is supported. Visibility constraints are refused; goal
 //! constraints after the first (MoveIt's alternative goals) are ignored with a warning.
 
 use crate::model::Model;
+use crate::planning::moveit::pose_constraints::{goal_pose, path_constraints};
 use crate::planning::moveit::scene::components;
 use crate::planning::moveit::yaml::{Doc, Node};
+use crate::planning::path_constraints::PathConstraint;
 use crate::planning::plan_error::{PlanningInputError, PlanningInputWarning};
+use crate::planning::pose_goal::PoseGoal;
 
 /// A motion planning problem for one model: start and goal joint values, in the model's
 /// coordinate order ([`Model::dof_names`]).
@@ -30,8 +35,13 @@ pub struct Request {
     pub joints: Vec<String>,
     /// Start configuration.
     pub start: Vec<f64>,
-    /// Goal configuration.
+    /// Goal configuration (empty when the goal is a pose, [`Request::goal_pose`]).
     pub goal: Vec<f64>,
+    /// The tool pose to reach, when the goal is given by position and orientation
+    /// constraints.
+    pub goal_pose: Option<PoseGoal>,
+    /// Constraints the whole path keeps (`path_constraints`).
+    pub path_constraints: Vec<PathConstraint>,
     /// MoveIt planning group (`group_name`), if given.
     pub group: Option<String>,
     /// MoveIt planner id (`planner_id`), if given.
@@ -130,7 +140,8 @@ pub fn parse_request(
     let (doc, root) = Doc::parse(text, file)?;
     let mut warnings = Vec::new();
     let start = start_state(&doc, &root, model, &mut warnings)?;
-    let goal = goal(&doc, &root, model, &mut warnings)?;
+    let (goal, goal_pose) = goal(&doc, &root, model, &mut warnings)?;
+    let path_constraints = path_constraints(&doc, &root, model, &mut warnings)?;
     let opt_str = |key: &str| -> Result<Option<String>, PlanningInputError> {
         doc.get(&root, key)
             .map(|n| doc.str(n, key).map(str::to_string))
@@ -145,6 +156,8 @@ pub fn parse_request(
             joints: model.dof_names(),
             start,
             goal,
+            goal_pose,
+            path_constraints,
             group: opt_str("group_name")?,
             planner_id: opt_str("planner_id")?,
             allowed_planning_time,
@@ -250,7 +263,7 @@ fn goal(
     root: &Node,
     model: &Model,
     warnings: &mut Vec<PlanningInputWarning>,
-) -> Result<Vec<f64>, PlanningInputError> {
+) -> Result<(Vec<f64>, Option<PoseGoal>), PlanningInputError> {
     let gc_node = doc.req(root, "request", "goal_constraints")?;
     let gcs = doc.seq(gc_node, "goal_constraints")?;
     let Some(g) = gcs.first() else {
@@ -268,18 +281,22 @@ fn goal(
     }
     let at = "goal_constraints[0]";
     doc.map(g, at)?;
-    for key in [
-        "position_constraints",
-        "orientation_constraints",
-        "visibility_constraints",
-    ] {
-        if let Some(c) = doc.opt_seq(g, at, key)?.first() {
+    if let Some(c) = doc.opt_seq(g, at, "visibility_constraints")?.first() {
+        return Err(doc.err(
+            c,
+            format!("{at}.visibility_constraints[0]"),
+            "visibility constraints are not supported (joint values or a tool pose are)",
+        ));
+    }
+    if let Some(pose) = goal_pose(doc, g, at, model)? {
+        if let Some(j) = doc.opt_seq(g, at, "joint_constraints")?.first() {
             return Err(doc.err(
-                c,
-                format!("{at}.{key}[0]"),
-                "only joint goals (joint_constraints) are supported",
+                j,
+                format!("{at}.joint_constraints[0]"),
+                "a goal of joint values and a tool pose together is not supported",
             ));
         }
+        return Ok((Vec::new(), Some(pose)));
     }
     let jc_node = doc.req(g, at, "joint_constraints")?;
     let jcs = doc.seq(jc_node, &format!("{at}.joint_constraints"))?;
@@ -293,5 +310,5 @@ fn goal(
         let value = doc.num(p, &format!("{cat}.position"))?;
         s.set(n, &format!("{cat}.joint_name"), name, value)?;
     }
-    s.finish(jc_node, &format!("{at}.joint_constraints"))
+    Ok((s.finish(jc_node, &format!("{at}.joint_constraints"))?, None))
 }

@@ -193,7 +193,7 @@ fn check_operation(doc: &Doc<'_>, obj: &Node, at: &str) -> Result<(), PlanningIn
 }
 
 /// `header.frame_id` must be the world (or one of `frames`).
-fn check_frame(
+pub(super) fn check_frame(
     doc: &Doc<'_>,
     obj: &Node,
     at: &str,
@@ -219,7 +219,7 @@ fn check_frame(
 }
 
 /// A `SolidPrimitive`: `type` (name or MoveIt's number) and `dimensions`.
-fn primitive(doc: &Doc<'_>, prim: &Node, at: &str) -> Result<Shape, PlanningInputError> {
+pub(super) fn primitive(doc: &Doc<'_>, prim: &Node, at: &str) -> Result<Shape, PlanningInputError> {
     doc.map(prim, at)?;
     let t = doc.req(prim, at, "type")?;
     let kind_name = match &t.data {
