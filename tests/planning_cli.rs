@@ -88,6 +88,8 @@ fn plan_json_names_the_joints_and_gives_each_result_the_agreed_keys() {
         [
             "cost",
             "cost_initial",
+            "goal",
+            "improvements",
             "iterations",
             "path",
             "plan_time_us",
@@ -168,6 +170,9 @@ fn untimed(v: &Value) -> Vec<Value> {
             let o = r.as_object_mut().unwrap();
             o.remove("plan_time_us");
             o.remove("simplify_time_us");
+            for i in o["improvements"].as_array_mut().unwrap() {
+                i.as_object_mut().unwrap().remove("time_us");
+            }
             r
         })
         .collect()
@@ -523,5 +528,71 @@ fn plan_scenario_plans_each_planned_move_of_the_task_around_the_crate() {
     fails_with(
         &["plan", PANDA, "--scenario", scenario],
         "scenario's own model",
+    );
+}
+
+#[test]
+fn plan_aorrtc_logs_cheaper_paths_and_refuses_budgets_that_do_not_apply() {
+    let dir = scene_dir("panda", "bookshelf_small");
+    let base = [
+        "plan",
+        PANDA,
+        "--srdf",
+        PANDA_SRDF,
+        "--moveit-dir",
+        &dir,
+        "--json",
+    ];
+    let opt = ["--planner", "aorrtc", "--budget-iterations", "1500"];
+    let first = json(&base);
+    let v = json(&[&base[..], &opt[..]].concat());
+    assert_eq!(v["planner"], "aorrtc");
+    assert_eq!(v["budget_iterations"], 1500);
+    assert!(v["budget_ms"].is_null());
+    assert_eq!(first["planner"], "rrt-connect");
+    let (mut improved, mut cheaper) = (0, 0);
+    for (r, f) in v["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(first["results"].as_array().unwrap())
+    {
+        if r["status"] != "solved" {
+            continue;
+        }
+        let imp = r["improvements"].as_array().unwrap();
+        let costs: Vec<f64> = imp.iter().map(|i| i["cost"].as_f64().unwrap()).collect();
+        // The first entry is RRT-Connect's simplified path; each later one is cheaper.
+        assert_eq!(costs[0], f["cost"].as_f64().unwrap(), "{}", r["problem"]);
+        assert!(costs.windows(2).all(|w| w[1] < w[0]), "{costs:?}");
+        assert_eq!(*costs.last().unwrap(), r["cost"].as_f64().unwrap());
+        assert_eq!(r["simplify_time_us"], 0.0);
+        improved += usize::from(costs.len() > 1);
+        cheaper += usize::from(r["cost"].as_f64().unwrap() < f["cost"].as_f64().unwrap() - 1e-9);
+    }
+    assert!(
+        improved >= 20 && improved == cheaper,
+        "{improved} improved, {cheaper} cheaper"
+    );
+    let bad = |extra: &[&str], needle: &str| fails_with(&[&base[..], extra].concat(), needle);
+    bad(
+        &["--budget-iterations", "100"],
+        "--budget-iterations applies to --planner aorrtc",
+    );
+    bad(
+        &["--planner", "rrt-connect", "--budget-ms", "5"],
+        "--budget-ms applies",
+    );
+    bad(
+        &["--planner", "rrt*"],
+        "--planner: expected rrt-connect or aorrtc, got 'rrt*'",
+    );
+    bad(
+        &["--planner", "aorrtc", "--budget-iterations", "0"],
+        "--budget-iterations: expected 1",
+    );
+    bad(
+        &["--planner", "aorrtc", "--budget-ms", "nan"],
+        "--budget-ms: expected a positive",
     );
 }

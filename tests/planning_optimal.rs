@@ -58,8 +58,8 @@ fn planar_arm() -> Robot {
 }
 
 /// The length of the shortest grid path from `start` to `goal` over the free cells of a
-/// `(2·half + 1)²` grid on `[−3, 3]²`, 16-connected, each move checked at its ends and at
-/// eight points between (Dijkstra).
+/// `(2·half + 1)²` grid on `[−3, 3]²` (each cell's centre checked), 16-connected, a move
+/// allowed when the cells under seven points along it are free too (Dijkstra).
 fn grid_optimum(free: &mut dyn FnMut(&[f64]) -> bool, start: [f64; 2], goal: [f64; 2]) -> f64 {
     let half = 240i64;
     let h = 3.0 / half as f64;
@@ -99,12 +99,14 @@ fn grid_optimum(free: &mut dyn FnMut(&[f64]) -> bool, start: [f64; 2], goal: [f6
             if n.iter().any(|v| v.abs() > half) || occ[idx(n)] {
                 continue;
             }
+            // The cells the move passes through (at eight points along it) are free.
             let clear = (1..8).all(|k| {
                 let t = f64::from(k) / 8.0;
-                free(&[
-                    at(c[0]) + t * (at(n[0]) - at(c[0])),
-                    at(c[1]) + t * (at(n[1]) - at(c[1])),
-                ])
+                let p = [
+                    (c[0] as f64 + t * m[0] as f64).round() as i64,
+                    (c[1] as f64 + t * m[1] as f64).round() as i64,
+                ];
+                !occ[idx(p)]
             });
             let nd = d + h * ((m[0] * m[0] + m[1] * m[1]) as f64).sqrt();
             if clear && nd < dist[idx(n)] {

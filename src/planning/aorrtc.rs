@@ -26,7 +26,7 @@
 
 use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
 use crate::planning::informed::{dist, InformedSampler};
-use crate::planning::rrt::{RrtOptions, SearchEnd, SearchLimit};
+use crate::planning::rrt::{domain_after, RrtOptions, SearchEnd, SearchLimit};
 use crate::planning::sampler::Rng;
 
 /// Most cost-bound resamples per new node (VAMP's `max_cost_bound_resamples`).
@@ -227,19 +227,9 @@ impl Aorrtc {
             .checker
             .edge_free(&from[..nv], &self.step[..nv], s.mode, s.scratch);
         let tree = &mut self.trees[a];
-        let r = &mut tree.radius[near as usize];
+        domain_after(&mut tree.radius[near as usize], free, &o);
         if !free {
-            if o.dynamic_domain {
-                *r = if r.is_finite() {
-                    (*r * (1.0 - o.dd_alpha)).max(o.range)
-                } else {
-                    o.dd_radius
-                };
-            }
             return None;
-        }
-        if o.dynamic_domain && r.is_finite() {
-            *r *= 1.0 + o.dd_alpha;
         }
         let mut cost = tree.cost[near as usize] + d.min(o.range);
         // Step 4: cheaper parents below the new node's cost.

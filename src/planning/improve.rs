@@ -174,14 +174,15 @@ impl Optimiser {
                 simplifier.run(&mut self.candidate, nv, checker, scratch, rng, stop);
                 scratch.keep_clearance = false;
             }
-            let cost = path_length(&self.candidate, nv) as f32;
+            let length = path_length(&self.candidate, nv);
+            let cost = length as f32;
             if cost < best {
                 best = cost;
                 std::mem::swap(path, &mut self.candidate);
                 log.push(Improvement {
                     time_us: t0.elapsed().as_secs_f64() * 1e6,
                     iterations: self.iterations,
-                    cost: f64::from(cost),
+                    cost: length,
                 });
             }
         }

@@ -60,11 +60,10 @@ impl InformedSampler {
         set(&mut self.hi, &mut hi.iter().copied());
         let mid = start.iter().zip(goal).map(|(s, g)| 0.5 * (s + g));
         set(&mut self.centre, &mut mid.into_iter());
-        let unit =
-            start
-                .iter()
-                .zip(goal)
-                .map(|(s, g)| if c_min > 1e-6 { (g - s) / c_min } else { 0.0 });
+        let unit = start
+            .iter()
+            .zip(goal)
+            .map(|(s, g)| if c_min > 1e-6 { (g - s) / c_min } else { 0.0 });
         set(&mut self.axis, &mut unit.into_iter());
         self.c_min = c_min;
         self.half_transverse = f32::INFINITY;

@@ -52,6 +52,26 @@ impl Default for RrtOptions {
     }
 }
 
+/// The dynamic domain's update of a node's radius after an extension from it: a first
+/// failure gives it `dd_radius`, a further one shrinks it by `1 − α` (not below `range`), a
+/// success grows a finite radius by `1 + α`.
+pub(crate) fn domain_after(r: &mut f32, free: bool, o: &RrtOptions) {
+    if !o.dynamic_domain {
+        return;
+    }
+    if free {
+        if r.is_finite() {
+            *r *= 1.0 + o.dd_alpha;
+        }
+    } else {
+        *r = if r.is_finite() {
+            (*r * (1.0 - o.dd_alpha)).max(o.range)
+        } else {
+            o.dd_radius
+        };
+    }
+}
+
 /// Why a search ended without a path.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SearchEnd {
@@ -308,19 +328,9 @@ impl Rrt {
             mode,
             scratch,
         );
-        let r = &mut tree.radius[near as usize];
+        domain_after(&mut tree.radius[near as usize], free, &o);
         if !free {
-            if o.dynamic_domain {
-                *r = if r.is_finite() {
-                    (*r * (1.0 - o.dd_alpha)).max(o.range)
-                } else {
-                    o.dd_radius
-                };
-            }
             return Step::Trapped;
-        }
-        if o.dynamic_domain && r.is_finite() {
-            *r *= 1.0 + o.dd_alpha;
         }
         let new = tree.push(&self.step, near);
         if reach {

@@ -19,12 +19,12 @@
 //! `plan_time_us` runs to the first path; `simplify_time_us` covers the simplification
 //! and the searches of step 4.
 
-use crate::planning::improve::Improvement;
-use crate::planning::plan_options::PlannerKind;
 use super::{PlanResult, PlanStatus, Planner};
 use crate::planning::checker::EdgeMode;
 use crate::planning::constrained_rrt::{ConstrainedContext, ConstrainedRrt};
+use crate::planning::improve::Improvement;
 use crate::planning::path_constraints::{ConstraintSet, PathConstraint};
+use crate::planning::plan_options::PlannerKind;
 use crate::planning::pose_goal::{goal_set, Goal};
 use crate::planning::rrt::{SearchEnd, SearchLimit};
 use crate::planning::sampler::Sampler;
