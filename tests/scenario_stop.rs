@@ -65,9 +65,9 @@ fn a_raised_stop_flag_cancels_the_run_and_writes_nothing() {
     std::fs::create_dir_all(&dir).unwrap();
     let scenario = long_scenario(&dir);
     let out = dir.join("out");
-    let e = run_stopped_after_a_while(&scenario, &out, OnStop::Cancel)
-        .err()
-        .expect("a cancelled run is an error");
+    let Err(e) = run_stopped_after_a_while(&scenario, &out, OnStop::Cancel) else {
+        panic!("a cancelled run is an error");
+    };
     let msg = e.to_string();
     assert!(msg.contains("cancelled"), "{msg}");
     assert!(msg.contains("no output file written"), "{msg}");
