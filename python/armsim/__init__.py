@@ -62,6 +62,7 @@ from ._armsim import (  # noqa: F401  (re-exports)
     plan,
     rnea,
     rnea_batch,
+    crba_batch,
     rnea_derivatives,
     sample_poses,
 )
@@ -79,7 +80,7 @@ __all__ = [
     "frame_jacobian_time_variation", "compute_kinetic_energy", "compute_potential_energy",
     "compute_coriolis_matrix", "center_of_mass", "jacobian_center_of_mass",
     "inverse_dynamics", "forward_dynamics",
-    "rnea_batch", "aba_batch", "gravity_batch", "fk_batch", "jacobian_batch", "ik_batch",
+    "rnea_batch", "aba_batch", "crba_batch", "gravity_batch", "fk_batch", "jacobian_batch", "ik_batch",
     "sample_poses", "run_scenario", "workspace", "plan",
 ]
 

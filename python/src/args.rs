@@ -1,8 +1,8 @@
 //! Arguments from Python: vectors and row batches as `f64` slices (numpy arrays are
 //! read in place; lists and other sequences are copied), checked for length and NaN
 //! before anything reaches the Rust algorithms; frame / expression arguments; counts,
-//! indices and seeds (taken as `i128` so that a negative value gets a message naming the
-//! argument instead of a bare `OverflowError`).
+//! indices and seeds (taken as [`Int`], any Python integer, so that a negative or huge
+//! value gets a message naming the argument instead of a bare `OverflowError`).
 
 use crate::errors::err;
 use armsim::{Expressed, Model};
@@ -189,39 +189,103 @@ pub fn poses(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<[f64; 16]>> {
         .collect()
 }
 
+/// A Python integer argument of any size (counts, indices, seeds). pyo3's own `i128`
+/// raises a bare `OverflowError` beyond ±2^127, without the argument's name; this keeps
+/// such a value (its sign and how to print it) so that [`size`] and [`seed`] can refuse
+/// it with a message naming the argument. Not an integer: pyo3's `TypeError` naming the
+/// argument, as for `i128`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Int {
+    /// Within `i128`.
+    Fits(i128),
+    /// Beyond `i128`: its sign and its decimal text (or its size in bits when long).
+    Huge { negative: bool, text: String },
+}
+
+impl From<i128> for Int {
+    fn from(x: i128) -> Int {
+        Int::Fits(x)
+    }
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Int {
+    type Error = PyErr;
+
+    fn extract(obj: pyo3::Borrowed<'a, 'py, PyAny>) -> PyResult<Int> {
+        match obj.extract::<i128>() {
+            Ok(x) => Ok(Int::Fits(x)),
+            Err(e) if e.is_instance_of::<pyo3::exceptions::PyOverflowError>(obj.py()) => {
+                let negative = obj.lt(0)?;
+                // `str` of a very long int raises (Python's 4300-digit limit): give its size.
+                let text = match obj.str() {
+                    Ok(t) if t.len().is_ok_and(|n| n <= 80) => t.to_string(),
+                    _ => format!(
+                        "an integer of {} bits",
+                        obj.call_method0("bit_length")?.extract::<u64>()?
+                    ),
+                };
+                Ok(Int::Huge { negative, text })
+            }
+            Err(e) => Err(e),
+        }
+    }
+}
+
 /// `x` as a count or index called `what`: an error naming it unless `0 <= x` (and
 /// `x` fits the platform's `usize`).
-pub fn size(x: i128, what: &str) -> PyResult<usize> {
-    usize::try_from(x).map_err(|_| out_of_range(x, what, usize::MAX as u128))
+pub fn size(x: impl Into<Int>, what: &str) -> PyResult<usize> {
+    in_range(x.into(), what, usize::MAX as u128)
 }
 
 /// `x` as a seed or a stream position called `what` (`0 … 2^64 − 1`), or an error
 /// naming it.
-pub fn seed(x: i128, what: &str) -> PyResult<u64> {
-    u64::try_from(x).map_err(|_| out_of_range(x, what, u64::MAX as u128))
+pub fn seed(x: impl Into<Int>, what: &str) -> PyResult<u64> {
+    in_range(x.into(), what, u64::MAX as u128)
 }
 
-fn out_of_range(x: i128, what: &str, max: u128) -> PyErr {
-    if x < 0 {
-        err(format!("{what}: expected a non-negative integer, got {x}"))
+/// `x` as a `T` (non-negative, at most `max`), or an error naming `what`.
+fn in_range<T: TryFrom<i128>>(x: Int, what: &str, max: u128) -> PyResult<T> {
+    match &x {
+        Int::Fits(v) => T::try_from(*v).ok(),
+        Int::Huge { .. } => None,
+    }
+    .ok_or_else(|| out_of_range(&x, what, max))
+}
+
+fn out_of_range(x: &Int, what: &str, max: u128) -> PyErr {
+    let (negative, text) = match x {
+        Int::Fits(v) => (*v < 0, v.to_string()),
+        Int::Huge { negative, text } => (*negative, text.clone()),
+    };
+    if negative {
+        err(format!(
+            "{what}: expected a non-negative integer, got {text}"
+        ))
     } else {
         err(format!(
-            "{what}: {x} is larger than the largest accepted, {max}"
+            "{what}: {text} is larger than the largest accepted, {max}"
         ))
     }
 }
 
 /// A frame given by index or name.
 pub fn frame(model: &Model, obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    if let Ok(i) = obj.extract::<i64>() {
-        if i < 0 || i as usize >= model.links.len() {
-            return Err(err(format!(
-                "frame index {i} does not exist ({} has {} frames)",
-                model.name,
-                model.links.len()
-            )));
+    if let Ok(i) = obj.extract::<Int>() {
+        let n = model.links.len();
+        return match &i {
+            Int::Fits(k) => usize::try_from(*k).ok().filter(|&k| k < n),
+            Int::Huge { .. } => None,
         }
-        return Ok(i as usize);
+        .ok_or_else(|| {
+            let text = match i {
+                Int::Fits(k) => k.to_string(),
+                Int::Huge { text, .. } => text,
+            };
+            err(format!(
+                "frame index {text} does not exist ({} has {n} frames)",
+                model.name
+            ))
+        });
     }
     let name: String = obj
         .extract()

@@ -1,8 +1,8 @@
-//! Batches on `(N, nq)` arrays: RNEA, ABA, gravity, FK, Jacobians and IK. Inputs are
+//! Batches on `(N, nq)` arrays: RNEA, ABA, CRBA, gravity, FK, Jacobians and IK. Inputs are
 //! checked under the GIL, then the rows run on rayon with the GIL released, one
 //! workspace per chunk of rows (nothing allocated per row except IK's answers). RNEA,
-//! ABA and FK run eight rows at a time in SIMD lanes (`dynamics::rnea_lanes`, `aba_lanes`,
-//! `kinematics::pose_lanes`).
+//! ABA, CRBA and FK run eight rows at a time in SIMD lanes (`dynamics::rnea_lanes`,
+//! `aba_lanes`, `crba_lanes`, `kinematics::pose_lanes`).
 
 use crate::args::{self, rows};
 use crate::convert::se3_from_4x4;
@@ -191,6 +191,46 @@ pub fn aba_batch<'py>(
     shaped(py, out, &[n, nv])
 }
 
+/// `M(q)` for every row of `Q`: an `(N, nv, nv)` array (each matrix symmetric, the
+/// model's armature on the diagonal, as `crba`). Eight rows at a time in SIMD lanes
+/// (`dynamics::crba_rows`; equal to `crba` row by row to rounding), in chunks of
+/// [`LANE_CHUNK`] rows on rayon, Ctrl-C honoured between chunks.
+#[pyfunction]
+pub fn crba_batch<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    q: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let m = &*model.model;
+    let (nv, nn) = (m.nv, m.nv * m.nv);
+    let q = rows(q, "Q", nv)?;
+    let (n, qs) = (q.rows, q.slice());
+    // Eight rows in lanes cost about one scalar row.
+    let long = interrupt::is_long(m, n / 8, nn);
+    let out = interrupt::detached(py, long, |stop| {
+        let mut out = zeros(n, nn)?;
+        if nn == 0 {
+            return Ok(out);
+        }
+        out.par_chunks_mut(nn * LANE_CHUNK)
+            .enumerate()
+            .try_for_each_init(
+                || dynamics::CrbaLanes::new(m),
+                |w, (c, chunk)| {
+                    if interrupt::stopped(&stop) {
+                        return Err(interrupt::CANCELLED.to_string());
+                    }
+                    let r0 = c * LANE_CHUNK;
+                    dynamics::crba_rows(m, w, &qs[r0 * nv..r0 * nv + chunk.len() / nn * nv], chunk);
+                    Ok(())
+                },
+            )?;
+        Ok::<_, String>(out)
+    })?
+    .map_err(err)?;
+    shaped(py, out, &[n, nv, nv])
+}
+
 /// `g(q)` for every row of `Q`: an `(N, nv)` array.
 #[pyfunction]
 pub fn gravity_batch<'py>(
@@ -279,14 +319,14 @@ pub fn jacobian_batch<'py>(
 /// answers. Returns a dict of arrays: `q (N, nv)`, `status`, `position_error`,
 /// `rotation_error`, `iterations`, `reason`.
 #[pyfunction]
-#[pyo3(signature = (model, frame, targets, q0=None, start=0, **kwargs))]
+#[pyo3(signature = (model, frame, targets, q0=None, start=args::Int::Fits(0), **kwargs))]
 pub fn ik_batch<'py>(
     py: Python<'py>,
     model: &PyModel,
     frame: &Bound<'py, PyAny>,
     targets: &Bound<'py, PyAny>,
     q0: Option<&Bound<'py, PyAny>>,
-    start: i128,
+    start: args::Int,
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let start = args::seed(start, "start")?;

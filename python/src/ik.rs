@@ -30,11 +30,17 @@ pub fn options(kw: Option<&Bound<'_, PyDict>>) -> PyResult<IkOptions> {
             "tol_position" => o.tol_position = positive(&key, v.extract().map_err(bad)?)?,
             "tol_rotation" => o.tol_rotation = positive(&key, v.extract().map_err(bad)?)?,
             "max_iterations" => {
-                o.max_iterations = crate::args::size(v.extract().map_err(bad)?, &opt)?
+                o.max_iterations =
+                    crate::args::size(v.extract::<crate::args::Int>().map_err(bad)?, &opt)?
             }
-            "max_restarts" => o.max_restarts = crate::args::size(v.extract().map_err(bad)?, &opt)?,
+            "max_restarts" => {
+                o.max_restarts =
+                    crate::args::size(v.extract::<crate::args::Int>().map_err(bad)?, &opt)?
+            }
             "respect_limits" => o.respect_limits = v.extract().map_err(bad)?,
-            "seed" => o.seed = crate::args::seed(v.extract().map_err(bad)?, &opt)?,
+            "seed" => {
+                o.seed = crate::args::seed(v.extract::<crate::args::Int>().map_err(bad)?, &opt)?
+            }
             "rotation_weight" => o.rotation_weight = positive(&key, v.extract().map_err(bad)?)?,
             "time_budget" => {
                 let t: Option<f64> = v.extract().map_err(bad)?;

@@ -7,8 +7,9 @@
 //! ([`detached`] with `long = false`) just release the GIL.
 //!
 //! The batch functions (`fk_batch`, `jacobian_batch`, `gravity_batch`, `ik_batch`,
-//! `sample_poses`), `workspace` (through `WorkspaceOptions::stop`) and the planner use it; any other loop can, with `stop.load(Relaxed)`
-//! where it can stop.
+//! `sample_poses`), `workspace` (through `WorkspaceOptions::stop`), `run_scenario`
+//! (through `RunOptions::stop`) and the planner use it; any other loop can, with
+//! `stop.load(Relaxed)` where it can stop.
 
 use crate::errors::err;
 use armsim::{Data, Model};

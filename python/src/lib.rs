@@ -69,6 +69,7 @@ fn _armsim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(applied_loads::inverse_dynamics, m)?)?;
     m.add_function(wrap_pyfunction!(applied_loads::forward_dynamics, m)?)?;
     m.add_function(wrap_pyfunction!(batch::rnea_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::crba_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::aba_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::gravity_batch, m)?)?;
     m.add_function(wrap_pyfunction!(batch::fk_batch, m)?)?;

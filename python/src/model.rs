@@ -180,7 +180,7 @@ impl PyModel {
     }
 
     /// Whether coordinate `k` is a continuous (unlimited revolute) joint.
-    fn is_continuous(&self, k: i128) -> PyResult<bool> {
+    fn is_continuous(&self, k: args::Int) -> PyResult<bool> {
         let k = args::size(k, "k")?;
         if k >= self.model.nv {
             return Err(err(format!("coordinate {k} does not exist")));

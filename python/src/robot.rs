@@ -52,7 +52,7 @@ impl PyRobot {
 
     /// Plans a collision-free path (see `armsim.plan`): start and goal given or read from
     /// a MoveIt request file, obstacles from a MoveIt scene file, self pairs from an SRDF.
-    #[pyo3(signature = (start=None, goal=None, scene=None, request=None, srdf=None, seed=0, time_limit_ms=1000.0, simplify=true, range=1.0))]
+    #[pyo3(signature = (start=None, goal=None, scene=None, request=None, srdf=None, seed=args::Int::Fits(0), time_limit_ms=1000.0, simplify=true, range=1.0))]
     #[allow(clippy::too_many_arguments)]
     fn plan<'py>(
         &self,
@@ -62,7 +62,7 @@ impl PyRobot {
         scene: Option<std::path::PathBuf>,
         request: Option<std::path::PathBuf>,
         srdf: Option<std::path::PathBuf>,
-        seed: i128,
+        seed: args::Int,
         time_limit_ms: f64,
         simplify: bool,
         range: f64,

@@ -16,7 +16,8 @@ use rayon::prelude::*;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
-/// Runs a scenario file; returns the report's JSON text (`armsim run --json`).
+/// Runs a scenario file; returns the report's JSON text (`armsim run --json`). Ctrl-C
+/// cancels it ([`interrupt::interruptible`]): KeyboardInterrupt, no file written.
 #[pyfunction]
 #[pyo3(signature = (path, out_dir=None, write_files=true))]
 pub fn run_scenario_json(
@@ -26,14 +27,18 @@ pub fn run_scenario_json(
     write_files: bool,
 ) -> PyResult<String> {
     require_file(&path)?;
-    let opts = armsim::scenarios::arm::RunOptions {
-        out_dir,
-        write_files,
-        ..Default::default()
-    };
-    let report = py
-        .detach(|| armsim::scenarios::run_file_with(&path, &opts))
-        .map_err(err)?;
+    // Ctrl-C cancels the run: KeyboardInterrupt, and no output file is written.
+    let report = interrupt::interruptible(py, |stop| {
+        let opts = armsim::scenarios::arm::RunOptions {
+            out_dir,
+            write_files,
+            stop: Some(stop),
+            on_stop: armsim::scenarios::OnStop::Cancel,
+            ..Default::default()
+        };
+        armsim::scenarios::run_file_with(&path, &opts)
+    })?
+    .map_err(err)?;
     serde_json::to_string(&report.json).map_err(err)
 }
 
@@ -47,20 +52,20 @@ type WorkspaceOut<'py> = (
 /// Samples the reachable workspace; returns the result's JSON text and the kept points
 /// `(k, 3)`, their configurations `(k, nv)` and manipulabilities `(k,)`.
 #[pyfunction]
-#[pyo3(signature = (model, samples=1<<16, seed=0, voxel=0.02, tool=None, sampling="sobol", replicates=8, planar=None, extras=true, keep_points=1000, target_rel_error=None))]
+#[pyo3(signature = (model, samples=args::Int::Fits(1<<16), seed=args::Int::Fits(0), voxel=0.02, tool=None, sampling="sobol", replicates=args::Int::Fits(8), planar=None, extras=true, keep_points=args::Int::Fits(1000), target_rel_error=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn workspace_json<'py>(
     py: Python<'py>,
     model: &PyModel,
-    samples: i128,
-    seed: i128,
+    samples: args::Int,
+    seed: args::Int,
     voxel: f64,
     tool: Option<String>,
     sampling: &str,
-    replicates: i128,
+    replicates: args::Int,
     planar: Option<bool>,
     extras: bool,
-    keep_points: i128,
+    keep_points: args::Int,
     target_rel_error: Option<f64>,
 ) -> PyResult<WorkspaceOut<'py>> {
     let samples = args::seed(samples, "samples")?;
@@ -130,14 +135,14 @@ fn splitmix(x: u64) -> u64 {
 /// box (joint limits; ±π for unlimited revolute joints), and the world placement of
 /// `frame` (default: the last link) at each: `(q (n, nv), poses (n, 4, 4))`.
 #[pyfunction]
-#[pyo3(signature = (model, n, seed=0, frame=None, start=0))]
+#[pyo3(signature = (model, n, seed=args::Int::Fits(0), frame=None, start=args::Int::Fits(0)))]
 pub fn sample_poses<'py>(
     py: Python<'py>,
     model: &PyModel,
-    n: i128,
-    seed: i128,
+    n: args::Int,
+    seed: args::Int,
     frame: Option<&Bound<'py, PyAny>>,
-    start: i128,
+    start: args::Int,
 ) -> PyResult<Pair<'py>> {
     let n = args::size(n, "n")?;
     let (seed, start) = (args::seed(seed, "seed")?, args::seed(start, "start")?);

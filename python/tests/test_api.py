@@ -117,6 +117,29 @@ def test_batches_equal_the_single_calls(rng):
     np.testing.assert_array_equal(am.rnea_batch(m, np.asfortranarray(Q), V, A), tau)
 
 
+def test_crba_batch_equals_the_single_call_on_every_row(rng):
+    """Lanes (eight rows at a time), the scalar tail (the last n mod 8 rows) and a group
+    with a joint value out of the lane sin_cos's range (scalar) all equal am.crba."""
+    for name in ["iiwa14.urdf", "panda.urdf", "ur5.urdf"]:
+        m = am.Model.from_file(ROBOTS / name)
+        d = m.create_data()
+        n = 37
+        Q = np.array([random_q(m, rng) for _ in range(n)])
+        Q[9, 0] = 2e4  # rows 8..15 go through the scalar code
+        M = am.crba_batch(m, Q)
+        assert M.shape == (n, m.nv, m.nv)
+        for i in range(n):
+            want = am.crba(m, d, Q[i])
+            np.testing.assert_allclose(M[i], want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+            np.testing.assert_array_equal(M[i], M[i].T)
+        # Fortran order, float32, ints and lists are read as the single call reads them.
+        np.testing.assert_array_equal(am.crba_batch(m, np.asfortranarray(Q)), M)
+        q32 = Q[:3].astype(np.float32)
+        np.testing.assert_array_equal(am.crba_batch(m, q32), am.crba_batch(m, q32.astype(np.float64)))
+        np.testing.assert_array_equal(am.crba_batch(m, [[0] * m.nv]), am.crba_batch(m, np.zeros((1, m.nv))))
+        assert am.crba_batch(m, np.zeros((0, m.nv))).shape == (0, m.nv, m.nv)
+
+
 def test_ik_batch_solves_sampled_poses_and_shards_reproduce_the_whole():
     m = am.Model.from_file(ROBOTS / "ur5.urdf")
     q, T = am.sample_poses(m, 24, seed=5, frame="tool0")

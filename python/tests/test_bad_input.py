@@ -172,6 +172,18 @@ def test_batches_accept_what_single_calls_accept_float32_ints_and_lists():
         am.rnea_batch(m, Q, np.zeros(5), Z)
 
 
+def test_crba_batch_errors_name_the_argument_and_the_row(ur5):
+    m, _ = ur5
+    Q = np.zeros((10, m.nv))
+    Q[7, 2] = np.nan
+    with pytest.raises(am.ArmsimError, match=r"^Q\[7, 2\] is not finite$"):
+        am.crba_batch(m, Q)
+    with pytest.raises(am.ArmsimError, match=r"^Q: shape \(4, 5\), expected \(N, 6\)$"):
+        am.crba_batch(m, np.zeros((4, 5)))
+    with pytest.raises(am.ArmsimError, match=r"Q: expected numbers of shape \(N, 6\)"):
+        am.crba_batch(m, np.array([["a"] * m.nv]))
+
+
 def test_negative_sizes_and_seeds_raise_value_errors_naming_the_argument(ur5):
     """Issue 31: counts, indices and seeds are checked with a message naming the
     argument (no bare OverflowError)."""
@@ -204,3 +216,48 @@ def test_negative_sizes_and_seeds_raise_value_errors_naming_the_argument(ur5):
     assert q.shape == (2, 6)
     with pytest.raises(TypeError, match="'n'"):
         am.sample_poses(m, 1.5)
+
+
+HUGE = 2**200  # beyond i128, where pyo3's own conversion raises a bare OverflowError
+
+
+def test_integers_beyond_128_bits_raise_value_errors_naming_the_argument(ur5):
+    """Issue 31: a Python integer of any size is refused with the argument's name, not a
+    bare OverflowError ("int too big to convert")."""
+    m, _ = ur5
+    T = am.fk_batch(m, np.zeros((2, 6)), "tool0")
+    u64, usize = 2**64 - 1, 2**64 - 1
+    positive = [
+        (lambda x: am.sample_poses(m, x), "n", usize),
+        (lambda x: am.sample_poses(m, 4, seed=x), "seed", u64),
+        (lambda x: am.sample_poses(m, 4, start=x), "start", u64),
+        (lambda x: am.ik_batch(m, "tool0", T, start=x), "start", u64),
+        (lambda x: am.ik_batch(m, "tool0", T, seed=x), "IK option seed", u64),
+        (lambda x: am.ik_batch(m, "tool0", T, max_restarts=x), "IK option max_restarts", usize),
+        (lambda x: am.Robot(m).ik(T[0], "tool0", max_iterations=x), "IK option max_iterations", usize),
+        (lambda x: am.workspace(m, samples=x), "samples", u64),
+        (lambda x: am.workspace(m, seed=x), "seed", u64),
+        (lambda x: am.workspace(m, replicates=x), "replicates", usize),
+        (lambda x: am.workspace(m, keep_points=x), "keep_points", usize),
+        (lambda x: m.is_continuous(x), "k", usize),
+    ]
+    for call, name, largest in positive:
+        with pytest.raises(ValueError, match=rf"^{name}: {HUGE} is larger than the largest accepted, {largest}$"):
+            call(HUGE)
+        with pytest.raises(ValueError, match=rf"^{name}: expected a non-negative integer, got -{HUGE}$"):
+            call(-HUGE)
+    # Just beyond i128 on either side, and an integer too long to print.
+    with pytest.raises(ValueError, match=rf"^seed: {2**127} is larger than"):
+        am.sample_poses(m, 4, seed=2**127)
+    with pytest.raises(ValueError, match=rf"^seed: expected a non-negative integer, got {-(2**127) - 1}$"):
+        am.sample_poses(m, 4, seed=-(2**127) - 1)
+    with pytest.raises(ValueError, match=r"^n: an integer of 20001 bits is larger than"):
+        am.sample_poses(m, 2**20000)
+    # A frame index: the frame does not exist.
+    with pytest.raises(ValueError, match=rf"^frame index {HUGE} does not exist \(ur5 has \d+ frames\)$"):
+        am.frame_jacobian(m, m.create_data(), np.zeros(6), HUGE)
+    with pytest.raises(ValueError, match=rf"^frame index -{HUGE} does not exist"):
+        am.fk_batch(m, np.zeros((2, 6)), -HUGE)
+    # numpy integers are integers too.
+    with pytest.raises(ValueError, match=r"^n: expected a non-negative integer, got -3$"):
+        am.sample_poses(m, np.int64(-3))

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import armsim as am
-from conftest import ROBOTS
+from conftest import ROBOTS, ROOT
 
 TARGET_S = 3.0  # what an uninterrupted batch would take
 SIGNAL_AT_S = 0.2
@@ -113,6 +113,17 @@ def test_ctrl_c_stops_a_long_ik_batch(default_sigint):
     assert again["status"].count("converged") == 20
 
 
+def test_ctrl_c_stops_a_long_crba_batch(default_sigint):
+    """crba_batch reads the stop flag between chunks of 256 rows. CRBA walks every body's
+    ancestors (quadratic in the depth), so the chain here has 200 bodies, not 2000: a
+    chunk then takes tens of milliseconds."""
+    m = am.Model.from_string(mimic_chain(200), "chain200.urdf")
+    n = rows_for(lambda k: am.crba_batch(m, np.full((k, 1), 0.3)), 1024)
+    took = interrupted_after(lambda: am.crba_batch(m, np.full((n, 1), 0.3)))
+    assert took < 1.0, f"crba_batch of {n} rows (~{TARGET_S} s) took {took:.2f} s to stop"
+    assert am.crba_batch(m, np.full((3, 1), 0.3)).shape == (3, 1, 1)
+
+
 def test_small_batches_answer_as_before(chain):
     """Below the interruptible size the batch runs on the calling thread: same values."""
     q = np.array([[0.3], [-0.2]])
@@ -131,3 +142,25 @@ def test_ctrl_c_stops_a_long_workspace_run(default_sigint):
     assert took < 1.0, f"workspace took {took:.2f} s to stop"
     r = am.workspace(m, samples=1 << 18, replicates=4, voxel=0.05, extras=False)
     assert r["estimate"] > 0
+
+
+def long_scenario(tmp_path):
+    """The bundled planar 2R scenario simulated for 5000 s at 0.2 ms steps (minutes)."""
+    text = (ROOT / "scenarios/planar_2r.toml").read_text()
+    text = text.replace("../robots/planar_2r.toml", str(ROBOTS / "planar_2r.toml"))
+    text = text.replace("dt = 0.001", "dt = 0.0002\nduration = 5000.0")
+    path = tmp_path / "long.toml"
+    path.write_text(text)
+    return path
+
+
+def test_ctrl_c_cancels_a_long_scenario_run_and_writes_nothing(default_sigint, tmp_path):
+    out = tmp_path / "out"
+    took = interrupted_after(lambda: am.run_scenario(long_scenario(tmp_path), out_dir=out))
+    assert took < 1.0, f"run_scenario took {took:.2f} s to stop"
+    # Cancelled: no recording, report, plot or temporary file (at most the empty directory).
+    assert not out.exists() or list(out.iterdir()) == []
+    # Afterwards a run works as before.
+    r = am.run_scenario(ROOT / "scenarios/planar_2r.toml", out_dir=tmp_path / "again")
+    assert r["simulation"]["interrupted"] is False
+    assert (tmp_path / "again" / "planar_2r.json").exists()

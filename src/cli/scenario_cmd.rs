@@ -98,7 +98,8 @@ pub fn run(a: &RunArgs) -> Result<(), String> {
     armsim::core::interrupt::install().map_err(|e| e.to_string())?;
     let opts = armsim::scenarios::arm::RunOptions {
         out_dir: out,
-        stop: armsim::core::interrupt::requested,
+        stop: Some(armsim::core::interrupt::flag()),
+        on_stop: armsim::scenarios::OnStop::FinishFiles,
         rerun: match (rerun, spawn) {
             (Some(p), _) => Some(armsim::io::record::rerun::rerun_out::RerunSink::Save(p)),
             (None, true) => Some(armsim::io::record::rerun::rerun_out::RerunSink::Spawn),

@@ -363,6 +363,111 @@ pub(super) fn gather_wrenches(model: &Model, data: &mut Data, wrenches: &[Extern
     }
 }
 
+/// The effects one call acts on, borrowed (so callers can leave some out without
+/// cloning): forward and inverse dynamics and their derivatives.
+pub(crate) struct Applied<'e> {
+    pub gravity: Option<&'e Vec3>,
+    pub friction: Option<&'e Friction>,
+    pub rotor: Option<&'e Rotor>,
+    pub payload: Option<&'e Payload>,
+    pub external: &'e [ExternalWrench],
+}
+
+impl<'e> Applied<'e> {
+    /// The model's own gravity and nothing else.
+    pub(crate) fn of_model(model: &'e Model) -> Self {
+        Applied {
+            gravity: Some(&model.gravity),
+            friction: None,
+            rotor: None,
+            payload: None,
+            external: &[],
+        }
+    }
+
+    /// Every effect of `effects` but elasticity (whose motor angles are extra states,
+    /// not terms of the rigid recursion).
+    pub(crate) fn of(effects: &'e Effects) -> Self {
+        Applied {
+            gravity: effects.gravity.as_ref(),
+            friction: effects.friction.as_ref(),
+            rotor: effects.rotor.as_ref(),
+            payload: effects.payload.as_ref(),
+            external: &effects.external,
+        }
+    }
+}
+
+/// The effects' prologue, written once for inverse dynamics, forward dynamics and their
+/// derivatives: what the rigid recursion adds for the [`Applied`] gravity, payload,
+/// external wrenches and rotor armature (friction is the callers': it enters outside the
+/// recursion). [`EffectTerms::set_up`] counts each included effect's run, gathers the
+/// wrenches into body frames (after forward kinematics at `q`), and fills the armature per
+/// coordinate; the buffers are `data`'s own, taken for the call (no allocation) and given
+/// back by [`EffectTerms::restore`].
+pub(crate) struct EffectTerms<'e> {
+    gravity: Option<&'e Vec3>,
+    f_ext: Option<Vec<Force>>,
+    /// The payload's inertia on its body.
+    pub payload: Option<(usize, &'e InertiaO)>,
+    armature: Option<Vec<f64>>,
+}
+
+impl<'e> EffectTerms<'e> {
+    /// Sets up `e`'s terms at `q` (see the type's docs).
+    pub(crate) fn set_up(model: &Model, data: &mut Data, e: &Applied<'e>, q: &[f64]) -> Self {
+        let f_ext = if e.external.is_empty() {
+            None
+        } else {
+            data.effect_runs.external += 1;
+            forward_kinematics(model, data, q);
+            gather_wrenches(model, data, e.external);
+            Some(std::mem::take(&mut data.f_ext))
+        };
+        if e.gravity.is_some() {
+            data.effect_runs.gravity += 1;
+        }
+        let payload = e.payload.map(|p| {
+            data.effect_runs.payload += 1;
+            p.on_body()
+        });
+        let armature = e.rotor.map(|r| {
+            data.effect_runs.rotor += 1;
+            let mut a = std::mem::take(&mut data.scratch_nv2);
+            for (k, x) in a.iter_mut().enumerate() {
+                *x = r.armature(k);
+            }
+            a
+        });
+        EffectTerms {
+            gravity: e.gravity,
+            f_ext,
+            payload,
+            armature,
+        }
+    }
+
+    /// The terms for the recursive algorithms.
+    pub(crate) fn terms(&self) -> Terms<'_> {
+        Terms {
+            gravity: self.gravity,
+            f_ext: self.f_ext.as_deref(),
+            payload: self.payload,
+            rotor_armature: self.armature.as_deref(),
+        }
+    }
+
+    /// Gives the buffers back to `data` (`data.f_ext` then holds the gathered wrenches).
+    pub(crate) fn restore(self, data: &mut Data) {
+        if let Some(a) = self.armature {
+            data.scratch_nv2 = a;
+        }
+        if let Some(f) = self.f_ext {
+            data.f_ext = f;
+        }
+    }
+}
+
 /// Inverse dynamics with `effects`: the joint torques (link side) into `data.tau`.
 /// With elasticity, `τ` is the spring torque the joints transmit; the motor torque is
 /// `τ + B θ̈` (see [`elastic_forward_dynamics`] for the simulation side).
@@ -375,33 +480,15 @@ pub fn inverse_dynamics<'a>(
     qdd: &[f64],
 ) -> &'a [f64] {
     data.effects_used = effects.set();
-    let f_ext = if effects.external.is_empty() {
-        None
-    } else {
-        data.effect_runs.external += 1;
-        forward_kinematics(model, data, q);
-        gather_wrenches(model, data, &effects.external);
-        Some(std::mem::take(&mut data.f_ext))
-    };
-    if effects.gravity.is_some() {
-        data.effect_runs.gravity += 1;
-    }
-    let payload = effects.payload.as_ref().map(|p| {
-        data.effect_runs.payload += 1;
-        p.on_body()
-    });
     // The rotor's armature is added below, after friction (the order the reported
     // torques were always summed in).
-    let terms = Terms {
-        gravity: effects.gravity.as_ref(),
-        f_ext: f_ext.as_deref(),
-        payload,
-        rotor_armature: None,
+    let applied = Applied {
+        rotor: None,
+        ..Applied::of(effects)
     };
-    rnea_impl(model, data, q, qd, qdd, &terms);
-    if let Some(f) = f_ext {
-        data.f_ext = f;
-    }
+    let set = EffectTerms::set_up(model, data, &applied, q);
+    rnea_impl(model, data, q, qd, qdd, &set.terms());
+    set.restore(data);
     if let Some(fr) = &effects.friction {
         data.effect_runs.friction += 1;
         for (k, (t, v)) in data.tau.iter_mut().zip(qd).enumerate() {

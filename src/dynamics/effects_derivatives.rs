@@ -27,13 +27,11 @@ use crate::core::linalg::SingularMassMatrix;
 use crate::core::spatial::Force;
 use crate::dynamics::aba_derivatives::neg_product;
 use crate::dynamics::aba_derivatives::AbaPartials;
-use crate::dynamics::effects::{gather_wrenches, Effects, ExternalWrench};
+use crate::dynamics::effects::{Applied, EffectTerms, Effects, ExternalWrench};
 use crate::dynamics::forward::{forward_dynamics_with, name_joint};
 use crate::dynamics::minverse::{invert_factored, minverse_from_placements};
 use crate::dynamics::rnea_derivatives::RneaPartials;
 use crate::dynamics::rnea_derivatives::{rnea_derivatives_impl, rnea_partials};
-use crate::dynamics::terms::Terms;
-use crate::kinematics::forward_kinematics;
 use crate::model::data::Data;
 use crate::model::{Model, WORLD};
 
@@ -49,41 +47,10 @@ pub fn inverse_dynamics_derivatives<'a>(
     qdd: &[f64],
 ) -> RneaPartials<'a> {
     data.effects_used = effects.set();
-    let f_ext = if effects.external.is_empty() {
-        None
-    } else {
-        data.effect_runs.external += 1;
-        forward_kinematics(model, data, q);
-        gather_wrenches(model, data, &effects.external);
-        Some(std::mem::take(&mut data.f_ext))
-    };
-    if effects.gravity.is_some() {
-        data.effect_runs.gravity += 1;
-    }
-    let payload = effects.payload.as_ref().map(|p| {
-        data.effect_runs.payload += 1;
-        p.on_body()
-    });
-    let armature = effects.rotor.as_ref().map(|r| {
-        data.effect_runs.rotor += 1;
-        let mut a = std::mem::take(&mut data.scratch_nv2);
-        for (k, x) in a.iter_mut().enumerate() {
-            *x = r.armature(k);
-        }
-        a
-    });
-    let terms = Terms {
-        gravity: effects.gravity.as_ref(),
-        f_ext: f_ext.as_deref(),
-        payload,
-        rotor_armature: armature.as_deref(),
-    };
-    rnea_derivatives_impl(model, data, q, qd, qdd, &terms);
-    if let Some(a) = armature {
-        data.scratch_nv2 = a;
-    }
-    if let Some(f) = f_ext {
-        data.f_ext = f;
+    let set = EffectTerms::set_up(model, data, &Applied::of(effects), q);
+    rnea_derivatives_impl(model, data, q, qd, qdd, &set.terms());
+    set.restore(data);
+    if !effects.external.is_empty() {
         for w in &effects.external {
             unturn_wrench(model, data, w);
         }

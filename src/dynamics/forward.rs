@@ -13,15 +13,11 @@
 //! non-finite coordinate (value 0).
 
 use crate::core::linalg::{cholesky_in_place, cholesky_solve_in_place, SingularMassMatrix};
-use crate::core::spatial::Vec3;
 use crate::dynamics::aba::aba_impl;
 use crate::dynamics::crba::crba_impl;
-use crate::dynamics::effects::{
-    gather_wrenches, Effects, ExternalWrench, Friction, Payload, Rotor,
-};
+use crate::dynamics::effects::{Applied, EffectTerms, Effects};
 use crate::dynamics::rnea::rnea_impl;
 use crate::dynamics::terms::Terms;
-use crate::kinematics::forward_kinematics;
 use crate::model::data::Data;
 use crate::model::Model;
 
@@ -58,29 +54,6 @@ pub fn forward_dynamics_crba<'a>(
     )
 }
 
-/// The effects forward dynamics acts on, borrowed (so callers can leave some out without
-/// cloning).
-pub(crate) struct Applied<'e> {
-    pub gravity: Option<&'e Vec3>,
-    pub friction: Option<&'e Friction>,
-    pub rotor: Option<&'e Rotor>,
-    pub payload: Option<&'e Payload>,
-    pub external: &'e [ExternalWrench],
-}
-
-impl<'e> Applied<'e> {
-    /// The model's own gravity and nothing else.
-    fn of_model(model: &'e Model) -> Self {
-        Applied {
-            gravity: Some(&model.gravity),
-            friction: None,
-            rotor: None,
-            payload: None,
-            external: &[],
-        }
-    }
-}
-
 /// Which algorithm solves for `q̈`.
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Method {
@@ -109,35 +82,8 @@ pub(crate) fn forward<'a>(
             net[k] -= fr.torque(k, qd[k]);
         }
     }
-    let f_ext = if e.external.is_empty() {
-        None
-    } else {
-        data.effect_runs.external += 1;
-        forward_kinematics(model, data, q);
-        gather_wrenches(model, data, e.external);
-        Some(std::mem::take(&mut data.f_ext))
-    };
-    if e.gravity.is_some() {
-        data.effect_runs.gravity += 1;
-    }
-    let payload = e.payload.map(|p| {
-        data.effect_runs.payload += 1;
-        p.on_body()
-    });
-    let armature = e.rotor.map(|r| {
-        data.effect_runs.rotor += 1;
-        let mut a = std::mem::take(&mut data.scratch_nv2);
-        for (k, x) in a.iter_mut().enumerate() {
-            *x = r.armature(k);
-        }
-        a
-    });
-    let terms = Terms {
-        gravity: e.gravity,
-        f_ext: f_ext.as_deref(),
-        payload,
-        rotor_armature: armature.as_deref(),
-    };
+    let set = EffectTerms::set_up(model, data, e, q);
+    let (terms, payload) = (set.terms(), set.payload);
     // The one choice of algorithm.
     let solved = if method == Method::Auto && !model.has_mimic {
         aba_impl(model, data, q, qd, &net, &terms);
@@ -145,12 +91,7 @@ pub(crate) fn forward<'a>(
     } else {
         crba_solve(model, data, q, qd, &net, &terms)
     };
-    if let Some(a) = armature {
-        data.scratch_nv2 = a;
-    }
-    if let Some(f) = f_ext {
-        data.f_ext = f;
-    }
+    set.restore(data);
     data.scratch_tau = net;
     // The one NaN policy.
     if let Err(mut e) = solved.and_then(|()| all_finite(&data.qdd)) {
@@ -235,14 +176,7 @@ pub fn forward_dynamics_with<'a>(
     tau: &[f64],
 ) -> Result<&'a [f64], SingularMassMatrix> {
     data.effects_used = effects.set();
-    let applied = Applied {
-        gravity: effects.gravity.as_ref(),
-        friction: effects.friction.as_ref(),
-        rotor: effects.rotor.as_ref(),
-        payload: effects.payload.as_ref(),
-        external: &effects.external,
-    };
-    forward(model, data, &applied, Method::Auto, q, qd, tau)
+    forward(model, data, &Applied::of(effects), Method::Auto, q, qd, tau)
 }
 
 /// Flexible-joint forward dynamics (Spong's model, see the module docs). Link
@@ -279,11 +213,9 @@ pub fn elastic_forward_dynamics<'a>(
         data.effect_runs.friction += 1;
     }
     let link_side = Applied {
-        gravity: effects.gravity.as_ref(),
         friction: None,
         rotor: None,
-        payload: effects.payload.as_ref(),
-        external: &effects.external,
+        ..Applied::of(effects)
     };
     let r = forward(model, data, &link_side, Method::Auto, q, qd, &spring).map(|_| ());
     data.effects_used = effects.set();

@@ -31,7 +31,7 @@ use std::path::Path;
 
 pub use crate::core::diag::{line_at, line_of_key};
 pub use crate::io::report::Report;
-pub use crate::scenarios::kind::{RunOptions, ScenarioError, ScenarioKind};
+pub use crate::scenarios::kind::{OnStop, RunOptions, ScenarioError, ScenarioKind};
 
 /// Every scenario kind. The first is the one a file without a `kind` key gets.
 pub static KINDS: &[&ScenarioKind] = &[

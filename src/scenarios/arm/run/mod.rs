@@ -69,6 +69,7 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     warnings.extend(scene.model_warnings.iter().cloned());
 
     // 1. Plan.
+    cancel_point(&scene, opts, "before planning")?;
     let plan = plan(&scene)?;
     crate::scenarios::arm::budget::check(&scene, &plan)?;
     timings.insert("plan_s".into(), json!(plan.planning_time_s));
@@ -77,11 +78,13 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     }
 
     // 2. Torque check (each payload of a sweep; the last is the nominal one).
+    cancel_point(&scene, opts, "after planning")?;
     let t0 = Instant::now();
     let (torque, sweep) = check_torque_sweep(&scene, &plan)?;
     timings.insert("torque_check_s".into(), json!(t0.elapsed().as_secs_f64()));
 
     // 3. Collisions along the planned motion, certified with every limit.
+    cancel_point(&scene, opts, "after the torque check")?;
     let t0 = Instant::now();
     let before = warnings.len();
     let (collisions, tool_path) = check_collisions(&scene, &plan, &torque, &mut warnings)?;
@@ -92,12 +95,15 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
     }
     timings.insert("collisions_s".into(), json!(t0.elapsed().as_secs_f64()));
 
+    cancel_point(&scene, opts, "after the collision check")?;
     // The output directory and the recording (streamed during the simulation, so an
     // interrupted run still leaves a valid file).
     let (out_dir, mut recorder) = write_outputs::open_recording(&scene, opts, started_ns)?;
 
     // 4. Simulation with exactly the named effects.
     let sim = simulate::simulate(&scene, &plan, opts, &mut recorder, &mut timings)?;
+    // Cancelled during the simulation: `recorder` drops here, removing its temporary file.
+    cancel_point(&scene, opts, "during the simulation")?;
 
     // 5. Output files.
     let ctx = write_outputs::OutputContext {
@@ -158,6 +164,18 @@ pub fn run_scene(scene: Scene, opts: &RunOptions) -> Result<Outcome, ScenarioErr
         contact_built: sim.contact_built,
         report,
     })
+}
+
+/// The run's end when [`RunOptions::cancelled`]: a "cancelled" error naming the stage,
+/// before any output file is written.
+fn cancel_point(scene: &Scene, opts: &RunOptions, stage: &str) -> Result<(), ScenarioError> {
+    if opts.cancelled() {
+        return Err(scene.error_at(
+            "simulation",
+            format!("cancelled {stage} (the stop flag was raised): no output file written"),
+        ));
+    }
+    Ok(())
 }
 
 /// The torque check of the planned motion for each payload mass of a sweep: the nominal

@@ -78,8 +78,7 @@ fn run_simulation(
         record_every: ((1.0 / (ss.record_rate * ss.dt)).round() as usize).max(1),
     };
     let reference = AsReference(traj);
-    let stop = opts.stop;
-    let stop_fn = move || stop();
+    let stop_fn = || opts.stop_requested();
     let mut contact = scene.contact.as_ref().map(|c| {
         contact_built = true;
         let g = scene
@@ -92,8 +91,8 @@ fn run_simulation(
         cs.place(&scene.q0);
         cs
     });
-    struct Interrupt(fn() -> bool);
-    impl StepHook for Interrupt {
+    struct Interrupt<'o>(&'o RunOptions);
+    impl StepHook for Interrupt<'_> {
         fn before_step(
             &mut self,
             _t: f64,
@@ -101,10 +100,10 @@ fn run_simulation(
             _qd: &[f64],
             _w: &mut Vec<crate::dynamics::ExternalWrench>,
         ) -> bool {
-            !(self.0)()
+            !self.0.stop_requested()
         }
     }
-    let mut interrupt = Interrupt(opts.stop);
+    let mut interrupt = Interrupt(opts);
     let hook: &mut dyn StepHook = match contact.as_mut() {
         Some(c) => c,
         None => &mut interrupt,
