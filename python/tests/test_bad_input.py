@@ -240,6 +240,8 @@ def test_integers_beyond_128_bits_raise_value_errors_naming_the_argument(ur5):
         (lambda x: am.workspace(m, replicates=x), "replicates", usize),
         (lambda x: am.workspace(m, keep_points=x), "keep_points", usize),
         (lambda x: m.is_continuous(x), "k", usize),
+        (lambda x: am.plan(m, m.neutral(), m.neutral(), seed=x), "seed", u64),
+        (lambda x: am.Planner(m, seed=x), "seed", u64),
     ]
     for call, name, largest in positive:
         with pytest.raises(ValueError, match=rf"^{name}: {HUGE} is larger than the largest accepted, {largest}$"):
