@@ -596,3 +596,77 @@ fn plan_aorrtc_logs_cheaper_paths_and_refuses_budgets_that_do_not_apply() {
         "--budget-ms: expected a positive",
     );
 }
+
+#[test]
+fn plan_scenario_takes_the_optimising_planner_from_its_table_or_the_command_line() {
+    let scenario = "scenarios/ur5_pick_and_place.toml";
+    let base = ["plan", "robots/ur5.urdf", "--scenario", scenario, "--json"];
+    let first = json(&base);
+    let opt = json(
+        &[
+            &base[..],
+            &["--planner", "aorrtc", "--budget-iterations", "800"],
+        ]
+        .concat(),
+    );
+    assert_eq!(opt["planner"], "aorrtc");
+    assert_eq!(opt["budget_iterations"], 800);
+    let pairs = first["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(opt["results"].as_array().unwrap());
+    for (f, o) in pairs {
+        assert_eq!(o["status"], "solved", "{o}");
+        assert!(
+            o["cost"].as_f64().unwrap() <= f["cost"].as_f64().unwrap() + 1e-9,
+            "{o}"
+        );
+    }
+    fails_with(
+        &[&base[..], &["--budget-ms", "5"]].concat(),
+        "apply to the aorrtc planner",
+    );
+    // The `[planner]` keys, read from the scenario's own text.
+    let text = std::fs::read_to_string(scenario).unwrap();
+    let with = |keys: &str| text.replacen("[planner]\n", &format!("[planner]\n{keys}\n"), 1);
+    let load = |t: &str| armsim::scenarios::arm::load(Path::new(scenario), t);
+    let scene = load(&with(
+        "algorithm = \"aorrtc\"\nbudget_iterations = 900\nbudget_ms = 40",
+    ))
+    .unwrap();
+    let p = scene.planner.unwrap();
+    assert_eq!(
+        p.algorithm,
+        armsim::planning::plan_options::PlannerKind::Aorrtc
+    );
+    assert_eq!(p.budget.iterations, 900);
+    assert_eq!(p.budget.time, Some(std::time::Duration::from_millis(40)));
+    for (keys, needle) in [
+        (
+            "budget_iterations = 900",
+            "planner.budget_iterations: applies to algorithm = \"aorrtc\"",
+        ),
+        (
+            "algorithm = \"rrt*\"",
+            "planner.algorithm: expected \"rrt-connect\" or \"aorrtc\"",
+        ),
+        (
+            "algorithm = \"aorrtc\"\nbudget_iterations = 0",
+            "planner.budget_iterations: must lie in 1",
+        ),
+        (
+            "algorithm = \"aorrtc\"\nbudget_ms = -1",
+            "planner.budget_ms: must be positive",
+        ),
+    ] {
+        let e = load(&with(keys))
+            .err()
+            .unwrap_or_else(|| panic!("{keys} accepted"))
+            .to_string();
+        assert!(
+            e.contains(needle) && e.contains("ur5_pick_and_place.toml:"),
+            "{keys}: {e}"
+        );
+    }
+}
