@@ -26,7 +26,7 @@
 
 use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
 use crate::planning::informed::{dist, InformedSampler};
-use crate::planning::rrt::{domain_after, RrtOptions, SearchEnd, SearchLimit};
+use crate::planning::rrt::{domain_after, RrtOptions, SearchEnd, SearchLimit, Tree};
 use crate::planning::sampler::Rng;
 
 /// Most cost-bound resamples per new node (VAMP's `max_cost_bound_resamples`).
@@ -35,51 +35,36 @@ pub const COST_BOUND_RESAMPLES: usize = 1000;
 /// One tree with the cost of each node from its root.
 #[derive(Clone, Debug)]
 struct CostTree {
-    stride: usize,
-    nodes: Vec<f32>,
-    parent: Vec<u32>,
+    tree: Tree,
     cost: Vec<f32>,
-    radius: Vec<f32>,
 }
 
 impl CostTree {
     fn with_capacity(nv: usize, cap: usize) -> CostTree {
-        let stride = nv.div_ceil(8) * 8;
         CostTree {
-            stride,
-            nodes: Vec::with_capacity(stride * cap),
-            parent: Vec::with_capacity(cap),
+            tree: Tree::with_capacity(nv, cap),
             cost: Vec::with_capacity(cap),
-            radius: Vec::with_capacity(cap),
         }
     }
 
     fn reset(&mut self, root: &[f32]) {
-        self.nodes.clear();
-        self.parent.clear();
+        self.tree.clear();
         self.cost.clear();
-        self.radius.clear();
         self.push(root, u32::MAX, 0.0);
     }
 
     fn len(&self) -> usize {
-        self.parent.len()
+        self.tree.len()
     }
 
     fn push(&mut self, q: &[f32], parent: u32, cost: f32) -> u32 {
-        let n = self.len();
-        self.nodes.extend_from_slice(q);
-        self.nodes.resize((n + 1) * self.stride, 0.0);
-        self.parent.push(parent);
         self.cost.push(cost);
-        self.radius.push(f32::INFINITY);
-        n as u32
+        self.tree.push(q, parent)
     }
 
     #[inline]
     fn node(&self, i: u32) -> &[f32] {
-        let s = i as usize * self.stride;
-        &self.nodes[s..s + self.stride]
+        self.tree.node(i)
     }
 
     /// The node nearest `(q, c)` in the cost-augmented metric among those that reach `q`
@@ -88,7 +73,7 @@ impl CostTree {
     fn nearest_within(&self, q: &[f32], c: f32) -> (u32, f32) {
         let mut best = (0u32, f32::INFINITY);
         let mut best_aug = f32::INFINITY;
-        for (i, node) in self.nodes.chunks_exact(self.stride).enumerate() {
+        for (i, node) in self.tree.nodes.chunks_exact(self.tree.stride).enumerate() {
             let mut d2 = 0.0f32;
             for (a, b) in node.iter().zip(q) {
                 d2 += (a - b) * (a - b);
@@ -111,7 +96,7 @@ impl CostTree {
     fn chain(&self, mut i: u32, nv: usize, out: &mut Vec<f32>) {
         while i != u32::MAX {
             out.extend_from_slice(&self.node(i)[..nv]);
-            i = self.parent[i as usize];
+            i = self.tree.parent[i as usize];
         }
     }
 }
@@ -148,7 +133,7 @@ impl Aorrtc {
     /// A search for `nv` coordinates, with buffers for `opts.max_nodes` nodes per tree.
     pub fn new(nv: usize, opts: RrtOptions) -> Aorrtc {
         let tree = CostTree::with_capacity(nv, opts.max_nodes);
-        let stride = tree.stride;
+        let stride = tree.tree.stride;
         Aorrtc {
             opts,
             trees: [tree.clone(), tree],
@@ -214,20 +199,20 @@ impl Aorrtc {
         let c_range = (max_cost - g_hat - dist(x, &root_b[..nv])).max(0.0);
         let c_rand = s.rng.next_f64() as f32 * c_range + g_hat;
         let (mut near, d) = tree.nearest_within(&self.sample, c_rand);
-        if o.dynamic_domain && d > tree.radius[near as usize] {
+        if o.dynamic_domain && d > tree.tree.radius[near as usize] {
             return None;
         }
         let reach = d <= o.range;
         let t = if reach { 1.0 } else { o.range / d };
         let from = tree.node(near);
-        for k in 0..tree.stride {
+        for k in 0..tree.tree.stride {
             self.step[k] = from[k] + t * (self.sample[k] - from[k]);
         }
         let free = s
             .checker
             .edge_free(&from[..nv], &self.step[..nv], s.mode, s.scratch);
         let tree = &mut self.trees[a];
-        domain_after(&mut tree.radius[near as usize], free, &o);
+        domain_after(&mut tree.tree.radius[near as usize], free, &o);
         if !free {
             return None;
         }
@@ -309,7 +294,7 @@ impl Aorrtc {
     fn trace(&self, a: usize, last: u32, other: u32, nv: usize, path: &mut Vec<f32>) {
         path.clear();
         let b = 1 - a;
-        let other_parent = self.trees[b].parent[other as usize];
+        let other_parent = self.trees[b].tree.parent[other as usize];
         // The start tree's part is traced goal-side first, then reversed.
         let (first, second) = if a == 0 {
             ((0, last), (1, other_parent))

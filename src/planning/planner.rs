@@ -248,17 +248,7 @@ impl Planner {
         if let Err(end) = found {
             self.sampler = sampler;
             res.status = PlanStatus::Failed;
-            res.reason = Some(match end {
-                SearchEnd::Iterations => {
-                    format!("no path within {} iterations", self.rrt.opts.max_iterations)
-                }
-                SearchEnd::Time => format!(
-                    "no path within the time limit of {} ms",
-                    self.opts.time_limit.map_or(0.0, |d| d.as_secs_f64() * 1e3)
-                ),
-                SearchEnd::Nodes => format!("a tree reached {} nodes", self.rrt.opts.max_nodes),
-                SearchEnd::Interrupted => "interrupted".to_string(),
-            });
+            res.reason = Some(self.end_reason(end));
             if end != SearchEnd::Interrupted {
                 self.explain_failure(start, goal, &mut res);
             }

@@ -112,17 +112,18 @@ impl SearchLimit {
     }
 }
 
-/// One tree: nodes, parents, domain radii.
+/// One tree: nodes (padded to a multiple of eight coordinates), parents, domain radii.
+/// [`crate::planning::aorrtc`] adds the nodes' costs.
 #[derive(Clone, Debug)]
-struct Tree {
-    stride: usize,
-    nodes: Vec<f32>,
-    parent: Vec<u32>,
-    radius: Vec<f32>,
+pub(crate) struct Tree {
+    pub(crate) stride: usize,
+    pub(crate) nodes: Vec<f32>,
+    pub(crate) parent: Vec<u32>,
+    pub(crate) radius: Vec<f32>,
 }
 
 impl Tree {
-    fn with_capacity(nv: usize, cap: usize) -> Tree {
+    pub(crate) fn with_capacity(nv: usize, cap: usize) -> Tree {
         let stride = nv.div_ceil(8) * 8;
         Tree {
             stride,
@@ -132,17 +133,17 @@ impl Tree {
         }
     }
 
-    fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         self.nodes.clear();
         self.parent.clear();
         self.radius.clear();
     }
 
-    fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.parent.len()
     }
 
-    fn push(&mut self, q: &[f32], parent: u32) -> u32 {
+    pub(crate) fn push(&mut self, q: &[f32], parent: u32) -> u32 {
         let n = self.len();
         self.nodes.extend_from_slice(q);
         self.nodes.resize((n + 1) * self.stride, 0.0);
@@ -152,7 +153,7 @@ impl Tree {
     }
 
     #[inline]
-    fn node(&self, i: u32) -> &[f32] {
+    pub(crate) fn node(&self, i: u32) -> &[f32] {
         let s = i as usize * self.stride;
         &self.nodes[s..s + self.stride]
     }

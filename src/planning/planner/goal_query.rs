@@ -350,7 +350,7 @@ impl Planner {
     }
 
     /// The reason of a search that ended without a path.
-    fn end_reason(&self, end: SearchEnd) -> String {
+    pub(super) fn end_reason(&self, end: SearchEnd) -> String {
         match end {
             SearchEnd::Iterations => {
                 format!("no path within {} iterations", self.rrt.opts.max_iterations)
