@@ -319,7 +319,7 @@ pub fn jacobian_batch<'py>(
 /// answers. Returns a dict of arrays: `q (N, nv)`, `status`, `position_error`,
 /// `rotation_error`, `iterations`, `reason`.
 #[pyfunction]
-#[pyo3(signature = (model, frame, targets, q0=None, start=args::Int::Fits(0), **kwargs))]
+#[pyo3(signature = (model, frame, targets, q0=None, start=args::Int::Fits(0), **kwargs), text_signature = "(model, frame, targets, q0=None, start=0, **kwargs)")]
 pub fn ik_batch<'py>(
     py: Python<'py>,
     model: &PyModel,

@@ -155,7 +155,7 @@ fn ends(model: &Model, a: &PlanArgs<'_>) -> PyResult<(Vec<f64>, Vec<f64>)> {
 
 /// Plans a collision-free path for `model` (see the module docs).
 #[pyfunction(name = "plan")]
-#[pyo3(signature = (model, start=None, goal=None, scene=None, request=None, srdf=None, seed=args::Int::Fits(0), time_limit_ms=1000.0, simplify=true, range=1.0))]
+#[pyo3(signature = (model, start=None, goal=None, scene=None, request=None, srdf=None, seed=args::Int::Fits(0), time_limit_ms=1000.0, simplify=true, range=1.0), text_signature = "(model, start=None, goal=None, scene=None, request=None, srdf=None, seed=0, time_limit_ms=1000.0, simplify=True, range=1.0)")]
 #[allow(clippy::too_many_arguments)]
 pub fn plan_py<'py>(
     py: Python<'py>,
@@ -201,7 +201,7 @@ pub struct PyPlanner {
 #[pymethods]
 impl PyPlanner {
     #[new]
-    #[pyo3(signature = (model, srdf=None, seed=args::Int::Fits(0), time_limit_ms=1000.0, simplify=true, range=1.0, max_overshoot=0.01))]
+    #[pyo3(signature = (model, srdf=None, seed=args::Int::Fits(0), time_limit_ms=1000.0, simplify=true, range=1.0, max_overshoot=0.01), text_signature = "(model, srdf=None, seed=0, time_limit_ms=1000.0, simplify=True, range=1.0, max_overshoot=0.01)")]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,

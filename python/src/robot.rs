@@ -52,7 +52,7 @@ impl PyRobot {
 
     /// Plans a collision-free path (see `armsim.plan`): start and goal given or read from
     /// a MoveIt request file, obstacles from a MoveIt scene file, self pairs from an SRDF.
-    #[pyo3(signature = (start=None, goal=None, scene=None, request=None, srdf=None, seed=args::Int::Fits(0), time_limit_ms=1000.0, simplify=true, range=1.0))]
+    #[pyo3(signature = (start=None, goal=None, scene=None, request=None, srdf=None, seed=args::Int::Fits(0), time_limit_ms=1000.0, simplify=true, range=1.0), text_signature = "($self, start=None, goal=None, scene=None, request=None, srdf=None, seed=0, time_limit_ms=1000.0, simplify=True, range=1.0)")]
     #[allow(clippy::too_many_arguments)]
     fn plan<'py>(
         &self,

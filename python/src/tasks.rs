@@ -52,7 +52,7 @@ type WorkspaceOut<'py> = (
 /// Samples the reachable workspace; returns the result's JSON text and the kept points
 /// `(k, 3)`, their configurations `(k, nv)` and manipulabilities `(k,)`.
 #[pyfunction]
-#[pyo3(signature = (model, samples=args::Int::Fits(1<<16), seed=args::Int::Fits(0), voxel=0.02, tool=None, sampling="sobol", replicates=args::Int::Fits(8), planar=None, extras=true, keep_points=args::Int::Fits(1000), target_rel_error=None))]
+#[pyo3(signature = (model, samples=args::Int::Fits(1<<16), seed=args::Int::Fits(0), voxel=0.02, tool=None, sampling="sobol", replicates=args::Int::Fits(8), planar=None, extras=true, keep_points=args::Int::Fits(1000), target_rel_error=None), text_signature = "(model, samples=65536, seed=0, voxel=0.02, tool=None, sampling='sobol', replicates=8, planar=None, extras=True, keep_points=1000, target_rel_error=None)")]
 #[allow(clippy::too_many_arguments)]
 pub fn workspace_json<'py>(
     py: Python<'py>,
@@ -135,7 +135,7 @@ fn splitmix(x: u64) -> u64 {
 /// box (joint limits; ±π for unlimited revolute joints), and the world placement of
 /// `frame` (default: the last link) at each: `(q (n, nv), poses (n, 4, 4))`.
 #[pyfunction]
-#[pyo3(signature = (model, n, seed=args::Int::Fits(0), frame=None, start=args::Int::Fits(0)))]
+#[pyo3(signature = (model, n, seed=args::Int::Fits(0), frame=None, start=args::Int::Fits(0)), text_signature = "(model, n, seed=0, frame=None, start=0)")]
 pub fn sample_poses<'py>(
     py: Python<'py>,
     model: &PyModel,
