@@ -13,7 +13,8 @@ use armsim::motion::Trajectory;
 use common::cli_json as json;
 use std::path::{Path, PathBuf};
 
-const START: [f64; 6] = [-1.0, -1.5708, 1.5708, -1.5708, -1.5708, 0.0];
+const H: f64 = std::f64::consts::FRAC_PI_2;
+const START: [f64; 6] = [-1.0, -H, H, -H, -H, 0.0];
 /// The goal pose of the task (scene axes = the UR5's base: base at the origin).
 const GOAL_XYZ: [f64; 3] = [0.25, -0.35, 0.3];
 const GOAL_RPY: [f64; 3] = [std::f64::consts::PI, 0.0, -2.2];
