@@ -72,6 +72,9 @@ fn search_of(q: &Query<'_>, asked: &Asked, opts: &mut PlanOptions) -> PyResult<(
     Ok(())
 }
 
+/// A goal set's `(found, valid, searches)` ([`Planner::plan_to`]).
+type SetCounts = (usize, usize, usize);
+
 /// Runs one query: a joint goal without constraints through [`Planner::plan`] (either
 /// search), otherwise [`Planner::plan_to`]; the second value is the goal set's
 /// `(found, valid, searches)` of the latter.
@@ -79,7 +82,7 @@ fn run(
     planner: &mut Planner,
     start: &[f64],
     asked: &Asked,
-) -> Result<(PlanResult, Option<(usize, usize, usize)>), String> {
+) -> Result<(PlanResult, Option<SetCounts>), String> {
     match &asked.goal {
         Goal::Joints(g) if asked.constraints.is_empty() => Ok((planner.plan(start, g), None)),
         goal => {
@@ -170,7 +173,7 @@ fn result_dict<'py>(
     py: Python<'py>,
     model: &Model,
     r: PlanResult,
-    set: Option<(usize, usize, usize)>,
+    set: Option<SetCounts>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let status = match r.status {
