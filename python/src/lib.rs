@@ -21,6 +21,7 @@ mod linearise;
 mod model;
 mod obstacles;
 mod plan;
+mod pose_dicts;
 mod robot;
 mod tasks;
 

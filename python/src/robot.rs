@@ -52,7 +52,7 @@ impl PyRobot {
 
     /// Plans a collision-free path (see `armsim.plan`): start and goal given or read from
     /// a MoveIt request file, obstacles from a MoveIt scene file, self pairs from an SRDF.
-    #[pyo3(signature = (start=None, goal=None, scene=None, request=None, srdf=None, seed=args::Int::Fits(0), time_limit_ms=1000.0, simplify=true, range=1.0), text_signature = "($self, start=None, goal=None, scene=None, request=None, srdf=None, seed=0, time_limit_ms=1000.0, simplify=True, range=1.0)")]
+    #[pyo3(signature = (start=None, goal=None, scene=None, request=None, srdf=None, seed=args::Int::Fits(0), time_limit_ms=1000.0, simplify=true, range=1.0, planner="rrt-connect".to_string(), budget_iterations=None, budget_ms=None, goal_pose=None, path_constraints=None), text_signature = "($self, start=None, goal=None, scene=None, request=None, srdf=None, seed=0, time_limit_ms=1000.0, simplify=True, range=1.0, planner='rrt-connect', budget_iterations=None, budget_ms=None, goal_pose=None, path_constraints=None)")]
     #[allow(clippy::too_many_arguments)]
     fn plan<'py>(
         &self,
@@ -66,6 +66,11 @@ impl PyRobot {
         time_limit_ms: f64,
         simplify: bool,
         range: f64,
+        planner: String,
+        budget_iterations: Option<args::Int>,
+        budget_ms: Option<f64>,
+        goal_pose: Option<Bound<'py, PyAny>>,
+        path_constraints: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let seed = args::seed(seed, "seed")?;
         crate::plan::plan(
@@ -81,6 +86,13 @@ impl PyRobot {
                 time_limit_ms,
                 simplify,
                 range,
+                query: crate::plan::Query {
+                    planner,
+                    budget_iterations,
+                    budget_ms,
+                    goal_pose,
+                    path_constraints,
+                },
             },
         )
     }

@@ -51,6 +51,17 @@ pub fn run(a: &PlanArgs, file: &Path, opts: &PlanOptions) -> Result<String, Stri
         settings.range = f64::from(opts.rrt.range);
     }
     if a.planner.is_some() {
+        let queries = scene
+            .steps
+            .iter()
+            .any(|s| matches!(s.step, armsim::scenarios::arm::scene::Step::PlanTo(_)));
+        if opts.planner == PlannerKind::Aorrtc && queries {
+            return Err(format!(
+                "{}: --planner aorrtc plans to joint goals without path constraints; this \
+                 scenario has task.goal_pose or task.path_constraints (plan it with rrt-connect)",
+                file.display()
+            ));
+        }
         settings.algorithm = opts.planner;
     }
     if a.budget_iterations.is_some() || a.budget_ms.is_some() {

@@ -199,6 +199,34 @@ impl ScenePlanners {
         b: &[f64],
     ) -> Result<Vec<Vec<f64>>, String> {
         let r = self.planner(carrying).plan(a, b);
+        self.record(step, carrying, r)
+    }
+
+    /// A collision-free path from `a` to `goal` (joint values or a tool pose: any of its
+    /// IK solutions) keeping `constraints` along every straight edge
+    /// ([`Planner::plan_to`]); the path ends at the goal reached.
+    pub fn plan_query(
+        &mut self,
+        step: &str,
+        carrying: bool,
+        a: &[f64],
+        goal: &crate::planning::pose_goal::Goal,
+        constraints: &[crate::planning::path_constraints::PathConstraint],
+    ) -> Result<Vec<Vec<f64>>, String> {
+        let g = self
+            .planner(carrying)
+            .plan_to(a, goal, constraints)
+            .map_err(|e| format!("path constraints: {e}"))?;
+        self.record(step, carrying, g.result)
+    }
+
+    /// Counts a query's answer, keeps it for the report; its path, or why there is none.
+    fn record(
+        &mut self,
+        step: &str,
+        carrying: bool,
+        r: crate::planning::PlanResult,
+    ) -> Result<Vec<Vec<f64>>, String> {
         self.segments += 1;
         self.iterations += r.iterations;
         self.plan_time_us += r.plan_time_us;

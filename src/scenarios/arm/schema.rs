@@ -271,6 +271,39 @@ pub struct PoseSec {
     pub rpy: [f64; 3],
 }
 
+/// One `[[task.path_constraints]]` entry: `type` "axis" (`axis`, `direction`,
+/// `tolerance`), "orientation" (`rpy`, `tolerance`) or "position" (`offset`, `shape` with
+/// `size`, `radius` or `radius` and `length`, `xyz`, `rpy`); `link` optional (the tool).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintSec {
+    /// "axis", "orientation" or "position".
+    #[serde(rename = "type")]
+    pub kind: Spanned<String>,
+    /// The constrained link (default: the tool).
+    pub link: Option<Spanned<String>>,
+    /// `axis`: the link's axis (link frame).
+    pub axis: Option<Spanned<[f64; 3]>>,
+    /// `axis`: the world direction it stays near.
+    pub direction: Option<Spanned<[f64; 3]>>,
+    /// `axis` and `orientation`: the largest angle (rad).
+    pub tolerance: Option<Spanned<f64>>,
+    /// `orientation`: the orientation kept (scene axes); `position`: the region's.
+    pub rpy: Option<Spanned<[f64; 3]>>,
+    /// `position`: the region's centre (scene axes).
+    pub xyz: Option<Spanned<[f64; 3]>>,
+    /// `position`: the point of the link (link frame, default its origin).
+    pub offset: Option<Spanned<[f64; 3]>>,
+    /// `position`: "box", "sphere" or "cylinder".
+    pub shape: Option<Spanned<String>>,
+    /// `position`, box: full extents (m).
+    pub size: Option<Spanned<[f64; 3]>>,
+    /// `position`, sphere and cylinder: radius (m).
+    pub radius: Option<Spanned<f64>>,
+    /// `position`, cylinder: full length along its z axis (m).
+    pub length: Option<Spanned<f64>>,
+}
+
 /// One step of a `sequence` task (exactly one key).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -301,6 +334,11 @@ pub struct TaskSec {
     pub goal: Option<Spanned<PoseSec>>,
     /// `plan`: the goal as joint values (instead of `goal`).
     pub goal_q: Option<PerJoint>,
+    /// `plan`: the goal as a tool pose the planner reaches through any of its IK
+    /// solutions (MoveIt's pose goal; instead of `goal` or `goal_q`).
+    pub goal_pose: Option<Spanned<PoseSec>>,
+    /// `plan`: constraints on a link kept along the whole planned path.
+    pub path_constraints: Option<Spanned<Vec<Spanned<ConstraintSec>>>>,
     /// `pick_and_place`: `"rrt-connect"` plans the transfers around the obstacles
     /// (default `"none"`: joint-space moves to the IK solutions).
     pub planner: Option<Spanned<String>>,

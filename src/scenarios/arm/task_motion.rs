@@ -25,7 +25,9 @@ use crate::motion::{
 };
 use crate::planning::Planner;
 use crate::scenarios::arm::planner_setup::{smooth_path, ScenePlanners};
-use crate::scenarios::arm::scene::arm_scene::{Scene, Step, TaskStep, Timing};
+use crate::scenarios::arm::scene::arm_scene::{
+    PlanQuery, QueryGoal, Scene, Step, TaskStep, Timing,
+};
 use std::time::Duration;
 
 /// A motion made of pieces played one after the other.
@@ -301,6 +303,7 @@ impl<'s> Grouper<'s> {
                 self.pending_keys.push(ts.key.clone());
             }
             Step::Plan(target) => self.plan_to(ts, target)?,
+            Step::PlanTo(query) => self.plan_query(ts, query)?,
             Step::Attach | Step::Detach => {
                 self.flush();
                 self.carrying = matches!(ts.step, Step::Attach);
@@ -366,24 +369,72 @@ impl<'s> Grouper<'s> {
             Err(pose) => self.solve_ik(pose).map_err(err)?,
         };
         self.flush();
+        let (carrying, start) = (self.carrying, self.q.clone());
+        let p = self.planners(ts)?;
+        let path = p.plan(&ts.key, carrying, &start, &goal).map_err(err)?;
+        self.q = goal;
+        self.groups
+            .push(Group::Planned(path, self.carrying, ts.key.clone()));
+        self.pending = vec![self.q.clone()];
+        Ok(())
+    }
+
+    /// The scene's planners, built at the first planned step.
+    fn planners(&mut self, ts: &TaskStep) -> Result<&mut ScenePlanners, ScenarioError> {
+        let scene = self.scene;
         if self.planners.is_none() {
             let settings = scene
                 .planner
                 .as_ref()
-                .ok_or_else(|| err("no planner settings".into()))?;
+                .ok_or_else(|| step_err(scene, &ts.key, ts.line, "no planner settings".into()))?;
             self.planners = Some(
                 ScenePlanners::new(scene, settings)
                     .map_err(|m| step_err(scene, "planner", None, m))?,
             );
         }
-        let p = self.planners.as_mut().expect("built");
+        Ok(self.planners.as_mut().expect("built"))
+    }
+
+    /// A planned path to a goal set (`task.goal_pose`) or under path constraints. A
+    /// constrained path is played as straight joint segments through its via points (the
+    /// edges the constraints are certified on), stopping at each; the minimum-jerk and
+    /// trapezoidal timings, which leave those edges, are refused.
+    fn plan_query(&mut self, ts: &TaskStep, q: &PlanQuery) -> Result<(), ScenarioError> {
+        use crate::planning::pose_goal::{Goal, PoseGoal};
+        let scene = self.scene;
+        let err = |m: String| step_err(scene, &ts.key, ts.line, m);
+        let constrained = !q.constraints.is_empty();
+        if constrained && matches!(scene.timing, Timing::MinimumJerk | Timing::Trapezoidal) {
+            return Err(err(format!(
+                "task.path_constraints: the {} timing leaves the straight joint edges the constraints are kept on (its joints blend apart); use quintic or time_optimal",
+                scene.timing.as_str()
+            )));
+        }
+        let goal = match &q.goal {
+            QueryGoal::Joints(g) => Goal::Joints(g.clone()),
+            QueryGoal::IkPose(p) => Goal::Joints(self.solve_ik(p).map_err(err)?),
+            QueryGoal::Pose(p) => Goal::Pose(PoseGoal {
+                link: scene.tool,
+                target: *p,
+                position_only: scene.position_only,
+            }),
+        };
+        self.flush();
+        let (carrying, start) = (self.carrying, self.q.clone());
+        let p = self.planners(ts)?;
         let path = p
-            .plan(&ts.key, self.carrying, &self.q, &goal)
+            .plan_query(&ts.key, carrying, &start, &goal, &q.constraints)
             .map_err(err)?;
-        self.q = goal;
-        self.groups
-            .push(Group::Planned(path, self.carrying, ts.key.clone()));
-        self.pending = vec![self.q.clone()];
+        self.q = path.last().expect("a solved path has its ends").clone();
+        if constrained {
+            self.pending = path;
+            self.pending_keys = vec![ts.key.clone(); self.pending.len() - 1];
+            self.flush();
+        } else {
+            self.groups
+                .push(Group::Planned(path, self.carrying, ts.key.clone()));
+            self.pending = vec![self.q.clone()];
+        }
         Ok(())
     }
 

@@ -59,10 +59,33 @@ pub enum Step {
     Dwell(f64),
     /// Planned, collision-free move to joint values (`Ok`) or a tool pose through IK.
     Plan(Result<Vec<f64>, Se3>),
+    /// Planned move to a goal set or under path constraints ([`PlanQuery`]).
+    PlanTo(Box<PlanQuery>),
     /// The tool grasps the part: from here its mass and shape travel with it.
     Attach,
     /// The tool releases the part.
     Detach,
+}
+
+/// What a `type = "plan"` task with `goal_pose` or `path_constraints` plans to.
+#[derive(Clone, Debug)]
+pub struct PlanQuery {
+    /// The goal (base frame).
+    pub goal: QueryGoal,
+    /// Kept along the whole path (base frame).
+    pub constraints: Vec<crate::planning::path_constraints::PathConstraint>,
+}
+
+/// The goal of a [`PlanQuery`].
+#[derive(Clone, Debug)]
+pub enum QueryGoal {
+    /// Joint values (`task.goal_q`).
+    Joints(Vec<f64>),
+    /// A tool pose reached through IK from the current configuration (`task.goal`).
+    IkPose(Se3),
+    /// A tool pose the planner reaches through any of its IK solutions
+    /// (`task.goal_pose`, [`crate::planning::pose_goal`]).
+    Pose(Se3),
 }
 
 /// A step with where it was written (for error messages).

@@ -9,6 +9,7 @@
 //! planner), [`simulation`] (trajectory timing and simulation settings) and [`outputs`].
 
 pub(crate) mod arm_scene;
+mod constraint_sections;
 mod effect_sections;
 mod limits;
 mod model;
@@ -80,9 +81,13 @@ pub fn build_with(
         ));
     }
     let torque_plot = output_sections::torque_plot(&sx)?;
-    let plans = steps.iter().any(|s| matches!(s.step, Step::Plan(_)));
+    let plans = steps
+        .iter()
+        .any(|s| matches!(s.step, Step::Plan(_) | Step::PlanTo(_)));
     limits::jerk_applies(&sx, traj.timing == Timing::TimeOptimal, plans)?;
     let planner = task::planner_settings(&cx, file, dir, &ms.model, plans, &mut warnings)?;
+    let queries = steps.iter().any(|s| matches!(s.step, Step::PlanTo(_)));
+    task::optimiser_applies(&cx, file, queries)?;
     let part = task::part(&sx)?;
     let outputs = output_sections::outputs(&sx, torque_plot);
     let tsec = file.task.get_ref();

@@ -8,7 +8,7 @@ use crate::planning::plan_options::{
     OptimiseBudget, PlannerKind, MAX_OPTIMISE_ITERATIONS, MAX_TIME_LIMIT_MS, RANGE_LIMITS,
 };
 use crate::planning::spheres::OVERSHOOT_RANGE;
-use crate::scenarios::arm::scene::arm_scene::{Step, TaskStep};
+use crate::scenarios::arm::scene::arm_scene::{PlanQuery, QueryGoal, Step, TaskStep};
 use crate::scenarios::arm::scene::limits::check_in_limits;
 use crate::scenarios::arm::scene::section_reader::{
     finite_pos, finite_pose, per_joint, pose_of, to_radians_if, Sections,
@@ -140,21 +140,31 @@ pub(super) fn steps(
             push(&mut steps, back, "initial.q (return)".into(), pick.span());
         }
         "plan" => {
-            let target = match (&tsec.goal, &tsec.goal_q) {
-                (Some(g), None) => {
+            let constraints = super::constraint_sections::path_constraints(sx)?;
+            let target = match (&tsec.goal, &tsec.goal_q, &tsec.goal_pose) {
+                (Some(g), None, None) => {
                     check_pose(g.get_ref(), "task.goal", g.span())?;
-                    Err(to_base(g.get_ref()))
+                    QueryGoal::IkPose(to_base(g.get_ref()))
                 }
-                (None, Some(j)) => Ok(joint_row(j, "task.goal_q")?),
+                (None, Some(j), None) => QueryGoal::Joints(joint_row(j, "task.goal_q")?),
+                (None, None, Some(g)) => {
+                    check_pose(g.get_ref(), "task.goal_pose", g.span())?;
+                    QueryGoal::Pose(to_base(g.get_ref()))
+                }
                 _ => {
                     return Err(cx.at(
                         file.task.span(),
                         "task.goal",
-                        "task type 'plan' needs exactly one of task.goal (a tool pose) and task.goal_q (joint values)",
+                        "task type 'plan' needs exactly one of task.goal (a tool pose reached through IK from the current configuration), task.goal_pose (a tool pose reached through any IK solution) and task.goal_q (joint values)",
                     ))
                 }
             };
-            push(&mut steps, Step::Plan(target), "task.goal".into(), file.task.span());
+            let step = match target {
+                QueryGoal::Joints(q) if constraints.is_empty() => Step::Plan(Ok(q)),
+                QueryGoal::IkPose(p) if constraints.is_empty() => Step::Plan(Err(p)),
+                goal => Step::PlanTo(Box::new(PlanQuery { goal, constraints })),
+            };
+            push(&mut steps, step, "task.goal".into(), file.task.span());
         }
         "sequence" => {
             let list = tsec.steps.as_ref().ok_or_else(|| need("steps"))?;
@@ -387,6 +397,29 @@ fn planner_algorithm(
     Ok((algorithm, budget))
 }
 
+/// Refuses `[planner] algorithm = "aorrtc"` with a `task.goal_pose` or
+/// `task.path_constraints` (the optimiser plans to joint goals without constraints, as
+/// `armsim plan` refuses it with such MoveIt requests).
+pub(super) fn optimiser_applies(
+    cx: &Source,
+    file: &ArmFile,
+    queries: bool,
+) -> Result<(), ScenarioError> {
+    let algorithm = file
+        .planner
+        .as_ref()
+        .and_then(|p| p.get_ref().algorithm.as_ref());
+    match algorithm {
+        Some(a) if queries && a.get_ref() == "aorrtc" => Err(cx.at(
+            a.span(),
+            "planner.algorithm",
+            "\"aorrtc\" plans to joint goals without path constraints; this task has \
+             task.goal_pose or task.path_constraints (use \"rrt-connect\")",
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Whether a pick-and-place plans its transfers (`task.planner`).
 fn uses_planner(cx: &Source, tsec: &TaskSec) -> Result<bool, ScenarioError> {
     match &tsec.planner {
@@ -421,7 +454,17 @@ const TASK_KEYS: &[(&str, &[&str])] = &[
             "position_only",
         ],
     ),
-    ("plan", &["goal", "goal_q", "degrees", "position_only"]),
+    (
+        "plan",
+        &[
+            "goal",
+            "goal_q",
+            "goal_pose",
+            "path_constraints",
+            "degrees",
+            "position_only",
+        ],
+    ),
     ("sequence", &["steps", "degrees", "position_only"]),
 ];
 
@@ -437,6 +480,8 @@ fn task_keys_apply(cx: &Source, span: Range<usize>, t: &TaskSec) -> Result<(), S
         ("poses", t.poses.is_some()),
         ("goal", t.goal.is_some()),
         ("goal_q", t.goal_q.is_some()),
+        ("goal_pose", t.goal_pose.is_some()),
+        ("path_constraints", t.path_constraints.is_some()),
         ("planner", t.planner.is_some()),
         ("part", t.part.is_some()),
         ("pick", t.pick.is_some()),
