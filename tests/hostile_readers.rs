@@ -511,3 +511,105 @@ fn dae_strides_and_triangle_lists_are_whole() {
         .to_string();
     assert!(e.contains("not a whole number of triangles"), "{e}");
 }
+
+/// Issue 28: an `<instance_geometry>` whose URL names no geometry of the file (a missing
+/// id, another file's geometry) was skipped silently. It is skipped with a warning naming
+/// its line and URL; `srdf` prints it with the mesh file, and `--strict` refuses it.
+#[test]
+fn dae_instance_naming_no_geometry_is_a_warning_and_strict_refuses_it() {
+    let text = std::fs::read_to_string(root().join("tests/data/meshes/cube.dae")).unwrap();
+    let good = read_dae(&text).unwrap();
+    assert!(good.warnings.is_empty(), "{:?}", good.warnings);
+    let t = text.replacen(
+        "<instance_geometry url=\"#cube-mesh\"/>",
+        "<instance_geometry url=\"#cube-mesh\"/>\n        <instance_geometry url=\"#nope\"/>\n        \
+         <instance_geometry url=\"other.dae#cube-mesh\"/>",
+        1,
+    );
+    assert_ne!(t, text);
+    let mesh = read_dae(&t).unwrap();
+    // The geometry that resolves is still placed, once.
+    assert_eq!(mesh.triangles.len(), good.triangles.len());
+    let w: Vec<String> = mesh.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert_eq!(mesh.warnings[0].line, Some(33));
+    assert!(
+        w[0].contains("<instance_geometry url=\"#nope\"> (line 33)")
+            && w[0].contains("names no <geometry>")
+            && w[0].ends_with("skipped"),
+        "{}",
+        w[0]
+    );
+    assert!(
+        w[1].contains("url=\"other.dae#cube-mesh\"> (line 34)")
+            && w[1].contains("another file ('other.dae')"),
+        "{}",
+        w[1]
+    );
+    // Many such elements: eight named, the rest counted.
+    let many = text.replacen(
+        "<instance_geometry url=\"#cube-mesh\"/>",
+        &"<instance_geometry url=\"#x\"/>".repeat(20),
+        1,
+    );
+    let w = read_dae(&many).unwrap().warnings;
+    assert_eq!(w.len(), 9);
+    assert!(
+        w[8].to_string().contains("12 more <instance_geometry>"),
+        "{}",
+        w[8]
+    );
+
+    // Through the CLI: the warning names the file, the line and the URL.
+    let dir = scratch("dae_url");
+    let dae = dir.join("skips.dae");
+    std::fs::write(&dae, &t).unwrap();
+    let urdf = arm_with_mesh(&dir, &dae, "0.1 0.1 0.1");
+    let bin = env!("CARGO_BIN_EXE_armsim");
+    let run = |strict: bool| {
+        let mut c = std::process::Command::new(bin);
+        c.args(["srdf", urdf.to_str().unwrap()])
+            .env("ARMSIM_NO_CACHE", "1");
+        if strict {
+            c.arg("--strict");
+        }
+        let o = c.output().unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let file_line = format!(
+        "{}:33: DAE: <instance_geometry url=\"#nope\">",
+        dae.display()
+    );
+    let (code, err) = run(false);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        err.contains("warning:") && err.contains(&file_line),
+        "{err}"
+    );
+    let (code, err) = run(true);
+    assert_eq!(code, Some(1), "--strict accepted it: {err}");
+    assert!(
+        err.contains("--strict") && err.contains(&file_line),
+        "{err}"
+    );
+    // The collision layer: a note by default, an error when missing meshes are errors.
+    let (model, _) = Model::load(&urdf).unwrap();
+    let cm = CollisionModel::new(&model, Vec::new(), &CollisionOptions::default()).unwrap();
+    assert!(
+        cm.warnings().iter().any(|w| w.contains(&file_line)),
+        "{:?}",
+        cm.warnings()
+    );
+    let strict = CollisionOptions {
+        missing_meshes: armsim::collision::MissingMeshes::Error,
+        ..Default::default()
+    };
+    let e = CollisionModel::new(&model, Vec::new(), &strict)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains(&file_line), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -34,9 +34,14 @@ pub struct IkArgs {
     /// Random restarts allowed per target.
     #[arg(long, default_value_t = 200)]
     pub restarts: usize,
-    /// Time budget per target (ms).
+    /// Time budget per target (ms). A target that cannot be reached uses all of it, so
+    /// the targets × this may be at most 60 000 ms (one minute of solver time) without
+    /// --force.
     #[arg(long, default_value_t = 50.0)]
     pub budget_ms: f64,
+    /// Run a batch whose worst case (targets × --budget-ms) is over the one-minute budget.
+    #[arg(long)]
+    pub force: bool,
     /// Let iterates leave the joint limits.
     #[arg(long)]
     pub no_limits: bool,
@@ -51,9 +56,39 @@ pub fn run(a: &IkArgs) -> Result<(), String> {
     ik_cmd(&load(&a.m)?, a, a.m.json)
 }
 
-/// A pose from `x,y,z,qw,qx,qy,qz` (or `x,y,z` when only the position matters).
 use armsim::kinematics::ik::MAX_TARGET_DISTANCE;
 
+/// The most solver time (ms) a numeric IK run may be given without `--force`: targets ×
+/// `--budget-ms`, what a batch of unreachable targets spends (each uses its whole
+/// budget). One minute: 1 200 targets at the default 50 ms.
+pub const MAX_IK_WORK_MS: f64 = 60_000.0;
+
+/// The largest `--budget-ms` accepted at all (about 11.6 days), as the planner's
+/// `--time-limit-ms`.
+const MAX_BUDGET_MS: f64 = 1e9;
+
+/// Refuses `rows` targets at `budget_ms` each when their worst case is over
+/// [`MAX_IK_WORK_MS`] (checked row by row while a file is read, so a huge file is refused
+/// at the first row over the budget); `what` names the file and line, or `--target`.
+fn check_ik_work(rows: usize, o: &IkArgs, what: &str) -> Result<(), String> {
+    let total = rows as f64 * o.budget_ms;
+    if o.analytic || o.force || total <= MAX_IK_WORK_MS {
+        return Ok(());
+    }
+    let fit = (MAX_IK_WORK_MS / o.budget_ms).floor();
+    let fmt = armsim::core::diag::fmt_num;
+    Err(format!(
+        "{what}: target {rows} is over the work budget: at --budget-ms {} each (an unreachable \
+         target uses its whole budget), at most {} targets fit the {} s of solver time \
+         (targets × --budget-ms) allowed without --force: lower --budget-ms, split the \
+         targets, or pass --force to run it",
+        fmt(o.budget_ms),
+        fmt(fit),
+        fmt(MAX_IK_WORK_MS * 1e-3)
+    ))
+}
+
+/// A pose from `x,y,z,qw,qx,qy,qz` (or `x,y,z` when only the position matters).
 fn parse_pose(s: &str, position_only: bool, what: &str) -> Result<Se3, String> {
     let v: Vec<f64> = s
         .split(',')
@@ -103,10 +138,10 @@ fn ik_cmd(model: &Model, o: &IkArgs, as_json: bool) -> Result<(), String> {
     if !(o.tol > 0.0 && o.tol.is_finite()) {
         return Err(format!("--tol: {} is not a positive number", o.tol));
     }
-    if !(o.budget_ms > 0.0 && o.budget_ms.is_finite()) {
+    if !(o.budget_ms > 0.0 && o.budget_ms <= MAX_BUDGET_MS) {
         return Err(format!(
-            "--budget-ms: {} is not a positive number",
-            o.budget_ms
+            "--budget-ms: {} is not a positive number of at most 1e9 ms",
+            armsim::core::diag::fmt_num(o.budget_ms)
         ));
     }
     let seed = o
@@ -115,7 +150,10 @@ fn ik_cmd(model: &Model, o: &IkArgs, as_json: bool) -> Result<(), String> {
         .map(|s| parse_values(model, "seed-q", s))
         .transpose()?;
     let targets: Vec<Se3> = match (&o.target, &o.targets) {
-        (Some(t), None) => vec![parse_pose(t, o.position_only, "--target")?],
+        (Some(t), None) => {
+            check_ik_work(1, o, "--budget-ms")?;
+            vec![parse_pose(t, o.position_only, "--target")?]
+        }
         (None, Some(file)) => {
             let text = armsim::core::files::read_input_string(file)
                 .map_err(|e| format!("{}: cannot read: {e}", file.display()))?;
@@ -132,6 +170,7 @@ fn ik_cmd(model: &Model, o: &IkArgs, as_json: bool) -> Result<(), String> {
                     continue; // one header row, the first
                 }
                 let what = format!("{}:{}", file.display(), i + 1);
+                check_ik_work(out.len() + 1, o, &what)?;
                 out.push(parse_pose(l, o.position_only, &what)?);
             }
             if out.is_empty() {

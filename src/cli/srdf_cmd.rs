@@ -25,7 +25,19 @@ pub struct SrdfArgs {
     /// Treat model warnings as errors.
     #[arg(long)]
     pub strict: bool,
+    /// Random configurations that decide the never-colliding pairs (MoveIt's Setup
+    /// Assistant's sampling density; 1 to 10^6). Pairs × samples is bounded by a budget of
+    /// 2·10^8 pair tests without --force.
+    #[arg(long, default_value_t = 10_000)]
+    pub samples: usize,
+    /// Sample a model whose pairs × samples is over the budget of 2·10^8 pair tests.
+    #[arg(long)]
+    pub force: bool,
 }
+
+/// The most `--samples` accepted (MoveIt's Setup Assistant's density slider stops at
+/// 100 000).
+const MAX_SAMPLES: usize = 1_000_000;
 
 /// Runs the command; returns what goes to standard output (empty with `--out`).
 pub fn run(a: &SrdfArgs) -> Result<String, String> {
@@ -36,16 +48,29 @@ pub fn run(a: &SrdfArgs) -> Result<String, String> {
             a.max_overshoot
         ));
     }
+    if a.samples == 0 || a.samples > MAX_SAMPLES {
+        return Err(format!(
+            "--samples: expected 1 to {MAX_SAMPLES} configurations, got {}",
+            a.samples
+        ));
+    }
     let model = crate::cli::plan_cmd::load_model(&a.model, a.strict)?;
     armsim::core::interrupt::install().map_err(|e| e.to_string())?;
     let mut opts = PlanOptions {
         seed: a.seed,
         stop: Some(armsim::core::interrupt::flag()),
+        acm_samples: a.samples,
+        acm_max_pair_tests: (!a.force).then_some(armsim::planning::acm::MAX_PAIR_TESTS),
         ..Default::default()
     };
     opts.spheres.max_overshoot = a.max_overshoot;
-    let robot = PlanningRobot::new(&model, None, &opts)
-        .map_err(|e| format!("{}: {e}", a.model.display()))?;
+    let robot = PlanningRobot::new(&model, None, &opts).map_err(|e| match e {
+        armsim::planning::plan_error::PlanSetupError::AcmOverBudget { problem, .. } => format!(
+            "{}: {problem}: lower --samples, or pass --force to run it",
+            a.model.display()
+        ),
+        e => format!("{}: {e}", a.model.display()),
+    })?;
     if let Some(w) = robot.spheres.warnings.first().filter(|_| a.strict) {
         // A collision mesh left out of the sphere model leaves its link unprotected.
         return Err(format!("{}: --strict: {w}", a.model.display()));

@@ -66,6 +66,19 @@ fn build_shape(
                 return Ok(s.clone());
             }
             let data = mesh::load_mesh(&path).map_err(ShapeFailure::Unreadable)?;
+            // What the reader skipped (a DAE instance naming no geometry): a warning, an
+            // error where missing meshes are (`--strict`).
+            let file = path.display().to_string();
+            if let Some(w) = data.warnings.first() {
+                if opts.missing_meshes == MissingMeshes::Error {
+                    return Err(ShapeFailure::Unreadable(w.clone().in_file(&file)));
+                }
+            }
+            notes.extend(
+                data.warnings
+                    .iter()
+                    .map(|w| w.clone().in_file(&file).to_string()),
+            );
             let (s, note) =
                 CollisionShape::from_mesh(&data, *scale, opts.convex_hulls).map_err(|problem| {
                     ShapeFailure::BadMesh {

@@ -77,11 +77,48 @@ pub struct AcmPair {
     pub reason: Reason,
 }
 
+/// The most pair tests (candidate pairs × (*Never* + *Always* samples)) [`compute`] runs
+/// unless told otherwise ([`AcmOptions::max_pair_tests`]): 2·10⁸, a few seconds on two
+/// cores. A 50-link robot at the default 10 000 samples makes about 1.2·10⁷; a 1 000-link
+/// star 5·10⁹ (over 30 s).
+pub const MAX_PAIR_TESTS: u64 = 200_000_000;
+
+/// Why [`compute`] gave no matrix.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum AcmError {
+    /// The stop flag was raised during the sampling.
+    #[error("interrupted while computing the allowed-collision matrix")]
+    Interrupted,
+    /// The sampling would run more pair tests than [`AcmOptions::max_pair_tests`]; checked
+    /// before any configuration is sampled.
+    #[error(
+        "the allowed-collision matrix would test {pairs} link pairs in {configs} random \
+         configurations ({tests} pair tests), more than the budget of {budget}: at most \
+         {fit} samples fit it (MoveIt's Setup Assistant samples 10000 by default; fewer decide \
+         fewer pairs as never colliding)"
+    )]
+    OverBudget {
+        /// Candidate pairs (not adjacent).
+        pairs: usize,
+        /// *Never* plus *Always* samples.
+        configs: usize,
+        /// Their product.
+        tests: u64,
+        /// The budget.
+        budget: u64,
+        /// The most *Never* samples that fit the budget (beside the *Always* ones).
+        fit: u64,
+    },
+}
+
 /// Settings of [`compute`].
 #[derive(Clone, Debug)]
 pub struct AcmOptions {
     /// Random configurations of the *Never* pass (the assistant's default density).
     pub samples: usize,
+    /// The most pair tests the sampling may run (see [`MAX_PAIR_TESTS`]); `None`: no
+    /// limit (`--force`).
+    pub max_pair_tests: Option<u64>,
     /// Random configurations of the *Always* pass.
     pub always_samples: usize,
     /// Fraction of the *Always* samples a pair must collide in (the assistant's 0.95).
@@ -94,6 +131,7 @@ impl Default for AcmOptions {
     fn default() -> Self {
         Self {
             samples: 10_000,
+            max_pair_tests: Some(MAX_PAIR_TESTS),
             always_samples: 200,
             always_fraction: 0.95,
             seed: 0,
@@ -190,7 +228,7 @@ pub fn compute_cached(
     exact: Option<&CollisionModel>,
     opts: &AcmOptions,
     stop: &AtomicBool,
-) -> Option<Acm> {
+) -> Result<Acm, AcmError> {
     let Some(urdf) = &model.urdf_text else {
         return compute(model, sm, exact, opts, stop);
     };
@@ -231,25 +269,26 @@ pub fn compute_cached(
     if let Some(acm) = crate::planning::cover_cache::load_text(&name)
         .and_then(|t| serde_json::from_str::<Acm>(&t).ok())
     {
-        return Some(acm);
+        return Ok(acm);
     }
     let acm = compute(model, sm, exact, opts, stop)?;
     if let Ok(text) = serde_json::to_string(&acm) {
         crate::planning::cover_cache::store_text(&name, &text);
     }
-    Some(acm)
+    Ok(acm)
 }
 
 /// The ACM of `model` (see the module docs): `sm` is the planner's sphere cover, `exact`
 /// the exact collision geometry when it could be built. `stop` ends the sampling early
-/// (`None` is returned).
+/// ([`AcmError::Interrupted`]); more pair tests than [`AcmOptions::max_pair_tests`] are
+/// refused before the first sample ([`AcmError::OverBudget`]).
 pub fn compute(
     model: &Model,
     sm: &SphereModel,
     exact: Option<&CollisionModel>,
     opts: &AcmOptions,
     stop: &AtomicBool,
-) -> Option<Acm> {
+) -> Result<Acm, AcmError> {
     let groups = sm.links.len();
     let mut reason: Vec<Option<Reason>> = vec![None; groups * groups];
     let pair_index = |a: usize, b: usize| a.min(b) * groups + a.max(b);
@@ -266,6 +305,7 @@ pub fn compute(
             }
         }
     }
+    check_budget(candidates.len(), opts)?;
     // 2. Default.
     let q0 = default_configuration(model);
     let mut poser = SpherePoser::new(model, sm);
@@ -324,13 +364,34 @@ pub fn compute(
     }
     candidates.retain(|&(a, b)| reason[pair_index(a, b)].is_none());
     // 4. Never.
-    let touched = never_pass(model, sm, exact, &candidates, opts, stop)?;
+    let touched =
+        never_pass(model, sm, exact, &candidates, opts, stop).ok_or(AcmError::Interrupted)?;
     for (&(a, b), t) in candidates.iter().zip(&touched) {
         if !t {
             reason[pair_index(a, b)] = Some(Reason::Never);
         }
     }
-    Some(collect(model, sm, &reason, opts.samples, exact.is_some()))
+    Ok(collect(model, sm, &reason, opts.samples, exact.is_some()))
+}
+
+/// Refuses more pair tests than the budget: `pairs` candidates in every *Never* and
+/// *Always* sample.
+fn check_budget(pairs: usize, opts: &AcmOptions) -> Result<(), AcmError> {
+    let Some(budget) = opts.max_pair_tests else {
+        return Ok(());
+    };
+    let configs = opts.samples.saturating_add(opts.always_samples);
+    let tests = (pairs as u64).saturating_mul(configs as u64);
+    if tests <= budget {
+        return Ok(());
+    }
+    Err(AcmError::OverBudget {
+        pairs,
+        configs,
+        tests,
+        budget,
+        fit: (budget / pairs.max(1) as u64).saturating_sub(opts.always_samples as u64),
+    })
 }
 
 /// The disabled and checked pairs, by reason and name.

@@ -13,7 +13,9 @@ use std::path::PathBuf;
 /// Raised when the cover algorithm changes, so old files are not read.
 // 3: the mesh readers refuse what they once read (DAE units, strides, partial triangle
 // lists, issue 28): covers computed from such files by older builds must not be served.
-const VERSION: u32 = 3;
+// 4: a cover's note carries the DAE reader's warnings (an `<instance_geometry>` naming no
+// geometry), which covers stored by older builds lack.
+const VERSION: u32 = 4;
 
 /// Most spheres a stored cover may have (a larger file is ignored).
 const MAX_SPHERES: usize = 1_000_000;

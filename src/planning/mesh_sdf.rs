@@ -135,6 +135,7 @@ mod tests {
             vertices: v,
             triangles,
             dropped: 0,
+            ..Default::default()
         }
     }
 

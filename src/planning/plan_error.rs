@@ -38,6 +38,18 @@ pub enum PlanSetupError {
     /// The stop flag was raised while the allowed-collision matrix was sampled.
     #[error("interrupted while computing the allowed-collision matrix")]
     Interrupted,
+    /// The allowed-collision matrix's sampling is over its work budget (refused before it
+    /// starts; [`crate::planning::acm::AcmError::OverBudget`]).
+    #[error(
+        "model '{model}': {problem}: lower `armsim srdf --samples` (or pass its --force) and \
+         give the SRDF it writes with --srdf"
+    )]
+    AcmOverBudget {
+        /// The model's name.
+        model: String,
+        /// The budget, the pairs and the samples.
+        problem: crate::planning::acm::AcmError,
+    },
     /// An obstacle the planner cannot represent.
     #[error("obstacle '{name}': {problem}")]
     Obstacle {

@@ -98,6 +98,12 @@ pub struct PlanOptions {
     /// Raised (by a Ctrl-C handler, another thread) to stop the set-up's sampling and the
     /// search; the query then fails with the reason "interrupted".
     pub stop: Option<Arc<AtomicBool>>,
+    /// Random configurations of the allowed-collision matrix's *Never* pass, when no SRDF
+    /// is given (MoveIt's Setup Assistant's default density, 10 000).
+    pub acm_samples: usize,
+    /// The most pair tests the matrix's sampling may run
+    /// ([`crate::planning::acm::MAX_PAIR_TESTS`]); `None`: no limit.
+    pub acm_max_pair_tests: Option<u64>,
 }
 
 impl Default for PlanOptions {
@@ -114,6 +120,8 @@ impl Default for PlanOptions {
             simplifier: SimplifyOptions::default(),
             spheres: SphereOptions::default(),
             stop: None,
+            acm_samples: 10_000,
+            acm_max_pair_tests: Some(crate::planning::acm::MAX_PAIR_TESTS),
         }
     }
 }

@@ -154,10 +154,18 @@ impl PlanningRobot {
             None => {
                 let aopts = AcmOptions {
                     seed: opts.seed,
+                    samples: opts.acm_samples,
+                    max_pair_tests: opts.acm_max_pair_tests,
                     ..Default::default()
                 };
                 let acm = acm::compute_cached(model, &spheres, exact.as_ref(), &aopts, stop)
-                    .ok_or(PlanSetupError::Interrupted)?;
+                    .map_err(|e| match e {
+                        acm::AcmError::Interrupted => PlanSetupError::Interrupted,
+                        problem => PlanSetupError::AcmOverBudget {
+                            model: model.name.clone(),
+                            problem,
+                        },
+                    })?;
                 let mut off = acm.disabled_names();
                 off.extend(extra.iter().cloned());
                 let pairs = self_pairs::from_disabled(model, &spheres, &off);

@@ -385,7 +385,13 @@ fn compute_cover(
         problem,
     })?;
     let (spheres, used) = cover_sdf(&|p| sdf.sdf(p), sdf.center, sdf.half, delta);
-    let mut notes = Vec::new();
+    let file = path.display().to_string();
+    // What the reader skipped (a DAE instance naming no geometry), with the file and line.
+    let mut notes: Vec<String> = data
+        .warnings
+        .iter()
+        .map(|w| w.clone().in_file(&file).to_string())
+        .collect();
     if !sdf.closed {
         notes.push(format!(
             "mesh '{uri}' is open: its spheres wrap the surface only (no inside)"

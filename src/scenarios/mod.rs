@@ -80,6 +80,9 @@ pub fn kind(file: &str, text: &str) -> Result<&'static ScenarioKind, ScenarioErr
              file (`kind = \"arm\"`, `[model] file = \"robot.urdf\"`, … see scenarios/README.md)",
         ));
     }
+    // The task lists' length, before the whole file is parsed (a 10⁶-entry list took
+    // seconds to parse before its count was checked).
+    crate::scenarios::arm::task_prescan::check(file, text)?;
     let table: toml::Table =
         toml::from_str(text).map_err(|e| ScenarioError::from_toml(file, text, &e))?;
     let kind_error = |msg: String| ScenarioError::new(file, line_of_key(text, "kind"), "kind", msg);

@@ -181,6 +181,14 @@ fn mesh(result: Result<armsim::collision::mesh::MeshData, armsim::collision::mes
             let n = m.vertices.len();
             assert!(m.triangles.iter().flatten().all(|&i| (i as usize) < n));
             assert!(m.vertices.iter().flatten().all(|x| x.is_finite()));
+            // A reader's warnings (DAE instances naming no geometry) render with the file.
+            for w in &m.warnings {
+                let shown = w.clone().in_file("fuzz.mesh").to_string();
+                assert!(
+                    shown.starts_with("fuzz.mesh") && !w.message.is_empty(),
+                    "{shown}"
+                );
+            }
             let _ = (m.is_closed(), m.signed_volume6());
             if !m.triangles.is_empty() {
                 use armsim::collision::CollisionShape;

@@ -10,7 +10,10 @@
 //!   [`crate::collision::mesh::MAX_TRIANGLES`] triangles in all, counted before any is placed (a
 //!   small file placing one large geometry many times would otherwise expand without bound).
 //!
-//! Errors ([`MeshError`]) name the element and its line; the caller adds the file.
+//! Errors ([`MeshError`]) name the element and its line; the caller adds the file. An
+//! `<instance_geometry>` whose URL names no geometry of the file (a missing id, another
+//! file's, no URL) is skipped with a warning naming its line and URL
+//! ([`MeshData::warnings`]).
 //!
 //! Why this reader and not `mesh-loader`'s (which reads STL and OBJ for armsim, issue 27),
 //! as of mesh-loader 0.1.13 (`src/collada/instance.rs`, `iter.rs`):
@@ -369,12 +372,69 @@ struct Instance {
     line: Option<usize>,
 }
 
+/// Most `<instance_geometry>` elements whose URL resolves to nothing are named one by one
+/// in the warnings; the rest are counted in one more.
+const MAX_URL_WARNINGS: usize = 8;
+
+/// The `<instance_geometry>` elements skipped because their URL names no geometry of the
+/// file: warnings (with the line and the URL) for the first [`MAX_URL_WARNINGS`], then a
+/// count.
+#[derive(Default)]
+struct Unresolved {
+    warnings: Vec<MeshError>,
+    more: usize,
+}
+
+impl Unresolved {
+    /// Notes the skipped `<instance_geometry>` `c`.
+    fn note(&mut self, c: &Node, lx: &LineIndex) {
+        if self.warnings.len() >= MAX_URL_WARNINGS {
+            self.more += 1;
+            return;
+        }
+        let line = lx.line(c.range().start);
+        let why = match c.attribute("url") {
+            None => "has no url attribute".to_string(),
+            Some(url) => match url.split_once('#') {
+                Some((file, _)) if !file.is_empty() => format!(
+                    "names a geometry in another file ('{file}'), which this reader does not \
+                     follow"
+                ),
+                _ => "names no <geometry> with a <mesh> in this file's <library_geometries>"
+                    .to_string(),
+            },
+        };
+        let what = match c.attribute("url") {
+            Some(url) => format!("<instance_geometry url=\"{url}\">"),
+            None => "<instance_geometry>".to_string(),
+        };
+        self.warnings
+            .push(At::new(what, line).err(format!("{why}: skipped")));
+    }
+
+    /// The warnings, with the count of those not named.
+    fn into_warnings(mut self) -> Vec<MeshError> {
+        if self.more > 0 {
+            self.warnings.push(MeshError::new(
+                DAE,
+                None,
+                format!(
+                    "{} more <instance_geometry> elements name no geometry of this file: skipped",
+                    self.more
+                ),
+            ));
+        }
+        self.warnings
+    }
+}
+
 /// The geometries the `<visual_scene>` places (the one `<scene>` names, else the first),
 /// counted against [`MAX_INSTANCES`] and [`MAX_TRIANGLES`] before any is placed.
 fn scene_instances(
     root: &Node,
     geoms: &[(&str, Geom)],
     lx: &LineIndex,
+    unresolved: &mut Unresolved,
 ) -> Result<Vec<Instance>, MeshError> {
     let mut instances = Vec::new();
     let Some(lib) = child(root, "library_visual_scenes") else {
@@ -405,7 +465,10 @@ fn scene_instances(
                 stack.push((c, m));
             } else if is(&c, "instance_geometry") {
                 let id = url_id(c.attribute("url").unwrap_or(""));
-                let Some(&k) = by_id.get(id) else { continue };
+                let Some(&k) = by_id.get(id) else {
+                    unresolved.note(&c, lx);
+                    continue;
+                };
                 total += geoms[k].1 .1.len();
                 let line = lx.line(c.range().start);
                 if instances.len() >= MAX_INSTANCES || total > MAX_TRIANGLES {
@@ -490,7 +553,8 @@ pub fn read_dae(text: &str) -> Result<MeshData, MeshError> {
             "no <geometry> with a <mesh> in <library_geometries>",
         ));
     }
-    let mut instances = scene_instances(&root, &geoms, &lx)?;
+    let mut unresolved = Unresolved::default();
+    let mut instances = scene_instances(&root, &geoms, &lx, &mut unresolved)?;
     if instances.is_empty() {
         let total: usize = geoms.iter().map(|g| g.1 .1.len()).sum();
         if total > MAX_TRIANGLES {
@@ -512,7 +576,9 @@ pub fn read_dae(text: &str) -> Result<MeshData, MeshError> {
             })
             .collect();
     }
-    place(&geoms, &instances, unit)
+    let mut mesh = place(&geoms, &instances, unit)?;
+    mesh.warnings = unresolved.into_warnings();
+    Ok(mesh)
 }
 
 /// The placed triangles of every instance, in metres. A flattening (singular) placement

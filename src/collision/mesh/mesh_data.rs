@@ -1,7 +1,7 @@
 //! The indexed triangle mesh every reader produces ([`MeshData`]), with the vertex
 //! welding the readers share and the triangle limit they enforce ([`MAX_TRIANGLES`]).
 
-use crate::collision::mesh::mesh_error::NonFiniteVertex;
+use crate::collision::mesh::mesh_error::{MeshError, NonFiniteVertex};
 use nalgebra::Vector3;
 use std::collections::HashMap;
 
@@ -14,6 +14,10 @@ pub struct MeshData {
     pub triangles: Vec<[u32; 3]>,
     /// Triangles read but dropped for a repeated corner (zero area).
     pub dropped: usize,
+    /// What the reader skipped and says so (a DAE `<instance_geometry>` whose URL names
+    /// no geometry of the file), with the line; the caller names the file
+    /// ([`MeshError::in_file`]) and prints them, or refuses them under `--strict`.
+    pub warnings: Vec<MeshError>,
 }
 
 /// Most triangles in one mesh (after a DAE scene places its geometries): 5 million, what

@@ -457,6 +457,7 @@ mod tests {
             vertices: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
             triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
             dropped: 0,
+            ..Default::default()
         };
         assert!(m.is_closed());
         assert!((m.signed_volume6() - 1.0).abs() < 1e-15);

@@ -26,6 +26,7 @@ pub mod scene;
 pub mod schema;
 pub mod sim_plots;
 pub mod task_motion;
+pub mod task_prescan;
 mod topp_bench;
 pub use crate::scenarios::arm::run::{run_scene, Outcome, RunOptions, SimSample};
 

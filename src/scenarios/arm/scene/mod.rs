@@ -24,6 +24,7 @@ pub use arm_scene::{
     ContactScene, Outputs, Scene, SettingLines, SimSettings, Step, TaskStep, Timing, EFFECT_NAMES,
 };
 pub use section_reader::per_joint;
+pub use task::MAX_TASK_STEPS;
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::scenarios::arm::schema::ArmFile;
