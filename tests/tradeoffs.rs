@@ -1,10 +1,10 @@
-//! The trade-offs report (`armsim tradeoffs`): the seven studies run at their smoke-test
+//! The trade-offs report (`armsim tradeoffs`): the eight studies run at their smoke-test
 //! sizes (`StudyMode::Tiny`, seconds) through the library, and the figures they produce are
 //! checked for structure and for the physics and numerics they should show (a tighter
 //! IK tolerance gives a smaller residual, RK4's energy error falls with the step, ABA
 //! and CRBA agree, Sobol' beats random sampling once the grid is covered, finite
 //! differences of the dynamics follow their O(h) and O(h²) truncation and stay far from
-//! the analytical derivatives, …). The report files are checked (seven sections, at least
+//! the analytical derivatives, …). The report files are checked (eight sections, at least
 //! four image links that exist as PNGs),
 //! and the hidden `--tiny` flag runs the command end to end. Nothing here asserts on a
 //! time: the machines are shared.
@@ -376,6 +376,7 @@ fn check_report_dir(dir: &Path) {
         "Effects",
         "Flexible rotor",
         "Dynamics derivatives",
+        "Planning",
     ]
     .iter()
     .enumerate()
@@ -388,10 +389,10 @@ fn check_report_dir(dir: &Path) {
     }
     assert_eq!(
         md.matches("\n## ").count(),
-        7,
-        "exactly seven study sections"
+        8,
+        "exactly eight study sections"
     );
-    assert_eq!(md.matches("**Reading.**").count(), 7, "a reading per study");
+    assert_eq!(md.matches("**Reading.**").count(), 8, "a reading per study");
     for key in [
         "| CPU |",
         "| cores |",
@@ -419,6 +420,7 @@ fn check_report_dir(dir: &Path) {
         "effects",
         "rotor",
         "derivatives",
+        "planning",
         "machine",
     ] {
         assert!(json.get(k).is_some(), "json lacks {k}");
@@ -426,7 +428,7 @@ fn check_report_dir(dir: &Path) {
 }
 
 #[test]
-fn report_files_have_seven_sections_readings_and_existing_plots() {
+fn report_files_have_eight_sections_readings_and_existing_plots() {
     let r = tiny();
     let dir = temp_dir("lib");
     let written = report::write(r, &dir).expect("writes");
@@ -494,4 +496,67 @@ fn cli_rejects_quick_with_tiny_and_an_unwritable_directory() {
         err.contains("cannot create") && !err.contains("panicked"),
         "{err}"
     );
+}
+
+#[test]
+fn planning_aorrtc_never_costs_more_than_its_own_rrt_connect_first_path_per_query() {
+    use armsim::studies::tradeoffs::planning_study::{self as ps, PlanningConfig};
+    let st = &tiny().planning;
+    let cfg = PlanningConfig::for_mode(StudyMode::Tiny);
+    assert_eq!(st.robots.len(), 2);
+    for rb in &st.robots {
+        assert_eq!(rb.rows.len(), 1 + cfg.budgets.len(), "{}", rb.robot);
+        let first = &rb.rows[0];
+        assert_eq!(
+            (first.planner.as_str(), first.budget),
+            ("rrt-connect", None)
+        );
+        // Every bundled problem is valid and solved by RRT-Connect.
+        assert_eq!(first.solved, first.queries, "{}", rb.robot);
+        for row in &rb.rows[1..] {
+            assert_eq!(row.planner, "aorrtc");
+            assert_eq!(row.queries, first.queries);
+            // With the same seed the optimising mode starts from RRT-Connect's simplified
+            // first path and keeps only cheaper ones.
+            for (a, r) in row.costs.iter().zip(&first.costs) {
+                let (a, r) = (a.expect("solved"), r.expect("solved"));
+                assert!(
+                    a <= r + 1e-9,
+                    "{} budget {:?}: {a} > {r}",
+                    rb.robot,
+                    row.budget
+                );
+            }
+            assert!(row.cost_median <= first.cost_median + 1e-9);
+            assert!(finite_positive(row.time_median_us) && row.time_p95_us >= row.time_median_us);
+        }
+        // No path is shorter than the straight line between its ends, which is at least
+        // half a radian in these problems: costs are real lengths.
+        assert!(rb.rows.iter().all(|r| r.cost_median > 0.5), "{}", rb.robot);
+    }
+    // The recorded VAMP figures cover both robots, RRT-Connect and each recorded budget.
+    let rec = ps::parse_vamp_record(ps::VAMP_RECORD).expect("the record parses");
+    for robot in ["panda", "ur5"] {
+        assert!(rec.iter().any(|v| v.robot == robot && v.planner == "rrtc"));
+        assert!(
+            rec.iter()
+                .filter(|v| v.robot == robot && v.planner == "aorrtc")
+                .count()
+                >= 4
+        );
+    }
+    assert!(rec.iter().all(|v| v
+        .vamp
+        .iter()
+        .chain(&v.armsim)
+        .all(|x| x.is_finite() && *x > 0.0)));
+    let bad = "robot,planner\npanda,rrtc,0,99,99,nan,1,1,99,1,1,1,x\n";
+    let e = ps::parse_vamp_record(bad).unwrap_err();
+    assert!(
+        e.contains(":2: field 6") && e.contains("not a number"),
+        "{e}"
+    );
+    let short = "robot,planner\npanda,rrtc,0\n";
+    let e = ps::parse_vamp_record(short).unwrap_err();
+    assert!(e.contains(":2: expected 13 fields, got 3"), "{e}");
 }

@@ -108,7 +108,7 @@ pub fn markdown(r: &TradeoffsReport) -> String {
         r.total_seconds,
         per.join(", ")
     );
-    let _ = writeln!(s, "Contents: [1. IK](#1-inverse-kinematics-tolerance--method) · [2. Integrators](#2-integrators-step-size--method) · [3. Dynamics formulations](#3-dynamics-formulations-time-vs-dof) · [4. Workspace sampling](#4-workspace-sampling-samples--scheme) · [5. Effects](#5-effects-cost-of-each-effect) · [6. Flexible rotor](#6-flexible-rotor-elements--critical-speed-error) · [7. Derivatives](#7-dynamics-derivatives-analytical-vs-finite-differences)\n");
+    let _ = writeln!(s, "Contents: [1. IK](#1-inverse-kinematics-tolerance--method) · [2. Integrators](#2-integrators-step-size--method) · [3. Dynamics formulations](#3-dynamics-formulations-time-vs-dof) · [4. Workspace sampling](#4-workspace-sampling-samples--scheme) · [5. Effects](#5-effects-cost-of-each-effect) · [6. Flexible rotor](#6-flexible-rotor-elements--critical-speed-error) · [7. Derivatives](#7-dynamics-derivatives-analytical-vs-finite-differences) · [8. Planning](#8-planning-path-cost-vs-planning-time)\n");
     ik_section(&mut s, r);
     integrator_section(&mut s, r);
     formulation_section(&mut s, r);
@@ -116,6 +116,7 @@ pub fn markdown(r: &TradeoffsReport) -> String {
     effects_section(&mut s, r);
     crate::studies::tradeoffs::rotor_report::section(&mut s, &r.rotor);
     crate::studies::tradeoffs::derivatives_report::section(&mut s, &r.derivatives);
+    crate::studies::tradeoffs::planning_report::section(&mut s, &r.planning);
     s
 }
 

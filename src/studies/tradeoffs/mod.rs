@@ -1,4 +1,4 @@
-//! The trade-offs report (`armsim tradeoffs`): seven measured studies of what accuracy,
+//! The trade-offs report (`armsim tradeoffs`): eight measured studies of what accuracy,
 //! robustness and features cost in time, each a table, at least one plot and a reading of
 //! the numbers, written as `tradeoffs.md` plus PNGs.
 //!
@@ -18,6 +18,9 @@
 //!   finite differences over the step h (and a Ridders-extrapolated reference) on the UR5,
 //!   Panda, iiwa 14 and generated chains, with the differences in [`difference_quotients`],
 //!   written by [`derivatives_report`];
+//! - [`planning_study`]: path cost against planning time for RRT-Connect and the
+//!   optimising mode (AORRTC) at growing budgets on bundled MotionBenchMaker problems,
+//!   beside VAMP's recorded figures, written by [`planning_report`];
 //!
 //! and [`report`] (Markdown and file output) and [`plot`] (plotters charts) turn the
 //! results into the report. Timings are medians over rounds (the machines are shared):
@@ -31,6 +34,8 @@ pub mod formulations;
 pub mod ik_study;
 pub mod integrators;
 pub mod markdown;
+pub mod planning_report;
+pub mod planning_study;
 mod report_numbers;
 mod report_plots;
 pub mod rotor_report;
@@ -146,13 +151,15 @@ pub struct TradeoffsReport {
     pub rotor: rotor_study::RotorStudy,
     /// Study 7.
     pub derivatives: derivatives_study::DerivativeStudy,
+    /// Study 8.
+    pub planning: planning_study::PlanningStudy,
     /// Wall time of each study (s).
     pub study_seconds: Vec<(String, f64)>,
     /// Wall time of all studies (s).
     pub total_seconds: f64,
 }
 
-/// Runs the seven studies at the sizes of `opts.mode`.
+/// Runs the eight studies at the sizes of `opts.mode`.
 pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
     let start = Instant::now();
     let mut machine = MachineInfo::probe();
@@ -188,6 +195,9 @@ pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
         &derivatives_study::DerivativeConfig::for_mode(opts.mode),
     )?;
     timed("derivatives", t);
+    let t = Instant::now();
+    let planning = planning_study::run(opts, &planning_study::PlanningConfig::for_mode(opts.mode))?;
+    timed("planning", t);
     machine.load_end = load_average();
     Ok(TradeoffsReport {
         mode: opts.mode,
@@ -199,6 +209,7 @@ pub fn run(opts: &Options) -> Result<TradeoffsReport, String> {
         effects,
         rotor,
         derivatives,
+        planning,
         study_seconds,
         total_seconds: start.elapsed().as_secs_f64(),
     })

@@ -32,6 +32,11 @@ pub fn plots(r: &TradeoffsReport) -> Result<Vec<(String, Vec<u8>)>, PlotError> {
         "derivatives_cost.png".into(),
         deriv::cost_png(&r.derivatives)?,
     ));
+    use crate::studies::tradeoffs::planning_report;
+    out.push((
+        planning_report::PNG.into(),
+        planning_report::png(&r.planning)?,
+    ));
     Ok(out)
 }
 
