@@ -77,13 +77,13 @@ def test_pose_goal_is_reached_to_1e6_checked_by_forward_kinematics(robot, planne
 
 
 def test_position_only_goal_reaches_the_point(robot, planner):
-    # wrist_3_link: the numeric goal set (position only) on the fixed frame tool0 finds
-    # nothing today (reported with this change), on the wrist link it converges.
-    p = robot.fk(GOAL_Q, "wrist_3_link")[:3, 3]
-    r = planner.plan(HOME, goal_pose={"link": "wrist_3_link", "position": p.tolist()})
+    # A position-only goal takes the numeric goal set (no closed form without the
+    # orientation), on the fixed frame tool0.
+    p = robot.fk(GOAL_Q, "tool0")[:3, 3]
+    r = planner.plan(HOME, goal_pose={"link": "tool0", "position": p.tolist()})
     assert r["status"] == "solved", r["reason"]
     assert r["goal_set"]["found"] >= 1
-    assert np.linalg.norm(robot.fk(r["path"][-1], "wrist_3_link")[:3, 3] - p) < 1e-6
+    assert np.linalg.norm(robot.fk(r["path"][-1], "tool0")[:3, 3] - p) < 1e-6
 
 
 def test_unreachable_pose_is_an_invalid_goal_with_its_reason(planner):
