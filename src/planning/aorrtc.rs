@@ -205,8 +205,8 @@ impl Aorrtc {
         let reach = d <= o.range;
         let t = if reach { 1.0 } else { o.range / d };
         let from = tree.node(near);
-        for k in 0..tree.tree.stride {
-            self.step[k] = from[k] + t * (self.sample[k] - from[k]);
+        for ((st, f), x) in self.step.iter_mut().zip(from).zip(&self.sample) {
+            *st = f + t * (x - f);
         }
         let free = s
             .checker
@@ -269,8 +269,8 @@ impl Aorrtc {
                 self.next.copy_from_slice(target);
             } else {
                 let t = i as f32 / n;
-                for k in 0..nv {
-                    self.next[k] = self.step[k] + t * (target[k] - self.step[k]);
+                for ((nx, st), g) in self.next[..nv].iter_mut().zip(&self.step).zip(target) {
+                    *nx = st + t * (g - st);
                 }
             }
             let prev = &self.trees[a].node(last)[..nv];

@@ -296,9 +296,9 @@ impl ConstrainedRrt {
         let from = self.trees[t].node(cur);
         let mut s = self.step.min(d) / d;
         for _ in 0..4 {
-            for k in 0..from.len() {
-                let (a, b) = (from[k] as f64, self.target[k] as f64);
-                self.q64[k] = a + s * (b - a);
+            for ((q, &a), &b) in self.q64.iter_mut().zip(from).zip(&self.target) {
+                let (a, b) = (a as f64, b as f64);
+                *q = a + s * (b - a);
             }
             if !self
                 .projector

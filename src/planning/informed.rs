@@ -95,8 +95,8 @@ impl InformedSampler {
         let bound = 2.0 * self.half_transverse;
         for _ in 0..MAX_TRIES {
             if self.box_first {
-                for k in 0..n {
-                    out[k] = self.lo[k] + (self.hi[k] - self.lo[k]) * rng.next_f64() as f32;
+                for ((o, lo), hi) in out[..n].iter_mut().zip(&self.lo).zip(&self.hi) {
+                    *o = lo + (hi - lo) * rng.next_f64() as f32;
                 }
                 if self.heuristic(&out[..n]) < bound {
                     return;
@@ -108,8 +108,8 @@ impl InformedSampler {
                 }
             }
         }
-        for k in 0..n {
-            out[k] = out[k].clamp(self.lo[k], self.hi[k]);
+        for ((o, &lo), &hi) in out[..n].iter_mut().zip(&self.lo).zip(&self.hi) {
+            *o = o.clamp(lo, hi);
         }
     }
 

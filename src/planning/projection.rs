@@ -129,7 +129,7 @@ impl Projector {
             }
         }
         let trace: f64 = (0..na).map(|x| a[x * MAX_FUNCTIONS + x]).sum();
-        if !(trace > 1e-18) {
+        if trace.is_nan() || trace <= 1e-18 {
             // No joint moves the violated functions (a singular pose, or a constraint
             // on a link no joint moves).
             return false;

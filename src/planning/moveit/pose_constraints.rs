@@ -154,7 +154,7 @@ fn orientation(
         let key = format!("absolute_{axis}_axis_tolerance");
         let n = doc.req(c, at, &key)?;
         tol[k] = doc.num(n, &format!("{at}.{key}"))?;
-        if !(tol[k] > 0.0) {
+        if tol[k].is_nan() || tol[k] <= 0.0 {
             return Err(doc.err(
                 n,
                 format!("{at}.{key}"),
@@ -165,8 +165,8 @@ fn orientation(
     let rotation_vector = match doc.get(c, "parameterization") {
         None => false,
         Some(n) => match doc.num(n, &format!("{at}.parameterization"))? {
-            p if p == 0.0 => false,
-            p if p == 1.0 => true,
+            0.0 => false,
+            1.0 => true,
             p => {
                 return Err(doc.err(
                     n,

@@ -188,8 +188,8 @@ impl Planner {
         };
         let mut crrt = (!set.is_empty()).then(|| ConstrainedRrt::new(nv, self.opts.rrt));
         let flat: Vec<f32> = goals.iter().flatten().map(|&x| x as f32).collect();
-        for k in 0..nv {
-            self.start[k] = start[k] as f32;
+        for (s, &x) in self.start[..nv].iter_mut().zip(start) {
+            *s = x as f32;
         }
         let first = self.solve_once(&mut sampler, set, crrt.as_mut(), &flat, &limit);
         out.searches = 1;
