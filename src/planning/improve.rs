@@ -3,7 +3,8 @@
 //! ([`crate::planning::aorrtc`]), sampling only the informed set of the best cost so far
 //! ([`crate::planning::informed`]); certify each path found, simplify it, and keep it when
 //! it is cheaper. It ends when the [`OptimiseBudget`] is spent, the stop flag is raised,
-//! or the path is the straight line.
+//! or the path is the straight line; the best path is then simplified once more with the
+//! thorough settings (`Optimiser::polish`), within what is left of the deadline.
 //!
 //! Every kept path is certified as RRT-Connect's first path is: the improving search
 //! checks its edges discretely, then every edge of the path it finds is checked
