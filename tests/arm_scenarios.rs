@@ -1180,7 +1180,7 @@ fn a_task_of_too_many_waypoints_is_refused_when_read() {
     assert_eq!(e.key, "task.waypoints", "{e}");
     assert!(
         e.message
-            .contains("10001 entries: more than the 10000 one task accepts"),
+            .contains("entry 10001: more than the 10000 entries one task accepts"),
         "{e}"
     );
     eprintln!("refused in {:.2} s", t.elapsed().as_secs_f64());
