@@ -26,7 +26,9 @@
 
 use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
 use crate::planning::informed::{dist, InformedSampler};
-use crate::planning::rrt::{domain_after, RrtOptions, SearchEnd, SearchLimit, Tree};
+use crate::planning::rrt::{
+    domain_after, iteration_start, RrtOptions, SearchEnd, SearchLimit, Tree,
+};
 use crate::planning::sampler::Rng;
 
 /// Most cost-bound resamples per new node (VAMP's `max_cost_bound_resamples`).
@@ -162,15 +164,8 @@ impl Aorrtc {
         self.iterations = 0;
         for it in 0..max_iterations {
             self.iterations = it + 1;
-            if it % 64 == 63 {
-                if let Some(end) = s.limit.reached() {
-                    return Err(end);
-                }
-            }
-            if self.trees.iter().any(|t| t.len() >= self.opts.max_nodes) {
-                return Err(SearchEnd::Nodes);
-            }
-            let a = usize::from(self.trees[1].len() < self.trees[0].len());
+            let lens = [self.trees[0].len(), self.trees[1].len()];
+            let a = iteration_start(it, 64, s.limit, lens, self.opts.max_nodes)?;
             s.informed.sample(s.rng, &mut self.sample[..nv]);
             let Some((new, cost)) = self.extend(a, s, max_cost, nv) else {
                 continue;

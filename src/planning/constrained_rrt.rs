@@ -25,7 +25,7 @@ use crate::model::Model;
 use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
 use crate::planning::path_constraints::{ConstraintSet, MAX_FUNCTIONS};
 use crate::planning::projection::Projector;
-use crate::planning::rrt::{RrtOptions, SearchEnd, SearchLimit};
+use crate::planning::rrt::{iteration_start, RrtOptions, SearchEnd, SearchLimit};
 use crate::planning::sampler::{Rng, Sampler};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -206,17 +206,8 @@ impl ConstrainedRrt {
         let extend_steps = ((self.opts.range as f64 / self.step).ceil() as usize).max(1);
         for it in 0..self.opts.max_iterations {
             self.iterations = it + 1;
-            if it % 16 == 15 {
-                if let Some(end) = limit.reached() {
-                    return Err(end);
-                }
-            }
-            if self.trees[0].len() >= self.opts.max_nodes
-                || self.trees[1].len() >= self.opts.max_nodes
-            {
-                return Err(SearchEnd::Nodes);
-            }
-            let a = usize::from(self.trees[1].len() < self.trees[0].len());
+            let lens = [self.trees[0].len(), self.trees[1].len()];
+            let a = iteration_start(it, 16, limit, lens, self.opts.max_nodes)?;
             sampler.next(&mut self.sample[..nv]);
             self.target.copy_from_slice(&self.sample);
             let near = self.trees[a].nearest(&self.target);

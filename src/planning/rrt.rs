@@ -52,6 +52,27 @@ impl Default for RrtOptions {
     }
 }
 
+/// The prologue of a bidirectional iteration `it`: every `every` iterations the limit is
+/// checked, a tree at `max_nodes` ends the search, and the smaller of the two trees (sizes
+/// `lens`) is the one to extend (balanced RRT-Connect). Returns that tree's index.
+pub(crate) fn iteration_start(
+    it: usize,
+    every: usize,
+    limit: &SearchLimit,
+    lens: [usize; 2],
+    max_nodes: usize,
+) -> Result<usize, SearchEnd> {
+    if it % every == every - 1 {
+        if let Some(end) = limit.reached() {
+            return Err(end);
+        }
+    }
+    if lens[0] >= max_nodes || lens[1] >= max_nodes {
+        return Err(SearchEnd::Nodes);
+    }
+    Ok(usize::from(lens[1] < lens[0]))
+}
+
 /// The dynamic domain's update of a node's radius after an extension from it: a first
 /// failure gives it `dd_radius`, a further one shrinks it by `1 − α` (not below `range`), a
 /// success grows a finite radius by `1 + α`.
@@ -259,18 +280,8 @@ impl Rrt {
         }
         for it in 0..self.opts.max_iterations {
             self.iterations = it + 1;
-            if it % 64 == 63 {
-                if let Some(end) = limit.reached() {
-                    return Err(end);
-                }
-            }
-            if self.trees[0].len() >= self.opts.max_nodes
-                || self.trees[1].len() >= self.opts.max_nodes
-            {
-                return Err(SearchEnd::Nodes);
-            }
-            // Balanced: the smaller tree extends.
-            let a = usize::from(self.trees[1].len() < self.trees[0].len());
+            let lens = [self.trees[0].len(), self.trees[1].len()];
+            let a = iteration_start(it, 64, limit, lens, self.opts.max_nodes)?;
             sampler.next(&mut self.sample[..nv]);
             let target = std::mem::take(&mut self.sample);
             let ext = self.extend(a, &target, checker, scratch, mode, true);
