@@ -292,6 +292,154 @@ fn freudenstein_round_trip_on_random_four_bars() {
     }
 }
 
+#[test]
+fn one_limit_crank_rocker_returns_188_and_every_solution_keeps_the_limit_and_k() {
+    let v = run_json("scenarios/synthesis_crank_rocker_188_one_limit.toml");
+    let sols = v["crank_rocker"]["solutions"].as_array().unwrap();
+    assert!(sols.len() >= 2, "{sols:?}");
+    // |AC'| = b + a, with A = (−0.55, 0) and C' = 0.4 (cos 60°, sin 60°).
+    let ext = ((0.4 * 0.5f64 + 0.55).powi(2) + (0.4 * 60f64.to_radians().sin()).powi(2)).sqrt();
+    for s in sols {
+        close(&s["extended"], ext, 1e-12, "AC' = b + a");
+        close(&s["limit_angles_deg"][0], 60.0, 1e-9, "given limit");
+        close(&s["time_ratio"], 1.2487825, 1e-9, "K");
+        close(
+            &s["check"]["time_ratio"],
+            1.2487825,
+            1e-6,
+            "K by the solver",
+        );
+    }
+    let s188 = sols
+        .iter()
+        .find(|s| (s["limit_angles_deg"][1].as_f64().unwrap() - 120.0).abs() < 1e-4)
+        .expect("188's second limit at 120°");
+    close(&s188["crank"], 0.166846, 2e-6, "a");
+    close(&s188["coupler"], 0.659289, 2e-6, "b");
+    close(&s188["check"]["swing_deg"], 60.0, 1e-4, "swing");
+    // The same mechanism from its folded limit (120°) as the given one.
+    let k = syn::time_ratio(19.91337480145036f64.to_radians());
+    let pivot = armsim::machines::linkage::Vec2::new(-0.55, 0.0);
+    let folded = syn::crank_rockers_from_one_limit(
+        0.4,
+        120f64.to_radians(),
+        Some(syn::RockerLimit::Folded),
+        k,
+        pivot,
+    )
+    .unwrap();
+    assert!(folded
+        .iter()
+        .any(|s| (s.crank - 0.166846).abs() < 2e-6 && (s.limit_angles_deg[0] - 60.0).abs() < 1e-4));
+}
+
+/// `(φ, ψ)` of the open four-bar `(a, b, c)` on frame `d` at crank angle `deg`.
+fn position(d: f64, a: f64, b: f64, c: f64, deg: f64) -> (f64, f64) {
+    let phi = deg.to_radians();
+    let (_, pc) = fourbar::position(d, a, b, c, phi, 1.0).unwrap();
+    (phi, pc.y.atan2(pc.x - d))
+}
+
+#[test]
+fn two_position_synthesis_recovers_four_bars_from_either_given_link() {
+    use armsim::machines::synthesis::two_position::{four_bar_from_two_positions, GivenLink};
+    for (a, b, c, d) in [
+        (0.166846, 0.659289, 0.4, 0.55),
+        (0.3, 1.1, 0.8, 1.0),
+        (1.0, 2.2, 1.9, 2.4),
+    ] {
+        let pts = [position(d, a, b, c, 25.0), position(d, a, b, c, 110.0)];
+        let r = four_bar_from_two_positions(pts, d, GivenLink::Rocker(c)).unwrap();
+        assert!(
+            (r.crank - a).abs() < 1e-9 && (r.coupler - b).abs() < 1e-9,
+            "{r:?}"
+        );
+        let r = four_bar_from_two_positions(pts, d, GivenLink::Crank(a)).unwrap();
+        assert!(
+            (r.rocker - c).abs() < 1e-9 && (r.coupler - b).abs() < 1e-9,
+            "{r:?}"
+        );
+    }
+    let v = run_json("scenarios/synthesis_two_position_function.toml");
+    let t = &v["two_position"];
+    close(&t["crank"], 0.166846, 1e-5, "a");
+    close(&t["coupler"], 0.659289, 1e-5, "b");
+    close(&t["coefficients"][1], 0.55 / 0.4, 1e-12, "K2 = d/c");
+    close(
+        &t["check"]["rocker_error_at_second_deg"],
+        0.0,
+        1e-6,
+        "solver",
+    );
+}
+
+#[test]
+fn coupler_guidance_puts_the_pivots_on_the_bisectors_and_the_line() {
+    use armsim::machines::linkage::{rotate, Vec2};
+    use armsim::machines::synthesis::two_position::four_bar_from_coupler_positions;
+    let (a, b, c, d) = (0.3, 1.1, 0.8, 1.0);
+    // The mechanism turned by 25° and moved to (2, −1): the pivot line is its frame line.
+    let (turn, o) = (25f64.to_radians(), Vec2::new(2.0, -1.0));
+    let place = |p: Vec2| o + rotate(turn, &p);
+    let pos = |deg: f64| {
+        let (pb, pc) = fourbar::position(d, a, b, c, deg.to_radians(), 1.0).unwrap();
+        (place(pb), place(pc))
+    };
+    let r = four_bar_from_coupler_positions(
+        pos(40.0),
+        pos(130.0),
+        o + Vec2::new(-3.0 * turn.cos(), -3.0 * turn.sin()),
+        turn,
+    )
+    .unwrap();
+    let (pa, pd) = (place(Vec2::zeros()), place(Vec2::new(d, 0.0)));
+    assert!(
+        (Vec2::new(r.crank_pivot[0], r.crank_pivot[1]) - pa).norm() < 1e-12,
+        "{r:?}"
+    );
+    assert!(
+        (Vec2::new(r.rocker_pivot[0], r.rocker_pivot[1]) - pd).norm() < 1e-12,
+        "{r:?}"
+    );
+    assert!(
+        (r.crank - a).abs() < 1e-12
+            && (r.coupler - b).abs() < 1e-12
+            && (r.rocker - c).abs() < 1e-12
+    );
+    assert!((r.crank_turn_deg - 90.0).abs() < 1e-9, "{r:?}");
+    assert!((r.positions_deg[0][0] - 40.0).abs() < 1e-9);
+    let v = run_json("scenarios/synthesis_two_position_coupler.toml");
+    let t = &v["two_position"];
+    close(&t["crank_pivot"][0], 0.0, 1e-6, "A x");
+    close(&t["rocker_pivot"][0], 0.55, 1e-6, "D x");
+    close(&t["crank"], 0.166846, 1e-6, "a");
+    close(&t["rocker"], 0.4, 1e-6, "c");
+    close(&t["crank_turn_deg"], 60.0, 1e-4, "crank turn");
+    close(
+        &t["check"]["rocker_error_at_second_deg"],
+        0.0,
+        1e-3,
+        "solver",
+    );
+}
+
+#[test]
+fn shaper_from_its_crank_gives_the_frame_r_over_sin_half_swing() {
+    let v = run_json("scenarios/synthesis_shaper_190_from_crank.toml");
+    let s = &v["shaper"];
+    let half = (90.0f64 * 0.8 / 2.8).to_radians();
+    close(&s["frame"], 108.471 / half.sin(), 1e-9, "d = r / sin(ψ/2)");
+    close(&s["frame"], 250.0, 2e-3, "190's frame");
+    close(&s["lever"], 576.2, 0.05, "L");
+    close(&s["check"]["time_ratio"], 1.8, 1e-7, "K by the solver");
+    // 195 by its crank: K_v = (d + r)/(d − r) = 1.5 with r = 0.1 gives d = 0.5.
+    let s = syn::shaper(0.32, syn::ShaperSize::Crank(0.1), 1.5, true, None).unwrap();
+    assert!(
+        (s.frame - 0.5).abs() < 1e-12 && (s.lever - 0.8).abs() < 1e-12,
+        "{s:?}"
+    );
+}
+
 const BROKEN: &[(&str, usize, &str, &str)] = &[
     ("synthesis_nothing.toml", 1, "file", "nothing to synthesise"),
     (
@@ -380,6 +528,48 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "invalid type",
     ),
     (
+        "synthesis_one_limit_without_pivot.toml",
+        3,
+        "crank_rocker",
+        "missing: `pivot_direction_deg`",
+    ),
+    (
+        "synthesis_limit_with_both_limits.toml",
+        7,
+        "crank_rocker.limit",
+        "applies only to one given limit",
+    ),
+    (
+        "synthesis_unknown_limit.toml",
+        6,
+        "crank_rocker.limit",
+        "expected extended or folded",
+    ),
+    (
+        "synthesis_two_position_three_points.toml",
+        6,
+        "two_position.precision_deg",
+        "exactly two",
+    ),
+    (
+        "synthesis_coupler_positions_with_frame.toml",
+        5,
+        "two_position.frame",
+        "does not apply to `coupler_positions`",
+    ),
+    (
+        "synthesis_coupler_not_rigid.toml",
+        3,
+        "two_position",
+        "not one rigid coupler",
+    ),
+    (
+        "synthesis_shaper_frame_and_crank.toml",
+        6,
+        "shaper.crank",
+        "not both",
+    ),
+    (
         "synthesis_precision_angle_out_of_range.toml",
         7,
         "function.precision_deg[0]",
@@ -392,6 +582,6 @@ fn broken_synthesis_scenarios_give_located_errors() {
     common::assert_broken_scenarios(
         "synthesis_",
         BROKEN,
-        common::CheckSays::RefusesUnlessRunKey(&["crank_rocker", "shaper"]),
+        common::CheckSays::RefusesUnlessRunKey(&["crank_rocker", "shaper", "two_position"]),
     );
 }

@@ -25,6 +25,8 @@ pub mod kit;
 pub mod linkage;
 pub mod source;
 pub mod synthesis;
+pub mod synthesis_crank_rocker;
+pub mod synthesis_two_position;
 pub mod torsional;
 
 use std::path::Path;

@@ -108,6 +108,28 @@ impl<'a> Source<'a> {
         }
     }
 
+    /// Exactly one of two alternative keys of `section`: `(true, a)` or `(false, b)`;
+    /// both or neither is an error naming them.
+    pub fn one_of<'v, T>(
+        &self,
+        section: &str,
+        a: (&str, Option<&'v toml::Spanned<T>>),
+        b: (&str, Option<&'v toml::Spanned<T>>),
+    ) -> Result<(bool, &'v toml::Spanned<T>), LocatedError> {
+        match (a.1, b.1) {
+            (Some(x), None) => Ok((true, x)),
+            (None, Some(y)) => Ok((false, y)),
+            (Some(_), Some(y)) => Err(self.at(
+                y.span(),
+                format!("{section}.{}", b.0),
+                format!("give either `{}` or `{}`, not both", a.0, b.0),
+            )),
+            (None, None) => {
+                Err(self.section(section, format!("missing: give `{}` or `{}`", a.0, b.0)))
+            }
+        }
+    }
+
     /// Deserialises the whole file (unknown keys, wrong types and missing keys located).
     pub fn parse<T: DeserializeOwned>(&self) -> Result<T, LocatedError> {
         toml::from_str(self.text).map_err(|e| LocatedError::from_toml(self.file, self.text, &e))

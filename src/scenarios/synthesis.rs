@@ -7,11 +7,16 @@ use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::plots::panels::{Panel, Series, PALETTE};
 use crate::io::report::Report;
 use crate::machines::linkage::fourbar;
-use crate::machines::linkage::Vec2;
 use crate::machines::synthesis::verify::{self as chk, RockerTrack};
-use crate::machines::synthesis::{self as syn, Function, FunctionMap};
+use crate::machines::synthesis::{self as syn, Function, FunctionMap, ShaperSize};
 use crate::scenarios::kit::{finish_with_plot, scenario_name};
 use crate::scenarios::source::Source;
+use crate::scenarios::synthesis_crank_rocker::{
+    crank_rocker_json, parse_crank_rocker, CrankRockerIn, CrankRockerSpec,
+};
+use crate::scenarios::synthesis_two_position::{
+    parse_two_position, two_position_json, TwoPositionIn, TwoPositionSpec,
+};
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::fmt::Write;
@@ -29,19 +34,10 @@ struct File {
     #[allow(dead_code)]
     description: Option<String>,
     crank_rocker: Option<CrankRockerIn>,
+    two_position: Option<TwoPositionIn>,
     slider_crank: Option<SliderCrankIn>,
     shaper: Option<ShaperIn>,
     function: Option<FunctionIn>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CrankRockerIn {
-    rocker: F,
-    rocker_limits_deg: Spanned<[F; 2]>,
-    frame: F,
-    pivot_direction_deg: Option<F>,
-    time_ratio: Option<F>,
 }
 
 #[derive(Deserialize)]
@@ -57,7 +53,8 @@ struct SliderCrankIn {
 #[serde(deny_unknown_fields)]
 struct ShaperIn {
     stroke: F,
-    frame: F,
+    frame: Option<F>,
+    crank: Option<F>,
     time_ratio: Option<F>,
     velocity_ratio: Option<F>,
     rod: Option<F>,
@@ -77,22 +74,6 @@ struct FunctionIn {
     samples: Option<Spanned<usize>>,
 }
 
-/// What a crank-rocker section asks for.
-#[derive(Clone, Debug)]
-enum CrankRockerTask {
-    Pivot(Vec2),
-    TimeRatio(f64),
-}
-
-/// A parsed crank-rocker section.
-#[derive(Clone, Debug)]
-pub struct CrankRockerSpec {
-    rocker: f64,
-    limits: [f64; 2],
-    frame: f64,
-    task: CrankRockerTask,
-}
-
 /// A parsed function-generation section.
 #[derive(Clone, Debug)]
 pub struct FunctionSpec {
@@ -110,8 +91,9 @@ pub struct SynthesisScenario {
     /// The scenario's name.
     pub name: String,
     crank_rocker: Option<CrankRockerSpec>,
+    two_position: Option<TwoPositionSpec>,
     slider_crank: Option<(f64, f64, Result<f64, f64>)>,
-    shaper: Option<(f64, f64, f64, bool, Option<f64>)>,
+    shaper: Option<ShaperSpec>,
     function: Option<FunctionSpec>,
 }
 
@@ -123,71 +105,6 @@ pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, Sc
     crate::scenarios::kit::parse_and_report(path, text, out_dir, parse, report)
 }
 
-fn one_of<'a>(
-    ctx: &Source,
-    section: &str,
-    a: (&str, Option<&'a F>),
-    b: (&str, Option<&'a F>),
-) -> Result<(bool, &'a F), ScenarioError> {
-    match (a.1, b.1) {
-        (Some(x), None) => Ok((true, x)),
-        (None, Some(y)) => Ok((false, y)),
-        (Some(_), Some(y)) => Err(ctx.at(
-            y.span(),
-            format!("{section}.{}", b.0),
-            format!("give either `{}` or `{}`, not both", a.0, b.0),
-        )),
-        (None, None) => Err(ctx.section(section, format!("missing: give `{}` or `{}`", a.0, b.0))),
-    }
-}
-
-/// The `[crank_rocker]` section: rocker, frame, limit positions, and the pivot direction or the
-/// time ratio.
-fn parse_crank_rocker(ctx: &Source, s: &CrankRockerIn) -> Result<CrankRockerSpec, ScenarioError> {
-    let k = "crank_rocker";
-    let rocker = ctx.length(&s.rocker, "crank_rocker.rocker")?;
-    let frame = ctx.length(&s.frame, "crank_rocker.frame")?;
-    ctx.same_scale(
-        &s.rocker,
-        "crank_rocker.rocker",
-        (frame, "crank_rocker.frame"),
-    )?;
-    let lim = s.rocker_limits_deg.get_ref();
-    let limits = [
-        ctx.angle_deg(&lim[0], "crank_rocker.rocker_limits_deg[0]")?
-            .to_radians(),
-        ctx.angle_deg(&lim[1], "crank_rocker.rocker_limits_deg[1]")?
-            .to_radians(),
-    ];
-    if crate::machines::linkage::wrap_angle(limits[0] - limits[1]).abs() < 1e-9 {
-        return Err(ctx.at(
-            s.rocker_limits_deg.span(),
-            "crank_rocker.rocker_limits_deg",
-            "the two limit positions coincide",
-        ));
-    }
-    let (by_dir, v) = one_of(
-        ctx,
-        k,
-        ("pivot_direction_deg", s.pivot_direction_deg.as_ref()),
-        ("time_ratio", s.time_ratio.as_ref()),
-    )?;
-    let task = if by_dir {
-        let a = ctx
-            .angle_deg(v, "crank_rocker.pivot_direction_deg")?
-            .to_radians();
-        CrankRockerTask::Pivot(Vec2::new(frame * a.cos(), frame * a.sin()))
-    } else {
-        CrankRockerTask::TimeRatio(ctx.ratio(v, "crank_rocker.time_ratio", false)?)
-    };
-    Ok(CrankRockerSpec {
-        rocker,
-        limits,
-        frame,
-        task,
-    })
-}
-
 /// The `[slider_crank]` section: stroke, time ratio, and the rod ratio (`Ok`) or the offset
 /// (`Err`).
 fn parse_slider_crank(
@@ -196,8 +113,7 @@ fn parse_slider_crank(
 ) -> Result<(f64, f64, Result<f64, f64>), ScenarioError> {
     let h = ctx.length(&s.stroke, "slider_crank.stroke")?;
     let k = ctx.ratio(&s.time_ratio, "slider_crank.time_ratio", true)?;
-    let (by_ratio, v) = one_of(
-        ctx,
+    let (by_ratio, v) = ctx.one_of(
         "slider_crank",
         ("rod_ratio", s.rod_ratio.as_ref()),
         ("offset", s.offset.as_ref()),
@@ -224,16 +140,26 @@ fn parse_slider_crank(
     Ok((h, k, which))
 }
 
-/// The `[shaper]` section: stroke, frame, the time or velocity ratio (and which), rod.
-fn parse_shaper(
-    ctx: &Source,
-    s: &ShaperIn,
-) -> Result<(f64, f64, f64, bool, Option<f64>), ScenarioError> {
+/// A parsed `[shaper]` section: stroke, frame or crank, the time or velocity ratio (and
+/// whether it is the velocity ratio), rod.
+type ShaperSpec = (f64, ShaperSize, f64, bool, Option<f64>);
+
+/// The `[shaper]` section: stroke, frame or crank, the time or velocity ratio, rod.
+fn parse_shaper(ctx: &Source, s: &ShaperIn) -> Result<ShaperSpec, ScenarioError> {
     let h = ctx.length(&s.stroke, "shaper.stroke")?;
-    let d = ctx.length(&s.frame, "shaper.frame")?;
-    ctx.same_scale(&s.stroke, "shaper.stroke", (d, "shaper.frame"))?;
-    let (by_time, v) = one_of(
-        ctx,
+    let (by_frame, size) = ctx.one_of(
+        "shaper",
+        ("frame", s.frame.as_ref()),
+        ("crank", s.crank.as_ref()),
+    )?;
+    let size_key = if by_frame {
+        "shaper.frame"
+    } else {
+        "shaper.crank"
+    };
+    let d = ctx.length(size, size_key)?;
+    ctx.same_scale(&s.stroke, "shaper.stroke", (d, size_key))?;
+    let (by_time, v) = ctx.one_of(
         "shaper",
         ("time_ratio", s.time_ratio.as_ref()),
         ("velocity_ratio", s.velocity_ratio.as_ref()),
@@ -248,11 +174,16 @@ fn parse_shaper(
         .rod
         .as_ref()
         .map(|r| {
-            ctx.same_scale(r, "shaper.rod", (d, "shaper.frame"))?;
+            ctx.same_scale(r, "shaper.rod", (d, size_key))?;
             ctx.length(r, "shaper.rod")
         })
         .transpose()?;
-    Ok((h, d, k, !by_time, rod))
+    let size = if by_frame {
+        ShaperSize::Frame(d)
+    } else {
+        ShaperSize::Crank(d)
+    };
+    Ok((h, size, k, !by_time, rod))
 }
 
 /// Parses and validates `text` (the contents of `file`).
@@ -262,16 +193,22 @@ pub fn parse(file: &str, text: &str) -> Result<SynthesisScenario, ScenarioError>
     ctx.any_section(
         &[
             f.crank_rocker.is_some(),
+            f.two_position.is_some(),
             f.slider_crank.is_some(),
             f.shaper.is_some(),
             f.function.is_some(),
         ],
-        "nothing to synthesise: add [crank_rocker], [slider_crank], [shaper] or [function]",
+        "nothing to synthesise: add [crank_rocker], [two_position], [slider_crank], [shaper] or [function]",
     )?;
     let crank_rocker = f
         .crank_rocker
         .as_ref()
         .map(|x| parse_crank_rocker(&ctx, x))
+        .transpose()?;
+    let two_position = f
+        .two_position
+        .as_ref()
+        .map(|x| parse_two_position(&ctx, x))
         .transpose()?;
     let slider_crank = f
         .slider_crank
@@ -291,6 +228,7 @@ pub fn parse(file: &str, text: &str) -> Result<SynthesisScenario, ScenarioError>
     Ok(SynthesisScenario {
         name: scenario_name(f.name.as_deref(), file),
         crank_rocker,
+        two_position,
         slider_crank,
         shaper,
         function,
@@ -480,82 +418,6 @@ fn function_by_name(
     })
 }
 
-fn crank_rocker_json(
-    ctx: &Source,
-    s: &CrankRockerSpec,
-    text: &mut String,
-) -> Result<Value, ScenarioError> {
-    let err = |m: String| ctx.section("crank_rocker", m);
-    let sols = match s.task {
-        CrankRockerTask::Pivot(p) => {
-            vec![syn::crank_rocker_from_pivot(s.rocker, s.limits, p).map_err(|e| err(e.0))?]
-        }
-        CrankRockerTask::TimeRatio(k) => {
-            syn::crank_rockers_from_time_ratio(s.rocker, s.limits, k, s.frame)
-                .map_err(|e| err(e.0))?
-        }
-    };
-    let mut out = Vec::new();
-    writeln!(
-        text,
-        "crank-rocker ({} solution{}):",
-        sols.len(),
-        if sols.len() == 1 { "" } else { "s" }
-    )
-    .ok();
-    for (i, sol) in sols.iter().enumerate() {
-        // The solver's frame: A at the origin, D on the +x axis.
-        let beta = sol.frame_angle_deg.to_radians();
-        let pivot = Vec2::new(sol.pivot[0], sol.pivot[1]);
-        let ce = Vec2::new(
-            s.rocker * sol.limit_angles_deg[0].to_radians().cos(),
-            s.rocker * sol.limit_angles_deg[0].to_radians().sin(),
-        );
-        let ce_l = crate::machines::linkage::rotate(-beta, &(ce - pivot));
-        let phi_ext = ce_l.y.atan2(ce_l.x);
-        let dims = (sol.frame, sol.crank, sol.coupler, sol.rocker);
-        let check = chk::check_four_bar(dims, phi_ext, ce_l)
-            .map_err(|m| err(format!("solution {i}: the linkage solver: {m}")))?;
-        let class = fourbar::classify(sol.frame, sol.crank, sol.coupler, sol.rocker);
-        let (mu0, mu180) =
-            fourbar::transmission_extremes(sol.frame, sol.crank, sol.coupler, sol.rocker);
-        let pa = |m: Option<f64>| m.map(|m| (90.0 - m.to_degrees()).abs());
-        writeln!(
-            text,
-            "  [{i}] A = ({:.5}, {:.5}) from D: crank a = {:.5}, coupler b = {:.5}, rocker c = {:.5}, frame d = {:.5} ({})",
-            sol.pivot[0], sol.pivot[1], sol.crank, sol.coupler, sol.rocker, sol.frame, class.kind
-        )
-        .ok();
-        writeln!(
-            text,
-            "      AC' = {:.5}, AC'' = {:.5}, θ = {:.3}°, K = {:.4}; pressure angle at C', C'' = {:.2}°, {:.2}°",
-            sol.extended, sol.folded, sol.theta_deg, sol.time_ratio, sol.pressure_at_limits_deg[0], sol.pressure_at_limits_deg[1]
-        )
-        .ok();
-        writeln!(
-            text,
-            "      linkage solver: swing {:.4}°, θ = {:.3}°, K = {:.4}; largest pressure angle {:.2}° at crank {:.1}° (closed form at 0°/180°: {:.2}°/{:.2}°)",
-            check.travel, check.theta_deg, check.time_ratio, check.max_pressure_angle_deg, check.max_pressure_at_deg,
-            pa(mu0).unwrap_or(f64::NAN), pa(mu180).unwrap_or(f64::NAN)
-        )
-        .ok();
-        let mut v = serde_json::to_value(sol).unwrap_or(Value::Null);
-        v["grashof"] = json!(class.kind);
-        v["pressure_angle_at_crank_0_deg"] = json!(pa(mu0));
-        v["pressure_angle_at_crank_180_deg"] = json!(pa(mu180));
-        v["check"] = json!({
-            "swing_deg": check.travel,
-            "theta_deg": check.theta_deg,
-            "time_ratio": check.time_ratio,
-            "limit_crank_deg": check.crank_deg,
-            "max_pressure_angle_deg": check.max_pressure_angle_deg,
-            "max_pressure_at_crank_deg": check.max_pressure_at_deg,
-        });
-        out.push(v);
-    }
-    Ok(json!({ "solutions": out }))
-}
-
 fn slider_crank_json(
     ctx: &Source,
     (h, k, which): (f64, f64, Result<f64, f64>),
@@ -593,11 +455,11 @@ fn slider_crank_json(
 
 fn shaper_json(
     ctx: &Source,
-    (h, d, k, by_v, rod): (f64, f64, f64, bool, Option<f64>),
+    (h, size, k, by_v, rod): ShaperSpec,
     text: &mut String,
 ) -> Result<Value, ScenarioError> {
     let err = |m: String| ctx.section("shaper", m);
-    let s = syn::shaper(h, d, k, by_v, rod).map_err(|e| err(e.0))?;
+    let s = syn::shaper(h, size, k, by_v, rod).map_err(|e| err(e.0))?;
     let c = chk::check_slotted_lever(s.frame, s.crank, s.lever)
         .map_err(|m| err(format!("the linkage solver: {m}")))?;
     writeln!(
@@ -722,6 +584,9 @@ pub fn report(
     let mut panels = Vec::new();
     if let Some(s) = &sc.crank_rocker {
         j["crank_rocker"] = crank_rocker_json(ctx, s, &mut text)?;
+    }
+    if let Some(s) = &sc.two_position {
+        j["two_position"] = two_position_json(ctx, s, &mut text)?;
     }
     if let Some(s) = sc.slider_crank {
         j["slider_crank"] = slider_crank_json(ctx, s, &mut text)?;

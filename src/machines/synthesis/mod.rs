@@ -14,14 +14,19 @@
 //!   `H² = (l + r)² + (l − r)² − 2 (l² − r²) cos θ`, `e = (l² − r²) sin θ / H`; given
 //!   `λ = r/l` this is explicit in `l`; given `e`, with `u = l + r`, `v = l − r`:
 //!   `u v = e H / sin θ`, `u² + v² = H² + 2 u v cos θ`.
+//! - **Crank-rocker from one limit position**, the crank pivot and `K`: the other limit
+//!   `C₂` is where the ray from `A` at `±θ` to `AC₁` meets the rocker's circle.
 //! - **Crank and slotted lever** (frame `d`, crank `r`, lever `L`): the lever swings
-//!   `ψ = θ`, `r = d sin(ψ/2)`, `L = H / (2 sin(ψ/2))`; with the ratio of the greatest
-//!   speeds `K_v = (d + r)/(d − r)` instead of `K`.
+//!   `ψ = θ`, `r = d sin(ψ/2)` (or `d = r / sin(ψ/2)` when the crank is given),
+//!   `L = H / (2 sin(ψ/2))`; with the ratio of the greatest speeds `K_v = (d + r)/(d − r)`
+//!   instead of `K`.
+//! - **Two-position synthesis**: [`two_position`].
 //! - **Freudenstein** (`A = (0, 0)`, `D = (d, 0)`, crank angle `φ` at `A`, rocker angle
 //!   `ψ` at `D`): `K1 cos ψ − K2 cos φ + K3 = cos(φ − ψ)`, `K1 = d/a`, `K2 = d/c`,
 //!   `K3 = (a² − b² + c² + d²)/(2 a c)`: three precision points give a linear 3 × 3 system;
 //!   Chebyshev spacing `x_j = (x₀ + x₁)/2 − (x₁ − x₀)/2 cos((2j − 1)π/6)`.
 
+pub mod two_position;
 pub mod verify;
 use crate::machines::linkage::{cross, Vec2};
 use nalgebra::{Matrix3, Vector3};
@@ -181,6 +186,82 @@ pub fn crank_rockers_from_time_ratio(
     Ok(out)
 }
 
+/// Which limit position of the rocker is given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RockerLimit {
+    /// `C'`, crank and coupler extended: `|AC'| = b + a`.
+    Extended,
+    /// `C''`, crank and coupler folded: `|AC''| = b − a`.
+    Folded,
+}
+
+/// Every crank-rocker with rocker `c` that has a limit position at rocker angle `limit`
+/// (rad, at `D` = origin), crank pivot `pivot` and time ratio `k > 1`. The other limit
+/// `C₂` is on the rocker's circle and on a ray from `A` at `±θ` to `AC₁`, farther from
+/// `A` when the given limit is the folded one, nearer when it is the extended one.
+/// `which = None` tries both.
+pub fn crank_rockers_from_one_limit(
+    c: f64,
+    limit: f64,
+    which: Option<RockerLimit>,
+    k: f64,
+    pivot: Vec2,
+) -> Result<Vec<CrankRocker>, SynthesisError> {
+    let theta = theta_of_time_ratio(k);
+    if !(theta > 1e-9 && theta < PI) {
+        return fail(format!("time ratio {k} gives no quick return (need K > 1)"));
+    }
+    let c1 = polar(c, limit);
+    let ac1 = c1 - pivot;
+    let r1 = ac1.norm();
+    if r1 <= 1e-12 * c {
+        return fail("the given limit position of the rocker lies on the crank pivot");
+    }
+    let kinds = match which {
+        Some(w) => vec![w],
+        None => vec![RockerLimit::Extended, RockerLimit::Folded],
+    };
+    let mut out: Vec<CrankRocker> = Vec::new();
+    for kind in kinds {
+        for side in [1.0, -1.0] {
+            let u = crate::machines::linkage::rotate(side * theta, &(ac1 / r1));
+            // |A + t u| = c: t² + 2 t (A·u) + |A|² − c² = 0.
+            let (p, q) = (pivot.dot(&u), pivot.norm_squared() - c * c);
+            let disc = p * p - q;
+            if disc < 0.0 {
+                continue;
+            }
+            for t in [-p - disc.sqrt(), -p + disc.sqrt()] {
+                let fits = match kind {
+                    RockerLimit::Extended => t > 1e-9 * r1 && t < r1 * (1.0 - 1e-9),
+                    RockerLimit::Folded => t > r1 * (1.0 + 1e-9),
+                };
+                if !fits {
+                    continue;
+                }
+                let c2 = pivot + u * t;
+                let other = c2.y.atan2(c2.x);
+                if let Ok(s) = crank_rocker_from_pivot(c, [limit, other], pivot) {
+                    if !out.iter().any(|o| {
+                        (o.crank - s.crank).abs() <= 1e-9 * c
+                            && (o.limit_angles_deg[0] - s.limit_angles_deg[0]).abs() <= 1e-9
+                            && (o.limit_angles_deg[1] - s.limit_angles_deg[1]).abs() <= 1e-9
+                    }) {
+                        out.push(s);
+                    }
+                }
+            }
+        }
+    }
+    if out.is_empty() {
+        return fail(format!(
+            "no second limit position on the rocker's circle is seen from the crank pivot at θ = {:.4}° from the given one",
+            theta.to_degrees()
+        ));
+    }
+    Ok(out)
+}
+
 /// Intersections of two circles (none, one or two points).
 pub fn circle_intersections(c1: Vec2, r1: f64, c2: Vec2, r2: f64) -> Vec<Vec2> {
     let d = c2 - c1;
@@ -309,11 +390,20 @@ pub struct ShaperDesign {
     pub max_rod_angle_deg: Option<f64>,
 }
 
-/// The shaper of stroke `h` and frame `d` with time ratio `k` (or, when `by_velocity`,
-/// ratio of the greatest speeds `k`); `rod` the link to the ram, if any.
+/// What fixes the size of a shaper beside its stroke.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShaperSize {
+    /// The frame `d` (crank pivot to lever pivot): `r = d sin(ψ/2)`.
+    Frame(f64),
+    /// The crank `r`: `d = r / sin(ψ/2)`.
+    Crank(f64),
+}
+
+/// The shaper of stroke `h` and the frame or crank `size` with time ratio `k` (or, when
+/// `by_velocity`, ratio of the greatest speeds `k`); `rod` the link to the ram, if any.
 pub fn shaper(
     h: f64,
-    d: f64,
+    size: ShaperSize,
     k: f64,
     by_velocity: bool,
     rod: Option<f64>,
@@ -326,7 +416,10 @@ pub fn shaper(
     } else {
         theta_of_time_ratio(k) / 2.0
     };
-    let r = d * half.sin();
+    let (d, r) = match size {
+        ShaperSize::Frame(d) => (d, d * half.sin()),
+        ShaperSize::Crank(r) => (r / half.sin(), r),
+    };
     let lever = h / (2.0 * half.sin());
     let sagitta = lever * (1.0 - half.cos());
     let rod_angle = match rod {
