@@ -5,8 +5,9 @@
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::report::Report;
 use crate::machines::cams::eccentric::{Eccentric, EccentricFollower};
-use crate::machines::cams::laws::{Law, MotionLaw};
 use crate::machines::cams::profile::CamFollower;
+use crate::scenarios::cam_motion::{motion, MotionSpec};
+use crate::scenarios::cam_profile_section::{profile_cam, ProfileFollowerIn, ProfileSpec};
 use crate::scenarios::cam_report::{report, Cam, CamScenario};
 use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
@@ -26,21 +27,9 @@ struct FileSpec {
     steps: Option<Spanned<i64>>,
     motion: Option<Spanned<MotionSpec>>,
     eccentric: Option<Spanned<EccSpec>>,
+    profile: Option<Spanned<ProfileSpec>>,
     follower: Spanned<FollowerSpec>,
     limits: Option<Spanned<LimitSpec>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MotionSpec {
-    stroke: Option<f64>,
-    swing_deg: Option<f64>,
-    rise_deg: f64,
-    #[serde(default)]
-    dwell_top_deg: f64,
-    return_deg: Option<f64>,
-    law: String,
-    return_law: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -63,6 +52,7 @@ struct FollowerSpec {
     arm: Option<f64>,
     pivot_distance: Option<f64>,
     face_offset: Option<f64>,
+    face_angle_deg: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -160,6 +150,7 @@ fn law_follower(
     Ok(match (fo.kind.as_str(), moving) {
         ("flat", "translating") => CamFollower::Flat {
             rb: positive("base_radius", fo.base_radius)?,
+            face_angle: flat_face_angle(fo, ferr)?,
         },
         ("flat", _) => {
             return Err(ferr(
@@ -202,6 +193,26 @@ fn law_follower(
                 r0,
             }
         }
+    })
+}
+
+/// `follower.face_angle_deg` (rad; 0 when absent), within ±80°.
+fn flat_face_angle(fo: &FollowerSpec, ferr: &FollowerErr) -> Result<f64, ScenarioError> {
+    match fo.face_angle_deg {
+        None => Ok(0.0),
+        Some(b) if b.is_finite() && b.abs() < 80.0 => Ok(b.to_radians()),
+        Some(b) => Err(ferr(
+            "face_angle_deg",
+            format!("the face normal's angle to the stroke must lie within ±80°, got {b}"),
+        )),
+    }
+}
+
+fn scenario_file_name(name: Option<&str>, file: &str) -> String {
+    name.map(str::to_string).unwrap_or_else(|| {
+        Path::new(file)
+            .file_stem()
+            .map_or(NAME.into(), |s| s.to_string_lossy().into_owned())
     })
 }
 
@@ -276,116 +287,114 @@ pub fn parse(file: &str, text: &str) -> Result<CamScenario, ScenarioError> {
             ))
         }
     };
+    if fo.face_angle_deg.is_some()
+        && (fo.kind != "flat" || moving != "translating" || f.eccentric.is_some())
+    {
+        return Err(ferr(
+            "face_angle_deg",
+            "applies only to a translating flat face on a [motion] or [profile] cam".into(),
+        ));
+    }
+    if let Some(ps) = &f.profile {
+        if f.motion.is_some() || f.eccentric.is_some() {
+            return Err(cx.at(
+                ps.span(),
+                "profile",
+                "give one of [motion], [eccentric] or [profile]",
+            ));
+        }
+        if let Some(l) = &f.limits {
+            return Err(cx.at(
+                l.span(),
+                "limits",
+                "does not apply to a [profile] cam (the limits size a law cam)",
+            ));
+        }
+        for (k, given) in [
+            ("base_radius", fo.base_radius.is_some()),
+            ("face_offset", fo.face_offset.is_some()),
+        ] {
+            if given {
+                return Err(ferr(
+                    k,
+                    "does not apply to a [profile] cam (the profile sets it)".into(),
+                ));
+            }
+        }
+        let arm_pivot = match (fo.arm, fo.pivot_distance) {
+            (None, None) => None,
+            (a, d) => Some((positive("arm", a)?, positive("pivot_distance", d)?)),
+        };
+        let face_angle = flat_face_angle(fo, &ferr)?;
+        let pin = ProfileFollowerIn {
+            kind: fo.kind.clone(),
+            moving: moving.clone(),
+            roller,
+            offset: fo.offset,
+            face_angle,
+            arm_pivot,
+        };
+        let (m, follower) = profile_cam(&cx, ps, &pin)?;
+        return Ok(CamScenario {
+            name: scenario_file_name(f.name.as_deref(), file),
+            omega,
+            steps,
+            cam: Cam::Law(m, follower),
+            limits: None,
+        });
+    }
     if !fo.offset.is_finite() {
         return Err(ferr("offset", "not a finite number".into()));
     }
-    let cam = match (&f.motion, &f.eccentric) {
-        (Some(_), Some(e)) => {
-            return Err(cx.at(
-                e.span(),
-                "eccentric",
-                "give either [motion] or [eccentric], not both",
-            ))
-        }
-        (None, None) => {
-            return Err(cx.top(
+    let cam =
+        match (&f.motion, &f.eccentric) {
+            (Some(_), Some(e)) => {
+                return Err(cx.at(
+                    e.span(),
+                    "eccentric",
+                    "give either [motion] or [eccentric], not both",
+                ))
+            }
+            (None, None) => return Err(cx.top(
                 "kind",
-                "a cam needs a [motion] table (a follower law) or an [eccentric] disc",
-            ))
-        }
-        (None, Some(e)) => {
-            let es = e.get_ref();
-            let eerr = |k: &str, m: &str| cx.field(e.span(), k, format!("eccentric.{k}"), m);
-            if !in_range(es.radius, 1e-9, 1e7) {
-                return Err(eerr("radius", "must be a positive length"));
+                "a cam needs a [motion] table (a follower law), an [eccentric] disc or a [profile]",
+            )),
+            (None, Some(e)) => {
+                let es = e.get_ref();
+                let eerr = |k: &str, m: &str| cx.field(e.span(), k, format!("eccentric.{k}"), m);
+                if !in_range(es.radius, 1e-9, 1e7) {
+                    return Err(eerr("radius", "must be a positive length"));
+                }
+                if !in_range(es.eccentricity, 1e-9, 1e7) || es.eccentricity >= es.radius + roller {
+                    return Err(eerr(
+                        "eccentricity",
+                        "must be positive and less than the disc radius (+ roller)",
+                    ));
+                }
+                let follower = eccentric_follower(fo, &moving, (roller, es), &ferr, &positive)?;
+                Cam::Eccentric(Eccentric {
+                    radius: es.radius,
+                    eccentricity: es.eccentricity,
+                    follower,
+                })
             }
-            if !in_range(es.eccentricity, 1e-9, 1e7) || es.eccentricity >= es.radius + roller {
-                return Err(eerr(
-                    "eccentricity",
-                    "must be positive and less than the disc radius (+ roller)",
-                ));
+            (Some(ms), None) => {
+                let m = motion(&cx, ms, &moving)?;
+                let follower = law_follower(fo, &moving, roller, &ferr, &positive)?;
+                Cam::Law(m, follower)
             }
-            let follower = eccentric_follower(fo, &moving, (roller, es), &ferr, &positive)?;
-            Cam::Eccentric(Eccentric {
-                radius: es.radius,
-                eccentricity: es.eccentricity,
-                follower,
-            })
-        }
-        (Some(ms), None) => {
-            let m = motion(&cx, ms, &moving)?;
-            let follower = law_follower(fo, &moving, roller, &ferr, &positive)?;
-            Cam::Law(m, follower)
-        }
-    };
+        };
     let limits = f
         .limits
         .as_ref()
         .map(|l| pressure_limits(&cx, l))
         .transpose()?;
     Ok(CamScenario {
-        name: f.name.clone().unwrap_or_else(|| {
-            Path::new(file)
-                .file_stem()
-                .map_or(NAME.into(), |s| s.to_string_lossy().into_owned())
-        }),
+        name: scenario_file_name(f.name.as_deref(), file),
         omega,
         steps,
         cam,
         limits,
-    })
-}
-
-fn motion(cx: &Source, ms: &Spanned<MotionSpec>, moving: &str) -> Result<MotionLaw, ScenarioError> {
-    let m = ms.get_ref();
-    let err = |k: &str, msg: String| cx.field(ms.span(), k, format!("motion.{k}"), msg);
-    let stroke = match (moving, m.stroke, m.swing_deg) {
-        ("translating", Some(h), None) if in_range(h, 1e-9, 1e7) => h,
-        ("translating", Some(h), None) => {
-            return Err(err("stroke", format!("must be a positive lift, got {h}")))
-        }
-        ("translating", _, _) => {
-            return Err(err(
-                "stroke",
-                "a translating follower needs `stroke` (mm), not `swing_deg`".into(),
-            ))
-        }
-        (_, None, Some(s)) if in_range(s, 1e-6, 170.0) => s.to_radians(),
-        (_, None, Some(_)) => return Err(err("swing_deg", "must be in (0°, 170°]".into())),
-        _ => {
-            return Err(err(
-                "swing_deg",
-                "an oscillating follower needs `swing_deg`, not `stroke`".into(),
-            ))
-        }
-    };
-    let law = |k: &str, s: &str| {
-        Law::parse(s).ok_or_else(|| err(k, format!("unknown law '{s}' (uniform, parabolic, harmonic, cycloidal, cubic, polynomial)")))
-    };
-    let rise_law = law("law", &m.law)?;
-    let return_law = law("return_law", m.return_law.as_deref().unwrap_or(&m.law))?;
-    let ret = m.return_deg.unwrap_or(m.rise_deg);
-    for (k, v) in [("rise_deg", m.rise_deg), ("return_deg", ret)] {
-        if !in_range(v, 1e-3, 360.0) {
-            return Err(err(k, format!("must be in (0°, 360°], got {v}")));
-        }
-    }
-    if !in_range(m.dwell_top_deg, 0.0, 360.0) || m.rise_deg + m.dwell_top_deg + ret > 360.0 + 1e-9 {
-        return Err(err(
-            "dwell_top_deg",
-            format!(
-                "rise + dwell + return = {}° exceeds a turn",
-                m.rise_deg + m.dwell_top_deg + ret
-            ),
-        ));
-    }
-    Ok(MotionLaw {
-        stroke,
-        rise: m.rise_deg.to_radians(),
-        dwell_top: m.dwell_top_deg.to_radians(),
-        ret: ret.to_radians(),
-        rise_law,
-        return_law,
     })
 }
 

@@ -8,7 +8,8 @@ use crate::io::report::Report;
 use crate::machines::cams::eccentric::{
     eval as ecc_eval, initial_theta, Eccentric, EccentricFollower,
 };
-use crate::machines::cams::laws::MotionLaw;
+use crate::machines::cams::laws::Displacement;
+use crate::machines::cams::motion_table::CamMotion;
 use crate::machines::cams::profile::{
     min_flat_base_radius, min_prime_radius, optimum_offset, sample, CamFollower,
 };
@@ -20,7 +21,7 @@ use std::fmt::Write;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Cam {
     /// Driven by a motion law.
-    Law(MotionLaw, CamFollower),
+    Law(CamMotion, CamFollower),
     /// An eccentric disc.
     Eccentric(Eccentric),
 }
@@ -54,18 +55,10 @@ fn extreme(values: &[f64], phis: &[f64], pick: impl Fn(usize) -> bool) -> Value 
 
 /// Angles (deg) where `s'` (order 1: infinite acceleration) or `s''` (order 2: infinite
 /// jerk) jumps.
-fn jumps(m: &MotionLaw, order: usize) -> Vec<f64> {
+fn jumps(m: &CamMotion, order: usize) -> Vec<f64> {
     let mut out = Vec::new();
-    let b = [
-        0.0,
-        m.rise / 2.0,
-        m.rise,
-        m.rise + m.dwell_top,
-        m.rise + m.dwell_top + m.ret / 2.0,
-        m.rise + m.dwell_top + m.ret,
-    ];
-    let scale = m.stroke / m.rise.min(m.ret).powi(order as i32);
-    for x in b {
+    let scale = m.derivative_scale(order);
+    for x in m.breakpoints() {
         let (l, r) = (
             m.eval((x - 1e-9).rem_euclid(2.0 * PI))[order],
             m.eval(x + 1e-9)[order],
@@ -78,7 +71,7 @@ fn jumps(m: &MotionLaw, order: usize) -> Vec<f64> {
     out
 }
 
-fn law_report(sc: &CamScenario, m: &MotionLaw, f: &CamFollower, text: &mut String) -> Value {
+fn law_report(sc: &CamScenario, m: &CamMotion, f: &CamFollower, text: &mut String) -> Value {
     let w = sc.omega;
     let samples: Vec<_> = (0..=sc.steps)
         .map(|k| sample(m, f, 2.0 * PI * k as f64 / sc.steps as f64))
@@ -96,13 +89,22 @@ fn law_report(sc: &CamScenario, m: &MotionLaw, f: &CamFollower, text: &mut Strin
         .map(|s| s.rho_pitch)
         .filter(|r| *r > 0.0)
         .fold(f64::INFINITY, f64::min);
-    let concave = samples.iter().any(|s| s.rho_pitch < 0.0);
+    // A straight flank of a given profile has ρ = ±∞ up to round-off (|ρ| ~ 1e10): only a
+    // radius below 1e6 strokes counts.
+    let flat_limit = 1e6 * m.stroke();
+    let negative = |r: f64| r < 0.0 && r > -flat_limit;
+    let rho_min = if rho_min > flat_limit {
+        f64::INFINITY
+    } else {
+        rho_min
+    };
+    let concave = samples.iter().any(|s| negative(s.rho_pitch));
     let undercut = match f {
-        CamFollower::Flat { .. } => samples.iter().any(|s| s.rho_pitch < 0.0),
+        CamFollower::Flat { .. } => samples.iter().any(|s| negative(s.rho_pitch)),
         _ => roller > 0.0 && rho_min < roller,
     };
     let mut summary = json!({
-        "stroke": m.stroke,
+        "stroke": m.stroke(),
         "max_pressure_angle": { "rise": extreme(&alpha, &phis, rise), "return": extreme(&alpha, &phis, ret) },
         "min_convex_rho_pitch": if rho_min.is_finite() { json!(rho_min) } else { Value::Null },
         "min_convex_rho_working": if rho_min.is_finite() { json!(rho_min - roller) } else { Value::Null },
@@ -111,8 +113,9 @@ fn law_report(sc: &CamScenario, m: &MotionLaw, f: &CamFollower, text: &mut Strin
         "infinite_acceleration_at_deg": jumps(m, 1),
         "infinite_jerk_at_deg": jumps(m, 2),
     });
-    if let CamFollower::Flat { .. } = f {
-        summary["min_flat_base_radius"] = json!(min_flat_base_radius(m, sc.steps.max(3600)));
+    if let CamFollower::Flat { face_angle, .. } = f {
+        summary["min_flat_base_radius"] =
+            json!(min_flat_base_radius(m, *face_angle, sc.steps.max(3600)));
     }
     if let (Some((ar, aret)), CamFollower::Translating { offset, .. }) = (sc.limits, f) {
         let n = sc.steps.max(3600);
@@ -127,7 +130,7 @@ fn law_report(sc: &CamScenario, m: &MotionLaw, f: &CamFollower, text: &mut Strin
     let _ = writeln!(
         text,
         "Stroke {:.4}; max pressure angle rise {} / return {}",
-        m.stroke,
+        m.stroke(),
         crate::io::report::human_json(&summary["max_pressure_angle"]["rise"]),
         crate::io::report::human_json(&summary["max_pressure_angle"]["return"])
     );
@@ -228,7 +231,14 @@ fn eccentric_report(sc: &CamScenario, c: &Eccentric, text: &mut String) -> Value
 pub fn report(sc: &CamScenario, kind_name: &str) -> Report {
     let mut text = format!("Cam '{}'\n", sc.name);
     let (body, kind) = match &sc.cam {
-        Cam::Law(m, f) => (law_report(sc, m, f, &mut text), "law"),
+        Cam::Law(m, f) => (
+            law_report(sc, m, f, &mut text),
+            if matches!(m, CamMotion::Profile(_)) {
+                "profile"
+            } else {
+                "law"
+            },
+        ),
         Cam::Eccentric(c) => (eccentric_report(sc, c, &mut text), "eccentric"),
     };
     let mut json =

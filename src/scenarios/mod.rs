@@ -10,6 +10,8 @@
 
 pub mod arm;
 pub mod cam;
+pub mod cam_motion;
+pub mod cam_profile_section;
 pub mod cam_report;
 pub mod centrodes;
 pub mod flexible_rotor;

@@ -5,6 +5,19 @@
 
 use std::f64::consts::PI;
 
+/// A follower displacement over the turn: a law with its timing ([`MotionLaw`]) or a
+/// table or diagram ([`crate::machines::cams::motion_table::MotionTable`]).
+pub trait Displacement {
+    /// `[s, s', s'', s''']` at `φ` (geometric derivatives, per radian of cam angle).
+    fn eval(&self, phi: f64) -> [f64; 4];
+    /// The lift `max s − min s`.
+    fn stroke(&self) -> f64;
+    /// Cam angles (rad, in `[0, 2π)`) where a derivative may jump: segment ends.
+    fn breakpoints(&self) -> Vec<f64>;
+    /// The size of the `order`-th derivative, against which a jump is judged.
+    fn derivative_scale(&self, order: usize) -> f64;
+}
+
 /// A rise (or return) law.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Law {
@@ -158,5 +171,24 @@ impl MotionLaw {
             }
             Phase::DwellBottom => [0.0; 4],
         }
+    }
+}
+
+impl Displacement for MotionLaw {
+    fn eval(&self, phi: f64) -> [f64; 4] {
+        MotionLaw::eval(self, phi)
+    }
+
+    fn stroke(&self) -> f64 {
+        self.stroke
+    }
+
+    fn breakpoints(&self) -> Vec<f64> {
+        let (r, d, t) = (self.rise, self.dwell_top, self.ret);
+        vec![0.0, r / 2.0, r, r + d, r + d + t / 2.0, r + d + t]
+    }
+
+    fn derivative_scale(&self, order: usize) -> f64 {
+        self.stroke / self.rise.min(self.ret).powi(order as i32)
     }
 }

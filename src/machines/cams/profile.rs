@@ -9,8 +9,12 @@
 //! frame, the pitch curve is `P = R(−φ) q`, `P' = R(−φ)(q' − J q)`,
 //! `P'' = R(−φ)(q'' − 2J q' − q)` (`J` the quarter turn), and its radius of curvature is
 //! `ρ = −|P'|³ / (P' × P'')` (positive where the cam is convex).
+//!
+//! A flat face whose normal is inclined by `β` to the stroke touches the cam where its
+//! support function `p = cos β (R_b / cos β + s)` says: `ρ = p + p_θθ = R_b + cos β (s + s'')`
+//! and the pressure angle is `β` throughout.
 
-use crate::machines::cams::laws::MotionLaw;
+use crate::machines::cams::laws::Displacement;
 
 /// The follower.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,10 +29,13 @@ pub enum CamFollower {
         /// Base (prime) radius of the pitch curve.
         r0: f64,
     },
-    /// Translating flat face perpendicular to the stroke, base radius `rb` of the profile.
+    /// Translating flat face, base radius `rb` of the profile; the face's normal is
+    /// inclined by `face_angle` to the stroke (0: a face perpendicular to the stroke).
     Flat {
-        /// Base radius.
+        /// Base radius: the face's distance from the cam centre at `s = 0`.
         rb: f64,
+        /// Inclination `β` of the face normal to the stroke (rad): the pressure angle.
+        face_angle: f64,
     },
     /// Oscillating knife-edge or roller: arm `l`, pivot at distance `d`; the motion's
     /// stroke is the swing in radians.
@@ -85,7 +92,14 @@ fn follower_point(f: &CamFollower, s: [f64; 4]) -> ([f64; 2], [f64; 2], [f64; 2]
             let s0 = (r0 * r0 - offset * offset).max(0.0).sqrt();
             ([offset, s0 + s[0]], [0.0, s[1]], [0.0, s[2]], [0.0, 1.0])
         }
-        CamFollower::Flat { rb } => ([s[1], rb + s[0]], [s[2], s[1]], [s[3], s[2]], [0.0, 1.0]),
+        CamFollower::Flat { rb, face_angle } => {
+            // The face's support function p = cos β (y₀ + s) with y₀ = R_b / cos β; the
+            // contact point is p n + (dp/dθ) t, n = (sin β, cos β), dθ = −dφ.
+            let (sb, cb) = face_angle.sin_cos();
+            let y = rb / cb + s[0];
+            let at = |a: f64, b: f64| [cb * (a * sb + b * cb), cb * (a * cb - b * sb)];
+            (at(y, s[1]), at(s[1], s[2]), at(s[2], s[3]), [0.0, 1.0])
+        }
         CamFollower::Oscillating { arm, pivot, r0, .. } => {
             let c0 = ((arm * arm + pivot * pivot - r0 * r0) / (2.0 * arm * pivot)).clamp(-1.0, 1.0);
             let psi = c0.acos() + s[0];
@@ -103,7 +117,7 @@ fn follower_point(f: &CamFollower, s: [f64; 4]) -> ([f64; 2], [f64; 2], [f64; 2]
 }
 
 /// The pitch/working point, curvature and pressure angle at `φ`.
-pub fn sample(m: &MotionLaw, f: &CamFollower, phi: f64) -> CamSample {
+pub fn sample(m: &(impl Displacement + ?Sized), f: &CamFollower, phi: f64) -> CamSample {
     let s = m.eval(phi);
     let (q, q1, q2, dir) = follower_point(f, s);
     let jq = jay(q);
@@ -116,7 +130,7 @@ pub fn sample(m: &MotionLaw, f: &CamFollower, phi: f64) -> CamSample {
         // The profile is the envelope of the face: ρ = R_b + s + s'' (signed). The
         // contact point's own curve runs backwards where ρ < 0 (a swallowtail), so its
         // parametric curvature would only give |ρ| there.
-        CamFollower::Flat { rb } => rb + s[0] + s[2],
+        CamFollower::Flat { rb, face_angle } => rb + face_angle.cos() * (s[0] + s[2]),
         _ if k.abs() < 1e-300 => f64::INFINITY,
         _ => -na.powi(3) / k,
     };
@@ -133,7 +147,7 @@ pub fn sample(m: &MotionLaw, f: &CamFollower, phi: f64) -> CamSample {
             let s0 = (r0 * r0 - offset * offset).max(0.0).sqrt();
             ((s[1] - offset) / (s[0] + s0)).atan()
         }
-        CamFollower::Flat { .. } => 0.0,
+        CamFollower::Flat { face_angle, .. } => face_angle,
         CamFollower::Oscillating { .. } => {
             let dn = (dir[0] * dir[0] + dir[1] * dir[1]).sqrt();
             ((n[0] * dir[0] + n[1] * dir[1]).abs() / dn)
@@ -155,7 +169,7 @@ pub fn sample(m: &MotionLaw, f: &CamFollower, phi: f64) -> CamSample {
 /// The pressure angle from the geometry alone (a second route): the angle between the
 /// pitch curve's normal and the follower's direction of motion, from finite differences of
 /// the cam-frame pitch curve.
-pub fn pressure_angle_numeric(m: &MotionLaw, f: &CamFollower, phi: f64) -> f64 {
+pub fn pressure_angle_numeric(m: &(impl Displacement + ?Sized), f: &CamFollower, phi: f64) -> f64 {
     let h = 1e-5;
     let p = |x: f64| sample(m, f, x).pitch;
     let (pa, pb) = (p(phi - h), p(phi + h));
@@ -172,7 +186,7 @@ pub fn pressure_angle_numeric(m: &MotionLaw, f: &CamFollower, phi: f64) -> f64 {
 /// keeps `|α| ≤ α_rise` while rising and `≤ α_return` while returning:
 /// `s₀ ≥ |s' − e|/tan α − s` at every sample, `r₀ = √(s₀² + e²)`.
 pub fn min_prime_radius(
-    m: &MotionLaw,
+    m: &(impl Displacement + ?Sized),
     e: f64,
     alpha_rise: f64,
     alpha_return: f64,
@@ -194,7 +208,12 @@ pub fn min_prime_radius(
 
 /// The offset that minimises [`min_prime_radius`] (ternary search over `|e| ≤ max|s'|`),
 /// with that radius.
-pub fn optimum_offset(m: &MotionLaw, alpha_rise: f64, alpha_return: f64, n: usize) -> (f64, f64) {
+pub fn optimum_offset(
+    m: &(impl Displacement + ?Sized),
+    alpha_rise: f64,
+    alpha_return: f64,
+    n: usize,
+) -> (f64, f64) {
     let vmax = (0..n)
         .map(|k| m.eval(2.0 * std::f64::consts::PI * k as f64 / n as f64)[1].abs())
         .fold(0.0, f64::max);
@@ -212,22 +231,16 @@ pub fn optimum_offset(m: &MotionLaw, alpha_rise: f64, alpha_return: f64, n: usiz
     (e, r(e))
 }
 
-/// Smallest base radius of a flat-faced translating follower: `ρ = R_b + s + s'' ≥ 0`,
-/// so `R_b ≥ max(−(s + s''))`, sampled `n` times per turn plus both sides of every
-/// segment boundary and of the parabolic switch point.
-pub fn min_flat_base_radius(m: &MotionLaw, n: usize) -> f64 {
+/// Smallest base radius of a flat-faced translating follower whose face normal is inclined
+/// by `face_angle` to the stroke: `ρ = R_b + cos β (s + s'') ≥ 0`, so
+/// `R_b ≥ cos β max(−(s + s''))`, sampled `n` times per turn plus both sides of every
+/// breakpoint of the motion.
+pub fn min_flat_base_radius(m: &(impl Displacement + ?Sized), face_angle: f64, n: usize) -> f64 {
     let mut phis: Vec<f64> = (0..n)
         .map(|k| 2.0 * std::f64::consts::PI * k as f64 / n as f64)
         .collect();
     let eps = 1e-9;
-    for b in [
-        0.0,
-        m.rise / 2.0,
-        m.rise,
-        m.rise + m.dwell_top,
-        m.rise + m.dwell_top + m.ret / 2.0,
-        m.rise + m.dwell_top + m.ret,
-    ] {
+    for b in m.breakpoints() {
         phis.push((b - eps).rem_euclid(2.0 * std::f64::consts::PI));
         phis.push(b + eps);
     }
@@ -237,4 +250,5 @@ pub fn min_flat_base_radius(m: &MotionLaw, n: usize) -> f64 {
             -(s[0] + s[2])
         })
         .fold(f64::NEG_INFINITY, f64::max)
+        * face_angle.cos()
 }
