@@ -17,6 +17,7 @@
 //! - [`mobility`]: Grübler's count checked by the rank of `Φ_q`, singular positions;
 //! - [`branch`]: the structural groups of the linkage and their assembly-mode signs;
 //! - [`sweep`]: continuation over the input with branch tracking, dead centres, extremes;
+//! - [`continuation`]: sweeps continued through change points on the smooth motion;
 //! - [`fourbar`]: Grashof classification, transmission angle, closed-form four-bar;
 //! - [`kinetostatics`]: joint forces and driving effort from `M q̈ − Φ_qᵀ λ = Q`;
 //! - [`virtual_power`]: the driving effort from `Σ F·v + M ω = 0`;
@@ -32,6 +33,7 @@ pub mod assur;
 pub mod branch;
 pub mod catalog;
 pub mod constraints;
+pub mod continuation;
 pub mod description;
 pub mod fourbar;
 pub mod kinetostatics;
