@@ -82,36 +82,42 @@ pub fn linear_angle(inertia: f64, a: f64, b: f64, load: f64, omega0: f64, t: f64
 }
 
 /// A position-dependent reduced inertia `J(φ)` over one period of the machine shaft: a
-/// table of `(φ, J)` (and `dJ/dφ`: cubic Hermite between the rows; without it, linear),
-/// periodic with `period`.
+/// table of `(φ, J, dJ/dφ)`, cubic Hermite between the rows, periodic with `period`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InertiaTable {
     phi: Vec<f64>,
     j: Vec<f64>,
-    dj: Option<Vec<f64>>,
+    dj: Vec<f64>,
     period: f64,
 }
 
 impl InertiaTable {
-    /// Rows `(φ, J)` with increasing `φ` inside one `period`, linear between them (and from
-    /// the last row to the first plus a period).
-    pub fn linear(phi: Vec<f64>, j: Vec<f64>, period: f64) -> Self {
-        Self {
-            phi,
-            j,
-            dj: None,
-            period,
-        }
+    /// Rows `(φ, J)` with increasing `φ` inside one `period`, cubic Hermite between them
+    /// with the slopes of the neighbouring rows (periodic: the last row's neighbour is the
+    /// first a period on), so `J` and `J'` are continuous and the integrator meets no kink.
+    pub fn smooth(phi: Vec<f64>, j: Vec<f64>, period: f64) -> Self {
+        let n = phi.len();
+        let at = |k: isize| {
+            let m = k.rem_euclid(n as isize) as usize;
+            let turns = k.div_euclid(n as isize) as f64;
+            (phi[m] + turns * period, j[m])
+        };
+        let dj = (0..n as isize)
+            .map(|k| {
+                let ((x0, y0), (x1, y1)) = (at(k - 1), at(k + 1));
+                if n == 1 {
+                    0.0
+                } else {
+                    (y1 - y0) / (x1 - x0)
+                }
+            })
+            .collect();
+        Self::hermite(phi, j, dj, period)
     }
 
     /// Rows `(φ, J, dJ/dφ)`, cubic Hermite between them.
     pub fn hermite(phi: Vec<f64>, j: Vec<f64>, dj: Vec<f64>, period: f64) -> Self {
-        Self {
-            phi,
-            j,
-            dj: Some(dj),
-            period,
-        }
+        Self { phi, j, dj, period }
     }
 
     /// `(J(φ), dJ/dφ)`.
@@ -130,23 +136,18 @@ impl InertiaTable {
         let h = x1 - self.phi[k];
         let t = (x - self.phi[k]) / h;
         let (j0, j1) = (self.j[k], self.j[k1]);
-        match &self.dj {
-            None => (j0 + (j1 - j0) * t, (j1 - j0) / h),
-            Some(d) => {
-                let (m0, m1) = (d[k] * h, d[k1] * h);
-                let (t2, t3) = (t * t, t * t * t);
-                let val = (2.0 * t3 - 3.0 * t2 + 1.0) * j0
-                    + (t3 - 2.0 * t2 + t) * m0
-                    + (-2.0 * t3 + 3.0 * t2) * j1
-                    + (t3 - t2) * m1;
-                let der = ((6.0 * t2 - 6.0 * t) * j0
-                    + (3.0 * t2 - 4.0 * t + 1.0) * m0
-                    + (-6.0 * t2 + 6.0 * t) * j1
-                    + (3.0 * t2 - 2.0 * t) * m1)
-                    / h;
-                (val, der)
-            }
-        }
+        let (m0, m1) = (self.dj[k] * h, self.dj[k1] * h);
+        let (t2, t3) = (t * t, t * t * t);
+        let val = (2.0 * t3 - 3.0 * t2 + 1.0) * j0
+            + (t3 - 2.0 * t2 + t) * m0
+            + (-2.0 * t3 + 3.0 * t2) * j1
+            + (t3 - t2) * m1;
+        let der = ((6.0 * t2 - 6.0 * t) * j0
+            + (3.0 * t2 - 4.0 * t + 1.0) * m0
+            + (-6.0 * t2 + 6.0 * t) * j1
+            + (3.0 * t2 - 2.0 * t) * m1)
+            / h;
+        (val, der)
     }
 
     /// Smallest and largest tabulated `J`.

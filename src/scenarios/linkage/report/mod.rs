@@ -126,7 +126,7 @@ fn machine_motion_json(
         }
     } else {
         mm.inertia_table.as_ref().map(|t| {
-            machine_motion::InertiaTable::linear(
+            machine_motion::InertiaTable::smooth(
                 t.iter().map(|r| r.0).collect(),
                 t.iter().map(|r| r.1).collect(),
                 std::f64::consts::TAU,
