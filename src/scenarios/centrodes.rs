@@ -435,10 +435,13 @@ pub fn report(
     if let Some(e) = &sw.stopped {
         writeln!(text, "  the sweep stopped: {}", e.in_degrees()).ok();
     }
-    let clip = 20.0 * l.length_scale();
-    let series = |f: &dyn Fn(&crate::machines::instant_centres::CentrePoint) -> Option<Vec2>,
-                  label: &str,
-                  k: usize| Series {
+    let panels = plot_panels(&pts, 20.0 * l.length_scale(), &sc.relative_to, &sc.link);
+    finish_with_plot(ctx, out_dir, (&sc.name, NAME), (&panels, 2), j, text)
+}
+
+/// The two centrodes' panels (points farther than `clip` from the origin left out).
+fn plot_panels(pts: &[CentrePoint], clip: f64, reference: &str, link: &str) -> Vec<Panel> {
+    let series = |f: &dyn Fn(&CentrePoint) -> Option<Vec2>, label: &str, k: usize| Series {
         label: label.into(),
         points: pts
             .iter()
@@ -449,9 +452,9 @@ pub fn report(
         color: PALETTE[k],
         dashed: false,
     };
-    let panels = vec![
+    vec![
         Panel {
-            title: "fixed centrode (ground frame)".into(),
+            title: format!("fixed centrode ({reference} frame)"),
             x_desc: "x".into(),
             y_desc: "y".into(),
             series: vec![series(&|p| p.fixed, "fixed", 0)],
@@ -459,15 +462,14 @@ pub fn report(
             ..Default::default()
         },
         Panel {
-            title: "moving centrode (link frame)".into(),
+            title: format!("moving centrode ({link} frame)"),
             x_desc: "x".into(),
             y_desc: "y".into(),
             series: vec![series(&|p| p.moving, "moving", 1)],
             equal_aspect: true,
             ..Default::default()
         },
-    ];
-    finish_with_plot(ctx, out_dir, (&sc.name, NAME), (&panels, 2), j, text)
+    ]
 }
 
 /// A fitted centrode as JSON.

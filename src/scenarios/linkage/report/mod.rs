@@ -103,6 +103,30 @@ fn linkage_inertia_table(m: &MechanismScenario) -> Result<machine_motion::Inerti
     ))
 }
 
+/// The position-dependent inertia of a machine-motion section: its table, the linkage's
+/// `J_red(φ)`, or none; the error says why the linkage's cannot be had.
+fn machine_inertia_table(
+    mm: &MachineScenario,
+    mech: Option<&MechanismScenario>,
+) -> Result<Option<machine_motion::InertiaTable>, String> {
+    if mm.inertia_from_linkage {
+        return mech
+            .map_or(
+                Err("no linkage in the file".to_string()),
+                linkage_inertia_table,
+            )
+            .map(Some)
+            .map_err(|e| format!("machine motion: inertia_from_linkage: {e}"));
+    }
+    Ok(mm.inertia_table.as_ref().map(|t| {
+        machine_motion::InertiaTable::smooth(
+            t.iter().map(|r| r.0).collect(),
+            t.iter().map(|r| r.1).collect(),
+            std::f64::consts::TAU,
+        )
+    }))
+}
+
 /// Machine motion `J(φ) ω̇ + ½ J'(φ) ω² = u M_d(u ω) − M_c` by RK4, against the closed
 /// form for a linear drive characteristic and constant inertia, with the energy balance.
 fn machine_motion_json(
@@ -111,27 +135,13 @@ fn machine_motion_json(
     json: &mut Map<String, Value>,
     text: &mut String,
 ) {
-    let table = if mm.inertia_from_linkage {
-        match mech.map_or(
-            Err("no linkage in the file".to_string()),
-            linkage_inertia_table,
-        ) {
-            Ok(t) => Some(t),
-            Err(e) => {
-                let why = format!("machine motion: inertia_from_linkage: {e}");
-                json.insert("machine_motion".into(), json!({"error": why}));
-                let _ = writeln!(text, "\n{why}");
-                return;
-            }
+    let table = match machine_inertia_table(mm, mech) {
+        Ok(t) => t,
+        Err(why) => {
+            json.insert("machine_motion".into(), json!({"error": why}));
+            let _ = writeln!(text, "\n{why}");
+            return;
         }
-    } else {
-        mm.inertia_table.as_ref().map(|t| {
-            machine_motion::InertiaTable::smooth(
-                t.iter().map(|r| r.0).collect(),
-                t.iter().map(|r| r.1).collect(),
-                std::f64::consts::TAU,
-            )
-        })
     };
     let load = machine_motion::Characteristic(vec![mm.load]);
     let machine = machine_motion::GearedMachine {
