@@ -23,7 +23,11 @@ fn antiparallelogram_272_centrodes_are_equal_ellipses() {
     let v = run_json("scenarios/centrodes_antiparallelogram_272.toml");
     let fixed = points(&v["fixed"]);
     let moving = points(&v["moving"]);
-    assert!(fixed.len() >= 150, "{}", fixed.len());
+    // The sweep passes the change point at 180° (all links in line) on the crossed
+    // motion and closes the ellipses over the whole turn.
+    assert!(v["stopped"].is_null(), "{}", v["stopped"]);
+    assert_eq!(v["continued_through_deg"], serde_json::json!([180.0]));
+    assert_eq!(fixed.len(), 361, "{}", fixed.len());
     let d = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0).hypot(a.1 - b.1);
     // Fixed: foci A (0, 0) and D (0.03, 0); moving: foci at the coupler's pins B (0, 0)
     // and C (0.03, 0) in its frame; PA + PB = L = 0.06.
@@ -124,7 +128,173 @@ fn isosceles_slotted_lever_274_has_circles_a_25_and_b_50() {
     assert!((af - am).abs() < 1e-3 * af, "rolling: {af} vs {am}");
 }
 
+#[test]
+fn scotch_yoke_crank_rolls_on_the_yoke_as_a_cardan_pair() {
+    let v = run_json("scenarios/centrodes_scotch_yoke.toml");
+    assert_eq!(v["mechanism"], "scotch_yoke");
+    assert_eq!(
+        (v["link"].as_str(), v["relative_to"].as_str()),
+        (Some("AB"), Some("yoke"))
+    );
+    let r = 0.1;
+    let input: Vec<f64> = v["input_deg"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert_eq!(input.len(), 361);
+    for (k, phi) in input.iter().enumerate() {
+        let p = phi.to_radians();
+        // Fixed (yoke frame): (−r cos φ, r sin φ); moving (crank frame): (r sin²φ, r sin φ cos φ).
+        let (f, m) = (&v["fixed"][k], &v["moving"][k]);
+        let (x, y) = (f[0].as_f64().unwrap(), f[1].as_f64().unwrap());
+        assert!(
+            (x + r * p.cos()).abs() < 1e-12 && (y - r * p.sin()).abs() < 1e-12,
+            "{phi}"
+        );
+        let (u, w) = (m[0].as_f64().unwrap(), m[1].as_f64().unwrap());
+        assert!(
+            (u - r * p.sin() * p.sin()).abs() < 1e-12 && (w - r * p.sin() * p.cos()).abs() < 1e-12,
+            "{phi}"
+        );
+    }
+    let circle = |what: &str| {
+        let c = &v["fit"][what];
+        assert_eq!(c["kind"], "circle", "{what}: {c}");
+        let c = &c["circle"];
+        (
+            c["centre"][0].as_f64().unwrap(),
+            c["centre"][1].as_f64().unwrap(),
+            c["radius"].as_f64().unwrap(),
+        )
+    };
+    let (x, y, rad) = circle("fixed");
+    assert!(x.abs() < 1e-12 && y.abs() < 1e-12 && (rad - r).abs() < 1e-12);
+    let (x, y, rad) = circle("moving");
+    assert!((x - r / 2.0).abs() < 1e-12 && y.abs() < 1e-12 && (rad - r / 2.0).abs() < 1e-12);
+    // Kennedy's four-bar construction does not apply; the three-centres lines do.
+    assert!(v["kennedy_max_error"].is_null());
+    assert!(v["three_centres_max_error"].as_f64().unwrap() < 1e-12);
+    // Rolling: one crank turn moves the contact once round the yoke's circle (2π r) and
+    // twice round the crank's (2 · 2π r/2): both arcs 2π r.
+    let full = 2.0 * std::f64::consts::PI * r;
+    for k in ["arc_length_fixed", "arc_length_moving"] {
+        let a = v[k].as_f64().unwrap();
+        assert!((a - full).abs() < 1e-4 * full, "{k}: {a}");
+    }
+}
+
+#[test]
+fn antiparallelogram_272_long_links_relative_centrodes_are_hyperbolas() {
+    let v = run_json("scenarios/centrodes_antiparallelogram_272_long_links.toml");
+    assert!(v["stopped"].is_null(), "{}", v["stopped"]);
+    let d = |a: (f64, f64), b: (f64, f64)| (a.0 - b.0).hypot(a.1 - b.1);
+    // Foci A (0, 0), B (0.06, 0) on the crank; D (0, 0), C (0.06, 0) on the rocker:
+    // |PF1 − PF2| = s = 0.03 (focal distance L = 0.06).
+    for what in ["fixed", "moving"] {
+        let ps = points(&v[what]);
+        assert!(ps.len() >= 350, "{what}: {}", ps.len());
+        for &p in &ps {
+            let diff = (d(p, (0.0, 0.0)) - d(p, (0.06, 0.0))).abs();
+            assert!(
+                (diff - 0.03).abs() < 1e-9 * (1.0 + d(p, (0.0, 0.0)) / 0.06),
+                "{what}: {p:?} {diff}"
+            );
+        }
+        assert_eq!(v["fit"][what]["kind"], "curve");
+    }
+    // Through infinity where the short links are parallel: crank at 60° and 300°.
+    let inf: Vec<f64> = v["at_infinity_deg"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert_eq!(inf.len(), 2, "{inf:?}");
+    assert!(
+        (inf[0] - 60.0).abs() < 1e-9 && (inf[1] - 300.0).abs() < 1e-9,
+        "{inf:?}"
+    );
+    assert!(v["three_centres_max_error"].as_f64().unwrap() < 1e-12);
+}
+
+#[test]
+fn rocker_relative_to_crank_is_the_inverted_mechanisms_coupler_centrode() {
+    use armsim::machines::instant_centres::centrodes;
+    use armsim::machines::linkage::catalog;
+    use armsim::machines::linkage::position::NewtonOptions;
+    use armsim::machines::linkage::sweep::{sweep, SweepOptions};
+    let v = run_json("scenarios/centrodes_four_bar_rocker_vs_crank.toml");
+    assert!(v["stopped"].is_null());
+    let fixed = &v["fixed"];
+    let moving = &v["moving"];
+    // The inversion with the crank AB fixed: frame AB 0.04, crank AD 0.10, coupler DC
+    // 0.08, rocker BC 0.12; its input ψ (AD from AB) is −φ. Its coupler's fixed centrode
+    // is in AB's frame (A origin, B on +x), its moving one in DC's frame (D origin, C on
+    // +x), the frames of the relative centrodes.
+    let (g, a, b, c) = (0.04, 0.10, 0.08, 0.12);
+    let l = catalog::four_bar(g, a, b, c);
+    let opts = SweepOptions {
+        from: 0.0,
+        to: std::f64::consts::TAU,
+        step: 1f64.to_radians(),
+        assemble_at: 1f64.to_radians(),
+        newton: NewtonOptions::default(),
+    };
+    let mut best = f64::INFINITY;
+    for mode in [1.0, -1.0] {
+        let q = catalog::four_bar_guess(&l, (g, a, b, c), opts.assemble_at, mode).unwrap();
+        let sw = sweep(&l, &q, &opts).unwrap();
+        assert!(sw.stopped.is_none());
+        let inv = centrodes(&l, 1, &sw.samples);
+        assert_eq!(inv.len(), 361);
+        let mut worst = 0.0f64;
+        for k in 0..=360 {
+            let (p, rel_f, rel_m) = (&inv[(360 - k) % 360], &fixed[k], &moving[k]);
+            let (pf, pm) = (p.fixed.unwrap(), p.moving.unwrap());
+            worst = worst
+                .max(
+                    (pf.x - rel_f[0].as_f64().unwrap()).abs()
+                        + (pf.y - rel_f[1].as_f64().unwrap()).abs(),
+                )
+                .max(
+                    (pm.x - rel_m[0].as_f64().unwrap()).abs()
+                        + (pm.y - rel_m[1].as_f64().unwrap()).abs(),
+                );
+        }
+        best = best.min(worst);
+    }
+    assert!(best < 1e-9, "inversion mismatch {best}");
+    // Adjacent links: the coupler relative to the crank is the pin B itself.
+    let text = std::fs::read_to_string(
+        common::root().join("scenarios/centrodes_four_bar_rocker_vs_crank.toml"),
+    )
+    .unwrap()
+    .replace("link = \"DC\"", "link = \"BC\"");
+    let sc = armsim::scenarios::centrodes::parse("x.toml", &text).unwrap();
+    let ctx = armsim::scenarios::source::Source::new("x.toml", &text);
+    let r = armsim::scenarios::centrodes::report(&ctx, &sc, None).unwrap();
+    let fit = &r.json["fit"];
+    assert_eq!(fit["fixed"]["kind"], "point");
+    assert!((fit["fixed"]["mean"][0].as_f64().unwrap() - 0.04).abs() < 1e-12);
+    assert_eq!(fit["moving"]["kind"], "point");
+    assert!(fit["moving"]["mean"][0].as_f64().unwrap().abs() < 1e-12);
+}
+
 const BROKEN: &[(&str, usize, &str, &str)] = &[
+    (
+        "centrodes_unknown_link.toml",
+        3,
+        "link",
+        "no link 'XY' in the four_bar (its links: ground, AB, BC, DC)",
+    ),
+    (
+        "centrodes_same_link.toml",
+        4,
+        "relative_to",
+        "both 'AB'",
+    ),
     (
         "centrodes_crank_out_of_scale.toml",
         7,

@@ -1475,6 +1475,30 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "must be a radius in 0 … 1000 m, got -0.01",
     ),
     (
+        "linkage_machine_negative_ratio.toml",
+        6,
+        "machine_motion.ratio",
+        "must be a positive number between 1e-6 and 1e6",
+    ),
+    (
+        "linkage_machine_inertia_without_linkage.toml",
+        6,
+        "machine_motion.inertia_from_linkage",
+        "needs a linkage in the file driven by an angle over a full turn",
+    ),
+    (
+        "linkage_machine_inertia_table_order.toml",
+        6,
+        "machine_motion.inertia_deg[2]",
+        "the angles must increase",
+    ),
+    (
+        "linkage_instant_centres_nowhere.toml",
+        37,
+        "instant_centres",
+        "no input to report at",
+    ),
+    (
         "linkage_pin_radii_unknown_joint.toml",
         39,
         "kinetostatics.pin_radii.E",

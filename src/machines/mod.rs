@@ -4,7 +4,8 @@
 //! - [`linkage`]: closed-chain planar mechanisms (loop closure, velocities, mobility,
 //!   branches, sweeps, kinetostatics);
 //! - [`synthesis`]: four-bar and slider-crank synthesis, checked by the linkage solver;
-//! - [`instant_centres`]: instant centres and centrodes;
+//! - [`instant_centres`]: instant centres and centrodes; [`centrode_fit`]: a centrode's
+//!   fitted line or circle;
 //! - [`balancing`]: rotor correction masses, slider-crank counterweights, modal balancing
 //!   of flexible rotors;
 //! - [`flywheel`]: flywheel sizing and design, machine motion reduced to the input shaft;
@@ -16,6 +17,7 @@
 
 pub mod balancing;
 pub mod cams;
+pub mod centrode_fit;
 pub mod flywheel;
 pub mod friction;
 pub mod gearing;

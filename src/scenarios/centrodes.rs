@@ -7,11 +7,17 @@
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::plots::panels::{Panel, Series, PALETTE};
 use crate::io::report::Report;
-use crate::machines::instant_centres::{arc_lengths, centrodes, line_intersection, CentrePoint};
+use crate::machines::centrode_fit::{classify, CurveFit, CurveKind};
+use crate::machines::instant_centres::{
+    all_centres, arc_lengths, line_intersection, relative_centrodes, three_centres_error,
+    CentrePoint,
+};
 use crate::machines::linkage::catalog;
+use crate::machines::linkage::continuation::sweep_through;
 use crate::machines::linkage::description::Linkage;
+use crate::machines::linkage::description::GROUND;
 use crate::machines::linkage::position::NewtonOptions;
-use crate::machines::linkage::sweep::{sweep, State, SweepOptions};
+use crate::machines::linkage::sweep::{State, SweepOptions};
 use crate::machines::linkage::Vec2;
 use crate::scenarios::kit::{finish_with_plot, scenario_name};
 use crate::scenarios::source::Source;
@@ -35,7 +41,17 @@ struct File {
     four_bar: Option<FourBarIn>,
     slider_crank: Option<SliderCrankIn>,
     slotted_lever: Option<SlottedLeverIn>,
+    scotch_yoke: Option<ScotchYokeIn>,
+    link: Option<Spanned<String>>,
+    relative_to: Option<Spanned<String>>,
     step_deg: Option<F>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ScotchYokeIn {
+    crank: F,
+    start_deg: Option<F>,
 }
 
 #[derive(Deserialize)]
@@ -76,7 +92,61 @@ pub struct CentrodesScenario {
     slider_crank: Option<(f64, f64, f64, f64)>,
     /// `(g, r, start)`.
     slotted_lever: Option<(f64, f64, f64)>,
+    /// `(r, start)`.
+    scotch_yoke: Option<(f64, f64)>,
+    /// The link whose centrodes are traced.
+    link: String,
+    /// The link it moves relative to (`ground`: the frame).
+    relative_to: String,
     step: f64,
+}
+
+/// The links of each mechanism, its default traced link and default reference.
+fn mechanism_links(section: &str) -> (&'static [&'static str], &'static str, &'static str) {
+    match section {
+        "four_bar" => (&["ground", "AB", "BC", "DC"], "BC", "ground"),
+        "slider_crank" => (&["ground", "AB", "BC", "slider"], "BC", "ground"),
+        "slotted_lever" => (&["ground", "AB", "block", "lever"], "block", "ground"),
+        _ => (&["ground", "AB", "yoke"], "AB", "yoke"),
+    }
+}
+
+/// `link` and `relative_to`: names of the mechanism's links (defaults per mechanism),
+/// different from each other.
+fn link_pair(ctx: &Source, f: &File, section: &str) -> Result<(String, String), ScenarioError> {
+    let (names, dl, dr) = mechanism_links(section);
+    let pick = |v: &Option<Spanned<String>>, key: &str, default: &str| match v {
+        None => Ok(default.to_string()),
+        Some(n) if names.contains(&n.get_ref().as_str()) => Ok(n.get_ref().clone()),
+        Some(n) => Err(ctx.at(
+            n.span(),
+            key,
+            format!(
+                "no link '{}' in the {section} (its links: {})",
+                n.get_ref(),
+                names.join(", ")
+            ),
+        )),
+    };
+    let link = pick(&f.link, "link", dl)?;
+    let rel = pick(&f.relative_to, "relative_to", dr)?;
+    if link == rel {
+        let at = f
+            .relative_to
+            .as_ref()
+            .or(f.link.as_ref())
+            .expect("one was given");
+        return Err(ctx.at(
+            at.span(),
+            if f.relative_to.is_some() {
+                "relative_to"
+            } else {
+                "link"
+            },
+            format!("link and relative_to are both '{link}': give two different links"),
+        ));
+    }
+    Ok((link, rel))
 }
 
 /// Parses and validates `text` (the contents of `file`).
@@ -142,28 +212,48 @@ pub fn parse(file: &str, text: &str) -> Result<CentrodesScenario, ScenarioError>
                 .to_radians(),
         )),
     };
+    let scotch_yoke = match &f.scotch_yoke {
+        None => None,
+        Some(s) => Some((
+            ctx.length(&s.crank, "scotch_yoke.crank")?,
+            s.start_deg
+                .as_ref()
+                .map(|x| ctx.angle_deg(x, "scotch_yoke.start_deg"))
+                .transpose()?
+                .unwrap_or(45.0)
+                .to_radians(),
+        )),
+    };
     let given = [
         ("four_bar", four_bar.is_some()),
         ("slider_crank", slider_crank.is_some()),
         ("slotted_lever", slotted_lever.is_some()),
+        ("scotch_yoke", scotch_yoke.is_some()),
     ];
     match given.iter().filter(|g| g.1).count() {
         0 => Err(ScenarioError::new(
             file,
             Some(1),
             "file",
-            "no mechanism: add [four_bar], [slider_crank] or [slotted_lever]",
+            "no mechanism: add [four_bar], [slider_crank], [slotted_lever] or [scotch_yoke]",
         )),
-        1 => Ok(CentrodesScenario {
-            name: scenario_name(f.name.as_deref(), file),
-            four_bar,
-            slider_crank,
-            slotted_lever,
-            step,
-        }),
+        1 => {
+            let section = given.iter().find(|g| g.1).expect("one").0;
+            let (link, relative_to) = link_pair(&ctx, &f, section)?;
+            Ok(CentrodesScenario {
+                name: scenario_name(f.name.as_deref(), file),
+                four_bar,
+                slider_crank,
+                slotted_lever,
+                scotch_yoke,
+                link,
+                relative_to,
+                step,
+            })
+        }
         _ => Err(ctx.section(
             given.iter().rev().find(|g| g.1).map_or("file", |g| g.0),
-            "more than one mechanism: give one of [four_bar], [slider_crank] and [slotted_lever], not both",
+            "more than one mechanism: give one of [four_bar], [slider_crank], [slotted_lever] and [scotch_yoke], not both",
         )),
     }
 }
@@ -195,6 +285,10 @@ fn assemble(
             )
         })?;
         Ok((l, q, s0, "four_bar"))
+    } else if let Some((r, s0)) = sc.scotch_yoke {
+        let l = catalog::scotch_yoke(r);
+        let q = catalog::scotch_yoke_guess(&l, r, s0);
+        Ok((l, q, s0, "scotch_yoke"))
     } else if let Some((g, r, s0)) = sc.slotted_lever {
         let l = catalog::slotted_lever(g, r);
         let q = catalog::slotted_lever_guess(&l, g, r, s0).ok_or_else(|| {
@@ -269,19 +363,40 @@ pub fn report(
         assemble_at: start,
         newton: NewtonOptions::default(),
     };
-    let sw = sweep(&l, &guess, &opts)
+    let (sw, passed) = sweep_through(&l, &guess, &opts)
         .map_err(|e| ctx.section(section, format!("the linkage solver: {}", e.in_degrees())))?;
-    // The coupler (four-bar BC), the rod (slider-crank BC) or the block (slotted lever).
-    let body = 1;
-    let pts = centrodes(&l, body, &sw.samples);
-    let kennedy_err = kennedy_error(&l, sc, &sw.samples, &pts);
+    let body_of = |n: &str| l.link_id(n).unwrap_or(GROUND);
+    let (body, reference) = (body_of(&sc.link), body_of(&sc.relative_to));
+    let pts = relative_centrodes(&l, body, reference, &sw.samples);
+    // Kennedy's construction is written for the mechanism's own traced link on the frame.
+    let default = mechanism_links(section);
+    let kennedy = (section != "scotch_yoke" && sc.link == default.1 && reference == GROUND)
+        .then(|| kennedy_error(&l, sc, &sw.samples, &pts));
+    let three = sw
+        .samples
+        .iter()
+        .map(|st| three_centres_error(&all_centres(&l, &st.q, &st.dq)))
+        .fold(0.0, f64::max);
     let (af, am) = arc_lengths(&pts);
     let infinite: Vec<f64> = pts
         .iter()
         .filter(|p| p.fixed.is_none())
         .map(|p| p.input.to_degrees())
         .collect();
-    let mut text = format!("centrodes: {} ({})\n", sc.name, l.name);
+    let scale = l.length_scale();
+    let fit = |f: &dyn Fn(&CentrePoint) -> Option<Vec2>| {
+        let v: Vec<Vec2> = pts
+            .iter()
+            .filter_map(f)
+            .filter(|p| p.norm() < 1e3 * scale)
+            .collect();
+        classify(&v, 1e-6 * scale)
+    };
+    let (fit_fixed, fit_moving) = (fit(&|p| p.fixed), fit(&|p| p.moving));
+    let mut text = format!(
+        "centrodes: {} ({}): {} relative to {}\n",
+        sc.name, l.name, sc.link, sc.relative_to
+    );
     writeln!(
         text,
         "  {} positions over a turn; instant centre at infinity at {:?}°",
@@ -289,25 +404,44 @@ pub fn report(
         infinite
     )
     .ok();
-    writeln!(text, "  Kennedy's construction agrees within {kennedy_err:.3e}; arc lengths fixed {af:.6}, moving {am:.6} (finite runs)").ok();
+    if !passed.is_empty() {
+        let deg: Vec<f64> = passed.iter().map(|x| x.to_degrees()).collect();
+        writeln!(text, "  continued through change points at {deg:?}°").ok();
+    }
+    if let Some(k) = kennedy {
+        writeln!(text, "  Kennedy's construction agrees within {k:.3e}").ok();
+    }
+    writeln!(text, "  three-centres lines within {three:.3e}; arc lengths fixed {af:.6}, moving {am:.6} (finite runs)").ok();
+    for (what, f) in [("fixed", &fit_fixed), ("moving", &fit_moving)] {
+        if let Some(f) = f {
+            writeln!(text, "  {what} centrode: {}", fit_text(f)).ok();
+        }
+    }
     let j = json!({
         "kind": NAME, "name": sc.name, "mechanism": section,
-        "link": l.links[body].name,
+        "link": sc.link,
+        "relative_to": sc.relative_to,
         "input_deg": pts.iter().map(|p| p.input.to_degrees()).collect::<Vec<_>>(),
         "fixed": pts.iter().map(|p| pt(p.fixed)).collect::<Vec<_>>(),
         "moving": pts.iter().map(|p| pt(p.moving)).collect::<Vec<_>>(),
         "at_infinity_deg": infinite,
-        "kennedy_max_error": kennedy_err,
+        "kennedy_max_error": kennedy,
+        "three_centres_max_error": three,
         "arc_length_fixed": af, "arc_length_moving": am,
+        "fit": {"fixed": fit_fixed.as_ref().map(fit_json), "moving": fit_moving.as_ref().map(fit_json)},
+        "continued_through_deg": passed.iter().map(|x| x.to_degrees()).collect::<Vec<_>>(),
         "stopped": sw.stopped.as_ref().map(|e| e.in_degrees()),
     });
     if let Some(e) = &sw.stopped {
         writeln!(text, "  the sweep stopped: {}", e.in_degrees()).ok();
     }
-    let clip = 20.0 * l.length_scale();
-    let series = |f: &dyn Fn(&crate::machines::instant_centres::CentrePoint) -> Option<Vec2>,
-                  label: &str,
-                  k: usize| Series {
+    let panels = plot_panels(&pts, 20.0 * l.length_scale(), &sc.relative_to, &sc.link);
+    finish_with_plot(ctx, out_dir, (&sc.name, NAME), (&panels, 2), j, text)
+}
+
+/// The two centrodes' panels (points farther than `clip` from the origin left out).
+fn plot_panels(pts: &[CentrePoint], clip: f64, reference: &str, link: &str) -> Vec<Panel> {
+    let series = |f: &dyn Fn(&CentrePoint) -> Option<Vec2>, label: &str, k: usize| Series {
         label: label.into(),
         points: pts
             .iter()
@@ -318,9 +452,9 @@ pub fn report(
         color: PALETTE[k],
         dashed: false,
     };
-    let panels = vec![
+    vec![
         Panel {
-            title: "fixed centrode (ground frame)".into(),
+            title: format!("fixed centrode ({reference} frame)"),
             x_desc: "x".into(),
             y_desc: "y".into(),
             series: vec![series(&|p| p.fixed, "fixed", 0)],
@@ -328,15 +462,45 @@ pub fn report(
             ..Default::default()
         },
         Panel {
-            title: "moving centrode (link frame)".into(),
+            title: format!("moving centrode ({link} frame)"),
             x_desc: "x".into(),
             y_desc: "y".into(),
             series: vec![series(&|p| p.moving, "moving", 1)],
             equal_aspect: true,
             ..Default::default()
         },
-    ];
-    finish_with_plot(ctx, out_dir, (&sc.name, NAME), (&panels, 2), j, text)
+    ]
+}
+
+/// A fitted centrode as JSON.
+fn fit_json(f: &CurveFit) -> Value {
+    json!({
+        "kind": f.kind.name(),
+        "mean": [f.mean.x, f.mean.y],
+        "spread": f.spread,
+        "circle": f.circle.map(|c| json!({"centre": [c.centre.x, c.centre.y], "radius": c.radius, "max_residual": c.max_residual})),
+        "line": f.line.map(|c| json!({"point": [c.point.x, c.point.y], "direction": [c.direction.x, c.direction.y], "max_residual": c.max_residual})),
+    })
+}
+
+/// A fitted centrode in the text report.
+fn fit_text(f: &CurveFit) -> String {
+    match (f.kind, f.circle, f.line) {
+        (CurveKind::Point, _, _) => format!("the point ({:.6}, {:.6})", f.mean.x, f.mean.y),
+        (CurveKind::Line, _, Some(l)) => format!(
+            "a line through ({:.6}, {:.6}) along ({:.6}, {:.6}), residual {:.1e}",
+            l.point.x, l.point.y, l.direction.x, l.direction.y, l.max_residual
+        ),
+        (CurveKind::Circle, Some(c), _) => format!(
+            "a circle, centre ({:.6}, {:.6}), radius {:.6}, residual {:.1e}",
+            c.centre.x, c.centre.y, c.radius, c.max_residual
+        ),
+        _ => format!(
+            "a curve (best circle residual {})",
+            f.circle
+                .map_or("-".into(), |c| format!("{:.1e}", c.max_residual))
+        ),
+    }
 }
 
 /// The four-bar's frame, crank, coupler, rocker, assembly mode and start angle (rad),

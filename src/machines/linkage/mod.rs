@@ -17,24 +17,30 @@
 //! - [`mobility`]: Grübler's count checked by the rank of `Φ_q`, singular positions;
 //! - [`branch`]: the structural groups of the linkage and their assembly-mode signs;
 //! - [`sweep`]: continuation over the input with branch tracking, dead centres, extremes;
+//! - [`continuation`]: sweeps continued through change points on the smooth motion;
 //! - [`fourbar`]: Grashof classification, transmission angle, closed-form four-bar;
 //! - [`kinetostatics`]: joint forces and driving effort from `M q̈ − Φ_qᵀ λ = Q`;
 //! - [`virtual_power`]: the driving effort from `Σ F·v + M ω = 0`;
+//! - [`reduced`]: the reduced moment of inertia `J_red(φ)` and reduced moment `M_red(φ)`;
+//! - [`assur`]: the structure (initial mechanism, Assur groups, class);
 //! - [`catalog`]: standard linkages (slider-crank, four-bar, Scotch yoke) built in code.
 //!
 //! Synthesis, centrodes, balancing, flywheels and friction circles are siblings in
 //! [`crate::machines`]; loop closure on the spatial tree is
 //! [`crate::kinematics::spatial_loop`].
 
+pub mod assur;
 pub mod branch;
 pub mod catalog;
 pub mod constraints;
+pub mod continuation;
 pub mod description;
 pub mod fourbar;
 pub mod kinetostatics;
 pub mod mobility;
 pub mod planar;
 pub mod position;
+pub mod reduced;
 pub mod sweep;
 pub mod velocity;
 pub mod virtual_power;

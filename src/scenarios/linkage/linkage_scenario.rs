@@ -88,6 +88,8 @@ pub struct MechanismScenario {
     pub kinetostatics: Option<KinetostaticsScenario>,
     /// Counterweight, if asked for.
     pub counterweight: Option<CounterweightScenario>,
+    /// Inputs (rad or m) at which every relative instant centre is reported, if asked for.
+    pub instant_centres: Option<Vec<f64>>,
 }
 
 /// Rotor balancing settings.
@@ -102,9 +104,17 @@ pub struct RotorScenario {
 /// Machine-motion settings.
 #[derive(Clone, Debug)]
 pub struct MachineScenario {
-    /// Reduced inertia `J`.
+    /// The machine's constant reduced inertia `J_0` (on its shaft).
     pub inertia: f64,
-    /// Motor characteristic.
+    /// Gear ratio `u = ω_motor / ω_machine` (1: the motor on the machine shaft).
+    pub ratio: f64,
+    /// The motor rotor's inertia (on the motor shaft).
+    pub motor_inertia: f64,
+    /// A position-dependent reduced inertia table `(φ rad, J)` over a turn, added to `J_0`.
+    pub inertia_table: Option<Vec<(f64, f64)>>,
+    /// Whether the linkage's own `J_red(φ)` (its sweep over a full turn) is added to `J_0`.
+    pub inertia_from_linkage: bool,
+    /// Motor characteristic `M_motor(ω_motor)`.
     pub drive: Characteristic,
     /// Constant load torque.
     pub load: f64,

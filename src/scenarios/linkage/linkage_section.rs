@@ -75,6 +75,14 @@ pub(super) fn parse_mechanism(
         report_points_in_reach(cx, at, &ks.report_at, &sw, max_step)?;
     }
     let counterweight = parse_counterweight(cx, spec, &linkage, kinetostatics.is_some())?;
+    let instant_centres = match &spec.instant_centres {
+        None => None,
+        Some(c) => {
+            let at = parse_centres_at(cx, c, angle_input, &report_at)?;
+            report_points_in_reach(cx, (&c.span(), "instant_centres", rkey), &at, &sw, max_step)?;
+            Some(at)
+        }
+    };
     Ok(MechanismScenario {
         linkage,
         assembly,
@@ -93,7 +101,55 @@ pub(super) fn parse_mechanism(
         coupler_curves,
         kinetostatics,
         counterweight,
+        instant_centres,
     })
+}
+
+/// `[instant_centres]`: the inputs to report at (degrees for an angle driver, metres for
+/// a slide), the sweep's `report_at` by default; at least one.
+fn parse_centres_at(
+    cx: &Source,
+    c: &Spanned<crate::scenarios::linkage::linkage_spec::CentresSpec>,
+    angle_input: bool,
+    sweep_report: &[f64],
+) -> Result<Vec<f64>, ScenarioError> {
+    let span = c.span();
+    let s = c.get_ref();
+    let (wrong, right) = if angle_input {
+        ("report_at", "an angle driver: use report_at_deg")
+    } else {
+        ("report_at_deg", "a slide driver: use report_at (m)")
+    };
+    let given_wrong = if angle_input {
+        !s.report_at.is_empty()
+    } else {
+        !s.report_at_deg.is_empty()
+    };
+    if given_wrong {
+        return Err(cx.err(
+            cx.key_line(&span, wrong),
+            format!("instant_centres.{wrong}"),
+            right,
+        ));
+    }
+    let at: Vec<f64> = if angle_input {
+        s.report_at_deg.iter().map(|x| x.to_radians()).collect()
+    } else {
+        s.report_at.clone()
+    };
+    let at = if at.is_empty() {
+        sweep_report.to_vec()
+    } else {
+        at
+    };
+    if at.is_empty() {
+        return Err(cx.err(
+            cx.line(&span),
+            "instant_centres",
+            "no input to report at: give report_at_deg (or report_at) here or in [sweep]",
+        ));
+    }
+    Ok(at)
 }
 
 /// The links in file order, with the line each starts on.

@@ -26,6 +26,7 @@ pub(super) struct Spec {
     pub(super) four_bar: Option<Spanned<Vec<String>>>,
     pub(super) coupler_curves: Option<Spanned<Vec<String>>>,
     pub(super) kinetostatics: Option<Spanned<KinetoSpec>>,
+    pub(super) instant_centres: Option<Spanned<CentresSpec>>,
     #[serde(default)]
     pub(super) loads: Vec<Spanned<LoadSpec>>,
     pub(super) counterweight: Option<Spanned<CounterweightSpec>>,
@@ -119,6 +120,15 @@ pub(super) struct KinetoSpec {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
+pub(super) struct CentresSpec {
+    #[serde(default)]
+    pub(super) report_at_deg: Vec<f64>,
+    #[serde(default)]
+    pub(super) report_at: Vec<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 pub(super) struct LoadSpec {
     pub(super) link: String,
     pub(super) point: Option<String>,
@@ -159,7 +169,11 @@ pub(super) struct RotorSpec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct MachineSpec {
-    pub(super) inertia: f64,
+    pub(super) inertia: Option<f64>,
+    pub(super) ratio: Option<f64>,
+    pub(super) motor_inertia: Option<f64>,
+    pub(super) inertia_deg: Option<Vec<[f64; 2]>>,
+    pub(super) inertia_from_linkage: Option<bool>,
     pub(super) drive: Vec<f64>,
     pub(super) load: f64,
     #[serde(default)]

@@ -74,7 +74,7 @@ pub fn parse(file: &str, text: &str) -> Result<LinkageScenario, ScenarioError> {
         None => None,
     };
     let machine = match &spec.machine_motion {
-        Some(m) => Some(parse_machine(&cx, m)?),
+        Some(m) => Some(parse_machine(&cx, m, mechanism.as_ref())?),
         None => None,
     };
     if mechanism.is_none() && flywheel.is_none() && rotor.is_none() && machine.is_none() {

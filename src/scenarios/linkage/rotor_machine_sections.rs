@@ -1,10 +1,13 @@
 //! The `[rotor_balance]` and `[machine_motion]` sections: the rotor's masses and
-//! correction planes, and the machine's inertia, drive characteristic and time steps.
+//! correction planes, and the machine's inertia (constant, tabulated or the linkage's own,
+//! a motor behind a gear ratio), drive characteristic and time steps.
 
 use crate::core::diag::{all_finite, LocatedError as ScenarioError};
 use crate::machines::balancing::RotorMass;
 use crate::machines::flywheel::machine_motion::Characteristic;
-use crate::scenarios::linkage::linkage_scenario::{MachineScenario, RotorScenario};
+use crate::scenarios::linkage::linkage_scenario::{
+    MachineScenario, MechanismScenario, RotorScenario,
+};
 use crate::scenarios::linkage::linkage_spec::{MachineSpec, RotorSpec};
 use crate::scenarios::source::Source;
 use toml::Spanned;
@@ -94,16 +97,12 @@ pub(super) fn parse_rotor(
 pub(super) fn parse_machine(
     cx: &Source,
     m: &Spanned<MachineSpec>,
+    mechanism: Option<&MechanismScenario>,
 ) -> Result<MachineScenario, ScenarioError> {
     let span = m.span();
     let s = m.get_ref();
-    if !(s.inertia.is_finite() && s.inertia > 0.0) {
-        return Err(cx.err(
-            cx.key_line(&span, "inertia"),
-            "machine_motion.inertia",
-            "must be positive",
-        ));
-    }
+    let (inertia, ratio, motor_inertia, inertia_table, from_linkage) =
+        parse_machine_inertia(cx, &span, s, mechanism)?;
     if s.drive.is_empty() || !all_finite(&s.drive) {
         return Err(cx.err(
             cx.key_line(&span, "drive"),
@@ -134,11 +133,111 @@ pub(super) fn parse_machine(
         ));
     }
     Ok(MachineScenario {
-        inertia: s.inertia,
+        inertia,
+        ratio,
+        motor_inertia,
+        inertia_table,
+        inertia_from_linkage: from_linkage,
         drive: Characteristic(s.drive.clone()),
         load: s.load,
         omega0: s.omega0,
         t_end: s.t_end,
         dt,
     })
+}
+
+/// The machine-motion inertia keys: `(J_0, u, J_motor, table, from_linkage)`. Every
+/// number finite; `J_0`, `J_motor` and the table's values non-negative, `u` positive;
+/// the total at least somewhere positive; `inertia_from_linkage` needs a linkage driven
+/// by an angle over a full turn.
+#[allow(clippy::type_complexity)]
+fn parse_machine_inertia(
+    cx: &Source,
+    span: &std::ops::Range<usize>,
+    s: &MachineSpec,
+    mechanism: Option<&MechanismScenario>,
+) -> Result<(f64, f64, f64, Option<Vec<(f64, f64)>>, bool), ScenarioError> {
+    let err = |key: &str, msg: &str| {
+        cx.err(
+            cx.key_line(span, key),
+            format!("machine_motion.{key}"),
+            msg.to_string(),
+        )
+    };
+    let inertia = s.inertia.unwrap_or(0.0);
+    if !(inertia.is_finite() && inertia >= 0.0) {
+        return Err(err("inertia", "must be a finite number ≥ 0 (kg m²)"));
+    }
+    let ratio = s.ratio.unwrap_or(1.0);
+    if !(ratio.is_finite() && ratio > 0.0 && (1e-6..=1e6).contains(&ratio)) {
+        return Err(err(
+            "ratio",
+            "must be a positive number between 1e-6 and 1e6 (ω_motor / ω_machine)",
+        ));
+    }
+    let motor_inertia = s.motor_inertia.unwrap_or(0.0);
+    if !(motor_inertia.is_finite() && motor_inertia >= 0.0) {
+        return Err(err("motor_inertia", "must be a finite number ≥ 0 (kg m²)"));
+    }
+    let table = match &s.inertia_deg {
+        None => None,
+        Some(rows) => {
+            if rows.is_empty() {
+                return Err(err("inertia_deg", "give at least one [angle_deg, J] row"));
+            }
+            for (k, r) in rows.iter().enumerate() {
+                if !all_finite(r) || r[1] < 0.0 || !(0.0..360.0).contains(&r[0]) {
+                    return Err(cx.err(
+                        cx.key_line(span, "inertia_deg"),
+                        format!("machine_motion.inertia_deg[{k}]"),
+                        "each row is [angle_deg in [0, 360), J ≥ 0 (kg m²)]",
+                    ));
+                }
+                if k > 0 && r[0] <= rows[k - 1][0] {
+                    return Err(cx.err(
+                        cx.key_line(span, "inertia_deg"),
+                        format!("machine_motion.inertia_deg[{k}]"),
+                        "the angles must increase",
+                    ));
+                }
+            }
+            Some(rows.iter().map(|r| (r[0].to_radians(), r[1])).collect())
+        }
+    };
+    let from_linkage = s.inertia_from_linkage.unwrap_or(false);
+    if from_linkage {
+        if table.is_some() {
+            return Err(err(
+                "inertia_from_linkage",
+                "give inertia_deg or inertia_from_linkage, not both",
+            ));
+        }
+        let full_turn = mechanism.is_some_and(|m| {
+            m.angle_input
+                && ((m.sweep.to - m.sweep.from).abs() - std::f64::consts::TAU).abs() < 1e-9
+        });
+        if !full_turn {
+            return Err(err(
+                "inertia_from_linkage",
+                "needs a linkage in the file driven by an angle over a full turn (sweep 360°)",
+            ));
+        }
+    }
+    let table_max = table.as_ref().map_or(0.0, |t: &Vec<(f64, f64)>| {
+        t.iter().map(|r| r.1).fold(0.0, f64::max)
+    });
+    let table_min = table.as_ref().map_or(0.0, |t: &Vec<(f64, f64)>| {
+        t.iter().map(|r| r.1).fold(f64::INFINITY, f64::min)
+    });
+    if inertia + motor_inertia * ratio * ratio + table_min <= 0.0 && !from_linkage {
+        return Err(err(
+            "inertia",
+            if table_max > 0.0 {
+                "the reduced inertia J_0 + J_motor u² + J_table(φ) must be positive at every angle"
+            } else {
+                "must be positive (or give motor_inertia, inertia_deg or inertia_from_linkage)"
+            },
+        ));
+    }
+    Ok((inertia, ratio, motor_inertia, table, from_linkage))
 }

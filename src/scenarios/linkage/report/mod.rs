@@ -2,6 +2,7 @@
 //! of `armsim run --json` and the text summary. The keys are listed in
 //! `docs/mechanism.md`.
 
+mod centres_report;
 mod sweep_report;
 mod sweep_rows;
 
@@ -9,8 +10,9 @@ use crate::io::report::Report;
 use crate::machines::balancing::{self};
 use crate::machines::flywheel;
 use crate::machines::flywheel::machine_motion;
+use crate::machines::linkage::{reduced, sweep};
 use crate::scenarios::linkage::linkage_scenario::{
-    LinkageScenario, MachineScenario, RotorScenario,
+    LinkageScenario, MachineScenario, MechanismScenario, RotorScenario,
 };
 use crate::scenarios::linkage::report::sweep_report::mechanism;
 use serde_json::{json, Map, Value};
@@ -70,16 +72,99 @@ fn rotor_balance(r: &RotorScenario, json: &mut Map<String, Value>, text: &mut St
     );
 }
 
-/// Machine motion `J ω̇ = M_d(ω) − M_c` by RK4, against the closed form for a linear
-/// drive characteristic.
-fn machine_motion_json(mm: &MachineScenario, json: &mut Map<String, Value>, text: &mut String) {
+/// The linkage's reduced inertia over its full-turn sweep as a Hermite table
+/// (`J_red`, `dJ_red/dφ` at every sample), or why not.
+fn linkage_inertia_table(m: &MechanismScenario) -> Result<machine_motion::InertiaTable, String> {
+    let l = &m.linkage;
+    let sw = sweep::sweep(l, &m.assembly, &m.sweep).map_err(|e| e.to_string())?;
+    if let Some(e) = &sw.stopped {
+        return Err(format!("the sweep stopped: {e}"));
+    }
+    let mut rows: Vec<(f64, f64, f64)> = sw
+        .samples
+        .iter()
+        .map(|st| {
+            let (j, dj) = reduced::reduced_inertia(l, &st.dq, &st.ddq);
+            (st.s, j, dj)
+        })
+        .collect();
+    rows.pop(); // the last sample repeats the first, a turn later
+    if m.sweep.to < m.sweep.from {
+        rows.reverse();
+    }
+    if rows.iter().all(|r| r.1 <= 0.0) {
+        return Err("the linkage has no mass or inertia".into());
+    }
+    Ok(machine_motion::InertiaTable::hermite(
+        rows.iter().map(|r| r.0).collect(),
+        rows.iter().map(|r| r.1).collect(),
+        rows.iter().map(|r| r.2).collect(),
+        std::f64::consts::TAU,
+    ))
+}
+
+/// The position-dependent inertia of a machine-motion section: its table, the linkage's
+/// `J_red(φ)`, or none; the error says why the linkage's cannot be had.
+fn machine_inertia_table(
+    mm: &MachineScenario,
+    mech: Option<&MechanismScenario>,
+) -> Result<Option<machine_motion::InertiaTable>, String> {
+    if mm.inertia_from_linkage {
+        return mech
+            .map_or(
+                Err("no linkage in the file".to_string()),
+                linkage_inertia_table,
+            )
+            .map(Some)
+            .map_err(|e| format!("machine motion: inertia_from_linkage: {e}"));
+    }
+    Ok(mm.inertia_table.as_ref().map(|t| {
+        machine_motion::InertiaTable::smooth(
+            t.iter().map(|r| r.0).collect(),
+            t.iter().map(|r| r.1).collect(),
+            std::f64::consts::TAU,
+        )
+    }))
+}
+
+/// Machine motion `J(φ) ω̇ + ½ J'(φ) ω² = u M_d(u ω) − M_c` by RK4, against the closed
+/// form for a linear drive characteristic and constant inertia, with the energy balance.
+fn machine_motion_json(
+    mm: &MachineScenario,
+    mech: Option<&MechanismScenario>,
+    json: &mut Map<String, Value>,
+    text: &mut String,
+) {
+    let table = match machine_inertia_table(mm, mech) {
+        Ok(t) => t,
+        Err(why) => {
+            json.insert("machine_motion".into(), json!({"error": why}));
+            let _ = writeln!(text, "\n{why}");
+            return;
+        }
+    };
     let load = machine_motion::Characteristic(vec![mm.load]);
-    let h = machine_motion::integrate(mm.inertia, &mm.drive, &load, mm.omega0, mm.t_end, mm.dt);
+    let machine = machine_motion::GearedMachine {
+        ratio: mm.ratio,
+        motor_inertia: mm.motor_inertia,
+        inertia: mm.inertia,
+        table: table.as_ref(),
+        drive: &mm.drive,
+        load: &load,
+    };
+    let h = machine_motion::integrate_geared(&machine, (0.0, mm.omega0), mm.t_end, mm.dt);
+    let u = mm.ratio;
+    let j_const = mm.inertia + mm.motor_inertia * u * u;
+    let (j_lo, j_hi) = table.as_ref().map_or((0.0, 0.0), |t| t.range());
+    // Linear motor M_d = a − b ω_motor: on the machine shaft u a − u² b ω.
     let linear = mm.drive.0.len() <= 2;
-    let (a, b) = (mm.drive.0[0], mm.drive.0.get(1).map(|x| -x).unwrap_or(0.0));
+    let (a, b) = (
+        u * mm.drive.0[0],
+        u * u * mm.drive.0.get(1).map(|x| -x).unwrap_or(0.0),
+    );
+    let closed_ok = linear && b != 0.0 && table.is_none();
     let closed = |t: f64| {
-        (linear && b != 0.0)
-            .then(|| machine_motion::linear_speed(mm.inertia, a, b, mm.load, mm.omega0, t))
+        closed_ok.then(|| machine_motion::linear_speed(j_const, a, b, mm.load, mm.omega0, t))
     };
     let mut max_err: Option<f64> = None;
     for (t, w) in h.t.iter().zip(&h.omega) {
@@ -88,46 +173,68 @@ fn machine_motion_json(mm: &MachineScenario, json: &mut Map<String, Value>, text
         }
     }
     let every = (h.t.len() / 100).max(1);
-    let series: Vec<Value> = h
-        .t
-        .iter()
-        .zip(&h.omega)
-        .zip(&h.phi)
-        .enumerate()
-        .filter(|(k, _)| k % every == 0 || *k + 1 == h.t.len())
-        .map(|(_, ((t, w), p))| json!({"t": t, "omega": w, "phi": p, "omega_closed_form": closed(*t)}))
+    let series: Vec<Value> = (0..h.t.len())
+        .filter(|k| k % every == 0 || *k + 1 == h.t.len())
+        .map(|k| {
+            json!({"t": h.t[k], "omega": h.omega[k], "omega_motor": u * h.omega[k], "phi": h.phi[k],
+                   "reduced_inertia": machine.reduced_inertia(h.phi[k]).0, "omega_closed_form": closed(h.t[k])})
+        })
         .collect();
-    let steady = (linear && b != 0.0).then(|| (a - mm.load) / b);
+    let n = h.t.len() - 1;
+    let ke = |k: usize| 0.5 * machine.reduced_inertia(h.phi[k]).0 * h.omega[k] * h.omega[k];
+    let (d_ke, work) = (ke(n) - ke(0), h.work[n]);
+    let steady = closed_ok.then(|| (a - mm.load) / b);
     let _ = writeln!(
         text,
-        "\nmachine motion: J = {} kg m², M_d(ω) = {:?}, load {} N m, from ω0 = {}: ω({}) = {:.9} rad/s{}",
+        "\nmachine motion: J = {} kg m²{}{}, M_d(ω) = {:?}, load {} N m, from ω0 = {}: ω({}) = {:.9} rad/s{}",
         mm.inertia,
+        if u != 1.0 || mm.motor_inertia != 0.0 {
+            format!(" + motor {} kg m² through u = {u} (J_motor u² = {})", mm.motor_inertia, mm.motor_inertia * u * u)
+        } else {
+            String::new()
+        },
+        if table.is_some() {
+            format!(" + J(φ) in [{j_lo:.6}, {j_hi:.6}]")
+        } else {
+            String::new()
+        },
         mm.drive.0,
         mm.load,
         mm.omega0,
         mm.t_end,
-        h.omega.last().copied().unwrap_or(f64::NAN),
+        h.omega[n],
         match (steady, max_err) {
             (Some(s), Some(e)) => format!(
                 "; closed form ω(t) = {s} + ({} − {s}) e^(−{} t): largest RK4 error {e:.2e} rad/s",
                 mm.omega0,
-                b / mm.inertia
+                b / j_const
             ),
             _ => String::new(),
         }
+    );
+    let _ = writeln!(
+        text,
+        "  energy: ½ J(φ) ω² changed by {d_ke:.6} J, work of the torques {work:.6} J"
     );
     json.insert(
         "machine_motion".into(),
         json!({
             "inertia": mm.inertia,
+            "ratio": u,
+            "motor_inertia": mm.motor_inertia,
+            "reduced_inertia": {
+                "source": if mm.inertia_from_linkage { "linkage" } else if table.is_some() { "table" } else { "constant" },
+                "min": j_const + j_lo, "max": j_const + j_hi,
+            },
             "drive": mm.drive.0,
             "load": mm.load,
             "omega0": mm.omega0,
             "dt": mm.dt,
             "steady_speed": steady,
-            "time_constant": (linear && b != 0.0).then(|| mm.inertia / b),
+            "time_constant": closed_ok.then(|| j_const / b),
             "max_error_vs_closed_form": max_err,
-            "final": {"t": h.t.last(), "omega": h.omega.last(), "phi": h.phi.last()},
+            "energy_check": {"kinetic_energy_change": d_ke, "work": work, "difference": d_ke - work},
+            "final": {"t": h.t[n], "omega": h.omega[n], "omega_motor": u * h.omega[n], "phi": h.phi[n]},
             "series": series,
         }),
     );
@@ -186,7 +293,7 @@ pub fn report(sc: &LinkageScenario, kind_name: &str) -> Report {
         rotor_balance(r, &mut json, &mut text);
     }
     if let Some(mm) = &sc.machine {
-        machine_motion_json(mm, &mut json, &mut text);
+        machine_motion_json(mm, sc.mechanism.as_ref(), &mut json, &mut text);
     }
     Report {
         json: Value::Object(json),

@@ -13,6 +13,7 @@ use crate::machines::linkage::Vec2;
 use crate::scenarios::linkage::linkage_scenario::{
     CounterweightScenario, KinetostaticsScenario, MechanismScenario,
 };
+use crate::scenarios::linkage::report::centres_report::{centres_at, structure_json};
 use crate::scenarios::linkage::report::sweep_rows::{
     deg360, extremes_json, named_points, point_world, state_at, v2, ReportCtx, Row,
 };
@@ -564,6 +565,10 @@ pub(super) fn mechanism(
         at.push(ctx.sample_json(&r, &sw.groups, &dead));
     }
     json.insert("at".into(), Value::Array(at));
+    structure_json(l, json, text);
+    if let Some(at) = &m.instant_centres {
+        instant_centres(&ctx, at, (&tracker, &sw.samples), json, text);
+    }
     let k = m.kinetostatics.as_ref()?;
     kinetostatics_section(
         &ctx,
@@ -573,6 +578,58 @@ pub(super) fn mechanism(
         json,
         text,
     )
+}
+
+/// `"instant_centres"`: every relative centre at the inputs asked for.
+fn instant_centres(
+    ctx: &ReportCtx,
+    at: &[f64],
+    (tracker, samples): (&Tracker, &[State]),
+    json: &mut Map<String, Value>,
+    text: &mut String,
+) {
+    let mut out = Vec::new();
+    let mut worst = 0.0f64;
+    for &s in at {
+        let Some(st) = state_at(tracker, samples, s) else {
+            continue;
+        };
+        let (c, e) = centres_at(ctx.l, &st, ctx.m.speed);
+        worst = worst.max(e);
+        let _ = writeln!(
+            text,
+            "instant centres at {:.4}{} (three-centres line within {e:.2e} m):",
+            ctx.input(s),
+            ctx.unit()
+        );
+        for p in &c {
+            let _ = writeln!(
+                text,
+                "  {}: {}",
+                p["label"].as_str().unwrap_or(""),
+                match (&p["point"], &p["direction_at_infinity"]) {
+                    (Value::Array(x), _) => format!(
+                        "({:.6}, {:.6})",
+                        x[0].as_f64().unwrap_or(f64::NAN),
+                        x[1].as_f64().unwrap_or(f64::NAN)
+                    ),
+                    (_, Value::Array(d)) => format!(
+                        "at infinity toward ({:.6}, {:.6})",
+                        d[0].as_f64().unwrap_or(f64::NAN),
+                        d[1].as_f64().unwrap_or(f64::NAN)
+                    ),
+                    _ => "undefined (no relative motion)".into(),
+                }
+            );
+        }
+        out.push(
+            json!({ctx.input_key(): ctx.input(s), "centres": c, "three_centres_max_error": e}),
+        );
+    }
+    json.insert(
+        "instant_centres".into(),
+        json!({"at": out, "three_centres_max_error": worst}),
+    );
 }
 
 fn counterweight(

@@ -5,6 +5,7 @@
 use crate::machines::linkage::description::Linkage;
 use crate::machines::linkage::fourbar;
 use crate::machines::linkage::kinetostatics::{self, Loads};
+use crate::machines::linkage::reduced;
 use crate::machines::linkage::sweep::{stationary_states, State, Tracker};
 use crate::machines::linkage::virtual_power;
 use crate::machines::linkage::Vec2;
@@ -166,6 +167,15 @@ impl ReportCtx<'_> {
             },
         );
         o.insert("residual".into(), json!(r.st.residual));
+        let (jr, djr) = reduced::reduced_inertia(l, &r.st.dq, &r.st.ddq);
+        o.insert("reduced_inertia".into(), json!(jr));
+        o.insert("reduced_inertia_derivative".into(), json!(djr));
+        if let Some(k) = &self.m.kinetostatics {
+            o.insert(
+                "reduced_moment".into(),
+                json!(reduced::reduced_moment(l, &r.st.q, &r.st.dq, &k.loads)),
+            );
+        }
         o.insert("dead_centre".into(), json!(dead));
         if let Some((k, vp)) = &r.kin {
             o.insert("driving".into(), json!(k.driving));
@@ -303,6 +313,12 @@ pub(super) fn extremes_json(ctx: &ReportCtx, tracker: &Tracker, rows: &[Row]) ->
     let mut out = Map::new();
     out.insert("points".into(), Value::Object(pts));
     out.insert("links".into(), Value::Object(links));
+    out.insert(
+        "reduced_inertia".into(),
+        extreme(ctx, &all, &|st| {
+            reduced::reduced_inertia(l, &st.dq, &st.ddq).0
+        }),
+    );
     if ctx.m.four_bar.is_some() {
         out.insert(
             "transmission_angle_deg".into(),
