@@ -345,6 +345,42 @@ fn shoe_brake_scenario_torques() {
 
 const BROKEN: &[(&str, usize, &str, &str)] = &[
     (
+        "friction_wheel_weight_on_rollers.toml",
+        8,
+        "element[0].wheel_weight",
+        "applies to wheels on axles",
+    ),
+    (
+        "friction_bodies_masses_and_weights.toml",
+        4,
+        "connected_bodies[0].masses",
+        "one of the two",
+    ),
+    (
+        "friction_bodies_pulley_count.toml",
+        6,
+        "connected_bodies[0].pulley_efficiency",
+        "has 1 values, expected 2",
+    ),
+    (
+        "friction_bodies_slack_rope.toml",
+        6,
+        "connected_bodies[0].slopes_deg",
+        "a rope goes slack",
+    ),
+    (
+        "friction_bodies_slope_range.toml",
+        6,
+        "connected_bodies[0].slopes_deg",
+        "must be in [-90, 90], got 120",
+    ),
+    (
+        "friction_bodies_static_below_kinetic.toml",
+        7,
+        "connected_bodies[0].static_friction",
+        "below the kinetic one",
+    ),
+    (
         "friction_unknown_key.toml",
         6,
         "element.lod",
@@ -694,4 +730,161 @@ fn three_different_pins_take_each_its_own_friction_circle() {
         0.03 * first,
         "converged",
     );
+}
+
+fn cb(v: &Value, i: usize, k: &str) -> f64 {
+    v["connected_bodies"][i][k]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{k}"))
+}
+
+fn tension(v: &Value, i: usize, rope: usize, end: usize) -> f64 {
+    v["connected_bodies"][i]["tensions_N"][rope][end]
+        .as_f64()
+        .unwrap()
+}
+
+#[test]
+fn block_on_an_incline_pulled_by_a_hanging_weight_by_newtons_second_law() {
+    let v = run_json("scenarios/friction_connected_bodies.toml");
+    let g = 9.81_f64;
+    let (s, c) = (30f64.to_radians().sin(), 30f64.to_radians().cos());
+    // a) 10 kg up the 30° plane (f = 0.2), 8 kg falling: (m1 + m2) a = m2 g − m1 g (sin + f cos).
+    let a = (8.0 * g - 10.0 * g * (s + 0.2 * c)) / 18.0;
+    assert_eq!(v["connected_bodies"][0]["motion"], "forward");
+    close(cb(&v, 0, "acceleration_mps2"), a, 1e-12, "a) a");
+    close(a, 0.69103, 1e-5, "a) a by hand");
+    close(
+        tension(&v, 0, 0, 0),
+        8.0 * (g - a),
+        1e-10,
+        "a) T = m2 (g − a)",
+    );
+    close(tension(&v, 0, 0, 1), 72.952, 1e-3, "a) T");
+    // b) 6 kg, static 0.25: 6g lies between 10g(sin − 0.25 cos) and 10g(sin + 0.25 cos).
+    let b = &v["connected_bodies"][1];
+    assert_eq!(b["motion"], "rest");
+    assert_eq!(b["acceleration_mps2"], 0.0);
+    assert!(b.get("tensions_N").is_none());
+    close(
+        cb(&v, 1, "start_forward_N"),
+        10.0 * g * (s + 0.25 * c) - 6.0 * g,
+        1e-10,
+        "b) start up",
+    );
+    close(
+        cb(&v, 1, "start_forward_N"),
+        11.4293,
+        1e-4,
+        "b) start up by hand",
+    );
+    close(
+        cb(&v, 1, "start_backward_N"),
+        6.0 * g - 10.0 * g * (s - 0.25 * c),
+        1e-10,
+        "b) start down",
+    );
+    close(
+        cb(&v, 1, "uniform_forward_N"),
+        10.0 * g * (s + 0.2 * c) - 6.0 * g,
+        1e-10,
+        "b) uniformly up",
+    );
+    // c) 2 kg: the block slides down: (m1 + m2) a = m2 g − m1 g (sin − f cos) < 0.
+    assert_eq!(v["connected_bodies"][2]["motion"], "backward");
+    let a = (2.0 * g - 10.0 * g * (s - 0.2 * c)) / 12.0;
+    close(cb(&v, 2, "acceleration_mps2"), a, 1e-12, "c) a");
+    close(tension(&v, 2, 0, 0), 2.0 * (g - a), 1e-10, "c) T");
+    // Moving from rest, the resistance is f N on the block alone.
+    close(
+        v["connected_bodies"][2]["resistance_N"][0]
+            .as_f64()
+            .unwrap(),
+        0.2 * 10.0 * g * c,
+        1e-10,
+        "c) R",
+    );
+}
+
+#[test]
+fn two_inclines_over_a_lossy_pulley_and_a_cart_between_two_weights() {
+    let v = run_json("scenarios/friction_connected_bodies.toml");
+    let g = 9.81_f64;
+    let (s30, c30) = (30f64.to_radians().sin(), 30f64.to_radians().cos());
+    let (s60, c60) = (60f64.to_radians().sin(), 60f64.to_radians().cos());
+    // d) 12 kg slides down 60° (f = 0.15) pulling 10 kg up 30° (f = 0.1); the pulley
+    // passes η = 0.95 of the falling side's tension: T0 = 0.95 T1,
+    // 12 a = 12 g (sin 60 − 0.15 cos 60) − T1, 10 a = T0 − 10 g (sin 30 + 0.1 cos 30).
+    let (d1, d0) = (12.0 * g * (s60 - 0.15 * c60), 10.0 * g * (s30 + 0.1 * c30));
+    let a = (0.95 * d1 - d0) / (10.0 + 0.95 * 12.0);
+    close(cb(&v, 3, "acceleration_mps2"), a, 1e-12, "d) a");
+    let t1 = d1 - 12.0 * a;
+    close(tension(&v, 3, 0, 1), t1, 1e-10, "d) T at the falling block");
+    close(
+        tension(&v, 3, 0, 0),
+        0.95 * t1,
+        1e-10,
+        "d) T at the rising block",
+    );
+    close(
+        10.0 * a,
+        tension(&v, 3, 0, 0) - d0,
+        1e-10,
+        "d) the rising block's equation",
+    );
+    // e) 5 kg rising, a 20 kg cart (w = 0.012, wheels J/R² = 1.5 kg) on the table, 10 kg
+    // falling, both pulleys η = 0.98. Each body's equation with its rope ends:
+    // 10 a = 10 g − T1f; 21.5 a = T1b − T0f − 0.012·20 g; 5 a = T0b − 5 g;
+    // T1b = 0.98 T1f, T0b = 0.98 T0f.
+    let e = 0.98_f64;
+    let a = (e * e * 10.0 * g - e * 0.012 * 20.0 * g - 5.0 * g) / (5.0 + e * 21.5 + e * e * 10.0);
+    close(cb(&v, 4, "acceleration_mps2"), a, 1e-12, "e) a");
+    let t1f = 10.0 * (g - a);
+    let t0f = e * t1f - 21.5 * a - 0.012 * 20.0 * g;
+    close(
+        tension(&v, 4, 1, 1),
+        t1f,
+        1e-10,
+        "e) T1 at the falling weight",
+    );
+    close(tension(&v, 4, 1, 0), e * t1f, 1e-10, "e) T1 at the cart");
+    close(tension(&v, 4, 0, 1), t0f, 1e-10, "e) T0 at the cart");
+    close(
+        tension(&v, 4, 0, 0),
+        e * t0f,
+        1e-10,
+        "e) T0 at the rising weight",
+    );
+    close(
+        5.0 * a,
+        e * t0f - 5.0 * g,
+        1e-10,
+        "e) the rising weight's equation",
+    );
+}
+
+#[test]
+fn cart_pull_counts_the_wheels_weight_at_the_rail_only() {
+    let v = run_json("scenarios/friction_rolling_cart_wheel_weight.toml");
+    // P = [(Q + G_w) k + Q f r]/R with Q = 20 000, G_w = 4 × 500, k = 0.0005, f = 0.08,
+    // r = 0.03, R = 0.2.
+    let (q, gw, k, f, r, rr) = (20000.0, 2000.0, 0.0005, 0.08, 0.03, 0.2);
+    close(
+        g(&v, 0, "force_N"),
+        ((q + gw) * k + q * f * r) / rr,
+        1e-9,
+        "P",
+    );
+    close(g(&v, 0, "force_N"), 295.0, 1e-9, "P by hand");
+    close(g(&v, 0, "rolling_N"), 55.0, 1e-9, "rail");
+    close(g(&v, 0, "journal_N"), 240.0, 1e-9, "journals");
+    close(g(&v, 0, "wheels_weight_N"), 2000.0, 1e-9, "G_w");
+    // Without the wheels' weight: the old Q (f d2 + 2k)/d1.
+    close(
+        g(&v, 1, "force_N"),
+        q * (f * 0.06 + 2.0 * k) / 0.4,
+        1e-9,
+        "no G_w",
+    );
+    close(g(&v, 1, "force_N"), 290.0, 1e-9, "no G_w by hand");
 }

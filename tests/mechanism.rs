@@ -1003,6 +1003,123 @@ fn slider_crank_kinetostatics_report_prints_both_methods() {
 }
 
 #[test]
+fn slider_crank_fully_balanced_by_rod_and_crank_counterweights() {
+    let v = report_json("scenarios/slider_crank_full_balance.toml");
+    let fb = &v["counterweight"]["full_balance"];
+    let (r, l, c1, c2) = (0.074_f64, 0.2_f64, 0.02, 0.06);
+    let (m1, m2, m3, e, rho) = (10.0, 0.5, 0.4, 0.05, 0.05);
+    let mr = (m2 * c2 + m3 * l) / e;
+    let mc = (m1 * c1 + (m2 + m3 + mr) * r) / rho;
+    close(fb["rod_mass"].as_f64().unwrap(), mr, 1e-12, "m_r");
+    close(mr, 2.2, 1e-12, "m_r by hand");
+    close(fb["crank_mass"].as_f64().unwrap(), mc, 1e-12, "m_c");
+    close(mc, 8.588, 1e-12, "m_c by hand");
+    close(
+        fb["rod_position"][0].as_f64().unwrap(),
+        -e,
+        1e-12,
+        "beyond B",
+    );
+    close(
+        fb["crank_position"][0].as_f64().unwrap(),
+        -rho,
+        1e-12,
+        "beyond A",
+    );
+    // The total centre of mass over a turn, by hand: B = r(cos φ, sin φ), C on the x axis,
+    // the rod's points along B→C, the crank's along A→B.
+    let mut first: Option<(f64, f64)> = None;
+    for k in 0..72 {
+        let phi = (k as f64 * 5.0).to_radians();
+        let b = (r * phi.cos(), r * phi.sin());
+        let c = (b.0 + (l * l - b.1 * b.1).sqrt(), 0.0);
+        let (ux, uy) = ((c.0 - b.0) / l, (c.1 - b.1) / l);
+        let pts = [
+            (m1, c1 / r * b.0, c1 / r * b.1),
+            (mc, -rho / r * b.0, -rho / r * b.1),
+            (m2, b.0 + c2 * ux, b.1 + c2 * uy),
+            (mr, b.0 - e * ux, b.1 - e * uy),
+            (m3, c.0, c.1),
+        ];
+        let mx: f64 = pts.iter().map(|p| p.0 * p.1).sum();
+        let my: f64 = pts.iter().map(|p| p.0 * p.2).sum();
+        let f = *first.get_or_insert((mx, my));
+        assert!(
+            (mx - f.0).abs() < 1e-12 && (my - f.1).abs() < 1e-12,
+            "φ = {k}·5°"
+        );
+    }
+    // The linkage solver's shaking force (from its joint forces) vanishes too.
+    let cw = &v["counterweight"];
+    let before = cw["max_shaking_force_before"].as_f64().unwrap();
+    let after = cw["max_shaking_force_after"].as_f64().unwrap();
+    assert!(
+        before > 1000.0 && after < 1e-6 * before,
+        "{before} → {after}"
+    );
+}
+
+#[test]
+fn gear_balancers_cancel_the_primary_and_secondary_reciprocating_force() {
+    let v = report_json("scenarios/slider_crank_gear_balancer.toml");
+    let gb = &v["counterweight"]["gear_balancers"];
+    let (r, l, w) = (0.074_f64, 0.2_f64, 200.0_f64);
+    let m_rec = 0.4 + 0.5 * 0.06 / 0.2;
+    let lam = r / l;
+    let get = |k: &str| gb[k].as_f64().unwrap();
+    close(
+        get("primary_mass_radius_per_gear"),
+        m_rec * r / 2.0,
+        1e-15,
+        "primary m r",
+    );
+    close(
+        get("secondary_mass_radius_per_gear"),
+        m_rec * r * lam / 8.0,
+        1e-15,
+        "secondary m r",
+    );
+    close(
+        get("primary_amplitude_N"),
+        m_rec * r * w * w,
+        1e-9,
+        "m_rec r ω²",
+    );
+    close(
+        get("secondary_amplitude_N"),
+        m_rec * r * w * w * lam,
+        1e-9,
+        "m_rec r ω² λ",
+    );
+    // The force left, by hand: the exact piston acceleration ω² x''(φ) of
+    // x = r cos φ + √(l² − r² sin² φ), against the balancers' −m_rec r ω² (cos φ + λ cos 2φ).
+    let x2 = |p: f64| {
+        let d = l * l - r * r * p.sin().powi(2);
+        -r * p.cos()
+            - (r * r * (2.0 * p).cos() * d + r.powi(4) * (2.0 * p).sin().powi(2) / 4.0)
+                / d.powf(1.5)
+    };
+    let (mut prim, mut both) = (0.0_f64, 0.0_f64);
+    for k in 0..36000 {
+        let p = (k as f64 * 0.01).to_radians();
+        let shaking = -m_rec * w * w * x2(p);
+        prim = prim.max((shaking - m_rec * r * w * w * p.cos()).abs());
+        both = both.max((shaking - m_rec * r * w * w * (p.cos() + lam * (2.0 * p).cos())).abs());
+    }
+    close(
+        get("max_force_left_primary"),
+        prim,
+        1e-3 * prim,
+        "primary pair only",
+    );
+    close(get("max_force_left_both"), both, 1e-3 * both, "both pairs");
+    assert!(
+        both < 0.1 * prim && prim < 0.5 * m_rec * r * w * w,
+        "{prim} {both}"
+    );
+}
+
+#[test]
 fn kinetostatic_joint_forces_balance_each_link() {
     // Each link: Σ joint forces + loads + d'Alembert = 0, and so are the moments — checked
     // from the reported forces, not the multipliers.
@@ -1135,6 +1252,45 @@ fn two_plane_rotor_balancing_matches_the_book() {
         1e-12,
         "JSON right",
     );
+}
+
+#[test]
+fn rotor_bearing_loads_at_speed_by_moments_about_a_bearing() {
+    // Unbalances m r along x: 0.002, −0.0045, −0.0024, 0.008 kg m at z = 0, 0.1, 0.2,
+    // 0.3; bearings at z_A = −0.05, z_B = 0.35; ω = 3000 rpm = 100π rad/s.
+    let v = report_json("scenarios/rotor_two_plane_balancing_bearings.toml");
+    let b = &v["rotor_balance"]["bearings"];
+    let w2 = (100.0 * PI).powi(2);
+    let sum_u = 0.002 - 0.0045 - 0.0024 + 0.008;
+    let moment_a = 0.002 * 0.05 - 0.0045 * 0.15 - 0.0024 * 0.25 + 0.008 * 0.35;
+    let fb = w2 * moment_a / 0.4;
+    let fa = w2 * sum_u - fb;
+    let at = |k: &str, i: usize| b[k]["force_N"][i].as_f64().unwrap();
+    close(at("before", 0), fa.abs(), 1e-9, "F_A");
+    close(at("before", 1), fb.abs(), 1e-9, "F_B");
+    close(at("before", 0), 94.995, 1e-3, "F_A by hand");
+    close(at("before", 1), 400.95, 5e-3, "F_B by hand");
+    // F_A points against the masses' direction (0°), F_B along it.
+    close(
+        b["before"]["angle_deg"][0].as_f64().unwrap().abs(),
+        180.0,
+        1e-9,
+        "A's angle",
+    );
+    close(
+        b["before"]["angle_deg"][1].as_f64().unwrap(),
+        0.0,
+        1e-9,
+        "B's angle",
+    );
+    close(
+        b["centrifugal_force_N"].as_f64().unwrap(),
+        w2 * sum_u,
+        1e-9,
+        "ω² Σ m r",
+    );
+    // Balanced in two planes: no load left on either bearing.
+    assert!(at("after", 0) < 1e-9 && at("after", 1) < 1e-9);
 }
 
 #[test]
@@ -1437,6 +1593,18 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         6,
         "rotor_balance.radii",
         "has 3 values",
+    ),
+    (
+        "linkage_counterweight_fraction_and_rod.toml",
+        54,
+        "counterweight.fraction",
+        "one of the two",
+    ),
+    (
+        "linkage_rotor_speed_without_bearings.toml",
+        11,
+        "rotor_balance.speed_rpm",
+        "together",
     ),
     (
         "linkage_friction_coefficient.toml",

@@ -1,6 +1,7 @@
 //! `kind = "friction"` scenario files (format in `docs/machines.md`): a list of
 //! `[[element]]` tables (screw, slide, rolling, wedge, incline, journal, collar, belt,
-//! band brake),
+//! band brake), and `[[connected_bodies]]` tables (bodies on planes joined by ropes,
+//! read by [`crate::scenarios::friction_bodies`]),
 //! each computed by [`crate::machines::friction::elements`]; torques of the elements add up, and a
 //! shaft speed turns the total into a friction power.
 
@@ -26,6 +27,8 @@ struct FileSpec {
     speed_rpm: Option<f64>,
     #[serde(default)]
     element: Vec<Spanned<Element>>,
+    #[serde(default)]
+    connected_bodies: Vec<Spanned<crate::scenarios::friction_bodies::BodiesSpec>>,
 }
 
 #[derive(Deserialize, Default, Clone)]
@@ -71,6 +74,8 @@ struct Element {
     friction_arm: Option<f64>,
     contact_deg: Option<f64>,
     shoes: Option<f64>,
+    wheel_weight: Option<f64>,
+    wheels: Option<f64>,
 }
 
 /// Runs a friction scenario.
@@ -87,10 +92,10 @@ pub fn parse(file: &str, text: &str) -> Result<(), ScenarioError> {
 fn compute(file: &str, text: &str) -> Result<Report, ScenarioError> {
     let cx = Source::new(file, text);
     let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
-    if f.element.is_empty() {
+    if f.element.is_empty() && f.connected_bodies.is_empty() {
         return Err(cx.top(
             "kind",
-            "a friction file needs at least one [[element]] table",
+            "a friction file needs at least one [[element]] or [[connected_bodies]] table",
         ));
     }
     if let Some(n) = f.speed_rpm {
@@ -123,8 +128,21 @@ fn compute(file: &str, text: &str) -> Result<Report, ScenarioError> {
         total += torque;
         out.push(v);
     }
+    let mut chains = Vec::new();
+    for (i, s) in f.connected_bodies.iter().enumerate() {
+        let (v, line) = crate::scenarios::friction_bodies::chain(&cx, i, s)?;
+        let _ = writeln!(
+            text_out,
+            "[{}] connected bodies: {line}",
+            v["label"].as_str().unwrap_or("")
+        );
+        chains.push(v);
+    }
     let mut json =
         json!({ "scenario": name, "kind": NAME, "elements": out, "total_torque_Nm": total });
+    if !chains.is_empty() {
+        json["connected_bodies"] = Value::Array(chains);
+    }
     if let Some(n) = f.speed_rpm {
         json["speed_rpm"] = json!(n);
         json["friction_power_W"] = json!(total * n * PI / 30.0);
@@ -236,17 +254,7 @@ fn element(cx: &Source, i: usize, s: &Spanned<Element>) -> Result<(Value, f64), 
             let (kind, fe) = slide(e, &need, &err)?;
             (json!({"label": label, "type": "slide", "slide": kind, "equivalent_friction": fe, "force_N": fe * q}), 0.0)
         }
-        "rolling" => {
-            let q = need("load", e.load, 0.0, 1e12)?;
-            let [k1, k2] = e.rolling_arms.ok_or_else(|| err("rolling_arms", "missing: [k1, k2] rolling-resistance arms (m)".into()))?;
-            let (k1, k2) = (need("rolling_arms", Some(k1), 0.0, 1.0)?, need("rolling_arms", Some(k2), 0.0, 1.0)?);
-            let p = match (e.wheel_diameter, e.axle_diameter) {
-                (Some(d1), Some(d2)) => el::rolling_on_axles(q, need("wheel_diameter", Some(d1), 1e-9, 1e3)?, need("axle_diameter", Some(d2), 1e-9, d1)?, need("friction", e.friction, 0.0, 2.0)?, k1),
-                (Some(d), None) => el::free_rollers(q, need("wheel_diameter", Some(d), 1e-9, 1e3)?, k1, k2),
-                _ => return Err(err("wheel_diameter", "missing: wheel_diameter (and axle_diameter for wheels on axles)".into())),
-            };
-            (json!({"label": label, "type": "rolling", "force_N": p}), 0.0)
-        }
+        "rolling" => (rolling(e, label, &need, &err)?, 0.0),
         "wedge" => {
             let q = need("load", e.load, 0.0, 1e12)?;
             let a = need("angle_deg", e.angle_deg, 0.0, 89.0)?.to_radians();
@@ -331,6 +339,8 @@ const KEYS: &[(&str, &[&str])] = &[
             "rolling_arms",
             "wheel_diameter",
             "axle_diameter",
+            "wheel_weight",
+            "wheels",
         ],
     ),
     ("wedge", &["load", "angle_deg", "friction_faces"]),
@@ -425,6 +435,8 @@ fn written(e: &Element) -> Vec<&'static str> {
         ("friction_arm", e.friction_arm.is_some()),
         ("contact_deg", e.contact_deg.is_some()),
         ("shoes", e.shoes.is_some()),
+        ("wheel_weight", e.wheel_weight.is_some()),
+        ("wheels", e.wheels.is_some()),
     ];
     f.iter().filter(|(_, w)| *w).map(|(k, _)| *k).collect()
 }
@@ -514,6 +526,54 @@ fn band_brake(e: &Element, label: String, need: &Need, err: &Err) -> Result<Valu
             json!(bb.force * r / (need("load_drum_diameter", Some(d), 1e-9, 1e3)? / 2.0));
     }
     Ok(v)
+}
+
+/// A rolling element: wheels on axles (with the wheels' own weight `wheels` ×
+/// `wheel_weight`, which loads the rail but not the journals) or free rollers.
+fn rolling(e: &Element, label: String, need: &Need, err: &Err) -> Result<Value, ScenarioError> {
+    let q = need("load", e.load, 0.0, 1e12)?;
+    let [k1, k2] = e.rolling_arms.ok_or_else(|| {
+        err(
+            "rolling_arms",
+            "missing: [k1, k2] rolling-resistance arms (m)".into(),
+        )
+    })?;
+    let (k1, k2) = (
+        need("rolling_arms", Some(k1), 0.0, 1.0)?,
+        need("rolling_arms", Some(k2), 0.0, 1.0)?,
+    );
+    let d1 = need("wheel_diameter", e.wheel_diameter, 1e-9, 1e3)?;
+    let Some(d2) = e.axle_diameter else {
+        if e.wheel_weight.is_some() || e.wheels.is_some() {
+            let k = if e.wheels.is_some() {
+                "wheels"
+            } else {
+                "wheel_weight"
+            };
+            return Err(err(
+                k,
+                "applies to wheels on axles (give axle_diameter)".into(),
+            ));
+        }
+        let p = el::free_rollers(q, d1, k1, k2);
+        return Ok(json!({"label": label, "type": "rolling", "force_N": p}));
+    };
+    let d2 = need("axle_diameter", Some(d2), 1e-9, d1)?;
+    let f = need("friction", e.friction, 0.0, 2.0)?;
+    let n = e
+        .wheels
+        .map_or(Ok(1.0), |x| need("wheels", Some(x), 1.0, 1e6))?;
+    if n.fract() != 0.0 {
+        return Err(err("wheels", format!("must be a whole number, got {n}")));
+    }
+    let gw = n * e
+        .wheel_weight
+        .map_or(Ok(0.0), |x| need("wheel_weight", Some(x), 0.0, 1e12))?;
+    let w = el::rolling_with_wheels(q, gw, d1, d2, f, k1);
+    Ok(
+        json!({"label": label, "type": "rolling", "force_N": w.force,
+        "rolling_N": w.rolling, "journal_N": w.journal, "wheels_weight_N": gw}),
+    )
 }
 
 /// A slide's kind and equivalent coefficient (`slide`, `groove_angle_deg`, `friction`),

@@ -17,6 +17,7 @@ pub mod centrodes;
 pub mod flexible_rotor;
 pub mod flywheel;
 pub mod friction;
+pub mod friction_bodies;
 pub mod gear_pair;
 pub mod gear_pair_report;
 pub mod gear_train;

@@ -7,6 +7,8 @@
 //! - Two planes `L`, `R` (dynamic): moments about `L` give
 //!   `U_R (z_R − z_L) = −Σ U_i (z_i − z_L)`, forces `U_L = −Σ U_i − U_R`; each
 //!   correction mass is `|U| / r` at the angle of `U`.
+//! - Bearing loads at speed `ω` (bearings `A`, `B`): `F_B (z_B − z_A) = ω² Σ U_i (z_i − z_A)`,
+//!   `F_A = ω² Σ U_i − F_B` ([`bearing_forces`]).
 //!
 //! **Slider-crank** (Norton §13.2–13.4; Shigley & Uicker §16.4). The rod (mass `m₂`,
 //! length `l`, centre of mass `b` from the crank pin `B`) is replaced by `m₂ (l − b)/l`
@@ -20,6 +22,8 @@
 //! `F = −m_rec a_C − k m_rec r ω² (cos φ, sin φ)` at constant crank speed (crank angle
 //! `φ`); `−m_rec a_C` has the primary and secondary parts
 //! `m_rec r ω² (cos φ + (r/l) cos 2φ)` to first order in `r/l`.
+//! A second counterweight on the rod beyond the crank pin balances it fully
+//! ([`slider_crank_full_balance`]).
 
 pub mod modal;
 use crate::machines::linkage::description::PlanarLink;
@@ -106,6 +110,17 @@ pub fn two_plane(masses: &[RotorMass], left: (f64, f64), right: (f64, f64)) -> [
     ]
 }
 
+/// Dynamic bearing loads of a rigid rotor turning at `ω` in bearings at `z_a`, `z_b`:
+/// each mass pulls with `F_i = m_i r_i ω²` (turning with the rotor); moments about `A`
+/// give `F_B (z_B − z_A) = Σ F_i (z_i − z_A)`, forces `F_A = Σ F_i − F_B`. Returns the
+/// forces the shaft puts on the bearings `A`, `B` (the reactions are their opposites).
+pub fn bearing_forces(masses: &[RotorMass], omega: f64, za: f64, zb: f64) -> [Vec2; 2] {
+    let (f, m) = resultant(masses, za);
+    let w2 = omega * omega;
+    let b = m * (w2 / (zb - za));
+    [f * w2 - b, b]
+}
+
 /// Slider-crank mass data for counterweighting.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct SliderCrankMasses {
@@ -157,6 +172,92 @@ pub fn slider_crank_counterweight(m: &SliderCrankMasses, k: f64, radius: f64) ->
         radius,
         mass: mr / radius,
     }
+}
+
+/// Full static balancing of a slider-crank by two counterweights (Lanchester's method;
+/// Shigley & Uicker §16.4): the total centre of mass stays at the crank pivot, so the
+/// shaking force vanishes at any speed. In the rod's frame (origin at the crank pin `B`)
+/// the rod and the slider (its mass at the piston pin `C`) have the first moment
+/// `S = m₂ c₂ + m₃ C`; a mass `m_r = |S|/e` at `−e S/|S|` (distance `e` beyond the crank
+/// pin) brings their centre of mass to `B`. Then in the crank's frame (origin at the pivot
+/// `O`) `T = m₁ c₁ + (m₂ + m₃ + m_r) B`, and `m_c = |T|/ρ` at `−ρ T/|T|` brings everything
+/// to `O`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FullBalance {
+    /// Rod counterweight mass `m_r` (kg).
+    pub rod_mass: f64,
+    /// Its position in the rod's frame relative to the crank pin (m).
+    pub rod_position: [f64; 2],
+    /// Crank counterweight mass `m_c` (kg).
+    pub crank_mass: f64,
+    /// Its position in the crank's frame relative to the pivot (m).
+    pub crank_position: [f64; 2],
+}
+
+/// See [`FullBalance`]: `crank = (m₁, c₁, B)` (the crank's centre of mass and its pin,
+/// relative to the pivot), `rod = (m₂, c₂, C)` (relative to the crank pin), the slider
+/// mass `m₃`, the counterweights' distances `e` (rod) and `ρ` (crank).
+pub fn slider_crank_full_balance(
+    crank: (f64, Vec2, Vec2),
+    rod: (f64, Vec2, Vec2),
+    slider_mass: f64,
+    rod_radius: f64,
+    crank_radius: f64,
+) -> FullBalance {
+    let (m1, c1, b) = crank;
+    let (m2, c2, c) = rod;
+    let s = c2 * m2 + c * slider_mass;
+    let mr = s.norm() / rod_radius;
+    let pr = if mr > 0.0 {
+        -s / s.norm() * rod_radius
+    } else {
+        Vec2::zeros()
+    };
+    let t = c1 * m1 + b * (m2 + slider_mass + mr);
+    let mc = t.norm() / crank_radius;
+    let pc = if mc > 0.0 {
+        -t / t.norm() * crank_radius
+    } else {
+        Vec2::zeros()
+    };
+    FullBalance {
+        rod_mass: mr,
+        rod_position: [pr.x, pr.y],
+        crank_mass: mc,
+        crank_position: [pc.x, pc.y],
+    }
+}
+
+/// Lanchester's counter-rotating gear balancers for a slider-crank's reciprocating force
+/// (its rotating masses balanced on the crank). Along the slide line that force is
+/// `m_rec r ω² (cos φ + λ cos 2φ)` to first order in `λ = r/l`; a harmonic `A cos nφ` is two
+/// vectors of length `A/2` turning at `±nω`, so two masses on gears turning at `±nω` (meeting
+/// on the line, opposite the harmonic's peak, at `φ = 0`) cancel it with
+/// `m_g r_g (nω)² = A/2`: primary (`n = 1`) `m_g r_g = m_rec r/2` per gear, secondary
+/// (`n = 2`) `m_g r_g = m_rec r λ/8` per gear. Returns `[primary, secondary]` (kg m).
+pub fn gear_balancers(reciprocating_mass: f64, r: f64, l: f64) -> [f64; 2] {
+    let mr = reciprocating_mass * r;
+    [mr / 2.0, mr * (r / l) / 8.0]
+}
+
+/// The balancers' force along the slide line at crank angle `φ` (from the line, toward the
+/// slider), `−m_rec r ω² [p cos φ + s λ cos 2φ]` with `p`, `s` 1 for a pair present.
+pub fn gear_balancer_force(
+    m_rec: f64,
+    r: f64,
+    l: f64,
+    omega: f64,
+    phi: f64,
+    pairs: [bool; 2],
+) -> f64 {
+    let a = m_rec * r * omega * omega;
+    let p = if pairs[0] { phi.cos() } else { 0.0 };
+    let s = if pairs[1] {
+        r / l * (2.0 * phi).cos()
+    } else {
+        0.0
+    };
+    -a * (p + s)
 }
 
 /// Adds a point mass `m` at link-frame point `p` to a link (new centre of mass, and the

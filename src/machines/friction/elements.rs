@@ -147,9 +147,34 @@ pub fn slide_coefficient(f: f64, kind: &str, beta: f64) -> Option<f64> {
 
 /// Rolling: a load `Q` on wheels of diameter `d1` on axles `d2` (journal friction `f`,
 /// rolling resistance arm `k`): `P = Q (f d2 + 2k)/d1`; on free rollers between two
-/// surfaces (`k1`, `k2`): `P = (k1 + k2) Q/d`.
+/// surfaces (`k1`, `k2`): `P = (k1 + k2) Q/d`. The wheels' own weight: see
+/// [`rolling_with_wheels`].
 pub fn rolling_on_axles(q: f64, d1: f64, d2: f64, f: f64, k: f64) -> f64 {
-    q * (f * d2 + 2.0 * k) / d1
+    rolling_with_wheels(q, 0.0, d1, d2, f, k).force
+}
+
+/// The pull of a cart on wheels split into its two resistances.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WheelPull {
+    /// Rolling resistance at the rail `(Q + G_w) k/R` (N).
+    pub rolling: f64,
+    /// Journal friction brought to the rim `Q f r/R` (N).
+    pub journal: f64,
+    /// `P = [(Q + G_w) k + Q f r]/R` (N).
+    pub force: f64,
+}
+
+/// A load `Q` carried through the axles' journals on wheels (radius `R = d1/2`, axle
+/// `r = d2/2`) whose own weight (with what turns with them) is `G_w`: the rail carries
+/// `Q + G_w`, the journals only `Q`, so `P = [(Q + G_w) k + Q f r]/R`.
+pub fn rolling_with_wheels(q: f64, gw: f64, d1: f64, d2: f64, f: f64, k: f64) -> WheelPull {
+    let rolling = (q + gw) * 2.0 * k / d1;
+    let journal = q * f * d2 / d1;
+    WheelPull {
+        rolling,
+        journal,
+        force: rolling + journal,
+    }
 }
 
 /// Free rollers of diameter `d` between surfaces with arms `k1`, `k2`.

@@ -2,7 +2,10 @@
 //!
 //! - [`elements`]: closed forms for inclines, slides, screws, wedges, journals, collars,
 //!   rolling, band brakes and belts; efficiency, reverse efficiency, self-locking;
-//! - [`friction_circle`]: friction in a linkage's joints by friction circles.
+//! - [`friction_circle`]: friction in a linkage's joints by friction circles;
+//! - [`connected_bodies`]: bodies on planes joined by ropes over pulleys (Newton's
+//!   second law: acceleration, tensions, start and hold forces).
 
+pub mod connected_bodies;
 pub mod elements;
 pub mod friction_circle;

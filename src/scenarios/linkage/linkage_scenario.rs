@@ -48,6 +48,9 @@ pub struct CounterweightScenario {
     pub fraction: f64,
     /// Counterweight radius (m).
     pub radius: f64,
+    /// Distance of a second counterweight on the rod beyond the crank pin (m): full
+    /// static balancing (then `fraction` is 0 and unused).
+    pub rod_radius: Option<f64>,
 }
 
 /// Flywheel settings.
@@ -99,6 +102,8 @@ pub struct RotorScenario {
     pub masses: Vec<RotorMass>,
     /// Correction planes `(position, radius)` (one or two).
     pub planes: Vec<(f64, f64)>,
+    /// Speed (rad/s) and bearing positions `z_A`, `z_B` (m), for the bearing loads.
+    pub bearings: Option<(f64, [f64; 2])>,
 }
 
 /// Machine-motion settings.

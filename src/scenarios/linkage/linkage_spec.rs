@@ -142,8 +142,9 @@ pub(super) struct CounterweightSpec {
     pub(super) crank: String,
     pub(super) rod: String,
     pub(super) slider: String,
-    pub(super) fraction: f64,
+    pub(super) fraction: Option<f64>,
     pub(super) radius: f64,
+    pub(super) rod_radius: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -164,6 +165,8 @@ pub(super) struct RotorSpec {
     pub(super) positions: Vec<f64>,
     pub(super) planes: Vec<f64>,
     pub(super) plane_radii: Vec<f64>,
+    pub(super) speed_rpm: Option<f64>,
+    pub(super) bearings: Option<[f64; 2]>,
 }
 
 #[derive(Deserialize)]

@@ -309,19 +309,38 @@ pub(super) fn parse_counterweight(
                     "must be positive",
                 ));
             }
-            if !(cs.fraction.is_finite() && (0.0..=1.0).contains(&cs.fraction)) {
-                return Err(cx.err(
-                    cx.key_line(&span, "fraction"),
-                    "counterweight.fraction",
-                    "must be in [0, 1]",
-                ));
-            }
+            let fraction = match (cs.fraction, cs.rod_radius) {
+                (Some(k), None) if k.is_finite() && (0.0..=1.0).contains(&k) => k,
+                (Some(_), None) => {
+                    return Err(cx.err(
+                        cx.key_line(&span, "fraction"),
+                        "counterweight.fraction",
+                        "must be in [0, 1]",
+                    ))
+                }
+                (None, Some(e)) if e.is_finite() && e > 0.0 => 0.0,
+                (None, Some(_)) => {
+                    return Err(cx.err(
+                        cx.key_line(&span, "rod_radius"),
+                        "counterweight.rod_radius",
+                        "must be positive",
+                    ))
+                }
+                (Some(_), Some(_)) | (None, None) => {
+                    return Err(cx.err(
+                        cx.key_line(&span, "fraction"),
+                        "counterweight.fraction",
+                        "give fraction (a crank counterweight) or rod_radius (full balancing by counterweights on the rod and the crank), one of the two",
+                    ))
+                }
+            };
             Some(CounterweightScenario {
                 crank: find("crank", &cs.crank)?,
                 rod: find("rod", &cs.rod)?,
                 slider: find("slider", &cs.slider)?,
-                fraction: cs.fraction,
+                fraction,
                 radius: cs.radius,
+                rod_radius: cs.rod_radius,
             })
         }
     };

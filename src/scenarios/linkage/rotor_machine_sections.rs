@@ -1,6 +1,7 @@
 //! The `[rotor_balance]` and `[machine_motion]` sections: the rotor's masses and
-//! correction planes, and the machine's inertia (constant, tabulated or the linkage's own,
-//! a motor behind a gear ratio), drive characteristic and time steps.
+//! correction planes (and the speed and bearings for the bearing loads), and the machine's
+//! inertia (constant, tabulated or the linkage's own, a motor behind a gear ratio), drive
+//! characteristic and time steps.
 
 use crate::core::diag::{all_finite, LocatedError as ScenarioError};
 use crate::machines::balancing::RotorMass;
@@ -76,7 +77,40 @@ pub(super) fn parse_rotor(
             "the two planes coincide",
         ));
     }
+    let bearings = match (s.speed_rpm, s.bearings) {
+        (None, None) => None,
+        (Some(n), Some([a, b])) => {
+            if !(n.is_finite() && (0.0..=1e7).contains(&n)) {
+                return Err(cx.err(
+                    cx.key_line(&span, "speed_rpm"),
+                    "rotor_balance.speed_rpm",
+                    "must be a speed in [0, 1e7] rpm",
+                ));
+            }
+            if !(a.is_finite() && b.is_finite() && a != b) {
+                return Err(cx.err(
+                    cx.key_line(&span, "bearings"),
+                    "rotor_balance.bearings",
+                    "give two different, finite bearing positions [z_A, z_B] (m)",
+                ));
+            }
+            Some((n * std::f64::consts::PI / 30.0, [a, b]))
+        }
+        (Some(_), None) | (None, Some(_)) => {
+            let k = if s.speed_rpm.is_some() {
+                "speed_rpm"
+            } else {
+                "bearings"
+            };
+            return Err(cx.err(
+                cx.key_line(&span, k),
+                format!("rotor_balance.{k}"),
+                "give speed_rpm and bearings = [z_A, z_B] together (for the bearing loads)",
+            ));
+        }
+    };
     Ok(RotorScenario {
+        bearings,
         masses: (0..n)
             .map(|k| RotorMass {
                 mass: s.masses[k],

@@ -62,14 +62,32 @@ fn rotor_balance(r: &RotorScenario, json: &mut Map<String, Value>, text: &mut St
         f1.norm(),
         m1.norm()
     );
-    json.insert(
-        "rotor_balance".into(),
-        json!({
-            "corrections": corr.iter().map(|c| json!({"position": c.position, "radius": c.radius, "mass": c.mass, "angle_deg": c.angle.to_degrees()})).collect::<Vec<_>>(),
-            "unbalance_before": {"force": f0.norm(), "moment": m0.norm()},
-            "unbalance_after": {"force": f1.norm(), "moment": m1.norm()},
-        }),
-    );
+    let mut v = json!({
+        "corrections": corr.iter().map(|c| json!({"position": c.position, "radius": c.radius, "mass": c.mass, "angle_deg": c.angle.to_degrees()})).collect::<Vec<_>>(),
+        "unbalance_before": {"force": f0.norm(), "moment": m0.norm()},
+        "unbalance_after": {"force": f1.norm(), "moment": m1.norm()},
+    });
+    if let Some((w, [za, zb])) = r.bearings {
+        let loads = |m: &[balancing::RotorMass]| {
+            let f = balancing::bearing_forces(m, w, za, zb);
+            json!({"force_N": [f[0].norm(), f[1].norm()],
+                "angle_deg": [f[0].y.atan2(f[0].x).to_degrees(), f[1].y.atan2(f[1].x).to_degrees()]})
+        };
+        let (before, after) = (loads(&r.masses), loads(&all));
+        let _ = writeln!(
+            text,
+            "  bearing loads at {:.1} rpm (A at z = {za} m, B at z = {zb} m): {:.4} / {:.4} N before, {:.2e} / {:.2e} N after",
+            w * 30.0 / std::f64::consts::PI,
+            before["force_N"][0].as_f64().unwrap_or(f64::NAN),
+            before["force_N"][1].as_f64().unwrap_or(f64::NAN),
+            after["force_N"][0].as_f64().unwrap_or(f64::NAN),
+            after["force_N"][1].as_f64().unwrap_or(f64::NAN),
+        );
+        v["bearings"] = json!({"speed_rpm": w * 30.0 / std::f64::consts::PI, "omega": w,
+            "positions": [za, zb], "centrifugal_force_N": f0.norm() * w * w,
+            "before": before, "after": after});
+    }
+    json.insert("rotor_balance".into(), v);
 }
 
 /// The linkage's reduced inertia over its full-turn sweep as a Hermite table

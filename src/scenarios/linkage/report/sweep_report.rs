@@ -677,7 +677,31 @@ fn counterweight(
     };
     let c = balancing::slider_crank_counterweight(&masses, cw.fraction, cw.radius);
     let mut balanced = l.clone();
-    add_point_mass(&mut balanced.links[cw.crank], c.mass, pivot - u * cw.radius);
+    let full = cw.rod_radius.map(|e| {
+        let fb = balancing::slider_crank_full_balance(
+            (crank.mass, crank.com - pivot, crank_pin - pivot),
+            (rod.mass, rod.com - rod_b, rod_c - rod_b),
+            masses.slider_mass,
+            e,
+            cw.radius,
+        );
+        let [rx, ry] = fb.rod_position;
+        add_point_mass(
+            &mut balanced.links[cw.rod],
+            fb.rod_mass,
+            rod_b + Vec2::new(rx, ry),
+        );
+        let [cx, cy] = fb.crank_position;
+        add_point_mass(
+            &mut balanced.links[cw.crank],
+            fb.crank_mass,
+            pivot + Vec2::new(cx, cy),
+        );
+        fb
+    });
+    if full.is_none() {
+        add_point_mass(&mut balanced.links[cw.crank], c.mass, pivot - u * cw.radius);
+    }
     let loads = Loads {
         gravity: Vec2::zeros(),
         ..Default::default()
@@ -687,6 +711,16 @@ fn counterweight(
     let mut after: f64 = 0.0;
     let mut formula_dev: f64 = 0.0;
     let mut series = Vec::new();
+    // Gear balancers (rotating masses balanced, fraction 0): the slide line's direction,
+    // toward the slider, and the largest force left with each set of pairs.
+    let slide = l.joints.iter().find_map(|j| match j {
+        PlanarJoint::Slider(sl) if sl.link == cw.slider && sl.guide == GROUND => Some(sl.dir),
+        _ => None,
+    });
+    let gear_line = (cw.fraction == 0.0 && full.is_none())
+        .then_some(slide)
+        .flatten();
+    let mut gear_left = [0.0_f64; 3];
     for row in rows {
         let st = &row.st;
         let f0 = kinetostatics::solve(l, &st.q, &row.qdd, &loads).shaking_force;
@@ -698,10 +732,28 @@ fn counterweight(
         let a_c = l.point_acceleration(&st.q, &row.qd, &row.qdd, cw.rod, &rod_c);
         let phi = st.q[3 * cw.crank + 2];
         let dir = crate::machines::linkage::rotate(phi, &u.clone());
-        let formula =
-            -a_c * c.reciprocating_mass - dir * (cw.fraction * c.reciprocating_mass * r * sd * sd);
+        // Fully balanced (counterweights on the rod and the crank): no shaking force.
+        let formula = if full.is_some() {
+            Vec2::zeros()
+        } else {
+            -a_c * c.reciprocating_mass - dir * (cw.fraction * c.reciprocating_mass * r * sd * sd)
+        };
         if sdd == 0.0 {
             formula_dev = formula_dev.max((formula - f1).norm());
+        }
+        if let Some(line) = gear_line {
+            let to_c =
+                l.point_position(&st.q, cw.rod, &rod_c) - l.point_position(&st.q, cw.crank, &pivot);
+            let s_hat = if to_c.dot(&line) < 0.0 { -line } else { line };
+            let ph = dir.dot(&s_hat).clamp(-1.0, 1.0).acos();
+            let (m_rec, rl) = (c.reciprocating_mass, masses.rod_length);
+            for (k, pairs) in [[true, false], [false, true], [true, true]]
+                .iter()
+                .enumerate()
+            {
+                let fb = balancing::gear_balancer_force(m_rec, r, rl, sd, ph, *pairs);
+                gear_left[k] = gear_left[k].max((f1 + s_hat * fb).norm());
+            }
         }
         series.push(json!({ctx.input_key(): ctx.input(st.s), "before": v2(&f0), "after": v2(&f1)}));
     }
@@ -718,6 +770,20 @@ fn counterweight(
             "shaking_force": series,
         }),
     );
+    if let (Some(fb), Some(Value::Object(o))) = (full, json.get_mut("counterweight")) {
+        o.insert("full_balance".into(), json!(fb));
+    }
+    if let (Some(_), Some(Value::Object(o))) = (gear_line, json.get_mut("counterweight")) {
+        let [p, s] = balancing::gear_balancers(c.reciprocating_mass, r, masses.rod_length);
+        let a = c.reciprocating_mass * r * sd * sd;
+        o.insert(
+            "gear_balancers".into(),
+            json!({"primary_mass_radius_per_gear": p, "secondary_mass_radius_per_gear": s,
+                "primary_amplitude_N": a, "secondary_amplitude_N": a * r / masses.rod_length,
+                "max_force_left_primary": gear_left[0], "max_force_left_secondary": gear_left[1],
+                "max_force_left_both": gear_left[2]}),
+        );
+    }
     let _ = writeln!(
         text,
         "\ncounterweight: rotating mass {:.4} kg, reciprocating {:.4} kg at r = {r} m; with {:.0}% of the reciprocating mass: m_cw r_cw = {:.6} kg m → {:.4} kg at {} m\n  max shaking force {:.3} N → {:.3} N (deviation from the two-mass formula {:.2e} N)",
