@@ -226,6 +226,47 @@ fn answer_section_trains_match_the_book() {
     );
 }
 
+/// A gear rigid with a carrier (ch. 10 mixed train): pair 1–2 drives the carrier H that
+/// gear 2 is part of; sun 3 out, planet 4, fixed ring 5. Willis by hand:
+/// `ω_H = −(z1/z2) ω1`, `ω3 = (1 + z5/z3) ω_H`, `ω4 = ω_H (1 − z5/z4)`.
+#[test]
+fn a_gear_rigid_with_a_carrier_drives_the_planetary() {
+    let rel = "scenarios/gear_train_mixed_gear_on_carrier.toml";
+    let v = run_json(rel);
+    assert_eq!(v["classification"], "mixed");
+    assert_eq!(member(&v, "H")["kind"], "carrier");
+    assert_eq!(member(&v, "H")["gears"][0]["name"], "2");
+    close(speed(&v, "H"), -400.0, 1e-9, "ω_H");
+    close(speed(&v, "3"), -1600.0, 1e-9, "ω3");
+    close(speed(&v, "4"), 800.0, 1e-9, "ω4");
+    assert_eq!(v["transmission"]["gear_ratio"]["exact"], "-3/4");
+    assert_eq!(v["willis"][0]["ratio"]["exact"], "-3");
+    // Other tooth counts, same closed form: z1 = 30, z3 = 30, z4 = 15 (ring 60 = 30 + 2·15).
+    let text = std::fs::read_to_string(root().join(rel))
+        .unwrap()
+        .replacen("name = \"1\"\nteeth = 20", "name = \"1\"\nteeth = 30", 1)
+        .replacen("name = \"3\"\nteeth = 20", "name = \"3\"\nteeth = 30", 1)
+        .replacen("name = \"4\"\nteeth = 20", "name = \"4\"\nteeth = 15", 1)
+        .replace("planets = 4", "planets = 3");
+    let sc = parse(rel, &text).unwrap_or_else(|e| panic!("{e}"));
+    let (z1, z2, z3, z4, z5) = (30.0, 60.0, 30.0, 15.0, 60.0);
+    let wh = -z1 / z2 * 1200.0;
+    let b = |n: &str| sc.train.body(n).unwrap();
+    close(sc.speeds.values[b("H")], wh, 1e-9, "ω_H (30/60)");
+    close(
+        sc.speeds.values[b("3")],
+        (1.0 + z5 / z3) * wh,
+        1e-9,
+        "ω3 (30/60)",
+    );
+    close(
+        sc.speeds.values[b("4")],
+        wh * (1.0 - z5 / z4),
+        1e-9,
+        "ω4 (30/60)",
+    );
+}
+
 // ---------------------------------------------------------------------------------------
 // Independent routes.
 
@@ -560,6 +601,18 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         3,
         "speed_unit",
         "expected \"rpm\" or \"rad/s\"",
+    ),
+    (
+        "gear_train_carrier_named_like_gear.toml",
+        14,
+        "carrier[0].name",
+        "a gear rigid with this carrier says `body = \"H\"`",
+    ),
+    (
+        "gear_train_nested_carrier.toml",
+        16,
+        "carrier[0].name",
+        "nested carriers are not supported",
     ),
 ];
 

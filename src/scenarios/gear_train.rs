@@ -477,27 +477,25 @@ fn gears_and_bodies(f: &FileSpec) -> Result<(Vec<Gear>, Vec<TrainBody>), TrainEr
     Ok((gears, bodies))
 }
 
-/// The train from the gear, carrier and mesh tables.
-fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
-    let (gears, mut bodies) = gears_and_bodies(f)?;
-    let nbg = bodies.len();
-    for (i, s) in f.carrier.iter().enumerate() {
-        let c = s.get_ref();
-        let err = |field, msg: String| TrainError::new(Element::Carrier(i), field, msg);
-        if bodies.iter().any(|b| b.name == c.name) {
-            return Err(err(
-                "name",
-                format!("'{}' already names a gear body or carrier", c.name),
-            ));
-        }
-        let planets = match c.planets {
-            None => 1,
-            Some(n) if (1..=64).contains(&n) => n as u32,
-            Some(n) => return Err(err("planets", format!("must be 1 … 64, got {n}"))),
-        };
-        if !in_range(c.inertia, 0.0, 1e12) {
-            return Err(err("inertia", "must be a finite number ≥ 0".into()));
-        }
+/// Adds `[[carrier]]` `i`: a new body, or, when gears name it as their `body`, the body
+/// those gears sit on (a gear rigid with its carrier).
+fn add_carrier(
+    f: &FileSpec,
+    i: usize,
+    c: &CarrierSpec,
+    gears: &[Gear],
+    bodies: &mut Vec<TrainBody>,
+) -> Result<(), TrainError> {
+    let err = |field, msg: String| TrainError::new(Element::Carrier(i), field, msg);
+    let planets = match c.planets {
+        None => 1,
+        Some(n) if (1..=64).contains(&n) => n as u32,
+        Some(n) => return Err(err("planets", format!("must be 1 … 64, got {n}"))),
+    };
+    if !in_range(c.inertia, 0.0, 1e12) {
+        return Err(err("inertia", "must be a finite number ≥ 0".into()));
+    }
+    let Some(b) = bodies.iter().position(|b| b.name == c.name) else {
         bodies.push(TrainBody {
             name: c.name.clone(),
             carrier: None,
@@ -507,6 +505,38 @@ fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
             inertia: c.inertia,
             element: Element::Carrier(i),
         });
+        return Ok(());
+    };
+    // Gears rigid with the carrier state it with `body = "<carrier>"`; a gear merely named
+    // like the carrier (its body defaulted to its name) is a clash.
+    let explicit = (0..gears.len())
+        .filter(|&g| gears[g].body == b)
+        .all(|g| f.gear[g].get_ref().body.as_deref() == Some(c.name.as_str()));
+    if bodies[b].is_carrier || !explicit {
+        return Err(err(
+            "name",
+            format!(
+                "'{}' already names a {}: a gear rigid with this carrier says `body = \"{}\"`; otherwise rename one of them",
+                c.name,
+                if bodies[b].is_carrier { "carrier" } else { "gear" },
+                c.name
+            ),
+        ));
+    }
+    let body = &mut bodies[b];
+    body.fixed |= c.fixed;
+    body.is_carrier = true;
+    body.planets = planets;
+    body.inertia = c.inertia;
+    body.element = Element::Carrier(i);
+    Ok(())
+}
+
+/// The train from the gear, carrier and mesh tables.
+fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
+    let (gears, mut bodies) = gears_and_bodies(f)?;
+    for (i, s) in f.carrier.iter().enumerate() {
+        add_carrier(f, i, s.get_ref(), &gears, &mut bodies)?;
     }
     // Planet axes.
     for (i, s) in f.gear.iter().enumerate() {
@@ -514,10 +544,16 @@ fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
             continue;
         };
         let err = |msg: String| TrainError::new(Element::Gear(i), "carrier", msg);
-        let c = (nbg..bodies.len())
-            .find(|&c| &bodies[c].name == cn)
+        let c = (0..bodies.len())
+            .find(|&c| bodies[c].is_carrier && &bodies[c].name == cn)
             .ok_or_else(|| err(format!("'{cn}' is not a [[carrier]]")))?;
         let b = gears[i].body;
+        if b == c {
+            return Err(err(format!(
+                "the gear turns with carrier '{cn}' (`body = \"{cn}\"`): it cannot also ride on it"
+            )));
+        }
+
         if bodies[b].carrier.is_some_and(|d| d != c) {
             return Err(err(format!(
                 "gears on body '{}' name different carriers",
@@ -540,6 +576,20 @@ fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
                 ),
             ));
         }
+    }
+    if let Some(c) = bodies
+        .iter()
+        .position(|b| b.is_carrier && b.carrier.is_some())
+    {
+        return Err(TrainError::new(
+            bodies[c].element,
+            "name",
+            format!(
+                "carrier '{}' rides on carrier '{}' (a gear rigid with it names a `carrier`): nested carriers are not supported",
+                bodies[c].name,
+                bodies[bodies[c].carrier.unwrap_or(c)].name
+            ),
+        ));
     }
     let meshes = build_meshes(f, &gears, default_eta)?;
     let t = GearTrain {
