@@ -9,6 +9,7 @@ use crate::machines::gearing::train::{
     Element, Gear, GearTrain, Mesh, MeshKind, TrainBody, TrainError,
 };
 use crate::scenarios::gear_train_report::{report, Query, TrainScenario};
+use crate::scenarios::gear_train_selection::{SelectionScenario, SelectionSpec};
 use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
 use std::path::Path;
@@ -42,6 +43,7 @@ struct FileSpec {
     torque: Vec<Spanned<TorqueSpec>>,
     #[serde(default)]
     willis: Vec<Spanned<WillisSpec>>,
+    selection: Option<Spanned<SelectionSpec>>,
 }
 
 #[derive(Deserialize)]
@@ -108,10 +110,51 @@ struct WillisSpec {
 /// Most gears in a train (exact arithmetic on tooth-count products).
 pub const MAX_GEARS: usize = 64;
 
-/// Runs a gear-train scenario: [`parse`], then the report.
+/// Runs a gear-train scenario: [`parse`], then the report (or a `[selection]` file's
+/// tooth counts).
 pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
+    if let Some(sel) = selection_file(&path.display().to_string(), text)? {
+        return Ok(crate::scenarios::gear_train_selection::report(&sel, NAME));
+    }
     let sc = parse(&path.display().to_string(), text)?;
     report(&sc, NAME).map_err(|e| locate_plain(&path.display().to_string(), text, &e))
+}
+
+/// A `[selection]` file (tooth counts for a required ratio), solved; `None` for a train
+/// description. The train's tables are refused next to `[selection]`.
+pub fn selection_file(file: &str, text: &str) -> Result<Option<SelectionScenario>, ScenarioError> {
+    let cx = Source::new(file, text);
+    let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
+    let Some(sel) = &f.selection else {
+        return Ok(None);
+    };
+    let train_keys = [
+        ("gear", !f.gear.is_empty()),
+        ("carrier", !f.carrier.is_empty()),
+        ("mesh", !f.mesh.is_empty()),
+        ("input", !f.input.is_empty()),
+        ("torque", !f.torque.is_empty()),
+        ("willis", !f.willis.is_empty()),
+        ("coaxial", !f.coaxial.is_empty()),
+        ("output", f.output.is_some()),
+        ("module", f.module.is_some()),
+        ("mesh_efficiency", f.mesh_efficiency.is_some()),
+        ("speed_unit", f.speed_unit.is_some()),
+    ];
+    if let Some((key, _)) = train_keys.iter().find(|(_, present)| *present) {
+        return Err(cx.top(
+            key,
+            format!(
+                "a [selection] file chooses tooth counts and describes no train: remove `{key}`"
+            ),
+        ));
+    }
+    let name = f.name.clone().unwrap_or_else(|| {
+        Path::new(file)
+            .file_stem()
+            .map_or(NAME.into(), |s| s.to_string_lossy().into_owned())
+    });
+    crate::scenarios::gear_train_selection::read(&cx, name, sel.span(), sel.get_ref()).map(Some)
 }
 
 /// A gear-train file as an arm joint's transmission
@@ -325,6 +368,12 @@ pub fn parse(file: &str, text: &str) -> Result<TrainScenario, ScenarioError> {
         }
     };
     let (unit, default_eta) = units(&cx, &f)?;
+    if f.selection.is_some() {
+        return Err(cx.top(
+            "selection",
+            "a [selection] file chooses tooth counts; it is not a train to run or drive",
+        ));
+    }
     if f.gear.is_empty() {
         return Err(cx.top("kind", "a gear train needs [[gear]] tables"));
     }
@@ -677,6 +726,9 @@ pub const NAME: &str = "gear_train";
 /// The registry entry of these files ([`crate::scenarios::KINDS`]).
 pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
     name: NAME,
-    check: |file, text| parse(file, text).map(drop),
+    check: |file, text| match selection_file(file, text)? {
+        Some(_) => Ok(()),
+        None => parse(file, text).map(drop),
+    },
     run: |path, text, _opts| run(path, text),
 };
