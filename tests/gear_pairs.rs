@@ -487,6 +487,12 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "unknown field `tooth`",
     ),
     (
+        "gear_pair_query_clearance_not_used.toml",
+        6,
+        "query[0].clearance",
+        "is not used by `find = \"internal_tip_equals_base\"`",
+    ),
+    (
         "gear_pair_no_pairs.toml",
         2,
         "kind",
@@ -685,5 +691,115 @@ fn involute_at_a_radius_matches_its_flank_points_and_the_gears_thicknesses() {
         PI * 10.0 / 2.0,
         1e-9,
         "internal s at the pitch",
+    );
+}
+
+/// Problems 219–220: the tooth count where two circles meet. Closed forms
+/// `2(h_a* + c*)/(1 − cos α)`, `2h_a*/(1 − cos α)`, `2h_a*/sin²α`, and the answer checked
+/// on the radii themselves (`r_f = r − 1.25 m` against `r_b = r cos α`, the internal tip
+/// `r − m` against `r_b`).
+#[test]
+fn problems_219_220_which_tooth_count_puts_the_root_or_tip_on_the_base_circle() {
+    let v = run_json("scenarios/gear_pair_219_220_tooth_count_queries.toml");
+    let q = &v["queries"];
+    let c20 = 20f64.to_radians().cos();
+    close(
+        f(q, "0.teeth_exact"),
+        2.5 / (1.0 - c20),
+        1e-9,
+        "219 closed form",
+    );
+    close(f(q, "0.teeth_exact"), 41.45, 0.005, "219 book 41.45");
+    assert_eq!(q[0]["teeth"], 42);
+    assert_eq!(q[0]["largest_below"], 41);
+    let (m, a) = (10.0, 20f64.to_radians());
+    let root_minus_base = |z: f64| m * z / 2.0 - 1.25 * m - m * z / 2.0 * a.cos();
+    assert!(root_minus_base(41.0) < 0.0 && root_minus_base(42.0) > 0.0);
+    close(
+        f(q, "1.teeth_exact"),
+        2.0 / (1.0 - c20),
+        1e-9,
+        "220 closed form",
+    );
+    assert_eq!(q[1]["teeth"], 34, "220: book 34");
+    let tip_minus_base = |z: f64| m * z / 2.0 - m - m * z / 2.0 * a.cos();
+    assert!(tip_minus_base(33.0) < 0.0 && tip_minus_base(34.0) > 0.0);
+    close(
+        f(q, "2.teeth_exact"),
+        2.0 / a.sin().powi(2),
+        1e-9,
+        "undercut",
+    );
+    assert_eq!(q[2]["teeth"], 18);
+    // A helical gear (β = 15°) with a shift: z = 2(h_a* + c* − x) cos β/(1 − cos α_t),
+    // checked on its radii r = m_n z/(2 cos β), r_f = r − (1.25 − x) m_n, r_b = r cos α_t.
+    let text = "kind = \"gear_pair\"\n[[query]]\nfind = \"root_equals_base\"\nhelix_angle_deg = 15\nshift = 0.3\n";
+    let sc = armsim::scenarios::gear_pair::parse("helical.toml", text).unwrap();
+    let ans = sc.queries[0].answer;
+    let b = 15f64.to_radians();
+    let at = (a.tan() / b.cos()).atan();
+    close(
+        ans.exact,
+        2.0 * 0.95 * b.cos() / (1.0 - at.cos()),
+        1e-9,
+        "helical",
+    );
+    let gap = |z: f64| {
+        let r = m * z / (2.0 * b.cos());
+        r - 0.95 * m - r * at.cos()
+    };
+    assert!(gap(ans.answer as f64) >= 0.0 && gap(ans.largest_below as f64) < 0.0);
+}
+
+/// Ch. 9, a helical gear on a crossed rack: the closed forms of the scenario's header, and
+/// an independent route in the pitch plane — gear velocity `v1 x̂`, rack velocity
+/// `v2 (cos Σ, −sin Σ)`, gear tooth line `(sin β1, cos β1)`: the relative velocity has no
+/// component across the tooth line and its length is the sliding speed.
+#[test]
+fn crossed_rack_speeds_and_modules() {
+    let v = run_json("scenarios/gear_pair_crossed_rack.toml");
+    let p = &v["pairs"][0];
+    let (b1, b2) = (15f64.to_radians(), 30f64.to_radians());
+    let sig = b1 + b2;
+    close(f(p, "shaft_angle_deg"), 45.0, 1e-12, "Σ");
+    close(f(p, "pitch_radius"), 51.764, 1e-3, "r1");
+    close(f(p, "transverse_module"), 5.0 / b1.cos(), 1e-12, "m_t1");
+    close(f(p, "rack_module"), 5.7735, 1e-4, "rack module");
+    close(f(p, "travel_per_revolution"), 362.76, 0.01, "travel");
+    let (v1, v2, vs) = (
+        f(p, "pitch_line_speed"),
+        f(p, "rack_speed"),
+        f(p, "sliding_speed"),
+    );
+    close(v1, 0.51764, 1e-5, "v1");
+    close(v2, 0.57735, 1e-5, "v2");
+    close(vs, 0.42265, 1e-5, "v_s");
+    let rel = [v1 - v2 * sig.cos(), v2 * sig.sin()];
+    let across = rel[0] * b1.cos() - rel[1] * b1.sin();
+    close(across, 0.0, 1e-12, "no velocity across the teeth");
+    close(rel[0].hypot(rel[1]), vs, 1e-12, "sliding = relative speed");
+    // The travel per revolution is the rack speed over the gear's angular speed.
+    close(
+        v2 * 1000.0 * 2.0 * PI / 10.0,
+        f(p, "travel_per_revolution"),
+        1e-9,
+        "v2 = ω travel/2π",
+    );
+    // β2 = 0: a straight rack moving at Σ = β1: v2 = v1 cos β1, v_s = v1 sin β1.
+    let text =
+        std::fs::read_to_string(common::root().join("scenarios/gear_pair_crossed_rack.toml"))
+            .unwrap()
+            .replace("[15, 30]", "[15, 0]");
+    let r = armsim::scenarios::gear_pair_report::report(
+        &armsim::scenarios::gear_pair::parse("r.toml", &text).unwrap(),
+        "gear_pair",
+    );
+    let p = &r.json["pairs"][0];
+    close(f(p, "rack_speed"), v1 * b1.cos(), 1e-12, "straight rack v2");
+    close(
+        f(p, "sliding_speed"),
+        v1 * b1.sin(),
+        1e-12,
+        "straight rack v_s",
     );
 }

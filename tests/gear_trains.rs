@@ -8,6 +8,7 @@ use armsim::machines::gearing::torques::solve_torques;
 use armsim::machines::gearing::willis::relative_ratio;
 use armsim::scenarios::gear_train::parse;
 use serde_json::Value;
+use std::f64::consts::PI;
 
 mod common;
 use common::{root, run_json};
@@ -226,6 +227,163 @@ fn answer_section_trains_match_the_book() {
     );
 }
 
+/// A gear rigid with a carrier (ch. 10 mixed train): pair 1–2 drives the carrier H that
+/// gear 2 is part of; sun 3 out, planet 4, fixed ring 5. Willis by hand:
+/// `ω_H = −(z1/z2) ω1`, `ω3 = (1 + z5/z3) ω_H`, `ω4 = ω_H (1 − z5/z4)`.
+#[test]
+fn a_gear_rigid_with_a_carrier_drives_the_planetary() {
+    let rel = "scenarios/gear_train_mixed_gear_on_carrier.toml";
+    let v = run_json(rel);
+    assert_eq!(v["classification"], "mixed");
+    assert_eq!(member(&v, "H")["kind"], "carrier");
+    assert_eq!(member(&v, "H")["gears"][0]["name"], "2");
+    close(speed(&v, "H"), -400.0, 1e-9, "ω_H");
+    close(speed(&v, "3"), -1600.0, 1e-9, "ω3");
+    close(speed(&v, "4"), 800.0, 1e-9, "ω4");
+    assert_eq!(v["transmission"]["gear_ratio"]["exact"], "-3/4");
+    assert_eq!(v["willis"][0]["ratio"]["exact"], "-3");
+    // Other tooth counts, same closed form: z1 = 30, z3 = 30, z4 = 15 (ring 60 = 30 + 2·15).
+    let text = std::fs::read_to_string(root().join(rel))
+        .unwrap()
+        .replacen("name = \"1\"\nteeth = 20", "name = \"1\"\nteeth = 30", 1)
+        .replacen("name = \"3\"\nteeth = 20", "name = \"3\"\nteeth = 30", 1)
+        .replacen("name = \"4\"\nteeth = 20", "name = \"4\"\nteeth = 15", 1)
+        .replace("planets = 4", "planets = 3");
+    let sc = parse(rel, &text).unwrap_or_else(|e| panic!("{e}"));
+    let (z1, z2, z3, z4, z5) = (30.0, 60.0, 30.0, 15.0, 60.0);
+    let wh = -z1 / z2 * 1200.0;
+    let b = |n: &str| sc.train.body(n).unwrap();
+    close(sc.speeds.values[b("H")], wh, 1e-9, "ω_H (30/60)");
+    close(
+        sc.speeds.values[b("3")],
+        (1.0 + z5 / z3) * wh,
+        1e-9,
+        "ω3 (30/60)",
+    );
+    close(
+        sc.speeds.values[b("4")],
+        wh * (1.0 - z5 / z4),
+        1e-9,
+        "ω4 (30/60)",
+    );
+}
+
+fn selection(text: &str) -> Value {
+    let sc = armsim::scenarios::gear_train::selection_file("sel.toml", text)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .expect("a [selection] file");
+    armsim::scenarios::gear_train_selection::report(&sc, "gear_train").json["selection"].clone()
+}
+
+fn teeth_of(entry: &Value) -> Vec<u64> {
+    entry["teeth"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t["teeth"].as_u64().unwrap())
+        .collect()
+}
+
+/// 2K-H planetary conditions by hand: coaxial, assembly, neighbours, z ≥ 17.
+fn planetary_ok(z: &[u64], k: u64) -> bool {
+    let (z1, z2, z3) = (z[0], z[1], z[2]);
+    z.iter().all(|&x| x >= 17)
+        && z3 == z1 + 2 * z2
+        && (z1 + z3) % k == 0
+        && (z2 as f64 + 2.0) < (z1 + z2) as f64 * (PI / k as f64).sin()
+}
+
+/// Choosing tooth counts (ch. 10): the classic 2K-H selection `u = 1 + z3/z1` with k
+/// planets, against the closed-form conditions and an independent smallest-ring search.
+#[test]
+fn planetary_tooth_selection_meets_every_condition_and_is_the_smallest() {
+    let v = run_json("scenarios/gear_train_selection_planetary.toml");
+    let s = &v["selection"];
+    assert_eq!(teeth_of(&s["best"]), [18, 18, 54], "u = 4, k = 3");
+    close(s["best"]["ratio"].as_f64().unwrap(), 4.0, 1e-12, "u'");
+    for c in s["candidates"].as_array().unwrap() {
+        let z = teeth_of(c);
+        assert!(planetary_ok(&z, 3), "{z:?}");
+        close(1.0 + z[2] as f64 / z[0] as f64, 4.0, 1e-12, "exact ratio");
+    }
+    // u = 5, k = 3: the proportion 1 : 3/2 : 4 : 5/3 needs z1 even and a multiple of 3.
+    let text =
+        std::fs::read_to_string(root().join("scenarios/gear_train_selection_planetary.toml"))
+            .unwrap();
+    let s = selection(&text.replace("ratio = 4", "ratio = 5"));
+    assert_eq!(teeth_of(&s["best"]), [18, 27, 72]);
+    // With 2 % tolerance the ring shrinks; an independent search finds the same ring.
+    let s = selection(
+        &text
+            .replace("ratio = 4", "ratio = 5")
+            .replace("tolerance = 0", "tolerance = 0.02"),
+    );
+    let best = teeth_of(&s["best"]);
+    let u = 1.0 + best[2] as f64 / best[0] as f64;
+    assert!(
+        planetary_ok(&best, 3) && (u - 5.0).abs() / 5.0 <= 0.02,
+        "{best:?}"
+    );
+    let mut smallest_ring = u64::MAX;
+    for z1 in 17..=120u64 {
+        for z2 in 17..=120u64 {
+            let z = [z1, z2, z1 + 2 * z2];
+            let u = 1.0 + z[2] as f64 / z1 as f64;
+            if z[2] <= 120 && planetary_ok(&z, 3) && (u - 5.0).abs() / 5.0 <= 0.02 {
+                smallest_ring = smallest_ring.min(z[2]);
+            }
+        }
+    }
+    assert_eq!(best[2], smallest_ring);
+    assert!(best[2] < 72, "the tolerance buys a smaller ring: {best:?}");
+}
+
+/// Reverted two-stage and compound planetary selections meet their conditions.
+#[test]
+fn two_stage_and_compound_planetary_selections_meet_their_conditions() {
+    let v = run_json("scenarios/gear_train_selection_two_stage.toml");
+    let s = &v["selection"];
+    let mut smallest = u64::MAX;
+    for z1 in 17..=120u64 {
+        for z2 in 17..=120u64 {
+            for z3 in 17..=120u64 {
+                let Some(z4) = (z1 + z2).checked_sub(z3) else {
+                    continue;
+                };
+                let u = (z2 * z4) as f64 / (z1 * z3) as f64;
+                if (17..=120).contains(&z4) && (u - 12.0).abs() / 12.0 <= 0.01 {
+                    smallest = smallest.min(z2.max(z4));
+                }
+            }
+        }
+    }
+    for c in s["candidates"].as_array().unwrap() {
+        let z = teeth_of(c);
+        let u = (z[1] * z[3]) as f64 / (z[0] * z[2]) as f64;
+        assert_eq!(z[0] + z[1], z[2] + z[3], "coaxial {z:?}");
+        assert!((u - 12.0).abs() / 12.0 <= 0.01 && z.iter().all(|&x| x >= 17));
+        close(c["ratio"].as_f64().unwrap(), u, 1e-12, "u'");
+    }
+    assert_eq!(*teeth_of(&s["best"]).iter().max().unwrap(), smallest);
+    // Compound planet 2/2' with u = 1 + z2 z3/(z1 z2') = 16, 3 planets, within 1 %.
+    let s = selection(
+        "kind = \"gear_train\"\n[selection]\nscheme = \"compound_planetary\"\nratio = 16\ntolerance = 0.01\nplanets = 3\nmax_teeth = 100\n",
+    );
+    for c in s["candidates"].as_array().unwrap() {
+        let z = teeth_of(c);
+        let (z1, z2, z2b, z3) = (z[0], z[1], z[2], z[3]);
+        let u = 1.0 + (z2 * z3) as f64 / (z1 * z2b) as f64;
+        assert!((u - 16.0).abs() / 16.0 <= 0.01, "{z:?}");
+        assert_eq!(z1 + z2, z3 - z2b, "coaxial {z:?}");
+        let g = (1..=z2.min(z2b))
+            .rev()
+            .find(|d| z2 % d == 0 && z2b % d == 0)
+            .unwrap();
+        assert_eq!((z1 * z2b + z3 * z2) % (3 * g), 0, "assembly {z:?}");
+        assert!((z2.max(z2b) as f64 + 2.0) < (z1 + z2) as f64 * (PI / 3.0).sin());
+    }
+}
+
 // ---------------------------------------------------------------------------------------
 // Independent routes.
 
@@ -349,8 +507,8 @@ fn mobility_count_equals_the_null_space_dimension() {
     for entry in std::fs::read_dir(root().join("scenarios")).unwrap() {
         let p = entry.unwrap().path();
         let name = p.file_name().unwrap().to_string_lossy().into_owned();
-        if !name.starts_with("gear_train_") {
-            continue;
+        if !name.starts_with("gear_train_") || name.starts_with("gear_train_selection_") {
+            continue; // the selection files describe no train (their own tests above)
         }
         let sc = scenario(&format!("scenarios/{name}"));
         let (w, ..) = sc.train.structural_mobility();
@@ -560,6 +718,30 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         3,
         "speed_unit",
         "expected \"rpm\" or \"rad/s\"",
+    ),
+    (
+        "gear_train_carrier_named_like_gear.toml",
+        14,
+        "carrier[0].name",
+        "a gear rigid with this carrier says `body = \"H\"`",
+    ),
+    (
+        "gear_train_selection_with_gears.toml",
+        4,
+        "gear",
+        "describes no train: remove `gear`",
+    ),
+    (
+        "gear_train_selection_impossible.toml",
+        4,
+        "selection.ratio",
+        "no planetary tooth counts in 17 … 20",
+    ),
+    (
+        "gear_train_nested_carrier.toml",
+        16,
+        "carrier[0].name",
+        "nested carriers are not supported",
     ),
 ];
 

@@ -6,6 +6,7 @@
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::report::Report;
 use crate::machines::gearing::pair::{validate, PairKind, PairSpec};
+use crate::scenarios::gear_pair_query::{Defaults, QueryTable};
 use crate::scenarios::gear_pair_report::{report, PairCase, PairScenario, SpatialCase};
 use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
@@ -27,6 +28,8 @@ struct FileSpec {
     clearance: Option<f64>,
     #[serde(default)]
     pair: Vec<Spanned<PairTable>>,
+    #[serde(default)]
+    query: Vec<Spanned<QueryTable>>,
 }
 
 #[derive(Deserialize, Default)]
@@ -82,8 +85,14 @@ pub fn run(path: &Path, text: &str, out_dir: Option<&Path>) -> Result<Report, Sc
 pub fn parse(file: &str, text: &str) -> Result<PairScenario, ScenarioError> {
     let cx = Source::new(file, text);
     let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
-    if f.pair.is_empty() {
-        return Err(cx.top("kind", "a gear_pair file needs at least one [[pair]] table"));
+    if f.pair.is_empty() && f.query.is_empty() {
+        return Err(cx.top(
+            "kind",
+            "a gear_pair file needs at least one [[pair]] or [[query]] table",
+        ));
+    }
+    if f.query.len() > 100 {
+        return Err(cx.at(f.query[100].span(), "query", "at most 100 queries"));
     }
     if f.pair.len() > 100 {
         return Err(cx.at(f.pair[100].span(), "pair", "at most 100 pairs"));
@@ -92,6 +101,17 @@ pub fn parse(file: &str, text: &str) -> Result<PairScenario, ScenarioError> {
     for (i, s) in f.pair.iter().enumerate() {
         cases.push(case(&cx, &f, i, s)?);
     }
+    let defaults = Defaults {
+        pressure_angle_deg: f.pressure_angle_deg,
+        addendum: f.addendum,
+        clearance: f.clearance,
+    };
+    let mut queries = Vec::new();
+    for (i, s) in f.query.iter().enumerate() {
+        queries.push(crate::scenarios::gear_pair_query::read(
+            &cx, i, s, defaults,
+        )?);
+    }
     Ok(PairScenario {
         name: f.name.clone().unwrap_or_else(|| {
             Path::new(file)
@@ -99,6 +119,7 @@ pub fn parse(file: &str, text: &str) -> Result<PairScenario, ScenarioError> {
                 .map_or(NAME.into(), |s| s.to_string_lossy().into_owned())
         }),
         cases,
+        queries,
     })
 }
 
@@ -197,17 +218,15 @@ fn case(
     }
     let teeth = tooth_counts(&at, p, &kind)?;
     let planar = matches!(kind.as_str(), "external" | "internal" | "rack");
-    need(
-        "helix_angles_deg",
-        p.helix_angles_deg.is_none() || kind == "crossed",
-    )?;
+    let crossed = kind == "crossed" || kind == "crossed_rack";
+    need("helix_angles_deg", p.helix_angles_deg.is_none() || crossed)?;
     need(
         "diameter_factor",
         p.diameter_factor.is_none() || kind == "worm",
     )?;
     need("speed_rpm", p.speed_rpm.is_none() || kind == "worm")?;
     need("friction", p.friction.is_none() || kind == "worm")?;
-    need("speed", p.speed.is_none() || kind == "crossed")?;
+    need("speed", p.speed.is_none() || crossed)?;
     need(
         "shaft_angle_deg",
         p.shaft_angle_deg.is_none() || kind == "bevel",
@@ -393,7 +412,11 @@ fn tooth_counts(at: &At, p: &PairTable, kind: &str) -> Result<Vec<u32>, Scenario
         }
         None => return Err(at.err("teeth", "missing: teeth = [z1, z2]".into())),
     };
-    let n_teeth = if kind == "rack" { 1 } else { 2 };
+    let n_teeth = if kind == "rack" || kind == "crossed_rack" {
+        1
+    } else {
+        2
+    };
     if teeth.len() != n_teeth {
         return Err(at.err(
             "teeth",
@@ -530,6 +553,18 @@ fn spatial_case(
             }
             SpatialCase::Crossed { mn: module, z: [teeth[0], teeth[1]], beta: [b[0].to_radians(), b[1].to_radians()], omega1: p.speed }
         }
+        "crossed_rack" => {
+            let b = p.helix_angles_deg.ok_or_else(|| err("helix_angles_deg", "missing: [β1 (gear), β2 (rack teeth)] in degrees".into()))?;
+            if b.iter().any(|x| !in_range(x.abs(), 0.0, 85.0)) {
+                return Err(err("helix_angles_deg", "each must be within ±85°".into()));
+            }
+            if let Some(w) = p.speed {
+                if !in_range(w.abs(), 0.0, 1e6) {
+                    return Err(err("speed", "must be a finite speed (rad/s)".into()));
+                }
+            }
+            SpatialCase::CrossedRack { mn: module, z: teeth[0], beta: [b[0].to_radians(), b[1].to_radians()], omega1: p.speed }
+        }
         "worm" => {
             let q = p.diameter_factor.ok_or_else(|| err("diameter_factor", "missing: q = d1/m".into()))?;
             if !in_range(q, 0.5, 1000.0) {
@@ -552,7 +587,7 @@ fn spatial_case(
         other => {
             return Err(err(
                 "type",
-                format!("unknown pair type '{other}' (expected external, internal, rack, crossed, worm, bevel or design)"),
+                format!("unknown pair type '{other}' (expected external, internal, rack, crossed, crossed_rack, worm, bevel or design)"),
             ))
         }
     };

@@ -4,7 +4,7 @@
 //! profile per gear (involute flanks). JSON keys are listed in `docs/machines.md`.
 
 use crate::io::report::Report;
-use crate::machines::gearing::crossed_axes::{bevel, crossed, worm, Worm};
+use crate::machines::gearing::crossed_axes::{bevel, crossed, crossed_rack, worm, Worm};
 use crate::machines::gearing::involute::{
     flank_points, internal_thickness_at, involute_at, thickness_at,
 };
@@ -27,6 +27,17 @@ pub enum SpatialCase {
         /// Helix angles (rad).
         beta: [f64; 2],
         /// Speed of gear 1 (rad/s), for the sliding speed.
+        omega1: Option<f64>,
+    },
+    /// Helical gear on a crossed rack.
+    CrossedRack {
+        /// Normal module.
+        mn: f64,
+        /// Gear teeth.
+        z: u32,
+        /// Helix angles of the gear and of the rack teeth (rad).
+        beta: [f64; 2],
+        /// Gear speed (rad/s), for the rack and sliding speeds.
         omega1: Option<f64>,
     },
     /// Worm drive.
@@ -102,6 +113,8 @@ pub struct PairScenario {
     pub name: String,
     /// The pairs.
     pub cases: Vec<PairCase>,
+    /// The `[[query]]` answers.
+    pub queries: Vec<crate::scenarios::gear_pair_query::QueryCase>,
 }
 
 fn deg(x: f64) -> f64 {
@@ -373,6 +386,35 @@ fn spatial_json(c: &PairCase, s: &SpatialCase, text: &mut String) -> Value {
                 "centre_distance": r.centre_distance, "ratio": r.ratio, "sliding_speed": r.sliding_speed,
             })
         }
+        SpatialCase::CrossedRack {
+            mn,
+            z,
+            beta,
+            omega1,
+        } => {
+            let r = crossed_rack(mn, z, beta, omega1);
+            let _ = writeln!(
+                text,
+                "\n[{}] crossed rack: Σ = {:.4}°, m_t1 = {:.4}, rack module {:.4}, r1 = {:.4} mm, travel/rev {:.4} mm{}",
+                c.label,
+                deg(r.shaft_angle),
+                r.gear_transverse_module,
+                r.rack_module,
+                r.pitch_radius,
+                r.travel_per_revolution,
+                r.speeds.map_or(String::new(), |[v1, v2, vs]| format!(
+                    ", v1 = {v1:.5}, rack v2 = {v2:.5}, sliding {vs:.5} m/s"
+                ))
+            );
+            json!({
+                "label": c.label, "type": "crossed_rack",
+                "shaft_angle_deg": deg(r.shaft_angle), "transverse_module": r.gear_transverse_module,
+                "normal_module": mn, "rack_module": r.rack_module, "pitch_radius": r.pitch_radius,
+                "travel_per_revolution": r.travel_per_revolution,
+                "pitch_line_speed": r.speeds.map(|s| s[0]), "rack_speed": r.speeds.map(|s| s[1]),
+                "sliding_speed": r.speeds.map(|s| s[2]),
+            })
+        }
         SpatialCase::Worm {
             m,
             starts,
@@ -440,8 +482,14 @@ pub fn report(sc: &PairScenario, kind_name: &str) -> Report {
         };
         pairs.push(v);
     }
+    let mut queries = Vec::new();
+    for q in &sc.queries {
+        text.push_str(&crate::scenarios::gear_pair_query::query_line(q));
+        text.push('\n');
+        queries.push(crate::scenarios::gear_pair_query::query_json(q));
+    }
     Report {
-        json: json!({ "scenario": sc.name, "kind": kind_name, "pairs": pairs }),
+        json: json!({ "scenario": sc.name, "kind": kind_name, "pairs": pairs, "queries": queries }),
         text,
     }
 }

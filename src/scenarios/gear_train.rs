@@ -9,6 +9,7 @@ use crate::machines::gearing::train::{
     Element, Gear, GearTrain, Mesh, MeshKind, TrainBody, TrainError,
 };
 use crate::scenarios::gear_train_report::{report, Query, TrainScenario};
+use crate::scenarios::gear_train_selection::{SelectionScenario, SelectionSpec};
 use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
 use std::path::Path;
@@ -42,6 +43,7 @@ struct FileSpec {
     torque: Vec<Spanned<TorqueSpec>>,
     #[serde(default)]
     willis: Vec<Spanned<WillisSpec>>,
+    selection: Option<Spanned<SelectionSpec>>,
 }
 
 #[derive(Deserialize)]
@@ -108,10 +110,51 @@ struct WillisSpec {
 /// Most gears in a train (exact arithmetic on tooth-count products).
 pub const MAX_GEARS: usize = 64;
 
-/// Runs a gear-train scenario: [`parse`], then the report.
+/// Runs a gear-train scenario: [`parse`], then the report (or a `[selection]` file's
+/// tooth counts).
 pub fn run(path: &Path, text: &str) -> Result<Report, ScenarioError> {
+    if let Some(sel) = selection_file(&path.display().to_string(), text)? {
+        return Ok(crate::scenarios::gear_train_selection::report(&sel, NAME));
+    }
     let sc = parse(&path.display().to_string(), text)?;
     report(&sc, NAME).map_err(|e| locate_plain(&path.display().to_string(), text, &e))
+}
+
+/// A `[selection]` file (tooth counts for a required ratio), solved; `None` for a train
+/// description. The train's tables are refused next to `[selection]`.
+pub fn selection_file(file: &str, text: &str) -> Result<Option<SelectionScenario>, ScenarioError> {
+    let cx = Source::new(file, text);
+    let f: FileSpec = toml::from_str(text).map_err(|e| cx.toml(&e))?;
+    let Some(sel) = &f.selection else {
+        return Ok(None);
+    };
+    let train_keys = [
+        ("gear", !f.gear.is_empty()),
+        ("carrier", !f.carrier.is_empty()),
+        ("mesh", !f.mesh.is_empty()),
+        ("input", !f.input.is_empty()),
+        ("torque", !f.torque.is_empty()),
+        ("willis", !f.willis.is_empty()),
+        ("coaxial", !f.coaxial.is_empty()),
+        ("output", f.output.is_some()),
+        ("module", f.module.is_some()),
+        ("mesh_efficiency", f.mesh_efficiency.is_some()),
+        ("speed_unit", f.speed_unit.is_some()),
+    ];
+    if let Some((key, _)) = train_keys.iter().find(|(_, present)| *present) {
+        return Err(cx.top(
+            key,
+            format!(
+                "a [selection] file chooses tooth counts and describes no train: remove `{key}`"
+            ),
+        ));
+    }
+    let name = f.name.clone().unwrap_or_else(|| {
+        Path::new(file)
+            .file_stem()
+            .map_or(NAME.into(), |s| s.to_string_lossy().into_owned())
+    });
+    crate::scenarios::gear_train_selection::read(&cx, name, sel.span(), sel.get_ref()).map(Some)
 }
 
 /// A gear-train file as an arm joint's transmission
@@ -325,6 +368,12 @@ pub fn parse(file: &str, text: &str) -> Result<TrainScenario, ScenarioError> {
         }
     };
     let (unit, default_eta) = units(&cx, &f)?;
+    if f.selection.is_some() {
+        return Err(cx.top(
+            "selection",
+            "a [selection] file chooses tooth counts; it is not a train to run or drive",
+        ));
+    }
     if f.gear.is_empty() {
         return Err(cx.top("kind", "a gear train needs [[gear]] tables"));
     }
@@ -477,27 +526,25 @@ fn gears_and_bodies(f: &FileSpec) -> Result<(Vec<Gear>, Vec<TrainBody>), TrainEr
     Ok((gears, bodies))
 }
 
-/// The train from the gear, carrier and mesh tables.
-fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
-    let (gears, mut bodies) = gears_and_bodies(f)?;
-    let nbg = bodies.len();
-    for (i, s) in f.carrier.iter().enumerate() {
-        let c = s.get_ref();
-        let err = |field, msg: String| TrainError::new(Element::Carrier(i), field, msg);
-        if bodies.iter().any(|b| b.name == c.name) {
-            return Err(err(
-                "name",
-                format!("'{}' already names a gear body or carrier", c.name),
-            ));
-        }
-        let planets = match c.planets {
-            None => 1,
-            Some(n) if (1..=64).contains(&n) => n as u32,
-            Some(n) => return Err(err("planets", format!("must be 1 … 64, got {n}"))),
-        };
-        if !in_range(c.inertia, 0.0, 1e12) {
-            return Err(err("inertia", "must be a finite number ≥ 0".into()));
-        }
+/// Adds `[[carrier]]` `i`: a new body, or, when gears name it as their `body`, the body
+/// those gears sit on (a gear rigid with its carrier).
+fn add_carrier(
+    f: &FileSpec,
+    i: usize,
+    c: &CarrierSpec,
+    gears: &[Gear],
+    bodies: &mut Vec<TrainBody>,
+) -> Result<(), TrainError> {
+    let err = |field, msg: String| TrainError::new(Element::Carrier(i), field, msg);
+    let planets = match c.planets {
+        None => 1,
+        Some(n) if (1..=64).contains(&n) => n as u32,
+        Some(n) => return Err(err("planets", format!("must be 1 … 64, got {n}"))),
+    };
+    if !in_range(c.inertia, 0.0, 1e12) {
+        return Err(err("inertia", "must be a finite number ≥ 0".into()));
+    }
+    let Some(b) = bodies.iter().position(|b| b.name == c.name) else {
         bodies.push(TrainBody {
             name: c.name.clone(),
             carrier: None,
@@ -507,6 +554,38 @@ fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
             inertia: c.inertia,
             element: Element::Carrier(i),
         });
+        return Ok(());
+    };
+    // Gears rigid with the carrier state it with `body = "<carrier>"`; a gear merely named
+    // like the carrier (its body defaulted to its name) is a clash.
+    let explicit = (0..gears.len())
+        .filter(|&g| gears[g].body == b)
+        .all(|g| f.gear[g].get_ref().body.as_deref() == Some(c.name.as_str()));
+    if bodies[b].is_carrier || !explicit {
+        return Err(err(
+            "name",
+            format!(
+                "'{}' already names a {}: a gear rigid with this carrier says `body = \"{}\"`; otherwise rename one of them",
+                c.name,
+                if bodies[b].is_carrier { "carrier" } else { "gear" },
+                c.name
+            ),
+        ));
+    }
+    let body = &mut bodies[b];
+    body.fixed |= c.fixed;
+    body.is_carrier = true;
+    body.planets = planets;
+    body.inertia = c.inertia;
+    body.element = Element::Carrier(i);
+    Ok(())
+}
+
+/// The train from the gear, carrier and mesh tables.
+fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
+    let (gears, mut bodies) = gears_and_bodies(f)?;
+    for (i, s) in f.carrier.iter().enumerate() {
+        add_carrier(f, i, s.get_ref(), &gears, &mut bodies)?;
     }
     // Planet axes.
     for (i, s) in f.gear.iter().enumerate() {
@@ -514,10 +593,16 @@ fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
             continue;
         };
         let err = |msg: String| TrainError::new(Element::Gear(i), "carrier", msg);
-        let c = (nbg..bodies.len())
-            .find(|&c| &bodies[c].name == cn)
+        let c = (0..bodies.len())
+            .find(|&c| bodies[c].is_carrier && &bodies[c].name == cn)
             .ok_or_else(|| err(format!("'{cn}' is not a [[carrier]]")))?;
         let b = gears[i].body;
+        if b == c {
+            return Err(err(format!(
+                "the gear turns with carrier '{cn}' (`body = \"{cn}\"`): it cannot also ride on it"
+            )));
+        }
+
         if bodies[b].carrier.is_some_and(|d| d != c) {
             return Err(err(format!(
                 "gears on body '{}' name different carriers",
@@ -540,6 +625,20 @@ fn build(f: &FileSpec, default_eta: f64) -> Result<GearTrain, TrainError> {
                 ),
             ));
         }
+    }
+    if let Some(c) = bodies
+        .iter()
+        .position(|b| b.is_carrier && b.carrier.is_some())
+    {
+        return Err(TrainError::new(
+            bodies[c].element,
+            "name",
+            format!(
+                "carrier '{}' rides on carrier '{}' (a gear rigid with it names a `carrier`): nested carriers are not supported",
+                bodies[c].name,
+                bodies[bodies[c].carrier.unwrap_or(c)].name
+            ),
+        ));
     }
     let meshes = build_meshes(f, &gears, default_eta)?;
     let t = GearTrain {
@@ -627,6 +726,9 @@ pub const NAME: &str = "gear_train";
 /// The registry entry of these files ([`crate::scenarios::KINDS`]).
 pub const KIND: crate::scenarios::kind::ScenarioKind = crate::scenarios::kind::ScenarioKind {
     name: NAME,
-    check: |file, text| parse(file, text).map(drop),
+    check: |file, text| match selection_file(file, text)? {
+        Some(_) => Ok(()),
+        None => parse(file, text).map(drop),
+    },
     run: |path, text, _opts| run(path, text),
 };

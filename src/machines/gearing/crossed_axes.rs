@@ -1,4 +1,5 @@
 //! Gears on non-parallel axes (docs/reference_data.md §M2, ch. 9): crossed helical pairs,
+//! a helical gear on a crossed rack,
 //! worm drives (lead angle, sliding speed, efficiency, self-locking) and bevel pairs
 //! (pitch-cone angles, Tredgold's virtual spur gears, undercut and the contact ratio of
 //! the virtual pair).
@@ -34,6 +35,53 @@ pub fn crossed(mn: f64, z: [u32; 2], beta: [f64; 2], omega1: Option<f64>) -> Cro
         centre_distance: r[0] + r[1],
         ratio: z[1] as f64 / z[0] as f64,
         sliding_speed: omega1.map(|w| (w * r[0] / 1000.0 * sum.sin() / beta[1].cos()).abs()),
+    }
+}
+
+/// A helical gear meshing with a rack whose teeth are crossed: the rack moves at the
+/// shaft angle `Σ = β₁ + β₂` to the gear's plane of rotation (angles in radians, lengths
+/// in mm, speeds in m/s). At the pitch point the velocities normal to the common tooth
+/// line are equal, `v₁ cos β₁ = v₂ cos β₂`, so
+///
+/// `v₂ = v₁ cos β₁/cos β₂`,  sliding along the teeth `v_s = v₁ sin Σ/cos β₂`,
+/// `m_t1 = m_n/cos β₁` (gear), `m_2 = m_n/cos β₂` (rack, along its motion),
+/// travel per gear revolution `π m_n z/cos β₂`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CrossedRack {
+    /// Shaft angle `Σ = β₁ + β₂` between the rack's motion and the gear's plane.
+    pub shaft_angle: f64,
+    /// Gear transverse module `m_n/cos β₁`.
+    pub gear_transverse_module: f64,
+    /// Rack module along its motion `m_n/cos β₂`.
+    pub rack_module: f64,
+    /// Gear pitch radius `m_n z/(2 cos β₁)`.
+    pub pitch_radius: f64,
+    /// Rack travel per gear revolution `π m_n z/cos β₂` (mm).
+    pub travel_per_revolution: f64,
+    /// For a gear speed `ω₁` (rad/s): pitch-line speed `v₁`, rack speed `v₂`, sliding
+    /// speed `v_s` (m/s).
+    pub speeds: Option<[f64; 3]>,
+}
+
+/// A crossed gear–rack pair: normal module `mn`, gear teeth `z`, helix angles
+/// `[β₁ (gear), β₂ (rack teeth to the normal of the rack's motion)]`.
+pub fn crossed_rack(mn: f64, z: u32, beta: [f64; 2], omega1: Option<f64>) -> CrossedRack {
+    let r = mn * z as f64 / (2.0 * beta[0].cos());
+    let sum = beta[0] + beta[1];
+    CrossedRack {
+        shaft_angle: sum,
+        gear_transverse_module: mn / beta[0].cos(),
+        rack_module: mn / beta[1].cos(),
+        pitch_radius: r,
+        travel_per_revolution: std::f64::consts::PI * mn * z as f64 / beta[1].cos(),
+        speeds: omega1.map(|w| {
+            let v1 = (w * r / 1000.0).abs();
+            [
+                v1,
+                v1 * beta[0].cos() / beta[1].cos(),
+                v1 * sum.sin().abs() / beta[1].cos(),
+            ]
+        }),
     }
 }
 

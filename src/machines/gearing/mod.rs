@@ -10,6 +10,8 @@
 //! - [`involute`]: `inv`, its inverse, thickness at a radius, flank points;
 //! - [`pair`]: involute spur/helical pairs (external, internal, rack);
 //! - [`crossed_axes`]: crossed helical, worm and bevel pairs;
+//! - [`tooth_count_queries`]: the tooth count at which two circles of a gear coincide;
+//! - [`tooth_selection`]: standard tooth counts for a required train ratio;
 //! - [`pair_design`]: the textbook's pair design for a centre distance (balanced
 //!   sliding).
 //!
@@ -26,6 +28,8 @@ pub mod involute;
 pub mod pair;
 pub mod pair_design;
 pub mod rational;
+pub mod tooth_count_queries;
+pub mod tooth_selection;
 pub mod torques;
 pub mod train;
 pub mod willis;

@@ -133,7 +133,8 @@ pub struct Mesh {
 pub struct GearTrain {
     /// Gears.
     pub gears: Vec<Gear>,
-    /// Bodies (gear blocks first, in order of first appearance, then carriers).
+    /// Bodies: gear blocks in order of first appearance, then carriers (a carrier that
+    /// gears are rigid with is their gear block, marked `is_carrier`).
     pub bodies: Vec<TrainBody>,
     /// Meshes.
     pub meshes: Vec<Mesh>,
