@@ -142,12 +142,16 @@ pub fn selection_file(file: &str, text: &str) -> Result<Option<SelectionScenario
         ("speed_unit", f.speed_unit.is_some()),
     ];
     if let Some((key, _)) = train_keys.iter().find(|(_, present)| *present) {
-        return Err(cx.top(
-            key,
-            format!(
-                "a [selection] file chooses tooth counts and describes no train: remove `{key}`"
-            ),
-        ));
+        let msg = format!(
+            "a [selection] file chooses tooth counts and describes no train: remove `{key}`"
+        );
+        // Tables ([[gear]], …) are found by their header, plain keys by their line.
+        let by_header = cx.section(key, msg.clone());
+        return Err(if by_header.line.is_some() {
+            by_header
+        } else {
+            cx.top(key, msg)
+        });
     }
     let name = f.name.clone().unwrap_or_else(|| {
         Path::new(file)
