@@ -191,7 +191,7 @@ fn table(
     }
     let lifted = lift(m, moving, true, err)?;
     if kind == TableKind::Displacement {
-        if let Some(_) = lifted {
+        if lifted.is_some() {
             let k = if oscillating { "swing_deg" } else { "stroke" };
             return Err(err(
                 k,

@@ -3,7 +3,7 @@
 //! here and solved by [`crate::machines::friction::connected_bodies`].
 
 use crate::core::diag::LocatedError as ScenarioError;
-use crate::machines::friction::connected_bodies::{Body, Chain, Motion, Moving};
+use crate::machines::friction::connected_bodies::{Chain, ChainMotion, Moving, RopedBody};
 use crate::scenarios::source::{in_range, Source};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -148,7 +148,7 @@ pub(crate) fn chain(
     };
     let c = Chain {
         bodies: (0..n)
-            .map(|k| Body {
+            .map(|k| RopedBody {
                 mass: masses[k],
                 slope: slopes[k].to_radians(),
                 friction: friction[k],
@@ -186,7 +186,7 @@ fn report(c: &Chain, label: String, push: usize) -> Result<(Value, String), Stri
     let (bj, bt) = moving_json(&bwd);
     let mut v = json!({"label": label, "type": "connected_bodies",
         "normal_N": c.normals(), "driving_N": c.driving(),
-        "motion": match motion { Motion::Forward => "forward", Motion::Backward => "backward", Motion::Rest => "rest" },
+        "motion": match motion { ChainMotion::Forward => "forward", ChainMotion::Backward => "backward", ChainMotion::Rest => "rest" },
         "push_body": push,
         "start_forward_N": c.force_to_move(push, 1.0, true),
         "start_backward_N": c.force_to_move(push, -1.0, true),
@@ -194,11 +194,11 @@ fn report(c: &Chain, label: String, push: usize) -> Result<(Value, String), Stri
         "uniform_backward_N": c.force_to_move(push, -1.0, false),
         "forward": fj, "backward": bj});
     let now = match motion {
-        Motion::Forward if !ft => return Err("moving forward a rope goes slack (negative tension): the bodies do not move as one chain; check the slopes' signs".into()),
-        Motion::Backward if !bt => return Err("moving backward a rope goes slack (negative tension): the bodies do not move as one chain; check the slopes' signs".into()),
-        Motion::Forward => Some(&fwd),
-        Motion::Backward => Some(&bwd),
-        Motion::Rest => None,
+        ChainMotion::Forward if !ft => return Err("moving forward a rope goes slack (negative tension): the bodies do not move as one chain; check the slopes' signs".into()),
+        ChainMotion::Backward if !bt => return Err("moving backward a rope goes slack (negative tension): the bodies do not move as one chain; check the slopes' signs".into()),
+        ChainMotion::Forward => Some(&fwd),
+        ChainMotion::Backward => Some(&bwd),
+        ChainMotion::Rest => None,
     };
     let text = match now {
         Some(m) => {

@@ -5,7 +5,7 @@
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::report::Report;
-use crate::machines::gearing::tooth_selection::{select, Requirement, Scheme, Selection};
+use crate::machines::gearing::tooth_selection::{select, Requirement, Selection, TrainScheme};
 use crate::scenarios::source::Source;
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -50,11 +50,11 @@ pub fn read(
 ) -> Result<SelectionScenario, ScenarioError> {
     let coaxial = s.coaxial.as_ref().map(|c| (*c.get_ref(), c.span()));
     let scheme = match s.scheme.get_ref().as_str() {
-        "two_stage" => Scheme::TwoStage {
+        "two_stage" => TrainScheme::TwoStage {
             coaxial: coaxial.as_ref().is_some_and(|c| c.0),
         },
-        "planetary" => Scheme::Planetary,
-        "compound_planetary" => Scheme::CompoundPlanetary,
+        "planetary" => TrainScheme::Planetary,
+        "compound_planetary" => TrainScheme::CompoundPlanetary,
         other => {
             return Err(cx.at(
                 s.scheme.span(),
@@ -63,7 +63,7 @@ pub fn read(
             ))
         }
     };
-    let planetary = !matches!(scheme, Scheme::TwoStage { .. });
+    let planetary = !matches!(scheme, TrainScheme::TwoStage { .. });
     if let (Some((_, sp)), true) = (&coaxial, planetary) {
         return Err(cx.at(
             sp.clone(),
@@ -99,7 +99,7 @@ pub fn read(
     };
     let min_teeth = cx.count(s.min_teeth.as_ref(), "selection.min_teeth", 17, 1..=1000)?;
     let hi_cap = match scheme {
-        Scheme::Planetary => 1000,
+        TrainScheme::Planetary => 1000,
         _ => MAX_TEETH_CUBIC,
     };
     let max_teeth = cx.count(

@@ -20,6 +20,9 @@ type Point = [F; 2];
 
 const K: &str = "two_position";
 
+/// Most solver steps (as the other synthesis sections).
+const MAX_SAMPLES: usize = 100_000;
+
 /// The keys of `[two_position]`.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -95,7 +98,7 @@ pub fn parse_two_position(
         s.samples.as_ref(),
         "two_position.samples",
         360,
-        |n| (2..=crate::scenarios::synthesis::MAX_SAMPLES).contains(&n),
+        |n| (2..=MAX_SAMPLES).contains(&n),
         "must lie in 2..=100000",
     )?;
     let Some(cp) = &s.coupler_positions else {

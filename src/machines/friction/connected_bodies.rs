@@ -26,7 +26,7 @@
 
 /// One body of the chain.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Body {
+pub struct RopedBody {
     /// Mass `m` (kg).
     pub mass: f64,
     /// Angle of its path below the horizontal when the chain moves forward, `s` (rad).
@@ -43,7 +43,7 @@ pub struct Body {
 
 /// Which way the chain goes from rest.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Motion {
+pub enum ChainMotion {
     /// Every body toward the next one's side.
     Forward,
     /// The other way.
@@ -56,7 +56,7 @@ pub enum Motion {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chain {
     /// The bodies, back to front.
-    pub bodies: Vec<Body>,
+    pub bodies: Vec<RopedBody>,
     /// Pulley efficiency of each rope (`n − 1` values, 1 for an ideal pulley).
     pub pulley_efficiency: Vec<f64>,
     /// `g` (m/s²).
@@ -128,13 +128,13 @@ impl Chain {
     }
 
     /// Which way it goes from rest (static coefficients).
-    pub fn motion_from_rest(&self) -> Motion {
+    pub fn motion_from_rest(&self) -> ChainMotion {
         if self.net(1.0, true) > 0.0 {
-            Motion::Forward
+            ChainMotion::Forward
         } else if self.net(-1.0, true) < 0.0 {
-            Motion::Backward
+            ChainMotion::Backward
         } else {
-            Motion::Rest
+            ChainMotion::Rest
         }
     }
 

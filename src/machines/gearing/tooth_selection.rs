@@ -23,7 +23,7 @@ use std::f64::consts::PI;
 
 /// The train layout whose tooth counts are chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Scheme {
+pub enum TrainScheme {
     /// Two ordinary external stages 1–2 and 3–4 (2 and 3 on one shaft).
     TwoStage {
         /// Input and output shafts coaxial (a reverted train): `z1 + z2 = z3 + z4`.
@@ -35,22 +35,22 @@ pub enum Scheme {
     CompoundPlanetary,
 }
 
-impl Scheme {
+impl TrainScheme {
     /// The TOML spelling.
     pub fn name(self) -> &'static str {
         match self {
-            Scheme::TwoStage { .. } => "two_stage",
-            Scheme::Planetary => "planetary",
-            Scheme::CompoundPlanetary => "compound_planetary",
+            TrainScheme::TwoStage { .. } => "two_stage",
+            TrainScheme::Planetary => "planetary",
+            TrainScheme::CompoundPlanetary => "compound_planetary",
         }
     }
 
     /// The gear names of its tooth counts, in order.
     pub fn gear_names(self) -> &'static [&'static str] {
         match self {
-            Scheme::TwoStage { .. } => &["1", "2", "3", "4"],
-            Scheme::Planetary => &["1", "2", "3"],
-            Scheme::CompoundPlanetary => &["1", "2", "2'", "3"],
+            TrainScheme::TwoStage { .. } => &["1", "2", "3", "4"],
+            TrainScheme::Planetary => &["1", "2", "3"],
+            TrainScheme::CompoundPlanetary => &["1", "2", "2'", "3"],
         }
     }
 }
@@ -59,7 +59,7 @@ impl Scheme {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Requirement {
     /// Layout.
-    pub scheme: Scheme,
+    pub scheme: TrainScheme,
     /// Required ratio `u = ω_in/ω_out` (> 1 for the planetary schemes).
     pub ratio: f64,
     /// Largest relative ratio error `|u' − u|/u`.
@@ -77,7 +77,7 @@ pub struct Requirement {
 /// One admissible set of tooth counts.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Selection {
-    /// Tooth counts, in [`Scheme::gear_names`] order.
+    /// Tooth counts, in [`TrainScheme::gear_names`] order.
     pub teeth: Vec<u32>,
     /// Achieved ratio `u'`.
     pub ratio: f64,
@@ -96,12 +96,12 @@ fn gcd(a: u64, b: u64) -> u64 {
 }
 
 /// The achieved ratio of `z` in `scheme`.
-pub fn ratio_of(scheme: Scheme, z: &[u32]) -> f64 {
+pub fn ratio_of(scheme: TrainScheme, z: &[u32]) -> f64 {
     let f: Vec<f64> = z.iter().map(|&x| x as f64).collect();
     match scheme {
-        Scheme::TwoStage { .. } => f[1] / f[0] * f[3] / f[2],
-        Scheme::Planetary => 1.0 + f[2] / f[0],
-        Scheme::CompoundPlanetary => 1.0 + f[1] * f[3] / (f[0] * f[2]),
+        TrainScheme::TwoStage { .. } => f[1] / f[0] * f[3] / f[2],
+        TrainScheme::Planetary => 1.0 + f[2] / f[0],
+        TrainScheme::CompoundPlanetary => 1.0 + f[1] * f[3] / (f[0] * f[2]),
     }
 }
 
@@ -114,7 +114,7 @@ pub fn conditions(req: &Requirement, z: &[u32]) -> Option<Vec<(String, f64)>> {
     let sin = (PI / req.planets as f64).sin();
     let ha2 = 2.0 * req.addendum;
     match req.scheme {
-        Scheme::TwoStage { coaxial } => {
+        TrainScheme::TwoStage { coaxial } => {
             if coaxial && z[0] + z[1] != z[2] + z[3] {
                 return None;
             }
@@ -124,7 +124,7 @@ pub fn conditions(req: &Requirement, z: &[u32]) -> Option<Vec<(String, f64)>> {
             }
             Some(c)
         }
-        Scheme::Planetary => {
+        TrainScheme::Planetary => {
             let (z1, z2, z3) = (z[0] as u64, z[1] as u64, z[2] as u64);
             let room = (z1 + z2) as f64 * sin;
             let ok = z3 == z1 + 2 * z2
@@ -141,7 +141,7 @@ pub fn conditions(req: &Requirement, z: &[u32]) -> Option<Vec<(String, f64)>> {
                 ]
             })
         }
-        Scheme::CompoundPlanetary => {
+        TrainScheme::CompoundPlanetary => {
             let (z1, z2, z2b, z3) = (z[0] as u64, z[1] as u64, z[2] as u64, z[3] as u64);
             let num = z1 * z2b + z3 * z2;
             let den = k * gcd(z2, z2b);
@@ -181,7 +181,7 @@ fn candidates(req: &Requirement, visit: &mut dyn FnMut(&[u32])) {
         from..=to
     };
     match req.scheme {
-        Scheme::TwoStage { coaxial } => {
+        TrainScheme::TwoStage { coaxial } => {
             for z1 in lo..=hi {
                 for z2 in lo..=hi {
                     for z3 in lo..=hi {
@@ -199,7 +199,7 @@ fn candidates(req: &Requirement, visit: &mut dyn FnMut(&[u32])) {
                 }
             }
         }
-        Scheme::Planetary => {
+        TrainScheme::Planetary => {
             for z1 in lo..=hi {
                 for z3 in band((u_lo - 1.0) * z1 as f64, (u_hi - 1.0) * z1 as f64) {
                     if z3 > z1 && (z3 - z1) % 2 == 0 {
@@ -208,7 +208,7 @@ fn candidates(req: &Requirement, visit: &mut dyn FnMut(&[u32])) {
                 }
             }
         }
-        Scheme::CompoundPlanetary => {
+        TrainScheme::CompoundPlanetary => {
             for z1 in lo..=hi {
                 for z2 in lo..=hi {
                     for z2b in lo..=hi {
