@@ -9,6 +9,16 @@ use serde_json::Value;
 mod common;
 use common::run_json;
 
+/// The input angles (deg) of a centrode report.
+fn input_deg(v: &Value) -> Vec<f64> {
+    v["input_deg"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
 fn points(v: &Value) -> Vec<(f64, f64)> {
     v.as_array()
         .unwrap()
@@ -89,12 +99,7 @@ fn isosceles_slotted_lever_274_has_circles_a_25_and_b_50() {
     assert_eq!(v["mechanism"], "slotted_lever");
     assert_eq!(v["link"], "block");
     let r = 0.025;
-    let input: Vec<f64> = v["input_deg"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
+    let input = input_deg(&v);
     let mut n = 0;
     for (k, phi) in input.iter().enumerate() {
         let (f, m) = (&v["fixed"][k], &v["moving"][k]);
@@ -137,12 +142,7 @@ fn scotch_yoke_crank_rolls_on_the_yoke_as_a_cardan_pair() {
         (Some("AB"), Some("yoke"))
     );
     let r = 0.1;
-    let input: Vec<f64> = v["input_deg"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect();
+    let input = input_deg(&v);
     assert_eq!(input.len(), 361);
     for (k, phi) in input.iter().enumerate() {
         let p = phi.to_radians();
