@@ -21,6 +21,7 @@
 //! (found by bisection), so jumps of the curvature show as jumps of `s''`.
 
 use crate::machines::cams::laws::Displacement;
+use crate::machines::cams::profile::rot;
 use std::f64::consts::PI;
 
 type P = [f64; 2];
@@ -101,11 +102,6 @@ fn in_range(a: f64, (from, to): (f64, f64)) -> bool {
     let span = (to - from).rem_euclid(2.0 * PI);
     let span = if span == 0.0 { 2.0 * PI } else { span };
     (a - from).rem_euclid(2.0 * PI) <= span + 1e-12
-}
-
-fn rot(phi: f64, p: P) -> P {
-    let (s, c) = phi.sin_cos();
-    [c * p[0] - s * p[1], s * p[0] + c * p[1]]
 }
 
 fn dot(a: P, b: P) -> f64 {

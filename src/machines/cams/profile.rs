@@ -70,7 +70,8 @@ pub struct CamSample {
     pub rho_working: f64,
 }
 
-fn rot(phi: f64, p: [f64; 2]) -> [f64; 2] {
+/// `R(φ) p`: `p` turned counter-clockwise by `φ`.
+pub(crate) fn rot(phi: f64, p: [f64; 2]) -> [f64; 2] {
     let (s, c) = phi.sin_cos();
     [c * p[0] - s * p[1], s * p[0] + c * p[1]]
 }
