@@ -576,6 +576,30 @@ const BROKEN: &[(&str, usize, &str, &str)] = &[
         "pair[0].at_radii",
         "gear 1: radius 90 mm is outside 93.9693 … 1100.0000 mm (the involute starts on the base circle",
     ),
+    (
+        "gear_pair_cycloidal_face_too_short.toml",
+        8,
+        "pair[0].rolling_radii",
+        "traces gear 2's face only up to 2ρ = 3 mm above its pitch circle",
+    ),
+    (
+        "gear_pair_pin_too_large.toml",
+        8,
+        "pair[0].pin_radius",
+        "a quarter of the pitch p/4 = 3.1416 mm",
+    ),
+    (
+        "gear_pair_roots_with_teeth.toml",
+        8,
+        "pair[0].teeth",
+        "is not used by pairs of type 'roots'",
+    ),
+    (
+        "gear_pair_lobes_on_involute.toml",
+        8,
+        "pair[0].lobes",
+        "is not used by pairs of type 'external'",
+    ),
 ];
 
 #[test]

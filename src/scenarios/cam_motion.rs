@@ -190,14 +190,12 @@ fn table(
         points.push((p[0].to_radians(), value));
     }
     let lifted = lift(m, moving, true, err)?;
-    if kind == TableKind::Displacement {
-        if lifted.is_some() {
-            let k = if oscillating { "swing_deg" } else { "stroke" };
-            return Err(err(
-                k,
-                "does not apply to a displacement table (its values are the lift)".into(),
-            ));
-        }
+    if kind == TableKind::Displacement && lifted.is_some() {
+        let k = if oscillating { "swing_deg" } else { "stroke" };
+        return Err(err(
+            k,
+            "does not apply to a displacement table (its values are the lift)".into(),
+        ));
     }
     let t = MotionTable::new(kind, &points).map_err(|e| err("points", e.0))?;
     Ok(match lifted {

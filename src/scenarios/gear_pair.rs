@@ -1,11 +1,12 @@
 //! `kind = "gear_pair"` scenario files (format in `docs/machines.md`): one or more
 //! `[[pair]]` tables — external, internal or rack pairs (spur or helical), crossed
-//! helical, worm and bevel pairs — each computed by [`crate::machines::gearing::pair`] or
+//! helical, worm and bevel pairs, cycloidal, pin and Roots pairs — each computed by [`crate::machines::gearing::pair`] or
 //! [`crate::machines::gearing::crossed_axes`] and reported with its checks and tooth profiles.
 
 use crate::core::diag::LocatedError as ScenarioError;
 use crate::io::report::Report;
 use crate::machines::gearing::pair::{validate, PairKind, PairSpec};
+use crate::scenarios::gear_pair_profiles::{read, ProfileKeys, PROFILE_TYPES};
 use crate::scenarios::gear_pair_query::{Defaults, QueryTable};
 use crate::scenarios::gear_pair_report::{report, PairCase, PairScenario, SpatialCase};
 use crate::scenarios::source::{in_range, Source};
@@ -59,6 +60,10 @@ struct PairTable {
     profile_points: Option<i64>,
     ratio: Option<f64>,
     at_radii: Option<Vec<Vec<f64>>>,
+    rolling_radii: Option<Vec<f64>>,
+    pin_radius: Option<f64>,
+    tip_radius: Option<f64>,
+    lobes: Option<i64>,
 }
 
 /// Runs a gear-pair scenario.
@@ -195,7 +200,6 @@ fn case(
     };
     let kind = p.kind.clone().unwrap_or_else(|| "external".into());
     let label = p.label.clone().unwrap_or_else(|| format!("pair {}", i + 1));
-    let common = common(&at, f, p)?;
     let need = |key: &str, v: bool| -> Result<(), ScenarioError> {
         if v {
             Ok(())
@@ -203,6 +207,14 @@ fn case(
             Err(at.err(key, format!("is not used by pairs of type '{kind}'")))
         }
     };
+    if PROFILE_TYPES.contains(&kind.as_str()) {
+        return profile_case(&at, f, p, label, kind.clone());
+    }
+    need("rolling_radii", p.rolling_radii.is_none())?;
+    need("pin_radius", p.pin_radius.is_none())?;
+    need("tip_radius", p.tip_radius.is_none())?;
+    need("lobes", p.lobes.is_none())?;
+    let common = common(&at, f, p)?;
     need("ratio", p.ratio.is_none() || kind == "design")?;
     if kind == "design" {
         need("teeth", p.teeth.is_none())?;
@@ -214,6 +226,7 @@ fn case(
             spatial: Some(spatial),
             points: common.points,
             at_radii: Vec::new(),
+            profile: None,
         });
     }
     let teeth = tooth_counts(&at, p, &kind)?;
@@ -259,6 +272,7 @@ fn case(
             spatial: None,
             points: common.points,
             at_radii,
+            profile: None,
         });
     }
     let spatial = spatial_case(&at, p, &kind, &teeth, &common)?;
@@ -272,6 +286,7 @@ fn case(
         spatial: Some(spatial),
         points: common.points,
         at_radii: Vec::new(),
+        profile: None,
     })
 }
 
@@ -336,11 +351,7 @@ fn common(at: &At, f: &FileSpec, p: &PairTable) -> Result<Common, ScenarioError>
         .pressure_angle_deg
         .or(f.pressure_angle_deg)
         .unwrap_or(20.0);
-    let points = match p.profile_points {
-        None => 12,
-        Some(n) if (2..=1000).contains(&n) => n as usize,
-        Some(n) => return Err(at.err("profile_points", format!("expected 2 … 1000, got {n}"))),
-    };
+    let points = profile_points(at, p)?;
     Ok(Common {
         module,
         alpha_deg,
@@ -348,6 +359,70 @@ fn common(at: &At, f: &FileSpec, p: &PairTable) -> Result<Common, ScenarioError>
         ha: p.addendum.or(f.addendum).unwrap_or(1.0),
         c: p.clearance.or(f.clearance).unwrap_or(0.25),
         points,
+    })
+}
+
+/// `profile_points` (default 12).
+fn profile_points(at: &At, p: &PairTable) -> Result<usize, ScenarioError> {
+    match p.profile_points {
+        None => Ok(12),
+        Some(n) if (2..=1000).contains(&n) => Ok(n as usize),
+        Some(n) => Err(at.err("profile_points", format!("expected 2 … 1000, got {n}"))),
+    }
+}
+
+/// A `cycloidal`, `pin` or `roots` pair ([`crate::scenarios::gear_pair_profiles`]): the
+/// involute-only keys are refused here, the rest read there.
+fn profile_case(
+    at: &At,
+    f: &FileSpec,
+    p: &PairTable,
+    label: String,
+    kind: String,
+) -> Result<PairCase, ScenarioError> {
+    let involute_only = [
+        ("shift", p.shift.is_some()),
+        ("helix_angle_deg", p.helix_angle_deg.is_some()),
+        ("find_helix_angle", p.find_helix_angle),
+        ("at_radii", p.at_radii.is_some()),
+        ("rack_withdrawal", p.rack_withdrawal.is_some()),
+        ("helix_angles_deg", p.helix_angles_deg.is_some()),
+        ("diameter_factor", p.diameter_factor.is_some()),
+        ("friction", p.friction.is_some()),
+        ("speed", p.speed.is_some()),
+        ("shaft_angle_deg", p.shaft_angle_deg.is_some()),
+        ("ratio", p.ratio.is_some()),
+        ("pressure_angle_deg", p.pressure_angle_deg.is_some()),
+        ("module", p.module.is_some() && kind == "roots"),
+        ("addendum", p.addendum.is_some() && kind != "cycloidal"),
+        ("clearance", p.clearance.is_some() && kind != "cycloidal"),
+    ];
+    if let Some((key, _)) = involute_only.iter().find(|(_, present)| *present) {
+        return Err(at.err(key, format!("is not used by pairs of type '{kind}'")));
+    }
+    let keys = ProfileKeys {
+        kind: kind.clone(),
+        module: p.module.or(f.module),
+        teeth: p.teeth.clone(),
+        addendum: p.addendum.or(f.addendum),
+        clearance: p.clearance.or(f.clearance),
+        rolling_radii: p.rolling_radii.clone(),
+        pin_radius: p.pin_radius,
+        tip_radius: p.tip_radius,
+        lobes: p.lobes,
+        centre_distance: p.centre_distance,
+        face_width: p.face_width,
+        speed_rpm: p.speed_rpm,
+    };
+    let profile = read(&keys, &|k, m| at.err(k, m))?;
+    Ok(PairCase {
+        label,
+        kind,
+        spec: None,
+        spatial: None,
+        points: profile_points(at, p)?,
+        at_radii: Vec::new(),
+        profile: Some(profile),
     })
 }
 
@@ -587,7 +662,7 @@ fn spatial_case(
         other => {
             return Err(err(
                 "type",
-                format!("unknown pair type '{other}' (expected external, internal, rack, crossed, crossed_rack, worm, bevel or design)"),
+                format!("unknown pair type '{other}' (expected external, internal, rack, crossed, crossed_rack, worm, bevel, design, cycloidal, pin or roots)"),
             ))
         }
     };

@@ -104,6 +104,8 @@ pub struct PairCase {
     pub points: usize,
     /// Radii (mm) per gear at which the involute's quantities are listed.
     pub at_radii: Vec<Vec<f64>>,
+    /// A cycloidal, pin or Roots pair.
+    pub profile: Option<crate::scenarios::gear_pair_profiles::ProfileCase>,
 }
 
 /// A parsed gear-pair scenario.
@@ -478,7 +480,11 @@ pub fn report(sc: &PairScenario, kind_name: &str) -> Report {
         let v = match (&c.spec, &c.spatial) {
             (Some(spec), _) => planar_json(c, spec, &pair(spec), &mut text),
             (None, Some(s)) => spatial_json(c, s, &mut text),
-            (None, None) => Value::Null,
+            (None, None) => c.profile.as_ref().map_or(Value::Null, |pc| {
+                crate::scenarios::gear_pair_profiles::profile_json(
+                    &c.label, pc, c.points, &mut text,
+                )
+            }),
         };
         pairs.push(v);
     }

@@ -19,6 +19,7 @@ pub mod flywheel;
 pub mod friction;
 pub mod friction_bodies;
 pub mod gear_pair;
+pub mod gear_pair_profiles;
 pub mod gear_pair_query;
 pub mod gear_pair_report;
 pub mod gear_train;

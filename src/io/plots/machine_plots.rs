@@ -116,6 +116,17 @@ fn gear_outline(tooth: &[(f64, f64)], z: usize) -> Vec<(f64, f64)> {
     out
 }
 
+/// The legend of a gear's outline by the pair's `type`.
+fn outline_name(pair: &Value, gear: usize) -> &'static str {
+    match (pair["type"].as_str().unwrap_or(""), gear) {
+        ("cycloidal", _) => "cycloidal teeth",
+        ("pin", 0) => "pins",
+        ("pin", _) => "teeth (envelope of the pins)",
+        ("roots", _) => "lobes",
+        _ => "involute teeth",
+    }
+}
+
 /// A gear-pair report's panels: each planar pair's gears (at most 8 panels), whole, with
 /// their pitch circles.
 pub fn pair_panels(j: &Value) -> Vec<Panel> {
@@ -140,7 +151,7 @@ pub fn pair_panels(j: &Value) -> Vec<Panel> {
                 x_desc: "x (mm)".into(),
                 y_desc: "y (mm)".into(),
                 series: vec![
-                    series("involute teeth", gear_outline(&tooth, z), 0),
+                    series(outline_name(pair, i), gear_outline(&tooth, z), 0),
                     Series {
                         dashed: true,
                         ..series("pitch circle", circle, 1)

@@ -12,6 +12,10 @@
 //! - [`crossed_axes`]: crossed helical, worm and bevel pairs;
 //! - [`tooth_count_queries`]: the tooth count at which two circles of a gear coincide;
 //! - [`tooth_selection`]: standard tooth counts for a required train ratio;
+//! - [`cycloids`]: epicycloids and hypocycloids (points, radii, arch areas);
+//! - [`cycloidal`]: cycloidal spur pairs (epicycloid faces, hypocycloid flanks);
+//! - [`pin_gear`]: pin (lantern) gearing, the gear's flank as the pins' envelope;
+//! - [`roots`]: Roots blower rotors and their displacement;
 //! - [`pair_design`]: the textbook's pair design for a centre distance (balanced
 //!   sliding).
 //!
@@ -24,10 +28,14 @@
 //! ```
 pub mod assembly;
 pub mod crossed_axes;
+pub mod cycloidal;
+pub mod cycloids;
 pub mod involute;
 pub mod pair;
 pub mod pair_design;
+pub mod pin_gear;
 pub mod rational;
+pub mod roots;
 pub mod tooth_count_queries;
 pub mod tooth_selection;
 pub mod torques;
