@@ -83,7 +83,14 @@ pub(super) fn parse_mechanism(
             Some(at)
         }
     };
+    let guides = crate::scenarios::linkage::loads_section::parse_guide_contacts(
+        cx,
+        spec,
+        &linkage,
+        kinetostatics.is_some(),
+    )?;
     Ok(MechanismScenario {
+        guides,
         linkage,
         assembly,
         sweep: SweepOptions {
