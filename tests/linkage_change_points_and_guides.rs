@@ -55,7 +55,12 @@ fn change_point_four_bar_continues_on_the_parallelogram_at_every_row() {
         let links = &row["links"];
         // The parallelogram: θ3 = 0, θ4 = θ2, ω3 = 0, ω4 = ω2.
         close(ddeg(f(&links["BC"]["angle_deg"]), 0.0), 0.0, 1e-7, "θ3");
-        close(ddeg(f(&links["DC"]["angle_deg"]), phi), 0.0, 1e-7, "θ4 − θ2");
+        close(
+            ddeg(f(&links["DC"]["angle_deg"]), phi),
+            0.0,
+            1e-7,
+            "θ4 − θ2",
+        );
         close(f(&links["BC"]["omega"]), 0.0, 1e-7, "ω3");
         close(f(&links["DC"]["omega"]), 10.0, 1e-7, "ω4");
         let b = &row["points"]["B"]["p"];
@@ -97,15 +102,66 @@ fn change_point_four_bar_continues_on_the_parallelogram_at_every_row() {
     close(f(&kat[2]["driving"]), -k, 1e-7, "T at 180°");
     let near = kat[1]["joint_forces"].as_array().unwrap();
     let big = near.iter().map(|j| f(&j["magnitude"])).fold(0.0, f64::max);
-    assert!(big.is_finite() && big > 10.0 * 3.0 * 9.81, "1/sin growth at 179°: {big}");
+    assert!(
+        big.is_finite() && big > 10.0 * 3.0 * 9.81,
+        "1/sin growth at 179°: {big}"
+    );
     no_non_finite(&r.text);
-    assert!(r.text.contains("change point at input 180.0000°"), "{}", r.text);
+    assert!(
+        r.text.contains("change point at input 180.0000°"),
+        "{}",
+        r.text
+    );
     assert!(
         r.text
             .contains("singular position: the joint forces are not determined here"),
         "{}",
         r.text
     );
+}
+
+#[test]
+fn where_the_tracker_stops_at_a_change_point_the_sweep_is_restarted_on_the_parallelogram() {
+    // With each centre of mass at its link's first end the tracker stops at the change
+    // points (the sign it keeps belongs to the other branch past them) and the sweep is
+    // restarted there on the smooth motion: one crossing each, still the parallelogram.
+    let rel = "scenarios/linkage_change_point_fourbar.toml";
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel);
+    let text = std::fs::read_to_string(&p)
+        .unwrap()
+        .replace("\ninertia = ", "\ncom = [0.0, 0.0]\ninertia = ");
+    let r = run_text(rel, &text);
+    let v = &r.json;
+    assert!(v.get("stopped").is_none(), "{}", v["stopped"]);
+    let rows = v["sweep"].as_array().unwrap();
+    assert_eq!(rows.len(), 241);
+    // Only the coupler's centre (at B) moves: T = g m2 a cos φ.
+    let k = 9.81 * 3.0 * 0.1;
+    for row in rows {
+        let phi = f(&row["input_deg"]);
+        close(
+            ddeg(f(&row["links"]["BC"]["angle_deg"]), 0.0),
+            0.0,
+            1e-7,
+            "θ3",
+        );
+        close(
+            ddeg(f(&row["links"]["DC"]["angle_deg"]), phi),
+            0.0,
+            1e-7,
+            "θ4",
+        );
+        close(f(&row["links"]["DC"]["omega"]), 10.0, 1e-7, "ω4");
+        close(f(&row["driving"]), k * phi.to_radians().cos(), 1e-7, "T");
+    }
+    let cps = v["change_points"].as_array().unwrap();
+    assert_eq!(cps.len(), 2, "{cps:?}");
+    for (cp, at) in cps.iter().zip([180.0, 360.0]) {
+        close(f(&cp["input_deg"]), at, 1e-4, "change point");
+        assert_eq!(cp["restarted"], true, "{cp}");
+        assert_eq!(cp["four_bar_branch"], "parallelogram");
+    }
+    no_non_finite(&r.text);
 }
 
 #[test]
@@ -122,8 +178,18 @@ fn rod_in_two_bushes_matches_hand_statics_with_and_without_friction() {
     close(f(&g0["points"][1][0]), 0.1, 1e-12, "bush b");
     // s = 0.05: 0.1 (N_b − N_a) = 25 + 0.35 · 200.
     let g1 = &kat[1]["guide_contacts"][0];
-    close(f(&g1["normal_forces"][0]), (200.0 - 950.0) / 2.0, 1e-9, "N_a(0.05)");
-    close(f(&g1["normal_forces"][1]), (200.0 + 950.0) / 2.0, 1e-9, "N_b(0.05)");
+    close(
+        f(&g1["normal_forces"][0]),
+        (200.0 - 950.0) / 2.0,
+        1e-9,
+        "N_a(0.05)",
+    );
+    close(
+        f(&g1["normal_forces"][1]),
+        (200.0 + 950.0) / 2.0,
+        1e-9,
+        "N_b(0.05)",
+    );
     assert!(f(&v["kinetostatics"]["max_virtual_power_difference"]) < 1e-9);
     // With f = 0.15: D = (500 + 2000 f (s + 0.3)) / (1 − 0.5 f).
     let fr = &v["kinetostatics"]["friction"];
@@ -133,8 +199,18 @@ fn rod_in_two_bushes_matches_hand_statics_with_and_without_friction() {
         close(f(&e["driving"]), d, 1e-9, &format!("D at s = {s}"));
         let spread = 0.5 * d + 2000.0 * (s + 0.3);
         let g = &e["guide_contacts"][0];
-        close(f(&g["normal_forces"][0]), (200.0 - spread) / 2.0, 1e-9, "N_a");
-        close(f(&g["normal_forces"][1]), (200.0 + spread) / 2.0, 1e-9, "N_b");
+        close(
+            f(&g["normal_forces"][0]),
+            (200.0 - spread) / 2.0,
+            1e-9,
+            "N_a",
+        );
+        close(
+            f(&g["normal_forces"][1]),
+            (200.0 + spread) / 2.0,
+            1e-9,
+            "N_b",
+        );
         close(f(&g["friction_force"]), 0.15 * spread, 1e-9, "F");
         // The driver's extra power is the friction's: (D − Q) v = F v.
         close(
@@ -206,7 +282,12 @@ fn a_drawer_bearing_at_its_ends_follows_the_hand_solution_and_jams() {
         assert!(h * d > g * l / 2.0, "the near end lifts");
         close(f(&e["driving"]), d, 1e-9, &format!("D at h = {h}"));
         let nb = g / 2.0 + h * d / l;
-        close(f(&e["guide_contacts"][0]["normal_forces"][1]), nb, 1e-9, "N_b");
+        close(
+            f(&e["guide_contacts"][0]["normal_forces"][1]),
+            nb,
+            1e-9,
+            "N_b",
+        );
         close(
             f(&e["guide_contacts"][0]["normal_forces"][0]),
             g - nb,
@@ -296,7 +377,12 @@ force = [-2000.0, 0.0]
     let r = run_text("bushes.toml", text);
     let v = &r.json;
     assert!(f(&v["kinetostatics"]["max_virtual_power_difference"]) < 1e-8);
-    for (i, e) in v["kinetostatics"]["at"].as_array().unwrap().iter().enumerate() {
+    for (i, e) in v["kinetostatics"]["at"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
         let jf = e["joint_forces"]
             .as_array()
             .unwrap()

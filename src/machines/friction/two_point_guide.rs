@@ -105,9 +105,7 @@ pub fn split(
 /// The smallest `F ≥ 0` with `F = f (|α_a + β_a F| + |α_b + β_b F|)`, or `None` when there
 /// is none (the guide jams).
 pub fn friction_force(f: f64, alpha: [f64; 2], beta: [f64; 2]) -> Option<f64> {
-    let g = |x: f64| {
-        f * ((alpha[0] + beta[0] * x).abs() + (alpha[1] + beta[1] * x).abs()) - x
-    };
+    let g = |x: f64| f * ((alpha[0] + beta[0] * x).abs() + (alpha[1] + beta[1] * x).abs()) - x;
     let mut cuts: Vec<f64> = (0..2)
         .filter(|&k| beta[k] != 0.0)
         .map(|k| -alpha[k] / beta[k])
@@ -121,7 +119,11 @@ pub fn friction_force(f: f64, alpha: [f64; 2], beta: [f64; 2]) -> Option<f64> {
     }
     for hi in cuts.into_iter().chain(std::iter::once(f64::INFINITY)) {
         // g is linear on [lo, hi]: its slope from a point inside.
-        let probe = if hi.is_finite() { 0.5 * (lo + hi) } else { lo + 1.0 + lo.abs() };
+        let probe = if hi.is_finite() {
+            0.5 * (lo + hi)
+        } else {
+            lo + 1.0 + lo.abs()
+        };
         let slope = (g(probe) - g_lo) / (probe - lo);
         if slope < 0.0 {
             let root = lo - g_lo / slope;
@@ -233,8 +235,10 @@ pub fn solve_with_guides(
             .find(|j| j.joint == g.joint)
             .map_or(0.0, |j| j.coefficient)
     };
-    let dirs: Vec<Option<(Vec2, f64)>> =
-        guides.iter().map(|g| against_sliding(l, q, qd, g)).collect();
+    let dirs: Vec<Option<(Vec2, f64)>> = guides
+        .iter()
+        .map(|g| against_sliding(l, q, qd, g))
+        .collect();
     let mut mags = vec![0.0; guides.len()];
     let (mut real, mut pins, mut pin_loss) = (ideal.clone(), Loads::default(), 0.0);
     let (mut iterations, mut converged, mut jammed) = (0, false, false);
@@ -267,7 +271,12 @@ pub fn solve_with_guides(
                 }
             }
         }
-        let next = solve(l, q, qdd, &plus(&plus(loads, &pins), &guide_loads(&mags, usize::MAX)));
+        let next = solve(
+            l,
+            q,
+            qdd,
+            &plus(&plus(loads, &pins), &guide_loads(&mags, usize::MAX)),
+        );
         let change = (next.driving - real.driving).abs();
         let scale = ideal.driving.abs().max(next.driving.abs()).max(1e-300);
         real = next;
@@ -285,7 +294,10 @@ pub fn solve_with_guides(
             .zip(&mags)
             .map(|(d, m)| d.map_or(0.0, |(_, u)| u * m))
             .sum::<f64>();
-    let reactions = guides.iter().filter_map(|g| split(l, q, &real, g)).collect();
+    let reactions = guides
+        .iter()
+        .filter_map(|g| split(l, q, &real, g))
+        .collect();
     let friction_loads = plus(&pins, &guide_loads(&mags, usize::MAX));
     let driving_power = real.driving * sd;
     GuideFriction {

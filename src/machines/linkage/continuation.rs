@@ -123,13 +123,8 @@ pub fn branch_crossings(sw: &Sweep, passed: &[f64], periodic: bool) -> Vec<Branc
     use crate::machines::linkage::branch::sign;
     let dir = (sw.options.to - sw.options.from).signum();
     let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + a.abs().max(b.abs()));
-    let signs = |k: usize| -> Vec<i8> {
-        sw.samples[k]
-            .indicators
-            .iter()
-            .map(|x| sign(*x))
-            .collect()
-    };
+    let signs =
+        |k: usize| -> Vec<i8> { sw.samples[k].indicators.iter().map(|x| sign(*x)).collect() };
     let regular: Vec<usize> = (0..sw.samples.len())
         .filter(|&k| !sw.samples[k].singular)
         .collect();
@@ -157,13 +152,27 @@ pub fn branch_crossings(sw: &Sweep, passed: &[f64], periodic: bool) -> Vec<Branc
             continue;
         };
         let (sb, sa) = (signs(b), signs(a));
-        if sb.iter().zip(&sa).any(|(x, y)| *x != 0 && *y != 0 && x != y) {
+        let restarted = passed.iter().any(|&p| near(p, at));
+        // The tracker's landing point and the restart there lie between the same two
+        // samples: one crossing, at the restart.
+        if let Some(c) = out.iter_mut().find(|c| (c.before, c.after) == (b, a)) {
+            if restarted {
+                c.at = at;
+                c.restarted = true;
+            }
+            continue;
+        }
+        if sb
+            .iter()
+            .zip(&sa)
+            .any(|(x, y)| *x != 0 && *y != 0 && x != y)
+        {
             out.push(BranchCrossing {
                 at,
                 before: b,
                 after: a,
                 signs: (sb, sa),
-                restarted: passed.iter().any(|&p| near(p, at)),
+                restarted,
             });
         }
     }

@@ -50,9 +50,8 @@ pub fn report(
     let mut at = Vec::new();
     let mut jams = Vec::new();
     for (k, &(s, q, qd, qdd)) in samples.iter().enumerate() {
-        let gf = (!guides.is_empty()).then(|| {
-            solve_with_guides(l, (q, qd, qdd), loads, speed, &fr, guides, TOL, MAX_ITER)
-        });
+        let gf = (!guides.is_empty())
+            .then(|| solve_with_guides(l, (q, qd, qdd), loads, speed, &fr, guides, TOL, MAX_ITER));
         let w = match &gf {
             Some(g) => g.with.clone(),
             None => solve_with_friction(l, q, qd, qdd, loads, speed, &fr, TOL, MAX_ITER),
@@ -109,9 +108,11 @@ pub fn report(
                     r.forces[1],
                     f
                 );
-                guide_json.push(json!({"joint": l.joints[r.joint].name(), "normal_forces": r.forces,
+                guide_json.push(
+                    json!({"joint": l.joints[r.joint].name(), "normal_forces": r.forces,
                     "points": [[r.points[0].x, r.points[0].y], [r.points[1].x, r.points[1].y]],
-                    "friction_force": f}));
+                    "friction_force": f}),
+                );
             }
             if !guides.is_empty() {
                 at.push(json!({

@@ -391,7 +391,10 @@ pub(super) fn parse_guide_contacts(
         if (at[0] - at[1]).abs() <= 1e-9 * scale {
             return Err(err("the two bearing points must differ"));
         }
-        if at.iter().any(|x| x.abs() > crate::scenarios::source::MAX_SCALE_RATIO * scale) {
+        if at
+            .iter()
+            .any(|x| x.abs() > crate::scenarios::source::MAX_SCALE_RATIO * scale)
+        {
             return Err(err("a bearing point lies far outside the linkage"));
         }
         let on_link = match s.contacts_on.as_deref() {

@@ -2,6 +2,7 @@
 //! followers, the sweep and its extremes, report points, kinetostatics.
 
 use crate::machines::balancing::{self, add_point_mass, SliderCrankMasses};
+use crate::machines::linkage::continuation::sweep_through;
 use crate::machines::linkage::description::{PlanarJoint, GROUND};
 use crate::machines::linkage::fourbar;
 use crate::machines::linkage::kinetostatics::{self, Loads};
@@ -13,7 +14,6 @@ use crate::machines::linkage::Vec2;
 use crate::scenarios::linkage::linkage_scenario::{
     CounterweightScenario, KinetostaticsScenario, MechanismScenario,
 };
-use crate::machines::linkage::continuation::sweep_through;
 use crate::scenarios::linkage::report::centres_report::{centres_at, structure_json};
 use crate::scenarios::linkage::report::change_points::change_points_json;
 use crate::scenarios::linkage::report::guide_report;
