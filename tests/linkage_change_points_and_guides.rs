@@ -421,3 +421,48 @@ fn full_balance_text_names_the_rod_and_crank_counterweights() {
     );
     assert!(!t.contains("with 0% of the reciprocating mass"), "{t}");
 }
+
+#[test]
+fn contacts_keys_that_do_not_apply_are_refused_with_their_line() {
+    let base = drawer(0.05, 0.3);
+    let cases = [
+        (
+            base.replace("contacts = [-0.1, 0.1]\n", "contacts = [0.1, 0.1]\n"),
+            "sliders[0].contacts",
+            "must differ",
+        ),
+        (
+            base.replace("contacts = [-0.1, 0.1]\n", ""),
+            "sliders[0].contacts_on",
+            "applies only with",
+        ),
+        (
+            base.replace("contacts_on = \"link\"", "contacts_on = \"frame\""),
+            "sliders[0].contacts_on",
+            "unknown 'frame'",
+        ),
+        (
+            base.replace(
+                "contacts = [-0.1, 0.1]\n",
+                "contacts = [-0.1, 0.1]\ntype = \"pin_in_slot\"\n",
+            ),
+            "sliders[0].contacts",
+            "prismatic",
+        ),
+        (
+            base.split("[kinetostatics]").next().unwrap().to_string(),
+            "sliders[0].contacts",
+            "[kinetostatics]",
+        ),
+    ];
+    for (text, key, what) in cases {
+        let e = parse("drawer.toml", &text).expect_err(key).to_string();
+        assert!(e.contains(key) && e.contains(what), "{e}");
+        let line = text
+            .lines()
+            .position(|l| l.starts_with(key.rsplit('.').next().unwrap()))
+            .unwrap()
+            + 1;
+        assert!(e.starts_with(&format!("drawer.toml:{line}:")), "{e}");
+    }
+}

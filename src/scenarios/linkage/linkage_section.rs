@@ -35,6 +35,12 @@ pub(super) fn parse_mechanism(
     linkage
         .validate()
         .map_err(|e| cx.err(link_lines[0], "links", e.to_string()))?;
+    let guides = crate::scenarios::linkage::loads_section::parse_guide_contacts(
+        cx,
+        spec,
+        &linkage,
+        spec.kinetostatics.is_some(),
+    )?;
 
     let sw = parse_sweep(cx, spec, angle_input)?;
     let (from, to, step, assemble_at) = (sw.from, sw.to, sw.step, sw.assemble_at);
@@ -83,12 +89,6 @@ pub(super) fn parse_mechanism(
             Some(at)
         }
     };
-    let guides = crate::scenarios::linkage::loads_section::parse_guide_contacts(
-        cx,
-        spec,
-        &linkage,
-        kinetostatics.is_some(),
-    )?;
     Ok(MechanismScenario {
         guides,
         linkage,
