@@ -61,7 +61,7 @@ fn omega_rel(qd: &DVector<f64>, a: usize, b: usize) -> f64 {
 }
 
 /// The friction loads for the reactions of `k` (and the friction power they take out).
-fn friction_loads(
+pub(crate) fn friction_loads(
     l: &Linkage,
     q: &DVector<f64>,
     qd: &DVector<f64>,

@@ -94,3 +94,88 @@ fn restart_after<'a>(
     }
     Some(Tracker::resume(l, groups, after, opts.newton))
 }
+
+/// A singular position the sweep passed where two assembly branches cross: the sign of
+/// a group's indicator differs between the last regular sample before it and the first
+/// after it (on the smooth motion through a change point the branch indicator changes
+/// sign, since the group's block of `Φ_q` is singular there).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchCrossing {
+    /// Input there (rad or m).
+    pub at: f64,
+    /// Index in the sweep's samples of the last regular sample before it.
+    pub before: usize,
+    /// Index of the first regular sample after it.
+    pub after: usize,
+    /// Each group's sign before and after (±1).
+    pub signs: (Vec<i8>, Vec<i8>),
+    /// Whether the tracker stopped there and [`sweep_through`] restarted it on the smooth
+    /// continuation (else the tracker passed it itself, leaving the point along the
+    /// limits of `q'`, `q''`, which is the same smooth motion).
+    pub restarted: bool,
+}
+
+/// The branch crossings among `sw.singular_positions` (`passed`: the inputs
+/// [`sweep_through`] restarted at). With `periodic` (a complete full turn of a crank) the
+/// samples wrap around: the first sample follows the last, and a crossing at the end is
+/// the one at the start.
+pub fn branch_crossings(sw: &Sweep, passed: &[f64], periodic: bool) -> Vec<BranchCrossing> {
+    use crate::machines::linkage::branch::sign;
+    let dir = (sw.options.to - sw.options.from).signum();
+    let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + a.abs().max(b.abs()));
+    let signs =
+        |k: usize| -> Vec<i8> { sw.samples[k].indicators.iter().map(|x| sign(*x)).collect() };
+    let regular: Vec<usize> = (0..sw.samples.len())
+        .filter(|&k| !sw.samples[k].singular)
+        .collect();
+    let mut out: Vec<BranchCrossing> = Vec::new();
+    for &at in &sw.singular_positions {
+        if periodic && near(at, sw.options.to) {
+            let start = sw.options.from;
+            if sw.singular_positions.iter().any(|&x| near(x, start)) {
+                continue;
+            }
+        }
+        if out.iter().any(|c| near(c.at, at)) {
+            continue;
+        }
+        let before = regular
+            .iter()
+            .rev()
+            .find(|&&k| (sw.samples[k].s - at) * dir < 0.0)
+            .or(periodic.then(|| regular.last()).flatten());
+        let after = regular
+            .iter()
+            .find(|&&k| (sw.samples[k].s - at) * dir > 0.0)
+            .or(periodic.then(|| regular.first()).flatten());
+        let (Some(&b), Some(&a)) = (before, after) else {
+            continue;
+        };
+        let (sb, sa) = (signs(b), signs(a));
+        let restarted = passed.iter().any(|&p| near(p, at));
+        // The tracker's landing point and the restart there lie between the same two
+        // samples: one crossing, at the restart.
+        if let Some(c) = out.iter_mut().find(|c| (c.before, c.after) == (b, a)) {
+            if restarted {
+                c.at = at;
+                c.restarted = true;
+            }
+            continue;
+        }
+        if sb
+            .iter()
+            .zip(&sa)
+            .any(|(x, y)| *x != 0 && *y != 0 && x != y)
+        {
+            out.push(BranchCrossing {
+                at,
+                before: b,
+                after: a,
+                signs: (sb, sa),
+                restarted,
+            });
+        }
+    }
+    out.sort_by(|x, y| (x.at * dir).total_cmp(&(y.at * dir)));
+    out
+}

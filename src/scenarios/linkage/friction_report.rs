@@ -7,6 +7,7 @@
 //! times at constant speed).
 
 use crate::machines::friction::friction_circle::{solve_with_friction, JointFriction};
+use crate::machines::friction::two_point_guide::{solve_with_guides, TwoPointGuide};
 use crate::machines::linkage::description::Linkage;
 use crate::machines::linkage::kinetostatics::Loads;
 use crate::scenarios::linkage::linkage_scenario::PinFriction;
@@ -32,8 +33,8 @@ pub fn report(
     speed: f64,
     pins: &PinFriction,
     report_at: &[f64],
-    full_turn: bool,
-    angle_input: bool,
+    (full_turn, angle_input): (bool, bool),
+    guides: &[TwoPointGuide],
     text: &mut String,
 ) -> Value {
     let coefficient = pins.coefficient;
@@ -47,8 +48,18 @@ pub fn report(
     let (mut wd, mut wf, mut worst, mut all_converged, mut most) =
         (0.0, 0.0, f64::INFINITY, true, 0);
     let mut at = Vec::new();
+    let mut jams = Vec::new();
     for (k, &(s, q, qd, qdd)) in samples.iter().enumerate() {
-        let w = solve_with_friction(l, q, qd, qdd, loads, speed, &fr, TOL, MAX_ITER);
+        let gf = (!guides.is_empty())
+            .then(|| solve_with_guides(l, (q, qd, qdd), loads, speed, &fr, guides, TOL, MAX_ITER));
+        let w = match &gf {
+            Some(g) => g.with.clone(),
+            None => solve_with_friction(l, q, qd, qdd, loads, speed, &fr, TOL, MAX_ITER),
+        };
+        let jammed = gf.as_ref().is_some_and(|g| g.jammed);
+        if jammed {
+            jams.push(if angle_input { s.to_degrees() } else { s });
+        }
         all_converged &= w.converged;
         most = most.max(w.iterations);
         // The last sample of a full turn repeats the first.
@@ -68,14 +79,56 @@ pub fn report(
             } else {
                 format!("{s:.6} m")
             };
-            let _ = writeln!(
-                text,
-                "  friction at input {shown}: driving {:.6} (ideal {:.6}), friction power {:.4} W, efficiency {}",
-                w.real.driving,
-                w.ideal.driving,
-                w.friction_power,
-                w.efficiency.map_or("– (the driver does no work)".into(), |e| format!("{e:.6}"))
-            );
+            if jammed {
+                let _ = writeln!(
+                    text,
+                    "  friction at input {shown}: the guide jams (self-locking: no driving effort overcomes the friction of its two bearing points); ideal driving {:.6}",
+                    w.ideal.driving
+                );
+            } else {
+                let _ = writeln!(
+                    text,
+                    "  friction at input {shown}: driving {:.6} (ideal {:.6}), friction power {:.4} W, efficiency {}",
+                    w.real.driving,
+                    w.ideal.driving,
+                    w.friction_power,
+                    w.efficiency.map_or("– (the driver does no work)".into(), |e| format!("{e:.6}"))
+                );
+            }
+            let mut guide_json = Vec::new();
+            for (r, f) in gf.iter().flat_map(|g| g.reactions.iter().zip(&g.friction)) {
+                if jammed {
+                    break;
+                }
+                let _ = writeln!(
+                    text,
+                    "    guide {}: N_a = {:.6} N, N_b = {:.6} N, friction f(|N_a| + |N_b|) = {:.6} N",
+                    l.joints[r.joint].name(),
+                    r.forces[0],
+                    r.forces[1],
+                    f
+                );
+                guide_json.push(
+                    json!({"joint": l.joints[r.joint].name(), "normal_forces": r.forces,
+                    "points": [[r.points[0].x, r.points[0].y], [r.points[1].x, r.points[1].y]],
+                    "friction_force": f}),
+                );
+            }
+            if !guides.is_empty() {
+                at.push(json!({
+                    "input": s,
+                    "driving_ideal": w.ideal.driving,
+                    "driving": (!jammed).then_some(w.real.driving),
+                    "friction_power": (!jammed).then_some(w.friction_power),
+                    "driving_power": (!jammed).then_some(w.driving_power),
+                    "efficiency": w.efficiency,
+                    "iterations": w.iterations,
+                    "converged": w.converged,
+                    "jammed": jammed,
+                    "guide_contacts": guide_json,
+                }));
+                continue;
+            }
             at.push(json!({
                 "input": s,
                 "driving_ideal": w.ideal.driving,
@@ -88,7 +141,7 @@ pub fn report(
             }));
         }
     }
-    let cycle = (full_turn && wd > 0.0).then(|| 1.0 - wf / wd);
+    let cycle = (full_turn && wd > 0.0 && jams.is_empty()).then(|| 1.0 - wf / wd);
     // Works per turn: powers times the time of one input step at constant speed.
     let dt = match samples {
         [a, b, ..] if speed != 0.0 => ((b.0 - a.0) / speed).abs(),
@@ -115,6 +168,7 @@ pub fn report(
         "work_per_turn": full_turn.then(|| json!({ "driver": wd * dt, "friction": wf * dt })),
         "min_efficiency": worst.is_finite().then_some(worst),
         "all_converged": all_converged,
+        "jammed_at": jams,
         "max_iterations": most,
     })
 }

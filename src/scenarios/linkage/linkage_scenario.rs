@@ -93,6 +93,8 @@ pub struct MechanismScenario {
     pub counterweight: Option<CounterweightScenario>,
     /// Inputs (rad or m) at which every relative instant centre is reported, if asked for.
     pub instant_centres: Option<Vec<f64>>,
+    /// Prismatic guides bearing at two points (`[[sliders]] contacts`).
+    pub guides: Vec<crate::machines::friction::two_point_guide::TwoPointGuide>,
 }
 
 /// Rotor balancing settings.

@@ -35,6 +35,12 @@ pub(super) fn parse_mechanism(
     linkage
         .validate()
         .map_err(|e| cx.err(link_lines[0], "links", e.to_string()))?;
+    let guides = crate::scenarios::linkage::loads_section::parse_guide_contacts(
+        cx,
+        spec,
+        &linkage,
+        spec.kinetostatics.is_some(),
+    )?;
 
     let sw = parse_sweep(cx, spec, angle_input)?;
     let (from, to, step, assemble_at) = (sw.from, sw.to, sw.step, sw.assemble_at);
@@ -84,6 +90,7 @@ pub(super) fn parse_mechanism(
         }
     };
     Ok(MechanismScenario {
+        guides,
         linkage,
         assembly,
         sweep: SweepOptions {

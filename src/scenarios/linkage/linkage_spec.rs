@@ -58,6 +58,10 @@ pub(super) struct SliderSpec {
     #[serde(rename = "type", default = "prismatic_name")]
     pub(super) kind: String,
     pub(super) angle_deg: Option<f64>,
+    /// Two bearing points along the line (m): the reaction as two normal forces.
+    pub(super) contacts: Option<Vec<f64>>,
+    /// Where `contacts` are measured: "guide" (from `through`, default) or "link".
+    pub(super) contacts_on: Option<String>,
 }
 
 fn ground_name() -> String {

@@ -1,7 +1,8 @@
 //! The `[kinetostatics]`, `[[loads]]`, `[counterweight]` and `[flywheel]` sections:
 //! gravity, the report positions, point forces and torques on links, pin friction, the
-//! counterweight's links, and the flywheel's speed and torque table, each error naming
-//! the file, the line and the key.
+//! counterweight's links, the flywheel's speed and torque table, and the two bearing
+//! points of prismatic guides (`[[sliders]] contacts`), each error naming the file, the
+//! line and the key.
 
 use crate::core::diag::{all_finite, LocatedError as ScenarioError};
 use crate::machines::linkage::description::{Linkage, PlanarJoint};
@@ -345,4 +346,73 @@ pub(super) fn parse_counterweight(
         }
     };
     Ok(counterweight)
+}
+
+/// `[[sliders]] contacts = [a, b]` (and `contacts_on`): prismatic guides that bear at two
+/// points of their line; they need `[kinetostatics]` (the split of the guide's reaction).
+pub(super) fn parse_guide_contacts(
+    cx: &Source,
+    spec: &Spec,
+    l: &Linkage,
+    kinetostatics: bool,
+) -> Result<Vec<crate::machines::friction::two_point_guide::TwoPointGuide>, ScenarioError> {
+    let n_pins = l.joints.len() - spec.sliders.len();
+    let mut out = Vec::new();
+    for (k, sp) in spec.sliders.iter().enumerate() {
+        let (s, span) = (sp.get_ref(), sp.span());
+        let key = format!("sliders[{k}]");
+        let Some(c) = &s.contacts else {
+            if s.contacts_on.is_some() {
+                return Err(cx.err(
+                    cx.key_line(&span, "contacts_on"),
+                    format!("{key}.contacts_on"),
+                    "applies only with `contacts = [a, b]`",
+                ));
+            }
+            continue;
+        };
+        let err = |m: &str| cx.err(cx.key_line(&span, "contacts"), format!("{key}.contacts"), m);
+        if s.kind != "prismatic" {
+            return Err(err(
+                "two bearing points need a prismatic slider (a pin in a slot carries no couple)",
+            ));
+        }
+        if !kinetostatics {
+            return Err(err(
+                "the two bearing forces are a kinetostatic result: add a [kinetostatics] table",
+            ));
+        }
+        let scale = l.length_scale().max(1e-300);
+        let at = match c.as_slice() {
+            [a, b] if a.is_finite() && b.is_finite() => [*a, *b],
+            [_, _] => return Err(err("non-finite")),
+            _ => return Err(err("needs two positions along the line, [a, b] (m)")),
+        };
+        if (at[0] - at[1]).abs() <= 1e-9 * scale {
+            return Err(err("the two bearing points must differ"));
+        }
+        if at
+            .iter()
+            .any(|x| x.abs() > crate::scenarios::source::MAX_SCALE_RATIO * scale)
+        {
+            return Err(err("a bearing point lies far outside the linkage"));
+        }
+        let on_link = match s.contacts_on.as_deref() {
+            None | Some("guide") => false,
+            Some("link") => true,
+            Some(other) => {
+                return Err(cx.err(
+                    cx.key_line(&span, "contacts_on"),
+                    format!("{key}.contacts_on"),
+                    format!("unknown '{other}' (expected \"guide\" or \"link\")"),
+                ))
+            }
+        };
+        out.push(crate::machines::friction::two_point_guide::TwoPointGuide {
+            joint: n_pins + k,
+            at,
+            on_link,
+        });
+    }
+    Ok(out)
 }

@@ -3,6 +3,8 @@
 //! `docs/mechanism.md`.
 
 mod centres_report;
+mod change_points;
+mod guide_report;
 mod sweep_report;
 mod sweep_rows;
 
@@ -10,7 +12,7 @@ use crate::io::report::Report;
 use crate::machines::balancing::{self};
 use crate::machines::flywheel;
 use crate::machines::flywheel::machine_motion;
-use crate::machines::linkage::{reduced, sweep};
+use crate::machines::linkage::reduced;
 use crate::scenarios::linkage::linkage_scenario::{
     LinkageScenario, MachineScenario, MechanismScenario, RotorScenario,
 };
@@ -94,7 +96,8 @@ fn rotor_balance(r: &RotorScenario, json: &mut Map<String, Value>, text: &mut St
 /// (`J_red`, `dJ_red/dφ` at every sample), or why not.
 fn linkage_inertia_table(m: &MechanismScenario) -> Result<machine_motion::InertiaTable, String> {
     let l = &m.linkage;
-    let sw = sweep::sweep(l, &m.assembly, &m.sweep).map_err(|e| e.to_string())?;
+    let (sw, _) = crate::machines::linkage::continuation::sweep_through(l, &m.assembly, &m.sweep)
+        .map_err(|e| e.to_string())?;
     if let Some(e) = &sw.stopped {
         return Err(format!("the sweep stopped: {e}"));
     }

@@ -2,6 +2,7 @@
 //! followers, the sweep and its extremes, report points, kinetostatics.
 
 use crate::machines::balancing::{self, add_point_mass, SliderCrankMasses};
+use crate::machines::linkage::continuation::sweep_through;
 use crate::machines::linkage::description::{PlanarJoint, GROUND};
 use crate::machines::linkage::fourbar;
 use crate::machines::linkage::kinetostatics::{self, Loads};
@@ -14,6 +15,8 @@ use crate::scenarios::linkage::linkage_scenario::{
     CounterweightScenario, KinetostaticsScenario, MechanismScenario,
 };
 use crate::scenarios::linkage::report::centres_report::{centres_at, structure_json};
+use crate::scenarios::linkage::report::change_points::change_points_json;
+use crate::scenarios::linkage::report::guide_report;
 use crate::scenarios::linkage::report::sweep_rows::{
     deg360, extremes_json, named_points, point_world, state_at, v2, ReportCtx, Row,
 };
@@ -253,9 +256,21 @@ fn kinetostatics_text(ctx: &ReportCtx, r: &Row, s: f64, text: &mut String) {
     };
     let _ = writeln!(
         text,
-        "  driving {what} by joint forces (Lagrange multipliers): {:.9}",
+        "  driving {what} by {}: {:.9}",
+        if r.st.singular {
+            "virtual power at a singular position"
+        } else {
+            "joint forces (Lagrange multipliers)"
+        },
         ks.driving
     );
+    if r.st.singular {
+        let _ = writeln!(
+            text,
+            "  singular position: the joint forces are not determined here (they grow without bound toward it); the driving {what} above is the virtual-power one (limit along the branch)"
+        );
+        return;
+    }
     if let Some(v) = vp {
         let _ = writeln!(
             text,
@@ -392,7 +407,12 @@ fn kinetostatics_section(
         };
         let r = ctx.row(&st, Some(&k.loads));
         kinetostatics_text(ctx, &r, s, text);
-        kat.push(ctx.kinetostatics_json(&r));
+        let mut entry = ctx.kinetostatics_json(&r);
+        if let (false, false, Some((ks, _))) = (m.guides.is_empty(), r.st.singular, &r.kin) {
+            entry["guide_contacts"] =
+                guide_report::guides_json(ctx.l, &r.st.q, ks, &m.guides, text);
+        }
+        kat.push(entry);
     }
     let max_diff = rows
         .iter()
@@ -415,8 +435,8 @@ fn kinetostatics_section(
             m.speed,
             fc,
             &k.report_at,
-            full_turn,
-            m.angle_input,
+            (full_turn, m.angle_input),
+            &m.guides,
             text,
         );
     }
@@ -483,7 +503,7 @@ pub(super) fn mechanism(
         l,
         points: named_points(l),
     };
-    let sw: Sweep = match sweep::sweep(l, &m.assembly, &m.sweep) {
+    let (sw, passed): (Sweep, Vec<f64>) = match sweep_through(l, &m.assembly, &m.sweep) {
         Ok(s) => s,
         Err(e) => {
             json.insert("error".into(), json!(e.to_string()));
@@ -544,6 +564,8 @@ pub(super) fn mechanism(
         json.insert("coupler_curves".into(), coupler_curves(m, &sw.samples));
     }
     sweep_text(&ctx, &sw, (&sing, &dcs), &followers_json, json, text);
+    let periodic = full_turn && sw.stopped.is_none();
+    change_points_json(&ctx, &sw, &passed, periodic, json, text);
     // Report points.
     let mut at = Vec::new();
     for &s in &m.report_at {
@@ -783,6 +805,23 @@ fn counterweight(
                 "max_force_left_primary": gear_left[0], "max_force_left_secondary": gear_left[1],
                 "max_force_left_both": gear_left[2]}),
         );
+    }
+    if let Some(fb) = full {
+        let _ = writeln!(
+            text,
+            "\ncounterweight: full static balancing: on the rod {:.6} kg at {} m beyond the crank pin (rod frame ({:.6}, {:.6}) m from it), on the crank {:.6} kg at {} m beyond the pivot (crank frame ({:.6}, {:.6}) m from it)\n  max shaking force {:.3} N → {:.3} N (total centre of mass fixed)",
+            fb.rod_mass,
+            cw.rod_radius.unwrap_or(0.0),
+            fb.rod_position[0],
+            fb.rod_position[1],
+            fb.crank_mass,
+            cw.radius,
+            fb.crank_position[0],
+            fb.crank_position[1],
+            before,
+            after
+        );
+        return;
     }
     let _ = writeln!(
         text,

@@ -89,8 +89,14 @@ impl ReportCtx<'_> {
         let qd = st.qd(self.m.speed);
         let qdd = st.qdd(self.m.speed, self.m.acceleration);
         let kin = loads.map(|ld| {
-            let k = kinetostatics::solve(self.l, &st.q, &qdd, ld);
+            let mut k = kinetostatics::solve(self.l, &st.q, &qdd, ld);
             let vp = virtual_power::driving_effort(self.l, &st.q, &qd, &qdd, ld, self.m.speed);
+            // At a singular position the multipliers are not determined (the joint forces
+            // grow without bound toward it): the driving effort is the virtual-power one,
+            // from the limits of the velocities along the branch.
+            if let (true, Some(v)) = (st.singular, vp.filter(|v| v.is_finite())) {
+                k.driving = v;
+            }
             (k, vp)
         });
         Row {
@@ -180,8 +186,14 @@ impl ReportCtx<'_> {
         if let Some((k, vp)) = &r.kin {
             o.insert("driving".into(), json!(k.driving));
             o.insert("driving_virtual_power".into(), json!(vp));
-            o.insert("shaking_force".into(), v2(&k.shaking_force));
-            o.insert("shaking_moment".into(), json!(k.shaking_moment));
+            // At a singular position the joint forces, hence the frame's, are not determined.
+            let (f, m) = if r.st.singular {
+                (Value::Null, Value::Null)
+            } else {
+                (v2(&k.shaking_force), json!(k.shaking_moment))
+            };
+            o.insert("shaking_force".into(), f);
+            o.insert("shaking_moment".into(), m);
         }
         Value::Object(o)
     }
@@ -210,8 +222,23 @@ impl ReportCtx<'_> {
                 json!({"force": v2(f), "magnitude": f.norm(), "couple": c}),
             );
         }
+        if r.st.singular {
+            return json!({
+                self.input_key(): self.input(r.st.s),
+                "singular": true,
+                "driving": k.driving,
+                "driving_virtual_power": vp,
+                "difference": vp.map(|v| v - k.driving),
+                "joint_forces": null,
+                "inertia_forces": inertia,
+                "shaking_force": null,
+                "shaking_moment": null,
+                "statically_determinate": false,
+            });
+        }
         json!({
             self.input_key(): self.input(r.st.s),
+            "singular": false,
             "driving": k.driving,
             "driving_virtual_power": vp,
             "difference": vp.map(|v| v - k.driving),
