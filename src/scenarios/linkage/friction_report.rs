@@ -7,7 +7,7 @@
 //! times at constant speed).
 
 use crate::machines::friction::friction_circle::{solve_with_friction, JointFriction};
-use crate::machines::linkage::description::Linkage;
+use crate::machines::linkage::description::{Linkage, PlanarJoint};
 use crate::machines::linkage::kinetostatics::Loads;
 use crate::scenarios::linkage::linkage_scenario::PinFriction;
 use nalgebra::DVector;
@@ -40,7 +40,10 @@ pub fn report(
     let fr: Vec<JointFriction> = (0..l.joints.len())
         .map(|joint| JointFriction {
             joint,
-            coefficient,
+            coefficient: match &l.joints[joint] {
+                PlanarJoint::Contact(c) => c.friction.unwrap_or(coefficient),
+                _ => coefficient,
+            },
             pin_radius: pins.radii[joint],
         })
         .collect();
