@@ -79,7 +79,12 @@ pub fn report(
                 w.friction_power,
                 w.efficiency.map_or("– (the driver does no work)".into(), |e| format!("{e:.6}"))
             );
+            let contact_forces =
+                crate::scenarios::linkage::contacts_report::forces_json(l, q, qd, &w.real, &|c| {
+                    c.friction.unwrap_or(coefficient)
+                });
             at.push(json!({
+                "contact_forces": contact_forces,
                 "input": s,
                 "driving_ideal": w.ideal.driving,
                 "driving": w.real.driving,

@@ -8,6 +8,7 @@
 //! `[machine_motion]`. Points shared by name between links (or a link and the ground)
 //! are pins.
 
+mod contacts_report;
 mod contacts_section;
 pub mod friction_report;
 mod linkage_scenario;
