@@ -8,52 +8,12 @@ use crate::core::diag::{all_finite, LocatedError as ScenarioError};
 use crate::machines::linkage::description::{Linkage, PlanarJoint, PlanarLink, GROUND};
 use crate::machines::linkage::higher_pair::{ContactProfile, HigherPair};
 use crate::machines::linkage::{contact_rows, Vec2};
+use crate::scenarios::linkage::contacts_spec::{ContactSpec, PointRef, ProfileSpec};
 use crate::scenarios::linkage::linkage_scenario::PinFriction;
 use crate::scenarios::linkage::linkage_spec::{body_of, unit};
 use crate::scenarios::source::Source;
 use nalgebra::DVector;
-use serde::Deserialize;
 use toml::Spanned;
-
-/// One `[[contacts]]` entry.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct ContactSpec {
-    name: Option<String>,
-    links: [String; 2],
-    profiles: [ProfileSpec; 2],
-    side: Option<String>,
-    friction_coefficient: Option<f64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ProfileSpec {
-    circle: Option<CircleSpec>,
-    line: Option<LineSpec>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CircleSpec {
-    centre: PointRef,
-    radius: f64,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct LineSpec {
-    through: PointRef,
-    direction: [f64; 2],
-}
-
-/// A point of a body: coordinates in its frame, or the name of one of its points.
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum PointRef {
-    At([f64; 2]),
-    Named(String),
-}
 
 /// The parsed contacts, with those whose side (circle–line) is to be taken from the
 /// guessed position.

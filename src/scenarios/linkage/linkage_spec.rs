@@ -21,7 +21,7 @@ pub(super) struct Spec {
     #[serde(default)]
     pub(super) sliders: Vec<Spanned<SliderSpec>>,
     #[serde(default)]
-    pub(super) contacts: Vec<Spanned<crate::scenarios::linkage::contacts_section::ContactSpec>>,
+    pub(super) contacts: Vec<Spanned<crate::scenarios::linkage::contacts_spec::ContactSpec>>,
     pub(super) driver: Option<Spanned<DriverSpec>>,
     pub(super) guess: Option<BTreeMap<String, Spanned<[f64; 2]>>>,
     pub(super) sweep: Option<Spanned<SweepSpec>>,

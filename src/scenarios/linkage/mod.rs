@@ -10,6 +10,7 @@
 
 mod contacts_report;
 mod contacts_section;
+mod contacts_spec;
 pub mod friction_report;
 mod linkage_scenario;
 mod linkage_section;
