@@ -1171,6 +1171,9 @@ fn kinetostatic_joint_forces_balance_each_link() {
                 armsim::machines::linkage::PlanarJoint::Slider(s) => {
                     heavy.point_position(&q, s.link, &s.p)
                 }
+                armsim::machines::linkage::PlanarJoint::Contact(c) => {
+                    armsim::machines::linkage::contact_rows::geometry(&heavy, &q, c).point
+                }
             };
             let sgn = if jf.on == i {
                 1.0

@@ -7,7 +7,8 @@
 //! through the centre plus the couple `ρ |R|` that opposes the relative rotation of the
 //! two bodies. A slider's normal force `N` brings the force `f |N|` along the guide,
 //! against the relative sliding velocity (the couple of a prismatic joint's edge
-//! pressures is left out). These friction loads are added to the applied loads and
+//! pressures is left out). A cam contact's normal force `N` brings `f |N|` along the
+//! common tangent at the contact point, against the sliding velocity. These friction loads are added to the applied loads and
 //! [`crate::machines::linkage::kinetostatics::solve`] is repeated with the reactions it returns
 //! until the driving effort settles (the directions of relative motion come from the kinematics
 //! and do not change; the magnitudes form a contraction for small friction).
@@ -17,7 +18,9 @@
 //! power with friction exceeds the frictionless one by exactly `N_f` (checked through
 //! [`crate::machines::linkage::virtual_power`]).
 
+use crate::machines::linkage::contact_rows;
 use crate::machines::linkage::description::{Linkage, PlanarJoint, GROUND};
+use crate::machines::linkage::higher_pair::HigherPair;
 use crate::machines::linkage::kinetostatics::{solve, Kinetostatics, Loads, PointForce};
 use crate::machines::linkage::{perp, rotate, Vec2};
 use nalgebra::DVector;
@@ -130,9 +133,41 @@ pub(crate) fn friction_loads(
                 }
                 loss += f * u.abs();
             }
+            PlanarJoint::Contact(c) => {
+                loss += contact_friction(l, q, qd, c, jf.coefficient * r.force.norm(), &mut out);
+            }
         }
     }
     (out, loss)
+}
+
+/// A cam contact's friction: `f |N|` along the common tangent at the contact point,
+/// against the sliding of `a` on `b` (the total contact force leans by the friction
+/// angle `atan f` from the normal), into `out`; returns its power loss `f |N| |u|`.
+fn contact_friction(
+    l: &Linkage,
+    q: &DVector<f64>,
+    qd: &DVector<f64>,
+    c: &HigherPair,
+    f: f64,
+    out: &mut Loads,
+) -> f64 {
+    let u = contact_rows::sliding_velocity(l, q, qd, c);
+    if u == 0.0 || f == 0.0 {
+        return 0.0;
+    }
+    let g = contact_rows::geometry(l, q, c);
+    let force = perp(&g.normal) * (-u.signum() * f);
+    for (b, sign) in [(c.a, 1.0), (c.b, -1.0)] {
+        if b != GROUND {
+            out.forces.push(PointForce {
+                link: b,
+                p: contact_rows::to_body_frame(l, q, b, &g.point),
+                force: force * sign,
+            });
+        }
+    }
+    f * u.abs()
 }
 
 /// Kinetostatics with joint friction at the motion `(q, q̇, q̈)` under `loads`, the

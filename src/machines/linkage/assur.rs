@@ -18,7 +18,10 @@
 //!
 //! Higher pairs are replaced first: a pin in a slot (`Slider` without `prismatic`) becomes
 //! a block turning on the pin (R) and sliding in the slot (P), a virtual link named
-//! `block <joint>`.
+//! `block <joint>`; a cam contact of circles and lines
+//! ([`crate::machines::linkage::higher_pair`]) becomes a link `contact <name>` with a
+//! revolute at the centre of curvature of each profile (`<name> on <body>`), or a
+//! prismatic pair along a flat face (its centre of curvature is at infinity).
 
 use crate::machines::linkage::description::{Driver, Linkage, PlanarJoint, GROUND};
 
@@ -50,6 +53,20 @@ pub struct AssurGroup {
     pub kind: Option<(String, usize)>,
 }
 
+/// A higher pair replaced by a fictitious binary link and two lower pairs at the centres
+/// of curvature of the two profiles at the contact (module doc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReplacedPair {
+    /// The contact's name.
+    pub contact: String,
+    /// The replacing link (index into [`Structure::bodies`]).
+    pub link: usize,
+    /// Its two lower pairs (indices into [`Structure::pairs`]): on `a`, then on `b`.
+    pub pairs: [usize; 2],
+    /// The link's length (the centre distance of two circles; `None` on a line).
+    pub length: Option<f64>,
+}
+
 /// The structural decomposition.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Structure {
@@ -65,6 +82,8 @@ pub struct Structure {
     pub unassigned: Vec<usize>,
     /// The mechanism's class: the highest group class (1 with no group).
     pub class: usize,
+    /// The higher pairs (cam contacts) replaced by lower pairs.
+    pub higher_pairs: Vec<ReplacedPair>,
 }
 
 /// Bodies and lower pairs of `l`: body 0 is the frame, `1 + i` link `i`, then the blocks
@@ -101,9 +120,54 @@ fn graph(l: &Linkage) -> (Vec<String>, Vec<Pair>) {
                     bodies: (blk, id(s.guide)),
                 });
             }
+            PlanarJoint::Contact(c) => {
+                let (ka, kb) = c.replacement_kinds();
+                let (na, nb) = (bodies[id(c.a)].clone(), bodies[id(c.b)].clone());
+                bodies.push(format!("contact {}", c.name));
+                let link = bodies.len() - 1;
+                pairs.push(Pair {
+                    name: format!("{} on {na}", c.name),
+                    kind: ka,
+                    bodies: (id(c.a), link),
+                });
+                pairs.push(Pair {
+                    name: format!("{} on {nb}", c.name),
+                    kind: kb,
+                    bodies: (link, id(c.b)),
+                });
+            }
         }
     }
     (bodies, pairs)
+}
+
+/// The higher pairs of `l` replaced by a link and two lower pairs each, found in the graph
+/// by their body names (`contact <name>`).
+fn replaced(l: &Linkage, bodies: &[String], pairs: &[Pair]) -> Vec<ReplacedPair> {
+    l.joints
+        .iter()
+        .filter_map(|j| match j {
+            PlanarJoint::Contact(c) => Some(c),
+            _ => None,
+        })
+        .filter_map(|c| {
+            let link = bodies
+                .iter()
+                .position(|b| *b == format!("contact {}", c.name))?;
+            let mut at = pairs
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.bodies.0 == link || p.bodies.1 == link)
+                .map(|(k, _)| k);
+            let pair_ids = [at.next()?, at.next()?];
+            Some(ReplacedPair {
+                contact: c.name.clone(),
+                link,
+                pairs: pair_ids,
+                length: c.centre_distance(),
+            })
+        })
+        .collect()
 }
 
 /// Decomposes `l` into its initial mechanism and Assur groups (module doc).
@@ -134,7 +198,9 @@ pub fn decompose(l: &Linkage) -> Structure {
     }
     let unassigned: Vec<usize> = (1..n).filter(|&b| !known[b]).collect();
     let class = groups.iter().map(|g| g.class).max().unwrap_or(1);
+    let higher_pairs = replaced(l, &bodies, &pairs);
     Structure {
+        higher_pairs,
         bodies,
         pairs,
         initial: initial.map(|p| (driven, p)),

@@ -13,12 +13,14 @@
 //!   `[−nᵀ, perp(n) · d − n · perp(A_g s_Q)]` for `g`;
 //!   `γ = θ̇_g² n · d − 2 θ̇_g perp(n) · ḋ + n · (A_l s_P θ̇_l² − A_g s_Q θ̇_g²)`;
 //! - the prismatic joint's second equation `Φ = θ_l − θ_g − α₀`, `γ = 0`;
+//! - a higher pair (cam contact): one row, [`crate::machines::linkage::contact_rows`];
 //! - angle driver `Φ = θ_l − θ_ref − s`: `−Φ_t = ṡ`, `γ = s̈`;
 //! - slide driver `Φ = u · (r_P − p₀) − s`: `−Φ_t = ṡ`, `γ = u · A_l s_P θ̇_l² + s̈`.
 //!
 //! In general `γ = −(Φ_q q̇)_q q̇ − 2 Φ_qt q̇ − Φ_tt` (Haug eq. 3.1.11); the tests check these
 //! closed forms against finite differences of `Φ_q q̇`.
 
+use crate::machines::linkage::contact_rows;
 use crate::machines::linkage::description::{Driver, Linkage, PlanarJoint, GROUND};
 use crate::machines::linkage::{perp, Vec2};
 use nalgebra::{DMatrix, DVector};
@@ -47,6 +49,7 @@ pub fn row_owners(l: &Linkage) -> Vec<RowOwner> {
                     v.push(RowOwner::Joint(k, "angle"));
                 }
             }
+            PlanarJoint::Contact(_) => v.push(RowOwner::Joint(k, "contact")),
         }
     }
     v.push(RowOwner::Driver);
@@ -87,6 +90,10 @@ pub fn residual(l: &Linkage, q: &DVector<f64>, s: f64, out: &mut DVector<f64>) {
                     out[r] = theta(q, sl.link) - theta(q, sl.guide) - a0;
                     r += 1;
                 }
+            }
+            PlanarJoint::Contact(c) => {
+                out[r] = contact_rows::geometry(l, q, c).gap;
+                r += 1;
             }
         }
     }
@@ -145,6 +152,12 @@ pub fn jacobian(l: &Linkage, q: &DVector<f64>, out: &mut DMatrix<f64>) {
                     put(out, r, sl.guide, 0.0, 0.0, -1.0);
                     r += 1;
                 }
+            }
+            PlanarJoint::Contact(c) => {
+                for (b, d, dth) in contact_rows::jacobian_entries(l, q, c) {
+                    put(out, r, b, d.x, d.y, dth);
+                }
+                r += 1;
             }
         }
     }
@@ -207,6 +220,10 @@ pub fn gamma(l: &Linkage, q: &DVector<f64>, qd: &DVector<f64>, sdd: f64, out: &m
                     out[r] = 0.0;
                     r += 1;
                 }
+            }
+            PlanarJoint::Contact(c) => {
+                out[r] = contact_rows::gamma(l, q, qd, c);
+                r += 1;
             }
         }
     }

@@ -12,6 +12,7 @@
 //! The ground has no coordinates: its "link" index is [`GROUND`] and its points are world
 //! points.
 
+use crate::machines::linkage::higher_pair::{ContactProfile, HigherPair};
 use crate::machines::linkage::planar::{perp, rotate, Vec2};
 use nalgebra::DVector;
 use std::collections::HashMap;
@@ -112,6 +113,8 @@ pub enum PlanarJoint {
     },
     /// A slider (prismatic joint or pin in a slot).
     Slider(Slider),
+    /// A higher pair (cam contact) of a circle and a circle or a line.
+    Contact(HigherPair),
 }
 
 impl PlanarJoint {
@@ -120,6 +123,7 @@ impl PlanarJoint {
         match self {
             PlanarJoint::Revolute { name, .. } => name,
             PlanarJoint::Slider(s) => &s.name,
+            PlanarJoint::Contact(c) => &c.name,
         }
     }
 
@@ -128,6 +132,7 @@ impl PlanarJoint {
         match self {
             PlanarJoint::Revolute { .. } => 2,
             PlanarJoint::Slider(s) => 1 + usize::from(s.prismatic.is_some()),
+            PlanarJoint::Contact(_) => 1,
         }
     }
 }
@@ -182,6 +187,47 @@ fn invalid(what: impl Into<String>, message: impl Into<String>) -> LinkageError 
         what: what.into(),
         message: message.into(),
     }
+}
+
+/// A higher pair's bodies differ and exist, its radii are finite and ≥ 0, a line's
+/// direction is a unit vector and two circles do not close at a zero centre distance.
+fn check_contact(c: &HigherPair, body_ok: &dyn Fn(usize) -> bool) -> Result<(), LinkageError> {
+    let what = format!("contact '{}'", c.name);
+    if !body_ok(c.a) || !body_ok(c.b) || c.a == c.b {
+        return Err(invalid(what, "bad link indices"));
+    }
+    let finite = |v: &Vec2| v.x.is_finite() && v.y.is_finite();
+    if !(finite(&c.centre) && c.radius.is_finite() && c.radius >= 0.0) {
+        return Err(invalid(
+            what,
+            "the circle needs a finite centre and a radius ≥ 0",
+        ));
+    }
+    match &c.other {
+        ContactProfile::Circle { centre, radius } => {
+            if !(finite(centre) && radius.is_finite() && *radius >= 0.0) {
+                return Err(invalid(
+                    what,
+                    "the circle needs a finite centre and a radius ≥ 0",
+                ));
+            }
+            if c.centre_distance().unwrap_or(0.0) <= 0.0 {
+                return Err(invalid(
+                    what,
+                    "the circles close at centre distance 0 (two points, or equal radii inside): no common normal",
+                ));
+            }
+        }
+        ContactProfile::Line { through, dir } => {
+            if !finite(through) || (dir.norm() - 1.0).abs() > 1e-12 {
+                return Err(invalid(
+                    what,
+                    "the line needs a finite point and a unit direction",
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A planar linkage.
@@ -469,6 +515,7 @@ impl Linkage {
                         ));
                     }
                 }
+                PlanarJoint::Contact(c) => check_contact(c, &body_ok)?,
             }
         }
         match &self.driver {

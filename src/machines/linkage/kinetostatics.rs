@@ -15,6 +15,8 @@
 //! - a pin `Φ = r_Pa − r_Pb` gives the force `λ` on link `a` at `P` (and `−λ` on `b`);
 //! - a point-on-line row gives the force `λ n` (`n` the line normal) on the sliding link
 //!   at the point, and `−λ n` on the guide; a prismatic angle row a couple `λ`;
+//! - a higher pair (cam contact) gives the force `λ ν` on `a` along the common normal
+//!   through the contact point (`λ > 0` presses the profiles together);
 //! - the angle driver `θ_l − θ_ref − s` gives the driving torque `λ` on the driven link
 //!   (the balancing torque), the slide driver the driving force `λ` along its line.
 //!
@@ -27,6 +29,7 @@
 use crate::core::least_squares::min_norm_solve;
 use crate::machines::linkage::constraints::{jacobian_mat, row_owners, RowOwner};
 use crate::machines::linkage::description::{Driver, Linkage, PlanarJoint, GROUND};
+use crate::machines::linkage::higher_pair::HigherPair;
 use crate::machines::linkage::{cross, rotate, Vec2};
 use nalgebra::DVector;
 
@@ -184,6 +187,38 @@ fn joint_force(
             };
             (jf, 1 + usize::from(s.prismatic.is_some()))
         }
+        PlanarJoint::Contact(c) => (contact_force(l, q, k, c, lambda[r], shaking), 1),
+    }
+}
+
+/// A higher pair's force `λ ν` on `a` along the common normal, through the contact point
+/// (the generalised force `Φ_qᵀ λ` acts at `a`'s centre on the same line of action).
+fn contact_force(
+    l: &Linkage,
+    q: &DVector<f64>,
+    k: usize,
+    c: &HigherPair,
+    lambda: f64,
+    shaking: &mut (Vec2, f64),
+) -> JointForce {
+    let g = crate::machines::linkage::contact_rows::geometry(l, q, c);
+    let f_on_a = g.normal * lambda;
+    let (on, by, f) = if c.a == GROUND {
+        (c.b, c.a, -f_on_a)
+    } else {
+        (c.a, c.b, f_on_a)
+    };
+    if by == GROUND {
+        shaking.0 -= f;
+        shaking.1 -= cross(&g.point, &f);
+    }
+    JointForce {
+        joint: k,
+        name: c.name.clone(),
+        on,
+        by,
+        force: f,
+        couple: 0.0,
     }
 }
 

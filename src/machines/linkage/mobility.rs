@@ -2,7 +2,7 @@
 //!
 //! - Grübler–Kutzbach count for planar linkages: `F = 3 (n − 1) − 2 j₁ − j₂`, with `n`
 //!   links including the ground, `j₁` full joints (pins, prismatic sliders) and `j₂` half
-//!   joints (a pin in a slot).
+//!   joints (a pin in a slot, a cam contact: `p₄`).
 //! - The count assumes independent constraints. The rank `r` of the joint Jacobian
 //!   `Φ^K_q` (without the driver) gives the true (instantaneous) mobility
 //!   `F_r = 3 (n − 1) − r` and the number of redundant equations `m − r` (Haug 1989, §3.2;
@@ -31,6 +31,8 @@ pub struct Mobility {
     pub full_joints: usize,
     /// Half joints (pins in slots).
     pub half_joints: usize,
+    /// Cam contacts among the half joints (`p₄` of `W = 3n − 2p₅ − p₄`).
+    pub higher_pairs: usize,
     /// `3 (n − 1) − 2 j₁ − j₂`.
     pub grubler: i64,
     /// PlanarJoint constraint equations.
@@ -47,11 +49,16 @@ pub struct Mobility {
 pub fn mobility(l: &Linkage, q: &DVector<f64>) -> Mobility {
     let mut full = 0;
     let mut half = 0;
+    let mut higher = 0;
     for j in &l.joints {
         match j {
             PlanarJoint::Revolute { .. } => full += 1,
             PlanarJoint::Slider(s) if s.prismatic.is_some() => full += 1,
             PlanarJoint::Slider(_) => half += 1,
+            PlanarJoint::Contact(_) => {
+                half += 1;
+                higher += 1;
+            }
         }
     }
     let n = l.links.len() + 1;
@@ -64,6 +71,7 @@ pub fn mobility(l: &Linkage, q: &DVector<f64>) -> Mobility {
         links: n,
         full_joints: full,
         half_joints: half,
+        higher_pairs: higher,
         grubler: dof - 2 * full as i64 - half as i64,
         equations: m,
         rank,

@@ -12,6 +12,7 @@
 //! - [`description`]: the description (ground points, links with named points and inertia,
 //!   pins, sliders, the driver);
 //! - [`constraints`]: `Φ`, its Jacobian `Φ_q`, `−Φ_t` and the acceleration right side `γ`;
+//! - [`higher_pair`], [`contact_rows`]: cam contacts of circles and lines (one row each);
 //! - [`position`]: Newton's method on `Φ(q, s) = 0`;
 //! - [`velocity`]: `Φ_q q̇ = −Φ_t`, `Φ_q q̈ = γ` by a minimum-norm solve;
 //! - [`mobility`]: Grübler's count checked by the rank of `Φ_q`, singular positions;
@@ -33,9 +34,11 @@ pub mod assur;
 pub mod branch;
 pub mod catalog;
 pub mod constraints;
+pub mod contact_rows;
 pub mod continuation;
 pub mod description;
 pub mod fourbar;
+pub mod higher_pair;
 pub mod kinetostatics;
 pub mod mobility;
 pub mod planar;

@@ -537,6 +537,7 @@ pub fn followers(l: &Linkage) -> Vec<(String, Follower)> {
                     v.push((l.links[s.link].name.clone(), Follower::Slide(k)));
                 }
             }
+            PlanarJoint::Contact(_) => {}
         }
     }
     v

@@ -8,7 +8,7 @@
 
 use crate::machines::friction::friction_circle::{solve_with_friction, JointFriction};
 use crate::machines::friction::two_point_guide::{solve_with_guides, TwoPointGuide};
-use crate::machines::linkage::description::Linkage;
+use crate::machines::linkage::description::{Linkage, PlanarJoint};
 use crate::machines::linkage::kinetostatics::Loads;
 use crate::scenarios::linkage::linkage_scenario::PinFriction;
 use nalgebra::DVector;
@@ -41,7 +41,10 @@ pub fn report(
     let fr: Vec<JointFriction> = (0..l.joints.len())
         .map(|joint| JointFriction {
             joint,
-            coefficient,
+            coefficient: match &l.joints[joint] {
+                PlanarJoint::Contact(c) => c.friction.unwrap_or(coefficient),
+                _ => coefficient,
+            },
             pin_radius: pins.radii[joint],
         })
         .collect();
@@ -114,8 +117,13 @@ pub fn report(
                     "friction_force": f}),
                 );
             }
+            let contact_forces =
+                crate::scenarios::linkage::contacts_report::forces_json(l, q, qd, &w.real, &|c| {
+                    c.friction.unwrap_or(coefficient)
+                });
             if !guides.is_empty() {
                 at.push(json!({
+                    "contact_forces": contact_forces,
                     "input": s,
                     "driving_ideal": w.ideal.driving,
                     "driving": (!jammed).then_some(w.real.driving),
@@ -130,6 +138,7 @@ pub fn report(
                 continue;
             }
             at.push(json!({
+                "contact_forces": contact_forces,
                 "input": s,
                 "driving_ideal": w.ideal.driving,
                 "driving": w.real.driving,

@@ -9,6 +9,7 @@ use crate::machines::linkage::description::{Driver, Linkage, PlanarLink, Slider,
 use crate::machines::linkage::position::{solve_position, NewtonOptions};
 use crate::machines::linkage::sweep::SweepOptions;
 use crate::machines::linkage::Vec2;
+use crate::scenarios::linkage::contacts_section::parse_contacts;
 use crate::scenarios::linkage::linkage_scenario::{MechanismScenario, NAME};
 use crate::scenarios::linkage::linkage_spec::{
     body_of, moving_link, text_line_of_table, unit, LinkSpec, Spec, SweepSpec,
@@ -31,7 +32,15 @@ pub(super) fn parse_mechanism(
     let (driver, angle_input, dspan) = parse_driver(cx, spec, &links, &link_lines)?;
     let d = spec.driver.as_ref().expect("parsed").get_ref();
     let lname = spec.name.clone().unwrap_or_else(|| NAME.into());
-    let linkage = Linkage::with_shared_pins(lname, ground, links, sliders, driver);
+    let contacts = parse_contacts(
+        cx,
+        &spec.contacts,
+        &links,
+        &ground,
+        spec.kinetostatics.is_some(),
+    )?;
+    let mut linkage = Linkage::with_shared_pins(lname, ground, links, sliders, driver);
+    contacts.add_to(&mut linkage);
     linkage
         .validate()
         .map_err(|e| cx.err(link_lines[0], "links", e.to_string()))?;
@@ -46,6 +55,7 @@ pub(super) fn parse_mechanism(
     let (from, to, step, assemble_at) = (sw.from, sw.to, sw.step, sw.assemble_at);
     let newton = NewtonOptions::default();
     let q0 = parse_guess(cx, spec, &linkage, &link_lines)?;
+    contacts.sides_from_guess(&mut linkage, &q0);
     let assembly = assemble(cx, spec, &linkage, &link_lines, &dspan, &sw, &q0, newton)?;
     let max_step = check_assembly(cx, &linkage, &assembly, &sw, newton)?;
     let rkey = if angle_input {
@@ -556,8 +566,14 @@ fn assemble(
     let assembly = match solve_position(linkage, q0, assemble_at, &newton) {
         Ok(sol) => sol.q,
         Err(e) => {
-            let n_pins = linkage.joints.len() - spec.sliders.len();
+            let n_contacts = spec.contacts.len();
+            let n_pins = linkage.joints.len() - spec.sliders.len() - n_contacts;
+            let n_lower = linkage.joints.len() - n_contacts;
             let (line, key) = match e.joint {
+                Some(k) if k >= n_lower => (
+                    cx.line(&spec.contacts[k - n_lower].span()),
+                    format!("contacts[{}]", k - n_lower),
+                ),
                 Some(k) if k >= n_pins => (
                     cx.line(&spec.sliders[k - n_pins].span()),
                     format!("sliders[{}]", k - n_pins),

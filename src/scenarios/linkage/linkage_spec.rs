@@ -20,6 +20,8 @@ pub(super) struct Spec {
     pub(super) links: Option<BTreeMap<String, Spanned<LinkSpec>>>,
     #[serde(default)]
     pub(super) sliders: Vec<Spanned<SliderSpec>>,
+    #[serde(default)]
+    pub(super) contacts: Vec<Spanned<crate::scenarios::linkage::contacts_spec::ContactSpec>>,
     pub(super) driver: Option<Spanned<DriverSpec>>,
     pub(super) guess: Option<BTreeMap<String, Spanned<[f64; 2]>>>,
     pub(super) sweep: Option<Spanned<SweepSpec>>,

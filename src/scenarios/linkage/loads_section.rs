@@ -66,7 +66,8 @@ pub(super) fn parse_kineto(
     for (i, ls) in loads.iter().enumerate() {
         parse_load(cx, i, ls, l, &mut out)?;
     }
-    let friction = parse_pin_friction(cx, k, l)?;
+    let friction = parse_pin_friction(cx, k, l)?
+        .or_else(|| crate::scenarios::linkage::contacts_section::contact_friction_only(l));
     Ok(KinetostaticsScenario {
         loads: out,
         friction,
@@ -196,7 +197,7 @@ fn parse_pin_friction(
         };
         if !matches!(l.joints[j], PlanarJoint::Revolute { .. }) {
             return Err(bad(format!(
-                "'{name}' is a slider: a pin radius does not apply (its pins: {})",
+                "'{name}' is a slider or a contact: a pin radius does not apply (its pins: {})",
                 pins.join(", ")
             )));
         }

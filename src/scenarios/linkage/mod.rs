@@ -3,11 +3,14 @@
 //! [`crate::scenarios::linkage::report`]; `docs/mechanism.md` documents the format.
 //!
 //! A file holds any of: a linkage (`[ground]`, `[links.*]`, `[[sliders]]`, `[driver]`,
-//! `[guess]`, `[sweep]`, `four_bar`, `coupler_curves`) with optional `[kinetostatics]`,
+//! `[[contacts]]` (cam contacts), `[guess]`, `[sweep]`, `four_bar`, `coupler_curves`) with optional `[kinetostatics]`,
 //! `[[loads]]`, `[counterweight]`, `[flywheel]`; a `[rotor_balance]`; a
 //! `[machine_motion]`. Points shared by name between links (or a link and the ground)
 //! are pins.
 
+mod contacts_report;
+mod contacts_section;
+mod contacts_spec;
 pub mod friction_report;
 mod linkage_scenario;
 mod linkage_section;
@@ -61,6 +64,13 @@ pub fn parse(file: &str, text: &str) -> Result<LinkageScenario, ScenarioError> {
                         "needs a linkage: no [links.*] tables in the file",
                     ));
                 }
+            }
+            if let Some(c) = spec.contacts.first() {
+                return Err(cx.err(
+                    cx.line(&c.span()),
+                    "contacts",
+                    "needs a linkage: no [links.*] tables in the file",
+                ));
             }
             None
         }

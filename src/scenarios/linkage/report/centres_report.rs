@@ -52,15 +52,16 @@ pub(super) fn structure_json(l: &Linkage, json: &mut Map<String, Value>, text: &
             .collect::<Vec<_>>()
             .join("; ")
     );
-    json.insert(
-        "structure".into(),
-        json!({
-            "initial": s.initial.map(|(b, p)| json!({"link": s.bodies[b], "pair": s.pairs[p].name})),
-            "groups": groups,
-            "unassigned": names(&s.unassigned),
-            "class": s.class,
-        }),
-    );
+    let mut out = json!({
+        "initial": s.initial.map(|(b, p)| json!({"link": s.bodies[b], "pair": s.pairs[p].name})),
+        "groups": groups,
+        "unassigned": names(&s.unassigned),
+        "class": s.class,
+    });
+    if let Value::Object(o) = &mut out {
+        crate::scenarios::linkage::contacts_report::structure_json(&s, o);
+    }
+    json.insert("structure".into(), out);
 }
 
 /// One state's relative centres as JSON, and the Aronhold–Kennedy collinearity error.

@@ -183,6 +183,9 @@ impl ReportCtx<'_> {
             );
         }
         o.insert("dead_centre".into(), json!(dead));
+        if let Some(c) = crate::scenarios::linkage::contacts_report::state_json(l, &r.st.q, &r.qd) {
+            o.insert("contacts".into(), c);
+        }
         if let Some((k, vp)) = &r.kin {
             o.insert("driving".into(), json!(k.driving));
             o.insert("driving_virtual_power".into(), json!(vp));
@@ -236,7 +239,9 @@ impl ReportCtx<'_> {
                 "statically_determinate": false,
             });
         }
-        json!({
+        let contact_forces =
+            crate::scenarios::linkage::contacts_report::forces_json(l, &r.st.q, &r.qd, k, &|_| 0.0);
+        let mut out = json!({
             self.input_key(): self.input(r.st.s),
             "singular": false,
             "driving": k.driving,
@@ -247,7 +252,11 @@ impl ReportCtx<'_> {
             "shaking_force": v2(&k.shaking_force),
             "shaking_moment": k.shaking_moment,
             "statically_determinate": k.rank == l.nrows(),
-        })
+        });
+        if !contact_forces.is_empty() {
+            out["contact_forces"] = Value::Array(contact_forces);
+        }
+        out
     }
 }
 
