@@ -4,6 +4,7 @@
 
 mod centres_report;
 mod change_points;
+mod counterweight_report;
 mod guide_report;
 mod sweep_report;
 mod sweep_rows;
