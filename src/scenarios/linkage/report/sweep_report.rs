@@ -11,10 +11,11 @@ use crate::machines::linkage::Vec2;
 use crate::scenarios::linkage::linkage_scenario::{KinetostaticsScenario, MechanismScenario};
 use crate::scenarios::linkage::report::centres_report::{centres_at, structure_json};
 use crate::scenarios::linkage::report::change_points::change_points_json;
+use crate::scenarios::linkage::report::counterweight_report::counterweight;
+use crate::scenarios::linkage::report::guide_report;
 use crate::scenarios::linkage::report::sweep_rows::{
     deg360, extremes_json, named_points, point_world, state_at, v2, ReportCtx, Row,
 };
-use crate::scenarios::linkage::report::{counterweight_report, guide_report};
 use serde_json::{json, Map, Value};
 use std::f64::consts::TAU;
 use std::fmt::Write;
@@ -438,7 +439,7 @@ fn kinetostatics_section(
     json.insert("kinetostatics".into(), kj);
     let _ = writeln!(text, "  largest difference between the two driving-effort methods over the sweep: {max_diff:.2e}");
     if let Some(cw) = &m.counterweight {
-        counterweight_report::counterweight(m, ctx, cw, rows, json, text);
+        counterweight(m, ctx, cw, rows, json, text);
     }
     full_turn.then(|| {
         rows.iter()
