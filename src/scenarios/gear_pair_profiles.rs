@@ -175,7 +175,7 @@ pub fn read(k: &ProfileKeys, err: Err) -> Result<ProfileCase, ScenarioError> {
 
 /// A symmetric tooth in the involute pairs' layout: the left flank (mirrored) from tip
 /// to root, then the right flank from root to tip.
-fn tooth(right: &[[f64; 2]]) -> Vec<[f64; 2]> {
+pub fn tooth(right: &[[f64; 2]]) -> Vec<[f64; 2]> {
     let mut out: Vec<[f64; 2]> = right.iter().rev().map(|p| [-p[0], p[1]]).collect();
     out.extend_from_slice(right);
     out

@@ -136,10 +136,7 @@ fn tooth_profile(g: &GearGeometry, n: usize) -> Vec<[f64; 2]> {
     if g.internal || g.ra <= g.rb || !g.s_tip.is_finite() {
         return Vec::new();
     }
-    let right = flank_points(g.s, g.r, g.rb, g.rf, g.ra, n);
-    let mut out: Vec<[f64; 2]> = right.iter().rev().map(|p| [-p[0], p[1]]).collect();
-    out.extend(right);
-    out
+    crate::scenarios::gear_pair_profiles::tooth(&flank_points(g.s, g.r, g.rb, g.rf, g.ra, n))
 }
 
 fn gear_json(g: &GearGeometry, n: usize) -> Value {
