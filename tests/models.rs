@@ -414,3 +414,20 @@ fn support_walks_from_a_body_to_the_root_and_stroke_bounds_a_prismatic_slide() {
     assert_eq!(m.stroke(finger, -0.03, 0.01), 0.03);
     assert_eq!(m.stroke(chain[1], -3.0, 3.0), 0.0);
 }
+
+#[test]
+fn tool_link_is_the_last_link_on_the_body_where_the_serial_chain_ends() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let tool = |file: &str| {
+        let (m, _) = Model::load(root.join(file)).unwrap();
+        m.links[m.tool_link()].name.clone()
+    };
+    // The UR5's last link is `base`, fixed to the world: the chain ends at wrist 3.
+    assert_eq!(tool("robots/ur5.urdf"), "tool0");
+    // The Panda's hand carries two fingers: the chain ends at link 7's body.
+    assert_eq!(tool("robots/panda.urdf"), "panda_hand_tcp");
+    assert_eq!(tool("robots/iiwa14.urdf"), "iiwa_link_ee");
+    // Two arms on a fixed torso: no single tool, the last link.
+    let (m, _) = Model::load(root.join("tests/data/dual_arm.urdf")).unwrap();
+    assert_eq!(m.tool_link(), m.links.len() - 1);
+}

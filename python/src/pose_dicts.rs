@@ -3,12 +3,13 @@
 //! constraints (`path_constraints`), read from Python values into the crate's
 //! [`PlannerKind`], [`OptimiseBudget`], [`PoseGoal`] and [`PathConstraint`].
 //!
-//! - `goal_pose`: a dict `{"link": name or index (default the last link), "pose": 4×4
-//!   homogeneous transform of the link frame in the world}` or, to reach a position in any
+//! - `goal_pose`: a dict `{"link": name or index (default the tool link,
+//!   `Model::tool_link`), "pose": 4×4 homogeneous transform of the link frame in the
+//!   world}` or, to reach a position in any
 //!   orientation, `{"link": …, "position": [x, y, z]}` (exactly one of the two). The
 //!   planner reaches the pose exactly (every goal is checked to 1e-9 m and rad), so there
 //!   are no tolerance keys.
-//! - `path_constraints`: a list of dicts, each with `type` and `link` (default the last):
+//! - `path_constraints`: a list of dicts, each with `type` and `link` (default the tool):
 //!   `"axis"` with `axis` (link frame), `direction` (world) and `tolerance` (rad, in
 //!   (0, π)): the link's axis stays within the angle of the direction; `"orientation"`
 //!   with `rotation` (3×3, world) and `tolerance`: the geodesic angle to it; `"position"`
@@ -119,10 +120,10 @@ impl Keys<'_, '_> {
         Ok(())
     }
 
-    /// The link `link` names (a name or an index), the last link when not given.
+    /// The link `link` names (a name or an index), the tool link when not given.
     fn link(&self, model: &Model) -> PyResult<usize> {
         match self.get("link")? {
-            None => Ok(model.links.len() - 1),
+            None => Ok(model.tool_link()),
             Some(v) => args::frame(model, &v)
                 .map_err(|e| err(format!("{}: {}", self.key("link"), e.value(self.d.py())))),
         }

@@ -1,5 +1,5 @@
 //! `armsim.Robot`: the facade for Robotics-Toolbox habits (fk, jacobian, rnea, aba, crba,
-//! gravity, ik by frame name or id; the default frame is the last link). It pickles as
+//! gravity, ik by frame name or id; the default frame is the tool link, `Model::tool_link`). It pickles as
 //! its `Model` and the gravity it computes with.
 
 use crate::args::{self, vector};
@@ -24,7 +24,7 @@ impl PyRobot {
     fn frame(&self, frame: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
         let m = self.robot.model();
         match frame {
-            None => Ok(m.links.len() - 1),
+            None => Ok(m.tool_link()),
             Some(f) => args::frame(m, f),
         }
     }
@@ -149,7 +149,7 @@ impl PyRobot {
         self.robot.frame_names()
     }
 
-    /// The world placement (4×4) of `frame` (default: the last link) at `q`.
+    /// The world placement (4×4) of `frame` (default: the tool link) at `q`.
     #[pyo3(signature = (q, frame=None))]
     fn fk<'py>(
         &mut self,
@@ -247,7 +247,7 @@ impl PyRobot {
         Ok(PyArray1::from_slice(py, g))
     }
 
-    /// IK for `frame` (default: the last link) reaching `target` (4×4), from `q0` first
+    /// IK for `frame` (default: the tool link) reaching `target` (4×4), from `q0` first
     /// when given, then from random restarts. Keywords: see `armsim.IK_KEYWORDS`
     /// (`time_budget=None` by default: deterministic for a seed).
     #[pyo3(signature = (target, frame=None, q0=None, **kwargs))]

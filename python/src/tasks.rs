@@ -133,7 +133,7 @@ fn splitmix(x: u64) -> u64 {
 
 /// Uniform configurations `start .. start + n` of the stream `seed` inside the sampling
 /// box (joint limits; ±π for unlimited revolute joints), and the world placement of
-/// `frame` (default: the last link) at each: `(q (n, nv), poses (n, 4, 4))`.
+/// `frame` (default: the tool link) at each: `(q (n, nv), poses (n, 4, 4))`.
 #[pyfunction]
 #[pyo3(signature = (model, n, seed=args::Int::Fits(0), frame=None, start=args::Int::Fits(0)), text_signature = "(model, n, seed=0, frame=None, start=0)")]
 pub fn sample_poses<'py>(
@@ -149,7 +149,7 @@ pub fn sample_poses<'py>(
     let m = &*model.model;
     let nv = m.nv;
     let f = match frame {
-        None => m.links.len() - 1,
+        None => m.tool_link(),
         Some(f) => args::frame(m, f)?,
     };
     let mut qs = crate::batch::zeros(n, nv).map_err(|m| err(format!("sample_poses: {m}")))?;

@@ -83,6 +83,18 @@ def test_robot_ik_recovers_a_reachable_pose_and_names_an_unreachable_one():
     assert bad.position_error > 1.0 and "out of reach" in bad.reason
 
 
+def test_the_default_frame_is_the_tool_at_the_end_of_the_serial_chain():
+    # The UR5's last link is `base` (fixed to the world); the default is `tool0`. The
+    # Panda's hand carries the fingers; the default is the hand's TCP.
+    for file, tool in [("ur5.urdf", "tool0"), ("panda.urdf", "panda_hand_tcp")]:
+        r = am.Robot.from_file(ROBOTS / file)
+        q = (r.model.lower_limits + r.model.upper_limits) / 2 + 0.1
+        np.testing.assert_array_equal(r.fk(q), r.fk(q, tool))
+        _, T = am.sample_poses(r.model, 3, seed=1)
+        _, T_tool = am.sample_poses(r.model, 3, seed=1, frame=tool)
+        np.testing.assert_array_equal(T, T_tool)
+
+
 def test_robot_methods_agree_with_the_model_data_functions(rng):
     r = am.Robot.from_file(ROBOTS / "panda.urdf")
     m = r.model

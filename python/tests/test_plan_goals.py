@@ -67,13 +67,14 @@ def test_pose_goal_is_reached_to_1e6_checked_by_forward_kinematics(robot, planne
     r3 = am.Planner(m, seed=7).plan(HOME, goal_pose={"link": "tool0", "pose": target})
     assert r2["status"] == "solved", r2["reason"]
     np.testing.assert_array_equal(r2["path"], r3["path"])
-    # The link defaults to the last one, as in Robot.fk (for this URDF, "base", which no
-    # joint moves: only its own pose is reachable).
+    # The link defaults to the tool link, as in Robot.fk: `tool0`, not the URDF's last
+    # link "base", which no joint moves.
     assert robot.frame_names[-1] == "base"
-    default = planner.plan(HOME, goal_pose={"pose": target})
+    default = am.Planner(m, seed=7).plan(HOME, goal_pose={"pose": target})
+    assert default["status"] == "solved", default["reason"]
+    np.testing.assert_array_equal(default["path"], r3["path"])
     named = planner.plan(HOME, goal_pose={"link": "base", "pose": target})
-    assert default["status"] == named["status"] == "invalid_goal"
-    assert default["reason"] == named["reason"]
+    assert named["status"] == "invalid_goal"
 
 
 def test_position_only_goal_reaches_the_point(robot, planner):

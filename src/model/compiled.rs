@@ -209,6 +209,31 @@ impl Model {
             .unwrap_or(WORLD)
     }
 
+    /// The arm's tool link, the default of every "which link" argument: follow the tree
+    /// from the world while a body carries exactly one moving child, and take the last
+    /// link (in tree order) fixed to the body where that stops — UR5 `tool0`, Panda
+    /// `panda_hand_tcp` (its body carries the two fingers), iiwa `iiwa_link_ee`. When the
+    /// world itself branches (two arms, a humanoid) there is no single tool, and the last
+    /// link is returned.
+    pub fn tool_link(&self) -> usize {
+        let last = self.links.len() - 1;
+        let mut end = WORLD;
+        loop {
+            let mut children = (0..self.nbodies()).filter(|&b| self.parent[b] == end);
+            match (children.next(), children.next()) {
+                (Some(only), None) => end = only,
+                _ => break,
+            }
+        }
+        if end == WORLD {
+            return last;
+        }
+        (0..self.links.len())
+            .rev()
+            .find(|&l| self.links[l].body == end)
+            .unwrap_or(last)
+    }
+
     /// How far body `b`'s origin slides from its placement for coordinates in `[lo, hi]`:
     /// the largest `|m q + o|` of a prismatic joint, zero for a revolute one.
     pub fn stroke(&self, b: usize, lo: f64, hi: f64) -> f64 {

@@ -95,7 +95,7 @@ pub(super) fn load(
     let base = Se3::from_xyz_rpy(msec.base_xyz, msec.base_rpy);
     let tool = match &msec.tool {
         Some(t) => link_by_name(cx, &model, t, "model.tool")?,
-        None => model.links.len() - 1,
+        None => model.tool_link(),
     };
     if model.links[tool].body == crate::model::WORLD {
         let key_line = msec
