@@ -34,6 +34,22 @@ use std::time::Instant;
 /// Shortcut tries of a constrained path (after the walk between its ends).
 pub const CONSTRAINED_SHORTCUT_TRIES: usize = 60;
 
+/// The constrained search's view of the planner (model, constraints, checker, scratch,
+/// joint box): a macro rather than a method, so that `self.path` stays borrowable beside
+/// it (a method would borrow the whole planner).
+macro_rules! constrained_context {
+    ($planner:ident, $set:expr) => {
+        ConstrainedContext {
+            model: &$planner.robot.model,
+            set: $set,
+            checker: &$planner.checker,
+            scratch: &mut $planner.scratch,
+            lo: &$planner.lo,
+            hi: &$planner.hi,
+        }
+    };
+}
+
 /// The answer to [`Planner::plan_to`].
 #[derive(Clone, Debug)]
 pub struct GoalPlanResult {
@@ -247,14 +263,7 @@ impl Planner {
         let nv = self.start.len();
         let found = match crrt {
             Some(c) => {
-                let mut cx = ConstrainedContext {
-                    model: &self.robot.model,
-                    set,
-                    checker: &self.checker,
-                    scratch: &mut self.scratch,
-                    lo: &self.lo,
-                    hi: &self.hi,
-                };
+                let mut cx = constrained_context!(self, set);
                 let r = c.solve(&mut cx, sampler, &self.start, flat, limit, &mut self.path);
                 (r, c.iterations)
             }
@@ -302,14 +311,7 @@ impl Planner {
             let deadline = self.simplifier.opts.time_limit.map(|d| Instant::now() + d);
             match crrt {
                 Some(c) => {
-                    let mut cx = ConstrainedContext {
-                        model: &self.robot.model,
-                        set,
-                        checker: &self.checker,
-                        scratch: &mut self.scratch,
-                        lo: &self.lo,
-                        hi: &self.hi,
-                    };
+                    let mut cx = constrained_context!(self, set);
                     let stop = self.opts.stop.clone();
                     c.shortcut(
                         &mut cx,
