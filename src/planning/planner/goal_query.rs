@@ -6,10 +6,11 @@
 //!    `invalid_goal` says why none is left (unreachable, every solution in collision or
 //!    violating the constraints, each with its reason).
 //! 3. One search to the whole set (the goal tree rooted at every valid goal): RRT-Connect
-//!    with continuous edge checks, then the simplifier; under path constraints the
-//!    projection-based constrained RRT-Connect ([`ConstrainedRrt`]), then its constrained
-//!    shortcuts (the simplifier's straight shortcuts and B-spline would leave the
-//!    constraint manifold, so they are not used).
+//!    with discrete edge checks whose path is then certified continuously, a failing edge
+//!    re-planned (as [`Planner::plan`] searches), then the simplifier; under path
+//!    constraints the projection-based constrained RRT-Connect ([`ConstrainedRrt`]), then
+//!    its constrained shortcuts (the simplifier's straight shortcuts and B-spline would
+//!    leave the constraint manifold, so they are not used).
 //! 4. **The best goal.** Each other goal whose straight joint distance from the start is
 //!    below the best cost so far gets its own search (the same seed) and simplification;
 //!    the shortest path wins (ties: the earlier goal, nearest the start first). So the
@@ -26,6 +27,7 @@ use crate::planning::improve::Improvement;
 use crate::planning::path_constraints::{ConstraintSet, PathConstraint};
 use crate::planning::plan_options::PlannerKind;
 use crate::planning::pose_goal::{goal_set, Goal};
+use crate::planning::repair::RepairTools;
 use crate::planning::rrt::{SearchEnd, SearchLimit};
 use crate::planning::sampler::Sampler;
 use crate::planning::simplify::path_length;
@@ -267,21 +269,61 @@ impl Planner {
                 let r = c.solve(&mut cx, sampler, &self.start, flat, limit, &mut self.path);
                 (r, c.iterations)
             }
-            None => {
-                let r = self.rrt.solve_to_set(
-                    &self.checker,
-                    &mut self.scratch,
-                    sampler,
-                    &self.start,
-                    flat,
-                    limit,
-                    EdgeMode::Continuous,
-                    &mut self.path,
-                );
-                (r, self.rrt.iterations)
-            }
+            None => self.search_to_set(sampler, flat, limit),
         };
         (found.0, found.1, path_length(&self.path, nv))
+    }
+
+    /// RRT-Connect to the goal set `flat` as [`Planner::plan`] searches: discrete edge
+    /// checks, then every edge certified continuously and a failing edge re-planned
+    /// ([`crate::planning::repair`]); if a repair fails, the search is run again with
+    /// continuous checks. The outcome and the iterations of all searches.
+    fn search_to_set(
+        &mut self,
+        sampler: &mut Sampler,
+        flat: &[f32],
+        limit: &SearchLimit,
+    ) -> (Result<(), SearchEnd>, usize) {
+        let (c, s) = (&self.checker, &mut self.scratch);
+        let mode = EdgeMode::Discrete;
+        let found = self.rrt.solve_to_set(
+            c,
+            s,
+            sampler,
+            &self.start,
+            flat,
+            limit,
+            mode,
+            &mut self.path,
+        );
+        let mut iterations = self.rrt.iterations;
+        if found.is_err() {
+            return (found, iterations);
+        }
+        let mut tools = RepairTools {
+            rrt: &mut self.rrt,
+            checker: c,
+            scratch: &mut *s,
+            sampler: &mut *sampler,
+            limit,
+        };
+        let nv = self.start.len();
+        if let Ok(extra) = self.repair.certify(&mut tools, &mut self.path, nv) {
+            return (Ok(()), iterations + extra);
+        }
+        let mode = EdgeMode::Continuous;
+        let found = self.rrt.solve_to_set(
+            c,
+            s,
+            sampler,
+            &self.start,
+            flat,
+            limit,
+            mode,
+            &mut self.path,
+        );
+        iterations += self.rrt.iterations;
+        (found, iterations)
     }
 
     /// Simplifies `self.path` (constrained shortcuts under constraints) and returns its
