@@ -21,7 +21,7 @@ use armsim::model::data::Data;
 use armsim::model::{Model, Shape};
 use armsim::planning::moveit::parse_request;
 use armsim::planning::path_constraints::{ConstraintKind, PathConstraint, RegionShape};
-use armsim::planning::pose_goal::{Goal, PoseGoal};
+use armsim::planning::pose_goal::{goal_set, Goal, PoseGoal};
 use armsim::planning::{PlanOptions, PlanStatus, Planner};
 use plan_common::{problems, Recheck, Robot};
 
@@ -110,6 +110,44 @@ fn a_pose_goal_on_the_ur5_is_reached_within_1e_6() {
 fn a_pose_goal_on_the_panda_is_reached_within_1e_6() {
     let robot = Robot::load("panda");
     reach_poses(&robot, "panda_hand", 4);
+}
+
+#[test]
+fn a_redundant_arm_whose_first_ik_solutions_all_collide_draws_more_and_plans() {
+    // Panda table_pick problems where every solution of the first goal set (seed 0)
+    // collides with the scene, while the problem's own goal reaches the pose freely: the
+    // arm's self-motion has free points, and further IK rounds find one.
+    let robot = Robot::load("panda");
+    let link = robot.model.link_id("panda_hand").unwrap();
+    let mut checked = 0;
+    for p in problems(&robot, "table_pick")
+        .into_iter()
+        .filter(|p| p.valid && ["0011", "0025", "0032"].iter().any(|k| p.id.ends_with(k)))
+    {
+        let target = pose(&robot.model, link, &p.goal);
+        let pg = PoseGoal {
+            link,
+            target,
+            position_only: false,
+        };
+        let mut pl = planner(&robot, &p.obstacles, 0);
+        let first = goal_set(&robot.model, &pg, &p.start, 0).unwrap();
+        assert!(
+            first.iter().all(|q| !pl.is_free(q)),
+            "{}: a first-round solution is free, so this case does not test the rounds",
+            p.id
+        );
+        let g = pl.plan_to(&p.start, &Goal::Pose(pg), &[]).unwrap();
+        let r = &g.result;
+        assert_eq!(r.status, PlanStatus::Solved, "{}: {:?}", p.id, r.reason);
+        assert!(g.goals_found > first.len() && g.goals_valid >= 1);
+        let (ep, er) = pose_error(&robot.model, link, r.path.last().unwrap(), &target);
+        assert!(ep <= 1e-6 && er <= 1e-6, "{}: {ep:e} m, {er:e} rad", p.id);
+        let rep = Recheck::new(&robot, &p.obstacles).path(&r.path);
+        assert!(rep.max_penetration <= 1e-4, "{}: penetrates", p.id);
+        checked += 1;
+    }
+    assert_eq!(checked, 3);
 }
 
 #[test]

@@ -22,7 +22,7 @@ use crate::kinematics::ik::{rotation_log, IkOptions, IkSolver, IkStatus};
 use crate::kinematics::{forward_kinematics, frame_placement};
 use crate::model::data::Data;
 use crate::model::Model;
-use crate::planning::sampler::{uniform, Rng};
+use crate::planning::sampler::{bounds, uniform, Rng};
 use std::time::Duration;
 
 /// Numeric IK attempts (each with its own restarts) for a goal set.
@@ -32,6 +32,9 @@ pub const NUMERIC_ATTEMPTS: usize = 12;
 /// only add variety to the set, and one whose draw needs many restarts costs more than
 /// the goal it might add (on the Panda, 12 attempts with 8 restarts each took 3 ms).
 pub const ATTEMPT_RESTARTS: usize = 1;
+
+/// Half-width (rad) per round of the IK starts drawn around the start ([`more_goals`]).
+pub const NEAR_START_SPREAD: f64 = 0.3;
 
 /// Largest position (m) and rotation (rad) error of a goal of the set.
 pub const GOAL_TOLERANCE: f64 = 1e-9;
@@ -93,7 +96,7 @@ pub fn goal_set(
     let analytic = (!goal.position_only)
         .then(|| AnalyticSolver::new(model, goal.link).ok())
         .flatten();
-    let mut set = match analytic {
+    let set = match analytic {
         Some(solver) => {
             let opts = AnalyticOptions {
                 seed: Some(start.to_vec()),
@@ -112,14 +115,26 @@ pub fn goal_set(
         }
         None => numeric_set(model, goal, start, seed)?,
     };
+    let set = checked_nearest_first(model, goal, start, set);
+    if set.is_empty() {
+        return Err("no inverse-kinematics solution reaches the pose to 1e-9".into());
+    }
+    Ok(set)
+}
+
+/// The solutions of `set` that reach the goal to [`GOAL_TOLERANCE`], nearest `start`
+/// first.
+fn checked_nearest_first(
+    model: &Model,
+    goal: &PoseGoal,
+    start: &[f64],
+    mut set: Vec<Vec<f64>>,
+) -> Vec<Vec<f64>> {
     let mut data = Data::new(model);
     set.retain(|q| {
         let (ep, er) = pose_error(model, &mut data, goal, q);
         ep <= GOAL_TOLERANCE && er <= GOAL_TOLERANCE
     });
-    if set.is_empty() {
-        return Err("no inverse-kinematics solution reaches the pose to 1e-9".into());
-    }
     let d = |q: &Vec<f64>| {
         q.iter()
             .zip(start)
@@ -127,7 +142,7 @@ pub fn goal_set(
             .sum::<f64>()
     };
     set.sort_by(|a, b| d(a).total_cmp(&d(b)));
-    Ok(set)
+    set
 }
 
 /// The numeric solver's distinct converged solutions over [`NUMERIC_ATTEMPTS`] starts.
@@ -153,24 +168,11 @@ fn numeric_set(
             uniform(model, &mut rng, &mut q0);
         }
         let hard = attempt == 0 || attempt >= NUMERIC_ATTEMPTS;
-        let opts = IkOptions {
-            position_only: goal.position_only,
-            tol_position: 1e-10,
-            tol_rotation: 1e-10,
-            max_restarts: if hard { 8 } else { ATTEMPT_RESTARTS },
-            time_budget: Duration::from_secs(3600),
-            seed: seed.wrapping_add(attempt as u64),
-            ..IkOptions::default()
-        };
+        let restarts = if hard { 8 } else { ATTEMPT_RESTARTS };
         attempts += 1;
-        let r = solver.solve(model, goal.link, &goal.target, Some(&q0), &opts);
+        let r = attempt_ik(&mut solver, model, goal, &q0, restarts, seed, attempt);
         if r.status == IkStatus::Converged {
-            let new = set
-                .iter()
-                .all(|s| s.iter().zip(&r.q).any(|(a, b)| (a - b).abs() > 1e-3));
-            if new {
-                set.push(r.q);
-            }
+            add_distinct(&mut set, r.q);
         } else if closest.is_none_or(|c| r.position_error < c.1) {
             closest = Some((r.status, r.position_error, r.rotation_error));
         }
@@ -189,4 +191,91 @@ fn numeric_set(
         ));
     }
     Ok(set)
+}
+
+/// One numeric IK run from `q0` to the goal, to 1e-10, on counts only (deterministic).
+fn attempt_ik(
+    solver: &mut IkSolver,
+    model: &Model,
+    goal: &PoseGoal,
+    q0: &[f64],
+    max_restarts: usize,
+    seed: u64,
+    attempt: usize,
+) -> crate::kinematics::ik::IkResult {
+    let opts = IkOptions {
+        position_only: goal.position_only,
+        tol_position: 1e-10,
+        tol_rotation: 1e-10,
+        max_restarts,
+        time_budget: Duration::from_secs(3600),
+        seed: seed.wrapping_add(attempt as u64),
+        ..IkOptions::default()
+    };
+    solver.solve(model, goal.link, &goal.target, Some(q0), &opts)
+}
+
+/// Adds `q` unless a solution within 1e-3 rad in every joint is in `set` already.
+fn add_distinct(set: &mut Vec<Vec<f64>>, q: Vec<f64>) {
+    if set
+        .iter()
+        .all(|s| s.iter().zip(&q).any(|(a, b)| (a - b).abs() > 1e-3))
+    {
+        set.push(q);
+    }
+}
+
+/// More goals for a redundant arm whose goal set was all invalid (in collision, say):
+/// round `round ≥ 1` of [`NUMERIC_ATTEMPTS`] fresh starts ([`ATTEMPT_RESTARTS`] each),
+/// half drawn from the joint box and half within `round ·` [`NEAR_START_SPREAD`] rad of
+/// the start in each joint (the start's posture is free, and so, often, is a goal that
+/// keeps it: MoveIt seeds its IK from the current state), checked to
+/// [`GOAL_TOLERANCE`], nearest `start` first. A closed-form set is already complete:
+/// nothing more.
+pub fn more_goals(
+    model: &Model,
+    goal: &PoseGoal,
+    start: &[f64],
+    seed: u64,
+    round: usize,
+) -> Vec<Vec<f64>> {
+    let analytic = !goal.position_only && AnalyticSolver::new(model, goal.link).is_ok();
+    if analytic || goal.link >= model.links.len() {
+        return Vec::new();
+    }
+    let mut solver = IkSolver::new(model);
+    let round_seed = seed ^ (round as u64).wrapping_mul(0xd1b5_4a32_d192_ed03);
+    let mut rng = Rng::new(round_seed ^ 0x9e37_79b9_7f4a_7c15);
+    let mut q0 = start.to_vec();
+    let mut set = Vec::new();
+    let spread = NEAR_START_SPREAD * round as f64;
+    for attempt in 0..NUMERIC_ATTEMPTS {
+        if attempt % 2 == 0 {
+            uniform(model, &mut rng, &mut q0);
+        } else {
+            near(model, &mut rng, start, spread, &mut q0);
+        }
+        let r = attempt_ik(
+            &mut solver,
+            model,
+            goal,
+            &q0,
+            ATTEMPT_RESTARTS,
+            round_seed,
+            attempt,
+        );
+        if r.status == IkStatus::Converged {
+            add_distinct(&mut set, r.q);
+        }
+    }
+    checked_nearest_first(model, goal, start, set)
+}
+
+/// `q = start + u`, each `u_k` uniform in `[−spread, spread]`, clamped to the sampling
+/// range.
+fn near(model: &Model, rng: &mut Rng, start: &[f64], spread: f64, q: &mut [f64]) {
+    for (k, (x, s)) in q.iter_mut().zip(start).enumerate() {
+        let (lo, hi) = bounds(model, k);
+        *x = (s + spread * (2.0 * rng.next_f64() - 1.0)).clamp(lo, hi);
+    }
 }
