@@ -127,6 +127,28 @@ fn minverse_times_crba_mass_matrix_is_identity() {
     }
 }
 
+/// A chain above `M⁻¹`'s column-at-a-time size: the recursion in blocks of columns.
+#[test]
+fn minverse_in_column_blocks_times_crba_mass_matrix_is_identity() {
+    let mut m = Model::build(armsim::model::chain::chain_spec(30))
+        .unwrap()
+        .0;
+    let mut rng = SmallRng::seed_from_u64(7);
+    for a in &mut m.armature {
+        *a = rng.random_range(0.0..0.2);
+    }
+    let mut d = Data::new(&m);
+    for st in states(&m, 4, 34) {
+        let minv = dynamics::compute_minverse(&m, &mut d, &st.q)
+            .unwrap()
+            .clone();
+        let mass = dynamics::crba(&m, &mut d, &st.q).clone();
+        let eye = DMatrix::identity(m.nv, m.nv);
+        common::assert_matrix_close("chain_30: M⁻¹ M", &(&minv * &mass), &eye, 1e-9);
+        common::assert_matrix_close("chain_30: M⁻¹ symmetric", &minv, &minv.transpose(), 1e-12);
+    }
+}
+
 #[test]
 fn aba_partials_equal_central_differences_of_forward_dynamics() {
     for (name, m) in models() {

@@ -18,9 +18,10 @@ pub const LANES: usize = 8;
 
 /// The instruction sets the lane code is compiled for, lowest first. Every one gives
 /// bitwise the same results.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Isa {
     /// Baseline x86-64 (SSE2), or portable code elsewhere.
+    #[default]
     Baseline,
     /// AVX2 + FMA (two 256-bit registers per eight `f64` lanes).
     Avx2,

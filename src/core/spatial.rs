@@ -507,6 +507,18 @@ impl InertiaO {
     /// `[a]×[b]× = b aᵀ − (a·b) 1` and the symmetry of `I`.
     #[inline]
     pub fn transformed(&self, a_m_b: &Se3) -> InertiaO {
+        let (m, h, [xx, xy, xz, yy, yz, zz]) = self.transformed_parts(a_m_b);
+        InertiaO {
+            m,
+            h,
+            i_o: Mat3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz),
+        }
+    }
+
+    /// [`InertiaO::transformed`] as its numbers: `(m, h', [xx, xy, xz, yy, yz, zz])` of
+    /// `I'` (for callers that store them otherwise, as [`crate::core::sym6::Sym6`]).
+    #[inline(always)]
+    pub fn transformed_parts(&self, a_m_b: &Se3) -> (f64, Vec3, [f64; 6]) {
         let r = &a_m_b.rot;
         let p = a_m_b.trans;
         let a = r * self.h;
@@ -522,11 +534,7 @@ impl InertiaO {
         };
         let (xx, yy, zz) = (e(0, 0) + diag, e(1, 1) + diag, e(2, 2) + diag);
         let (xy, xz, yz) = (e(0, 1), e(0, 2), e(1, 2));
-        InertiaO {
-            m,
-            h: a + p * m,
-            i_o: Mat3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz),
-        }
+        (m, a + p * m, [xx, xy, xz, yy, yz, zz])
     }
 
     /// `self + o` (both in the same frame).

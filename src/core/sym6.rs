@@ -2,7 +2,7 @@
 //! articulated inertias of `M⁻¹`'s recursion: products and rank-one updates touch 21
 //! entries instead of 36.
 
-use crate::core::spatial::InertiaO;
+use crate::core::spatial::{InertiaO, Se3};
 
 /// Position of entry `(r, c)` (either order) in the packed upper triangle, row by row.
 const IDX: [[usize; 6]; 6] = {
@@ -41,30 +41,36 @@ impl Sym6 {
 
     /// A rigid-body inertia in origin form, `[[m 1, −[h]×], [[h]×, I_O]]`.
     pub fn from_inertia(y: &InertiaO) -> Self {
-        let h = y.h;
         let i = y.i_o;
-        Self([
-            y.m,
-            0.0,
-            0.0,
-            0.0,
-            h.z,
-            -h.y, // row 0
-            y.m,
-            0.0,
-            -h.z,
-            0.0,
-            h.x, // row 1
-            y.m,
-            h.y,
-            -h.x,
-            0.0, // row 2
+        let i_o = [
             i[(0, 0)],
             i[(0, 1)],
-            i[(0, 2)], // row 3
+            i[(0, 2)],
             i[(1, 1)],
-            i[(1, 2)], // row 4
+            i[(1, 2)],
             i[(2, 2)],
+        ];
+        Self::from_parts(y.m, &y.h, &i_o)
+    }
+
+    /// `y` (given in frame `b`) in frame `a`, `aMb`: [`InertiaO::transformed`] written
+    /// straight into the packed triangle.
+    #[inline(always)]
+    pub fn from_inertia_moved(y: &InertiaO, a_m_b: &Se3) -> Self {
+        let (m, h, i_o) = y.transformed_parts(a_m_b);
+        Self::from_parts(m, &h, &i_o)
+    }
+
+    /// `[[m 1, −[h]×], [[h]×, I_O]]` from `I_O`'s upper triangle `[xx, xy, xz, yy, yz, zz]`.
+    #[inline(always)]
+    fn from_parts(m: f64, h: &crate::core::spatial::Vec3, i: &[f64; 6]) -> Self {
+        Self([
+            m, 0.0, 0.0, 0.0, h.z, -h.y, // row 0
+            m, 0.0, -h.z, 0.0, h.x, // row 1
+            m, h.y, -h.x, 0.0, // row 2
+            i[0], i[1], i[2], // row 3
+            i[3], i[4], // row 4
+            i[5],
         ])
     }
 

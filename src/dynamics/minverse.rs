@@ -7,23 +7,46 @@
 //! 1. backward: `U_i = I^A_i S_i`, `D_i = S_iᵀ U_i + I_a`; the partial row
 //!    `M⁻¹_i· = D_i⁻¹(e_i − S_iᵀ P_i)` from the children's articulated forces `P_i`
 //!    (`6 × n`, one column per unit torque); `P_λ += P_i + U_i M⁻¹_i·`,
-//!    `I^A_λ += I^A_i − U_i D_i⁻¹ U_iᵀ`;
+//!    `I^A_λ += I^A_i − U_i D_i⁻¹ U_iᵀ` (`I^A_i` starts from the body's own world inertia);
 //! 2. forward: `M⁻¹_i· −= D_i⁻¹ U_iᵀ A_λ`, `A_i = A_λ + S_i M⁻¹_i·` (the bodies'
 //!    accelerations under the unit torques, `A_0 = 0`).
+//!
+//! Columns are bodies, and bodies come after their parents, so body `i`'s forces are
+//! zero outside its subtree's columns `c ≥ i`, and the rows are needed for `c ≥ i` only
+//! (the rest by symmetry). The columns are taken [`MINV_BLOCK`] at a time: `P_i` (then
+//! `A_i`) is stored as blocks of six rows of [`MINV_BLOCK`] side-by-side columns
+//! ([`ColumnBlock`]), so `S_iᵀ P_i` and `P_i + U_i M⁻¹_i·` are whole-vector operations
+//! on a block. Body `i` starts at the block holding column `i`; that block's columns
+//! `c < i` are zero in `P_i` and never read in `A_i`. A body's `P` and `I^A` are
+//! written (not added to) by its first child, so nothing is zeroed beforehand. Models of
+//! few bodies (the arms) go a column at a time instead
+//! ([`crate::dynamics::minverse_by_column`]), where the blocks' padding costs more than
+//! their width saves.
 //!
 //! Bodies are driven by `θ_i = m_i q_i` (a sign, without mimic joints), so
 //! `M⁻¹_q = G⁻¹ M⁻¹_θ G⁻¹` and the armature enters `D_i` as `I_a / m_i²`. With mimic
 //! joints the articulated recursion does not apply: `M` from CRBA is inverted through
 //! its Cholesky factor.
 
+// Block loops index rows and columns: explicit indices keep the equations visible.
+#![allow(clippy::needless_range_loop)]
+
 use crate::core::linalg::{cholesky_in_place, SingularMassMatrix};
+use crate::core::simd_lanes::Isa;
 use crate::core::sym6::Sym6;
 use crate::dynamics::crba::crba;
 use crate::dynamics::forward::name_joint;
 use crate::kinematics::compute_joint_jacobians;
 use crate::model::data::Data;
+use crate::model::derivative_data::{ColumnBlock, MINV_BLOCK};
 use crate::model::{Model, WORLD};
 use nalgebra::DMatrix;
+
+/// Columns per block.
+const L: usize = MINV_BLOCK;
+
+/// One row of a [`ColumnBlock`]: [`MINV_BLOCK`] columns.
+type Lane = [f64; L];
 
 /// `M(q)⁻¹` into `data.deriv.minv` (also returned), with the model's armature, as
 /// Pinocchio's `computeMinverse(model, data, q)` (full, symmetric). Fails only when `M`
@@ -45,31 +68,61 @@ pub fn compute_minverse<'a>(
 }
 
 /// [`compute_minverse`] for a model without mimic joints whose `data.o_m_i` and
-/// `data.s_world` are current (after the RNEA derivatives, say).
+/// `data.s_world` are current (after the RNEA derivatives, say). Runs on the instruction
+/// set detected when the buffers were sized (the same results on each: no fused
+/// multiply-add is written, and Rust contracts none); models of at most
+/// [`crate::dynamics::minverse_by_column::MAX_BODIES`] bodies go a column at a time.
 pub(crate) fn minverse_from_placements(
     model: &Model,
     data: &mut Data,
 ) -> Result<(), SingularMassMatrix> {
+    if model.nbodies() <= crate::dynamics::minverse_by_column::MAX_BODIES {
+        crate::dynamics::minverse_by_column::by_column(model, data)?;
+        write_minv(model, data);
+        return Ok(());
+    }
+    #[cfg(target_arch = "x86_64")]
+    if data.deriv.isa >= Isa::Avx2 {
+        // SAFETY: `isa` is at most what `Isa::detected` found on this CPU.
+        return unsafe { recursion_avx2(model, data) };
+    }
+    recursion(model, data)
+}
+
+/// [`recursion`] compiled for AVX2 (a block row is one register).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn recursion_avx2(model: &Model, data: &mut Data) -> Result<(), SingularMassMatrix> {
+    recursion(model, data)
+}
+
+/// The two passes and the mirrored result (see the module docs).
+#[inline(always)]
+fn recursion(model: &Model, data: &mut Data) -> Result<(), SingularMassMatrix> {
     backward_pass(model, data)?;
     forward_pass(model, data);
+    write_minv(model, data);
     Ok(())
 }
 
 /// `D_i⁻¹`, `U_i`, the partial rows and the articulated forces of the unit torques.
-/// Bodies come after their parents, so body `i`'s subtree, where its forces are not
-/// zero, lies in the columns `c ≥ i` (columns are bodies here).
+/// `P_i` and `I^A_i` are current once every child has been visited; `p_set[i]` says
+/// whether a child has written them (afterwards: whether body `i` has children).
+#[inline(always)]
 fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatrix> {
-    let n = model.nv;
     let nb = model.nbodies();
+    let nblk = nb.div_ceil(L);
     let d = &mut data.deriv;
-    for i in 0..nb {
-        d.oya[i] = Sym6::from_inertia(&model.inertia_o[i].transformed(&data.o_m_i[i]));
-    }
-    // Body i's articulated forces are read in the columns c > i only.
-    for i in 0..nb {
-        d.cols[i * 6 * n + 6 * i..(i + 1) * 6 * n].fill(0.0);
-    }
+    d.p_set[..nb].fill(false);
     for i in (0..nb).rev() {
+        let b0 = i / L;
+        let (below, rest) = d.cols.split_at_mut(i * nblk);
+        let p_i = &mut rest[b0..nblk];
+        if !d.p_set[i] {
+            // A leaf: no forces from below, its own inertia.
+            p_i.fill([[0.0; L]; 6]);
+            d.oya[i] = Sym6::from_inertia_moved(&model.inertia_o[i], &data.o_m_i[i]);
+        }
         let s = data.s_world[i].to_array();
         let (ci, mi) = (model.q_index[i], model.q_mult[i]);
         let u = d.oya[i].mul(&s);
@@ -78,36 +131,67 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
             return Err(SingularMassMatrix::at(ci, dd));
         }
         let d_inv = 1.0 / dd;
-        let (below, rest) = d.cols.split_at_mut(i * 6 * n);
-        let p_i = &rest[6 * (i + 1)..6 * n];
-        let row = &mut d.minv_rows[i * nb..(i + 1) * nb];
-        row[i] = d_inv;
-        for (r, col) in row[i + 1..].iter_mut().zip(p_i.as_chunks::<6>().0) {
-            *r = -d_inv * dot6(&s, col);
-        }
         d.u[i] = u;
         d.d_inv[i] = d_inv;
-        let parent = model.parent[i];
-        if parent != WORLD {
-            let p_parent = &mut below[parent * 6 * n + 6 * i..(parent + 1) * 6 * n];
-            let (own, children) = p_parent.split_at_mut(6);
-            for (o, x) in own.iter_mut().zip(u.iter()) {
-                *o += x * row[i];
-            }
-            for ((pp, pi), x) in (children.as_chunks_mut::<6>().0.iter_mut())
-                .zip(p_i.as_chunks::<6>().0)
-                .zip(&row[i + 1..])
-            {
-                for r in 0..6 {
-                    pp[r] += pi[r] + u[r] * x;
-                }
-            }
-            // Parents come before their children: `parent < i`.
-            let (lo, hi) = d.oya.split_at_mut(i);
-            hi[0].add_rank_one_update_to(&u, d_inv, &mut lo[parent]);
+        let row = &mut d.minv_rows[i * nblk + b0..(i + 1) * nblk];
+        for (r, p) in row.iter_mut().zip(p_i.iter()) {
+            *r = partial_row(&s, d_inv, p);
         }
+        // `P_i`'s column `i` is zero: `M⁻¹_ii = D_i⁻¹`.
+        row[0][i % L] = d_inv;
+        let parent = model.parent[i];
+        if parent == WORLD {
+            continue;
+        }
+        let p_parent = &mut below[parent * nblk..(parent + 1) * nblk];
+        // Parents come before their children: `parent < i`.
+        let (lo, hi) = d.oya.split_at_mut(i);
+        if d.p_set[parent] {
+            pass_forces::<true>(&mut p_parent[b0..], p_i, &u, row);
+        } else {
+            // The first child: the parent's columns before this child's are zero.
+            p_parent[parent / L..b0].fill([[0.0; L]; 6]);
+            pass_forces::<false>(&mut p_parent[b0..], p_i, &u, row);
+            lo[parent] = Sym6::from_inertia_moved(&model.inertia_o[parent], &data.o_m_i[parent]);
+            d.p_set[parent] = true;
+        }
+        hi[0].add_rank_one_update_to(&u, d_inv, &mut lo[parent]);
     }
     Ok(())
+}
+
+/// `−D⁻¹ Sᵀ P` for one block of columns.
+#[inline(always)]
+fn partial_row(s: &[f64; 6], d_inv: f64, p: &ColumnBlock) -> Lane {
+    let mut r = [0.0; L];
+    for l in 0..L {
+        let dot = s[0] * p[0][l]
+            + s[1] * p[1][l]
+            + s[2] * p[2][l]
+            + s[3] * p[3][l]
+            + s[4] * p[4][l]
+            + s[5] * p[5][l];
+        r[l] = -d_inv * dot;
+    }
+    r
+}
+
+/// `P_λ += P_i + U_i M⁻¹_i·` over the blocks of `p_i` (`P_λ =` when not `ADD`).
+#[inline(always)]
+fn pass_forces<const ADD: bool>(
+    p_parent: &mut [ColumnBlock],
+    p_i: &[ColumnBlock],
+    u: &[f64; 6],
+    row: &[Lane],
+) {
+    for ((pp, pi), x) in p_parent.iter_mut().zip(p_i).zip(row) {
+        for r in 0..6 {
+            for l in 0..L {
+                let f = pi[r][l] + u[r] * x[l];
+                pp[r][l] = if ADD { pp[r][l] + f } else { f };
+            }
+        }
+    }
 }
 
 /// `a · b` for six values each.
@@ -117,47 +201,81 @@ fn dot6(a: &[f64; 6], b: &[f64; 6]) -> f64 {
 }
 
 /// Completes each row's upper part (`c ≥ i`, all a child needs of its parent's
-/// accelerations) and writes `M⁻¹` in coordinates, mirrored.
+/// accelerations): `M⁻¹_i· −= D_i⁻¹ U_iᵀ A_λ`, then `A_i = A_λ + S_i M⁻¹_i·` for the
+/// bodies with children.
+#[inline(always)]
 fn forward_pass(model: &Model, data: &mut Data) {
-    let n = model.nv;
     let nb = model.nbodies();
+    let nblk = nb.div_ceil(L);
     let d = &mut data.deriv;
     for i in 0..nb {
-        let (u, d_inv) = (d.u[i], d.d_inv[i]);
+        let b0 = i / L;
+        let (u, d_inv, has_children) = (d.u[i], d.d_inv[i], d.p_set[i]);
         let s = data.s_world[i].to_array();
         let parent = model.parent[i];
-        let (below, rest) = d.cols.split_at_mut(i * 6 * n);
-        let a_i = &mut rest[..6 * n];
-        let row = &mut d.minv_rows[i * nb + i..(i + 1) * nb];
-        let a_i = &mut a_i[6 * i..];
-        if parent != WORLD {
-            let a_p = &below[parent * 6 * n + 6 * i..(parent + 1) * 6 * n];
-            for ((x, ai), ap) in row
-                .iter_mut()
-                .zip(a_i.as_chunks_mut::<6>().0)
-                .zip(a_p.as_chunks::<6>().0)
-            {
-                let xv = *x - d_inv * dot6(&u, ap);
-                *x = xv;
+        let (below, rest) = d.cols.split_at_mut(i * nblk);
+        let a_i = &mut rest[b0..nblk];
+        let row = &mut d.minv_rows[i * nblk + b0..(i + 1) * nblk];
+        if parent == WORLD {
+            if has_children {
+                for (ai, x) in a_i.iter_mut().zip(row.iter()) {
+                    for r in 0..6 {
+                        for l in 0..L {
+                            ai[r][l] = s[r] * x[l];
+                        }
+                    }
+                }
+            }
+            continue;
+        }
+        let a_p = &below[parent * nblk + b0..(parent + 1) * nblk];
+        if has_children {
+            for ((x, ai), ap) in row.iter_mut().zip(a_i.iter_mut()).zip(a_p) {
+                *x = complete_row(x, d_inv, &u, ap);
                 for r in 0..6 {
-                    ai[r] = ap[r] + s[r] * xv;
+                    for l in 0..L {
+                        ai[r][l] = ap[r][l] + s[r] * x[l];
+                    }
                 }
             }
         } else {
-            for (&x, ai) in row.iter().zip(a_i.as_chunks_mut::<6>().0) {
-                for r in 0..6 {
-                    ai[r] = s[r] * x;
-                }
+            for (x, ap) in row.iter_mut().zip(a_p) {
+                *x = complete_row(x, d_inv, &u, ap);
             }
         }
     }
+}
+
+/// `x − D⁻¹ Uᵀ A_λ` for one block of columns.
+#[inline(always)]
+fn complete_row(x: &Lane, d_inv: f64, u: &[f64; 6], a_p: &ColumnBlock) -> Lane {
+    let mut out = [0.0; L];
+    for l in 0..L {
+        let dot = u[0] * a_p[0][l]
+            + u[1] * a_p[1][l]
+            + u[2] * a_p[2][l]
+            + u[3] * a_p[3][l]
+            + u[4] * a_p[4][l]
+            + u[5] * a_p[5][l];
+        out[l] = x[l] - d_inv * dot;
+    }
+    out
+}
+
+/// `M⁻¹` in coordinates from the rows' upper parts, mirrored.
+#[inline(always)]
+fn write_minv(model: &Model, data: &mut Data) {
+    let (n, nb) = (model.nv, model.nbodies());
+    let stride = nb.div_ceil(L) * L;
+    let d = &mut data.deriv;
+    let rows = d.minv_rows.as_flattened();
     let minv = d.minv.as_mut_slice();
     for i in 0..nb {
         let (ci, mi) = (model.q_index[i], model.q_mult[i]);
         for c in i..nb {
             let (cc, mc) = (model.q_index[c], model.q_mult[c]);
             // Without mimic joints the multipliers are signs: dividing is multiplying.
-            let x = d.minv_rows[i * nb + c] * (mi * mc);
+            let x = rows[i * stride + c] * (mi * mc);
             minv[cc * n + ci] = x;
             minv[ci * n + cc] = x;
         }

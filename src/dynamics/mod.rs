@@ -34,6 +34,7 @@ mod lagrange_trace;
 mod lane_inertia;
 mod lane_spatial;
 mod minverse;
+mod minverse_by_column;
 mod rnea;
 mod rnea_derivatives;
 pub mod rnea_lanes;

@@ -4,6 +4,7 @@
 //! [`crate::model::data::Data`]: kinematics-only users never pay for five `nv × nv`
 //! matrices. Afterwards no call allocates.
 
+use crate::core::simd_lanes::Isa;
 use crate::core::spatial::{Force, InertiaO, Mat3, Motion, Vec3};
 use crate::core::sym6::Sym6;
 use crate::model::Model;
@@ -33,6 +34,12 @@ pub fn derivatives_fit(model: &Model) -> Result<(), TooManyDofForDerivatives> {
     }
     Ok(())
 }
+
+/// Unit-torque columns `M⁻¹`'s recursion takes at once (one AVX2 register of `f64`).
+pub(crate) const MINV_BLOCK: usize = 4;
+
+/// Six rows (a spatial vector's components) of [`MINV_BLOCK`] columns, side by side.
+pub(crate) type ColumnBlock = [[f64; MINV_BLOCK]; 6];
 
 /// The variation of a body's momentum with its velocity (Carpentier & Mansard's
 /// `∂(Y v)`-term, `v ×* Y − Y v× + (· ×* Y v)`), which only reads the angular part of
@@ -115,17 +122,23 @@ pub struct DerivativeData {
     pub(crate) u: Vec<[f64; 6]>,
     /// `D_i⁻¹` (`M⁻¹`).
     pub(crate) d_inv: Vec<f64>,
-    /// Per body, `6 × nv` columns: the articulated forces, then the accelerations, of
-    /// unit joint torques (`M⁻¹`), column-major body after body.
-    pub(crate) cols: Vec<f64>,
+    /// Per body, the `6 × nb` articulated forces, then the accelerations, of the unit
+    /// joint torques (`M⁻¹`), in `⌈nb / MINV_BLOCK⌉` column blocks, body after body.
+    pub(crate) cols: Vec<ColumnBlock>,
+    /// Whether a child has written body `i`'s forces yet (`M⁻¹`'s backward pass;
+    /// afterwards: whether it has children).
+    pub(crate) p_set: Vec<bool>,
     /// Subtree forces of the bias (ABA derivatives; scratch).
     pub(crate) bias_f: Vec<Force>,
     /// World accelerations of `q̈` alone (ABA derivatives; scratch).
     pub(crate) acc: Vec<Motion>,
     /// `τ − h(q, q̇)`, nv (ABA derivatives; scratch).
     pub(crate) rhs: Vec<f64>,
-    /// `M⁻¹` by bodies, row-major (`M⁻¹`'s recursion).
-    pub(crate) minv_rows: Vec<f64>,
+    /// `M⁻¹` by bodies, row-major, each row `⌈nb / MINV_BLOCK⌉` blocks (`M⁻¹`'s
+    /// recursion).
+    pub(crate) minv_rows: Vec<[f64; MINV_BLOCK]>,
+    /// The instruction set `M⁻¹`'s recursion runs on (detected when sized).
+    pub(crate) isa: Isa,
     /// The degrees of freedom the buffers are sized for.
     pub(crate) nv: usize,
 }
@@ -138,6 +151,7 @@ impl DerivativeData {
             return;
         }
         let sq = || DMatrix::zeros(nv, nv);
+        let blocks = nb * nb.div_ceil(MINV_BLOCK);
         *self = Self {
             dtau_dq: sq(),
             dtau_dv: sq(),
@@ -156,11 +170,13 @@ impl DerivativeData {
             oya: vec![Sym6::default(); nb],
             u: vec![[0.0; 6]; nb],
             d_inv: vec![0.0; nb],
-            cols: vec![0.0; 6 * nv * nb],
+            cols: vec![[[0.0; MINV_BLOCK]; 6]; blocks],
+            p_set: vec![false; nb],
             bias_f: vec![Force::zero(); nb],
             acc: vec![Motion::zero(); nb],
             rhs: vec![0.0; nv],
-            minv_rows: vec![0.0; nb * nb],
+            minv_rows: vec![[0.0; MINV_BLOCK]; blocks],
+            isa: Isa::detected(),
             nv,
         };
     }
