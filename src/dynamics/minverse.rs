@@ -124,13 +124,7 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
             d.oya[i] = Sym6::from_inertia_moved(&model.inertia_o[i], &data.o_m_i[i]);
         }
         let s = data.s_world[i].to_array();
-        let (ci, mi) = (model.q_index[i], model.q_mult[i]);
-        let u = d.oya[i].mul(&s);
-        let dd = dot6(&s, &u) + model.armature[ci] / (mi * mi);
-        if !(dd > 0.0 && dd.is_finite()) {
-            return Err(SingularMassMatrix::at(ci, dd));
-        }
-        let d_inv = 1.0 / dd;
+        let (u, d_inv) = crate::dynamics::minverse_by_column::pivot(model, i, &d.oya[i], &s)?;
         d.u[i] = u;
         d.d_inv[i] = d_inv;
         let row = &mut d.minv_rows[i * nblk + b0..(i + 1) * nblk];
@@ -192,12 +186,6 @@ fn pass_forces<const ADD: bool>(
             }
         }
     }
-}
-
-/// `a · b` for six values each.
-#[inline(always)]
-fn dot6(a: &[f64; 6], b: &[f64; 6]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5]
 }
 
 /// Completes each row's upper part (`c ≥ i`, all a child needs of its parent's

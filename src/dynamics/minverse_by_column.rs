@@ -37,13 +37,7 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
     }
     for i in (0..nb).rev() {
         let s = data.s_world[i].to_array();
-        let (ci, mi) = (model.q_index[i], model.q_mult[i]);
-        let u = d.oya[i].mul(&s);
-        let dd = dot6(&s, &u) + model.armature[ci] / (mi * mi);
-        if !(dd > 0.0 && dd.is_finite()) {
-            return Err(SingularMassMatrix::at(ci, dd));
-        }
-        let d_inv = 1.0 / dd;
+        let (u, d_inv) = pivot(model, i, &d.oya[i], &s)?;
         let (below, rest) = cols.split_at_mut(i * n6);
         let p_i = &rest[6 * (i + 1)..6 * nb];
         let row = &mut rows[i * stride..i * stride + nb];
@@ -74,6 +68,24 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
         }
     }
     Ok(())
+}
+
+/// `U_i = I^A_i S_i` and `D_i⁻¹ = 1 / (S_iᵀ U_i + I_a / m_i²)` of body `i`, or the
+/// singular joint (both kernels' pivot).
+#[inline(always)]
+pub(crate) fn pivot(
+    model: &Model,
+    i: usize,
+    ia: &Sym6,
+    s: &[f64; 6],
+) -> Result<([f64; 6], f64), SingularMassMatrix> {
+    let (ci, mi) = (model.q_index[i], model.q_mult[i]);
+    let u = ia.mul(s);
+    let dd = dot6(s, &u) + model.armature[ci] / (mi * mi);
+    if !(dd > 0.0 && dd.is_finite()) {
+        return Err(SingularMassMatrix::at(ci, dd));
+    }
+    Ok((u, 1.0 / dd))
 }
 
 /// `a · b` for six values each.

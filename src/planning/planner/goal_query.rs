@@ -315,45 +315,35 @@ impl Planner {
         limit: &SearchLimit,
     ) -> (Result<(), SearchEnd>, usize) {
         let (c, s) = (&self.checker, &mut self.scratch);
-        let mode = EdgeMode::Discrete;
-        let found = self.rrt.solve_to_set(
-            c,
-            s,
-            sampler,
-            &self.start,
-            flat,
-            limit,
-            mode,
-            &mut self.path,
-        );
-        let mut iterations = self.rrt.iterations;
-        if found.is_err() {
-            return (found, iterations);
-        }
-        let mut tools = RepairTools {
-            rrt: &mut self.rrt,
-            checker: c,
-            scratch: &mut *s,
-            sampler: &mut *sampler,
-            limit,
-        };
         let nv = self.start.len();
-        if let Ok(extra) = self.repair.certify(&mut tools, &mut self.path, nv) {
-            return (Ok(()), iterations + extra);
+        let mut iterations = 0;
+        for mode in [EdgeMode::Discrete, EdgeMode::Continuous] {
+            let found = self.rrt.solve_to_set(
+                c,
+                s,
+                sampler,
+                &self.start,
+                flat,
+                limit,
+                mode,
+                &mut self.path,
+            );
+            iterations += self.rrt.iterations;
+            if found.is_err() || mode == EdgeMode::Continuous {
+                return (found, iterations);
+            }
+            let mut tools = RepairTools {
+                rrt: &mut self.rrt,
+                checker: c,
+                scratch: &mut *s,
+                sampler: &mut *sampler,
+                limit,
+            };
+            if let Ok(extra) = self.repair.certify(&mut tools, &mut self.path, nv) {
+                return (Ok(()), iterations + extra);
+            }
         }
-        let mode = EdgeMode::Continuous;
-        let found = self.rrt.solve_to_set(
-            c,
-            s,
-            sampler,
-            &self.start,
-            flat,
-            limit,
-            mode,
-            &mut self.path,
-        );
-        iterations += self.rrt.iterations;
-        (found, iterations)
+        unreachable!("the continuous search returns")
     }
 
     /// Simplifies `self.path` (constrained shortcuts under constraints) and returns its
