@@ -7,11 +7,13 @@
 //! value nearest the start. Otherwise the numeric solver
 //! ([`crate::kinematics::ik::IkSolver`], Levenberg–Marquardt with restarts) is run from the
 //! start (8 restarts) and then from [`NUMERIC_ATTEMPTS`]` − 1` configurations drawn from
-//! the joint box with the query's seed ([`ATTEMPT_RESTARTS`] each; when none converges, as
-//! many new draws with 8 restarts each); its converged answers, with duplicates (all joints
-//! within 1e-3 rad) dropped, are the goals. The numeric solver runs on iteration and restart counts
-//! only (no wall-clock budget), so a seed gives the same set anywhere. Every goal is
-//! checked by forward kinematics to [`GOAL_TOLERANCE`] in position and rotation.
+//! the joint box with the query's seed ([`ATTEMPT_RESTARTS`] each; when none converges,
+//! as many new draws with 8 restarts each); its converged answers, with duplicates (all
+//! joints within 1e-3 rad) dropped, are the goals. The numeric solver runs on iteration
+//! and restart counts only (no wall-clock budget), so a seed gives the same set
+//! anywhere. Every goal is checked by forward kinematics to [`GOAL_TOLERANCE`] in
+//! position and rotation. When the planner finds the whole set invalid, [`more_goals`]
+//! draws further rounds.
 //!
 //! An empty set is an error that says why: the closed form's reason (out of reach), every
 //! solution outside the limits, or the numeric solver's closest pose.
