@@ -217,13 +217,24 @@ impl Model {
     /// link is returned.
     pub fn tool_link(&self) -> usize {
         let last = self.links.len() - 1;
+        // One pass: each body's child when it has exactly one (`None` when it has none
+        // or several), the world's likewise; then the walk.
+        let nb = self.nbodies();
+        let (mut child, mut count) = (vec![None; nb], vec![0u8; nb]);
+        let (mut root, mut roots) = (None, 0u8);
+        for b in 0..nb {
+            let (slot, n) = match self.parent[b] {
+                WORLD => (&mut root, &mut roots),
+                p => (&mut child[p], &mut count[p]),
+            };
+            *n = n.saturating_add(1);
+            *slot = (*n == 1).then_some(b);
+        }
         let mut end = WORLD;
-        loop {
-            let mut children = (0..self.nbodies()).filter(|&b| self.parent[b] == end);
-            match (children.next(), children.next()) {
-                (Some(only), None) => end = only,
-                _ => break,
-            }
+        let mut next = root;
+        while let Some(b) = next {
+            end = b;
+            next = child[b];
         }
         if end == WORLD {
             return last;

@@ -326,30 +326,26 @@ impl Planner {
     /// continuously; an edge that fails is re-planned with continuous checks and spliced
     /// in. If a repair fails, the whole search is run again with continuous checks.
     fn search(&mut self, sampler: &mut Sampler, limit: &SearchLimit) -> Result<(), SearchEnd> {
-        let (c, s) = (&self.checker, &mut self.scratch);
         let (start, goal) = (&self.start, &self.goal);
-        let mode = EdgeMode::Discrete;
-        self.rrt
-            .solve(c, s, sampler, start, goal, limit, mode, &mut self.path)?;
-        let iterations = self.rrt.iterations;
         let mut tools = RepairTools {
             rrt: &mut self.rrt,
-            checker: c,
-            scratch: &mut *s,
-            sampler: &mut *sampler,
+            checker: &self.checker,
+            scratch: &mut self.scratch,
+            sampler,
             limit,
         };
-        let repaired = self.repair.certify(&mut tools, &mut self.path, start.len());
-        let Err(_) = repaired else {
-            self.rrt.iterations = iterations + repaired.unwrap_or(0);
-            return Ok(());
-        };
-        let mode = EdgeMode::Continuous;
-        let r = self
-            .rrt
-            .solve(c, s, sampler, start, goal, limit, mode, &mut self.path);
-        self.rrt.iterations += iterations;
-        r
+        let (found, iterations) = self.repair.search_certified(
+            &mut tools,
+            &mut self.path,
+            start.len(),
+            |t, mode, path| {
+                t.rrt.solve(
+                    t.checker, t.scratch, t.sampler, start, goal, t.limit, mode, path,
+                )
+            },
+        );
+        self.rrt.iterations = iterations;
+        found
     }
 
     /// Adds to a failed query's reason a blocked band of a joint between start and goal,

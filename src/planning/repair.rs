@@ -37,6 +37,29 @@ impl EdgeRepair {
         }
     }
 
+    /// `search` (RRT-Connect to one goal or to a goal set, into `path`) with discrete edge
+    /// checks (fast), then the path certified ([`EdgeRepair::certify`]); if a repair
+    /// fails, `search` again with continuous checks. The outcome and the iterations of
+    /// the searches that count (the failed repair's are dropped).
+    pub fn search_certified(
+        &mut self,
+        t: &mut RepairTools<'_>,
+        path: &mut Vec<f32>,
+        nv: usize,
+        mut search: impl FnMut(&mut RepairTools<'_>, EdgeMode, &mut Vec<f32>) -> Result<(), SearchEnd>,
+    ) -> (Result<(), SearchEnd>, usize) {
+        let found = search(t, EdgeMode::Discrete, path);
+        let iterations = t.rrt.iterations;
+        if found.is_err() {
+            return (found, iterations);
+        }
+        if let Ok(extra) = self.certify(t, path, nv) {
+            return (Ok(()), iterations + extra);
+        }
+        let found = search(t, EdgeMode::Continuous, path);
+        (found, iterations + t.rrt.iterations)
+    }
+
     /// Makes every edge of `path` (flat, `nv` per point) pass the continuous check,
     /// re-planning the edges that fail. Returns the sub-searches' iterations; an error
     /// when a sub-search fails (the path is then left as it was).

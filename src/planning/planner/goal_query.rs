@@ -314,36 +314,20 @@ impl Planner {
         flat: &[f32],
         limit: &SearchLimit,
     ) -> (Result<(), SearchEnd>, usize) {
-        let (c, s) = (&self.checker, &mut self.scratch);
-        let nv = self.start.len();
-        let mut iterations = 0;
-        for mode in [EdgeMode::Discrete, EdgeMode::Continuous] {
-            let found = self.rrt.solve_to_set(
-                c,
-                s,
-                sampler,
-                &self.start,
-                flat,
-                limit,
-                mode,
-                &mut self.path,
-            );
-            iterations += self.rrt.iterations;
-            if found.is_err() || mode == EdgeMode::Continuous {
-                return (found, iterations);
-            }
-            let mut tools = RepairTools {
-                rrt: &mut self.rrt,
-                checker: c,
-                scratch: &mut *s,
-                sampler: &mut *sampler,
-                limit,
-            };
-            if let Ok(extra) = self.repair.certify(&mut tools, &mut self.path, nv) {
-                return (Ok(()), iterations + extra);
-            }
-        }
-        unreachable!("the continuous search returns")
+        let start = &self.start;
+        let mut tools = RepairTools {
+            rrt: &mut self.rrt,
+            checker: &self.checker,
+            scratch: &mut self.scratch,
+            sampler,
+            limit,
+        };
+        self.repair
+            .search_certified(&mut tools, &mut self.path, start.len(), |t, mode, path| {
+                t.rrt.solve_to_set(
+                    t.checker, t.scratch, t.sampler, start, flat, t.limit, mode, path,
+                )
+            })
     }
 
     /// Simplifies `self.path` (constrained shortcuts under constraints) and returns its
