@@ -15,7 +15,7 @@
 
 use crate::collision::Obstacle;
 use crate::model::Model;
-use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
+use crate::planning::checker::{CheckScratch, Checker};
 use crate::planning::environment::Environment;
 use crate::planning::improve::{ImproveContext, Improvement, Optimiser};
 use crate::planning::plan_error::PlanSetupError;

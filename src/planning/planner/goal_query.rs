@@ -23,7 +23,6 @@
 //! and the searches of step 4.
 
 use super::{PlanResult, PlanStatus, Planner};
-use crate::planning::checker::EdgeMode;
 use crate::planning::constrained_rrt::{ConstrainedContext, ConstrainedRrt};
 use crate::planning::improve::Improvement;
 use crate::planning::path_constraints::{ConstraintSet, PathConstraint};
