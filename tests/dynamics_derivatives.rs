@@ -1,6 +1,7 @@
 //! The analytical dynamics derivatives (Carpentier & Mansard) against central finite
 //! differences of the algorithms they differentiate, on every robot in `robots/`, a tree
-//! (two arms on one torso), the mimic gripper and a generated chain, with gravity,
+//! (two arms on one torso), the mimic gripper and generated chains (one of 30 joints, two
+//! of them reversed, for the column pass of long chains), with gravity,
 //! armature and external wrenches: `∂τ/∂q`, `∂τ/∂q̇` against RNEA, `∂τ/∂q̈` against CRBA,
 //! `∂q̈/∂q`, `∂q̈/∂q̇` against ABA, `∂q̈/∂τ` and `M⁻¹` against the inverse of CRBA's `M`;
 //! and the derivatives with the scene's effects (friction, rotors, a payload, world-fixed
@@ -21,6 +22,15 @@ use rand::{Rng, SeedableRng};
 fn models() -> Vec<(String, Model)> {
     let mut v = common::test_models(12);
     v.push(("dual_arm".into(), common::load("tests/data/dual_arm.urdf")));
+    // Long enough for the RNEA derivatives' column pass; two axes reversed (negative
+    // multipliers).
+    let mut spec = armsim::model::chain::chain_spec(30);
+    for k in [3, 11] {
+        spec.joints[k].axis = -spec.joints[k].axis;
+    }
+    let chain = Model::build(spec).unwrap().0;
+    assert!(chain.q_mult.iter().any(|m| *m < 0.0), "a reversed axis");
+    v.push(("chain_30_reversed".into(), chain));
     let mut rng = SmallRng::seed_from_u64(5);
     for (_, m) in &mut v {
         m.gravity = Vec3::new(0.3, -0.2, -9.81);
@@ -127,7 +137,70 @@ fn minverse_times_crba_mass_matrix_is_identity() {
     }
 }
 
-/// A chain above `M⁻¹`'s column-at-a-time size: the recursion in blocks of columns.
+/// Column `c` of `M⁻¹` is the acceleration under the unit torque `e_c` from rest without
+/// gravity: ABA, an algorithm `compute_minverse` does not call (it inverts CRBA's `M` on
+/// the arms and runs its own recursion on the larger models).
+#[test]
+fn minverse_columns_equal_aba_under_unit_torques_from_rest_without_gravity() {
+    for (name, mut m) in models() {
+        m.gravity = Vec3::zeros();
+        let (mut d, mut fd) = (Data::new(&m), Data::new(&m));
+        let z = vec![0.0; m.nv];
+        for st in states(&m, 3, 35) {
+            let minv = dynamics::compute_minverse(&m, &mut d, &st.q)
+                .unwrap()
+                .clone();
+            let cols: Vec<f64> = (0..m.nv)
+                .flat_map(|c| {
+                    let mut e = z.clone();
+                    e[c] = 1.0;
+                    dynamics::forward_dynamics(&m, &mut fd, &st.q, &z, &e)
+                        .unwrap()
+                        .to_vec()
+                })
+                .collect();
+            let aba = DMatrix::from_column_slice(m.nv, m.nv, &cols);
+            common::assert_matrix_close(
+                &format!("{name}: M⁻¹ e_c = ABA(q, 0, e_c)"),
+                &minv,
+                &aba,
+                1e-10,
+            );
+        }
+    }
+}
+
+/// The Cholesky inverse compiled for each size up to `SPD_FIXED_MAX`, against nalgebra's
+/// LU inverse on random symmetric positive-definite matrices (`B Bᵀ + n·1`, `B` uniform
+/// in ±1); a matrix that is not positive definite fails at its first bad pivot.
+#[test]
+fn small_spd_inverse_equals_the_lu_inverse_at_every_compiled_size() {
+    use armsim::core::spd_inverse::{spd_inverse_small, SPD_FIXED_MAX};
+    let mut rng = SmallRng::seed_from_u64(12);
+    for n in 1..=SPD_FIXED_MAX {
+        for _ in 0..5 {
+            let b = DMatrix::from_fn(n, n, |_, _| rng.random_range(-1.0..1.0));
+            let a = &b * b.transpose() + DMatrix::identity(n, n) * n as f64;
+            let mut inv = DMatrix::zeros(n, n);
+            spd_inverse_small(n, a.as_slice(), inv.as_mut_slice()).unwrap();
+            let lu = a.clone().try_inverse().expect("invertible");
+            common::assert_matrix_close(
+                &format!("n = {n}: Cholesky vs LU inverse"),
+                &inv,
+                &lu,
+                1e-13,
+            );
+            assert_eq!(inv, inv.transpose(), "n = {n}: exactly symmetric");
+        }
+    }
+    // Positive definite on the leading 2 × 2, then a zero pivot at coordinate 2.
+    let a = DMatrix::from_row_slice(3, 3, &[4.0, 2.0, 2.0, 2.0, 2.0, 1.0, 2.0, 1.0, 1.0]);
+    let mut inv = DMatrix::zeros(3, 3);
+    let e = spd_inverse_small(3, a.as_slice(), inv.as_mut_slice()).unwrap_err();
+    assert_eq!((e.pivot, e.value), (2, 0.0), "{e}");
+}
+
+/// A chain above the size `M⁻¹` inverts CRBA's `M` at: the recursion, in blocks of columns.
 #[test]
 fn minverse_in_column_blocks_times_crba_mass_matrix_is_identity() {
     let mut m = Model::build(armsim::model::chain::chain_spec(30))

@@ -197,8 +197,9 @@ pub fn aba_derivatives<'py>(
     ))
 }
 
-/// The inverse of the joint-space mass matrix, `M(q)⁻¹` (full and symmetric), in O(n²)
-/// without forming `M` (as Pinocchio's `computeMinverse`).
+/// The inverse of the joint-space mass matrix, `M(q)⁻¹` (full and symmetric), as
+/// Pinocchio's `computeMinverse`: above 12 coordinates in O(n²) without forming `M`, up
+/// to 12 (where that is faster) from `M` through its Cholesky factor.
 #[pyfunction]
 pub fn compute_minverse<'py>(
     py: Python<'py>,

@@ -10,5 +10,6 @@ pub mod least_squares;
 pub mod linalg;
 pub mod simd_lanes;
 pub mod spatial;
+pub mod spd_inverse;
 pub mod sym6;
 pub mod xml_guard;

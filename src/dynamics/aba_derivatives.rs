@@ -8,7 +8,7 @@
 
 use crate::core::linalg::SingularMassMatrix;
 use crate::dynamics::forward::name_joint;
-use crate::dynamics::minverse::{compute_minverse, minverse_from_placements};
+use crate::dynamics::minverse::minverse_after_placements;
 use crate::dynamics::rnea::add_armature;
 use crate::dynamics::rnea_derivatives::{add_joint_accelerations, backward_pass, forward_pass};
 use crate::dynamics::terms::Terms;
@@ -56,11 +56,7 @@ pub fn aba_derivatives<'a>(
     forward_pass(model, data, v, &zero, &terms);
     data.scratch_nv = zero;
     bias_to_rhs(model, data, tau);
-    if model.has_mimic {
-        compute_minverse(model, data, q)?;
-    } else {
-        minverse_from_placements(model, data).map_err(|e| name_joint(e, model))?;
-    }
+    minverse_after_placements(model, data, q)?;
     solve_accelerations(model, data)?;
     let qdd = std::mem::take(&mut data.qdd);
     add_joint_accelerations(model, data, &qdd);

@@ -29,7 +29,7 @@ use crate::dynamics::aba_derivatives::neg_product;
 use crate::dynamics::aba_derivatives::AbaPartials;
 use crate::dynamics::effects::{Applied, EffectTerms, Effects, ExternalWrench};
 use crate::dynamics::forward::{forward_dynamics_with, name_joint};
-use crate::dynamics::minverse::{invert_factored, minverse_from_placements};
+use crate::dynamics::minverse::{invert_spd, inverts_mass_matrix, minverse_after_placements};
 use crate::dynamics::rnea_derivatives::RneaPartials;
 use crate::dynamics::rnea_derivatives::{rnea_derivatives_impl, rnea_partials};
 use crate::model::data::Data;
@@ -107,16 +107,14 @@ pub fn forward_dynamics_derivatives<'a>(
     let qdd = std::mem::take(&mut data.qdd);
     inverse_dynamics_derivatives(model, data, effects, q, qd, &qdd);
     data.qdd = qdd;
-    if model.has_mimic || effects.payload.is_some() || effects.rotor.is_some() {
-        {
-            data.chol.copy_from(&data.deriv.dtau_da);
-            invert_factored(data)
-        }
-        .map_err(|e| name_joint(e, model))?;
+    if inverts_mass_matrix(model) || effects.payload.is_some() || effects.rotor.is_some() {
+        // M̃ is `∂τ/∂q̈`, just computed.
+        let d = &mut data.deriv;
+        invert_spd(&d.dtau_da, &mut data.chol, &mut d.minv).map_err(|e| name_joint(e, model))?;
     } else {
         // M̃ is the model's own M, whose inverse the O(n²) recursion gives from the
         // placements the derivatives left current.
-        minverse_from_placements(model, data).map_err(|e| name_joint(e, model))?;
+        minverse_after_placements(model, data, q)?;
     }
     let d = &mut data.deriv;
     neg_product(&mut d.ddq_dq, &d.minv, &d.dtau_dq);

@@ -34,9 +34,9 @@ mod lagrange_trace;
 mod lane_inertia;
 mod lane_spatial;
 mod minverse;
-mod minverse_by_column;
 mod rnea;
 mod rnea_derivatives;
+mod rnea_derivatives_chain;
 pub mod rnea_lanes;
 mod terms;
 

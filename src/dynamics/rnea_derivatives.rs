@@ -22,6 +22,7 @@
 
 use crate::core::spatial::{Force, InertiaO, Mat3, Motion, Vec3};
 use crate::dynamics::rnea::add_armature;
+use crate::dynamics::rnea_derivatives_chain::takes_chain_columns;
 use crate::dynamics::terms::Terms;
 use crate::kinematics::{body_rate, forward_kinematics, world_subspace};
 use crate::model::data::Data;
@@ -169,9 +170,12 @@ pub(crate) fn forward_pass(
 }
 
 /// `τ` and the three partials from the subtree sums, walking each joint's ancestors once
-/// for its row (`k ⪯ j`) and once for its column (`j ≺ k`).
+/// for its row (`k ⪯ j`) and once for its column (`j ≺ k`); long serial chains go column
+/// by column instead ([`crate::dynamics::rnea_derivatives_chain`]).
 pub(crate) fn backward_pass(model: &Model, data: &mut Data, terms: &Terms<'_>) {
-    if model.has_mimic {
+    if takes_chain_columns(model) {
+        crate::dynamics::rnea_derivatives_chain::backward_pass(model, data, terms);
+    } else if model.has_mimic {
         backward_walks::<true>(model, data, terms);
     } else {
         backward_walks::<false>(model, data, terms);

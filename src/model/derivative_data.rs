@@ -35,6 +35,10 @@ pub fn derivatives_fit(model: &Model) -> Result<(), TooManyDofForDerivatives> {
     Ok(())
 }
 
+/// Rows of the RNEA derivatives' structure-of-arrays buffer on long serial chains (see
+/// `dynamics::rnea_derivatives_chain`).
+pub(crate) const CHAIN_SOA_ROWS: usize = 46;
+
 /// Unit-torque columns `M⁻¹`'s recursion takes at once (one AVX2 register of `f64`).
 pub(crate) const MINV_BLOCK: usize = 4;
 
@@ -137,6 +141,11 @@ pub struct DerivativeData {
     /// `M⁻¹` by bodies, row-major, each row `⌈nb / MINV_BLOCK⌉` blocks (`M⁻¹`'s
     /// recursion).
     pub(crate) minv_rows: Vec<[f64; MINV_BLOCK]>,
+    /// Per body, [`CHAIN_SOA_ROWS`] rows of `nb` values: the RNEA derivatives' covectors
+    /// on long serial chains (structure of arrays).
+    pub(crate) soa: Vec<f64>,
+    /// The same values body by body (a body's own row of constants).
+    pub(crate) per_body: Vec<[f64; CHAIN_SOA_ROWS]>,
     /// The instruction set `M⁻¹`'s recursion runs on (detected when sized).
     pub(crate) isa: Isa,
     /// The degrees of freedom the buffers are sized for.
@@ -176,6 +185,8 @@ impl DerivativeData {
             acc: vec![Motion::zero(); nb],
             rhs: vec![0.0; nv],
             minv_rows: vec![[0.0; MINV_BLOCK]; blocks],
+            soa: vec![0.0; CHAIN_SOA_ROWS * nb],
+            per_body: vec![[0.0; CHAIN_SOA_ROWS]; nb],
             isa: Isa::detected(),
             nv,
         };
