@@ -4,8 +4,9 @@
 //! compiled once per size so that every loop unrolls and nothing is bounds-checked.
 //!
 //! At arm sizes this beats the O(n²) articulated-body recursion for `M⁻¹`: CRBA and this
-//! inverse take 0.64× (6 coordinates) to 0.93× (12) the recursion's time, and 1.3×
-//! from 16 on (measured on the arms and generated chains; BENCHMARKS.md).
+//! inverse take 0.64× (6 coordinates) to 0.93× (12) the recursion's time, and more than
+//! it from 16 on (the arms and generated chains; BENCHMARKS.md, "M⁻¹ on arms through a
+//! Cholesky inverse").
 
 // Triangular loops index rows and columns: explicit indices keep the equations visible.
 #![allow(clippy::needless_range_loop)]
