@@ -82,54 +82,19 @@ fn covectors(model: &Model, data: &mut Data) {
             .add(&s.cross_force(&f));
         let fv = y.mul_motion(&d.da_dv[i]).add(&dy.mul_motion(&s));
         let (dv, da) = (d.dv_dq[i], d.da_dq[i]);
-        let values: [f64; CHAIN_SOA_ROWS] = [
-            ys.f.x,
-            ys.f.y,
-            ys.f.z,
-            ys.n.x,
-            ys.n.y,
-            ys.n.z,
-            dys.x,
-            dys.y,
-            dys.z, // P
-            fq.f.x,
-            fq.f.y,
-            fq.f.z,
-            fq.n.x,
-            fq.n.y,
-            fq.n.z, // f^q
-            fv.f.x,
-            fv.f.y,
-            fv.f.z,
-            fv.n.x,
-            fv.n.y,
-            fv.n.z, // f^v
-            da.v.x,
-            da.v.y,
-            da.v.z,
-            da.w.x,
-            da.w.y,
-            da.w.z,
-            dv.w.x,
-            dv.w.y,
-            dv.w.z, // Q
-            2.0 * dv.v.x,
-            2.0 * dv.v.y,
-            2.0 * dv.v.z, // V
-            2.0 * dv.w.x,
-            2.0 * dv.w.y,
-            2.0 * dv.w.z,
-            s.w.x,
-            s.w.y,
-            s.w.z,
-            s.v.x,
-            s.v.y,
-            s.v.z,
-            s.w.x,
-            s.w.y,
-            s.w.z, // S
-            model.q_mult[i],
-        ];
+        let mut values = [0.0; CHAIN_SOA_ROWS];
+        let mut put = |at: usize, xs: &[f64]| values[at..at + xs.len()].copy_from_slice(xs);
+        put(P, &[ys.f.x, ys.f.y, ys.f.z, ys.n.x, ys.n.y, ys.n.z]);
+        put(P + 6, &[dys.x, dys.y, dys.z]);
+        put(FQ, &[fq.f.x, fq.f.y, fq.f.z, fq.n.x, fq.n.y, fq.n.z]);
+        put(FV, &[fv.f.x, fv.f.y, fv.f.z, fv.n.x, fv.n.y, fv.n.z]);
+        put(Q, &[da.v.x, da.v.y, da.v.z, da.w.x, da.w.y, da.w.z]);
+        put(Q + 6, &[dv.w.x, dv.w.y, dv.w.z]);
+        let dv2 = dv.scale(2.0);
+        put(V, &[dv2.v.x, dv2.v.y, dv2.v.z, dv2.w.x, dv2.w.y, dv2.w.z]);
+        put(V + 6, &[s.w.x, s.w.y, s.w.z]);
+        put(S, &[s.v.x, s.v.y, s.v.z, s.w.x, s.w.y, s.w.z]);
+        values[MULT] = model.q_mult[i];
         for (r, x) in values.iter().enumerate() {
             soa[r * n + i] = *x;
         }
