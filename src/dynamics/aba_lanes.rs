@@ -172,18 +172,19 @@ fn aba_kernel(w: &mut Passes, model: &Model, q: &[Lanes], qd: &[Lanes], tau: &[L
         };
         let j = joint(model, w, i);
         let rate = affine(&qd[qi], m, 0.0);
-        let mut v = ZERO6;
         let parent = model.parent[i];
-        if parent != WORLD {
-            v = j.inv_motion(&Placement::of(model, i).inv_motion(&w.v[parent]));
-        }
-        j.add_subspace(&mut v, &rate);
-        let mut c = ZERO6;
-        j.add_velocity_product(&mut c, &v, &rate);
-        w.v[i] = v;
-        w.c[i] = c;
+        // Written in place: a copied `S6` or `Art` is a `memcpy` of 384 bytes or more.
+        w.v[i] = if parent == WORLD {
+            ZERO6
+        } else {
+            j.inv_motion(&Placement::of(model, i).inv_motion(&w.v[parent]))
+        };
+        let v = &mut w.v[i];
+        j.add_subspace(v, &rate);
+        w.c[i] = ZERO6;
+        j.add_velocity_product(&mut w.c[i], v, &rate);
         w.ia[i] = Art::rigid(&model.inertia_o[i]);
-        w.pa[i] = bias_force(&model.inertia_o[i], &v);
+        w.pa[i] = bias_force(&model.inertia_o[i], v);
     }
     for i in (0..nb).rev() {
         let kind = model.kind[i];
@@ -202,7 +203,11 @@ fn aba_kernel(w: &mut Passes, model: &Model, q: &[Lanes], qd: &[Lanes], tau: &[L
         w.u[i] = u;
         let parent = model.parent[i];
         if parent != WORLD {
-            let mut ia = w.ia[i];
+            let (j, place) = (joint(model, w, i), Placement::of(model, i));
+            // `I_i^A` is not read again: reduced and moved to the parent in place (the
+            // parent's, `parent < i`, is in `before`).
+            let (before, from_i) = w.ia.split_at_mut(i);
+            let ia = &mut from_i[0];
             ia.sub_rank_one(&u_col, &d_inv);
             let mut pa = ia.times(&w.c[i]);
             for r in 0..3 {
@@ -212,10 +217,9 @@ fn aba_kernel(w: &mut Passes, model: &Model, q: &[Lanes], qd: &[Lanes], tau: &[L
                     pa.ang[r][l] += w.pa[i].ang[r][l] + u_col.ang[r][l] * ud;
                 }
             }
-            let (j, place) = (joint(model, w, i), Placement::of(model, i));
             ia.joint_to_parent(&j);
             ia.placement_to_parent(&place);
-            w.ia[parent].add(&ia);
+            before[parent].add(ia);
             let fp = place.force(&j.force(&pa));
             add3(&mut w.pa[parent].lin, &fp.lin);
             add3(&mut w.pa[parent].ang, &fp.ang);
@@ -229,21 +233,21 @@ fn aba_kernel(w: &mut Passes, model: &Model, q: &[Lanes], qd: &[Lanes], tau: &[L
     for i in 0..nb {
         let parent = model.parent[i];
         let ap = if parent == WORLD {
-            a_root
+            &a_root
         } else {
-            w.acc[parent]
+            &w.acc[parent]
         };
         let j = joint(model, w, i);
-        let mut a = j.inv_motion(&Placement::of(model, i).inv_motion(&ap));
+        w.acc[i] = j.inv_motion(&Placement::of(model, i).inv_motion(ap));
+        let a = &mut w.acc[i];
         add3(&mut a.lin, &w.c[i].lin);
         add3(&mut a.ang, &w.c[i].ang);
-        let ua = dot6(&w.u_col[i], &a);
+        let ua = dot6(&w.u_col[i], a);
         let mut th_dd = [0.0; LANES];
         for l in 0..LANES {
             th_dd[l] = w.d_inv[i][l] * (w.u[i][l] - ua[l]);
         }
-        j.add_subspace(&mut a, &th_dd);
-        w.acc[i] = a;
+        j.add_subspace(a, &th_dd);
         let (qi, m) = (model.q_index[i], model.q_mult[i]);
         for l in 0..LANES {
             w.qdd[qi][l] = th_dd[l] / m;

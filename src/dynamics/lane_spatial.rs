@@ -301,10 +301,10 @@ pub(crate) fn sub3(a: &mut V3, b: &V3) {
 /// Eight rows of `nv` values into one lane array per coordinate.
 #[inline(always)]
 pub(crate) fn gather(rows: &[f64], nv: usize, out: &mut [Lanes]) {
-    for (l, row) in rows.chunks_exact(nv).enumerate() {
-        for (k, x) in row.iter().enumerate() {
-            out[k][l] = *x;
-        }
+    assert!(rows.len() == LANES * nv && out.len() >= nv);
+    // Whole lane arrays stored at once (two or four vector stores), not eight scalars.
+    for (k, o) in out[..nv].iter_mut().enumerate() {
+        *o = std::array::from_fn(|l| rows[l * nv + k]);
     }
 }
 

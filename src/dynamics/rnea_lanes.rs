@@ -162,26 +162,28 @@ fn rnea_kernel(w: &mut Passes, model: &Model, q: &[Lanes], qd: &[Lanes], qdd: &[
         w.sc[i] = sc;
         let parent = model.parent[i];
         let place = Placement::of(model, i);
+        // Read in place and written in place: a copied `S6` is a 384-byte `memcpy`.
         let (vp, ap) = if parent == WORLD {
-            (ZERO6, a_root)
+            (&ZERO6, &a_root)
         } else {
-            (w.v[parent], w.a[parent])
+            (&w.v[parent], &w.a[parent])
         };
         let joint = Joint { k, revolute, sc };
-        let mut v = joint.inv_motion(&place.inv_motion(&vp));
-        let mut a = joint.inv_motion(&place.inv_motion(&ap));
-        joint.add_subspace(&mut v, &rate);
-        joint.add_subspace(&mut a, &accel);
-        joint.add_velocity_product(&mut a, &v, &rate);
-        w.v[i] = v;
-        w.a[i] = a;
-        w.f[i] = body_force(model, i, &v, &a);
+        w.a[i] = joint.inv_motion(&place.inv_motion(ap));
+        w.v[i] = joint.inv_motion(&place.inv_motion(vp));
+        let (v, a) = (&mut w.v[i], &mut w.a[i]);
+        joint.add_subspace(v, &rate);
+        joint.add_subspace(a, &accel);
+        joint.add_velocity_product(a, v, &rate);
+        w.f[i] = body_force(model, i, v, a);
     }
     for t in w.tau.iter_mut() {
         *t = [0.0; LANES];
     }
     for i in (0..model.nbodies()).rev() {
-        let f = w.f[i];
+        // Parents come before their children: the parent's force is in `before`.
+        let (before, from_i) = w.f.split_at_mut(i);
+        let f = &from_i[0];
         let kind = model.kind[i];
         let (k, revolute) = (kind.axis_index(), kind.is_revolute());
         let s = if revolute { &f.ang[k] } else { &f.lin[k] };
@@ -196,8 +198,8 @@ fn rnea_kernel(w: &mut Passes, model: &Model, q: &[Lanes], qd: &[Lanes], qdd: &[
                 revolute,
                 sc: w.sc[i],
             };
-            let fp = Placement::of(model, i).force(&joint.force(&f));
-            let p = &mut w.f[parent];
+            let fp = Placement::of(model, i).force(&joint.force(f));
+            let p = &mut before[parent];
             add3(&mut p.lin, &fp.lin);
             add3(&mut p.ang, &fp.ang);
         }
