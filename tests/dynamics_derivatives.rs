@@ -200,25 +200,41 @@ fn small_spd_inverse_equals_the_lu_inverse_at_every_compiled_size() {
     assert_eq!((e.pivot, e.value), (2, 0.0), "{e}");
 }
 
-/// A chain above the size `M⁻¹` inverts CRBA's `M` at: the recursion, in blocks of columns.
+/// Models above the size `M⁻¹` inverts CRBA's `M` at: the recursion, in blocks of
+/// columns; on a serial chain (two storage slots in turn) and on a tree (a slot per body:
+/// joints 9 and 17 branch off links 3 and 6, joint 22 off the world's link).
 #[test]
 fn minverse_in_column_blocks_times_crba_mass_matrix_is_identity() {
-    let mut m = Model::build(armsim::model::chain::chain_spec(30))
-        .unwrap()
-        .0;
-    let mut rng = SmallRng::seed_from_u64(7);
-    for a in &mut m.armature {
-        *a = rng.random_range(0.0..0.2);
+    let chain = armsim::model::chain::chain_spec(30);
+    let mut tree = chain.clone();
+    tree.name = "tree_30".into();
+    for (j, from) in [(8, "link3"), (16, "link6"), (21, "link0")] {
+        tree.joints[j].parent = from.into();
     }
-    let mut d = Data::new(&m);
-    for st in states(&m, 4, 34) {
-        let minv = dynamics::compute_minverse(&m, &mut d, &st.q)
-            .unwrap()
-            .clone();
-        let mass = dynamics::crba(&m, &mut d, &st.q).clone();
-        let eye = DMatrix::identity(m.nv, m.nv);
-        common::assert_matrix_close("chain_30: M⁻¹ M", &(&minv * &mass), &eye, 1e-9);
-        common::assert_matrix_close("chain_30: M⁻¹ symmetric", &minv, &minv.transpose(), 1e-12);
+    for spec in [chain, tree] {
+        let mut m = Model::build(spec).unwrap().0;
+        let serial = (1..m.nbodies()).all(|i| m.parent[i] == i - 1);
+        assert_eq!(
+            serial,
+            m.name == "chain_30",
+            "{}: a chain, or branched",
+            m.name
+        );
+        let mut rng = SmallRng::seed_from_u64(7);
+        for a in &mut m.armature {
+            *a = rng.random_range(0.0..0.2);
+        }
+        let mut d = Data::new(&m);
+        for st in states(&m, 4, 34) {
+            let minv = dynamics::compute_minverse(&m, &mut d, &st.q)
+                .unwrap()
+                .clone();
+            let mass = dynamics::crba(&m, &mut d, &st.q).clone();
+            let eye = DMatrix::identity(m.nv, m.nv);
+            let what = |x: &str| format!("{}: {x}", m.name);
+            common::assert_matrix_close(&what("M⁻¹ M"), &(&minv * &mass), &eye, 1e-9);
+            common::assert_matrix_close(&what("M⁻¹ symmetric"), &minv, &minv.transpose(), 1e-12);
+        }
     }
 }
 
