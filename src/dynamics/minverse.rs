@@ -145,22 +145,26 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
         d.u[i] = u;
         d.d_inv[i] = d_inv;
         let row = &mut d.minv_rows[i * nblk + b0..(i + 1) * nblk];
-        for (r, p) in row.iter_mut().zip(p_i.iter()) {
-            *r = partial_row(&s, d_inv, p);
-        }
-        // `P_i`'s column `i` is zero: `M⁻¹_ii = D_i⁻¹`.
-        row[0][i % L] = d_inv;
+        let body = Pivot {
+            s,
+            u,
+            d_inv,
+            diag: i % L,
+        };
         let Some(p_parent) = of_parent else {
+            for (k, (r, p)) in row.iter_mut().zip(p_i.iter()).enumerate() {
+                *r = body.partial_row(k, p);
+            }
             continue;
         };
         // Parents come before their children: `parent < i`.
         let (lo, hi) = d.oya.split_at_mut(i);
         if d.p_set[parent] {
-            pass_forces::<true>(&mut p_parent[b0..], p_i, &u, row);
+            rows_and_forces::<true>(&mut p_parent[b0..], p_i, &body, row);
         } else {
             // The first child: the parent's columns before this child's are zero.
             p_parent[parent / L..b0].fill([[0.0; L]; 6]);
-            pass_forces::<false>(&mut p_parent[b0..], p_i, &u, row);
+            rows_and_forces::<false>(&mut p_parent[b0..], p_i, &body, row);
             lo[parent] = Sym6::from_inertia_moved(&model.inertia_o[parent], &data.o_m_i[parent]);
             d.p_set[parent] = true;
         }
@@ -205,38 +209,58 @@ fn body_blocks(
     }
 }
 
-/// `−D⁻¹ Sᵀ P` for one block of columns.
-#[inline(always)]
-fn partial_row(s: &[f64; 6], d_inv: f64, p: &ColumnBlock) -> Lane {
-    let mut r = [0.0; L];
-    for l in 0..L {
-        let dot = s[0] * p[0][l]
-            + s[1] * p[1][l]
-            + s[2] * p[2][l]
-            + s[3] * p[3][l]
-            + s[4] * p[4][l]
-            + s[5] * p[5][l];
-        r[l] = -d_inv * dot;
-    }
-    r
+/// Body `i`'s motion subspace `S_i`, `U_i`, `D_i⁻¹`, and where column `i` sits in its
+/// first block.
+struct Pivot {
+    s: [f64; 6],
+    u: [f64; 6],
+    d_inv: f64,
+    diag: usize,
 }
 
-/// `P_λ += P_i + U_i M⁻¹_i·` over the blocks of `p_i` (`P_λ =` when not `ADD`).
+impl Pivot {
+    /// Block `k` of the partial row, `−D⁻¹ Sᵀ P`; in block 0, `M⁻¹_ii = D_i⁻¹` (`P_i`'s
+    /// column `i` is zero).
+    #[inline(always)]
+    fn partial_row(&self, k: usize, p: &ColumnBlock) -> Lane {
+        let (s, d_inv) = (&self.s, self.d_inv);
+        let mut r = [0.0; L];
+        for l in 0..L {
+            let dot = s[0] * p[0][l]
+                + s[1] * p[1][l]
+                + s[2] * p[2][l]
+                + s[3] * p[3][l]
+                + s[4] * p[4][l]
+                + s[5] * p[5][l];
+            r[l] = -d_inv * dot;
+        }
+        if k == 0 {
+            r[self.diag] = d_inv;
+        }
+        r
+    }
+}
+
+/// The partial row of body `i` and `P_λ += P_i + U_i M⁻¹_i·`, block by block, each block
+/// of `P_i` read once (`P_λ =` when not `ADD`).
 #[inline(always)]
-fn pass_forces<const ADD: bool>(
+fn rows_and_forces<const ADD: bool>(
     p_parent: &mut [ColumnBlock],
     p_i: &[ColumnBlock],
-    u: &[f64; 6],
-    row: &[Lane],
+    body: &Pivot,
+    row: &mut [Lane],
 ) {
-    for ((pp, pi), x) in p_parent.iter_mut().zip(p_i).zip(row) {
+    let u = &body.u;
+    for (k, ((pp, pi), x)) in p_parent.iter_mut().zip(p_i).zip(row).enumerate() {
         // Read into registers and written whole: the blocks could alias for all the
         // compiler knows, which kept it from vectorising the loop over columns.
-        let (pi, x, old) = (*pi, *x, *pp);
+        let (pi, old) = (*pi, *pp);
+        let xr = body.partial_row(k, &pi);
+        *x = xr;
         let mut out = [[0.0; L]; 6];
         for r in 0..6 {
             for l in 0..L {
-                let f = pi[r][l] + u[r] * x[l];
+                let f = pi[r][l] + u[r] * xr[l];
                 out[r][l] = if ADD { old[r][l] + f } else { f };
             }
         }
