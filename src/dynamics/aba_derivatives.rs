@@ -7,6 +7,7 @@
 //! `q̈ = FD(q, q̇, τ) = M⁻¹(τ − h)` and `M⁻¹` from [`crate::dynamics::compute_minverse`].
 
 use crate::core::linalg::SingularMassMatrix;
+use crate::core::simd_lanes::Isa;
 use crate::dynamics::forward::name_joint;
 use crate::dynamics::minverse::minverse_after_placements;
 use crate::dynamics::rnea::add_armature;
@@ -119,23 +120,118 @@ fn solve_accelerations(model: &Model, data: &mut Data) -> Result<(), SingularMas
 /// product of nalgebra (matrixmultiply) is faster.
 pub(crate) const DIRECT_PRODUCT_MAX: usize = 24;
 
+/// Up to this many coordinates (every bundled arm) [`neg_product`] is compiled for the
+/// size: the loops unrolled, each column summed in registers.
+const FIXED_PRODUCT_MAX: usize = 12;
+
 /// `out = −a b` for square column-major matrices: at arm sizes column by column as sums
 /// of `a`'s columns (contiguous, so the inner loop vectorises, and no packing), else the
-/// blocked general product.
+/// blocked general product. Every size sums in the same order (`k` ascending from 0), so
+/// the fixed-size and AVX2 forms give the same bits as the loop.
 pub(crate) fn neg_product(out: &mut DMatrix<f64>, a: &DMatrix<f64>, b: &DMatrix<f64>) {
     let n = a.nrows();
     if n > DIRECT_PRODUCT_MAX {
         out.gemm(-1.0, a, b, 0.0);
         return;
     }
-    let (a, b) = (a.as_slice(), b.as_slice());
-    for (c, oc) in out.as_mut_slice().chunks_exact_mut(n).enumerate() {
+    let (o, a, b) = (out.as_mut_slice(), a.as_slice(), b.as_slice());
+    if n <= FIXED_PRODUCT_MAX {
+        #[cfg(target_arch = "x86_64")]
+        if Isa::detected() >= Isa::Avx2 {
+            // SAFETY: AVX2 was detected on this CPU.
+            return unsafe { neg_product_small_avx2(n, o, a, b) };
+        }
+        return neg_product_small(n, o, a, b);
+    }
+    for (c, oc) in o.chunks_exact_mut(n).enumerate() {
         oc.fill(0.0);
         for (k, ak) in a.chunks_exact(n).enumerate() {
             let x = -b[c * n + k];
             for (o, y) in oc.iter_mut().zip(ak) {
                 *o += x * y;
             }
+        }
+    }
+}
+
+/// [`neg_product_small`] compiled for AVX2 (no fused multiply-add: the same bits).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn neg_product_small_avx2(n: usize, out: &mut [f64], a: &[f64], b: &[f64]) {
+    neg_product_small(n, out, a, b)
+}
+
+/// `out = −a b` for `n × n` column-major slices, `n ≤` [`FIXED_PRODUCT_MAX`].
+#[inline(always)]
+fn neg_product_small(n: usize, out: &mut [f64], a: &[f64], b: &[f64]) {
+    macro_rules! sizes {
+        ($($n:literal)*) => {
+            match n {
+                0 => {}
+                $($n => neg_product_fixed::<$n>(
+                    out.as_chunks_mut::<$n>().0,
+                    a.as_chunks::<$n>().0,
+                    b.as_chunks::<$n>().0,
+                ),)*
+                _ => unreachable!("n ≤ FIXED_PRODUCT_MAX"),
+            }
+        };
+    }
+    sizes!(1 2 3 4 5 6 7 8 9 10 11 12)
+}
+
+/// `out = −a b`, one column of `out` (`−Σ_k b_kc a_k`) at a time.
+#[inline(always)]
+fn neg_product_fixed<const N: usize>(out: &mut [[f64; N]], a: &[[f64; N]], b: &[[f64; N]]) {
+    for (oc, bc) in out.iter_mut().zip(b) {
+        let mut acc = [0.0; N];
+        for (ak, bk) in a.iter().zip(bc) {
+            let x = -bk;
+            for r in 0..N {
+                acc[r] += x * ak[r];
+            }
+        }
+        *oc = acc;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic `n × n` matrix with entries of mixed signs and magnitudes.
+    fn matrix(n: usize, seed: f64) -> DMatrix<f64> {
+        DMatrix::from_fn(n, n, |r, c| {
+            ((r * 7 + c * 3) as f64 + seed).sin() * (1.0 + r as f64)
+        })
+    }
+
+    #[test]
+    fn neg_product_equals_minus_the_nalgebra_product_at_every_size() {
+        for n in 0..=DIRECT_PRODUCT_MAX + 2 {
+            let (a, b) = (matrix(n, 0.3), matrix(n, 1.7));
+            let mut out = DMatrix::from_element(n, n, f64::NAN);
+            neg_product(&mut out, &a, &b);
+            let want = -(&a * &b);
+            let scale = want.amax().max(1.0);
+            assert!((&out - &want).amax() <= 1e-14 * scale * n as f64, "n = {n}");
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn neg_product_gives_the_same_bits_on_avx2_and_baseline() {
+        if Isa::detected() < Isa::Avx2 {
+            return;
+        }
+        for n in 0..=FIXED_PRODUCT_MAX {
+            let (a, b) = (matrix(n, 0.1), matrix(n, 2.9));
+            let (mut x, mut y) = (vec![0.0; n * n], vec![0.0; n * n]);
+            neg_product_small(n, &mut x, a.as_slice(), b.as_slice());
+            // SAFETY: AVX2 was detected above.
+            unsafe { neg_product_small_avx2(n, &mut y, a.as_slice(), b.as_slice()) };
+            let bits = |v: &[f64]| v.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&x), bits(&y), "n = {n}");
         }
     }
 }
