@@ -70,10 +70,11 @@ pub fn aba_derivatives<'a>(
         ddq_dq,
         ddq_dv,
         minv,
+        isa,
         ..
     } = &mut data.deriv;
-    neg_product(ddq_dq, minv, dtau_dq);
-    neg_product(ddq_dv, minv, dtau_dv);
+    neg_product(ddq_dq, minv, dtau_dq, *isa);
+    neg_product(ddq_dv, minv, dtau_dv, *isa);
     Ok(AbaPartials {
         ddq_dq: &data.deriv.ddq_dq,
         ddq_dv: &data.deriv.ddq_dv,
@@ -124,11 +125,12 @@ pub(crate) const DIRECT_PRODUCT_MAX: usize = 24;
 /// size: the loops unrolled, each column summed in registers.
 const FIXED_PRODUCT_MAX: usize = 12;
 
-/// `out = −a b` for square column-major matrices: at arm sizes column by column as sums
+/// `out = −a b` for square column-major matrices, on at most the instruction set `isa`
+/// (the one chosen when the derivative buffers were sized): at arm sizes column by column as sums
 /// of `a`'s columns (contiguous, so the inner loop vectorises, and no packing), else the
 /// blocked general product. Every size sums in the same order (`k` ascending from 0), so
 /// the fixed-size and AVX2 forms give the same bits as the loop.
-pub(crate) fn neg_product(out: &mut DMatrix<f64>, a: &DMatrix<f64>, b: &DMatrix<f64>) {
+pub(crate) fn neg_product(out: &mut DMatrix<f64>, a: &DMatrix<f64>, b: &DMatrix<f64>, isa: Isa) {
     let n = a.nrows();
     if n > DIRECT_PRODUCT_MAX {
         out.gemm(-1.0, a, b, 0.0);
@@ -137,8 +139,8 @@ pub(crate) fn neg_product(out: &mut DMatrix<f64>, a: &DMatrix<f64>, b: &DMatrix<
     let (o, a, b) = (out.as_mut_slice(), a.as_slice(), b.as_slice());
     if n <= FIXED_PRODUCT_MAX {
         #[cfg(target_arch = "x86_64")]
-        if Isa::detected() >= Isa::Avx2 {
-            // SAFETY: AVX2 was detected on this CPU.
+        if isa >= Isa::Avx2 {
+            // SAFETY: `isa` is at most what `Isa::detected` found on this CPU.
             return unsafe { neg_product_small_avx2(n, o, a, b) };
         }
         return neg_product_small(n, o, a, b);
@@ -211,7 +213,7 @@ mod tests {
         for n in 0..=DIRECT_PRODUCT_MAX + 2 {
             let (a, b) = (matrix(n, 0.3), matrix(n, 1.7));
             let mut out = DMatrix::from_element(n, n, f64::NAN);
-            neg_product(&mut out, &a, &b);
+            neg_product(&mut out, &a, &b, Isa::detected());
             let want = -(&a * &b);
             let scale = want.amax().max(1.0);
             assert!((&out - &want).amax() <= 1e-14 * scale * n as f64, "n = {n}");

@@ -117,8 +117,8 @@ pub fn forward_dynamics_derivatives<'a>(
         minverse_after_placements(model, data, q)?;
     }
     let d = &mut data.deriv;
-    neg_product(&mut d.ddq_dq, &d.minv, &d.dtau_dq);
-    neg_product(&mut d.ddq_dv, &d.minv, &d.dtau_dv);
+    neg_product(&mut d.ddq_dq, &d.minv, &d.dtau_dq, d.isa);
+    neg_product(&mut d.ddq_dv, &d.minv, &d.dtau_dv, d.isa);
     Ok(AbaPartials {
         ddq_dq: &data.deriv.ddq_dq,
         ddq_dv: &data.deriv.ddq_dv,

@@ -179,7 +179,7 @@ fn backward_pass(model: &Model, data: &mut Data) -> Result<(), SingularMassMatri
 /// read by nobody since; so the chain's working set is two `6 × nb` slots (19 KB at 200
 /// bodies) instead of `nb` of them (1.9 MB, out of the L2 cache), at the same results.
 fn slots(model: &Model) -> impl Fn(usize) -> usize {
-    let chain = (0..model.nbodies()).all(|i| model.parent[i] == i.checked_sub(1).unwrap_or(WORLD));
+    let chain = model.is_serial_chain();
     move |i| if chain { i % 2 } else { i }
 }
 

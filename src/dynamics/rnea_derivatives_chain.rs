@@ -20,7 +20,7 @@ use crate::core::simd_lanes::Isa;
 use crate::dynamics::terms::Terms;
 use crate::model::data::Data;
 use crate::model::derivative_data::CHAIN_SOA_ROWS;
-use crate::model::{Model, WORLD};
+use crate::model::Model;
 
 /// Coordinates from which a serial chain takes this pass (below, the walks of
 /// [`crate::dynamics::rnea_derivatives`] cost less than the columns' set-up).
@@ -41,8 +41,8 @@ pub(crate) fn takes_chain_columns(model: &Model) -> bool {
     model.nv >= CHAIN_COLUMNS_MIN
         && !model.has_mimic
         && model.nbodies() == model.nv
-        && (0..model.nbodies())
-            .all(|i| model.q_index[i] == i && model.parent[i] == if i == 0 { WORLD } else { i - 1 })
+        && model.is_serial_chain()
+        && (0..model.nbodies()).all(|i| model.q_index[i] == i)
 }
 
 /// `τ` and the three partials (module docs).

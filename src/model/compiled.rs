@@ -193,6 +193,12 @@ impl Model {
         self.parent.len()
     }
 
+    /// Whether the bodies form one serial chain: every body the child of the one before
+    /// (the first of the world).
+    pub fn is_serial_chain(&self) -> bool {
+        (0..self.nbodies()).all(|i| self.parent[i] == i.checked_sub(1).unwrap_or(WORLD))
+    }
+
     /// `body` and its ancestors, deepest first, up to the root (nothing for [`WORLD`]).
     pub fn support(&self, body: usize) -> impl Iterator<Item = usize> + '_ {
         std::iter::successors((body != WORLD).then_some(body), |&b| {
