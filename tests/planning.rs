@@ -702,3 +702,77 @@ fn continuous_edges_found_free_pass_a_dense_recheck_near_obstacles_and_self_cont
         );
     }
 }
+
+#[test]
+fn discrete_checks_refuse_an_edge_exactly_when_one_of_their_points_collides() {
+    use armsim::planning::checker::EdgeMode;
+    use armsim::planning::sampler::{Sampler, SamplerKind};
+    let robot = Robot::load("ur5");
+    let nv = robot.model.nv;
+    let res = PlanOptions::default().check.search_resolution;
+    let (lo, hi): (Vec<f32>, Vec<f32>) = (0..nv)
+        .map(|k| (robot.model.lower[k] as f32, robot.model.upper[k] as f32))
+        .unzip();
+    let mut sampler = Sampler::new(SamplerKind::Random, &lo, &hi, 7);
+    let (mut b, mut q) = (vec![0.0f32; nv], vec![0.0f32; nv]);
+    // Edges whose points k/n are free but whose first step out of the goal collides, and
+    // how many of them leaving the end refuses; edges each mode refuses.
+    let (mut swept, mut caught, mut refused) = (0, 0, [0; 2]);
+    let valid = problems(&robot, "table_pick")
+        .into_iter()
+        .filter(|p| p.valid);
+    for p in valid.take(25) {
+        let checker = planner(&robot, &p.obstacles, PlanOptions::default()).checker;
+        let mut s = checker.scratch();
+        // Edges of length 1.5 (the UR5's range) out of the goal, a grasp.
+        let a: Vec<f32> = p.goal.iter().map(|&x| x as f32).collect();
+        for _ in 0..40 {
+            sampler.next(&mut b);
+            let len = a
+                .iter()
+                .zip(&b)
+                .map(|(x, y)| (y - x) * (y - x))
+                .sum::<f32>()
+                .sqrt();
+            for (bk, ak) in b.iter_mut().zip(&a) {
+                *bk = ak + (*bk - ak) * 1.5 / len;
+            }
+            let d2: f32 = a.iter().zip(&b).map(|(x, y)| (y - x) * (y - x)).sum();
+            let n = ((d2.sqrt() * res).ceil() as usize).max(1);
+            let idle = n.div_ceil(8) * 8 - n;
+            let mut free_at = |t: f32, s: &mut _| {
+                for k in 0..nv {
+                    q[k] = a[k] + t * (b[k] - a[k]);
+                }
+                checker.config_free(&q, s)
+            };
+            let points = (1..=n).all(|k| free_at(k as f32 / n as f32, &mut s));
+            // The idle lanes of the last batches: interval centres spread over the edge, or
+            // points in the first step out of `a`.
+            let centres =
+                (0..idle).all(|e| free_at(((e * n / idle) as f32 + 0.5) / n as f32, &mut s));
+            let first =
+                (0..idle).all(|e| free_at((e + 1) as f32 / ((idle + 1) * n) as f32, &mut s));
+            let first_step_hit = (1..200).any(|j| !free_at(j as f32 / (200 * n) as f32, &mut s));
+            let discrete = checker.edge_free(&a, &b, EdgeMode::Discrete, &mut s);
+            let leaving = checker.edge_free(&a, &b, EdgeMode::DiscreteLeavingEnd, &mut s);
+            assert_eq!(discrete, points && centres, "problem {}", p.id);
+            assert_eq!(leaving, points && first, "problem {}", p.id);
+            assert_eq!(
+                EdgeMode::Discrete.leaving(true),
+                EdgeMode::DiscreteLeavingEnd
+            );
+            refused[0] += usize::from(!discrete);
+            refused[1] += usize::from(!leaving);
+            if points && first_step_hit {
+                swept += 1;
+                caught += usize::from(!leaving);
+            }
+        }
+    }
+    eprintln!("swept through in the first step: {swept}, refused leaving the end: {caught}; refused {refused:?} of 1000");
+    // The sweep happens (a hand leaving a grasp), and leaving the end sees most of it.
+    assert!(swept >= 10, "{swept}");
+    assert!(10 * caught >= 7 * swept, "{caught} of {swept}");
+    assert!(refused.iter().all(|&r| r > 50 && r < 950), "{refused:?}");
+}

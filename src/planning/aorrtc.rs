@@ -203,9 +203,10 @@ impl Aorrtc {
         for ((st, f), x) in self.step.iter_mut().zip(from).zip(&self.sample) {
             *st = f + t * (x - f);
         }
+        let mode = s.mode.leaving(tree.tree.parent[near as usize] == u32::MAX);
         let free = s
             .checker
-            .edge_free(&from[..nv], &self.step[..nv], s.mode, s.scratch);
+            .edge_free(&from[..nv], &self.step[..nv], mode, s.scratch);
         let tree = &mut self.trees[a];
         domain_after(&mut tree.tree.radius[near as usize], free, &o);
         if !free {
@@ -225,9 +226,10 @@ impl Aorrtc {
                 break;
             }
             let parent = &tree.node(p)[..nv];
+            let mode = s.mode.leaving(tree.tree.parent[p as usize] == u32::MAX);
             if !s
                 .checker
-                .edge_free(parent, &self.step[..nv], s.mode, s.scratch)
+                .edge_free(parent, &self.step[..nv], mode, s.scratch)
             {
                 break;
             }
@@ -269,10 +271,15 @@ impl Aorrtc {
                 }
             }
             let prev = &self.trees[a].node(last)[..nv];
-            if !s
-                .checker
-                .edge_free(prev, &self.next[..nv], s.mode, s.scratch)
-            {
+            // The last step may arrive at the other tree's root: checked leaving it.
+            let free = if i == steps && self.trees[b].tree.parent[other as usize] == u32::MAX {
+                let mode = s.mode.leaving(true);
+                s.checker.edge_free(&self.next[..nv], prev, mode, s.scratch)
+            } else {
+                s.checker
+                    .edge_free(prev, &self.next[..nv], s.mode, s.scratch)
+            };
+            if !free {
                 return None;
             }
             g += inc;

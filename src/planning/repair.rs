@@ -1,6 +1,8 @@
 //! Certifying a path found with discrete edge checks: every edge is checked continuously,
 //! and an edge that fails is re-planned by RRT-Connect with continuous checks between its
-//! two ends (both free) and spliced in. The planner's first search and the optimiser's
+//! two ends (both free) and spliced in, searching around at once (the straight edge is
+//! known to fail). Collinear waypoints (RRT-Connect's connecting steps) are merged first:
+//! fewer, longer edges fill the continuous checks' batches better. The planner's first search and the optimiser's
 //! improving searches both search discretely (fast) and certify this way.
 
 use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
@@ -70,6 +72,7 @@ impl EdgeRepair {
         nv: usize,
     ) -> Result<usize, SearchEnd> {
         let mut iterations = 0;
+        drop_collinear(path, nv);
         self.spliced.clear();
         self.spliced.extend_from_slice(&path[..nv]);
         let n = path.len() / nv;
@@ -83,7 +86,7 @@ impl EdgeRepair {
             let (c, s) = (t.checker, &mut *t.scratch);
             let found = t
                 .rrt
-                .solve(c, s, t.sampler, a, b, t.limit, mode, &mut self.sub);
+                .solve_around(c, s, t.sampler, a, b, t.limit, mode, &mut self.sub);
             iterations += t.rrt.iterations;
             found?;
             // The sub-path's first point is `a`, already in.
@@ -91,5 +94,64 @@ impl EdgeRepair {
         }
         std::mem::swap(path, &mut self.spliced);
         Ok(iterations)
+    }
+}
+
+/// Removes the waypoints of `path` (flat, `nv` per point) that lie on the straight line
+/// between their neighbours, in the same direction (an RRT-Connect's connecting steps): the
+/// path then has fewer, longer edges, whose continuous checks fill their batches' lanes
+/// better (an edge's intervals are rounded up to a multiple of eight). The merged edge is
+/// what is checked and returned, so the rounding of the dropped point does not matter.
+pub fn drop_collinear(path: &mut Vec<f32>, nv: usize) {
+    let n = path.len() / nv;
+    if n < 3 {
+        return;
+    }
+    // `w` points kept so far; `path[(w-1)·nv..]` is the last kept one.
+    let mut w = 1;
+    for i in 1..n - 1 {
+        let (mut uu, mut vv, mut uv) = (0.0f32, 0.0f32, 0.0f32);
+        for k in 0..nv {
+            let u = path[i * nv + k] - path[(w - 1) * nv + k];
+            let v = path[(i + 1) * nv + k] - path[i * nv + k];
+            uu += u * u;
+            vv += v * v;
+            uv += u * v;
+        }
+        let collinear = uv > 0.0 && uv * uv >= (1.0 - COLLINEAR_TOLERANCE) * uu * vv;
+        if !collinear {
+            path.copy_within(i * nv..(i + 1) * nv, w * nv);
+            w += 1;
+        }
+    }
+    path.copy_within((n - 1) * nv..n * nv, w * nv);
+    path.truncate((w + 1) * nv);
+}
+
+/// `1 − cos²` of the angle below which two edges count as one straight line.
+const COLLINEAR_TOLERANCE: f32 = 1e-6;
+
+#[cfg(test)]
+mod tests {
+    use super::drop_collinear;
+
+    #[test]
+    fn drop_collinear_keeps_the_corners_and_the_ends_only() {
+        // 0 → 1 → 2 along x, a corner at 2, then 3 steps along y, and a reversal.
+        let pts: [[f32; 2]; 7] = [
+            [0., 0.],
+            [1., 0.],
+            [2., 0.],
+            [2., 1.],
+            [2., 2.],
+            [2., 3.],
+            [2., 1.],
+        ];
+        let mut path: Vec<f32> = pts.iter().flatten().copied().collect();
+        drop_collinear(&mut path, 2);
+        assert_eq!(path, vec![0., 0., 2., 0., 2., 3., 2., 1.]);
+        let mut two = vec![0., 0., 1., 1.];
+        drop_collinear(&mut two, 2);
+        assert_eq!(two, vec![0., 0., 1., 1.]);
     }
 }

@@ -262,21 +262,57 @@ impl Rrt {
         path: &mut Vec<f32>,
     ) -> Result<(), SearchEnd> {
         let nv = start.len();
+        self.iterations = 0;
+        path.clear();
+        for goal in goals.chunks_exact(nv) {
+            if checker.edge_free(start, goal, mode.leaving(true), scratch) {
+                path.extend_from_slice(start);
+                path.extend_from_slice(goal);
+                return Ok(());
+            }
+        }
+        self.grow(checker, scratch, sampler, start, goals, limit, mode, path)
+    }
+
+    /// [`Rrt::solve`] where the straight edge `start → goal` is known to collide (a
+    /// certified path's edge that failed): the trees grow at once.
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_around(
+        &mut self,
+        checker: &Checker,
+        scratch: &mut CheckScratch,
+        sampler: &mut Sampler,
+        start: &[f32],
+        goal: &[f32],
+        limit: &SearchLimit,
+        mode: EdgeMode,
+        path: &mut Vec<f32>,
+    ) -> Result<(), SearchEnd> {
+        self.iterations = 0;
+        path.clear();
+        self.grow(checker, scratch, sampler, start, goal, limit, mode, path)
+    }
+
+    /// The bidirectional search proper: trees rooted at `start` and at each of `goals`.
+    #[allow(clippy::too_many_arguments)]
+    fn grow(
+        &mut self,
+        checker: &Checker,
+        scratch: &mut CheckScratch,
+        sampler: &mut Sampler,
+        start: &[f32],
+        goals: &[f32],
+        limit: &SearchLimit,
+        mode: EdgeMode,
+        path: &mut Vec<f32>,
+    ) -> Result<(), SearchEnd> {
+        let nv = start.len();
         for t in &mut self.trees {
             t.clear();
         }
         self.trees[0].push(start, u32::MAX);
         for goal in goals.chunks_exact(nv) {
             self.trees[1].push(goal, u32::MAX);
-        }
-        self.iterations = 0;
-        path.clear();
-        for goal in goals.chunks_exact(nv) {
-            if checker.edge_free(start, goal, mode, scratch) {
-                path.extend_from_slice(start);
-                path.extend_from_slice(goal);
-                return Ok(());
-            }
         }
         for it in 0..self.opts.max_iterations {
             self.iterations = it + 1;
@@ -337,7 +373,7 @@ impl Rrt {
         let free = checker.edge_free(
             &tree.nodes[near as usize * tree.stride..][..nv],
             &self.step[..nv],
-            mode,
+            mode.leaving(tree.parent[near as usize] == u32::MAX),
             scratch,
         );
         domain_after(&mut tree.radius[near as usize], free, &o);

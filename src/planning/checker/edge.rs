@@ -39,16 +39,25 @@ impl Checker {
         let mut qs = std::mem::take(&mut s.q);
         s.stack.clear();
         let mut ok = true;
+        // Discrete: the lanes the points leave idle in the last batches check more points.
+        let (idle, mut extra) = (m * N - n, 0);
+        let leaving = mode == EdgeMode::DiscreteLeavingEnd;
         // Coarse pass in rake order; an exact hit ends it, inflated-only hits wait.
         for i in 0..m {
             let mut t = [0.0f32; N];
             let mut valid: Mask = 0;
             for (l, tl) in t.iter_mut().enumerate() {
                 let k = l * m + i;
-                valid |= Mask::from(k < n) << l;
                 // Continuous: interval centres; discrete: the points k/n, k = 1..n (the end
-                // included, the start being a node already checked).
-                *tl = (k.min(n - 1) as f32 + if continuous { 0.5 } else { 1.0 }) / n as f32;
+                // included, the start being a node already checked), then the extra points.
+                if k < n || continuous {
+                    valid |= Mask::from(k < n) << l;
+                    *tl = (k.min(n - 1) as f32 + if continuous { 0.5 } else { 1.0 }) / n as f32;
+                } else {
+                    valid |= 1 << l;
+                    *tl = extra_point(extra, idle, n, leaving);
+                    extra += 1;
+                }
             }
             let (exact, inflated) = self.lerp_lanes_hit(tok, a, b, &t, &[h0; N], &mut qs, s);
             if exact & valid != 0 {
@@ -158,6 +167,19 @@ impl Checker {
         } else {
             self.lanes_hit::<S, false>(tok, qs, L(*h), s)
         }
+    }
+}
+
+/// The `e`-th of `idle` extra points of a discrete check with `n` intervals: leaving a
+/// task's end ([`EdgeMode::DiscreteLeavingEnd`]), spread over the first interval, where a
+/// hand leaving a grasp sweeps past the grasped object; otherwise at the centres of
+/// intervals spread over the edge.
+#[inline(always)]
+fn extra_point(e: usize, idle: usize, n: usize, leaving: bool) -> f32 {
+    if leaving {
+        (e + 1) as f32 / ((idle + 1) * n) as f32
+    } else {
+        ((e * n / idle) as f32 + 0.5) / n as f32
     }
 }
 

@@ -82,7 +82,7 @@ impl ExactPairs {
             return true;
         }
         s.exact_checks += 1;
-        if mode == EdgeMode::Discrete {
+        if mode != EdgeMode::Continuous {
             return self.points_free(a, b, s);
         }
         self.edge_free_pieces(a, b, s)

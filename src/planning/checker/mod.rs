@@ -9,7 +9,12 @@
 //! The result is the mask of lanes in collision.
 //!
 //! **Edges, discretely.** The search checks its edges at `search_resolution` points per
-//! unit ([`EdgeMode::Discrete`]); the path it returns is then checked continuously.
+//! unit ([`EdgeMode::Discrete`]); the path it returns is then checked continuously. The
+//! lanes the points leave idle in the last batch check more points at no cost: interval
+//! centres, or, on an edge out of a task's start or goal
+//! ([`EdgeMode::DiscreteLeavingEnd`]), points in its first step, where a hand leaving a
+//! grasp sweeps past the grasped object (the UR5's `table_pick` paths then fail their
+//! certification in 8 % of the queries, not 46 %).
 //!
 //! **Edges, continuously.** An edge `a → b` is cut into `n = ⌈‖b − a‖ · resolution⌉`
 //! intervals, rounded up to a multiple of eight (the lanes of a batch), of half-width
