@@ -2,8 +2,9 @@
 //! and an edge that fails is re-planned by RRT-Connect with continuous checks between its
 //! two ends (both free) and spliced in, searching around at once (the straight edge is
 //! known to fail). Collinear waypoints (RRT-Connect's connecting steps) are merged first:
-//! fewer, longer edges fill the continuous checks' batches better. The planner's first search and the optimiser's
-//! improving searches both search discretely (fast) and certify this way.
+//! fewer, longer edges fill the continuous checks' batches better. The planner's first
+//! search and the optimiser's improving searches both search discretely (fast) and certify
+//! this way.
 
 use crate::planning::checker::{CheckScratch, Checker, EdgeMode};
 use crate::planning::rrt::{Rrt, SearchEnd, SearchLimit};
