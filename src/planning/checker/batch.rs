@@ -36,7 +36,7 @@ impl Checker {
         };
         for bi in 0..self.bodies.len() {
             let pose = self.body_pose(tok, bi, q, &s.poses);
-            s.poses[bi] = pose.store();
+            pose.store_into(&mut s.poses[bi]);
             if MOVING {
                 let (w, v) = self.body_twist(tok, bi, &pose, s);
                 s.twist[bi] = [w.store(), v.store()];
