@@ -77,8 +77,9 @@ impl Checker {
     }
 
     /// Works through the stack of intervals `(t, h)` whose inflated check failed but whose
-    /// centre is free: their two halves are checked with half the inflation, eight at a
-    /// time. False on a real (exact) hit.
+    /// centre is free: their pieces are checked with a piece's inflation, eight at a time
+    /// (halves of four intervals, quarters of two, eighths of one). False on a real (exact)
+    /// hit.
     #[inline(always)]
     pub(super) fn refine<S: Simd>(
         &self,
@@ -92,18 +93,25 @@ impl Checker {
             let mut t = [0.0f32; N];
             let mut h = [0.0f32; N];
             let mut lanes = 0;
-            while lanes + 2 <= N && !s.stack.is_empty() {
+            // Pieces per interval: as many as fill the lanes (one interval: eight pieces
+            // with an eighth of the inflation, not two and six idle lanes).
+            let k = match s.stack.len() {
+                1 => N,
+                2 => N / 2,
+                _ => 2,
+            };
+            while lanes + k <= N && !s.stack.is_empty() {
                 let (tc, hc) = s.stack.pop().unwrap_or_default();
-                let hh = 0.5 * hc;
+                let hh = hc / k as f32;
                 if hh < 1e-7 {
                     // Subdivided to nothing without an exact hit: refuse, conservatively.
                     return false;
                 }
-                t[lanes] = tc - hh;
-                t[lanes + 1] = tc + hh;
-                h[lanes] = hh;
-                h[lanes + 1] = hh;
-                lanes += 2;
+                for j in 0..k {
+                    t[lanes + j] = tc - hc + (2 * j + 1) as f32 * hh;
+                    h[lanes + j] = hh;
+                }
+                lanes += k;
             }
             for l in lanes..N {
                 t[l] = t[0];

@@ -55,8 +55,9 @@
 //! intervals `ℓm, ℓm + 1, …`, `m = ⌈n/8⌉`), so a collision anywhere on the edge shows up in
 //! the first batches. An interval whose inflated check fails is checked exactly at its
 //! centre (a hit there is a real collision: the edge is invalid); otherwise it is split
-//! into two halves with half the inflation, until the inflation is gone, when a hit is
-//! real. Near obstacles the subdivision goes deep only where it has to.
+//! into pieces with a piece's inflation (as many as fill the eight lanes: halves of four
+//! intervals, eighths of one), until the inflation is gone, when a hit is real. Near
+//! obstacles the subdivision goes deep only where it has to.
 //!
 //! **Dispatch.** The entry points run an AVX2+FMA copy of the code when the CPU has them
 //! (detected once at construction), an AVX-512 VL build of that copy when the CPU has those
