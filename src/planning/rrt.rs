@@ -271,31 +271,13 @@ impl Rrt {
                 return Ok(());
             }
         }
-        self.grow(checker, scratch, sampler, start, goals, limit, mode, path)
+        self.solve_around(checker, scratch, sampler, start, goals, limit, mode, path)
     }
 
-    /// [`Rrt::solve`] where the straight edge `start → goal` is known to collide (a
-    /// certified path's edge that failed): the trees grow at once.
+    /// [`Rrt::solve_to_set`] where the straight edges from `start` to `goals` are known to
+    /// collide (a certified path's edge that failed): the trees grow at once.
     #[allow(clippy::too_many_arguments)]
     pub fn solve_around(
-        &mut self,
-        checker: &Checker,
-        scratch: &mut CheckScratch,
-        sampler: &mut Sampler,
-        start: &[f32],
-        goal: &[f32],
-        limit: &SearchLimit,
-        mode: EdgeMode,
-        path: &mut Vec<f32>,
-    ) -> Result<(), SearchEnd> {
-        self.iterations = 0;
-        path.clear();
-        self.grow(checker, scratch, sampler, start, goal, limit, mode, path)
-    }
-
-    /// The bidirectional search proper: trees rooted at `start` and at each of `goals`.
-    #[allow(clippy::too_many_arguments)]
-    fn grow(
         &mut self,
         checker: &Checker,
         scratch: &mut CheckScratch,
@@ -306,6 +288,8 @@ impl Rrt {
         mode: EdgeMode,
         path: &mut Vec<f32>,
     ) -> Result<(), SearchEnd> {
+        self.iterations = 0;
+        path.clear();
         let nv = start.len();
         for t in &mut self.trees {
             t.clear();
