@@ -117,10 +117,12 @@ impl InformedSampler {
     fn in_phs(&self, rng: &mut Rng, out: &mut [f32]) {
         let n = out.len();
         let mut norm2 = 0.0f64;
-        for o in out.iter_mut() {
-            let g = gaussian(rng);
-            *o = g as f32;
-            norm2 += g * g;
+        for pair in out.chunks_mut(2) {
+            let g = gaussian_pair(rng);
+            for (o, g) in pair.iter_mut().zip(g) {
+                *o = g as f32;
+                norm2 += g * g;
+            }
         }
         // Uniform in the ball: a uniform direction times radius U^(1/n).
         let radius = rng.next_f64().powf(1.0 / n as f64) / norm2.sqrt().max(1e-300);
@@ -168,11 +170,19 @@ pub fn dist(a: &[f32], b: &[f32]) -> f32 {
         .sqrt()
 }
 
-/// A standard normal draw (Box–Muller).
-fn gaussian(rng: &mut Rng) -> f64 {
-    let u1 = 1.0 - rng.next_f64(); // (0, 1]
-    let u2 = rng.next_f64();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+/// Two independent standard normal draws (Marsaglia's polar method: a point uniform in the
+/// unit disc, by rejection from the square, scaled by `√(−2 ln s / s)`; one logarithm and no
+/// trigonometry per pair, where Box–Muller spent a logarithm and a cosine per draw).
+fn gaussian_pair(rng: &mut Rng) -> [f64; 2] {
+    loop {
+        let u = 2.0 * rng.next_f64() - 1.0;
+        let v = 2.0 * rng.next_f64() - 1.0;
+        let s = u * u + v * v;
+        if s > 0.0 && s < 1.0 {
+            let f = (-2.0 * s.ln() / s).sqrt();
+            return [u * f, v * f];
+        }
+    }
 }
 
 /// `ln Γ(x)` for `x = k/2`, `k ≥ 2` (the unit-ball volume's denominator).
@@ -194,6 +204,30 @@ fn ln_gamma(x: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn gaussian_pairs_have_the_moments_of_two_independent_standard_normals() {
+        let mut rng = Rng::new(3);
+        let n = 200_000;
+        let (mut m1, mut m2, mut m4, mut cross) = ([0.0f64; 2], [0.0f64; 2], [0.0f64; 2], 0.0);
+        for _ in 0..n {
+            let g = gaussian_pair(&mut rng);
+            for k in 0..2 {
+                m1[k] += g[k];
+                m2[k] += g[k] * g[k];
+                m4[k] += g[k].powi(4);
+            }
+            cross += g[0] * g[1];
+        }
+        let n = n as f64;
+        for k in 0..2 {
+            // Standard errors at n = 2·10⁵: mean 0.0022, variance 0.0032, E[g⁴] 0.022.
+            assert!((m1[k] / n).abs() < 0.01, "mean {}", m1[k] / n);
+            assert!((m2[k] / n - 1.0).abs() < 0.015, "variance {}", m2[k] / n);
+            assert!((m4[k] / n - 3.0).abs() < 0.1, "fourth moment {}", m4[k] / n);
+        }
+        assert!((cross / n).abs() < 0.01, "correlation {}", cross / n);
+    }
 
     #[test]
     fn ln_gamma_matches_known_values() {
