@@ -203,7 +203,7 @@ impl Aorrtc {
         for ((st, f), x) in self.step.iter_mut().zip(from).zip(&self.sample) {
             *st = f + t * (x - f);
         }
-        let mode = s.mode.leaving(tree.tree.parent[near as usize] == u32::MAX);
+        let mode = s.mode.leaving(tree.tree.is_root(near));
         let free = s
             .checker
             .edge_free(&from[..nv], &self.step[..nv], mode, s.scratch);
@@ -226,7 +226,7 @@ impl Aorrtc {
                 break;
             }
             let parent = &tree.node(p)[..nv];
-            let mode = s.mode.leaving(tree.tree.parent[p as usize] == u32::MAX);
+            let mode = s.mode.leaving(tree.tree.is_root(p));
             if !s
                 .checker
                 .edge_free(parent, &self.step[..nv], mode, s.scratch)
@@ -272,7 +272,7 @@ impl Aorrtc {
             }
             let prev = &self.trees[a].node(last)[..nv];
             // The last step may arrive at the other tree's root: checked leaving it.
-            let free = if i == steps && self.trees[b].tree.parent[other as usize] == u32::MAX {
+            let free = if i == steps && self.trees[b].tree.is_root(other) {
                 let mode = s.mode.leaving(true);
                 s.checker.edge_free(&self.next[..nv], prev, mode, s.scratch)
             } else {

@@ -138,7 +138,7 @@ impl<S: Simd> LanePose<S> {
                 out.r[i][j] = S::store(self.r[i][j]);
             }
         }
-        out.t.c = [S::store(self.t.x), S::store(self.t.y), S::store(self.t.z)];
+        out.t = self.t.store();
     }
 
     /// `R p + t` for a constant point `p`.

@@ -173,6 +173,12 @@ impl Tree {
         n as u32
     }
 
+    /// Whether node `i` is a root (a task's start or goal).
+    #[inline]
+    pub(crate) fn is_root(&self, i: u32) -> bool {
+        self.parent[i as usize] == u32::MAX
+    }
+
     #[inline]
     pub(crate) fn node(&self, i: u32) -> &[f32] {
         let s = i as usize * self.stride;
@@ -357,7 +363,7 @@ impl Rrt {
         let free = checker.edge_free(
             &tree.nodes[near as usize * tree.stride..][..nv],
             &self.step[..nv],
-            mode.leaving(tree.parent[near as usize] == u32::MAX),
+            mode.leaving(tree.is_root(near)),
             scratch,
         );
         domain_after(&mut tree.radius[near as usize], free, &o);

@@ -42,30 +42,28 @@ impl Checker {
         // Discrete: the lanes the points leave idle in the last batches check more points.
         let (idle, mut extra) = (m * N - n, 0);
         let leaving = mode == EdgeMode::DiscreteLeavingEnd;
-        // Coarse pass in rake order; an exact hit ends it, inflated-only hits wait.
+        // Coarse pass in rake order; an exact hit ends it, inflated-only hits wait. Every
+        // lane checks a point (continuous: `n` fills the batches).
         for i in 0..m {
             let mut t = [0.0f32; N];
-            let mut valid: Mask = 0;
             for (l, tl) in t.iter_mut().enumerate() {
                 let k = l * m + i;
                 // Continuous: interval centres; discrete: the points k/n, k = 1..n (the end
                 // included, the start being a node already checked), then the extra points.
-                if k < n || continuous {
-                    valid |= Mask::from(k < n) << l;
-                    *tl = (k.min(n - 1) as f32 + if continuous { 0.5 } else { 1.0 }) / n as f32;
+                *tl = if k < n {
+                    (k as f32 + if continuous { 0.5 } else { 1.0 }) / n as f32
                 } else {
-                    valid |= 1 << l;
-                    *tl = extra_point(extra, idle, n, leaving);
                     extra += 1;
-                }
+                    extra_point(extra - 1, idle, n, leaving)
+                };
             }
             let (exact, inflated) = self.lerp_lanes_hit(tok, a, b, &t, &[h0; N], &mut qs, s);
-            if exact & valid != 0 {
+            if exact != 0 {
                 ok = false;
                 break;
             }
             for (l, &tl) in t.iter().enumerate() {
-                if inflated & valid & (1 << l) != 0 {
+                if inflated & (1 << l) != 0 {
                     s.stack.push((tl, h0));
                 }
             }
