@@ -175,6 +175,10 @@ impl Certifier {
             let (d, level, exact) =
                 self.lower_bound(cm, e.p, &pa, &pb, need, level, h, s, &mut w.ev);
             let d = if exact { d } else { d.max(kn.value) };
+            // An exact distance bounds every later query at once, not when it is popped.
+            if exact && best.is_none_or(|b| d - o < b.2) {
+                best = Some((e.k, e.p, d - o));
+            }
             known[e.k * np + e.p] = Known {
                 value: d,
                 level,

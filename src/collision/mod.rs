@@ -79,6 +79,7 @@ mod closest;
 mod collision_error;
 mod collision_scene;
 pub mod mesh;
+mod mesh_pair;
 mod model_build;
 mod obstacle;
 mod query;

@@ -16,6 +16,9 @@
 //! - A capsule and a box, cylinder or convex hull: the capsule's segment against the shape
 //!   (GJK; EPA when they overlap), minus the radius, exact both ways, and much faster than
 //!   GJK on the rounded shape, which converges slowly near contact.
+//! - Two triangle meshes apart: closed-form triangle distances over both meshes' box
+//!   trees descended together ([`crate::collision::mesh_pair`]); a query bounded by a
+//!   margin (is the distance below it?) uses parry's `closest_points`, faster there.
 //! - Other pairs: parry's `distance` when apart (spheres against anything by point
 //!   projection; GJK otherwise, to a relative 1.5e-7); when overlapping, GJK+EPA for convex
 //!   pairs (exact for polytopes) with buffers kept in [`Scratch`], and parry's `contact`
@@ -27,6 +30,7 @@
 //!   enclosing surface, a lower bound of the depth. Open meshes are surfaces only.
 
 use crate::collision::mesh::MeshData;
+use crate::collision::mesh_pair::{MeshGap, TriTree};
 use crate::collision::shape_error::ShapeError;
 use crate::core::spatial::{Mat3, Se3, Vec3};
 use crate::model::Shape;
@@ -36,6 +40,7 @@ use parry3d_f64::query::epa::EPA;
 use parry3d_f64::query::gjk::{self, CsoPoint, GJKResult, VoronoiSimplex};
 use parry3d_f64::query::{self, ClosestPoints};
 use parry3d_f64::shape::{Segment, SharedShape, SupportMap, TriMesh, TriMeshFlags};
+use std::sync::Arc;
 
 /// Se3 (nalgebra) → parry pose (glam).
 #[inline]
@@ -92,6 +97,8 @@ pub struct CollisionShape {
     pub(crate) inner_point: Vector,
     /// Spheres and capsules as a segment swept by a radius (closed-form queries).
     swept: Option<Swept>,
+    /// A triangle mesh's box tree (mesh–mesh distances, [`crate::collision::mesh_pair`]).
+    tree: Option<Arc<TriTree>>,
 }
 
 /// A segment `a`–`b` (parry shape frame) swept by radius `r`: a sphere (`a == b`) or a
@@ -146,6 +153,7 @@ impl CollisionShape {
             kind,
             inner_point: Vector::ZERO,
             swept: None,
+            tree: None,
         };
         Ok(match shape {
             Shape::Box { size } => {
@@ -194,6 +202,7 @@ impl CollisionShape {
                     kind: ShapeKind::Cylinder,
                     inner_point: Vector::ZERO,
                     swept: None,
+                    tree: None,
                 }
             }
             Shape::Mesh { .. } => return Err(ShapeError::MeshNotLoaded),
@@ -239,6 +248,7 @@ impl CollisionShape {
                         kind: ShapeKind::ConvexHull,
                         inner_point,
                         swept: None,
+                        tree: None,
                     },
                     None,
                 ));
@@ -260,6 +270,7 @@ impl CollisionShape {
         }
         let tri = TriMesh::with_flags(vertices, m.triangles, flags)
             .map_err(|e| ShapeError::InvalidTriMesh(format!("{e:?}")))?;
+        let tree = Some(Arc::new(TriTree::new(tri.vertices(), tri.indices())));
         Ok((
             CollisionShape {
                 shape: SharedShape::new(tri),
@@ -267,6 +278,7 @@ impl CollisionShape {
                 kind: ShapeKind::TriMesh { closed },
                 inner_point,
                 swept: None,
+                tree,
             },
             note,
         ))
@@ -538,6 +550,9 @@ pub fn within(a: Placed, b: Placed, margin: f64) -> bool {
 
 /// Unsigned distance (0 when overlapping; surface distance for triangle meshes).
 pub fn unsigned_distance(a: Placed, b: Placed) -> f64 {
+    if let Some(g) = mesh_gap(a, b) {
+        return g.map_or(f64::MAX, |g| g.distance);
+    }
     query::distance(a.pose, &*a.shape.shape, b.pose, &*b.shape.shape)
         .map(|r| r.distance)
         .unwrap_or_else(|_| {
@@ -583,12 +598,20 @@ fn penetration(a: Placed, b: Placed, scratch: &mut Scratch) -> (f64, Vector, Vec
     }
 }
 
-/// Signed distance and world witness points, by parry's general queries.
+/// Signed distance and world witness points, by parry's general queries (two triangle
+/// meshes apart: [`mesh_gap`]).
 fn general(a: Placed, b: Placed, scratch: &mut Scratch, points: bool) -> (f64, Vector, Vector) {
-    let d = unsigned_distance(a, b);
+    let gap = mesh_gap(a, b);
+    let d = match gap {
+        Some(g) => g.map_or(f64::MAX, |g| g.distance),
+        None => unsigned_distance(a, b),
+    };
     if d > 0.0 {
         let inside = contained(a.shape, a.pose, a.aabb, b.shape, b.pose, b.aabb);
         let sd = if inside { -d } else { d };
+        if let (true, Some(Some(g))) = (points, gap) {
+            return (sd, g.a, g.b);
+        }
         if points {
             if let Ok(ClosestPoints::WithinMargin(p, q)) = query::closest_points(
                 a.pose,
@@ -656,6 +679,17 @@ pub fn signed_distance_below(
             (d < bound).then_some(d)
         }
     }
+}
+
+/// For two triangle meshes (`None` otherwise), their nearest points
+/// ([`TriTree::distance`], both box trees descended together). Unbounded, this is 10–20×
+/// faster than parry's `distance`, a search of one mesh per triangle of the other (iiwa
+/// links of 5 000 and 11 000 triangles 3 cm apart: 1–4.6 ms against 15–43 ms); bounded
+/// by a margin, parry's `closest_points` is faster (0.27 ms against 0.72 ms a query on
+/// the same pair), so the bounded queries keep it.
+fn mesh_gap(a: Placed, b: Placed) -> Option<Option<MeshGap>> {
+    let (ta, tb) = (a.shape.tree.as_ref()?, b.shape.tree.as_ref()?);
+    Some(ta.distance(a.pose, tb, b.pose, f64::INFINITY))
 }
 
 /// Signed distance and world witness points (closest points when separated, the
