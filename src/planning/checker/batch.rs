@@ -38,7 +38,7 @@ impl Checker {
             let pose = self.body_pose(tok, bi, q, &s.poses);
             pose.store_into(&mut s.poses[bi]);
             if MOVING {
-                let (w, v) = self.body_twist(tok, bi, &pose, s);
+                let (w, v) = self.body_twist(tok, bi, s);
                 s.twist[bi] = [w.store(), v.store()];
             }
         }

@@ -8,15 +8,11 @@ use crate::planning::simd::{Simd, W};
 
 impl Checker {
     /// World twist `(ω, v)` of body `i` per unit of the edge parameter: `ω = ω_p + Δ_i z_i`
-    /// (revolute), `v = v_p + ω_p × (o_i − o_p)` (`+ Δ_i z_i` if prismatic).
+    /// (revolute), `v = v_p + ω_p × (o_i − o_p)` (`+ Δ_i z_i` if prismatic), from the body's
+    /// pose stored by this batch (read back from `s.poses`: a pose passed by reference
+    /// would be kept on the stack and copied into `s.poses` with `memcpy`).
     #[inline(always)]
-    pub(super) fn body_twist<S: Simd>(
-        &self,
-        tok: S,
-        i: usize,
-        pose: &LanePose<S>,
-        s: &CheckScratch,
-    ) -> (P3<S>, P3<S>) {
+    pub(super) fn body_twist<S: Simd>(&self, tok: S, i: usize, s: &CheckScratch) -> (P3<S>, P3<S>) {
         let b = &self.bodies[i];
         let zero = P3::splat(tok, &[0.0; 3]);
         let (wp, vp, op) = if b.parent == WORLD {
@@ -30,13 +26,13 @@ impl Checker {
             )
         };
         let d = tok.splat(s.body_delta[i]);
-        let k = b.axis;
+        let (k, pose) = (b.axis, &s.poses[i]);
         let z = P3 {
-            x: pose.r[0][k] * d,
-            y: pose.r[1][k] * d,
-            z: pose.r[2][k] * d,
+            x: tok.load(&pose.r[0][k]) * d,
+            y: tok.load(&pose.r[1][k]) * d,
+            z: tok.load(&pose.r[2][k]) * d,
         };
-        let c = cross(&wp, &sub(&pose.t, &op));
+        let c = cross(&wp, &sub(&P3::load(tok, &pose.t), &op));
         let mut v = P3 {
             x: vp.x + c.x,
             y: vp.y + c.y,
@@ -130,25 +126,41 @@ impl Checker {
             };
             LanePose { r, t }
         };
+        // Constant column indices in each arm: an index known only at run time would keep
+        // the rotation on the stack (and its store into `s.poses` a `memcpy`).
         if b.revolute {
             let (sn, cs) = qi.sin_cos();
-            let (ci, cj) = match b.axis {
-                0 => (1, 2),
-                1 => (2, 0),
-                _ => (0, 1),
-            };
-            for row in 0..3 {
-                let (x, y) = (out.r[row][ci], out.r[row][cj]);
-                out.r[row][ci] = cs.mul_add(x, sn * y);
-                out.r[row][cj] = cs.mul_add(y, -(sn * x));
+            match b.axis {
+                0 => turn_columns::<S, 1, 2>(&mut out.r, cs, sn),
+                1 => turn_columns::<S, 2, 0>(&mut out.r, cs, sn),
+                _ => turn_columns::<S, 0, 1>(&mut out.r, cs, sn),
             }
         } else {
-            let k = b.axis;
-            out.t.x = out.r[0][k].mul_add(qi, out.t.x);
-            out.t.y = out.r[1][k].mul_add(qi, out.t.y);
-            out.t.z = out.r[2][k].mul_add(qi, out.t.z);
+            let col = match b.axis {
+                0 => [out.r[0][0], out.r[1][0], out.r[2][0]],
+                1 => [out.r[0][1], out.r[1][1], out.r[2][1]],
+                _ => [out.r[0][2], out.r[1][2], out.r[2][2]],
+            };
+            out.t.x = col[0].mul_add(qi, out.t.x);
+            out.t.y = col[1].mul_add(qi, out.t.y);
+            out.t.z = col[2].mul_add(qi, out.t.z);
         }
         out
+    }
+}
+
+/// Turns columns `I` and `J` of `r` by the angle of `(cos, sin)` (a rotation about the
+/// third axis, post-multiplied).
+#[inline(always)]
+fn turn_columns<S: Simd, const I: usize, const J: usize>(
+    r: &mut [[W<S>; 3]; 3],
+    cs: W<S>,
+    sn: W<S>,
+) {
+    for row in r.iter_mut() {
+        let (x, y) = (row[I], row[J]);
+        row[I] = cs.mul_add(x, sn * y);
+        row[J] = cs.mul_add(y, -(sn * x));
     }
 }
 
