@@ -30,6 +30,9 @@
 //!   both ways.
 //! - A capsule against a box, cylinder or convex hull: the capsule's segment against the
 //!   shape (GJK, EPA when overlapping) minus the radius, exact both ways.
+//! - Two triangle meshes apart: closed-form triangle–triangle distances over both meshes'
+//!   box trees descended together (private `mesh_pair.rs`), exact to rounding; a query
+//!   that only asks whether the distance is below a bound uses parry's `closest_points`.
 //! - Other pairs: parry's `distance` when apart (spheres by point projection, exact; GJK
 //!   otherwise, relative accuracy 1.5e-7); when overlapping, GJK+EPA for convex pairs
 //!   (exact for polytopes), parry's `contact` for spheres (exact) and triangle meshes (the
