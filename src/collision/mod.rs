@@ -79,6 +79,7 @@
 mod bounds;
 mod certify;
 mod closest;
+mod closest_features;
 mod collision_error;
 mod collision_scene;
 pub mod mesh;

@@ -29,6 +29,7 @@
 //!   against the mesh's pseudo-normals) and reported as minus the distance to the
 //!   enclosing surface, a lower bound of the depth. Open meshes are surfaces only.
 
+use crate::collision::closest_features::closest_segments;
 use crate::collision::mesh::MeshData;
 use crate::collision::mesh_pair::{MeshGap, TriTree};
 use crate::collision::shape_error::ShapeError;
@@ -355,42 +356,6 @@ impl std::fmt::Debug for Scratch {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str("Scratch")
     }
-}
-
-/// Closest points of segments `p1`–`q1` and `p2`–`q2` (Ericson, *Real-Time Collision
-/// Detection*, §5.1.9), parallel and degenerate segments included.
-fn closest_segments(p1: Vector, q1: Vector, p2: Vector, q2: Vector) -> (Vector, Vector) {
-    let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
-    let (a, e, f) = (d1.dot(d1), d2.dot(d2), d2.dot(r));
-    let tiny = 1e-300;
-    let (s, t) = if a <= tiny && e <= tiny {
-        (0.0, 0.0)
-    } else if a <= tiny {
-        (0.0, (f / e).clamp(0.0, 1.0))
-    } else {
-        let c = d1.dot(r);
-        if e <= tiny {
-            ((-c / a).clamp(0.0, 1.0), 0.0)
-        } else {
-            let b = d1.dot(d2);
-            let denom = a * e - b * b;
-            // Parallel segments: any s works, t (and then s) are clamped below.
-            let s = if denom > 1e-14 * a * e {
-                ((b * f - c * e) / denom).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let t = (b * s + f) / e;
-            if t < 0.0 {
-                ((-c / a).clamp(0.0, 1.0), 0.0)
-            } else if t > 1.0 {
-                (((b - c) / a).clamp(0.0, 1.0), 1.0)
-            } else {
-                (s, t)
-            }
-        }
-    };
-    (p1 + d1 * s, p2 + d2 * t)
 }
 
 /// Signed distance and surface witness points of two swept spheres, if both are.
