@@ -4,22 +4,23 @@
 //!
 //! parry 0.31 measures a mesh against a mesh as a mesh against a *shape*: for each
 //! triangle of one near the other mesh's whole box, a fresh search of the other mesh,
-//! with GJK at every triangle pair. Two arm links a few centimetres apart over a wide
-//! area (the iiwa's, about 4 600 triangles each) then took 17 ms a query. Here both
-//! trees are descended together and a node pair is dropped as soon as its boxes are no
-//! nearer than the best pair found.
+//! with GJK at every triangle pair. The iiwa's links 5 and 7 (about 5 000 and 11 000
+//! triangles) 3 cm apart took it 15–43 ms a query; this descent takes 1–4.6 ms. Asked only
+//! whether two meshes are nearer than a bound, parry's `closest_points` with that margin is
+//! faster still (0.27 against 0.72 ms on the same pair), so [`crate::collision`] keeps it
+//! for those queries.
 //!
-//! **Boxes.** Each tree's boxes are axis-aligned in its mesh frame. A node of `b` is
-//! carried into `a`'s frame as the box around its turned box (centre `R c + t`, half
-//! sizes `|R| e`), which still contains its triangles: the gap between the two boxes is a
-//! lower bound of the distance between any two of their triangles.
+//! **Nodes.** Each tree's boxes are axis-aligned in its mesh frame. Two nodes are at least
+//! as far apart as the largest of three gaps: their boxes' gap in `a`'s frame, with `b`'s
+//! box carried over as the box around its turned box (centre `R c + t`, half sizes
+//! `|R| e`); the same in `b`'s frame; and the gap of their balls (around the box centre,
+//! to the farthest vertex), which turning does not loosen.
 //!
-//! **Triangles.** Two triangles that do not meet are nearest either between an edge of
-//! one and an edge of the other (nine segment pairs) or between a vertex of one and the
-//! face of the other (six point projections) (Ericson, *Real-Time Collision Detection*,
-//! 5.1.5 and 5.1.9). They meet when an edge of one crosses the other's face, or, for
-//! coplanar triangles, when one of those fifteen distances is zero; a zero distance is
-//! returned then, and the caller measures the penetration its own way.
+//! **Triangles.** A triangle pair is skipped when their balls or either triangle's plane
+//! (all of the other's vertices on one side of it, farther than the best) prove it no
+//! nearer than the best pair found; otherwise it is measured in closed form
+//! ([`crate::collision::closest_features`]). A zero distance (the meshes meet) is
+//! returned as such, and the caller measures the penetration its own way.
 
 use crate::collision::closest_features::triangle_pair;
 use parry3d_f64::math::{Matrix, Pose, Vector};
