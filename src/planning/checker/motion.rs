@@ -9,8 +9,7 @@ use crate::planning::simd::{Simd, W};
 impl Checker {
     /// World twist `(ω, v)` of body `i` per unit of the edge parameter: `ω = ω_p + Δ_i z_i`
     /// (revolute), `v = v_p + ω_p × (o_i − o_p)` (`+ Δ_i z_i` if prismatic), from the body's
-    /// pose stored by this batch (read back from `s.poses`: a pose passed by reference
-    /// would be kept on the stack and copied into `s.poses` with `memcpy`).
+    /// pose this batch stored in `s.poses`.
     #[inline(always)]
     pub(super) fn body_twist<S: Simd>(&self, tok: S, i: usize, s: &CheckScratch) -> (P3<S>, P3<S>) {
         let b = &self.bodies[i];
