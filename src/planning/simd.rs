@@ -47,9 +47,6 @@ pub trait Simd: Copy + 'static {
     fn load(self, l: &L) -> W<Self>;
     /// Stores lanes.
     fn store(v: W<Self>) -> L;
-    /// Stores lanes into `out` in place (no temporary: an array of returned `L`s is built
-    /// on the stack and copied with `memcpy`).
-    fn store_to(v: W<Self>, out: &mut L);
     #[doc(hidden)]
     unsafe fn add(a: Self::V, b: Self::V) -> Self::V;
     #[doc(hidden)]
@@ -210,11 +207,6 @@ mod x86 {
             // SAFETY: as above.
             unsafe { _mm256_store_ps(out.0.as_mut_ptr(), v.0) };
             out
-        }
-        #[inline(always)]
-        fn store_to(v: W<Self>, out: &mut L) {
-            // SAFETY: as above.
-            unsafe { _mm256_store_ps(out.0.as_mut_ptr(), v.0) };
         }
         #[inline(always)]
         unsafe fn add(a: __m256, b: __m256) -> __m256 {
@@ -385,14 +377,6 @@ mod x86 {
             out
         }
         #[inline(always)]
-        fn store_to(v: W<Self>, out: &mut L) {
-            // SAFETY: as above.
-            unsafe {
-                _mm_store_ps(out.0.as_mut_ptr(), v.0[0]);
-                _mm_store_ps(out.0.as_mut_ptr().add(4), v.0[1]);
-            }
-        }
-        #[inline(always)]
         unsafe fn add(a: Self::V, b: Self::V) -> Self::V {
             pair!(a, b, _mm_add_ps)
         }
@@ -470,9 +454,6 @@ impl Simd for Scalar {
     }
     fn store(v: W<Self>) -> L {
         L(v.0)
-    }
-    fn store_to(v: W<Self>, out: &mut L) {
-        out.0 = v.0;
     }
     unsafe fn add(a: Self::V, b: Self::V) -> Self::V {
         each!(a, b, |x, y| x + y)

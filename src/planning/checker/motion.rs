@@ -9,7 +9,8 @@ use crate::planning::simd::{Simd, W};
 impl Checker {
     /// World twist `(ω, v)` of body `i` per unit of the edge parameter: `ω = ω_p + Δ_i z_i`
     /// (revolute), `v = v_p + ω_p × (o_i − o_p)` (`+ Δ_i z_i` if prismatic), from the body's
-    /// pose this batch stored in `s.poses`.
+    /// pose this batch stored in `s.poses` (a pose passed by reference kept the AVX2 build's
+    /// rotation on the stack, and its store a `memcpy`).
     #[inline(always)]
     pub(super) fn body_twist<S: Simd>(&self, tok: S, i: usize, s: &CheckScratch) -> (P3<S>, P3<S>) {
         let b = &self.bodies[i];
