@@ -4,7 +4,7 @@
 use crate::model::WORLD;
 use crate::planning::checker::checker_state::{CheckScratch, Checker, CLEARANCE_RAMP};
 use crate::planning::checker::motion::{point_speed, sub};
-use crate::planning::lanes::{LanePose, Mask, L, P3};
+use crate::planning::lanes::{LanePose, Mask, ALL, L, P3};
 use crate::planning::simd::{Simd, W};
 use crate::planning::spheres::LinkSpheres;
 
@@ -64,17 +64,25 @@ impl Checker {
             let bc = pose.act(tok, &ls.bound.center);
             s.bounds[g] = bc.store();
             let mut br = tok.splat(ls.bound.radius) + pad;
+            // Moving, only the lanes whose interval failed this group before check it
+            // (the bound's place and inflation are still needed by the self pairs).
+            let need = if MOVING { s.need[g] } else { ALL };
             if MOVING {
                 let bi_g = self.bound_inflation(tok, g, &bc, h, s);
                 s.bound_infl[g] = S::store(bi_g);
                 br = br + bi_g;
+                s.group_fail[g] = 0;
+                if need == 0 {
+                    continue;
+                }
             }
+            s.group_checks += 1;
             for &o in &self.reachable[g] {
                 if cluster.is_some() && !s.near[o] {
                     continue;
                 }
                 let ob = &self.env.obstacles[o];
-                if ob.near(tok, &bc, br) == 0 || ob.overlaps(tok, &bc, br) == 0 {
+                if ob.near(tok, &bc, br) & need == 0 || ob.overlaps(tok, &bc, br) & need == 0 {
                     continue;
                 }
                 self.place_spheres::<S, MOVING>(tok, g, &pose, h, s);
@@ -82,14 +90,16 @@ impl Checker {
                     let r = tok.splat(sm.spheres[i].radius) + pad;
                     let c = P3::load(tok, &s.centers[i]);
                     if MOVING {
-                        let m = ob.overlaps(tok, &c, r + tok.load(&s.infl[i]));
+                        let m = ob.overlaps(tok, &c, r + tok.load(&s.infl[i])) & need;
                         if m != 0 {
-                            exact |= ob.overlaps(tok, &c, r);
+                            exact |= ob.overlaps(tok, &c, r) & need;
                             // Failed inflated: try the rate of the distance.
                             let vel = self.point_velocity(tok, ls.body, &c, s);
                             let k = tok.splat(1.5 * s.l1 * s.speed[i]);
                             let rt = r - tok.splat(self.opts.tolerance);
-                            inflated |= m & ob.rate_overlaps(tok, &c, &vel, rt, h, k);
+                            let fail = m & ob.rate_overlaps(tok, &c, &vel, rt, h, k);
+                            inflated |= fail;
+                            s.group_fail[g] |= fail;
                         }
                     } else {
                         exact |= ob.overlaps(tok, &c, r);
@@ -100,6 +110,12 @@ impl Checker {
                 }
             }
         }
+        let need = if MOVING { s.need_pairs } else { ALL };
+        s.pairs_fail = 0;
+        if need == 0 {
+            return (exact, if MOVING { inflated } else { exact });
+        }
+        s.group_checks += 1;
         'runs: for run in &self.clusters.runs {
             if let Some(c) = run.cluster {
                 if !self.group_meets_cluster::<S, MOVING>(tok, run.group, c, s) {
@@ -108,8 +124,9 @@ impl Checker {
             }
             for p in run.pairs.clone() {
                 let (e, i) = self.pair_hit::<S, MOVING>(tok, p, h, s);
-                exact |= e;
-                inflated |= i;
+                exact |= e & need;
+                inflated |= i & need;
+                s.pairs_fail |= i & need;
                 if exact != 0 {
                     break 'runs;
                 }

@@ -9,7 +9,7 @@ use crate::collision::{Certifier, CollisionData, CollisionModel, SegmentScratch}
 use crate::model::Model;
 use crate::planning::checker::clusters::Clusters;
 use crate::planning::environment::Environment;
-use crate::planning::lanes::{P3m, PoseM, L};
+use crate::planning::lanes::{Mask, P3m, PoseM, L};
 #[cfg(target_arch = "x86_64")]
 use crate::planning::simd::Avx2;
 use crate::planning::spheres::SphereModel;
@@ -129,14 +129,49 @@ pub struct CheckScratch {
     pub(super) cluster_speed: Vec<f32>,
     /// Per obstacle: whether the cluster being checked may touch it.
     pub(super) near: Vec<bool>,
-    pub(super) stack: Vec<(f32, f32)>,
+    /// Intervals whose inflated check failed, to refine.
+    pub(super) stack: Vec<Piece>,
+    /// Per link group, the lanes of this batch that must check it against the obstacles
+    /// (a refined interval checks only what failed on the interval it came from).
+    pub(super) need: Vec<Mask>,
+    /// The lanes of this batch that must check the self pairs.
+    pub(super) need_pairs: Mask,
+    /// Per link group, the lanes where its inflated check failed in this batch (not
+    /// exactly: those are to refine).
+    pub(super) group_fail: Vec<Mask>,
+    /// The lanes where a self pair's inflated check failed in this batch.
+    pub(super) pairs_fail: Mask,
     pub(super) q: Vec<L>,
     /// Edge checks done.
     pub edges: u64,
     /// Batches of eight configurations checked.
     pub batches: u64,
+    /// Link groups checked against their obstacles, and self-pair passes, over the
+    /// batches (a measure of the batches' work).
+    pub group_checks: u64,
     /// The exact stage's buffers, when the checker has one.
     pub exact: Option<Box<ExactScratch>>,
+}
+
+/// An interval of a continuous edge check, to refine: centre `t`, half-width `h` (in the
+/// edge parameter), and the checks that failed inflated on it ([`Piece::items`]): what
+/// passed covers every sub-interval too, so its pieces check only these.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Piece {
+    pub(super) t: f32,
+    pub(super) h: f32,
+    /// Bit `min(g, 62)` for link group `g` against the obstacles (groups from 62 on share
+    /// bit 62), bit 63 for the self pairs.
+    pub(super) items: u64,
+}
+
+/// [`Piece::items`]' bit of the self pairs.
+pub(super) const PAIRS_BIT: u64 = 1 << 63;
+
+/// [`Piece::items`]' bit of link group `g`.
+#[inline(always)]
+pub(super) fn group_bit(g: usize) -> u64 {
+    1 << g.min(62)
 }
 
 /// The robot's spheres, the obstacles, the self-collision pairs and the f32 kinematics.
@@ -165,6 +200,9 @@ pub struct Checker {
     pub(super) avx512vl: bool,
     /// Self pairs decided on the exact geometry after this checker's own checks.
     pub(super) exact: Option<Arc<ExactPairs>>,
+    /// A refined interval checks only what failed on the interval it came from
+    /// ([`Piece::items`]; off only to compare, [`Checker::refine_every_check`]).
+    pub(super) selective: bool,
 }
 
 /// The motion-bound tables `ρ` of the spheres, link groups, self pairs and clusters,

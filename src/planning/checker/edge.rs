@@ -1,8 +1,10 @@
 //! The edge checks: the coarse pass in rake order, the refinement of intervals whose
 //! inflated check failed, and the per-edge speed bounds (see the parent module's docs).
 
-use crate::planning::checker::checker_state::{CheckScratch, Checker, EdgeMode, SpeedTables};
-use crate::planning::lanes::{Mask, L, N};
+use crate::planning::checker::checker_state::{
+    group_bit, CheckScratch, Checker, EdgeMode, Piece, SpeedTables, PAIRS_BIT,
+};
+use crate::planning::lanes::{Mask, ALL, L, N};
 use crate::planning::simd::Simd;
 
 impl Checker {
@@ -38,6 +40,10 @@ impl Checker {
         let m = n.div_ceil(N);
         let mut qs = std::mem::take(&mut s.q);
         s.stack.clear();
+        if continuous {
+            s.need.fill(ALL);
+            s.need_pairs = ALL;
+        }
         let mut ok = true;
         // Discrete: the lanes the points leave idle in the last batches check more points.
         let (idle, mut extra) = (m * N - n, 0);
@@ -64,7 +70,12 @@ impl Checker {
             }
             for (l, &tl) in t.iter().enumerate() {
                 if inflated & (1 << l) != 0 {
-                    s.stack.push((tl, h0));
+                    let items = self.failed_items(l, s);
+                    s.stack.push(Piece {
+                        t: tl,
+                        h: h0,
+                        items,
+                    });
                 }
             }
         }
@@ -74,10 +85,10 @@ impl Checker {
         ok
     }
 
-    /// Works through the stack of intervals `(t, h)` whose inflated check failed but whose
-    /// centre is free: their pieces are checked with a piece's inflation, eight at a time
-    /// (halves of four intervals, quarters of two, eighths of one). False on a real (exact)
-    /// hit.
+    /// Works through the stack of intervals whose inflated check failed but whose centre is
+    /// free: their pieces are checked with a piece's inflation, eight at a time (halves of
+    /// four intervals, quarters of two, eighths of one), each piece only against what
+    /// failed on its interval ([`Piece::items`]). False on a real (exact) hit.
     #[inline(always)]
     pub(super) fn refine<S: Simd>(
         &self,
@@ -91,6 +102,8 @@ impl Checker {
             let mut t = [0.0f32; N];
             let mut h = [0.0f32; N];
             let mut lanes = 0;
+            s.need.fill(0);
+            s.need_pairs = 0;
             // Pieces per interval: as many as fill the lanes (one interval: eight pieces
             // with an eighth of the inflation, not two and six idle lanes).
             let k = match s.stack.len() {
@@ -99,18 +112,21 @@ impl Checker {
                 _ => 2,
             };
             while lanes + k <= N && !s.stack.is_empty() {
-                let (tc, hc) = s.stack.pop().unwrap_or_default();
-                let hh = hc / k as f32;
+                let p = s.stack.pop().unwrap_or_default();
+                let hh = p.h / k as f32;
                 if hh < 1e-7 {
                     // Subdivided to nothing without an exact hit: refuse, conservatively.
                     return false;
                 }
+                let lanes_k: Mask = ((1 << k) - 1) << lanes;
+                self.set_need(p.items, lanes_k, s);
                 for j in 0..k {
-                    t[lanes + j] = tc - hc + (2 * j + 1) as f32 * hh;
+                    t[lanes + j] = p.t - p.h + (2 * j + 1) as f32 * hh;
                     h[lanes + j] = hh;
                 }
                 lanes += k;
             }
+            // Idle lanes repeat the first piece and check nothing (no need set).
             for l in lanes..N {
                 t[l] = t[0];
                 h[l] = h[0];
@@ -121,11 +137,46 @@ impl Checker {
             }
             for l in 0..lanes {
                 if inflated & (1 << l) != 0 {
-                    s.stack.push((t[l], h[l]));
+                    let items = self.failed_items(l, s);
+                    s.stack.push(Piece {
+                        t: t[l],
+                        h: h[l],
+                        items,
+                    });
                 }
             }
         }
         true
+    }
+
+    /// The checks that failed inflated in lane `l` of the last batch, as [`Piece::items`].
+    #[inline(always)]
+    fn failed_items(&self, l: usize, s: &CheckScratch) -> u64 {
+        let mut items = if s.pairs_fail & (1 << l) != 0 {
+            PAIRS_BIT
+        } else {
+            0
+        };
+        for (g, &m) in s.group_fail.iter().enumerate() {
+            if m & (1 << l) != 0 {
+                items |= group_bit(g);
+            }
+        }
+        items
+    }
+
+    /// Marks `lanes` as needing the checks of `items` ([`Piece::items`]) in the next batch.
+    #[inline(always)]
+    fn set_need(&self, items: u64, lanes: Mask, s: &mut CheckScratch) {
+        let items = if self.selective { items } else { u64::MAX };
+        if items & PAIRS_BIT != 0 {
+            s.need_pairs |= lanes;
+        }
+        for (g, need) in s.need.iter_mut().enumerate() {
+            if items & group_bit(g) != 0 {
+                *need |= lanes;
+            }
+        }
     }
 
     /// Per-sphere, per-link, per-self-pair and per-cluster speed bounds

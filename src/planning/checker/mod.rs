@@ -57,7 +57,10 @@
 //! centre (a hit there is a real collision: the edge is invalid); otherwise it is split
 //! into pieces with a piece's inflation (as many as fill the eight lanes: halves of four
 //! intervals, eighths of one), until the inflation is gone, when a hit is real. Near
-//! obstacles the subdivision goes deep only where it has to.
+//! obstacles the subdivision goes deep only where it has to. A piece is checked only
+//! against what failed on its interval (the link groups against the obstacles, the self
+//! pairs): what passed there covers every piece of it. On the UR5's `bookshelf_small` this
+//! cuts the groups checked in continuous edge checks by a quarter.
 //!
 //! **Dispatch.** The entry points run an AVX2+FMA copy of the code when the CPU has them
 //! (detected once at construction), an AVX-512 VL build of that copy when the CPU has those
@@ -144,6 +147,7 @@ impl Checker {
             #[cfg(target_arch = "x86_64")]
             avx512vl: avx512vl_detected() && Avx2::detect().is_some(),
             exact: None,
+            selective: true,
         }
     }
 
@@ -181,6 +185,12 @@ impl Checker {
         self.clusters = clusters::Clusters::none(self.spheres.links.len(), &self.self_pairs);
     }
 
+    /// Refines a failed interval's pieces against every obstacle and self pair, not only
+    /// against what failed on the interval: more work, the same verdicts (to compare them).
+    pub fn refine_every_check(&mut self) {
+        self.selective = false;
+    }
+
     /// The body clusters' groups (index ranges into the sphere model's groups).
     pub fn clusters(&self) -> Vec<std::ops::Range<usize>> {
         self.clusters
@@ -202,6 +212,9 @@ impl Checker {
             centers: vec![P3m::default(); self.spheres.len()],
             bounds: vec![P3m::default(); self.spheres.links.len()],
             placed: vec![false; self.spheres.links.len()],
+            need: vec![crate::planning::lanes::ALL; self.spheres.links.len()],
+            need_pairs: crate::planning::lanes::ALL,
+            group_fail: vec![0; self.spheres.links.len()],
             twist: vec![[P3m::default(); 2]; self.bodies.len()],
             infl: vec![L::splat(0.0); self.spheres.len()],
             bound_infl: vec![L::splat(0.0); self.spheres.links.len()],
