@@ -138,6 +138,23 @@ impl Simplifier {
         }
     }
 
+    /// One greedy pass ([`Simplifier::run`]'s first step) alone: from each kept waypoint,
+    /// the farthest one reachable by a free edge.
+    pub fn greedy_pass(
+        &mut self,
+        path: &mut Vec<f32>,
+        nv: usize,
+        c: &Checker,
+        s: &mut CheckScratch,
+        stop: Option<&std::sync::Arc<std::sync::atomic::AtomicBool>>,
+    ) {
+        let limit = SearchLimit {
+            deadline: self.opts.time_limit.map(|d| std::time::Instant::now() + d),
+            stop: stop.cloned(),
+        };
+        self.greedy(path, nv, c, s, &limit);
+    }
+
     /// From each kept waypoint, jump to the farthest one reachable by a free edge.
     fn greedy(
         &mut self,
