@@ -19,6 +19,12 @@ The requests are the shown ones; a start or goal that now collides makes its pro
     tools/plan_proxy_scenes.py ROBOT_DIR OUT_DIR
       ROBOT_DIR  e.g. ../shared/benchmarks/motion-planning/ur5
       OUT_DIR    gets thin_boards/, tall_shelf/, posts/ (sceneNNNN.yaml, requestNNNN.yaml)
+
+Side by side with VAMP (the anchor beside the robot folders, as in the shared benchmark):
+
+    tools/plan_proxy_scenes.py ../shared/benchmarks/motion-planning/ur5 /tmp/proxy/ur5
+    ln -s "$PWD/../shared/benchmarks/motion-planning/vamp" /tmp/proxy/vamp
+    PLAN_BENCH_DIR=/tmp/proxy PLAN_SCENES="thin_boards tall_shelf posts" tools/plan_vs_vamp.sh ur5 -- 3
 """
 import copy
 import math
