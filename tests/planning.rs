@@ -309,6 +309,38 @@ fn body_clusters_change_no_verdict_of_configurations_or_edges() {
     }
 }
 
+/// A query's start and goal are checked in one batch, half the lanes each: the verdict is
+/// that of checking each alone, whichever of the two collides.
+#[test]
+fn start_and_goal_checked_together_agree_with_each_alone() {
+    use armsim::planning::sampler::{Sampler, SamplerKind};
+    let robot = Robot::load("ur5");
+    let p = problems(&robot, "bookshelf_small")
+        .into_iter()
+        .find(|p| p.valid)
+        .unwrap();
+    let checker = planner(&robot, &p.obstacles, PlanOptions::default()).checker;
+    let (lo, hi): (Vec<f32>, Vec<f32>) = (0..robot.model.nv)
+        .map(|k| (robot.model.lower[k] as f32, robot.model.upper[k] as f32))
+        .unzip();
+    let mut sampler = Sampler::new(SamplerKind::Random, &lo, &hi, 13);
+    let mut s = checker.scratch();
+    let (mut a, mut b) = (vec![0.0f32; lo.len()], vec![0.0f32; lo.len()]);
+    let mut seen = [[0usize; 2]; 2];
+    for i in 0..2000 {
+        sampler.next(&mut a);
+        sampler.next(&mut b);
+        let (fa, fb) = (
+            checker.config_free(&a, &mut s),
+            checker.config_free(&b, &mut s),
+        );
+        assert_eq!(checker.both_free(&a, &b, &mut s), fa && fb, "pair {i}");
+        seen[usize::from(fa)][usize::from(fb)] += 1;
+    }
+    // Each of the four cases occurs.
+    assert!(seen.iter().flatten().all(|&n| n > 50), "{seen:?}");
+}
+
 /// A refined piece checks only what failed on its interval: what passed there covers every
 /// piece of it. The verdicts are those of refining every check, with less work.
 #[test]

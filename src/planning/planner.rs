@@ -218,21 +218,36 @@ impl Planner {
             planner: self.opts.planner,
             improvements: Vec::new(),
         };
-        for (q, which, status) in [
-            (start, "start", PlanStatus::InvalidStart),
-            (goal, "goal", PlanStatus::InvalidGoal),
-        ] {
-            if let Some(why) = self.invalid(q, which) {
-                res.status = status;
-                res.reason = Some(why);
-                res.plan_time_us = t0.elapsed().as_secs_f64() * 1e6;
-                return res;
-            }
-        }
+        // Both ends within the limits and free, in one batch; otherwise the reasons, one
+        // end at a time (the start's first).
         let nv = self.lo.len();
-        for k in 0..nv {
-            self.start[k] = start[k] as f32;
-            self.goal[k] = goal[k] as f32;
+        let in_box = |q: &[f64], lo: &[f32], hi: &[f32]| {
+            q.len() == nv && (0..nv).all(|k| (q[k] as f32) >= lo[k] && (q[k] as f32) <= hi[k])
+        };
+        let fast = in_box(start, &self.lo, &self.hi) && in_box(goal, &self.lo, &self.hi) && {
+            for k in 0..nv {
+                self.start[k] = start[k] as f32;
+                self.goal[k] = goal[k] as f32;
+            }
+            self.checker
+                .both_free(&self.start, &self.goal, &mut self.scratch)
+        };
+        if !fast {
+            for (q, which, status) in [
+                (start, "start", PlanStatus::InvalidStart),
+                (goal, "goal", PlanStatus::InvalidGoal),
+            ] {
+                if let Some(why) = self.invalid(q, which) {
+                    res.status = status;
+                    res.reason = Some(why);
+                    res.plan_time_us = t0.elapsed().as_secs_f64() * 1e6;
+                    return res;
+                }
+            }
+            for k in 0..nv {
+                self.start[k] = start[k] as f32;
+                self.goal[k] = goal[k] as f32;
+            }
         }
         // The sampler lives in the planner (no allocation per query); each query starts
         // its sequence afresh, so the same query gives the same path.

@@ -81,7 +81,7 @@ pub use checker_state::{
 
 use crate::model::{Model, WORLD};
 use crate::planning::environment::Environment;
-use crate::planning::lanes::{Mask, P3m, PoseM, L, P3};
+use crate::planning::lanes::{Mask, P3m, PoseM, L, N, P3};
 pub use crate::planning::simd::CheckerIsa;
 #[cfg(target_arch = "x86_64")]
 use crate::planning::simd::{avx512vl_detected, Avx2, Sse2};
@@ -248,6 +248,24 @@ impl Checker {
         hit == 0
             && match (&self.exact, s.exact.as_deref_mut()) {
                 (Some(e), Some(es)) => e.config_free(q, es),
+                _ => true,
+            }
+    }
+
+    /// Whether configurations `a` and `b` are both free, in one batch (half the lanes
+    /// each; a query's start and goal). False when either collides.
+    pub fn both_free(&self, a: &[f32], b: &[f32], s: &mut CheckScratch) -> bool {
+        for (k, lane) in s.q.iter_mut().enumerate() {
+            let (la, lb) = lane.0.split_at_mut(N / 2);
+            la.fill(a[k]);
+            lb.fill(b[k]);
+        }
+        let mut qs = std::mem::take(&mut s.q);
+        let (hit, _) = self.dispatch_lanes(&qs, L::splat(0.0), s);
+        std::mem::swap(&mut s.q, &mut qs);
+        hit == 0
+            && match (&self.exact, s.exact.as_deref_mut()) {
+                (Some(e), Some(es)) => e.config_free(a, es) && e.config_free(b, es),
                 _ => true,
             }
     }
