@@ -203,6 +203,40 @@ impl Planner {
         })
     }
 
+    /// Checks a query's ends and stores them in f32: both within the limits and free, in
+    /// one batch; otherwise the reason, one end at a time (the start's first).
+    fn take_ends(&mut self, start: &[f64], goal: &[f64]) -> Result<(), (PlanStatus, String)> {
+        let nv = self.lo.len();
+        let in_box = |q: &[f64], lo: &[f32], hi: &[f32]| {
+            q.len() == nv && (0..nv).all(|k| (q[k] as f32) >= lo[k] && (q[k] as f32) <= hi[k])
+        };
+        if in_box(start, &self.lo, &self.hi) && in_box(goal, &self.lo, &self.hi) {
+            for k in 0..nv {
+                self.start[k] = start[k] as f32;
+                self.goal[k] = goal[k] as f32;
+            }
+            if self
+                .checker
+                .both_free(&self.start, &self.goal, &mut self.scratch)
+            {
+                return Ok(());
+            }
+        }
+        for (q, which, status) in [
+            (start, "start", PlanStatus::InvalidStart),
+            (goal, "goal", PlanStatus::InvalidGoal),
+        ] {
+            if let Some(why) = self.invalid(q, which) {
+                return Err((status, why));
+            }
+        }
+        for k in 0..nv {
+            self.start[k] = start[k] as f32;
+            self.goal[k] = goal[k] as f32;
+        }
+        Ok(())
+    }
+
     /// Plans from `start` to `goal`.
     pub fn plan(&mut self, start: &[f64], goal: &[f64]) -> PlanResult {
         let t0 = Instant::now();
@@ -218,37 +252,13 @@ impl Planner {
             planner: self.opts.planner,
             improvements: Vec::new(),
         };
-        // Both ends within the limits and free, in one batch; otherwise the reasons, one
-        // end at a time (the start's first).
-        let nv = self.lo.len();
-        let in_box = |q: &[f64], lo: &[f32], hi: &[f32]| {
-            q.len() == nv && (0..nv).all(|k| (q[k] as f32) >= lo[k] && (q[k] as f32) <= hi[k])
-        };
-        let fast = in_box(start, &self.lo, &self.hi) && in_box(goal, &self.lo, &self.hi) && {
-            for k in 0..nv {
-                self.start[k] = start[k] as f32;
-                self.goal[k] = goal[k] as f32;
-            }
-            self.checker
-                .both_free(&self.start, &self.goal, &mut self.scratch)
-        };
-        if !fast {
-            for (q, which, status) in [
-                (start, "start", PlanStatus::InvalidStart),
-                (goal, "goal", PlanStatus::InvalidGoal),
-            ] {
-                if let Some(why) = self.invalid(q, which) {
-                    res.status = status;
-                    res.reason = Some(why);
-                    res.plan_time_us = t0.elapsed().as_secs_f64() * 1e6;
-                    return res;
-                }
-            }
-            for k in 0..nv {
-                self.start[k] = start[k] as f32;
-                self.goal[k] = goal[k] as f32;
-            }
+        if let Err((status, why)) = self.take_ends(start, goal) {
+            res.status = status;
+            res.reason = Some(why);
+            res.plan_time_us = t0.elapsed().as_secs_f64() * 1e6;
+            return res;
         }
+        let nv = self.lo.len();
         // The sampler lives in the planner (no allocation per query); each query starts
         // its sequence afresh, so the same query gives the same path.
         let mut sampler = std::mem::take(&mut self.sampler);
