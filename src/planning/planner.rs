@@ -207,17 +207,18 @@ impl Planner {
     /// one batch; otherwise the reason, one end at a time (the start's first).
     fn take_ends(&mut self, start: &[f64], goal: &[f64]) -> Result<(), (PlanStatus, String)> {
         let nv = self.lo.len();
-        let in_box = |q: &[f64], lo: &[f32], hi: &[f32]| {
-            q.len() == nv && (0..nv).all(|k| (q[k] as f32) >= lo[k] && (q[k] as f32) <= hi[k])
-        };
-        if in_box(start, &self.lo, &self.hi) && in_box(goal, &self.lo, &self.hi) {
+        if start.len() == nv && goal.len() == nv {
             for k in 0..nv {
                 self.start[k] = start[k] as f32;
                 self.goal[k] = goal[k] as f32;
             }
-            if self
-                .checker
-                .both_free(&self.start, &self.goal, &mut self.scratch)
+            let (lo, hi) = (&self.lo, &self.hi);
+            let inside = |q: &[f32]| (0..nv).all(|k| q[k] >= lo[k] && q[k] <= hi[k]);
+            if inside(&self.start)
+                && inside(&self.goal)
+                && self
+                    .checker
+                    .both_free(&self.start, &self.goal, &mut self.scratch)
             {
                 return Ok(());
             }
@@ -230,10 +231,7 @@ impl Planner {
                 return Err((status, why));
             }
         }
-        for k in 0..nv {
-            self.start[k] = start[k] as f32;
-            self.goal[k] = goal[k] as f32;
-        }
+        // Both valid (the lengths too): stored above.
         Ok(())
     }
 

@@ -114,10 +114,7 @@ impl Simplifier {
         rng: &mut Rng,
         stop: Option<&std::sync::Arc<std::sync::atomic::AtomicBool>>,
     ) {
-        let limit = SearchLimit {
-            deadline: self.opts.time_limit.map(|d| std::time::Instant::now() + d),
-            stop: stop.cloned(),
-        };
+        let limit = self.limit(stop);
         let mut len = path_length(path, nv);
         for _ in 0..self.opts.rounds {
             self.greedy(path, nv, c, s, &limit);
@@ -148,11 +145,16 @@ impl Simplifier {
         s: &mut CheckScratch,
         stop: Option<&std::sync::Arc<std::sync::atomic::AtomicBool>>,
     ) {
-        let limit = SearchLimit {
+        let limit = self.limit(stop);
+        self.greedy(path, nv, c, s, &limit);
+    }
+
+    /// The limit of one call: [`SimplifyOptions::time_limit`] from now, and the stop flag.
+    fn limit(&self, stop: Option<&std::sync::Arc<std::sync::atomic::AtomicBool>>) -> SearchLimit {
+        SearchLimit {
             deadline: self.opts.time_limit.map(|d| std::time::Instant::now() + d),
             stop: stop.cloned(),
-        };
-        self.greedy(path, nv, c, s, &limit);
+        }
     }
 
     /// From each kept waypoint, jump to the farthest one reachable by a free edge.

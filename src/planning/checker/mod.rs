@@ -239,13 +239,7 @@ impl Checker {
 
     /// Whether configuration `q` is free (exact spheres, no inflation).
     pub fn config_free(&self, q: &[f32], s: &mut CheckScratch) -> bool {
-        for (k, lane) in s.q.iter_mut().enumerate() {
-            *lane = L::splat(q[k]);
-        }
-        let mut qs = std::mem::take(&mut s.q);
-        let (hit, _) = self.dispatch_lanes(&qs, L::splat(0.0), s);
-        std::mem::swap(&mut s.q, &mut qs);
-        hit == 0
+        self.spheres_free(q, q, s)
             && match (&self.exact, s.exact.as_deref_mut()) {
                 (Some(e), Some(es)) => e.config_free(q, es),
                 _ => true,
@@ -255,6 +249,16 @@ impl Checker {
     /// Whether configurations `a` and `b` are both free, in one batch (half the lanes
     /// each; a query's start and goal). False when either collides.
     pub fn both_free(&self, a: &[f32], b: &[f32], s: &mut CheckScratch) -> bool {
+        self.spheres_free(a, b, s)
+            && match (&self.exact, s.exact.as_deref_mut()) {
+                (Some(e), Some(es)) => e.config_free(a, es) && e.config_free(b, es),
+                _ => true,
+            }
+    }
+
+    /// Whether `a` (the first half of the lanes) and `b` (the second) are both free on the
+    /// spheres, in one batch.
+    fn spheres_free(&self, a: &[f32], b: &[f32], s: &mut CheckScratch) -> bool {
         for (k, lane) in s.q.iter_mut().enumerate() {
             let (la, lb) = lane.0.split_at_mut(N / 2);
             la.fill(a[k]);
@@ -264,10 +268,6 @@ impl Checker {
         let (hit, _) = self.dispatch_lanes(&qs, L::splat(0.0), s);
         std::mem::swap(&mut s.q, &mut qs);
         hit == 0
-            && match (&self.exact, s.exact.as_deref_mut()) {
-                (Some(e), Some(es)) => e.config_free(a, es) && e.config_free(b, es),
-                _ => true,
-            }
     }
 
     /// Whether the straight edge `a → b` is free (see the module docs), the exact stage
